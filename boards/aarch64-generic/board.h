@@ -1,0 +1,31 @@
+/* aarch64-generic — Cortex-A72-class AArch64 board with a 1280x720 60 Hz display (see board.mk). Arenas sized
+ * for a 2 GiB board: the mid-size shared scenes (Sponza, Lost Empire) fit; Conference and the full dragon do
+ * not and are refused at load with the byte counts. */
+#ifndef HZ_BOARD_H
+#define HZ_BOARD_H
+
+#define HZ_BOARD_NAME "aarch64-generic"
+
+#define HZ_DISPLAY_WIDTH 1280
+#define HZ_DISPLAY_HEIGHT 720
+#define HZ_DISPLAY_HZ 60
+#define HZ_DISPLAY_DEVICE "/dev/fb0"
+
+#define HZ_ARENA_SCENE_BYTES (96ull << 20)
+#define HZ_ARENA_ACCEL_BYTES (160ull << 20)
+#define HZ_ARENA_FRAME_BYTES (64ull << 20)
+#define HZ_ARENA_THREAD_BYTES (4ull << 20)
+#define HZ_MAX_THREADS 8
+
+#define HZ_VSYNC_SOURCE HZ_VSYNC_GPIO
+#define HZ_VSYNC_GPIO_CHIP "gpiochip0"
+#define HZ_VSYNC_GPIO_LINE 3 /* the QEMU virt machine's PL061 line 3 is what the VM tests pulse */
+
+#define HZ_FEATURE_TEXTURES 1
+#define HZ_FEATURE_MIRRORS 1
+#define HZ_FEATURE_TRANSPARENCY 1
+#define HZ_FEATURE_MOTION 1
+#define HZ_FEATURE_STATS 1
+#define HZ_ARENA_POISON 1
+
+#endif

@@ -1,0 +1,12 @@
+# rpi4 — Raspberry Pi 4 Model B (BCM2711, 4x Cortex-A72) with an 800x480 RGB666 DPI panel at 60 Hz; the
+# panel's VSYNC (GPIO2 in DPI mode) is looped back to GPIO26 as an input for latency capture. See README.md.
+BOARD_ARCH := aarch64
+BOARD_CROSS_COMPILE := aarch64-linux-gnu-
+BOARD_CFLAGS := -mcpu=cortex-a72
+BOARD_LDFLAGS :=
+BOARD_SIMD := neon
+BOARD_ACCEL := native
+BOARD_PORTS := linux
+BOARD_DEPS := gcc-aarch64-linux-gnu libc6-dev-arm64-cross binutils-aarch64-linux-gnu ?libgpiod-dev:arm64
+BOARD_TEST_LAUNCHER := qemu-aarch64-static -L /usr/aarch64-linux-gnu
+BOARD_TEST_DEPS := qemu-user-static libcmocka-dev:arm64

@@ -1,0 +1,53 @@
+#!/bin/sh
+# run-guards [--record DIR]: proves that the design guards can fail. Each case feeds a known-bad snippet to a
+# guard and expects it to refuse (and, where it matters, to name the problem). One result per case.
+set -u
+. "$(dirname "$0")/lib.sh"
+here=$(dirname "$0")
+bad=$here/bad
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+fails=0
+
+# expect_fail NAME PATTERN CMD...: CMD must exit non-zero and print PATTERN.
+expect_fail() {
+    name=$1 pattern=$2
+    shift 2
+    if out=$("$@" 2>&1); then
+        echo "  FAIL  guard $name: the guard accepted a known-bad input"
+        record "guard/$name" 0 1
+        fails=$((fails + 1))
+    elif ! printf '%s\n' "$out" | grep -q -- "$pattern"; then
+        echo "  FAIL  guard $name: refused, but without naming '$pattern':"
+        printf '%s\n' "$out" | head -n 5 | sed 's/^/        /'
+        record "guard/$name" 0 1
+        fails=$((fails + 1))
+    else
+        echo "  ok    guard $name"
+        record "guard/$name" 1 0
+    fi
+}
+
+for arch in x86_64 aarch64; do
+    [ $arch = x86_64 ] && cc=gcc nm=nm || cc=aarch64-linux-gnu-gcc nm=aarch64-linux-gnu-nm
+    # malloc hidden from the source scan: caught by the symbol check.
+    $cc -std=c99 -O2 -ffreestanding -c "$bad/freestanding-hidden/alloc.c" -o "$tmp/alloc-$arch.o"
+    expect_fail "freestanding-malloc-$arch" "references 'malloc'" \
+        sh "$here/check-freestanding.sh" --src "$bad/freestanding-hidden" $nm "$tmp/alloc-$arch.o"
+    # A float pasted together past the token scan: caught by -mgeneral-regs-only.
+    expect_fail "integer-hidden-float-$arch" "does not compile with -mgeneral-regs-only" \
+        sh "$here/check-integer.sh" $cc $arch "$bad/integer-hidden/order.c"
+done
+# stdio in the core: caught by the source scan (include, call and FILE).
+expect_fail "freestanding-stdio-source" "includes <stdio.h>" \
+    sh "$here/check-freestanding.sh" --src "$bad/freestanding-stdio" nm
+expect_fail "freestanding-printf-source" "uses a hosted facility" \
+    sh "$here/check-freestanding.sh" --src "$bad/freestanding-stdio" nm
+# A plain float: caught by the token scan.
+expect_fail "integer-float-token" "names a floating-point type" \
+    sh "$here/check-integer.sh" gcc x86_64 "$bad/integer-plain/order.c"
+# A board that misses a required setting: the #error names it.
+printf '#include "hz/config.h"\nint hz_board_probe;\n' >"$tmp/probe.c"
+expect_fail "board-missing-setting" "HZ_DISPLAY_HZ" \
+    gcc -std=c99 -Iinclude -I"$bad/board-missing" -c "$tmp/probe.c" -o "$tmp/probe.o"
+[ $fails = 0 ]

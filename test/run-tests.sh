@@ -1,0 +1,40 @@
+#!/bin/sh
+# Runs cmocka test binaries and records their counts for test/summary.sh.
+#   run-tests.sh RESULTS_DIR LABEL "LAUNCHER" BIN...
+# Each binary's output goes to RESULTS_DIR/<bin>.log; RESULTS_DIR/<bin>.res gets "label/bin passed failed skipped".
+# A binary that exits non-zero without reporting a failed test (a crash, a sanitizer abort, a missing library)
+# counts as one failure; one that exits 0 without running a test also fails, so nothing passes by silence.
+set -u
+results=$1 label=$2 launcher=$3
+shift 3
+[ -d "$results" ] || mkdir -p "$results"
+export CMOCKA_MESSAGE_OUTPUT=stdout
+status=0
+for bin in "$@"; do
+    name=$(basename "$bin")
+    log=$results/$name.log
+    # shellcheck disable=SC2086 # the launcher is a command line on purpose
+    $launcher "$bin" >"$log" 2>&1
+    rc=$?
+    passed=$(sed -n 's/^\[  PASSED  \] \([0-9][0-9]*\) test.*/\1/p' "$log" | awk '{s+=$1} END {print s+0}')
+    failed=$(sed -n 's/^\[  FAILED  \] \([0-9][0-9]*\) test.*/\1/p' "$log" | awk '{s+=$1} END {print s+0}')
+    skipped=$(sed -n 's/^\[  SKIPPED \] \([0-9][0-9]*\) test.*/\1/p' "$log" | awk '{s+=$1} END {print s+0}')
+    if [ $rc -ne 0 ] && [ "$failed" -eq 0 ]; then
+        failed=1
+        echo "  $label: $name exited with status $rc without a test report (crash?); see $log"
+    fi
+    if [ $rc -eq 0 ] && [ "$passed" -eq 0 ] && [ "$skipped" -eq 0 ]; then
+        failed=1
+        echo "  $label: $name ran no test; see $log"
+    fi
+    if [ "$failed" -ne 0 ]; then
+        status=1
+        printf '  FAIL  %-18s %-28s %3d passed, %d failed\n' "$label" "$name" "$passed" "$failed"
+        grep -E '^\[ +(ERROR|LINE|FAILED) +\]' "$log" | head -n 20 | sed 's/^/        /'
+    else
+        printf '  ok    %-18s %-28s %3d passed%s\n' "$label" "$name" "$passed" \
+            "$( [ "$skipped" -ne 0 ] && echo ", $skipped skipped")"
+    fi
+    echo "$label/$name $passed $failed $skipped" >"$results/$name.res"
+done
+exit 0
