@@ -94,15 +94,50 @@ LDFLAGS_ALL := $(BOARD_LDFLAGS) $(SAN_FLAGS)
 INTEGER_FLAGS := -mgeneral-regs-only
 
 # ---------------------------------------------------------------------------------------------------------
-# Sources (listed explicitly)
-CORE_SRCS := src/core/arena.c src/core/status.c src/core/fmt.c src/core/fixed.c src/core/hash.c src/core/vmath.c
-# Integer-only sources: compiled with -mgeneral-regs-only in every build, checked on both ISAs.
-INTEGER_SRCS := src/core/fixed.c src/core/hash.c
+# Sources (listed explicitly), one block per module. <M>_SRCS build on every board, <M>_SRCS_<simd> only on
+# boards with BOARD_SIMD=<simd> (avx2, neon), <M>_TESTS are test/unit/test_<name>.c linked with libhz.a,
+# <M>_PORT_TESTS also link the port library.
 
-LIB_SRCS := $(CORE_SRCS)
+# core (src/core): arenas, status, formatter, fixed point, hash + RNG, vec/mat
+CORE_SRCS := src/core/arena.c src/core/status.c src/core/fmt.c src/core/fixed.c src/core/hash.c src/core/vmath.c
+CORE_INTEGER_SRCS := src/core/fixed.c src/core/hash.c
+CORE_TESTS := arena status fmt fixed hash vmath config
+CORE_PORT_TESTS := zero_alloc
+
+# scene (src/scene): baked format, validating loader, built-in scene
+SCENE_SRCS :=
+SCENE_TESTS :=
+SCENE_PORT_TESTS :=
+
+# accel (src/accel): BVH build and traversal; the Embree backend lives in port/embree
+ACCEL_SRCS :=
+ACCEL_SRCS_avx2 :=
+ACCEL_SRCS_neon :=
+ACCEL_TESTS :=
+ACCEL_PORT_TESTS :=
+
+# render (src/render, src/recon): camera, shading, G-buffer, reconstruction
+RENDER_SRCS :=
+RENDER_TESTS :=
+RENDER_PORT_TESTS :=
+
+# pattern (src/pattern): integer-only tile orderings, dither maps, masks
+PATTERN_SRCS :=
+PATTERN_TESTS :=
+
+# timing (src/timing): v-sync model, pacing, latency statistics
+TIMING_SRCS :=
+TIMING_TESTS :=
+TIMING_PORT_TESTS :=
+
+MODULES := CORE SCENE ACCEL RENDER PATTERN TIMING
+LIB_SRCS := $(foreach m,$(MODULES),$($(m)_SRCS) $($(m)_SRCS_$(BOARD_SIMD)))
 LIB_OBJS := $(LIB_SRCS:%.c=$(O)/%.o)
 LIB := $(O)/libhz.a
+# Integer-only sources: compiled with -mgeneral-regs-only in every build, checked on both ISAs.
+INTEGER_SRCS := $(CORE_INTEGER_SRCS) $(PATTERN_SRCS)
 
+# Ports: each board lists the ones it links (BOARD_PORTS); accel backends come from BOARD_ACCEL.
 KNOWN_PORTS := linux
 PORT_SRCS_linux := port/linux/pools.c port/linux/cli.c port/linux/clock.c port/linux/fileio.c
 $(foreach p,$(BOARD_PORTS),$(if $(filter $(p),$(KNOWN_PORTS)),,$(error $(BOARD_DIR)/board.mk: unknown port '$(p)' (known: $(KNOWN_PORTS)))))
@@ -120,11 +155,9 @@ BENCH_SRCS := tools/bench/bench.c
 BENCH_OBJS := $(BENCH_SRCS:%.c=$(O)/%.o)
 BENCH := $(O)/bin/hzbench
 
-# Unit tests: test/unit/test_<name>.c, one cmocka binary each.
-UNIT_TESTS := arena status fmt fixed hash vmath config
+UNIT_TESTS := $(foreach m,$(MODULES),$($(m)_TESTS))
 UNIT_BINS := $(UNIT_TESTS:%=$(O)/test/unit/test_%)
-# Tests that link the port library as well.
-PORT_TESTS := zero_alloc
+PORT_TESTS := $(foreach m,$(MODULES),$($(m)_PORT_TESTS))
 PORT_TEST_BINS := $(PORT_TESTS:%=$(O)/test/unit/test_%)
 TEST_BINS := $(UNIT_BINS) $(PORT_TEST_BINS)
 TEST_CFLAGS := $(HOSTED_CFLAGS) -Itest
