@@ -99,14 +99,15 @@ INTEGER_FLAGS := -mgeneral-regs-only
 # <M>_PORT_TESTS also link the port library.
 
 # core (src/core): arenas, status, formatter, fixed point, hash + RNG, vec/mat
-CORE_SRCS := src/core/arena.c src/core/status.c src/core/fmt.c src/core/fixed.c src/core/hash.c src/core/vmath.c
-CORE_INTEGER_SRCS := src/core/fixed.c src/core/hash.c
-CORE_TESTS := arena status fmt fixed hash vmath config
+CORE_SRCS := src/core/arena.c src/core/status.c src/core/fmt.c src/core/fixed.c src/core/hash.c src/core/vmath.c \
+             src/core/crc32.c
+CORE_INTEGER_SRCS := src/core/fixed.c src/core/hash.c src/core/crc32.c
+CORE_TESTS := arena status fmt fixed hash vmath config crc32
 CORE_PORT_TESTS := zero_alloc
 
 # scene (src/scene): baked format, validating loader, built-in scene
-SCENE_SRCS :=
-SCENE_TESTS :=
+SCENE_SRCS := src/scene/hzb.c src/scene/write.c src/scene/load.c src/scene/animate.c src/scene/builtin.c
+SCENE_TESTS := scene scene_corrupt
 SCENE_PORT_TESTS :=
 
 # accel (src/accel): BVH build and traversal; the Embree backend lives in port/embree
@@ -139,7 +140,7 @@ INTEGER_SRCS := $(CORE_INTEGER_SRCS) $(PATTERN_SRCS)
 
 # Ports: each board lists the ones it links (BOARD_PORTS); accel backends come from BOARD_ACCEL.
 KNOWN_PORTS := linux
-PORT_SRCS_linux := port/linux/pools.c port/linux/cli.c port/linux/clock.c port/linux/fileio.c
+PORT_SRCS_linux := port/linux/pools.c port/linux/cli.c port/linux/clock.c port/linux/fileio.c port/linux/scenefile.c
 $(foreach p,$(BOARD_PORTS),$(if $(filter $(p),$(KNOWN_PORTS)),,$(error $(BOARD_DIR)/board.mk: unknown port '$(p)' (known: $(KNOWN_PORTS)))))
 PORT_SRCS := $(foreach p,$(BOARD_PORTS),$(PORT_SRCS_$(p)))
 PORT_OBJS := $(PORT_SRCS:%.c=$(O)/%.o)
