@@ -123,8 +123,8 @@ RENDER_TESTS :=
 RENDER_PORT_TESTS :=
 
 # pattern (src/pattern): integer-only tile orderings, dither maps, masks
-PATTERN_SRCS :=
-PATTERN_TESTS :=
+PATTERN_SRCS := src/pattern/tileorder.c
+PATTERN_TESTS := tileorder
 
 # timing (src/timing): v-sync model, pacing, latency statistics
 TIMING_SRCS :=
