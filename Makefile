@@ -171,7 +171,20 @@ TEST_CFLAGS := $(HOSTED_CFLAGS) -Itest
 TEST_LIBS := -lcmocka
 $(O)/test/unit/test_imageio: TEST_CFLAGS += -DHZ_HAVE_PNG=$(HAVE_PNG)
 
-ALL_OBJS := $(LIB_OBJS) $(PORT_OBJS) $(HZRT_OBJS) $(BENCH_OBJS)
+# errtime (tools/errtime): image metrics (PSNR, SSIM, FLIP), report writers and the error-against-run-time driver.
+# Built with the board's compiler, like hzbench: it times the board's renderer. Hosted C99 with libm.
+ERRTIME_SRCS := tools/errtime/metrics.c tools/errtime/flip.c
+ERRTIME_MAIN_SRCS :=
+ERRTIME_TESTS := metrics flip
+ERRTIME_OBJS := $(ERRTIME_SRCS:%.c=$(O)/%.o)
+ERRTIME_LIB := $(O)/liberrtime.a
+ERRTIME_TEST_BINS := $(ERRTIME_TESTS:%=$(O)/test/unit/test_%)
+TEST_BINS += $(ERRTIME_TEST_BINS)
+# test_flip compares against NVIDIA's FLIP on crops of real textures, unpacked from the shared scenes.
+SCENES_DIR ?= ../shared/scenes
+FLIP_TEST_DATA := $(O)/test-data/flip
+
+ALL_OBJS := $(LIB_OBJS) $(PORT_OBJS) $(HZRT_OBJS) $(BENCH_OBJS) $(ERRTIME_OBJS)
 
 # ---------------------------------------------------------------------------------------------------------
 # Build rules
@@ -217,11 +230,28 @@ $(PORT_TEST_BINS): $(O)/test/unit/test_%: test/unit/test_%.c $(PORT_LIB) $(LIB)
 	$(call msg,CCLD,$@)$(CC) $(TEST_CFLAGS) $(PORT_DEFS) -Iport/linux $(DEPFLAGS) $(LDFLAGS_ALL) -o $@ $< \
 		$(PORT_LIB) $(LIB) $(TEST_LIBS) $(PORT_LIBS) -ldl
 
+$(ERRTIME_LIB): $(ERRTIME_OBJS)
+	$(call msg,AR,$@)rm -f $@ && $(AR) rcs $@ $^
+
+$(ERRTIME_TEST_BINS): $(O)/test/unit/test_%: test/unit/test_%.c $(ERRTIME_LIB) $(PORT_LIB) $(LIB)
+	@mkdir -p $(dir $@)
+	$(call msg,CCLD,$@)$(CC) $(TEST_CFLAGS) $(PORT_DEFS) -Iport/linux -Itools/errtime $(ERRTIME_TEST_DEFS) \
+		$(DEPFLAGS) $(LDFLAGS_ALL) -o $@ $< $(ERRTIME_LIB) $(PORT_LIB) $(LIB) $(TEST_LIBS) $(PORT_LIBS)
+
+$(O)/test/unit/test_flip: ERRTIME_TEST_DEFS = -DHZ_FLIP_TEST_DATA='"$(FLIP_TEST_DATA)"'
+$(O)/test/unit/test_flip: $(FLIP_TEST_DATA)/.unpacked
+$(FLIP_TEST_DATA)/.unpacked: $(SCENES_DIR)/pine.zip $(SCENES_DIR)/lost-empire.zip
+	@mkdir -p $(dir $@)
+	$(call msg,UNZIP,$(FLIP_TEST_DATA))unzip -o -q -j $(SCENES_DIR)/pine.zip LushPine.png -d $(FLIP_TEST_DATA) && \
+		unzip -o -q -j $(SCENES_DIR)/lost-empire.zip lost_empire-RGB.png -d $(FLIP_TEST_DATA) && touch $@
+$(SCENES_DIR)/%.zip:
+	$(error $@ is missing: the tests need the shared scenes (set SCENES_DIR=<dir with the scene zips>))
+
 -include $(ALL_OBJS:.o=.d) $(TEST_BINS:=.d)
 
 # ---------------------------------------------------------------------------------------------------------
 # Dependencies (Debian packages). `?pkg` is optional: a failed install warns instead of stopping.
-DEPS_TEST_HOST := libcmocka-dev file
+DEPS_TEST_HOST := libcmocka-dev file unzip
 DEPS_TEST_CROSS := gcc-aarch64-linux-gnu libc6-dev-arm64-cross binutils-aarch64-linux-gnu qemu-user-static \
                    libcmocka-dev:arm64
 deps: ## install the Debian packages BOARD needs to build, run and test (apt-get as root; else print the line)
