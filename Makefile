@@ -98,16 +98,16 @@ INTEGER_FLAGS := -mgeneral-regs-only
 # boards with BOARD_SIMD=<simd> (avx2, neon), <M>_TESTS are test/unit/test_<name>.c linked with libhz.a,
 # <M>_PORT_TESTS also link the port library.
 
-# core (src/core): arenas, status, formatter, fixed point, hash + RNG, vec/mat, images + sRGB codes
+# core (src/core): arenas, status, formatter, fixed point, hash + RNG, CRC-32, vec/mat, images + sRGB codes
 CORE_SRCS := src/core/arena.c src/core/status.c src/core/fmt.c src/core/fixed.c src/core/hash.c src/core/vmath.c \
-             src/core/image.c src/core/srgb_tables.c
-CORE_INTEGER_SRCS := src/core/fixed.c src/core/hash.c
-CORE_TESTS := arena status fmt fixed hash vmath config image
+             src/core/crc32.c src/core/image.c src/core/srgb_tables.c
+CORE_INTEGER_SRCS := src/core/fixed.c src/core/hash.c src/core/crc32.c
+CORE_TESTS := arena status fmt fixed hash vmath config crc32 image
 CORE_PORT_TESTS := zero_alloc imageio
 
 # scene (src/scene): baked format, validating loader, built-in scene
-SCENE_SRCS :=
-SCENE_TESTS :=
+SCENE_SRCS := src/scene/hzb.c src/scene/write.c src/scene/load.c src/scene/animate.c src/scene/builtin.c
+SCENE_TESTS := scene scene_corrupt
 SCENE_PORT_TESTS :=
 
 # accel (src/accel): BVH build and traversal; the Embree backend lives in port/embree
@@ -140,7 +140,7 @@ INTEGER_SRCS := $(CORE_INTEGER_SRCS) $(PATTERN_SRCS)
 
 # Ports: each board lists the ones it links (BOARD_PORTS); accel backends come from BOARD_ACCEL.
 KNOWN_PORTS := linux
-PORT_SRCS_linux := port/linux/pools.c port/linux/cli.c port/linux/clock.c port/linux/fileio.c
+PORT_SRCS_linux := port/linux/pools.c port/linux/cli.c port/linux/clock.c port/linux/fileio.c port/linux/scenefile.c
 $(foreach p,$(BOARD_PORTS),$(if $(filter $(p),$(KNOWN_PORTS)),,$(error $(BOARD_DIR)/board.mk: unknown port '$(p)' (known: $(KNOWN_PORTS)))))
 # Image files (port/linux/imageio.c): PNG needs libpng for the target. It is on when the target's compiler links
 # -lpng (host builds: libpng-dev is in host-sim's BOARD_DEPS); elsewhere the PNG calls report "not built in".
