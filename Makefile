@@ -173,18 +173,21 @@ $(O)/test/unit/test_imageio: TEST_CFLAGS += -DHZ_HAVE_PNG=$(HAVE_PNG)
 
 # errtime (tools/errtime): image metrics (PSNR, SSIM, FLIP), report writers and the error-against-run-time driver.
 # Built with the board's compiler, like hzbench: it times the board's renderer. Hosted C99 with libm.
-ERRTIME_SRCS := tools/errtime/metrics.c tools/errtime/flip.c
-ERRTIME_MAIN_SRCS :=
-ERRTIME_TESTS := metrics flip
+ERRTIME_SRCS := tools/errtime/metrics.c tools/errtime/flip.c tools/errtime/report.c tools/errtime/progress.c \
+                tools/errtime/driver.c tools/errtime/synthetic.c tools/errtime/methods.c
+ERRTIME_MAIN_SRCS := tools/errtime/main.c
+ERRTIME_TESTS := metrics flip report errtime
 ERRTIME_OBJS := $(ERRTIME_SRCS:%.c=$(O)/%.o)
+ERRTIME_MAIN_OBJS := $(ERRTIME_MAIN_SRCS:%.c=$(O)/%.o)
 ERRTIME_LIB := $(O)/liberrtime.a
+ERRTIME := $(O)/bin/hzerrtime
 ERRTIME_TEST_BINS := $(ERRTIME_TESTS:%=$(O)/test/unit/test_%)
 TEST_BINS += $(ERRTIME_TEST_BINS)
 # test_flip compares against NVIDIA's FLIP on crops of real textures, unpacked from the shared scenes.
 SCENES_DIR ?= ../shared/scenes
 FLIP_TEST_DATA := $(O)/test-data/flip
 
-ALL_OBJS := $(LIB_OBJS) $(PORT_OBJS) $(HZRT_OBJS) $(BENCH_OBJS) $(ERRTIME_OBJS)
+ALL_OBJS := $(LIB_OBJS) $(PORT_OBJS) $(HZRT_OBJS) $(BENCH_OBJS) $(ERRTIME_OBJS) $(ERRTIME_MAIN_OBJS)
 
 # ---------------------------------------------------------------------------------------------------------
 # Build rules
@@ -232,6 +235,13 @@ $(PORT_TEST_BINS): $(O)/test/unit/test_%: test/unit/test_%.c $(PORT_LIB) $(LIB)
 
 $(ERRTIME_LIB): $(ERRTIME_OBJS)
 	$(call msg,AR,$@)rm -f $@ && $(AR) rcs $@ $^
+
+$(ERRTIME): $(ERRTIME_MAIN_OBJS) $(ERRTIME_LIB) $(PORT_LIB) $(LIB)
+	@mkdir -p $(dir $@)
+	$(call msg,LD,$@)$(CC) $(LDFLAGS_ALL) -o $@ $(ERRTIME_MAIN_OBJS) $(ERRTIME_LIB) $(PORT_LIB) $(LIB) $(PORT_LIBS)
+
+errtime: $(ERRTIME) ## build hzerrtime (error against run time; `hzerrtime --help`) into O/bin
+tests: $(ERRTIME)
 
 $(ERRTIME_TEST_BINS): $(O)/test/unit/test_%: test/unit/test_%.c $(ERRTIME_LIB) $(PORT_LIB) $(LIB)
 	@mkdir -p $(dir $@)
@@ -334,4 +344,4 @@ help: ## list the targets
 	@grep -hE '^[a-z][a-z-]*:.*## ' $(MAKEFILE_LIST) | sed -E 's/^([a-z-]+):.*## (.*)/\1|\2/' | \
 		awk -F'|' '{ printf "  %-20s %s\n", $$1, $$2 }'
 
-.PHONY: all deps run bench size tests test-board test check-freestanding check-integer clean help gen-srgb
+.PHONY: all deps run bench size tests test-board test check-freestanding check-integer clean help gen-srgb errtime
