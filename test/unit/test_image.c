@@ -56,26 +56,34 @@ static void test_thresholds_bracket_the_exact_values(void **state)
     assert_int_equal(hz_srgb8_threshold_bits[255], 0x7F800000u);
 }
 
-/* Every float in a bucket starts at lut[i] and crosses at most one threshold inside the bucket: so
- * lut + (x >= T[lut]) is the exact code for every float in [2^-13, 1), without testing all 10^8 of them. */
+/* Every float in a bucket starts at the bucket's code and crosses at most one threshold inside it, whose low bits
+ * the entry holds: so the one-compare encode is exact for every float in [2^-13, 1), without testing all 10^8 of
+ * them. */
 static void test_bucket_table_invariant(void **state)
 {
     (void)state;
     assert_int_equal(HZ_SRGB8_LUT_SIZE, 1664);
     assert_true(hz_float_from_bits(HZ_SRGB8_LUT_BASE) == 0x1p-13f);
     assert_true(hz_srgb8_threshold_bits[0] > HZ_SRGB8_LUT_BASE);
+    assert_int_equal(hz_srgb8_lut[0], 0x1000000u);                      /* zero, never one higher */
+    assert_int_equal(hz_srgb8_lut[HZ_SRGB8_LUT_SIZE + 1], 0x10000ffu); /* 255, never one higher */
+    assert_true(hz_srgb8_threshold_bits[254] < 0x3F800000u);           /* so everything >= 1.0 is 255 */
     for (uint32_t i = 0; i < HZ_SRGB8_LUT_SIZE; i++) {
         uint32_t lo = HZ_SRGB8_LUT_BASE + (i << HZ_SRGB8_LUT_SHIFT);
         uint32_t hi = lo + (1u << HZ_SRGB8_LUT_SHIFT) - 1;
-        int below = 0, inside = 0;
+        uint32_t below = 0, inside = 0, split = 0x10000;
         for (int k = 0; k < 255; k++) {
-            if (hz_srgb8_threshold_bits[k] <= lo)
+            if (hz_srgb8_threshold_bits[k] <= lo) {
                 below++;
-            else if (hz_srgb8_threshold_bits[k] <= hi)
+            } else if (hz_srgb8_threshold_bits[k] <= hi) {
                 inside++;
+                split = hz_srgb8_threshold_bits[k] & 0xffff;
+            }
         }
-        assert_int_equal(hz_srgb8_lut[i], below);
+        assert_int_equal(hz_srgb8_lut[i + 1] & 0xff, below);
         assert_true(inside <= 1);
+        assert_int_equal(hz_srgb8_lut[i + 1] >> 8, split);
+        assert_true(split > 0); /* a threshold at the bucket's first float would belong to the code below */
     }
 }
 

@@ -11,9 +11,11 @@
  *    255 * OETF(x) >= k + 0.5, i.e. the first linear value that displays as code k + 1; thresholds[255] is +Inf.
  *    The exact threshold is EOTF((k + 0.5) / 255) (the OETF is increasing); the generator refuses to write a
  *    table if long double cannot place it unambiguously between two floats.
- *  - lut[HZ_SRGB8_LUT_SIZE]: for the bucket of floats sharing their top bits, (bits - BASE) >> SHIFT, the code of
- *    the bucket's smallest float. The generator checks that no bucket holds more than one threshold, so one
- *    compare against thresholds[lut[i]] finishes the exact rounding.
+ *  - lut[HZ_SRGB8_LUT_SIZE + 2]: a sentinel for "0" (below 2^-13, negative, NaN), then for each bucket of floats
+ *    sharing their top bits, (bits - BASE) >> SHIFT, the code of
+ *    the bucket's smallest float (bits 0..7) and the low 16 bits of the one threshold inside the bucket (bits
+ *    8..24; 0x10000 when there is none). The generator checks that no bucket holds more than one threshold, so
+ *    encoding is one load and one compare of the float's low bits.
  */
 #include <errno.h>
 #include <math.h>
@@ -78,21 +80,23 @@ int main(int argc, char **argv)
         fprintf(stderr, "srgb_tables: first threshold %a is below the bucket base\n", (double)float_of(thr[0]));
         return 1;
     }
-    static uint8_t lut[LUT_SIZE];
+    static uint32_t lut[LUT_SIZE];
     for (uint32_t i = 0; i < LUT_SIZE; i++) {
         uint32_t lo = LUT_BASE + (i << LUT_SHIFT), hi = lo + ((1u << LUT_SHIFT) - 1);
-        int code = 0, inside = 0;
+        uint32_t code = 0, inside = 0, split = 1u << LUT_SHIFT; /* no threshold: the low bits never reach it */
         for (int k = 0; k < 255; k++) {
-            if (thr[k] <= lo)
+            if (thr[k] <= lo) {
                 code++;
-            else if (thr[k] <= hi)
+            } else if (thr[k] <= hi) {
                 inside++;
+                split = thr[k] & ((1u << LUT_SHIFT) - 1);
+            }
         }
         if (inside > 1) {
-            fprintf(stderr, "srgb_tables: bucket %u holds %d thresholds; use a larger shift\n", i, inside);
+            fprintf(stderr, "srgb_tables: bucket %u holds %u thresholds; use a larger shift\n", i, inside);
             return 1;
         }
-        lut[i] = (uint8_t)code;
+        lut[i] = code | split << 8;
     }
 
     char tmp[4096];
@@ -117,10 +121,17 @@ int main(int argc, char **argv)
     for (int k = 0; k < 256; k++)
         fprintf(f, "%s0x%08xu,%s", k % 8 ? " " : "    ", thr[k], k % 8 == 7 ? "\n" : "");
     fprintf(f, "};\n\n");
-    fprintf(f, "/* Code of the smallest float of each bucket (bits - HZ_SRGB8_LUT_BASE) >> HZ_SRGB8_LUT_SHIFT. */\n");
-    fprintf(f, "const uint8_t hz_srgb8_lut[HZ_SRGB8_LUT_SIZE] = {\n");
+    fprintf(f, "/* [0]: below 2^-13, negative or NaN; [1 + ((bits - HZ_SRGB8_LUT_BASE) >> HZ_SRGB8_LUT_SHIFT)]: a bucket;\n"
+               " * [HZ_SRGB8_LUT_SIZE + 1]: 1.0 and above. Bits 0..7: the code of the bucket's smallest float; bits 8..:\n"
+               " * the low bits from which the code is one higher (0x10000: never). */\n");
+    fprintf(f, "const uint32_t hz_srgb8_lut[HZ_SRGB8_LUT_SIZE + 2] = {\n");
+    uint32_t all[LUT_SIZE + 2];
+    all[0] = 0u | 1u << (LUT_SHIFT + 8);
     for (uint32_t i = 0; i < LUT_SIZE; i++)
-        fprintf(f, "%s%u,%s", i % 16 ? " " : "    ", lut[i], i % 16 == 15 || i + 1 == LUT_SIZE ? "\n" : "");
+        all[i + 1] = lut[i];
+    all[LUT_SIZE + 1] = 255u | 1u << (LUT_SHIFT + 8);
+    for (uint32_t i = 0; i < LUT_SIZE + 2; i++)
+        fprintf(f, "%s0x%07xu,%s", i % 8 ? " " : "    ", all[i], i % 8 == 7 || i + 1 == LUT_SIZE + 2 ? "\n" : "");
     fprintf(f, "};\n");
     if (fflush(f) != 0 || ferror(f) || fclose(f) != 0 || rename(tmp, argv[1]) != 0) {
         fprintf(stderr, "srgb_tables: writing %s: %s\n", argv[1], strerror(errno));
