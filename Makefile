@@ -118,8 +118,8 @@ ACCEL_TESTS :=
 ACCEL_PORT_TESTS :=
 
 # render (src/render, src/recon): camera, shading, G-buffer, reconstruction
-RENDER_SRCS :=
-RENDER_TESTS :=
+RENDER_SRCS := src/recon/tdense.c
+RENDER_TESTS := tdense
 RENDER_PORT_TESTS :=
 
 # pattern (src/pattern): integer-only tile orderings, dither maps, masks
