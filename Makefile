@@ -182,6 +182,9 @@ ERRTIME_MAIN_OBJS := $(ERRTIME_MAIN_SRCS:%.c=$(O)/%.o)
 ERRTIME_LIB := $(O)/liberrtime.a
 ERRTIME := $(O)/bin/hzerrtime
 ERRTIME_TEST_BINS := $(ERRTIME_TESTS:%=$(O)/test/unit/test_%)
+# The metric filters' inner loops run over x: vectorising them keeps every pixel's sum in the same order (same
+# results) and makes FLIP ~2x faster; -O2's "very cheap" cost model leaves them scalar.
+$(O)/tools/errtime/flip.o $(O)/tools/errtime/metrics.o: HOSTED_CFLAGS += -fvect-cost-model=dynamic
 TEST_BINS += $(ERRTIME_TEST_BINS)
 # test_flip compares against NVIDIA's FLIP on crops of real textures, unpacked from the shared scenes.
 SCENES_DIR ?= ../shared/scenes
