@@ -263,13 +263,149 @@ $(SCENES_DIR)/%.zip:
 -include $(ALL_OBJS:.o=.d) $(TEST_BINS:=.d)
 
 # ---------------------------------------------------------------------------------------------------------
+# Host tools: the scene baker (tools/bake), its tests (test/host) and the loader fuzzer (test/fuzz). They are
+# built for the build machine with HOSTCC whatever BOARD is, against a host-compiled copy of the core and
+# scene sources (tools/host/board.h), into $(BUILD_ROOT)/host (host-san with SAN=1). `make scenes` always
+# bakes with the plain build, so SAN=1 does not re-bake every scene.
+HOSTAR ?= ar
+HOST_CFLAGS := $(WARN) $(OPT) -D_POSIX_C_SOURCE=200809L -Iinclude -Itools/host -Iport/linux
+HOST_SAN_FLAGS := -fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer
+HOST_LIB_SRCS := $(CORE_SRCS) $(SCENE_SRCS) port/linux/cli.c port/linux/fileio.c
+BAKE_LIB_SRCS := tools/bake/util.c tools/bake/sidecar.c tools/bake/scene.c tools/bake/texture.c \
+                 tools/bake/import_assimp.c tools/bake/import_furball.c
+BAKE_SRCS := tools/bake/main.c $(BAKE_LIB_SRCS)
+BAKE_LIBS := -lassimp -lstb -lz -lm
+HOST_TESTS := sidecar bake
+
+# $(1): output directory, $(2): extra compiler/linker flags
+define HOST_TREE
+$(1)/obj/src/%.o: src/%.c
+	@mkdir -p $$(dir $$@)
+	$$(call msg,HOSTCC,$$@)$$(HOSTCC) $$(HOST_CFLAGS) -ffreestanding $(2) $$(DEPFLAGS) -c $$< -o $$@
+$(1)/obj/%.o: %.c
+	@mkdir -p $$(dir $$@)
+	$$(call msg,HOSTCC,$$@)$$(HOSTCC) $$(HOST_CFLAGS) $(2) $$(DEPFLAGS) -c $$< -o $$@
+$(1)/libhz-host.a: $$(HOST_LIB_SRCS:%.c=$(1)/obj/%.o)
+	$$(call msg,AR,$$@)rm -f $$@ && $$(HOSTAR) rcs $$@ $$^
+$(1)/libbake.a: $$(BAKE_LIB_SRCS:%.c=$(1)/obj/%.o)
+	$$(call msg,AR,$$@)rm -f $$@ && $$(HOSTAR) rcs $$@ $$^
+$(1)/bin/hzbake: $(1)/obj/tools/bake/main.o $(1)/libbake.a $(1)/libhz-host.a
+	@mkdir -p $$(dir $$@)
+	$$(call msg,HOSTLD,$$@)$$(HOSTCC) $(2) -o $$@ $$^ $$(BAKE_LIBS)
+$(1)/test/test_%: test/host/test_%.c $(1)/libbake.a $(1)/libhz-host.a
+	@mkdir -p $$(dir $$@)
+	$$(call msg,HOSTCC,$$@)$$(HOSTCC) $$(HOST_CFLAGS) -Itest -Itools/bake $(2) $$(DEPFLAGS) -o $$@ $$< \
+		$(1)/libbake.a $(1)/libhz-host.a $$(BAKE_LIBS) -lcmocka
+-include $$(patsubst %.c,$(1)/obj/%.d,$$(HOST_LIB_SRCS) $$(BAKE_SRCS)) $$(HOST_TESTS:%=$(1)/test/test_%.d)
+endef
+HOST_PLAIN_O := $(BUILD_ROOT)/host
+HOST_O := $(BUILD_ROOT)/host$(SAN_SUFFIX)
+$(eval $(call HOST_TREE,$(HOST_PLAIN_O),))
+ifeq ($(SAN),1)
+$(eval $(call HOST_TREE,$(HOST_O),$(HOST_SAN_FLAGS)))
+endif
+BAKE := $(HOST_PLAIN_O)/bin/hzbake
+HOST_TEST_BINS := $(HOST_TESTS:%=$(HOST_O)/test/test_%)
+
+bake: $(BAKE) ## build the scene baker tools/bake (hzbake) for the build machine into $(BUILD_ROOT)/host
+
+# Real scenes (../shared/scenes, see SOURCES.md there): zips are unpacked into $(BUILD_ROOT)/scenes-src, each
+# scene is baked with its sidecar tools/bake/scenes/<name>.hzs into $(BUILD_ROOT)/scenes/<name>.hzb. A scene is
+# re-baked when its model, sidecar or the baker changes. The -small variants are the same models with tiny
+# textures and few vertex-key frames: seeds for the fuzzer and images for the exhaustive corruption test.
+SCENES_SRC ?= ../shared/scenes
+SCENES_O := $(BUILD_ROOT)/scenes
+SCENES_UNPACK := $(BUILD_ROOT)/scenes-src
+SIDECAR_DIR := tools/bake/scenes
+SCENE_ZIPS := CornellBox conference sponza lost-empire pine
+SCENE_MODEL_CornellBox-Original := $(SCENES_UNPACK)/CornellBox/CornellBox-Original.obj
+SCENE_MODEL_CornellBox-Mirror := $(SCENES_UNPACK)/CornellBox/CornellBox-Mirror.obj
+SCENE_MODEL_conference := $(SCENES_UNPACK)/conference/conference.obj
+SCENE_MODEL_sponza := $(SCENES_UNPACK)/sponza/sponza.obj
+SCENE_MODEL_lost-empire := $(SCENES_UNPACK)/lost-empire/lost_empire.obj
+SCENE_MODEL_pine := $(SCENES_UNPACK)/pine/scrubPine.obj
+SCENE_MODEL_dragon-res4 := $(SCENES_SRC)/dragon/dragon_vrip_res4.ply.gz
+SCENE_MODEL_dragon-res3 := $(SCENES_SRC)/dragon/dragon_vrip_res3.ply.gz
+SCENE_MODEL_dragon-res2 := $(SCENES_SRC)/dragon/dragon_vrip_res2.ply.gz
+SCENE_MODEL_dragon := $(SCENES_SRC)/dragon/dragon_vrip.ply.gz
+SCENE_MODEL_furball := $(SCENES_SRC)/furball/furBall_A.xml
+SCENE_MODEL_BoxAnimated := $(SCENES_SRC)/gltf/BoxAnimated/glTF/BoxAnimated.gltf
+SCENE_MODEL_CesiumMan := $(SCENES_SRC)/gltf/CesiumMan/glTF/CesiumMan.gltf
+SCENE_MODEL_AlphaBlendModeTest := $(SCENES_SRC)/gltf/AlphaBlendModeTest/glTF/AlphaBlendModeTest.gltf
+SCENE_MODEL_CesiumMan-small := $(SCENE_MODEL_CesiumMan)
+SCENE_MODEL_AlphaBlendModeTest-small := $(SCENE_MODEL_AlphaBlendModeTest)
+SCENES := CornellBox-Original CornellBox-Mirror conference sponza lost-empire pine dragon-res4 dragon-res3 \
+          dragon-res2 dragon furball BoxAnimated CesiumMan AlphaBlendModeTest CesiumMan-small \
+          AlphaBlendModeTest-small
+SCENE_FILES := $(SCENES:%=$(SCENES_O)/%.hzb)
+# What each scene reads besides its model: the unpacked zip (its stamp) or every file beside the model.
+scene_inputs = $(if $(filter $(SCENES_UNPACK)/%,$(1)),$(dir $(1)).unpacked,$(1) $(wildcard $(dir $(1))*))
+
+$(SCENES_UNPACK)/%/.unpacked: $(SCENES_SRC)/%.zip
+	@rm -rf $(dir $@) && mkdir -p $(dir $@)
+	$(call msg,UNZIP,$<)unzip -q -o $< -d $(dir $@) && rm -rf $(dir $@)__MACOSX && touch $@
+
+$(SCENES_O)/%.hzb: $(BAKE) $(SIDECAR_DIR)/%.hzs
+	@mkdir -p $(dir $@)
+	$(call msg,BAKE,$@)$(BAKE) -q -s $(SIDECAR_DIR)/$*.hzs $(SCENE_MODEL_$*) $@
+$(foreach s,$(SCENES),$(eval $(SCENES_O)/$(s).hzb: $(call scene_inputs,$(SCENE_MODEL_$(s)))))
+
+ifeq ($(wildcard $(SCENES_SRC)/SOURCES.md),)
+scenes: ## bake every scene of ../shared/scenes (SCENES_SRC) into $(BUILD_ROOT)/scenes/*.hzb
+	@echo "scenes: no scene sources in '$(SCENES_SRC)' (set SCENES_SRC to the folder with conference.zip, gltf/, ...)" >&2
+	@exit 1
+else
+scenes: deps $(SCENE_FILES) ## bake every scene of ../shared/scenes (SCENES_SRC) into $(BUILD_ROOT)/scenes/*.hzb
+endif
+
+# Tests read the baked scenes from here (qemu passes the environment to the AArch64 tests too).
+HZ_SCENES_DIR ?= $(abspath $(SCENES_O))
+export HZ_SCENES_DIR
+
+# Loader fuzzer: libFuzzer (clang -fsanitize=fuzzer) on hz_scene_plan/hz_scene_load, seeded with the small
+# real scenes. `make fuzz` runs it for FUZZ_SECONDS; `make test` runs FUZZ_RUNS inputs (seconds).
+FUZZ_CC ?= clang
+FUZZ_O := $(BUILD_ROOT)/fuzz
+FUZZ := $(FUZZ_O)/fuzz_hzb
+FUZZ_SECONDS ?= 60
+FUZZ_RUNS ?= 4000
+FUZZ_SEEDS := CornellBox-Original CornellBox-Mirror BoxAnimated dragon-res4 CesiumMan-small \
+              AlphaBlendModeTest-small
+FUZZ_FLAGS := -std=c99 -O1 -g -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=undefined \
+              -ffp-contract=off -fno-math-errno -fno-strict-aliasing -Iinclude -Itools/host
+$(FUZZ): test/fuzz/fuzz_hzb.c $(CORE_SRCS) $(SCENE_SRCS) $(wildcard include/hz/*.h src/scene/*.h)
+	@mkdir -p $(dir $@)
+	$(call msg,FUZZCC,$@)$(FUZZ_CC) $(FUZZ_FLAGS) -o $@ test/fuzz/fuzz_hzb.c $(CORE_SRCS) $(SCENE_SRCS)
+$(FUZZ_O)/seeds/.stamp: $(FUZZ_SEEDS:%=$(SCENES_O)/%.hzb)
+	@rm -rf $(dir $@) && mkdir -p $(dir $@)
+	$(Q)cp $^ $(dir $@) && touch $@
+
+fuzz: deps $(FUZZ) $(FUZZ_O)/seeds/.stamp ## fuzz the .hzb loader for FUZZ_SECONDS (libFuzzer; findings in $(BUILD_ROOT)/fuzz)
+	$(Q)mkdir -p $(FUZZ_O)/corpus $(FUZZ_O)/artifacts
+	$(Q)$(FUZZ) -max_total_time=$(FUZZ_SECONDS) -max_len=4194304 -rss_limit_mb=4096 \
+		-artifact_prefix=$(FUZZ_O)/artifacts/ $(FUZZ_O)/corpus $(FUZZ_O)/seeds
+
+# Host-side tests (run by `make test`): the baker's tests and a bounded fuzzer run, results for the summary.
+test-host: $(HOST_TEST_BINS) $(HOST_O)/bin/hzbake $(FUZZ) $(FUZZ_O)/seeds/.stamp scenes
+	$(Q)rm -rf $(HOST_O)/test-results && mkdir -p $(HOST_O)/test-results
+	$(Q)HZ_BAKE=$(abspath $(HOST_O)/bin/hzbake) HZ_SCENES_SRC=$(abspath $(SCENES_SRC)) \
+		HZ_SCENES_UNPACK=$(abspath $(SCENES_UNPACK)) \
+		sh test/run-tests.sh $(HOST_O)/test-results host "" $(HOST_TEST_BINS)
+	$(Q)sh test/fuzz/run-fuzz.sh $(HOST_O)/test-results $(FUZZ) $(FUZZ_O)/seeds $(FUZZ_RUNS)
+
+# ---------------------------------------------------------------------------------------------------------
 # Dependencies (Debian packages). `?pkg` is optional: a failed install warns instead of stopping.
 DEPS_TEST_HOST := libcmocka-dev file unzip
+# Host tools: the baker (assimp, stb_image, zlib; unzip for the scene zips) and the loader fuzzer (libFuzzer).
+DEPS_BAKE := gcc libc6-dev libassimp-dev libstb-dev zlib1g-dev unzip libcmocka-dev
+DEPS_FUZZ := clang libclang-rt-14-dev
 DEPS_TEST_CROSS := gcc-aarch64-linux-gnu libc6-dev-arm64-cross binutils-aarch64-linux-gnu qemu-user-static \
                    libcmocka-dev:arm64
 deps: ## install the Debian packages BOARD needs to build, run and test (apt-get as root; else print the line)
 	$(Q)sh tools/deps.sh $(BOARD_DEPS) $(BOARD_TEST_DEPS) \
-		$(if $(filter test,$(MAKECMDGOALS)),$(DEPS_TEST_HOST) $(DEPS_TEST_CROSS))
+		$(if $(filter test,$(MAKECMDGOALS)),$(DEPS_TEST_HOST) $(DEPS_TEST_CROSS)) \
+		$(if $(filter test scenes bake test-host,$(MAKECMDGOALS)),$(DEPS_BAKE)) \
+		$(if $(filter test fuzz test-host,$(MAKECMDGOALS)),$(DEPS_FUZZ))
 
 # ---------------------------------------------------------------------------------------------------------
 # Run
@@ -320,13 +456,15 @@ CHECK_OBJS := $(LIB_OBJS)
 endif
 
 TEST_BOARDS := host-sim aarch64-generic
-test: deps ## build and run every test: host, then AArch64 under qemu, plus the design guards
-	$(Q)for b in $(TEST_BOARDS); do \
+test: deps ## build and run every test: scenes, host tools, host-sim, AArch64 under qemu, design guards
+	$(Q)$(MAKE) --no-print-directory scenes || exit 1; \
+	$(MAKE) --no-print-directory test-host || exit 1; \
+	for b in $(TEST_BOARDS); do \
 		$(MAKE) --no-print-directory BOARD=$$b O=$(BUILD_ROOT)/$$b$(SAN_SUFFIX) test-board || exit 1; \
 	done; \
 	rm -rf $(BUILD_ROOT)/guards$(SAN_SUFFIX); \
 	sh test/guard/run-guards.sh --record $(BUILD_ROOT)/guards$(SAN_SUFFIX); \
-	sh test/summary.sh $(foreach b,$(TEST_BOARDS),$(BUILD_ROOT)/$(b)$(SAN_SUFFIX)/test-results) \
+	sh test/summary.sh $(HOST_O)/test-results $(foreach b,$(TEST_BOARDS),$(BUILD_ROOT)/$(b)$(SAN_SUFFIX)/test-results) \
 		$(BUILD_ROOT)/guards$(SAN_SUFFIX)
 
 check-freestanding: $(CHECK_OBJS) ## the core links against nothing but memcpy/memset/memmove; no malloc/printf/FILE/errno in src/
@@ -347,4 +485,5 @@ help: ## list the targets
 	@grep -hE '^[a-z][a-z-]*:.*## ' $(MAKEFILE_LIST) | sed -E 's/^([a-z-]+):.*## (.*)/\1|\2/' | \
 		awk -F'|' '{ printf "  %-20s %s\n", $$1, $$2 }'
 
-.PHONY: all deps run bench size tests test-board test check-freestanding check-integer clean help gen-srgb errtime
+.PHONY: all deps run bench size tests test-board test check-freestanding check-integer clean help gen-srgb errtime \
+        bake scenes fuzz test-host
