@@ -186,9 +186,6 @@ ERRTIME_TEST_BINS := $(ERRTIME_TESTS:%=$(O)/test/unit/test_%)
 # results) and makes FLIP ~2x faster; -O2's "very cheap" cost model leaves them scalar.
 $(O)/tools/errtime/flip.o $(O)/tools/errtime/metrics.o: HOSTED_CFLAGS += -fvect-cost-model=dynamic
 TEST_BINS += $(ERRTIME_TEST_BINS)
-# test_flip compares against NVIDIA's FLIP on crops of real textures, unpacked from the shared scenes.
-SCENES_DIR ?= ../shared/scenes
-FLIP_TEST_DATA := $(O)/test-data/flip
 
 ALL_OBJS := $(LIB_OBJS) $(PORT_OBJS) $(HZRT_OBJS) $(BENCH_OBJS) $(ERRTIME_OBJS) $(ERRTIME_MAIN_OBJS)
 
@@ -248,17 +245,8 @@ tests: $(ERRTIME)
 
 $(ERRTIME_TEST_BINS): $(O)/test/unit/test_%: test/unit/test_%.c $(ERRTIME_LIB) $(PORT_LIB) $(LIB)
 	@mkdir -p $(dir $@)
-	$(call msg,CCLD,$@)$(CC) $(TEST_CFLAGS) $(PORT_DEFS) -Iport/linux -Itools/errtime $(ERRTIME_TEST_DEFS) \
-		$(DEPFLAGS) $(LDFLAGS_ALL) -o $@ $< $(ERRTIME_LIB) $(PORT_LIB) $(LIB) $(TEST_LIBS) $(PORT_LIBS)
-
-$(O)/test/unit/test_flip: ERRTIME_TEST_DEFS = -DHZ_FLIP_TEST_DATA='"$(FLIP_TEST_DATA)"'
-$(O)/test/unit/test_flip: $(FLIP_TEST_DATA)/.unpacked
-$(FLIP_TEST_DATA)/.unpacked: $(SCENES_DIR)/pine.zip $(SCENES_DIR)/lost-empire.zip
-	@mkdir -p $(dir $@)
-	$(call msg,UNZIP,$(FLIP_TEST_DATA))unzip -o -q -j $(SCENES_DIR)/pine.zip LushPine.png -d $(FLIP_TEST_DATA) && \
-		unzip -o -q -j $(SCENES_DIR)/lost-empire.zip lost_empire-RGB.png -d $(FLIP_TEST_DATA) && touch $@
-$(SCENES_DIR)/%.zip:
-	$(error $@ is missing: the tests need the shared scenes (set SCENES_DIR=<dir with the scene zips>))
+	$(call msg,CCLD,$@)$(CC) $(TEST_CFLAGS) $(PORT_DEFS) -Iport/linux -Itools/errtime $(DEPFLAGS) \
+		 $(LDFLAGS_ALL) -o $@ $< $(ERRTIME_LIB) $(PORT_LIB) $(LIB) $(TEST_LIBS) $(PORT_LIBS)
 
 -include $(ALL_OBJS:.o=.d) $(TEST_BINS:=.d)
 
@@ -361,6 +349,10 @@ endif
 # Tests read the baked scenes from here (qemu passes the environment to the AArch64 tests too).
 HZ_SCENES_DIR ?= $(abspath $(SCENES_O))
 export HZ_SCENES_DIR
+# test_flip compares with NVIDIA's FLIP on crops of two textures of the unpacked scene zips.
+HZ_SCENES_UNPACK ?= $(abspath $(SCENES_UNPACK))
+export HZ_SCENES_UNPACK
+$(O)/test/unit/test_flip: $(SCENES_UNPACK)/pine/.unpacked $(SCENES_UNPACK)/lost-empire/.unpacked
 
 # Loader fuzzer: libFuzzer (clang -fsanitize=fuzzer) on hz_scene_plan/hz_scene_load, seeded with the small
 # real scenes. `make fuzz` runs it for FUZZ_SECONDS; `make test` runs FUZZ_RUNS inputs (seconds).
