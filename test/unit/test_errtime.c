@@ -283,6 +283,13 @@ static void test_failed_method_is_named(void **state)
     assert_non_null(strstr(err.msg, "arena 'tiny'"));
     assert_int_equal(hz_arena_mark(&tiny), 0);
     assert_true(hz_et_arena_bytes(&seq, cfg.ppd) < sizeof mem);
+    /* hz_et_arena_bytes is enough: the driver's part plus the method's own state (a few bytes here). */
+    hz_arena_t exact;
+    hz_arena_init(&exact, "exact", mem + sizeof mem / 2, hz_et_arena_bytes(&seq, cfg.ppd) + 256);
+    cfg.arena = &exact;
+    assert_int_equal(hz_et_run(&seq, &hz_synth_reference, ms, 1, &cfg, rows, &err), HZ_OK);
+    assert_int_equal(hz_arena_mark(&exact), 0);
+    assert_true(exact.high_water > hz_et_arena_bytes(&seq, cfg.ppd) / 2); /* and not wildly more than needed */
 }
 
 static long file_size(const char *path)
