@@ -953,6 +953,94 @@ static void test_bad_inputs_get_clear_errors_and_distinct_statuses(void **state)
     assert_int_equal(system(cmd), 0);
 }
 
+/* ---- procedural motion from a sidecar ---- */
+
+static const hz_object_t *object_with_material(const hz_scene_t *s, const char *material)
+{
+    for (uint32_t i = 0; i < s->object_count; i++) {
+        const hz_object_t *o = &s->objects[i];
+        if (o->triangle_count &&
+            !strcmp((const char *)s->materials[hz_scene_tri_material(s, o->first_triangle)].name, material))
+            return o;
+    }
+    fail_msg("no object with material '%s'", material);
+    return NULL;
+}
+
+static void test_sidecar_motion_is_baked_and_animates(void **state)
+{
+    (void)state;
+    snprintf(tmpdir, sizeof tmpdir, "/tmp/hzbake-test.XXXXXX");
+    assert_non_null(mkdtemp(tmpdir));
+    /* CornellBox-Original's OBJ groups are misplaced (the tall box is in group "shortBox"): sections also match
+     * an object's material, so [object tallBox] finds the tall box. */
+    put_text("motion.hzs", "light = position 0 1.8 0 color 5 5 5\n"
+                           "camera = 0 eye 0 1 4 target 0 1 0\n"
+                           "[object floor]\nmotion = spin\npivot = center\naxis = 0 2 0\nspeed = 90\n"
+                           "[object light]\nmotion = oscillate\namplitude = 0 0.1 0\nfrequency = 0.5\n"
+                           "[object tallBox]\nmotion = keys\nkey = 0\n"
+                           "key = 1 translate 0 0.5 0 rotate 0 1 0 90\n");
+    char cb[4096], hzs[256], out[256];
+    source_path(cb, sizeof cb, "HZ_SCENES_UNPACK", "CornellBox/CornellBox-Original.obj");
+    snprintf(hzs, sizeof hzs, "%s/motion.hzs", tmpdir);
+    snprintf(out, sizeof out, "%s/motion.hzb", tmpdir);
+    const char *args[] = { "-q", "-s", hzs, cb, out, NULL };
+    run_t r;
+    bake(&r, NULL, args);
+    if (r.status != 0)
+        fail_msg("bake failed (%d): %s", r.status, r.out);
+    size_t size;
+    void *img = read_all(out, &size, 1);
+    hz_scene_plan_t plan;
+    assert_int_equal(hz_scene_plan(img, size, &plan, NULL), HZ_OK);
+    assert_int_equal(plan.features, HZ_FEAT_MOTION | HZ_FEAT_NORMALS);
+    void *mem = NULL;
+    assert_int_equal(posix_memalign(&mem, 64, plan.arena_bytes + 64), 0);
+    hz_arena_t arena;
+    hz_arena_init(&arena, "scene", mem, plan.arena_bytes + 64);
+    hz_scene_t s;
+    assert_int_equal(hz_scene_load(&s, img, size, &arena, NULL), HZ_OK);
+    const hz_object_t *floor = object_with_material(&s, "floor"), *light = object_with_material(&s, "light");
+    const hz_object_t *tall = object_with_material(&s, "tallBox"), *shrt = object_with_material(&s, "shortBox");
+    assert_int_equal(floor->motion, HZ_MOTION_SPIN);
+    assert_int_equal(light->motion, HZ_MOTION_OSCILLATE);
+    assert_int_equal(tall->motion, HZ_MOTION_RIGID);
+    assert_int_equal(shrt->motion, HZ_MOTION_NONE);
+    /* Spin: unit axis, radians per second, pivot at the floor's centre. */
+    double lo[3] = { INFINITY, INFINITY, INFINITY }, hi[3] = { -INFINITY, -INFINITY, -INFINITY };
+    for (uint32_t v = 0; v < floor->vertex_count; v++)
+        for (int k = 0; k < 3; k++) {
+            lo[k] = fmin(lo[k], s.rest_pos[(size_t)(floor->first_vertex + v) * 4 + k]);
+            hi[k] = fmax(hi[k], s.rest_pos[(size_t)(floor->first_vertex + v) * 4 + k]);
+        }
+    for (int k = 0; k < 3; k++)
+        assert_true(fabs(floor->params[k] - 0.5 * (lo[k] + hi[k])) < 1e-6);
+    assert_true(floor->params[3] == 0.0f && floor->params[4] == 1.0f && floor->params[5] == 0.0f);
+    assert_true(fabs(floor->params[6] - 1.5707963267948966) < 1e-6);
+    /* Keys: the second rotates 90 degrees about y and lifts by 0.5. */
+    assert_int_equal(tall->key_count, 2);
+    const hz_hzb_rigid_key_t *k1 = &s.rigid_keys[tall->key_first + 1];
+    assert_true(k1->time == 1.0f && k1->translation[1] == 0.5f);
+    assert_true(fabs(k1->rotation[1] - 0.7071067811865476) < 1e-6 && fabs(k1->rotation[3] - 0.7071067811865476) < 1e-6);
+    /* Animate: at t = 1 the tall box is rotated (x, y, z) -> (z, y, -x) and lifted; at t = 0.5 the lamp is at
+     * the top of its oscillation, sin(2 pi 0.5 0.5) = 1. */
+    hz_scene_animate(&s, 1.0f);
+    for (uint32_t v = 0; v < tall->vertex_count; v++) {
+        const float *p = s.rest_pos + (size_t)(tall->first_vertex + v) * 4, *q = s.pos + (size_t)(tall->first_vertex + v) * 4;
+        assert_true(fabs(q[0] - p[2]) < 1e-5 && fabs(q[1] - (p[1] + 0.5)) < 1e-5 && fabs(q[2] + p[0]) < 1e-5);
+    }
+    hz_scene_animate(&s, 0.5f);
+    for (uint32_t v = 0; v < light->vertex_count; v++) {
+        const float *p = s.rest_pos + (size_t)(light->first_vertex + v) * 4, *q = s.pos + (size_t)(light->first_vertex + v) * 4;
+        assert_true(fabs(q[1] - (p[1] + 0.1)) < 1e-5 && q[0] == p[0] && q[2] == p[2]);
+    }
+    free(mem);
+    free(img);
+    char cmd[128];
+    snprintf(cmd, sizeof cmd, "rm -rf %s", tmpdir);
+    assert_int_equal(system(cmd), 0);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -964,6 +1052,7 @@ int main(void)
         cmocka_unit_test(test_rigid_keys_follow_node_animation),
         cmocka_unit_test(test_furball_tubes_surround_the_strands),
         cmocka_unit_test(test_bad_inputs_get_clear_errors_and_distinct_statuses),
+        cmocka_unit_test(test_sidecar_motion_is_baked_and_animates),
     };
     return HZ_RUN(tests);
 }

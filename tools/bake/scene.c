@@ -354,9 +354,19 @@ hz_status_t bk_scene_finish(bk_scene_t *s, bk_sidecar_t *sc, bk_image_t *img, hz
     for (size_t i = 0; i < s->objs.len; i++) {
         bk_object_t *o = BK_AT(s->objs, bk_object_t, i);
         bk_sc_object_t *last = NULL;
+        /* Objects also answer to their material's name: OBJ groups are often misplaced (CornellBox's tall box
+         * sits in group "shortBox"), the material names what the geometry is. */
+        const char *mat_name = NULL;
+        if (o->o.triangle_count) {
+            uint32_t mi = *BK_AT(s->info, uint32_t, o->o.first_triangle) & 0xffffu;
+            if (mi < s->mats.len)
+                mat_name = BK_AT(s->mats, bk_material_t, mi)->name;
+        }
         for (size_t j = 0; j < sc->objects.len; j++) {
             bk_sc_object_t *so = BK_AT(sc->objects, bk_sc_object_t, j);
-            if (bk_sidecar_match(so->pattern, o->name) || (o->mesh_name[0] && bk_sidecar_match(so->pattern, o->mesh_name))) {
+            if (bk_sidecar_match(so->pattern, o->name) ||
+                (o->mesh_name[0] && bk_sidecar_match(so->pattern, o->mesh_name)) ||
+                (mat_name && bk_sidecar_match(so->pattern, mat_name))) {
                 so->matched = 1;
                 last = so;
             }
