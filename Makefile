@@ -98,12 +98,12 @@ INTEGER_FLAGS := -mgeneral-regs-only
 # boards with BOARD_SIMD=<simd> (avx2, neon), <M>_TESTS are test/unit/test_<name>.c linked with libhz.a,
 # <M>_PORT_TESTS also link the port library.
 
-# core (src/core): arenas, status, formatter, fixed point, hash + RNG, vec/mat
+# core (src/core): arenas, status, formatter, fixed point, hash + RNG, CRC-32, vec/mat, images + sRGB codes
 CORE_SRCS := src/core/arena.c src/core/status.c src/core/fmt.c src/core/fixed.c src/core/hash.c src/core/vmath.c \
-             src/core/crc32.c
+             src/core/crc32.c src/core/image.c src/core/srgb_tables.c
 CORE_INTEGER_SRCS := src/core/fixed.c src/core/hash.c src/core/crc32.c
-CORE_TESTS := arena status fmt fixed hash vmath config crc32
-CORE_PORT_TESTS := zero_alloc
+CORE_TESTS := arena status fmt fixed hash vmath config crc32 image
+CORE_PORT_TESTS := zero_alloc imageio
 
 # scene (src/scene): baked format, validating loader, built-in scene
 SCENE_SRCS := src/scene/hzb.c src/scene/write.c src/scene/load.c src/scene/animate.c src/scene/builtin.c
@@ -142,10 +142,16 @@ INTEGER_SRCS := $(CORE_INTEGER_SRCS) $(PATTERN_SRCS)
 KNOWN_PORTS := linux
 PORT_SRCS_linux := port/linux/pools.c port/linux/cli.c port/linux/clock.c port/linux/fileio.c port/linux/scenefile.c
 $(foreach p,$(BOARD_PORTS),$(if $(filter $(p),$(KNOWN_PORTS)),,$(error $(BOARD_DIR)/board.mk: unknown port '$(p)' (known: $(KNOWN_PORTS)))))
+# Image files (port/linux/imageio.c): PNG needs libpng for the target. It is on when the target's compiler links
+# -lpng (host builds: libpng-dev is in host-sim's BOARD_DEPS); elsewhere the PNG calls report "not built in".
+PORT_SRCS_linux += port/linux/imageio.c
+HAVE_PNG := $(shell printf 'int main(void){return 0;}\n' | $(CC) -x c - -o /dev/null -lpng >/dev/null 2>&1 && echo 1 || echo 0)
+$(O)/port/linux/imageio.o: EXTRA_CFLAGS += -DHZ_HAVE_PNG=$(HAVE_PNG)
+PNG_LIBS := $(if $(filter 1,$(HAVE_PNG)),-lpng)
 PORT_SRCS := $(foreach p,$(BOARD_PORTS),$(PORT_SRCS_$(p)))
 PORT_OBJS := $(PORT_SRCS:%.c=$(O)/%.o)
 PORT_LIB := $(O)/libhzport.a
-PORT_LIBS := -lpthread -lm
+PORT_LIBS := -lpthread -lm $(PNG_LIBS)
 PORT_DEFS := $(foreach p,$(BOARD_PORTS),-DHZ_PORT_$(shell echo $(p) | tr a-z A-Z)=1)
 
 HZRT_SRCS := port/linux/main.c
@@ -163,8 +169,25 @@ PORT_TEST_BINS := $(PORT_TESTS:%=$(O)/test/unit/test_%)
 TEST_BINS := $(UNIT_BINS) $(PORT_TEST_BINS)
 TEST_CFLAGS := $(HOSTED_CFLAGS) -Itest
 TEST_LIBS := -lcmocka
+$(O)/test/unit/test_imageio: TEST_CFLAGS += -DHZ_HAVE_PNG=$(HAVE_PNG)
 
-ALL_OBJS := $(LIB_OBJS) $(PORT_OBJS) $(HZRT_OBJS) $(BENCH_OBJS)
+# errtime (tools/errtime): image metrics (PSNR, SSIM, FLIP), report writers and the error-against-run-time driver.
+# Built with the board's compiler, like hzbench: it times the board's renderer. Hosted C99 with libm.
+ERRTIME_SRCS := tools/errtime/metrics.c tools/errtime/flip.c tools/errtime/report.c tools/errtime/progress.c \
+                tools/errtime/driver.c tools/errtime/synthetic.c tools/errtime/methods.c
+ERRTIME_MAIN_SRCS := tools/errtime/main.c
+ERRTIME_TESTS := metrics flip report errtime
+ERRTIME_OBJS := $(ERRTIME_SRCS:%.c=$(O)/%.o)
+ERRTIME_MAIN_OBJS := $(ERRTIME_MAIN_SRCS:%.c=$(O)/%.o)
+ERRTIME_LIB := $(O)/liberrtime.a
+ERRTIME := $(O)/bin/hzerrtime
+ERRTIME_TEST_BINS := $(ERRTIME_TESTS:%=$(O)/test/unit/test_%)
+TEST_BINS += $(ERRTIME_TEST_BINS)
+# test_flip compares against NVIDIA's FLIP on crops of real textures, unpacked from the shared scenes.
+SCENES_DIR ?= ../shared/scenes
+FLIP_TEST_DATA := $(O)/test-data/flip
+
+ALL_OBJS := $(LIB_OBJS) $(PORT_OBJS) $(HZRT_OBJS) $(BENCH_OBJS) $(ERRTIME_OBJS) $(ERRTIME_MAIN_OBJS)
 
 # ---------------------------------------------------------------------------------------------------------
 # Build rules
@@ -209,6 +232,30 @@ $(PORT_TEST_BINS): $(O)/test/unit/test_%: test/unit/test_%.c $(PORT_LIB) $(LIB)
 	@mkdir -p $(dir $@)
 	$(call msg,CCLD,$@)$(CC) $(TEST_CFLAGS) $(PORT_DEFS) -Iport/linux $(DEPFLAGS) $(LDFLAGS_ALL) -o $@ $< \
 		$(PORT_LIB) $(LIB) $(TEST_LIBS) $(PORT_LIBS) -ldl
+
+$(ERRTIME_LIB): $(ERRTIME_OBJS)
+	$(call msg,AR,$@)rm -f $@ && $(AR) rcs $@ $^
+
+$(ERRTIME): $(ERRTIME_MAIN_OBJS) $(ERRTIME_LIB) $(PORT_LIB) $(LIB)
+	@mkdir -p $(dir $@)
+	$(call msg,LD,$@)$(CC) $(LDFLAGS_ALL) -o $@ $(ERRTIME_MAIN_OBJS) $(ERRTIME_LIB) $(PORT_LIB) $(LIB) $(PORT_LIBS)
+
+errtime: $(ERRTIME) ## build hzerrtime (error against run time; `hzerrtime --help`) into O/bin
+tests: $(ERRTIME)
+
+$(ERRTIME_TEST_BINS): $(O)/test/unit/test_%: test/unit/test_%.c $(ERRTIME_LIB) $(PORT_LIB) $(LIB)
+	@mkdir -p $(dir $@)
+	$(call msg,CCLD,$@)$(CC) $(TEST_CFLAGS) $(PORT_DEFS) -Iport/linux -Itools/errtime $(ERRTIME_TEST_DEFS) \
+		$(DEPFLAGS) $(LDFLAGS_ALL) -o $@ $< $(ERRTIME_LIB) $(PORT_LIB) $(LIB) $(TEST_LIBS) $(PORT_LIBS)
+
+$(O)/test/unit/test_flip: ERRTIME_TEST_DEFS = -DHZ_FLIP_TEST_DATA='"$(FLIP_TEST_DATA)"'
+$(O)/test/unit/test_flip: $(FLIP_TEST_DATA)/.unpacked
+$(FLIP_TEST_DATA)/.unpacked: $(SCENES_DIR)/pine.zip $(SCENES_DIR)/lost-empire.zip
+	@mkdir -p $(dir $@)
+	$(call msg,UNZIP,$(FLIP_TEST_DATA))unzip -o -q -j $(SCENES_DIR)/pine.zip LushPine.png -d $(FLIP_TEST_DATA) && \
+		unzip -o -q -j $(SCENES_DIR)/lost-empire.zip lost_empire-RGB.png -d $(FLIP_TEST_DATA) && touch $@
+$(SCENES_DIR)/%.zip:
+	$(error $@ is missing: the tests need the shared scenes (set SCENES_DIR=<dir with the scene zips>))
 
 -include $(ALL_OBJS:.o=.d) $(TEST_BINS:=.d)
 
@@ -345,7 +392,7 @@ test-host: $(HOST_TEST_BINS) $(HOST_O)/bin/hzbake $(FUZZ) $(FUZZ_O)/seeds/.stamp
 
 # ---------------------------------------------------------------------------------------------------------
 # Dependencies (Debian packages). `?pkg` is optional: a failed install warns instead of stopping.
-DEPS_TEST_HOST := libcmocka-dev file
+DEPS_TEST_HOST := libcmocka-dev file unzip
 # Host tools: the baker (assimp, stb_image, zlib; unzip for the scene zips) and the loader fuzzer (libFuzzer).
 DEPS_BAKE := gcc libc6-dev libassimp-dev libstb-dev zlib1g-dev unzip libcmocka-dev
 DEPS_FUZZ := clang libclang-rt-14-dev
@@ -369,6 +416,16 @@ bench: $(BENCH) ## measure (side by side, in one run) and print a table; writes 
 size: $(HZRT) ## section sizes of hzrt, its largest symbols and the board's static arenas
 	$(Q)$(SIZE) $(HZRT) $(LIB)
 	$(Q)echo "largest symbols:"; $(NM) --size-sort -S -r $(HZRT) | head -n 12
+
+# ---------------------------------------------------------------------------------------------------------
+# Generated tables (host tools under tools/gen; their output is committed and checked by tests)
+GEN_BIN := $(BUILD_ROOT)/host/tools/gen
+$(GEN_BIN)/srgb_tables: tools/gen/srgb_tables.c
+	@mkdir -p $(dir $@)
+	$(call msg,HOSTCC,$@)$(HOSTCC) $(WARN) -O2 -o $@ $< -lm
+
+gen-srgb: $(GEN_BIN)/srgb_tables ## regenerate src/core/srgb_tables.c (exact sRGB 8-bit tables; test_image checks them)
+	$(Q)$(GEN_BIN)/srgb_tables src/core/srgb_tables.c
 
 # ---------------------------------------------------------------------------------------------------------
 # Tests
@@ -425,5 +482,5 @@ help: ## list the targets
 	@grep -hE '^[a-z][a-z-]*:.*## ' $(MAKEFILE_LIST) | sed -E 's/^([a-z-]+):.*## (.*)/\1|\2/' | \
 		awk -F'|' '{ printf "  %-20s %s\n", $$1, $$2 }'
 
-.PHONY: all deps run bench size tests test-board test check-freestanding check-integer clean help bake scenes fuzz \
-        test-host
+.PHONY: all deps run bench size tests test-board test check-freestanding check-integer clean help gen-srgb errtime \
+        bake scenes fuzz test-host
