@@ -1079,6 +1079,58 @@ static void test_sidecar_motion_is_baked_and_animates(void **state)
     assert_int_equal(system(cmd), 0);
 }
 
+/* ---- instancing ---- */
+
+/* One triangle mesh used by two nodes (translated by -2 and +2 in x), with its buffer inline. */
+static const char instanced_gltf[] =
+    "{\"asset\":{\"version\":\"2.0\"},\"scene\":0,\"scenes\":[{\"nodes\":[0,1]}],\"nodes\":[{\"name\":\"l"
+    "eft\",\"mesh\":0,\"translation\":[-2,0,0]},{\"name\":\"right\",\"mesh\":0,\"translation\":[2,0,0]}],"
+    "\"meshes\":[{\"name\":\"tri\",\"primitives\":[{\"attributes\":{\"POSITION\":0},\"indices\":1}]}],\"b"
+    "uffers\":[{\"byteLength\":44,\"uri\":\"data:application/octet-stream;base64,AAAAAAAAAAAAAAAAAACAPwAA"
+    "AAAAAAAAAAAAAAAAgD8AAAAAAAABAAIAAAA=\"}],\"bufferViews\":[{\"buffer\":0,\"byteOffset\":0,\"byteLengt"
+    "h\":36},{\"buffer\":0,\"byteOffset\":36,\"byteLength\":6}],\"accessors\":[{\"bufferView\":0,\"compon"
+    "entType\":5126,\"count\":3,\"type\":\"VEC3\",\"min\":[0,0,0],\"max\":[1,1,0]},{\"bufferView\":1,\"co"
+    "mponentType\":5123,\"count\":3,\"type\":\"SCALAR\"}]}";
+
+static void test_instanced_meshes_are_expanded(void **state)
+{
+    (void)state;
+    snprintf(tmpdir, sizeof tmpdir, "/tmp/hzbake-test.XXXXXX");
+    assert_non_null(mkdtemp(tmpdir));
+    put_text("inst.gltf", instanced_gltf);
+    char in[256], out[256];
+    snprintf(in, sizeof in, "%s/inst.gltf", tmpdir);
+    snprintf(out, sizeof out, "%s/inst.hzb", tmpdir);
+    const char *args[] = { "-q", in, out, NULL };
+    run_t r;
+    bake(&r, NULL, args);
+    if (r.status != 0)
+        fail_msg("bake failed (%d): %s", r.status, r.out);
+    size_t size;
+    void *img = read_all(out, &size, 1);
+    hz_scene_t s;
+    assert_int_equal(hz_scene_load(&s, img, size, NULL, NULL), HZ_OK);
+    assert_true(s.features & HZ_FEAT_INSTANCING);
+    assert_int_equal(s.object_count, 2);
+    assert_int_equal(s.triangle_count, 2);
+    for (uint32_t o = 0; o < 2; o++) {
+        const hz_object_t *ob = &s.objects[o];
+        assert_string_equal((const char *)ob->name, o == 0 ? "left" : "right");
+        assert_int_equal(ob->vertex_count, 3); /* each use owns its own copy of the vertices */
+        float dx = o == 0 ? -2.0f : 2.0f;
+        const uint32_t *t = s.tri + (size_t)ob->first_triangle * 3;
+        static const float want[3][2] = { { 0, 0 }, { 1, 0 }, { 0, 1 } };
+        for (int k = 0; k < 3; k++) {
+            const float *p = s.rest_pos + (size_t)t[k] * 4;
+            assert_true(p[0] == want[k][0] + dx && p[1] == want[k][1] && p[2] == 0.0f);
+        }
+    }
+    free(img);
+    char cmd[128];
+    snprintf(cmd, sizeof cmd, "rm -rf %s", tmpdir);
+    assert_int_equal(system(cmd), 0);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -1091,6 +1143,7 @@ int main(void)
         cmocka_unit_test(test_furball_tubes_surround_the_strands),
         cmocka_unit_test(test_bad_inputs_get_clear_errors_and_distinct_statuses),
         cmocka_unit_test(test_sidecar_motion_is_baked_and_animates),
+        cmocka_unit_test(test_instanced_meshes_are_expanded),
     };
     return HZ_RUN(tests);
 }
