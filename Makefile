@@ -339,7 +339,7 @@ $(SCENES_O)/%.hzb: $(BAKE) $(SIDECAR_DIR)/%.hzs
 $(foreach s,$(SCENES),$(eval $(SCENES_O)/$(s).hzb: $(call scene_inputs,$(SCENE_MODEL_$(s)))))
 
 ifeq ($(wildcard $(SCENES_SRC)/SOURCES.md),)
-scenes: ## bake every scene of ../shared/scenes (SCENES_SRC) into $(BUILD_ROOT)/scenes/*.hzb
+scenes:
 	@echo "scenes: no scene sources in '$(SCENES_SRC)' (set SCENES_SRC to the folder with conference.zip, gltf/, ...)" >&2
 	@exit 1
 else
