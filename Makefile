@@ -125,9 +125,12 @@ RENDER_PORT_TESTS :=
 PATTERN_SRCS :=
 PATTERN_TESTS :=
 
-# timing (src/timing): v-sync model, pacing, latency statistics
-TIMING_SRCS :=
-TIMING_TESTS :=
+# timing (src/timing): v-sync model, pacing, latency statistics; integer-only throughout
+TIMING_SRCS := src/timing/wide.c src/timing/tstat.c src/timing/vsync.c src/timing/vsynth.c src/timing/pace.c \
+               src/timing/frames.c src/timing/marker.c src/timing/pixconv.c src/timing/testpattern.c \
+               src/timing/rtmodel.c src/timing/vcd.c src/timing/ecsv.c
+TIMING_INTEGER_SRCS = $(TIMING_SRCS)
+TIMING_TESTS := tstat vsync marker traceio
 TIMING_PORT_TESTS :=
 
 MODULES := CORE SCENE ACCEL RENDER PATTERN TIMING
@@ -136,6 +139,7 @@ LIB_OBJS := $(LIB_SRCS:%.c=$(O)/%.o)
 LIB := $(O)/libhz.a
 # Integer-only sources: compiled with -mgeneral-regs-only in every build, checked on both ISAs.
 INTEGER_SRCS := $(CORE_INTEGER_SRCS) $(PATTERN_SRCS)
+INTEGER_SRCS += $(TIMING_INTEGER_SRCS)
 
 # Ports: each board lists the ones it links (BOARD_PORTS); accel backends come from BOARD_ACCEL.
 KNOWN_PORTS := linux
