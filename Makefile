@@ -131,7 +131,32 @@ TIMING_SRCS := src/timing/wide.c src/timing/tstat.c src/timing/vsync.c src/timin
                src/timing/rtmodel.c src/timing/vcd.c src/timing/ecsv.c
 TIMING_INTEGER_SRCS = $(TIMING_SRCS)
 TIMING_TESTS := tstat vsync marker traceio
-TIMING_PORT_TESTS :=
+TIMING_PORT_TESTS := frameloop
+# Ports of the timing path (port/linux): `timing` (frame loop, report, `hzrt latency`, simulated display,
+# VCD/CSV replay) goes on every board; `fbdev`, `v4l2` and `gpio` where the hardware has them.
+PORT_SRCS_timing := port/linux/timebase.c port/linux/vsrc_timeline.c port/linux/frameloop.c port/linux/report.c \
+                    port/linux/latency.c port/linux/scenesrc.c port/linux/devices_absent.c port/linux/sysio.c
+PORT_SRCS_fbdev := port/linux/fbdev.c
+PORT_SRCS_v4l2 := port/linux/v4l2.c
+PORT_SRCS_gpio := port/linux/gpio.c
+TIMING_PORT_TESTS += $(if $(filter fbdev,$(BOARD_PORTS))$(filter v4l2,$(BOARD_PORTS)),devices)
+# gpio needs libgpiod for the board's architecture (Debian multiarch: libgpiod-dev, libgpiod-dev:arm64). Its
+# pkg-config file gives the version (the v1 and v2 APIs differ); without it the port is left out, loudly.
+LIBGPIOD_PC ?= /usr/lib/$(BOARD_ARCH)-linux-gnu/pkgconfig/libgpiod.pc
+ifneq ($(filter gpio,$(BOARD_PORTS)),)
+LIBGPIOD_VERSION := $(shell sed -n 's/^Version: *//p' $(LIBGPIOD_PC) 2>/dev/null)
+ifeq ($(LIBGPIOD_VERSION),)
+$(warning BOARD=$(BOARD): GPIO v-sync capture is OFF: no libgpiod for $(BOARD_ARCH) ($(LIBGPIOD_PC) missing); `make deps BOARD=$(BOARD)` installs it (libgpiod-dev$(if $(filter aarch64,$(BOARD_ARCH)),:arm64)))
+BOARD_PORTS := $(filter-out gpio,$(BOARD_PORTS))
+else
+LIBGPIOD_PREFIX := $(shell sed -n 's/^prefix=//p' $(LIBGPIOD_PC))
+LIBGPIOD_LIBDIR := $(subst $${prefix},$(LIBGPIOD_PREFIX),$(subst $${exec_prefix},$(LIBGPIOD_PREFIX),$(shell sed -n 's/^libdir=//p' $(LIBGPIOD_PC))))
+LIBGPIOD_INCDIR := $(subst $${prefix},$(LIBGPIOD_PREFIX),$(shell sed -n 's/^includedir=//p' $(LIBGPIOD_PC)))
+$(O)/port/linux/gpio.o: EXTRA_CFLAGS += -DHZ_LIBGPIOD_MAJOR=$(firstword $(subst ., ,$(LIBGPIOD_VERSION))) \
+	-DHZ_LIBGPIOD_VERSION='"$(LIBGPIOD_VERSION)"' $(addprefix -I,$(filter-out /usr/include,$(LIBGPIOD_INCDIR)))
+PORT_LIBS_gpio := $(addprefix -L,$(filter-out /usr/lib/$(BOARD_ARCH)-linux-gnu,$(LIBGPIOD_LIBDIR))) -lgpiod
+endif
+endif
 
 MODULES := CORE SCENE ACCEL RENDER PATTERN TIMING
 LIB_SRCS := $(foreach m,$(MODULES),$($(m)_SRCS) $($(m)_SRCS_$(BOARD_SIMD)))
@@ -142,13 +167,14 @@ INTEGER_SRCS := $(CORE_INTEGER_SRCS) $(PATTERN_SRCS)
 INTEGER_SRCS += $(TIMING_INTEGER_SRCS)
 
 # Ports: each board lists the ones it links (BOARD_PORTS); accel backends come from BOARD_ACCEL.
-KNOWN_PORTS := linux
+KNOWN_PORTS := linux timing fbdev v4l2 gpio
 PORT_SRCS_linux := port/linux/pools.c port/linux/cli.c port/linux/clock.c port/linux/fileio.c
 $(foreach p,$(BOARD_PORTS),$(if $(filter $(p),$(KNOWN_PORTS)),,$(error $(BOARD_DIR)/board.mk: unknown port '$(p)' (known: $(KNOWN_PORTS)))))
 PORT_SRCS := $(foreach p,$(BOARD_PORTS),$(PORT_SRCS_$(p)))
 PORT_OBJS := $(PORT_SRCS:%.c=$(O)/%.o)
 PORT_LIB := $(O)/libhzport.a
 PORT_LIBS := -lpthread -lm
+PORT_LIBS += $(foreach p,$(BOARD_PORTS),$(PORT_LIBS_$(p)))
 PORT_DEFS := $(foreach p,$(BOARD_PORTS),-DHZ_PORT_$(shell echo $(p) | tr a-z A-Z)=1)
 
 HZRT_SRCS := port/linux/main.c

@@ -3,16 +3,19 @@
  *
  * Contract (integer-only, freestanding):
  *  - The pacer keeps the last `window` frame costs, a cost being done - planned start: the render time plus
- *    however late the render thread woke up. Its budget is the `percentile` (nearest rank, per-mille x10:
- *    999 = p99.9) of those costs plus `guard_ns` (default P/16). Until HZ_PACE_WARMUP costs are known the
- *    budget is the whole period minus the latch lead, i.e. frames start right after the previous edge.
+ *    however late the render thread woke up. Its budget is the `percentile` (nearest rank, per-mille x10) of
+ *    those costs plus `guard_ns` (default P/16). The default percentile is 1000, the window's maximum: a
+ *    nearest-rank p99.9 of 1024 costs is the second largest, which lets a lone spike through and, for rare
+ *    spikes, misses up to 0.08% of frames; the maximum bounds it at 0.036% (below). Until HZ_PACE_WARMUP
+ *    costs are known the budget is the whole period minus the latch lead: frames start right after an edge.
  *  - hz_pace_plan picks the target: the earliest slot j >= min_slot (and at least `lookahead` slots after the
  *    last edge at or before now) whose predicted edge leaves room for the budget and the latch lead
  *    (edge_j - latch - budget >= now), and the start time edge_j - latch - budget. Starting as late as that
  *    is what keeps latency (scan-out minus render start) at budget + latch.
- *  - With render times below 80% of the period and window 1024, a cost the window has not seen is the only
- *    way to miss: for rare independent spikes at rate r that happens at rate r * (1 - r)^1024, at most
- *    1 / (e * 1024) = 0.036% of frames. A step to a slower scene misses once and is then in the window.
+ *  - With render times below 80% of the period and the window's maximum as the budget, only a cost larger
+ *    than every one of the last `window` can miss: for independent spikes at rate r that happens at rate
+ *    r (1 - r)^window, at most 1 / (e window) = 0.036% of frames for window 1024. A step to a slower scene
+ *    misses once and is then in the window.
  *  - The caller must plan with a locked v-sync model (hz_vsync_locked).
  */
 #ifndef HZ_PACE_H
@@ -28,7 +31,7 @@
 
 typedef struct hz_pace_cfg {
     uint32_t window;     /* costs kept, 16..HZ_PACE_WINDOW_MAX; 0: the maximum */
-    uint32_t percentile; /* per-mille x10, 500..1000; 0: 999 (p99.9) */
+    uint32_t percentile; /* per-mille x10, 500..1000; 0: 1000 (the window's maximum) */
     int64_t guard_ns;    /* added to the percentile; < 0: period / 16 */
     int64_t latch_ns;    /* a frame must be submitted this long before its edge (>= 0) */
     uint32_t lookahead;  /* target at least this many edges ahead (>= 1; 0 means 1) */

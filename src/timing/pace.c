@@ -9,7 +9,7 @@ hz_status_t hz_pace_init(hz_pace_t *p, const hz_pace_cfg_t *cfg, hz_error_t *err
     if (c.window == 0)
         c.window = HZ_PACE_WINDOW_MAX;
     if (c.percentile == 0)
-        c.percentile = 999;
+        c.percentile = 1000;
     if (c.lookahead == 0)
         c.lookahead = 1;
     if (c.window < 16 || c.window > HZ_PACE_WINDOW_MAX)
