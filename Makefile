@@ -248,7 +248,8 @@ DEPS_TEST_CROSS := gcc-aarch64-linux-gnu libc6-dev-arm64-cross binutils-aarch64-
                    libcmocka-dev:arm64
 deps: ## install the Debian packages BOARD needs to build, run and test (apt-get as root; else print the line)
 	$(Q)sh tools/deps.sh $(BOARD_DEPS) $(BOARD_TEST_DEPS) \
-		$(if $(filter test,$(MAKECMDGOALS)),$(DEPS_TEST_HOST) $(DEPS_TEST_CROSS))
+		$(if $(filter test,$(MAKECMDGOALS)),$(DEPS_TEST_HOST) $(DEPS_TEST_CROSS)) \
+		$(if $(filter test vmtest,$(MAKECMDGOALS)),$(DEPS_VMTEST))
 
 # ---------------------------------------------------------------------------------------------------------
 # Run
@@ -293,10 +294,46 @@ test: deps ## build and run every test: host, then AArch64 under qemu, plus the 
 	$(Q)for b in $(TEST_BOARDS); do \
 		$(MAKE) --no-print-directory BOARD=$$b O=$(BUILD_ROOT)/$$b$(SAN_SUFFIX) test-board || exit 1; \
 	done; \
+	for t in $(TEST_TIERS); do \
+		$(MAKE) --no-print-directory $$t || exit 1; \
+	done; \
 	rm -rf $(BUILD_ROOT)/guards$(SAN_SUFFIX); \
 	sh test/guard/run-guards.sh --record $(BUILD_ROOT)/guards$(SAN_SUFFIX); \
 	sh test/summary.sh $(foreach b,$(TEST_BOARDS),$(BUILD_ROOT)/$(b)$(SAN_SUFFIX)/test-results) \
-		$(BUILD_ROOT)/guards$(SAN_SUFFIX)
+		$(TEST_TIER_RESULTS) $(BUILD_ROOT)/guards$(SAN_SUFFIX)
+
+# ---------------------------------------------------------------------------------------------------------
+# VM tier (test/vm): Debian's arm64 kernel under qemu-system-aarch64 (virt, software emulation) runs the
+# AArch64 unit tests natively and the device checks (vivid V4L2 loop-back, vivid fbdev, PL061 GPIO pulsed
+# from the monitor). Results land next to the boards' for test/summary.sh.
+VM_ROOT := $(BUILD_ROOT)/vm
+VM_RESULTS := $(BUILD_ROOT)/vmtest$(SAN_SUFFIX)/test-results
+DEPS_VMTEST := qemu-system-arm cpio kmod ?libgpiod-dev:arm64
+TEST_TIERS += vmtest-tier
+TEST_TIER_RESULTS += $(VM_RESULTS)
+VM_DEVICE_TEST := $(O)/test/vm/test_vm_devices
+
+vmtest: deps ## boot Debian's arm64 kernel in qemu-system-aarch64: AArch64 unit tests, V4L2 loop-back, GPIO capture
+	$(Q)$(MAKE) --no-print-directory vmtest-tier
+	$(Q)sh test/summary.sh $(VM_RESULTS)
+
+vmtest-tier:
+	$(Q)$(MAKE) --no-print-directory BOARD=aarch64-generic O=$(BUILD_ROOT)/aarch64-generic$(SAN_SUFFIX) vmtest-board
+
+# Runs with BOARD=aarch64-generic (see vmtest-tier): its test binaries, plus a static hzrt and init.
+vmtest-board: tests $(VM_DEVICE_TEST) $(VM_ROOT)/init
+	$(Q)$(MAKE) --no-print-directory BOARD=aarch64-generic O=$(VM_ROOT)/static BOARD_LDFLAGS=-static SAN= all
+	$(Q)sh test/vm/run.sh $(VM_RESULTS) $(VM_ROOT)/kernel $(VM_ROOT)/init $(VM_ROOT)/static/bin/hzrt \
+		$(VM_DEVICE_TEST) $(TEST_BINS)
+
+$(VM_DEVICE_TEST): test/vm/test_vm_devices.c $(PORT_LIB) $(LIB)
+	@mkdir -p $(dir $@)
+	$(call msg,CCLD,$@)$(CC) $(TEST_CFLAGS) $(PORT_DEFS) -Iport/linux $(DEPFLAGS) $(LDFLAGS_ALL) -o $@ $< \
+		$(PORT_LIB) $(LIB) $(TEST_LIBS) $(PORT_LIBS)
+
+$(VM_ROOT)/init: test/vm/init.c
+	@mkdir -p $(dir $@)
+	$(call msg,CCLD,$@)aarch64-linux-gnu-gcc $(WARN) -O2 -static -o $@ $<
 
 check-freestanding: $(CHECK_OBJS) ## the core links against nothing but memcpy/memset/memmove; no malloc/printf/FILE/errno in src/
 	$(Q)sh test/guard/check-freestanding.sh "$(NM)" $(CHECK_OBJS)
@@ -317,3 +354,4 @@ help: ## list the targets
 		awk -F'|' '{ printf "  %-20s %s\n", $$1, $$2 }'
 
 .PHONY: all deps run bench size tests test-board test check-freestanding check-integer clean help
+.PHONY: vmtest vmtest-tier vmtest-board

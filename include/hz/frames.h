@@ -8,8 +8,9 @@
  *    hz_framelog_edge() applies it when the v-sync model accepts an edge: every waiting record whose
  *    s + latch is at or before that edge is resolved, against the accepted edge itself or, when the model
  *    counted missed pulses in between, against the predicted time of the missed slot (flag EDGE_INFERRED:
- *    the display still refreshed, only the capture lost the pulse). Sources that know exactly which frame a
- *    refresh showed (V4L2 output dequeue) resolve records by frame id instead (hz_framelog_shown).
+ *    the display still refreshed, only the capture lost the pulse). The rule holds for displays that latch a
+ *    new frame at the refresh after it was handed over: fbdev panning at v-blank, V4L2 outputs (vivid keeps
+ *    the newest buffer on screen and returns the previous one at the refresh that replaced it).
  *  - Summary: latency = scan-out edge - render start; slack = target edge - render done (negative: the
  *    deadline was missed); late-by-n = actual slot - target slot; phase error = actual edge - the edge the
  *    plan predicted for that slot; dropped = superseded before any edge showed it (two frames on one slot:
@@ -32,8 +33,7 @@ enum {
     HZ_FRAME_EDGE_INFERRED = 1u << 1, /* shown at a slot whose pulse the capture missed */
     HZ_FRAME_LATE = 1u << 2,          /* actual slot after the target slot */
     HZ_FRAME_DROPPED = 1u << 3,       /* never shown: the next frame took its slot */
-    HZ_FRAME_EARLY = 1u << 4,         /* shown before its target slot */
-    HZ_FRAME_BY_ID = 1u << 5          /* resolved by frame id (the sink reported the refresh) */
+    HZ_FRAME_EARLY = 1u << 4          /* shown before its target slot */
 };
 
 typedef struct hz_frame_rec {
@@ -60,12 +60,10 @@ hz_status_t hz_framelog_init(hz_framelog_t *log, hz_frame_rec_t *rec, size_t cap
 hz_frame_rec_t *hz_framelog_add(hz_framelog_t *log);
 /* Feed every event of the v-sync model (spurious ones are ignored). */
 void hz_framelog_edge(hz_framelog_t *log, const hz_vsync_t *v, const hz_vsync_event_t *ev);
-/* The display reports that frame `id` was shown at slot/t (exact resolution). Unknown ids are ignored. */
-void hz_framelog_shown(hz_framelog_t *log, uint64_t id, int64_t slot, int64_t t_ns);
 size_t hz_framelog_unresolved(const hz_framelog_t *log);
 
 typedef struct hz_frames_summary {
-    uint64_t frames, resolved, unresolved, inferred, by_id;
+    uint64_t frames, resolved, unresolved, inferred;
     uint64_t on_time, early, late, late_by[4]; /* late_by[i]: late by i + 1 slots; [3]: 4 or more */
     uint64_t dropped, repeated;
     uint64_t miss_ppm;                          /* late per million resolved frames */

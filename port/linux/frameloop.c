@@ -27,6 +27,8 @@ typedef struct loop {
     int64_t last_edge_t;    /* loop clock time of the newest input edge (any polarity) */
     uint64_t edges_in;
     int64_t edge_timeout;
+    hz_sink_t *sink;
+    hz_image_t *warmup; /* a blank frame for priming sink-driven sources (NULL: none) */
 } loop_t;
 
 /* Large state lives in statics, not on the stack (the model alone is ~20 KiB). One loop runs at a time. */
@@ -48,7 +50,6 @@ static void take_events(loop_t *L)
     hz_vsync_event_t ev;
     while (hz_vsync_pop(L->model, &ev)) {
         uint32_t pos = ev.index < L->vs_cap ? L->vs_pos[ev.index] : NO_POS;
-        int64_t frame_id = -1;
         if (pos != NO_POS) {
             hz_edge_rec_t *r = &L->res->edges[pos];
             r->cls = ev.kind == HZ_VSYNC_EDGE ? HZ_ECLS_VSYNC : HZ_ECLS_SPURIOUS;
@@ -57,16 +58,8 @@ static void take_events(loop_t *L)
             r->missed_before = ev.missed_before;
             r->why = ev.why;
             r->relock = ev.relock;
-            frame_id = r->frame_id;
         }
-        if (ev.kind != HZ_VSYNC_EDGE)
-            continue;
-        if (L->src->frame_ids) {
-            if (frame_id >= 0)
-                hz_framelog_shown(&L->log, (uint64_t)frame_id, ev.slot, ev.t_ns);
-        } else {
-            hz_framelog_edge(&L->log, L->model, &ev);
-        }
+        hz_framelog_edge(&L->log, L->model, &ev);
     }
 }
 
@@ -192,6 +185,22 @@ static hz_status_t drain(loop_t *L, int *ended, hz_error_t *err)
     }
 }
 
+/* A sink-driven source (V4L2 output) ticks only with frames queued: feed it blank frames, which the device
+ * takes at its own pace (present waits for a free buffer), until the model locks. */
+static hz_status_t prime(loop_t *L, int64_t limit, hz_error_t *err)
+{
+    hz_image_t *img = L->warmup;
+    if (!img || !L->src->needs_frames)
+        return HZ_OK;
+    hz_status_t s = L->sink->present(L->sink, img, UINT64_MAX, err);
+    if (s != HZ_OK) {
+        hz_error_prefix(err, L->sink->name);
+        return s;
+    }
+    (void)limit;
+    return HZ_OK;
+}
+
 static hz_status_t wait_for_lock(loop_t *L, int *ended, hz_error_t *err)
 {
     int64_t p = L->cfg->nominal_period_ns > 0 ? L->cfg->nominal_period_ns : 16666667;
@@ -212,7 +221,10 @@ static hz_status_t wait_for_lock(loop_t *L, int *ended, hz_error_t *err)
         }
         hz_edge_t e;
         int r;
-        hz_status_t s = get_edge(L, limit, &e, &r, err);
+        hz_status_t s = prime(L, limit, err);
+        if (s != HZ_OK)
+            return s;
+        s = get_edge(L, L->warmup && L->src->needs_frames ? now : limit, &e, &r, err);
         if (s != HZ_OK)
             return s;
         if (r == HZ_VS_EDGE)
@@ -284,6 +296,7 @@ hz_status_t hz_loop_run(const hz_loop_cfg_t *cfg, hz_timebase_t *tb, hz_vsource_
     L.res = res;
     L.model = &g_model;
     L.pacer = &g_pacer;
+    L.sink = sink;
     size_t scratch_n = cfg->max_frames > cfg->max_edges ? cfg->max_frames : cfg->max_edges;
     hz_frame_rec_t *recs = cfg->max_frames
                                ? hz_arena_alloc_array(arena, cfg->max_frames, sizeof(hz_frame_rec_t), 64)
@@ -349,11 +362,17 @@ hz_status_t hz_loop_run(const hz_loop_cfg_t *cfg, hz_timebase_t *tb, hz_vsource_
         return HZ_OK;
     }
 
+    hz_image_t warmup = img;
+    if (src->needs_frames) {
+        memset(img.rgb, 0, (size_t)cfg->w * (size_t)cfg->h * 3);
+        L.warmup = &warmup;
+    }
     s = wait_for_lock(&L, &ended, err);
     if (s != HZ_OK)
         return s;
     if (ended)
         return hz_error_set(err, HZ_E_FORMAT, "%s: the trace ended before the v-sync model locked", src->name);
+    L.warmup = NULL;
 
     int64_t last_target = INT64_MIN;
     const char *why = "frame count reached";

@@ -204,12 +204,12 @@ void hz_report_print(FILE *f, hz_report_t *r)
                 cfg->pace.lookahead ? cfg->pace.lookahead : 1);
         fprintf(f, "frames    %llu rendered; %llu shown: %llu on time, %llu late (by 1: %llu, 2: %llu, 3: %llu, 4+: %llu), "
                    "%llu early; %llu dropped; %llu repeated refreshes; %llu unresolved; %llu resolved against an "
-                   "inferred (missed) edge, %llu by frame id\n",
+                   "inferred (missed) edge\n",
                 (unsigned long long)s->frames, (unsigned long long)s->resolved, (unsigned long long)s->on_time,
                 (unsigned long long)s->late, (unsigned long long)s->late_by[0], (unsigned long long)s->late_by[1],
                 (unsigned long long)s->late_by[2], (unsigned long long)s->late_by[3], (unsigned long long)s->early,
                 (unsigned long long)s->dropped, (unsigned long long)s->repeated, (unsigned long long)s->unresolved,
-                (unsigned long long)s->inferred, (unsigned long long)s->by_id);
+                (unsigned long long)s->inferred);
         fprintf(f, "          deadline miss rate %.3f%% (%llu of %llu shown frames)\n", s->miss_ppm / 1e4,
                 (unsigned long long)s->late, (unsigned long long)s->resolved);
         fprintf(f, "per-frame distributions, nearest-rank percentiles over the frames counted (n):\n");
@@ -350,12 +350,12 @@ static hz_status_t write_json(const char *path, const hz_report_t *r, hz_error_t
         fprintf(f, ",\n  \"size\": [%d, %d],\n", r->info.w, r->info.h);
         fprintf(f, "  \"frames\": {\"rendered\": %llu, \"shown\": %llu, \"on_time\": %llu, \"late\": %llu, "
                    "\"late_by\": [%llu, %llu, %llu, %llu], \"early\": %llu, \"dropped\": %llu, \"repeated\": %llu, "
-                   "\"unresolved\": %llu, \"inferred_edge\": %llu, \"by_frame_id\": %llu, \"miss_rate_ppm\": %llu},\n",
+                   "\"unresolved\": %llu, \"inferred_edge\": %llu, \"miss_rate_ppm\": %llu},\n",
                 (unsigned long long)x->frames, (unsigned long long)x->resolved, (unsigned long long)x->on_time,
                 (unsigned long long)x->late, (unsigned long long)x->late_by[0], (unsigned long long)x->late_by[1],
                 (unsigned long long)x->late_by[2], (unsigned long long)x->late_by[3], (unsigned long long)x->early,
                 (unsigned long long)x->dropped, (unsigned long long)x->repeated, (unsigned long long)x->unresolved,
-                (unsigned long long)x->inferred, (unsigned long long)x->by_id, (unsigned long long)x->miss_ppm);
+                (unsigned long long)x->inferred, (unsigned long long)x->miss_ppm);
         fprintf(f, "  \"distributions\": {\n");
         json_dist(f, "latency", &x->latency, 0);
         json_dist(f, "slack", &x->slack, 0);

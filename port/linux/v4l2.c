@@ -403,7 +403,7 @@ hz_status_t hz_v4l2_out_open(hz_sink_t *sink, hz_vsource_t *vs, const char *path
     if (vs) {
         vs->impl = d;
         vs->live = 1;
-        vs->frame_ids = 1;
+        vs->needs_frames = 1;
         vs->next = out_next;
         vs->close = out_close_source;
         snprintf(vs->name, sizeof vs->name, "V4L2 output %s dequeue timestamps", path);

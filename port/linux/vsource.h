@@ -9,7 +9,10 @@
  *    deadline passes (HZ_VS_TIMEOUT). Timeline sources (simulated display, VCD/CSV replay) know every edge in
  *    advance: next() returns the next one at once (or HZ_VS_END) and the frame loop maps their time onto its
  *    own clock (hz_timeline_*), sleeping until each edge in real time or jumping to it in virtual time.
- *  - An edge may name the frame the display showed at it (frame_id >= 0: V4L2 output dequeue), else -1.
+ *  - An edge may carry the id of a frame it concerns (V4L2 output: the frame whose buffer came back at it),
+ *    else -1; it is logged, resolution uses the scan-out rule of hz/frames.h.
+ *    A source whose edges are the sink's own refreshes (needs_frames) only ticks while frames are queued: the
+ *    frame loop keeps it fed with blank warm-up frames (id -1) until the v-sync model locks.
  *  - A sink shows an RGB24 frame (present) and reports its mode; present() must not block for long (a full
  *    V4L2 queue waits for a buffer at most one second, then fails).
  *  - close() releases everything; every source and sink can be closed after a failed open (no-op).
@@ -51,7 +54,7 @@ struct hz_vsource {
     char name[160];
     int live;            /* 1: device edges in CLOCK_MONOTONIC; 0: a timeline */
     int both_levels;     /* edges of both polarities are reported */
-    int frame_ids;       /* edges name the frame shown (frame_id >= 0): records resolve by id only */
+    int needs_frames;    /* edges come only while frames are queued (V4L2 output): the loop primes it */
     uint64_t dropped;    /* edges the kernel said it lost */
     /* Live: wait until deadline_ns (CLOCK_MONOTONIC). Timeline: deadline ignored. *result is HZ_VS_*. */
     hz_status_t (*next)(hz_vsource_t *s, int64_t deadline_ns, hz_edge_t *e, int *result, hz_error_t *err);

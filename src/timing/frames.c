@@ -69,23 +69,6 @@ void hz_framelog_edge(hz_framelog_t *log, const hz_vsync_t *v, const hz_vsync_ev
     advance(log);
 }
 
-void hz_framelog_shown(hz_framelog_t *log, uint64_t id, int64_t slot, int64_t t_ns)
-{
-    /* Ids are assigned in order, usually equal to the index; search back from the newest otherwise. */
-    for (size_t i = log->n; i-- > log->next_unresolved;) {
-        hz_frame_rec_t *r = &log->rec[i];
-        if (r->id != id)
-            continue;
-        if (!(r->flags & HZ_FRAME_RESOLVED)) {
-            r->actual_slot = slot;
-            r->actual_edge_ns = t_ns;
-            r->flags |= HZ_FRAME_RESOLVED | HZ_FRAME_BY_ID;
-        }
-        break;
-    }
-    advance(log);
-}
-
 size_t hz_framelog_unresolved(const hz_framelog_t *log)
 {
     size_t u = 0;
@@ -125,7 +108,6 @@ void hz_frames_summarise(hz_frame_rec_t *rec, size_t n, int64_t *scratch, hz_fra
         }
         s->resolved++;
         s->inferred += !!(r->flags & HZ_FRAME_EDGE_INFERRED);
-        s->by_id += !!(r->flags & HZ_FRAME_BY_ID);
         if (r->flags & HZ_FRAME_LATE) {
             int64_t by = r->actual_slot - r->target_slot;
             s->late++;

@@ -442,7 +442,7 @@ static void test_v4l2_output_yuyv(void **state)
     assert_string_equal(err.msg, "/fake/video: unsupported pixel format rgb24 (RGB3): the device offers YUYV");
     assert_int_equal(hz_v4l2_out_open(&s, &v, "/fake/video", HZ_PIX_YUYV, 0, 0, &fake_v4l2_io, &err), HZ_OK);
     assert_int_equal(s.w, W);
-    assert_int_equal(v.frame_ids, 1);
+    assert_int_equal(v.needs_frames, 1);
     for (uint64_t id = 0; id < 6; id++) {
         present(&s, id);
         /* the buffer holds the converted frame */
