@@ -28,6 +28,10 @@
  *  - HZ_MOTION_SPIN: rotation by params[6] radians/s about the axis params[3..5] through params[0..2].
  *  - HZ_MOTION_OSCILLATE: translation by params[0..2] * sin(2 pi params[3] t + params[4]).
  *  For the last three, POSITIONS are world positions at t = 0 (spin/oscillate) or in object space (rigid).
+ *
+ * Texture coordinates (UVS): (0, 0) is the top-left corner of a texture's level 0, u grows to the right and v
+ * downwards (glTF's convention; tools/bake flips OBJ's); texel (x, y) of a w x h level covers u in [x/w, (x+1)/w)
+ * and v in [y/h, (y+1)/h); coordinates outside [0, 1) repeat. Texel rows are stored top row first.
  */
 #ifndef HZ_HZB_H
 #define HZ_HZB_H

@@ -4,6 +4,7 @@
 
 #include "cli.h"
 #include "hz/hz.h"
+#include "latency.h"
 #include "pools.h"
 #include "scenefile.h"
 
@@ -16,6 +17,7 @@ static void usage(FILE *f)
             "  info SCENE   validate a scene (.hzb file or `builtin`) and print its header, counts, features\n"
             "               and memory plan\n"
             "  board        print this build's board settings: display, arenas, features, v-sync source\n"
+            "  latency      display-locked latency: v-sync capture, frame pacing, report (CSV, JSON, SVG)\n"
             "\n"
             "options:\n"
             "  -h, --help   this text (also `hzrt <command> --help`)\n"
@@ -157,6 +159,8 @@ int main(int argc, char **argv)
         return cmd_board(argc - 1, argv + 1);
     if (!strcmp(cmd, "info"))
         return cmd_info(argc - 1, argv + 1);
+    if (!strcmp(cmd, "latency"))
+        return hz_cmd_latency(argc - 1, argv + 1);
     hz_cli_error("unknown command '%s' (try hzrt --help)", cmd);
     return HZ_EXIT_USAGE;
 }

@@ -177,8 +177,12 @@ static void test_materials_mean_what_the_sources_say(void **state)
     (void)state;
     loaded_t l;
     load("AlphaBlendModeTest", &l);
-    static const struct { const char *name; uint32_t mode; float cutoff; } modes[] = {
-        { "MatOpaque", HZ_ALPHA_OPAQUE, 0.5f }, { "MatBlend", HZ_ALPHA_BLEND, 0.5f },
+    static const struct {
+        const char *name;
+        uint32_t mode;
+        float cutoff;
+    } modes[] = {
+        { "MatOpaque", HZ_ALPHA_OPAQUE, 0.5f },  { "MatBlend", HZ_ALPHA_BLEND, 0.5f },
         { "MatCutoff25", HZ_ALPHA_MASK, 0.25f }, { "MatCutoffDefault", HZ_ALPHA_MASK, 0.5f },
         { "MatCutoff75", HZ_ALPHA_MASK, 0.75f },
     };
@@ -268,8 +272,8 @@ static void check_mips(const hz_scene_t *s, const hz_texture_t *t, int exact)
                             fail_msg("texture %s level %u texel %u,%u channel %d: %u, expected %.1f",
                                      (const char *)t->name, l, x, y, k, q[k], enc(c[k] / a));
                 if (fabs(a / 4 * 255.0 - q[3]) > tol)
-                    fail_msg("texture %s level %u texel %u,%u alpha %u, expected %.1f", (const char *)t->name, l, x,
-                             y, q[3], a / 4 * 255.0);
+                    fail_msg("texture %s level %u texel %u,%u alpha %u, expected %.1f", (const char *)t->name, l, x, y,
+                             q[3], a / 4 * 255.0);
             }
         level = next;
         w = nw, h = nh;
@@ -424,7 +428,8 @@ static void hash_baked(const hz_scene_t *s, thash_t *h)
 {
     for (uint32_t t = 0; t < s->triangle_count; t++) {
         const uint32_t *i = s->tri + (size_t)t * 3;
-        hash_triangle(h, s->rest_pos + (size_t)i[0] * 4, s->rest_pos + (size_t)i[1] * 4, s->rest_pos + (size_t)i[2] * 4);
+        hash_triangle(h, s->rest_pos + (size_t)i[0] * 4, s->rest_pos + (size_t)i[1] * 4,
+                      s->rest_pos + (size_t)i[2] * 4);
     }
 }
 
@@ -436,7 +441,9 @@ static void source_path(char *out, size_t size, const char *where, const char *r
 static void test_round_trip_geometry_equals_source(void **state)
 {
     (void)state;
-    static const struct { const char *scene, *where, *model; } cases[] = {
+    static const struct {
+        const char *scene, *where, *model;
+    } cases[] = {
         { "CornellBox-Original", "HZ_SCENES_UNPACK", "CornellBox/CornellBox-Original.obj" },
         { "CornellBox-Mirror", "HZ_SCENES_UNPACK", "CornellBox/CornellBox-Mirror.obj" },
         { "conference", "HZ_SCENES_UNPACK", "conference/conference.obj" },
@@ -586,7 +593,7 @@ static void test_skinning_matches_joint_transforms(void **state)
     double worst = 0;
     for (size_t fi = 0; fi < 2; fi++) {
         double ticks = frames[fi] / 30.0 * (a->mTicksPerSecond > 0 ? a->mTicksPerSecond : 25.0);
-        double (*bm)[16] = calloc(mesh->mNumBones, sizeof *bm);
+        double(*bm)[16] = calloc(mesh->mNumBones, sizeof *bm);
         for (unsigned b = 0; b < mesh->mNumBones; b++) {
             const struct aiNode *bn = node_named(ai->mRootNode, mesh->mBones[b]->mName.data);
             assert_non_null(bn);
@@ -613,8 +620,9 @@ static void test_skinning_matches_joint_transforms(void **state)
                     acc[vw->mVertexId * 4 + k] += vw->mWeight * p[k];
                 acc[vw->mVertexId * 4 + 3] += vw->mWeight;
             }
-        const float *baked = fi == 0 ? l.s.rest_pos + (size_t)o->first_vertex * 4
-                                     : l.s.vertex_keys + ((size_t)o->key_first + (size_t)frames[fi] * o->vertex_count) * 4;
+        const float *baked = fi == 0
+            ? l.s.rest_pos + (size_t)o->first_vertex * 4
+            : l.s.vertex_keys + ((size_t)o->key_first + (size_t)frames[fi] * o->vertex_count) * 4;
         for (unsigned v = 0; v < mesh->mNumVertices; v++) {
             assert_true(acc[v * 4 + 3] > 0);
             for (int k = 0; k < 3; k++)
@@ -645,8 +653,8 @@ static void test_rigid_keys_follow_node_animation(void **state)
         const struct aiMesh *mesh = ai->mMeshes[mi];
         uint32_t oi = l.s.object_count;
         for (uint32_t i = 0; i < l.s.object_count; i++)
-            if (l.s.objects[i].vertex_count && !strcmp((const char *)l.s.objects[i].name,
-                                                        mi == 0 ? "nodes[3]" : "nodes[2]"))
+            if (l.s.objects[i].vertex_count &&
+                !strcmp((const char *)l.s.objects[i].name, mi == 0 ? "nodes[3]" : "nodes[2]"))
                 oi = i;
         assert_true(oi < l.s.object_count);
         const hz_object_t *o = &l.s.objects[oi];
@@ -718,8 +726,8 @@ static void test_furball_tubes_surround_the_strands(void **state)
         strands++;
         k = e;
     }
-    print_message("furball: %u strands, %u ring vertices; ring centre off by %.3g, radius off by %.3g\n", strands,
-                  v, worst_c, worst_r);
+    print_message("furball: %u strands, %u ring vertices; ring centre off by %.3g, radius off by %.3g\n", strands, v,
+                  worst_c, worst_r);
     assert_int_equal(strands, 30367);
     assert_int_equal(v, l.s.vertex_count);
     assert_true(worst_c < 1e-5 && worst_r < 1e-5);
@@ -733,7 +741,7 @@ static void test_furball_tubes_surround_the_strands(void **state)
 static char tmpdir[64];
 
 typedef struct run {
-    int status;    /* exit status, or 128 + signal */
+    int status;     /* exit status, or 128 + signal */
     char out[8192]; /* stdout + stderr */
 } run_t;
 
@@ -826,7 +834,8 @@ static void test_bad_inputs_get_clear_errors_and_distinct_statuses(void **state)
     put_text("empty.obj", "");
     put_text("oob.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 99\n");
     put_text("nan.obj", "v nan 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
-    put_text("tex.obj", "mtllib tex.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\nusemtl red\nf 1/1 2/2 3/3\n");
+    put_text("tex.obj",
+             "mtllib tex.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\nusemtl red\nf 1/1 2/2 3/3\n");
     put_text("tex.mtl", "newmtl red\nKd 0.8 0.1 0.1\nmap_Kd missing.png\n");
     put_text("ok.hzs", "light = position 0 1 1 color 1 1 1\ncamera = 0 eye 0 0 3 target 0 0 0\n");
     put_text("bad.hzs", "light = position 0 1 1 color 1 1 1\n\nmirror = 2\n");
@@ -841,8 +850,9 @@ static void test_bad_inputs_get_clear_errors_and_distinct_statuses(void **state)
     copy_prefix(p, "box.gltf", SIZE_MAX);
     source_path(p, sizeof p, "HZ_SCENES_SRC", "gltf/BoxAnimated/glTF/BoxAnimated0.bin");
     copy_prefix(p, "BoxAnimated0.bin", 3000);
-    put_text("fur.xml", "<scene><RoundLineSegments><indices ofs=\"0\" size=\"2\"/>"
-                        "<positions ofs=\"8\" size=\"2\"/></RoundLineSegments></scene>");
+    put_text("fur.xml",
+             "<scene><RoundLineSegments><indices ofs=\"0\" size=\"2\"/>"
+             "<positions ofs=\"8\" size=\"2\"/></RoundLineSegments></scene>");
     static const uint32_t fur_idx[2] = { 0, 7 }; /* segment 1 starts at point 7 of 2 */
     uint8_t fur[8 + 32];
     memcpy(fur, fur_idx, 8);
@@ -865,16 +875,41 @@ static void test_bad_inputs_get_clear_errors_and_distinct_statuses(void **state)
          * assimp may refuse it cleanly instead (68); either way the baker survives and names the file. */
         { "truncated PLY", NULL, { "cut.ply", "OUT" }, 76, 68, { "cut.ply" } },
         { "truncated glTF buffer", NULL, { "box.gltf", "OUT" }, 68, 0, { "box.gltf", "byteLength" } },
-        { "furball index out of range", NULL, { "fur.xml", "OUT" }, 68, 0, { "fur.bin", "segment 1 starts at point 7 of 2" } },
-        { "importer abort", "abort", { "-s", "ok.hzs", cornell, "OUT" }, 76, 0,
+        { "furball index out of range",
+          NULL,
+          { "fur.xml", "OUT" },
+          68,
+          0,
+          { "fur.bin", "segment 1 starts at point 7 of 2" } },
+        { "importer abort",
+          "abort",
+          { "-s", "ok.hzs", cornell, "OUT" },
+          76,
+          0,
           { "CornellBox-Original.obj", "importer crashed (abort" } },
-        { "importer segfault", "segv", { "-s", "ok.hzs", cornell, "OUT" }, 76, 0,
+        { "importer segfault",
+          "segv",
+          { "-s", "ok.hzs", cornell, "OUT" },
+          76,
+          0,
           { "CornellBox-Original.obj", "importer crashed" } }, /* ASan builds catch SIGSEGV and exit(1) */
-        { "importer hangs", "hang", { "--timeout", "1", cornell, "OUT" }, 75, 0,
+        { "importer hangs",
+          "hang",
+          { "--timeout", "1", cornell, "OUT" },
+          75,
+          0,
           { "CornellBox-Original.obj", "longer than 1 s" } },
-        { "bad sidecar value", NULL, { "-s", "bad.hzs", cornell, "OUT" }, 68, 0,
+        { "bad sidecar value",
+          NULL,
+          { "-s", "bad.hzs", cornell, "OUT" },
+          68,
+          0,
           { "bad.hzs:3:", "belongs in a [material] section" } },
-        { "sidecar names no material", NULL, { "-s", "typo.hzs", cornell, "OUT" }, 68, 0,
+        { "sidecar names no material",
+          NULL,
+          { "-s", "typo.hzs", cornell, "OUT" },
+          68,
+          0,
           { "typo.hzs:1:", "matches no material" } },
         { "missing sidecar", NULL, { "-s", "nope.hzs", cornell, "OUT" }, 73, 0, { "nope.hzs" } },
         { "bad command line", NULL, { "--texture-max", "0", cornell, "OUT" }, 2, 0, { "--texture-max" } },
@@ -953,6 +988,149 @@ static void test_bad_inputs_get_clear_errors_and_distinct_statuses(void **state)
     assert_int_equal(system(cmd), 0);
 }
 
+/* ---- procedural motion from a sidecar ---- */
+
+static const hz_object_t *object_with_material(const hz_scene_t *s, const char *material)
+{
+    for (uint32_t i = 0; i < s->object_count; i++) {
+        const hz_object_t *o = &s->objects[i];
+        if (o->triangle_count &&
+            !strcmp((const char *)s->materials[hz_scene_tri_material(s, o->first_triangle)].name, material))
+            return o;
+    }
+    fail_msg("no object with material '%s'", material);
+    return NULL;
+}
+
+static void test_sidecar_motion_is_baked_and_animates(void **state)
+{
+    (void)state;
+    snprintf(tmpdir, sizeof tmpdir, "/tmp/hzbake-test.XXXXXX");
+    assert_non_null(mkdtemp(tmpdir));
+    /* CornellBox-Original's OBJ groups are misplaced (the tall box is in group "shortBox"): sections also match
+     * an object's material, so [object tallBox] finds the tall box. */
+    put_text("motion.hzs",
+             "light = position 0 1.8 0 color 5 5 5\n"
+             "camera = 0 eye 0 1 4 target 0 1 0\n"
+             "[object floor]\nmotion = spin\npivot = center\naxis = 0 2 0\nspeed = 90\n"
+             "[object light]\nmotion = oscillate\namplitude = 0 0.1 0\nfrequency = 0.5\n"
+             "[object tallBox]\nmotion = keys\nkey = 0\n"
+             "key = 1 translate 0 0.5 0 rotate 0 1 0 90\n");
+    char cb[4096], hzs[256], out[256];
+    source_path(cb, sizeof cb, "HZ_SCENES_UNPACK", "CornellBox/CornellBox-Original.obj");
+    snprintf(hzs, sizeof hzs, "%s/motion.hzs", tmpdir);
+    snprintf(out, sizeof out, "%s/motion.hzb", tmpdir);
+    const char *args[] = { "-q", "-s", hzs, cb, out, NULL };
+    run_t r;
+    bake(&r, NULL, args);
+    if (r.status != 0)
+        fail_msg("bake failed (%d): %s", r.status, r.out);
+    size_t size;
+    void *img = read_all(out, &size, 1);
+    hz_scene_plan_t plan;
+    assert_int_equal(hz_scene_plan(img, size, &plan, NULL), HZ_OK);
+    assert_int_equal(plan.features, HZ_FEAT_MOTION | HZ_FEAT_NORMALS);
+    void *mem = NULL;
+    assert_int_equal(posix_memalign(&mem, 64, plan.arena_bytes + 64), 0);
+    hz_arena_t arena;
+    hz_arena_init(&arena, "scene", mem, plan.arena_bytes + 64);
+    hz_scene_t s;
+    assert_int_equal(hz_scene_load(&s, img, size, &arena, NULL), HZ_OK);
+    const hz_object_t *floor = object_with_material(&s, "floor"), *light = object_with_material(&s, "light");
+    const hz_object_t *tall = object_with_material(&s, "tallBox"), *shrt = object_with_material(&s, "shortBox");
+    assert_int_equal(floor->motion, HZ_MOTION_SPIN);
+    assert_int_equal(light->motion, HZ_MOTION_OSCILLATE);
+    assert_int_equal(tall->motion, HZ_MOTION_RIGID);
+    assert_int_equal(shrt->motion, HZ_MOTION_NONE);
+    /* Spin: unit axis, radians per second, pivot at the floor's centre. */
+    double lo[3] = { INFINITY, INFINITY, INFINITY }, hi[3] = { -INFINITY, -INFINITY, -INFINITY };
+    for (uint32_t v = 0; v < floor->vertex_count; v++)
+        for (int k = 0; k < 3; k++) {
+            lo[k] = fmin(lo[k], s.rest_pos[(size_t)(floor->first_vertex + v) * 4 + k]);
+            hi[k] = fmax(hi[k], s.rest_pos[(size_t)(floor->first_vertex + v) * 4 + k]);
+        }
+    for (int k = 0; k < 3; k++)
+        assert_true(fabs(floor->params[k] - 0.5 * (lo[k] + hi[k])) < 1e-6);
+    assert_true(floor->params[3] == 0.0f && floor->params[4] == 1.0f && floor->params[5] == 0.0f);
+    assert_true(fabs(floor->params[6] - 1.5707963267948966) < 1e-6);
+    /* Keys: the second rotates 90 degrees about y and lifts by 0.5. */
+    assert_int_equal(tall->key_count, 2);
+    const hz_hzb_rigid_key_t *k1 = &s.rigid_keys[tall->key_first + 1];
+    assert_true(k1->time == 1.0f && k1->translation[1] == 0.5f);
+    assert_true(fabs(k1->rotation[1] - 0.7071067811865476) < 1e-6 && fabs(k1->rotation[3] - 0.7071067811865476) < 1e-6);
+    /* Animate: at t = 1 the tall box is rotated (x, y, z) -> (z, y, -x) and lifted; at t = 0.5 the lamp is at
+     * the top of its oscillation, sin(2 pi 0.5 0.5) = 1. */
+    hz_scene_animate(&s, 1.0f);
+    for (uint32_t v = 0; v < tall->vertex_count; v++) {
+        const float *p = s.rest_pos + (size_t)(tall->first_vertex + v) * 4,
+                    *q = s.pos + (size_t)(tall->first_vertex + v) * 4;
+        assert_true(fabs(q[0] - p[2]) < 1e-5 && fabs(q[1] - (p[1] + 0.5)) < 1e-5 && fabs(q[2] + p[0]) < 1e-5);
+    }
+    hz_scene_animate(&s, 0.5f);
+    for (uint32_t v = 0; v < light->vertex_count; v++) {
+        const float *p = s.rest_pos + (size_t)(light->first_vertex + v) * 4,
+                    *q = s.pos + (size_t)(light->first_vertex + v) * 4;
+        assert_true(fabs(q[1] - (p[1] + 0.1)) < 1e-5 && q[0] == p[0] && q[2] == p[2]);
+    }
+    free(mem);
+    free(img);
+    char cmd[128];
+    snprintf(cmd, sizeof cmd, "rm -rf %s", tmpdir);
+    assert_int_equal(system(cmd), 0);
+}
+
+/* ---- instancing ---- */
+
+/* One triangle mesh used by two nodes (translated by -2 and +2 in x), with its buffer inline. */
+static const char instanced_gltf[] =
+    "{\"asset\":{\"version\":\"2.0\"},\"scene\":0,\"scenes\":[{\"nodes\":[0,1]}],\"nodes\":[{\"name\":\"l"
+    "eft\",\"mesh\":0,\"translation\":[-2,0,0]},{\"name\":\"right\",\"mesh\":0,\"translation\":[2,0,0]}],"
+    "\"meshes\":[{\"name\":\"tri\",\"primitives\":[{\"attributes\":{\"POSITION\":0},\"indices\":1}]}],\"b"
+    "uffers\":[{\"byteLength\":44,\"uri\":\"data:application/octet-stream;base64,AAAAAAAAAAAAAAAAAACAPwAA"
+    "AAAAAAAAAAAAAAAAgD8AAAAAAAABAAIAAAA=\"}],\"bufferViews\":[{\"buffer\":0,\"byteOffset\":0,\"byteLengt"
+    "h\":36},{\"buffer\":0,\"byteOffset\":36,\"byteLength\":6}],\"accessors\":[{\"bufferView\":0,\"compon"
+    "entType\":5126,\"count\":3,\"type\":\"VEC3\",\"min\":[0,0,0],\"max\":[1,1,0]},{\"bufferView\":1,\"co"
+    "mponentType\":5123,\"count\":3,\"type\":\"SCALAR\"}]}";
+
+static void test_instanced_meshes_are_expanded(void **state)
+{
+    (void)state;
+    snprintf(tmpdir, sizeof tmpdir, "/tmp/hzbake-test.XXXXXX");
+    assert_non_null(mkdtemp(tmpdir));
+    put_text("inst.gltf", instanced_gltf);
+    char in[256], out[256];
+    snprintf(in, sizeof in, "%s/inst.gltf", tmpdir);
+    snprintf(out, sizeof out, "%s/inst.hzb", tmpdir);
+    const char *args[] = { "-q", in, out, NULL };
+    run_t r;
+    bake(&r, NULL, args);
+    if (r.status != 0)
+        fail_msg("bake failed (%d): %s", r.status, r.out);
+    size_t size;
+    void *img = read_all(out, &size, 1);
+    hz_scene_t s;
+    assert_int_equal(hz_scene_load(&s, img, size, NULL, NULL), HZ_OK);
+    assert_true(s.features & HZ_FEAT_INSTANCING);
+    assert_int_equal(s.object_count, 2);
+    assert_int_equal(s.triangle_count, 2);
+    for (uint32_t o = 0; o < 2; o++) {
+        const hz_object_t *ob = &s.objects[o];
+        assert_string_equal((const char *)ob->name, o == 0 ? "left" : "right");
+        assert_int_equal(ob->vertex_count, 3); /* each use owns its own copy of the vertices */
+        float dx = o == 0 ? -2.0f : 2.0f;
+        const uint32_t *t = s.tri + (size_t)ob->first_triangle * 3;
+        static const float want[3][2] = { { 0, 0 }, { 1, 0 }, { 0, 1 } };
+        for (int k = 0; k < 3; k++) {
+            const float *p = s.rest_pos + (size_t)t[k] * 4;
+            assert_true(p[0] == want[k][0] + dx && p[1] == want[k][1] && p[2] == 0.0f);
+        }
+    }
+    free(img);
+    char cmd[128];
+    snprintf(cmd, sizeof cmd, "rm -rf %s", tmpdir);
+    assert_int_equal(system(cmd), 0);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -964,6 +1142,8 @@ int main(void)
         cmocka_unit_test(test_rigid_keys_follow_node_animation),
         cmocka_unit_test(test_furball_tubes_surround_the_strands),
         cmocka_unit_test(test_bad_inputs_get_clear_errors_and_distinct_statuses),
+        cmocka_unit_test(test_sidecar_motion_is_baked_and_animates),
+        cmocka_unit_test(test_instanced_meshes_are_expanded),
     };
     return HZ_RUN(tests);
 }

@@ -45,7 +45,7 @@ static hz_et_sequence_t sequence(const char *settings)
 
 static hz_et_config_t config(void)
 {
-    hz_et_config_t c = { cache, HZ_FLIP_DEFAULT_PPD, &arena, NULL, false };
+    hz_et_config_t c = { cache, HZ_FLIP_DEFAULT_PPD, &arena, NULL, false, NULL };
     return c;
 }
 
@@ -283,6 +283,52 @@ static void test_failed_method_is_named(void **state)
     assert_non_null(strstr(err.msg, "arena 'tiny'"));
     assert_int_equal(hz_arena_mark(&tiny), 0);
     assert_true(hz_et_arena_bytes(&seq, cfg.ppd) < sizeof mem);
+    /* hz_et_arena_bytes is enough: the driver's part plus the method's own state (a few bytes here). */
+    hz_arena_t exact;
+    hz_arena_init(&exact, "exact", mem + sizeof mem / 2, hz_et_arena_bytes(&seq, cfg.ppd) + 256);
+    cfg.arena = &exact;
+    assert_int_equal(hz_et_run(&seq, &hz_synth_reference, ms, 1, &cfg, rows, &err), HZ_OK);
+    assert_int_equal(hz_arena_mark(&exact), 0);
+    assert_true(exact.high_water > hz_et_arena_bytes(&seq, cfg.ppd) / 2); /* and not wildly more than needed */
+}
+
+static long file_size(const char *path)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return -1;
+    fseek(f, 0, SEEK_END);
+    long n = ftell(f);
+    fclose(f);
+    return n;
+}
+
+static void test_videos_of_displayed_frames(void **state)
+{
+    (void)state;
+    hz_et_sequence_t seq = sequence("e2e");
+    hz_et_config_t cfg = config();
+    char vdir[128], p[256];
+    snprintf(vdir, sizeof vdir, "%s/videos", cache);
+    cfg.video_dir = vdir;
+    hz_et_method_t ms[2] = { hz_synth_methods[1], hz_synth_methods[5] };
+    hz_et_row_t rows[2];
+    hz_error_t err;
+    assert_int_equal(hz_et_run(&seq, &hz_synth_reference, ms, 2, &cfg, rows, &err), HZ_OK);
+    const char *hdr = "YUV4MPEG2 W32 H24 F240:1 Ip A1:1 C444 XCOLORRANGE=FULL\n";
+    long want = (long)strlen(hdr) + 16 * (6 + 32 * 24 * 3);
+    const char *names[3] = { "synthetic-supersample-spp4.y4m", "synthetic-accumulate-alpha0.2.y4m",
+                             "synthetic-reference.y4m" };
+    for (int i = 0; i < 3; i++) {
+        snprintf(p, sizeof p, "%s/%s", vdir, names[i]);
+        if (file_size(p) != want)
+            fail_msg("%s: %ld bytes, want %ld", p, file_size(p), want);
+    }
+    FILE *f = fopen(p, "rb");
+    char line[128];
+    assert_non_null(fgets(line, sizeof line, f));
+    fclose(f);
+    assert_string_equal(line, hdr);
 }
 
 static void test_argument_errors(void **state)
@@ -345,6 +391,7 @@ int main(void)
         cmocka_unit_test(test_tampered_cache_is_refused),
         cmocka_unit_test(test_failed_reference_leaves_nothing),
         cmocka_unit_test(test_failed_method_is_named),
+        cmocka_unit_test(test_videos_of_displayed_frames),
         cmocka_unit_test(test_argument_errors),
         cmocka_unit_test(test_window_and_time_stats),
     };

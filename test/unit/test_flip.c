@@ -7,7 +7,7 @@
  * this repository (never committed) with
  *     g++ -O2 -std=c++17 -I src/cpp src/cpp/tool/FLIP-tool.cpp -o flip
  * The pairs are crops of two shared-scene textures (LushPine.png from pine.zip, lost_empire-RGB.png from
- * lost-empire.zip; `make tests` unpacks them into build/<board>/test-data/flip) with integer distortions, so
+ * lost-empire.zip; `make tests` unpacks them into build/scenes-src/) with integer distortions, so
  * they are bit-identical on every platform. The values below were produced by:
  *     build/host-sim/test/unit/test_flip --write-pairs /tmp/flip-pairs
  *     for p in pine-noise pine-noise-low pine-blur atlas-shift atlas-banding pine-fireflies atlas-tint; do
@@ -24,6 +24,7 @@
 
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "flip.h"
@@ -31,9 +32,12 @@
 #include "hz/image.h"
 #include "imageio.h"
 
-#ifndef HZ_FLIP_TEST_DATA
-#define HZ_FLIP_TEST_DATA "build/host-sim/test-data/flip"
-#endif
+/* The unpacked scene zips (make exports HZ_SCENES_UNPACK; `make tests` unpacks the two used here). */
+static const char *data_dir(void)
+{
+    const char *d = getenv("HZ_SCENES_UNPACK");
+    return d && *d ? d : "build/scenes-src";
+}
 
 static uint8_t buf[64 << 20] /* the 2048x2048 atlas is 48 MiB as floats */ HZ_ALIGNED(64);
 static hz_arena_t arena;
@@ -57,13 +61,13 @@ typedef struct pair {
 } pair_t;
 
 static const pair_t pairs[] = {
-    { "pine-noise", "LushPine.png", 128, 128, 256, 256, NOISE, 0.076229 },
-    { "pine-noise-low", "LushPine.png", 96, 200, 200, 160, NOISE_LOW, 0.029737 },
-    { "pine-blur", "LushPine.png", 128, 128, 256, 256, BLUR, 0.163284 },
-    { "atlas-shift", "lost_empire-RGB.png", 0, 384, 256, 256, SHIFT, 0.088186 },
-    { "atlas-banding", "lost_empire-RGB.png", 512, 640, 256, 256, BANDING, 0.184115 },
-    { "pine-fireflies", "LushPine.png", 64, 0, 256, 192, FIREFLIES, 0.051951 },
-    { "atlas-tint", "lost_empire-RGB.png", 1024, 1024, 192, 192, TINT, 0.225287 },
+    { "pine-noise", "pine/LushPine.png", 128, 128, 256, 256, NOISE, 0.076229 },
+    { "pine-noise-low", "pine/LushPine.png", 96, 200, 200, 160, NOISE_LOW, 0.029737 },
+    { "pine-blur", "pine/LushPine.png", 128, 128, 256, 256, BLUR, 0.163284 },
+    { "atlas-shift", "lost-empire/lost_empire-RGB.png", 0, 384, 256, 256, SHIFT, 0.088186 },
+    { "atlas-banding", "lost-empire/lost_empire-RGB.png", 512, 640, 256, 256, BANDING, 0.184115 },
+    { "pine-fireflies", "pine/LushPine.png", 64, 0, 256, 192, FIREFLIES, 0.051951 },
+    { "atlas-tint", "lost-empire/lost_empire-RGB.png", 1024, 1024, 192, 192, TINT, 0.225287 },
 };
 
 static uint8_t clamp8(int v)
@@ -75,7 +79,7 @@ static uint8_t clamp8(int v)
 static hz_status_t make_pair(const pair_t *p, uint8_t *ref, uint8_t *test, hz_error_t *err)
 {
     char path[512];
-    snprintf(path, sizeof path, "%s/%s", HZ_FLIP_TEST_DATA, p->source);
+    snprintf(path, sizeof path, "%s/%s", data_dir(), p->source);
     hz_arena_mark_t m = hz_arena_mark(&arena);
     hz_image_t src;
     hz_status_t s = hz_image_read(path, &arena, &src, err);

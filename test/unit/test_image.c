@@ -137,6 +137,47 @@ static void test_special_values_stay_in_range(void **state)
     assert_int_equal(hz_srgb8_encode(0.18f), 118);
 }
 
+/* The SIMD encoder (AVX2 boards) against its scalar twin: every threshold and its neighbours, special values,
+ * random bit patterns (every exponent, both signs, NaN payloads), at every tail length. */
+static void test_simd_encode_matches_scalar(void **state)
+{
+    (void)state;
+    static float v[4096 + 7];
+    static uint8_t a[4096 + 7], b[4096 + 7];
+    size_t n = 0;
+    for (int k = 0; k < 255; k++) {
+        float t = hz_float_from_bits(hz_srgb8_threshold_bits[k]);
+        v[n++] = t;
+        v[n++] = nextafterf(t, 0.0f);
+        v[n++] = nextafterf(t, 2.0f);
+    }
+    const float special[] = { 0.0f, -0.0f, NAN, -NAN, INFINITY, -INFINITY, 1.0f, nextafterf(1.0f, 0.0f),
+                              0x1p-13f, nextafterf(0x1p-13f, 0.0f), FLT_MIN, -FLT_MIN, FLT_MAX, -FLT_MAX,
+                              hz_float_from_bits(1), hz_float_from_bits(0x7FC12345u), hz_float_from_bits(0xFF800001u),
+                              hz_float_from_bits(0x7F800001u), 0.5f, -0.5f, 2.0f };
+    for (size_t i = 0; i < HZ_ARRAY_LEN(special); i++)
+        v[n++] = special[i];
+    hz_rng_t r;
+    hz_rng_seed(&r, 3, 4);
+    while (n < HZ_ARRAY_LEN(v))
+        v[n++] = hz_float_from_bits(hz_rng_u32(&r));
+    for (size_t len = 0; len <= 17; len++) { /* tails */
+        memset(a, 0xAA, sizeof a);
+        memset(b, 0xAA, sizeof b);
+        hz_srgb8_encode_n(v + len, a, len);
+        hz_srgb8_encode_n_scalar(v + len, b, len);
+        assert_memory_equal(a, b, sizeof a);
+    }
+    for (size_t off = 0; off < 8; off++) {
+        hz_srgb8_encode_n(v + off, a, HZ_ARRAY_LEN(v) - off);
+        hz_srgb8_encode_n_scalar(v + off, b, HZ_ARRAY_LEN(v) - off);
+        assert_memory_equal(a, b, HZ_ARRAY_LEN(v) - off);
+    }
+    hz_srgb8_encode_n(v, a, HZ_ARRAY_LEN(v));
+    for (size_t i = 0; i < HZ_ARRAY_LEN(v); i++)
+        assert_int_equal(a[i], hz_srgb8_encode(v[i]));
+}
+
 static uint8_t arena_buf[1 << 16] HZ_ALIGNED(64);
 
 static void test_alloc_sizes_and_refusals(void **state)
@@ -195,6 +236,7 @@ int main(void)
         cmocka_unit_test(test_round_trip_and_thresholds),
         cmocka_unit_test(test_random_floats_match_definition),
         cmocka_unit_test(test_special_values_stay_in_range),
+        cmocka_unit_test(test_simd_encode_matches_scalar),
         cmocka_unit_test(test_alloc_sizes_and_refusals),
     };
     return HZ_RUN(tests);

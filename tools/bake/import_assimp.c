@@ -25,8 +25,8 @@
 typedef enum { FMT_OBJ, FMT_PLY, FMT_GLTF } fmt_t;
 
 typedef struct ctx {
-    bk_scene_t *s;
-    const bk_sidecar_t *sc;
+    hz_bake_scene_t *s;
+    const hz_bake_sidecar_t *sc;
     const struct aiScene *ai;
     const struct aiAnimation *anim; /* NULL when the model has none */
     double tps;                     /* ticks per second of anim */
@@ -51,25 +51,27 @@ static int texture_ref(ctx_t *c, const struct aiString *ref, int alpha_from_luma
         char *end;
         unsigned long n = strtoul(r + 1, &end, 10);
         if (*end || n >= c->ai->mNumTextures) {
-            bk_warn("%s: material '%s' names embedded texture '%s', which does not exist; it uses its colour",
-                    c->s->model, material, r);
+            hz_bake_warn("%s: material '%s' names embedded texture '%s', which does not exist; it uses its colour",
+                         c->s->model, material, r);
             return -1;
         }
         const struct aiTexture *t = c->ai->mTextures[n];
         if (t->mHeight != 0) {
-            bk_warn("%s: embedded texture '%s' is stored uncompressed, which the baker does not read; material '%s' "
-                    "uses its colour", c->s->model, r, material);
+            hz_bake_warn(
+                "%s: embedded texture '%s' is stored uncompressed, which the baker does not read; material '%s' "
+                "uses its colour",
+                c->s->model, r, material);
             return -1;
         }
         char key[8192];
         snprintf(key, sizeof key, "%s#%s", c->s->model, r);
-        return bk_texture_from_memory(c->s, key, (const uint8_t *)t->pcData, t->mWidth, alpha_from_luma,
-                                      c->sc->texture_max, material);
+        return hz_bake_texture_from_memory(c->s, key, (const uint8_t *)t->pcData, t->mWidth, alpha_from_luma,
+                                           c->sc->texture_max, material);
     }
     char path[8192];
-    if (!bk_resolve(c->dir, r, path, sizeof path))
+    if (!hz_bake_resolve(c->dir, r, path, sizeof path))
         snprintf(path, sizeof path, "%s/%s", c->dir, r);
-    return bk_texture_get(c->s, path, alpha_from_luma, c->sc->texture_max, material);
+    return hz_bake_texture_get(c->s, path, alpha_from_luma, c->sc->texture_max, material);
 }
 
 static int first_texture(const struct aiMaterial *am, enum aiTextureType type, struct aiString *path)
@@ -77,18 +79,18 @@ static int first_texture(const struct aiMaterial *am, enum aiTextureType type, s
     if (aiGetMaterialTextureCount(am, type) == 0)
         return 0;
     return aiGetMaterialTexture(am, type, 0, path, NULL, NULL, NULL, NULL, NULL, NULL) == aiReturn_SUCCESS &&
-           path->length > 0;
+        path->length > 0;
 }
 
 static void add_material(ctx_t *c, const struct aiMaterial *am, unsigned index)
 {
-    bk_material_t *m = bk_vec_push(&c->s->mats, 1);
+    hz_bake_material_t *m = hz_bake_vec_push(&c->s->mats, 1);
     struct aiString name;
     if (aiGetMaterialString(am, AI_MATKEY_NAME, &name) == aiReturn_SUCCESS && name.length)
-        bk_strcpy(m->name, sizeof m->name, name.data);
+        hz_bake_strcpy(m->name, sizeof m->name, name.data);
     else
         snprintf(m->name, sizeof m->name, "material%u", index);
-    bk_set_name(m->m.name, m->name);
+    hz_bake_set_name(m->m.name, m->name);
     m->m.alpha = 1.0f;
     m->m.alpha_cutoff = 0.5f;
     m->m.alpha_mode = HZ_ALPHA_OPAQUE;
@@ -114,7 +116,7 @@ static void add_material(ctx_t *c, const struct aiMaterial *am, unsigned index)
         if (c->fmt == FMT_OBJ)
             m->m.base_color[0] = m->m.base_color[1] = m->m.base_color[2] = 1.0f;
     }
-    int base_has_alpha = base >= 0 && (BK_AT(c->s->texs, bk_texture_t, base)->t.flags & 1u);
+    int base_has_alpha = base >= 0 && (HZ_BAKE_AT(c->s->texs, hz_bake_texture_t, base)->t.flags & 1u);
 
     if (c->fmt == FMT_GLTF) {
         struct aiString mode;
@@ -128,8 +130,8 @@ static void add_material(ctx_t *c, const struct aiMaterial *am, unsigned index)
             else if (!strcmp(mode.data, "BLEND"))
                 m->m.alpha_mode = HZ_ALPHA_BLEND;
             else if (strcmp(mode.data, "OPAQUE"))
-                bk_warn("%s: material '%s' has unknown alphaMode '%s'; treated as OPAQUE", c->s->model, m->name,
-                        mode.data);
+                hz_bake_warn("%s: material '%s' has unknown alphaMode '%s'; treated as OPAQUE", c->s->model, m->name,
+                             mode.data);
         }
         if (m->m.alpha_mode != HZ_ALPHA_OPAQUE)
             m->m.alpha_texture = base;
@@ -292,8 +294,8 @@ static void normal_matrix(const struct aiMatrix4x4 *m, struct aiMatrix3x3 *nm)
 static double det3(const struct aiMatrix4x4 *m)
 {
     return (double)m->a1 * ((double)m->b2 * m->c3 - (double)m->b3 * m->c2) -
-           (double)m->a2 * ((double)m->b1 * m->c3 - (double)m->b3 * m->c1) +
-           (double)m->a3 * ((double)m->b1 * m->c2 - (double)m->b2 * m->c1);
+        (double)m->a2 * ((double)m->b1 * m->c3 - (double)m->b3 * m->c1) +
+        (double)m->a3 * ((double)m->b1 * m->c2 - (double)m->b2 * m->c1);
 }
 
 static int cmp_double(const void *a, const void *b)
@@ -304,25 +306,25 @@ static int cmp_double(const void *a, const void *b)
 
 /* ---- meshes ---- */
 
-static hz_status_t rigid_keys(ctx_t *c, const struct aiNode *node, bk_object_t *o)
+static hz_status_t rigid_keys(ctx_t *c, const struct aiNode *node, hz_bake_object_t *o)
 {
-    bk_vec_t times;
-    bk_vec_init(&times, sizeof(double));
+    hz_bake_vec_t times;
+    hz_bake_vec_init(&times, sizeof(double));
     double dur = c->anim->mDuration;
     for (const struct aiNode *n = node; n; n = n->mParent) {
         const struct aiNodeAnim *ch = channel(c, n);
         if (!ch)
             continue;
         for (unsigned i = 0; i < ch->mNumPositionKeys; i++)
-            *(double *)bk_vec_push(&times, 1) = ch->mPositionKeys[i].mTime;
+            *(double *)hz_bake_vec_push(&times, 1) = ch->mPositionKeys[i].mTime;
         for (unsigned i = 0; i < ch->mNumRotationKeys; i++)
-            *(double *)bk_vec_push(&times, 1) = ch->mRotationKeys[i].mTime;
+            *(double *)hz_bake_vec_push(&times, 1) = ch->mRotationKeys[i].mTime;
         for (unsigned i = 0; i < ch->mNumScalingKeys; i++)
-            *(double *)bk_vec_push(&times, 1) = ch->mScalingKeys[i].mTime;
+            *(double *)hz_bake_vec_push(&times, 1) = ch->mScalingKeys[i].mTime;
     }
     double step = c->tps / c->sc->rigid_rate;
     for (double t = 0; t <= dur && step > 0; t += step)
-        *(double *)bk_vec_push(&times, 1) = t;
+        *(double *)hz_bake_vec_push(&times, 1) = t;
     double *tv = times.data;
     qsort(tv, times.len, sizeof(double), cmp_double);
     o->o.motion = HZ_MOTION_RIGID;
@@ -343,9 +345,9 @@ static hz_status_t rigid_keys(ctx_t *c, const struct aiNode *node, bk_object_t *
         aiDecomposeMatrix(&g, &s, &r, &t);
         double ql = sqrt((double)r.x * r.x + (double)r.y * r.y + (double)r.z * r.z + (double)r.w * r.w);
         if (!(ql > 0) || !isfinite(ql) || !isfinite(t.x + t.y + t.z) || !isfinite(s.x + s.y + s.z)) {
-            bk_vec_free(&times);
-            return bk_err(c->err, HZ_E_RANGE, "%s: object '%s': its transform at %g s is degenerate", c->s->model,
-                          o->name, (double)time);
+            hz_bake_vec_free(&times);
+            return hz_bake_err(c->err, HZ_E_RANGE, "%s: object '%s': its transform at %g s is degenerate", c->s->model,
+                               o->name, (double)time);
         }
         float q[4] = { (float)(r.x / ql), (float)(r.y / ql), (float)(r.z / ql), (float)(r.w / ql) };
         if (q[0] * prev_q[0] + q[1] * prev_q[1] + q[2] * prev_q[2] + q[3] * prev_q[3] < 0)
@@ -357,18 +359,18 @@ static hz_status_t rigid_keys(ctx_t *c, const struct aiNode *node, bk_object_t *
         const float *a = &g.a1, *b = &back.a1;
         for (int k = 0; k < 16; k++)
             worst = fmax(worst, fabs((double)a[k] - b[k]) / (1.0 + fabs((double)a[k])));
-        hz_hzb_rigid_key_t *key = bk_vec_push(&c->s->rkeys, 1);
+        hz_hzb_rigid_key_t *key = hz_bake_vec_push(&c->s->rkeys, 1);
         key->time = time;
         key->translation[0] = t.x, key->translation[1] = t.y, key->translation[2] = t.z;
         memcpy(key->rotation, q, sizeof q);
         key->scale[0] = s.x, key->scale[1] = s.y, key->scale[2] = s.z;
         prev_time = time;
     }
-    bk_vec_free(&times);
+    hz_bake_vec_free(&times);
     o->o.key_count = (uint32_t)c->s->rkeys.len - o->o.key_first;
     if (worst > 1e-3)
-        bk_warn("%s: object '%s': its animated transform has shear the rigid keys cannot hold (error %.2g)",
-                c->s->model, o->name, worst);
+        hz_bake_warn("%s: object '%s': its animated transform has shear the rigid keys cannot hold (error %.2g)",
+                     c->s->model, o->name, worst);
     return HZ_OK;
 }
 
@@ -381,7 +383,7 @@ typedef struct influence {
 static void skin_pose(ctx_t *c, const struct aiNode *node, const struct aiMesh *mesh, const struct aiNode **bones,
                       const uint32_t *inf_first, const influence_t *inf, double ticks, float *pos, float *nrm)
 {
-    struct aiMatrix4x4 *bm = bk_xmalloc(sizeof *bm * (mesh->mNumBones + 1u));
+    struct aiMatrix4x4 *bm = hz_bake_xmalloc(sizeof *bm * (mesh->mNumBones + 1u));
     for (unsigned b = 0; b < mesh->mNumBones; b++) {
         global_at(c, bones[b], ticks, &bm[b]);
         aiMultiplyMatrix4(&bm[b], &mesh->mBones[b]->mOffsetMatrix);
@@ -421,12 +423,12 @@ static void skin_pose(ctx_t *c, const struct aiNode *node, const struct aiMesh *
     free(bm);
 }
 
-static hz_status_t skinned_mesh(ctx_t *c, const struct aiNode *node, const struct aiMesh *mesh, bk_object_t **po,
+static hz_status_t skinned_mesh(ctx_t *c, const struct aiNode *node, const struct aiMesh *mesh, hz_bake_object_t **po,
                                 uint32_t first, int animated)
 {
     unsigned nv = mesh->mNumVertices;
-    const struct aiNode **bones = bk_xcalloc(mesh->mNumBones, sizeof *bones);
-    uint32_t *inf_first = bk_xcalloc((size_t)nv + 1, sizeof(uint32_t));
+    const struct aiNode **bones = hz_bake_xcalloc(mesh->mNumBones, sizeof *bones);
+    uint32_t *inf_first = hz_bake_xcalloc((size_t)nv + 1, sizeof(uint32_t));
     size_t total = 0;
     for (unsigned b = 0; b < mesh->mNumBones; b++) {
         const struct aiBone *bone = mesh->mBones[b];
@@ -434,15 +436,15 @@ static hz_status_t skinned_mesh(ctx_t *c, const struct aiNode *node, const struc
         if (!bones[b]) {
             free(bones);
             free(inf_first);
-            return bk_err(c->err, HZ_E_FORMAT, "%s: mesh '%s': bone '%s' has no node", c->s->model,
-                          mesh->mName.data, bone->mName.data);
+            return hz_bake_err(c->err, HZ_E_FORMAT, "%s: mesh '%s': bone '%s' has no node", c->s->model,
+                               mesh->mName.data, bone->mName.data);
         }
         for (unsigned w = 0; w < bone->mNumWeights; w++) {
             if (bone->mWeights[w].mVertexId >= nv) {
                 free(bones);
                 free(inf_first);
-                return bk_err(c->err, HZ_E_FORMAT, "%s: mesh '%s': bone '%s' weights vertex %u of %u", c->s->model,
-                              mesh->mName.data, bone->mName.data, bone->mWeights[w].mVertexId, nv);
+                return hz_bake_err(c->err, HZ_E_FORMAT, "%s: mesh '%s': bone '%s' weights vertex %u of %u", c->s->model,
+                                   mesh->mName.data, bone->mName.data, bone->mWeights[w].mVertexId, nv);
             }
             inf_first[bone->mWeights[w].mVertexId + 1]++;
             total++;
@@ -450,8 +452,8 @@ static hz_status_t skinned_mesh(ctx_t *c, const struct aiNode *node, const struc
     }
     for (unsigned v = 0; v < nv; v++)
         inf_first[v + 1] += inf_first[v];
-    influence_t *inf = bk_xcalloc(total ? total : 1, sizeof *inf);
-    uint32_t *fill = bk_xcalloc(nv, sizeof(uint32_t));
+    influence_t *inf = hz_bake_xcalloc(total ? total : 1, sizeof *inf);
+    uint32_t *fill = hz_bake_xcalloc(nv, sizeof(uint32_t));
     for (unsigned b = 0; b < mesh->mNumBones; b++)
         for (unsigned w = 0; w < mesh->mBones[b]->mNumWeights; w++) {
             const struct aiVertexWeight *vw = &mesh->mBones[b]->mWeights[w];
@@ -467,34 +469,34 @@ static hz_status_t skinned_mesh(ctx_t *c, const struct aiNode *node, const struc
         double f = ceil(dur_s * c->sc->skin_rate - 1e-6);
         frames = f < 1 ? 1 : f > 100000 ? 100000 : (uint32_t)f;
     }
-    float *pos = bk_xmalloc((size_t)nv * 16), *nrm = bk_xmalloc((size_t)nv * 16);
+    float *pos = hz_bake_xmalloc((size_t)nv * 16), *nrm = hz_bake_xmalloc((size_t)nv * 16);
     hz_status_t st = HZ_OK;
     for (uint32_t f = 0; f < frames && st == HZ_OK; f++) {
         double ticks = (double)f / c->sc->skin_rate * c->tps;
         skin_pose(c, node, mesh, bones, inf_first, inf, ticks, pos, nrm);
         for (size_t i = 0; i < (size_t)nv * 4; i++)
             if (!isfinite(pos[i]) || !isfinite(nrm[i])) {
-                st = bk_err(c->err, HZ_E_RANGE, "%s: mesh '%s': skinning gives a non-finite vertex at frame %u",
-                            c->s->model, mesh->mName.data, f);
+                st = hz_bake_err(c->err, HZ_E_RANGE, "%s: mesh '%s': skinning gives a non-finite vertex at frame %u",
+                                 c->s->model, mesh->mName.data, f);
                 break;
             }
         if (f == 0) {
-            memcpy(BK_AT(c->s->pos, float, (size_t)first * 4), pos, (size_t)nv * 16);
-            memcpy(BK_AT(c->s->nrm, float, (size_t)first * 4), nrm, (size_t)nv * 16);
+            memcpy(HZ_BAKE_AT(c->s->pos, float, (size_t)first * 4), pos, (size_t)nv * 16);
+            memcpy(HZ_BAKE_AT(c->s->nrm, float, (size_t)first * 4), nrm, (size_t)nv * 16);
         }
         if (animated) {
-            memcpy(bk_vec_push(&c->s->vkeys, nv), pos, (size_t)nv * 16);
-            memcpy(bk_vec_push(&c->s->vkey_nrm, nv), nrm, (size_t)nv * 16);
+            memcpy(hz_bake_vec_push(&c->s->vkeys, nv), pos, (size_t)nv * 16);
+            memcpy(hz_bake_vec_push(&c->s->vkey_nrm, nv), nrm, (size_t)nv * 16);
         }
     }
     if (animated && st == HZ_OK) {
-        bk_object_t *o = *po;
+        hz_bake_object_t *o = *po;
         o->o.motion = HZ_MOTION_VERTEX;
         o->o.key_first = (uint32_t)(c->s->vkeys.len - (size_t)frames * nv);
         o->o.key_count = frames;
         o->o.key_rate = c->sc->skin_rate;
         if (c->s->vkeys.len > UINT32_MAX)
-            st = bk_err(c->err, HZ_E_OVERFLOW, "%s: more than 2^32 vertex keys", c->s->model);
+            st = hz_bake_err(c->err, HZ_E_OVERFLOW, "%s: more than 2^32 vertex keys", c->s->model);
     }
     free(pos);
     free(nrm);
@@ -514,10 +516,9 @@ static hz_status_t mesh_instance(ctx_t *c, const struct aiNode *node, unsigned m
     if (tris == 0)
         return HZ_OK;
     if (mesh->mMaterialIndex >= c->s->mats.len)
-        return bk_err(c->err, HZ_E_FORMAT, "%s: mesh '%s' names material %u of %zu", c->s->model, mesh->mName.data,
-                      mesh->mMaterialIndex, c->s->mats.len);
-    const char *name = node->mName.length ? node->mName.data
-                       : mesh->mName.length ? mesh->mName.data : "object";
+        return hz_bake_err(c->err, HZ_E_FORMAT, "%s: mesh '%s' names material %u of %zu", c->s->model, mesh->mName.data,
+                           mesh->mMaterialIndex, c->s->mats.len);
+    const char *name = node->mName.length ? node->mName.data : mesh->mName.length ? mesh->mName.data : "object";
     int skinned = mesh->mNumBones > 0;
     int bones_animated = 0;
     for (unsigned b = 0; skinned && b < mesh->mNumBones; b++) {
@@ -526,17 +527,17 @@ static hz_status_t mesh_instance(ctx_t *c, const struct aiNode *node, unsigned m
     }
     int rigid = !skinned && path_animated(c, node);
 
-    bk_object_begin(c->s, name, mesh->mName.data);
+    hz_bake_object_begin(c->s, name, mesh->mName.data);
     uint32_t nv = mesh->mNumVertices;
-    uint32_t first = bk_add_vertices(c->s, nv);
+    uint32_t first = hz_bake_add_vertices(c->s, nv);
     struct aiMatrix4x4 g;
     struct aiMatrix3x3 nm;
     global_static(node, &g);
     normal_matrix(&g, &nm);
     int flip = !rigid && !skinned && det3(&g) < 0;
     for (uint32_t v = 0; v < nv; v++) {
-        float *p = BK_AT(c->s->pos, float, (size_t)(first + v) * 4);
-        float *n = BK_AT(c->s->nrm, float, (size_t)(first + v) * 4);
+        float *p = HZ_BAKE_AT(c->s->pos, float, (size_t)(first + v) * 4);
+        float *n = HZ_BAKE_AT(c->s->nrm, float, (size_t)(first + v) * 4);
         struct aiVector3D q = mesh->mVertices[v];
         struct aiVector3D qn = { 0, 0, 0 };
         if (mesh->mNormals)
@@ -548,7 +549,7 @@ static hz_status_t mesh_instance(ctx_t *c, const struct aiNode *node, unsigned m
         p[0] = q.x, p[1] = q.y, p[2] = q.z;
         n[0] = qn.x, n[1] = qn.y, n[2] = qn.z;
         if (mesh->mTextureCoords[0]) {
-            float *uv = BK_AT(c->s->uv, float, (size_t)(first + v) * 2);
+            float *uv = HZ_BAKE_AT(c->s->uv, float, (size_t)(first + v) * 2);
             uv[0] = mesh->mTextureCoords[0][v].x;
             uv[1] = 1.0f - mesh->mTextureCoords[0][v].y; /* assimp's v points up; .hzb's down */
         }
@@ -561,25 +562,25 @@ static hz_status_t mesh_instance(ctx_t *c, const struct aiNode *node, unsigned m
             continue;
         for (int k = 0; k < 3; k++)
             if (face->mIndices[k] >= nv)
-                return bk_err(c->err, HZ_E_FORMAT, "%s: mesh '%s': face %u uses vertex %u of %u", c->s->model,
-                              mesh->mName.data, f, face->mIndices[k], nv);
+                return hz_bake_err(c->err, HZ_E_FORMAT, "%s: mesh '%s': face %u uses vertex %u of %u", c->s->model,
+                                   mesh->mName.data, f, face->mIndices[k], nv);
         uint32_t a = first + face->mIndices[0], b = first + face->mIndices[1], d = first + face->mIndices[2];
         if (flip)
-            bk_add_triangle(c->s, a, d, b, mesh->mMaterialIndex);
+            hz_bake_add_triangle(c->s, a, d, b, mesh->mMaterialIndex);
         else
-            bk_add_triangle(c->s, a, b, d, mesh->mMaterialIndex);
+            hz_bake_add_triangle(c->s, a, b, d, mesh->mMaterialIndex);
     }
-    bk_object_t *o = BK_AT(c->s->objs, bk_object_t, c->s->objs.len - 1);
+    hz_bake_object_t *o = HZ_BAKE_AT(c->s->objs, hz_bake_object_t, c->s->objs.len - 1);
     hz_status_t st = HZ_OK;
     if (skinned) {
         st = skinned_mesh(c, node, mesh, &o, first, bones_animated);
         if (st)
             return st;
     }
-    st = bk_object_end(c->s, mesh->mNormals != NULL, !skinned, c->err);
+    st = hz_bake_object_end(c->s, mesh->mNormals != NULL, !skinned, c->err);
     if (st)
         return st;
-    o = BK_AT(c->s->objs, bk_object_t, c->s->objs.len - 1);
+    o = HZ_BAKE_AT(c->s->objs, hz_bake_object_t, c->s->objs.len - 1);
     if (rigid)
         st = rigid_keys(c, node, o);
     return st;
@@ -588,11 +589,11 @@ static hz_status_t mesh_instance(ctx_t *c, const struct aiNode *node, unsigned m
 static hz_status_t walk(ctx_t *c, const struct aiNode *node, unsigned depth)
 {
     if (depth > 1000)
-        return bk_err(c->err, HZ_E_FORMAT, "%s: node hierarchy deeper than 1000", c->s->model);
+        return hz_bake_err(c->err, HZ_E_FORMAT, "%s: node hierarchy deeper than 1000", c->s->model);
     for (unsigned i = 0; i < node->mNumMeshes; i++) {
         if (node->mMeshes[i] >= c->ai->mNumMeshes)
-            return bk_err(c->err, HZ_E_FORMAT, "%s: node '%s' names mesh %u of %u", c->s->model, node->mName.data,
-                          node->mMeshes[i], c->ai->mNumMeshes);
+            return hz_bake_err(c->err, HZ_E_FORMAT, "%s: node '%s' names mesh %u of %u", c->s->model, node->mName.data,
+                               node->mMeshes[i], c->ai->mNumMeshes);
         hz_status_t st = mesh_instance(c, node, node->mMeshes[i]);
         if (st)
             return st;
@@ -616,36 +617,36 @@ static void count_uses(ctx_t *c, const struct aiNode *node, unsigned depth)
         count_uses(c, node->mChildren[i], depth + 1);
 }
 
-hz_status_t bk_import_assimp(bk_scene_t *s, const char *path, const bk_sidecar_t *sc, hz_error_t *err)
+hz_status_t hz_bake_import_assimp(hz_bake_scene_t *s, const char *path, const hz_bake_sidecar_t *sc, hz_error_t *err)
 {
     ctx_t c;
     memset(&c, 0, sizeof c);
     c.s = s;
     c.sc = sc;
     c.err = err;
-    int gz = bk_ends_with(path, ".gz");
-    if (bk_ends_with(path, ".obj"))
+    int gz = hz_bake_ends_with(path, ".gz");
+    if (hz_bake_ends_with(path, ".obj"))
         c.fmt = FMT_OBJ;
-    else if (bk_ends_with(path, ".ply") || bk_ends_with(path, ".ply.gz"))
+    else if (hz_bake_ends_with(path, ".ply") || hz_bake_ends_with(path, ".ply.gz"))
         c.fmt = FMT_PLY;
-    else if (bk_ends_with(path, ".gltf") || bk_ends_with(path, ".glb"))
+    else if (hz_bake_ends_with(path, ".gltf") || hz_bake_ends_with(path, ".glb"))
         c.fmt = FMT_GLTF;
     else
-        return bk_err(err, HZ_E_UNSUPPORTED, "%s: unsupported model format", path);
-    bk_dirname(path, c.dir, sizeof c.dir);
+        return hz_bake_err(err, HZ_E_UNSUPPORTED, "%s: unsupported model format", path);
+    hz_bake_dirname(path, c.dir, sizeof c.dir);
 
     unsigned flags = aiProcess_Triangulate | aiProcess_SortByPType | aiProcess_ValidateDataStructure;
-    if (sc->normals != BK_NORMALS_NONE)
+    if (sc->normals != HZ_BAKE_NORMALS_NONE)
         flags |= aiProcess_GenSmoothNormals;
     struct aiPropertyStore *props = aiCreatePropertyStore();
     aiSetImportPropertyFloat(props, AI_CONFIG_PP_GSN_MAX_SMOOTHING_ANGLE, sc->smooth_angle_deg);
-    double t0 = bk_now();
-    bk_progress("importing %s", path);
+    double t0 = hz_bake_now();
+    hz_bake_progress("importing %s", path);
     const struct aiScene *ai;
     if (gz) {
         uint8_t *data;
         size_t size;
-        hz_status_t st = bk_read_gzip(path, &data, &size, err);
+        hz_status_t st = hz_bake_read_gzip(path, &data, &size, err);
         if (st) {
             aiReleasePropertyStore(props);
             return st;
@@ -653,48 +654,49 @@ hz_status_t bk_import_assimp(bk_scene_t *s, const char *path, const bk_sidecar_t
         if (size > UINT32_MAX) {
             free(data);
             aiReleasePropertyStore(props);
-            return bk_err(err, HZ_E_UNSUPPORTED, "%s: more than 4 GiB uncompressed", path);
+            return hz_bake_err(err, HZ_E_UNSUPPORTED, "%s: more than 4 GiB uncompressed", path);
         }
         ai = aiImportFileFromMemoryWithProperties((const char *)data, (unsigned)size, flags, "ply", props);
         free(data);
     } else {
-        if (!bk_file_exists(path)) {
+        if (!hz_bake_file_exists(path)) {
             aiReleasePropertyStore(props);
-            return bk_err(err, HZ_E_IO, "%s: no such file", path);
+            return hz_bake_err(err, HZ_E_IO, "%s: no such file", path);
         }
         ai = aiImportFileExWithProperties(path, flags, NULL, props);
     }
     aiReleasePropertyStore(props);
     if (!ai) {
         const char *why = aiGetErrorString();
-        return bk_err(err, strstr(why, "No suitable reader") ? HZ_E_UNSUPPORTED : HZ_E_FORMAT,
-                      "%s: assimp cannot import it: %s", path, why && *why ? why : "unknown error");
+        return hz_bake_err(err, strstr(why, "No suitable reader") ? HZ_E_UNSUPPORTED : HZ_E_FORMAT,
+                           "%s: assimp cannot import it: %s", path, why && *why ? why : "unknown error");
     }
-    bk_progress("imported in %.2f s: %u meshes, %u materials, %u animations", bk_now() - t0, ai->mNumMeshes,
-                ai->mNumMaterials, ai->mNumAnimations);
+    hz_bake_progress("imported in %.2f s: %u meshes, %u materials, %u animations", hz_bake_now() - t0, ai->mNumMeshes,
+                     ai->mNumMaterials, ai->mNumAnimations);
     c.ai = ai;
     hz_status_t st = HZ_OK;
     if ((ai->mFlags & AI_SCENE_FLAGS_INCOMPLETE) || !ai->mRootNode)
-        st = bk_err(err, HZ_E_FORMAT, "%s: assimp returned an incomplete scene", path);
+        st = hz_bake_err(err, HZ_E_FORMAT, "%s: assimp returned an incomplete scene", path);
     if (!st && ai->mNumAnimations) {
         if (sc->animation >= ai->mNumAnimations)
-            st = bk_err(err, HZ_E_RANGE, "%s: animation %u requested (sidecar), the model has %u", path,
-                        sc->animation, ai->mNumAnimations);
+            st = hz_bake_err(err, HZ_E_RANGE, "%s: animation %u requested (sidecar), the model has %u", path,
+                             sc->animation, ai->mNumAnimations);
         else {
             c.anim = ai->mAnimations[sc->animation];
             c.tps = c.anim->mTicksPerSecond > 0 ? c.anim->mTicksPerSecond : 25.0;
             if (!(c.anim->mDuration >= 0) || !isfinite(c.anim->mDuration))
-                st = bk_err(err, HZ_E_RANGE, "%s: animation duration is not a finite positive number", path);
+                st = hz_bake_err(err, HZ_E_RANGE, "%s: animation duration is not a finite positive number", path);
             else
                 s->anim_duration = (float)(c.anim->mDuration / c.tps);
         }
-    } else if (!st && (sc->set & BK_SC_ANIMATION) && sc->animation > 0) {
-        st = bk_err(err, HZ_E_RANGE, "%s: animation %u requested (sidecar), the model has none", path, sc->animation);
+    } else if (!st && (sc->set & HZ_BAKE_SC_ANIMATION) && sc->animation > 0) {
+        st = hz_bake_err(err, HZ_E_RANGE, "%s: animation %u requested (sidecar), the model has none", path,
+                         sc->animation);
     }
     for (unsigned i = 0; !st && i < ai->mNumMaterials; i++)
         add_material(&c, ai->mMaterials[i], i);
     if (!st) {
-        c.mesh_uses = bk_xcalloc(ai->mNumMeshes ? ai->mNumMeshes : 1, sizeof(uint32_t));
+        c.mesh_uses = hz_bake_xcalloc(ai->mNumMeshes ? ai->mNumMeshes : 1, sizeof(uint32_t));
         count_uses(&c, ai->mRootNode, 0);
         for (unsigned i = 0; i < ai->mNumMeshes; i++)
             if (c.mesh_uses[i] > 1)
@@ -703,8 +705,8 @@ hz_status_t bk_import_assimp(bk_scene_t *s, const char *path, const bk_sidecar_t
         free(c.mesh_uses);
     }
     if (!st && c.skipped_faces)
-        bk_warn("%s: %llu point/line primitives skipped (only triangles are baked)", path,
-                (unsigned long long)c.skipped_faces);
+        hz_bake_warn("%s: %llu point/line primitives skipped (only triangles are baked)", path,
+                     (unsigned long long)c.skipped_faces);
     aiReleaseImport(ai);
     return st;
 }

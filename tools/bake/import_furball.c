@@ -14,7 +14,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define BK_PI 3.14159265358979323846
+#define HZ_BAKE_PI 3.14159265358979323846
 
 /* Finds `<tag ` and reads attribute `attr="N"` inside it. */
 static int xml_attr(const char *xml, const char *tag, const char *attr, unsigned long long *out)
@@ -77,24 +77,26 @@ static void perpendicular(const double t[3], double n[3])
     normalize3(n);
 }
 
-hz_status_t bk_import_furball(bk_scene_t *s, const char *path, const bk_sidecar_t *sc, hz_error_t *err)
+hz_status_t hz_bake_import_furball(hz_bake_scene_t *s, const char *path, const hz_bake_sidecar_t *sc, hz_error_t *err)
 {
     uint8_t *xml;
     size_t xml_size;
-    hz_status_t st = bk_read_file(path, &xml, &xml_size, err);
+    hz_status_t st = hz_bake_read_file(path, &xml, &xml_size, err);
     if (st)
         return st;
     const char *x = (const char *)xml;
     unsigned long long iofs, isize, pofs, psize;
     if (!strstr(x, "<RoundLineSegments>")) {
         free(xml);
-        return bk_err(err, HZ_E_UNSUPPORTED, "%s: not an Embree RoundLineSegments scene (the only XML the baker "
-                      "reads)", path);
+        return hz_bake_err(err, HZ_E_UNSUPPORTED,
+                           "%s: not an Embree RoundLineSegments scene (the only XML the baker "
+                           "reads)",
+                           path);
     }
     if (!xml_attr(x, "indices", "ofs", &iofs) || !xml_attr(x, "indices", "size", &isize) ||
         !xml_attr(x, "positions", "ofs", &pofs) || !xml_attr(x, "positions", "size", &psize)) {
         free(xml);
-        return bk_err(err, HZ_E_FORMAT, "%s: <indices ofs= size=/> or <positions ofs= size=/> missing", path);
+        return hz_bake_err(err, HZ_E_FORMAT, "%s: <indices ofs= size=/> or <positions ofs= size=/> missing", path);
     }
     float color[3] = { 0.64f, 0.456f, 0.256f };
     xml_float3(x, "Kt", color);
@@ -103,29 +105,31 @@ hz_status_t bk_import_furball(bk_scene_t *s, const char *path, const bk_sidecar_
     char bin[4096];
     size_t n = strlen(path);
     if (n < 4 || n + 4 >= sizeof bin)
-        return bk_err(err, HZ_E_INVALID_ARG, "%s: path too long", path);
+        return hz_bake_err(err, HZ_E_INVALID_ARG, "%s: path too long", path);
     snprintf(bin, sizeof bin, "%.*s.bin", (int)(n - 4), path);
     uint8_t *data;
     size_t size;
-    if (bk_file_exists(bin)) {
-        st = bk_read_file(bin, &data, &size, err);
+    if (hz_bake_file_exists(bin)) {
+        st = hz_bake_read_file(bin, &data, &size, err);
     } else {
         strcat(bin, ".gz");
-        st = bk_read_gzip(bin, &data, &size, err);
+        st = hz_bake_read_gzip(bin, &data, &size, err);
     }
     if (st)
         return st;
-    if (isize == 0 || psize < 2 || isize > UINT32_MAX || psize > UINT32_MAX || iofs > size ||
-        isize * 4 > size - iofs || pofs > size || psize * 16 > size - pofs || iofs % 4 || pofs % 4) {
+    if (isize == 0 || psize < 2 || isize > UINT32_MAX || psize > UINT32_MAX || iofs > size || isize * 4 > size - iofs ||
+        pofs > size || psize * 16 > size - pofs || iofs % 4 || pofs % 4) {
         free(data);
-        return bk_err(err, HZ_E_FORMAT, "%s: indices (%llu at byte %llu) or positions (%llu at byte %llu) do not "
-                      "fit its %zu bytes (truncated?)", bin, isize, iofs, psize, pofs, size);
+        return hz_bake_err(err, HZ_E_FORMAT,
+                           "%s: indices (%llu at byte %llu) or positions (%llu at byte %llu) do not "
+                           "fit its %zu bytes (truncated?)",
+                           bin, isize, iofs, psize, pofs, size);
     }
     const uint32_t *idx = (const uint32_t *)(data + iofs);
     const float *pts = (const float *)(data + pofs);
     for (unsigned long long k = 0; k < isize; k++)
         if ((unsigned long long)idx[k] + 1 >= psize) {
-            st = bk_err(err, HZ_E_FORMAT, "%s: segment %llu starts at point %u of %llu", bin, k, idx[k], psize);
+            st = hz_bake_err(err, HZ_E_FORMAT, "%s: segment %llu starts at point %u of %llu", bin, k, idx[k], psize);
             free(data);
             return st;
         }
@@ -133,7 +137,7 @@ hz_status_t bk_import_furball(bk_scene_t *s, const char *path, const bk_sidecar_
         const float *p = pts + k * 4;
         if (!isfinite(p[0]) || !isfinite(p[1]) || !isfinite(p[2]) || !isfinite(p[3]) || p[3] < 0) {
             free(data);
-            return bk_err(err, HZ_E_RANGE, "%s: point %llu is not finite or has a negative radius", bin, k);
+            return hz_bake_err(err, HZ_E_RANGE, "%s: point %llu is not finite or has a negative radius", bin, k);
         }
     }
 
@@ -142,9 +146,9 @@ hz_status_t bk_import_furball(bk_scene_t *s, const char *path, const bk_sidecar_
     uint32_t quads = sides == 1 ? 1 : sides;
     float rscale = sc->tube_radius_scale;
     /* Material and object. */
-    bk_material_t *m = bk_vec_push(&s->mats, 1);
+    hz_bake_material_t *m = hz_bake_vec_push(&s->mats, 1);
     snprintf(m->name, sizeof m->name, "Hair");
-    bk_set_name(m->m.name, m->name);
+    hz_bake_set_name(m->m.name, m->name);
     memcpy(m->m.base_color, color, sizeof color);
     for (int k = 0; k < 3; k++)
         m->m.base_color[k] = fminf(fmaxf(m->m.base_color[k], 0.0f), 1.0f);
@@ -153,14 +157,14 @@ hz_status_t bk_import_furball(bk_scene_t *s, const char *path, const bk_sidecar_
     m->m.alpha_cutoff = 0.5f;
     m->m.base_texture = m->m.alpha_texture = -1;
     char name[256];
-    snprintf(name, sizeof name, "%s", bk_basename(path));
+    snprintf(name, sizeof name, "%s", hz_bake_basename(path));
     char *dot = strrchr(name, '.');
     if (dot)
         *dot = 0;
-    bk_object_begin(s, name, "RoundLineSegments");
+    hz_bake_object_begin(s, name, "RoundLineSegments");
 
     uint64_t strands = 0, verts = 0;
-    double t0 = bk_now();
+    double t0 = hz_bake_now();
     for (unsigned long long k = 0; k < isize;) {
         /* Strand: segments k..e-1 with consecutive indices; points idx[k] .. idx[e-1] + 1. */
         unsigned long long e = k + 1;
@@ -169,9 +173,9 @@ hz_status_t bk_import_furball(bk_scene_t *s, const char *path, const bk_sidecar_
         uint32_t p0 = idx[k], np = (uint32_t)(e - k) + 1;
         if ((uint64_t)verts + (uint64_t)np * ring > UINT32_MAX) {
             free(data);
-            return bk_err(err, HZ_E_OVERFLOW, "%s: the tubes need more than 2^32 vertices", path);
+            return hz_bake_err(err, HZ_E_OVERFLOW, "%s: the tubes need more than 2^32 vertices", path);
         }
-        uint32_t base = bk_add_vertices(s, np * ring);
+        uint32_t base = hz_bake_add_vertices(s, np * ring);
         double nrm[3] = { 0, 0, 0 };
         for (uint32_t i = 0; i < np; i++) {
             const float *p = pts + (size_t)(p0 + i) * 4;
@@ -203,12 +207,12 @@ hz_status_t bk_import_furball(bk_scene_t *s, const char *path, const bk_sidecar_
                     for (int c = 0; c < 3; c++)
                         dir[c] = sgn * bin3[c], out[c] = nrm[c];
                 } else {
-                    double ang = 2.0 * BK_PI * j / ring, cs = cos(ang), sn = sin(ang);
+                    double ang = 2.0 * HZ_BAKE_PI * j / ring, cs = cos(ang), sn = sin(ang);
                     for (int c = 0; c < 3; c++)
                         dir[c] = cs * nrm[c] + sn * bin3[c], out[c] = dir[c];
                 }
-                float *v = BK_AT(s->pos, float, (size_t)(base + i * ring + j) * 4);
-                float *vn = BK_AT(s->nrm, float, (size_t)(base + i * ring + j) * 4);
+                float *v = HZ_BAKE_AT(s->pos, float, (size_t)(base + i * ring + j) * 4);
+                float *vn = HZ_BAKE_AT(s->nrm, float, (size_t)(base + i * ring + j) * 4);
                 for (int c = 0; c < 3; c++) {
                     v[c] = (float)(p[c] + r * dir[c]);
                     vn[c] = (float)out[c];
@@ -221,15 +225,15 @@ hz_status_t bk_import_furball(bk_scene_t *s, const char *path, const bk_sidecar_
                 uint32_t a = base + i * ring + j, b = base + i * ring + j1;
                 uint32_t c = base + (i + 1) * ring + j1, d = base + (i + 1) * ring + j;
                 /* Outward winding: ring angles grow from n towards t x n, so (a, b, c) faces out. */
-                bk_add_triangle(s, a, b, c, 0);
-                bk_add_triangle(s, a, c, d, 0);
+                hz_bake_add_triangle(s, a, b, c, 0);
+                hz_bake_add_triangle(s, a, c, d, 0);
             }
         verts += (uint64_t)np * ring;
         strands++;
         k = e;
     }
     free(data);
-    bk_progress("furball: %llu strands, %llu segments -> %zu triangles in %.2f s", (unsigned long long)strands,
-                isize, s->tri.len, bk_now() - t0);
-    return bk_object_end(s, 1, 0, err);
+    hz_bake_progress("furball: %llu strands, %llu segments -> %zu triangles in %.2f s", (unsigned long long)strands,
+                     isize, s->tri.len, hz_bake_now() - t0);
+    return hz_bake_object_end(s, 1, 0, err);
 }

@@ -64,12 +64,12 @@ static int info(const char *path)
     hz_error_t err;
     uint8_t *raw;
     size_t size;
-    if (bk_read_file(path, &raw, &size, &err) != HZ_OK)
+    if (hz_bake_read_file(path, &raw, &size, &err) != HZ_OK)
         return hz_cli_report(&err);
     void *buf = NULL;
     if (posix_memalign(&buf, HZ_HZB_ALIGN, size ? size : 1) != 0) {
         free(raw);
-        bk_err(&err, HZ_E_NO_MEMORY, "%s: cannot allocate %zu bytes", path, size);
+        hz_bake_err(&err, HZ_E_NO_MEMORY, "%s: cannot allocate %zu bytes", path, size);
         return hz_cli_report(&err);
     }
     memcpy(buf, raw, size);
@@ -87,10 +87,8 @@ static int info(const char *path)
     printf("format       .hzb version %u, %llu bytes, %u sections\n", h->version, (unsigned long long)h->file_bytes,
            h->section_count);
     printf("features     %s (0x%03x)\n", feats, h->features);
-    printf("geometry     %u triangles, %u vertices, %u objects\n", h->triangle_count, h->vertex_count,
-           h->object_count);
-    printf("materials    %u materials, %u textures (%u texels)\n", h->material_count, h->texture_count,
-           h->texel_count);
+    printf("geometry     %u triangles, %u vertices, %u objects\n", h->triangle_count, h->vertex_count, h->object_count);
+    printf("materials    %u materials, %u textures (%u texels)\n", h->material_count, h->texture_count, h->texel_count);
     printf("lights       %u\n", h->light_count);
     printf("animation    %u camera keys, %u rigid keys, %u vertex keys, loop %g s%s\n", h->camera_key_count,
            h->rigid_key_count, h->vertex_key_count, (double)h->duration,
@@ -107,7 +105,7 @@ static int info(const char *path)
     void *state = NULL;
     if (plan.arena_bytes && posix_memalign(&state, HZ_HZB_ALIGN, plan.arena_bytes) != 0) {
         free(buf);
-        bk_err(&err, HZ_E_NO_MEMORY, "%s: cannot allocate %zu bytes of animation state", path, plan.arena_bytes);
+        hz_bake_err(&err, HZ_E_NO_MEMORY, "%s: cannot allocate %zu bytes of animation state", path, plan.arena_bytes);
         return hz_cli_report(&err);
     }
     hz_arena_init(&arena, "scene", state, plan.arena_bytes);
@@ -159,7 +157,7 @@ static int info(const char *path)
 typedef struct job {
     const char *model;
     const char *out;
-    bk_sidecar_t sc;
+    hz_bake_sidecar_t sc;
     long timeout_s;
     int quiet;
 } job_t;
@@ -183,26 +181,26 @@ static void test_hook(void)
 static int child(job_t *job, FILE *out)
 {
     hz_error_t err;
-    bk_scene_t s;
-    bk_scene_init(&s, job->model);
+    hz_bake_scene_t s;
+    hz_bake_scene_init(&s, job->model);
     test_hook();
     hz_status_t st;
-    if (bk_ends_with(job->model, ".xml"))
-        st = bk_import_furball(&s, job->model, &job->sc, &err);
+    if (hz_bake_ends_with(job->model, ".xml"))
+        st = hz_bake_import_furball(&s, job->model, &job->sc, &err);
     else
-        st = bk_import_assimp(&s, job->model, &job->sc, &err);
-    bk_image_t img = { NULL, 0, { 0 } };
+        st = hz_bake_import_assimp(&s, job->model, &job->sc, &err);
+    hz_bake_image_t img = { NULL, 0, { 0 } };
     if (st == HZ_OK) {
-        bk_progress("converted: %zu triangles, %zu vertices, %zu objects, %zu materials, %zu textures",
-                    s.tri.len, s.pos.len, s.objs.len, s.mats.len, s.texs.len);
-        st = bk_scene_finish(&s, &job->sc, &img, &err);
+        hz_bake_progress("converted: %zu triangles, %zu vertices, %zu objects, %zu materials, %zu textures", s.tri.len,
+                         s.pos.len, s.objs.len, s.mats.len, s.texs.len);
+        st = hz_bake_scene_finish(&s, &job->sc, &img, &err);
     }
-    bk_scene_free(&s);
+    hz_bake_scene_free(&s);
     if (st != HZ_OK)
         return hz_cli_report(&err);
-    bk_progress("writing %zu bytes", img.size);
+    hz_bake_progress("writing %zu bytes", img.size);
     if (fwrite(img.data, 1, img.size, out) != img.size || fflush(out) != 0) {
-        bk_err(&err, HZ_E_IO, "%s: write failed: %s", job->out, strerror(errno));
+        hz_bake_err(&err, HZ_E_IO, "%s: write failed: %s", job->out, strerror(errno));
         free(img.data);
         return hz_cli_report(&err);
     }
@@ -235,17 +233,19 @@ static void sleep_ms(long ms)
 static int bake(job_t *job)
 {
     hz_error_t err;
-    double t0 = bk_now();
-    if (!bk_file_exists(job->model)) {
-        bk_err(&err, HZ_E_IO, "%s: no such file (or not a regular file)", job->model);
+    double t0 = hz_bake_now();
+    if (!hz_bake_file_exists(job->model)) {
+        hz_bake_err(&err, HZ_E_IO, "%s: no such file (or not a regular file)", job->model);
         return hz_cli_report(&err);
     }
-    if (!(bk_ends_with(job->model, ".obj") || bk_ends_with(job->model, ".ply") ||
-          bk_ends_with(job->model, ".ply.gz") || bk_ends_with(job->model, ".gltf") ||
-          bk_ends_with(job->model, ".glb") || bk_ends_with(job->model, ".xml"))) {
-        const char *dot = strrchr(bk_basename(job->model), '.');
-        bk_err(&err, HZ_E_UNSUPPORTED, "%s: unsupported model format '%s' (the baker reads .obj, .ply, .ply.gz, "
-               ".gltf, .glb and Embree furball .xml)", job->model, dot ? dot : "(no extension)");
+    if (!(hz_bake_ends_with(job->model, ".obj") || hz_bake_ends_with(job->model, ".ply") ||
+          hz_bake_ends_with(job->model, ".ply.gz") || hz_bake_ends_with(job->model, ".gltf") ||
+          hz_bake_ends_with(job->model, ".glb") || hz_bake_ends_with(job->model, ".xml"))) {
+        const char *dot = strrchr(hz_bake_basename(job->model), '.');
+        hz_bake_err(&err, HZ_E_UNSUPPORTED,
+                    "%s: unsupported model format '%s' (the baker reads .obj, .ply, .ply.gz, "
+                    ".gltf, .glb and Embree furball .xml)",
+                    job->model, dot ? dot : "(no extension)");
         return hz_cli_report(&err);
     }
     hz_out_t out;
@@ -256,33 +256,33 @@ static int bake(job_t *job)
     pid_t pid = fork();
     if (pid < 0) {
         hz_out_abort(&out);
-        bk_err(&err, HZ_E_INTERNAL, "cannot start the import process: %s", strerror(errno));
+        hz_bake_err(&err, HZ_E_INTERNAL, "cannot start the import process: %s", strerror(errno));
         return hz_cli_report(&err);
     }
     if (pid == 0)
         _exit(child(job, out.f));
 
     int status = 0;
-    double next_note = bk_now() + 5.0;
+    double next_note = hz_bake_now() + 5.0;
     for (;;) {
         pid_t r = waitpid(pid, &status, WNOHANG);
         if (r == pid)
             break;
         if (r < 0 && errno != EINTR) {
             hz_out_abort(&out);
-            bk_err(&err, HZ_E_INTERNAL, "%s: lost the import process: %s", job->model, strerror(errno));
+            hz_bake_err(&err, HZ_E_INTERNAL, "%s: lost the import process: %s", job->model, strerror(errno));
             return hz_cli_report(&err);
         }
-        double now = bk_now();
+        double now = hz_bake_now();
         if (now - t0 > (double)job->timeout_s) {
             kill(pid, SIGKILL);
             waitpid(pid, &status, 0);
             hz_out_abort(&out);
-            bk_err(&err, HZ_E_TIMEOUT, "%s: the import took longer than %ld s and was stopped; %s is unchanged",
-                   job->model, job->timeout_s, job->out);
+            hz_bake_err(&err, HZ_E_TIMEOUT, "%s: the import took longer than %ld s and was stopped; %s is unchanged",
+                        job->model, job->timeout_s, job->out);
             return hz_cli_report(&err);
         }
-        if (now >= next_note && (bk_verbose || hz_cli_stderr_is_tty())) {
+        if (now >= next_note && (hz_bake_verbose || hz_cli_stderr_is_tty())) {
             fprintf(stderr, "%s: %s: still importing (%.0f s)\n", hz_cli_prog, job->model, now - t0);
             next_note = now + 5.0;
         }
@@ -290,8 +290,8 @@ static int bake(job_t *job)
     }
     if (WIFSIGNALED(status)) {
         hz_out_abort(&out);
-        bk_err(&err, HZ_E_INTERNAL, "%s: the importer crashed (%s, signal %d) while reading it; %s is unchanged",
-               job->model, signal_name(WTERMSIG(status)), WTERMSIG(status), job->out);
+        hz_bake_err(&err, HZ_E_INTERNAL, "%s: the importer crashed (%s, signal %d) while reading it; %s is unchanged",
+                    job->model, signal_name(WTERMSIG(status)), WTERMSIG(status), job->out);
         return hz_cli_report(&err);
     }
     int code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
@@ -300,15 +300,17 @@ static int bake(job_t *job)
         if (code >= hz_status_exit_code(HZ_E_INVALID_ARG) && code <= hz_status_exit_code(HZ_E_INTERNAL))
             return code; /* the child reported the failure itself */
         /* Not one of ours: a runtime (a sanitizer, the C++ library) ended the process after a crash. */
-        bk_err(&err, HZ_E_INTERNAL, "%s: the importer crashed (it exited with status %d without a report); %s is "
-               "unchanged", job->model, code, job->out);
+        hz_bake_err(&err, HZ_E_INTERNAL,
+                    "%s: the importer crashed (it exited with status %d without a report); %s is "
+                    "unchanged",
+                    job->model, code, job->out);
         return hz_cli_report(&err);
     }
 
     /* Validate what the child wrote, with the runtime's own loader, before it replaces anything. */
     uint8_t *raw;
     size_t size;
-    if (bk_read_file(out.tmp, &raw, &size, &err) != HZ_OK) {
+    if (hz_bake_read_file(out.tmp, &raw, &size, &err) != HZ_OK) {
         hz_out_abort(&out);
         return hz_cli_report(&err);
     }
@@ -316,7 +318,7 @@ static int bake(job_t *job)
     if (posix_memalign(&buf, HZ_HZB_ALIGN, size ? size : 1) != 0) {
         free(raw);
         hz_out_abort(&out);
-        bk_err(&err, HZ_E_NO_MEMORY, "%s: cannot allocate %zu bytes to check the image", job->out, size);
+        hz_bake_err(&err, HZ_E_NO_MEMORY, "%s: cannot allocate %zu bytes to check the image", job->out, size);
         return hz_cli_report(&err);
     }
     memcpy(buf, raw, size);
@@ -327,8 +329,8 @@ static int bake(job_t *job)
         hz_out_abort(&out);
         char msg[HZ_ERROR_MSG_BYTES];
         snprintf(msg, sizeof msg, "%s", err.msg);
-        bk_err(&err, err.code, "%s: the baked image fails validation (%s); %s is unchanged", job->model, msg,
-               job->out);
+        hz_bake_err(&err, err.code, "%s: the baked image fails validation (%s); %s is unchanged", job->model, msg,
+                    job->out);
         return hz_cli_report(&err);
     }
     if (hz_out_commit(&out, &err) != HZ_OK) {
@@ -342,7 +344,7 @@ static int bake(job_t *job)
         printf("%s: %u triangles, %u vertices, %u objects, %u materials, %u textures, %u lights, %u camera keys; "
                "features %s; %zu bytes; %.2f s\n",
                job->out, h->triangle_count, h->vertex_count, h->object_count, h->material_count, h->texture_count,
-               h->light_count, h->camera_key_count, feats, size, bk_now() - t0);
+               h->light_count, h->camera_key_count, feats, size, hz_bake_now() - t0);
     }
     free(buf);
     return 0;
@@ -351,15 +353,15 @@ static int bake(job_t *job)
 static char *default_sidecar(const char *model)
 {
     size_t n = strlen(model);
-    char *p = bk_xmalloc(n + 8);
+    char *p = hz_bake_xmalloc(n + 8);
     memcpy(p, model, n + 1);
-    if (bk_ends_with(p, ".gz"))
+    if (hz_bake_ends_with(p, ".gz"))
         p[n - 3] = 0;
     char *slash = strrchr(p, '/'), *dot = strrchr(p, '.');
     if (dot && (!slash || dot > slash + 1))
         *dot = 0;
     strcat(p, ".hzs");
-    if (!bk_file_exists(p)) {
+    if (!hz_bake_file_exists(p)) {
         free(p);
         return NULL;
     }
@@ -408,7 +410,7 @@ int main(int argc, char **argv)
         } else if (!strcmp(a, "-q") || !strcmp(a, "--quiet")) {
             job.quiet = 1;
         } else if (!strcmp(a, "-v") || !strcmp(a, "--verbose")) {
-            bk_verbose = 1;
+            hz_bake_verbose = 1;
         } else if (a[0] == '-' && a[1]) {
             hz_cli_error("unknown option '%s' (try hzbake --help)", a);
             return HZ_EXIT_USAGE;
@@ -432,24 +434,24 @@ int main(int argc, char **argv)
     }
     job.model = pos[0];
     job.out = pos[1];
-    bk_sidecar_defaults(&job.sc);
+    hz_bake_sidecar_defaults(&job.sc);
     char *auto_sidecar = NULL;
     if (!sidecar)
         sidecar = auto_sidecar = default_sidecar(job.model);
     if (sidecar) {
         hz_error_t err;
-        if (bk_sidecar_load(&job.sc, sidecar, &err) != HZ_OK) {
-            bk_sidecar_free(&job.sc);
+        if (hz_bake_sidecar_load(&job.sc, sidecar, &err) != HZ_OK) {
+            hz_bake_sidecar_free(&job.sc);
             free(auto_sidecar);
             return hz_cli_report(&err);
         }
-        bk_progress("sidecar %s: %zu lights, %zu camera keys, %zu material and %zu object sections", sidecar,
-                    job.sc.lights.len, job.sc.cameras.len, job.sc.materials.len, job.sc.objects.len);
+        hz_bake_progress("sidecar %s: %zu lights, %zu camera keys, %zu material and %zu object sections", sidecar,
+                         job.sc.lights.len, job.sc.cameras.len, job.sc.materials.len, job.sc.objects.len);
     }
     if (texture_max > 0)
         job.sc.texture_max = (uint32_t)texture_max;
     int rc = bake(&job);
-    bk_sidecar_free(&job.sc);
+    hz_bake_sidecar_free(&job.sc);
     free(auto_sidecar);
     return rc;
 }

@@ -11,7 +11,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define BK_PI 3.14159265358979323846
+#define HZ_BAKE_PI 3.14159265358979323846
 
 enum section { SEC_SCENE, SEC_MATERIAL, SEC_OBJECT };
 enum kind { K_FLOAT, K_VEC3, K_COLOR, K_UINT, K_BOOL, K_NAME, K_ENUM };
@@ -21,8 +21,8 @@ typedef struct keydef {
     int section;
     int kind;
     unsigned bit;
-    size_t offset;   /* into bk_sidecar_t, bk_sc_material_t or bk_sc_object_t */
-    double lo, hi;   /* inclusive range (K_FLOAT, K_UINT, K_COLOR components) */
+    size_t offset;            /* into hz_bake_sidecar_t, hz_bake_sc_material_t or hz_bake_sc_object_t */
+    double lo, hi;            /* inclusive range (K_FLOAT, K_UINT, K_COLOR components) */
     const char *const *names; /* K_ENUM: NULL-terminated; the value stored is the index (uint32_t) */
     const uint32_t *values;   /* K_ENUM: value per name (NULL: the index) */
     const char *help;
@@ -33,82 +33,82 @@ static const char *const normal_modes[] = { "smooth", "none", NULL };
 static const char *const motions[] = { "none", "spin", "oscillate", "keys", NULL };
 static const uint32_t motion_values[] = { HZ_MOTION_NONE, HZ_MOTION_SPIN, HZ_MOTION_OSCILLATE, HZ_MOTION_RIGID };
 
-#define SC(f) offsetof(bk_sidecar_t, f)
-#define MT(f) offsetof(bk_sc_material_t, f)
-#define OB(f) offsetof(bk_sc_object_t, f)
+#define SC(f) offsetof(hz_bake_sidecar_t, f)
+#define MT(f) offsetof(hz_bake_sc_material_t, f)
+#define OB(f) offsetof(hz_bake_sc_object_t, f)
 static const keydef_t keys[] = {
-    { "name", SEC_SCENE, K_NAME, BK_SC_NAME, SC(name), 0, 0, NULL, NULL, "scene name (up to 31 bytes)" },
-    { "background", SEC_SCENE, K_COLOR, BK_SC_BACKGROUND, SC(background), 0, 1e6, NULL, NULL, "R G B" },
-    { "ambient", SEC_SCENE, K_COLOR, BK_SC_AMBIENT, SC(ambient), 0, 1e6, NULL, NULL, "R G B" },
-    { "duration", SEC_SCENE, K_FLOAT, BK_SC_DURATION, SC(duration), 0, 1e6, NULL, NULL, "seconds" },
-    { "fov", SEC_SCENE, K_FLOAT, BK_SC_FOV, SC(fov_deg), 1, 179, NULL, NULL, "degrees" },
-    { "camera_loop", SEC_SCENE, K_BOOL, BK_SC_CAMERA_LOOP, SC(camera_loop), 0, 1, NULL, NULL, "yes or no" },
-    { "texture_max", SEC_SCENE, K_UINT, BK_SC_TEXTURE_MAX, SC(texture_max), 1, 16384, NULL, NULL, "texels" },
-    { "tube_sides", SEC_SCENE, K_UINT, BK_SC_TUBE_SIDES, SC(tube_sides), 1, 64, NULL, NULL, "1 or 3..64" },
-    { "tube_radius_scale", SEC_SCENE, K_FLOAT, BK_SC_TUBE_RADIUS, SC(tube_radius_scale), 1e-3, 1e3, NULL, NULL,
+    { "name", SEC_SCENE, K_NAME, HZ_BAKE_SC_NAME, SC(name), 0, 0, NULL, NULL, "scene name (up to 31 bytes)" },
+    { "background", SEC_SCENE, K_COLOR, HZ_BAKE_SC_BACKGROUND, SC(background), 0, 1e6, NULL, NULL, "R G B" },
+    { "ambient", SEC_SCENE, K_COLOR, HZ_BAKE_SC_AMBIENT, SC(ambient), 0, 1e6, NULL, NULL, "R G B" },
+    { "duration", SEC_SCENE, K_FLOAT, HZ_BAKE_SC_DURATION, SC(duration), 0, 1e6, NULL, NULL, "seconds" },
+    { "fov", SEC_SCENE, K_FLOAT, HZ_BAKE_SC_FOV, SC(fov_deg), 1, 179, NULL, NULL, "degrees" },
+    { "camera_loop", SEC_SCENE, K_BOOL, HZ_BAKE_SC_CAMERA_LOOP, SC(camera_loop), 0, 1, NULL, NULL, "yes or no" },
+    { "texture_max", SEC_SCENE, K_UINT, HZ_BAKE_SC_TEXTURE_MAX, SC(texture_max), 1, 16384, NULL, NULL, "texels" },
+    { "tube_sides", SEC_SCENE, K_UINT, HZ_BAKE_SC_TUBE_SIDES, SC(tube_sides), 1, 64, NULL, NULL, "1 or 3..64" },
+    { "tube_radius_scale", SEC_SCENE, K_FLOAT, HZ_BAKE_SC_TUBE_RADIUS, SC(tube_radius_scale), 1e-3, 1e3, NULL, NULL,
       "factor" },
-    { "normals", SEC_SCENE, K_ENUM, BK_SC_NORMALS, SC(normals), 0, 0, normal_modes, NULL, "smooth or none" },
-    { "smooth_angle", SEC_SCENE, K_FLOAT, BK_SC_SMOOTH_ANGLE, SC(smooth_angle_deg), 0, 180, NULL, NULL,
+    { "normals", SEC_SCENE, K_ENUM, HZ_BAKE_SC_NORMALS, SC(normals), 0, 0, normal_modes, NULL, "smooth or none" },
+    { "smooth_angle", SEC_SCENE, K_FLOAT, HZ_BAKE_SC_SMOOTH_ANGLE, SC(smooth_angle_deg), 0, 180, NULL, NULL,
       "degrees" },
-    { "skin_rate", SEC_SCENE, K_FLOAT, BK_SC_SKIN_RATE, SC(skin_rate), 0.1, 1000, NULL, NULL, "frames/s" },
-    { "rigid_rate", SEC_SCENE, K_FLOAT, BK_SC_RIGID_RATE, SC(rigid_rate), 0.1, 1000, NULL, NULL, "keys/s" },
-    { "animation", SEC_SCENE, K_UINT, BK_SC_ANIMATION, SC(animation), 0, 1e6, NULL, NULL, "index" },
+    { "skin_rate", SEC_SCENE, K_FLOAT, HZ_BAKE_SC_SKIN_RATE, SC(skin_rate), 0.1, 1000, NULL, NULL, "frames/s" },
+    { "rigid_rate", SEC_SCENE, K_FLOAT, HZ_BAKE_SC_RIGID_RATE, SC(rigid_rate), 0.1, 1000, NULL, NULL, "keys/s" },
+    { "animation", SEC_SCENE, K_UINT, HZ_BAKE_SC_ANIMATION, SC(animation), 0, 1e6, NULL, NULL, "index" },
 
-    { "color", SEC_MATERIAL, K_COLOR, BK_SC_COLOR, MT(color), 0, 1, NULL, NULL, "R G B in [0, 1]" },
-    { "alpha", SEC_MATERIAL, K_FLOAT, BK_SC_ALPHA, MT(alpha), 0, 1, NULL, NULL, "opacity in [0, 1]" },
-    { "alpha_mode", SEC_MATERIAL, K_ENUM, BK_SC_ALPHA_MODE, MT(alpha_mode), 0, 0, alpha_modes, NULL,
+    { "color", SEC_MATERIAL, K_COLOR, HZ_BAKE_SC_COLOR, MT(color), 0, 1, NULL, NULL, "R G B in [0, 1]" },
+    { "alpha", SEC_MATERIAL, K_FLOAT, HZ_BAKE_SC_ALPHA, MT(alpha), 0, 1, NULL, NULL, "opacity in [0, 1]" },
+    { "alpha_mode", SEC_MATERIAL, K_ENUM, HZ_BAKE_SC_ALPHA_MODE, MT(alpha_mode), 0, 0, alpha_modes, NULL,
       "opaque, mask or blend" },
-    { "alpha_cutoff", SEC_MATERIAL, K_FLOAT, BK_SC_ALPHA_CUTOFF, MT(alpha_cutoff), 0, 1, NULL, NULL, "[0, 1]" },
-    { "mirror", SEC_MATERIAL, K_FLOAT, BK_SC_MIRROR, MT(mirror), 0, 1, NULL, NULL, "reflectance in [0, 1]" },
+    { "alpha_cutoff", SEC_MATERIAL, K_FLOAT, HZ_BAKE_SC_ALPHA_CUTOFF, MT(alpha_cutoff), 0, 1, NULL, NULL, "[0, 1]" },
+    { "mirror", SEC_MATERIAL, K_FLOAT, HZ_BAKE_SC_MIRROR, MT(mirror), 0, 1, NULL, NULL, "reflectance in [0, 1]" },
 
-    { "motion", SEC_OBJECT, K_ENUM, BK_SC_MOTION, OB(motion), 0, 0, motions, motion_values,
+    { "motion", SEC_OBJECT, K_ENUM, HZ_BAKE_SC_MOTION, OB(motion), 0, 0, motions, motion_values,
       "none, spin, oscillate or keys" },
-    { "pivot", SEC_OBJECT, K_VEC3, BK_SC_PIVOT, OB(pivot), -1e9, 1e9, NULL, NULL, "X Y Z or center" },
-    { "axis", SEC_OBJECT, K_VEC3, BK_SC_AXIS, OB(axis), -1e9, 1e9, NULL, NULL, "X Y Z" },
-    { "speed", SEC_OBJECT, K_FLOAT, BK_SC_SPEED, OB(speed_deg), -1e6, 1e6, NULL, NULL, "degrees/s" },
-    { "amplitude", SEC_OBJECT, K_VEC3, BK_SC_AMPLITUDE, OB(amplitude), -1e9, 1e9, NULL, NULL, "X Y Z" },
-    { "frequency", SEC_OBJECT, K_FLOAT, BK_SC_FREQUENCY, OB(frequency), 0, 1e4, NULL, NULL, "Hz" },
-    { "phase", SEC_OBJECT, K_FLOAT, BK_SC_PHASE, OB(phase_deg), -1e6, 1e6, NULL, NULL, "degrees" },
+    { "pivot", SEC_OBJECT, K_VEC3, HZ_BAKE_SC_PIVOT, OB(pivot), -1e9, 1e9, NULL, NULL, "X Y Z or center" },
+    { "axis", SEC_OBJECT, K_VEC3, HZ_BAKE_SC_AXIS, OB(axis), -1e9, 1e9, NULL, NULL, "X Y Z" },
+    { "speed", SEC_OBJECT, K_FLOAT, HZ_BAKE_SC_SPEED, OB(speed_deg), -1e6, 1e6, NULL, NULL, "degrees/s" },
+    { "amplitude", SEC_OBJECT, K_VEC3, HZ_BAKE_SC_AMPLITUDE, OB(amplitude), -1e9, 1e9, NULL, NULL, "X Y Z" },
+    { "frequency", SEC_OBJECT, K_FLOAT, HZ_BAKE_SC_FREQUENCY, OB(frequency), 0, 1e4, NULL, NULL, "Hz" },
+    { "phase", SEC_OBJECT, K_FLOAT, HZ_BAKE_SC_PHASE, OB(phase_deg), -1e6, 1e6, NULL, NULL, "degrees" },
 };
 
 static const char *const section_names[] = { "scene", "material", "object" };
 
-void bk_sidecar_defaults(bk_sidecar_t *sc)
+void hz_bake_sidecar_defaults(hz_bake_sidecar_t *sc)
 {
     memset(sc, 0, sizeof *sc);
     sc->ambient[0] = sc->ambient[1] = sc->ambient[2] = 0.03f;
     sc->texture_max = 1024;
     sc->tube_sides = 3;
     sc->tube_radius_scale = 1.0f;
-    sc->normals = BK_NORMALS_SMOOTH;
+    sc->normals = HZ_BAKE_NORMALS_SMOOTH;
     sc->smooth_angle_deg = 60.0f;
     sc->skin_rate = 30.0f;
     sc->rigid_rate = 30.0f;
-    bk_vec_init(&sc->lights, sizeof(hz_hzb_light_t));
-    bk_vec_init(&sc->cameras, sizeof(bk_sc_camera_t));
-    bk_vec_init(&sc->materials, sizeof(bk_sc_material_t));
-    bk_vec_init(&sc->objects, sizeof(bk_sc_object_t));
+    hz_bake_vec_init(&sc->lights, sizeof(hz_hzb_light_t));
+    hz_bake_vec_init(&sc->cameras, sizeof(hz_bake_sc_camera_t));
+    hz_bake_vec_init(&sc->materials, sizeof(hz_bake_sc_material_t));
+    hz_bake_vec_init(&sc->objects, sizeof(hz_bake_sc_object_t));
 }
 
-void bk_sidecar_free(bk_sidecar_t *sc)
+void hz_bake_sidecar_free(hz_bake_sidecar_t *sc)
 {
     for (size_t i = 0; i < sc->objects.len; i++)
-        bk_vec_free(&BK_AT(sc->objects, bk_sc_object_t, i)->keys);
-    bk_vec_free(&sc->lights);
-    bk_vec_free(&sc->cameras);
-    bk_vec_free(&sc->materials);
-    bk_vec_free(&sc->objects);
+        hz_bake_vec_free(&HZ_BAKE_AT(sc->objects, hz_bake_sc_object_t, i)->keys);
+    hz_bake_vec_free(&sc->lights);
+    hz_bake_vec_free(&sc->cameras);
+    hz_bake_vec_free(&sc->materials);
+    hz_bake_vec_free(&sc->objects);
 }
 
 /* ---- parsing state ---- */
 
 typedef struct parser {
-    bk_sidecar_t *sc;
+    hz_bake_sidecar_t *sc;
     const char *path;
     int line;
     int section;
-    void *target;      /* struct the current section's keys write into */
-    unsigned *set;     /* its set bits */
+    void *target;  /* struct the current section's keys write into */
+    unsigned *set; /* its set bits */
     hz_error_t *err;
 } parser_t;
 
@@ -120,7 +120,7 @@ static hz_status_t perr(parser_t *p, hz_status_t code, const char *fmt, ...)
     va_start(ap, fmt);
     vsnprintf(msg, sizeof msg, fmt, ap);
     va_end(ap);
-    return bk_err(p->err, code, "%s:%d: %s", p->path, p->line, msg);
+    return hz_bake_err(p->err, code, "%s:%d: %s", p->path, p->line, msg);
 }
 
 /* Splits s (modified in place) into whitespace-separated words; returns the count (at most max). */
@@ -188,8 +188,8 @@ static hz_status_t simple_key(parser_t *p, const keydef_t *k, char *value)
             return perr(p, HZ_E_FORMAT, "%s: expected one number (%s)", k->key, k->help);
         return number(p, k->key, w[0], k->lo, k->hi, (float *)(base + k->offset));
     case K_VEC3:
-        if (k->bit == BK_SC_PIVOT && n == 1 && !strcmp(w[0], "center")) {
-            ((bk_sc_object_t *)p->target)->pivot_center = 1;
+        if (k->bit == HZ_BAKE_SC_PIVOT && n == 1 && !strcmp(w[0], "center")) {
+            ((hz_bake_sc_object_t *)p->target)->pivot_center = 1;
             return HZ_OK;
         }
         /* fall through */
@@ -240,8 +240,7 @@ static hz_status_t simple_key(parser_t *p, const keydef_t *k, char *value)
                     return HZ_OK;
                 }
         return perr(p, HZ_E_FORMAT, "%s: expected %s", k->key, k->help);
-    default:
-        return perr(p, HZ_E_INTERNAL, "%s: unknown key kind", k->key);
+    default: return perr(p, HZ_E_INTERNAL, "%s: unknown key kind", k->key);
     }
 }
 
@@ -283,13 +282,15 @@ static hz_status_t light_key(parser_t *p, char *value)
             have_falloff = 1;
             i += 2;
         } else {
-            return perr(p, HZ_E_FORMAT, "light: unexpected '%s' (expected: position X Y Z color R G B "
-                        "[falloff inverse-square|none])", w[i]);
+            return perr(p, HZ_E_FORMAT,
+                        "light: unexpected '%s' (expected: position X Y Z color R G B "
+                        "[falloff inverse-square|none])",
+                        w[i]);
         }
     }
     if (!have_pos || !have_color)
         return perr(p, HZ_E_FORMAT, "light: expected position X Y Z color R G B [falloff inverse-square|none]");
-    *(hz_hzb_light_t *)bk_vec_push(&p->sc->lights, 1) = l;
+    *(hz_hzb_light_t *)hz_bake_vec_push(&p->sc->lights, 1) = l;
     return HZ_OK;
 }
 
@@ -298,7 +299,7 @@ static hz_status_t camera_key(parser_t *p, char *value)
 {
     char *w[24];
     int n = split(value, w, 23);
-    bk_sc_camera_t c;
+    hz_bake_sc_camera_t c;
     memset(&c, 0, sizeof c);
     c.line = p->line;
     c.key.up[1] = 1.0f;
@@ -326,8 +327,10 @@ static hz_status_t camera_key(parser_t *p, char *value)
             have_fov = 1;
             i += 2;
         } else {
-            return perr(p, HZ_E_FORMAT, "camera: unexpected '%s' (expected: TIME eye X Y Z target X Y Z [up X Y Z] "
-                        "[fov DEGREES])", w[i]);
+            return perr(p, HZ_E_FORMAT,
+                        "camera: unexpected '%s' (expected: TIME eye X Y Z target X Y Z [up X Y Z] "
+                        "[fov DEGREES])",
+                        w[i]);
         }
     }
     if (!have_eye || !have_target)
@@ -336,24 +339,24 @@ static hz_status_t camera_key(parser_t *p, char *value)
         return perr(p, HZ_E_RANGE, "camera: eye and target coincide");
     if (c.key.up[0] == 0 && c.key.up[1] == 0 && c.key.up[2] == 0)
         return perr(p, HZ_E_RANGE, "camera: up is zero");
-    c.key.fov_y = fov * (float)(BK_PI / 180.0);
+    c.key.fov_y = fov * (float)(HZ_BAKE_PI / 180.0);
     if (p->sc->cameras.len) {
-        const bk_sc_camera_t *prev = BK_AT(p->sc->cameras, bk_sc_camera_t, p->sc->cameras.len - 1);
+        const hz_bake_sc_camera_t *prev = HZ_BAKE_AT(p->sc->cameras, hz_bake_sc_camera_t, p->sc->cameras.len - 1);
         if (!(c.key.time > prev->key.time))
             return perr(p, HZ_E_RANGE, "camera: time %g does not follow the previous key's %g (line %d)",
                         (double)c.key.time, (double)prev->key.time, prev->line);
     }
-    *(bk_sc_camera_t *)bk_vec_push(&p->sc->cameras, 1) = c;
+    *(hz_bake_sc_camera_t *)hz_bake_vec_push(&p->sc->cameras, 1) = c;
     return HZ_OK;
 }
 
 /* key = TIME [translate X Y Z] [rotate AX AY AZ DEGREES] [scale S | scale SX SY SZ] */
 static hz_status_t object_key(parser_t *p, char *value)
 {
-    bk_sc_object_t *o = (bk_sc_object_t *)p->target;
+    hz_bake_sc_object_t *o = (hz_bake_sc_object_t *)p->target;
     char *w[24];
     int n = split(value, w, 23);
-    bk_sc_key_t k;
+    hz_bake_sc_key_t k;
     memset(&k, 0, sizeof k);
     k.line = p->line;
     k.axis[1] = 1.0f;
@@ -392,17 +395,19 @@ static hz_status_t object_key(parser_t *p, char *value)
             }
             have_s = 1;
         } else {
-            return perr(p, HZ_E_FORMAT, "key: unexpected '%s' (expected: TIME [translate X Y Z] "
-                        "[rotate AX AY AZ DEGREES] [scale S | scale SX SY SZ])", w[i]);
+            return perr(p, HZ_E_FORMAT,
+                        "key: unexpected '%s' (expected: TIME [translate X Y Z] "
+                        "[rotate AX AY AZ DEGREES] [scale S | scale SX SY SZ])",
+                        w[i]);
         }
     }
     if (o->keys.len) {
-        const bk_sc_key_t *prev = BK_AT(o->keys, bk_sc_key_t, o->keys.len - 1);
+        const hz_bake_sc_key_t *prev = HZ_BAKE_AT(o->keys, hz_bake_sc_key_t, o->keys.len - 1);
         if (!(k.time > prev->time))
-            return perr(p, HZ_E_RANGE, "key: time %g does not follow the previous key's %g (line %d)",
-                        (double)k.time, (double)prev->time, prev->line);
+            return perr(p, HZ_E_RANGE, "key: time %g does not follow the previous key's %g (line %d)", (double)k.time,
+                        (double)prev->time, prev->line);
     }
-    *(bk_sc_key_t *)bk_vec_push(&o->keys, 1) = k;
+    *(hz_bake_sc_key_t *)hz_bake_vec_push(&o->keys, 1) = k;
     return HZ_OK;
 }
 
@@ -411,17 +416,18 @@ static hz_status_t close_section(parser_t *p)
 {
     if (p->section != SEC_OBJECT)
         return HZ_OK;
-    bk_sc_object_t *o = (bk_sc_object_t *)p->target;
+    hz_bake_sc_object_t *o = (hz_bake_sc_object_t *)p->target;
     int save = p->line;
     p->line = o->line;
-    unsigned spin = BK_SC_PIVOT | BK_SC_AXIS | BK_SC_SPEED, osc = BK_SC_AMPLITUDE | BK_SC_FREQUENCY | BK_SC_PHASE;
+    unsigned spin = HZ_BAKE_SC_PIVOT | HZ_BAKE_SC_AXIS | HZ_BAKE_SC_SPEED,
+             osc = HZ_BAKE_SC_AMPLITUDE | HZ_BAKE_SC_FREQUENCY | HZ_BAKE_SC_PHASE;
     hz_status_t s = HZ_OK;
-    unsigned given = o->set | (o->pivot_center ? BK_SC_PIVOT : 0);
-    if (!(o->set & BK_SC_MOTION)) {
+    unsigned given = o->set | (o->pivot_center ? HZ_BAKE_SC_PIVOT : 0);
+    if (!(o->set & HZ_BAKE_SC_MOTION)) {
         if (given || o->keys.len)
             s = perr(p, HZ_E_FORMAT, "[object \"%s\"]: motion parameters without 'motion = ...'", o->pattern);
     } else if (o->motion == HZ_MOTION_SPIN) {
-        if (!(o->set & BK_SC_AXIS) || !(o->set & BK_SC_SPEED))
+        if (!(o->set & HZ_BAKE_SC_AXIS) || !(o->set & HZ_BAKE_SC_SPEED))
             s = perr(p, HZ_E_FORMAT, "[object \"%s\"]: motion = spin needs 'axis' and 'speed'", o->pattern);
         else if (o->axis[0] == 0 && o->axis[1] == 0 && o->axis[2] == 0)
             s = perr(p, HZ_E_RANGE, "[object \"%s\"]: spin axis is zero", o->pattern);
@@ -429,7 +435,7 @@ static hz_status_t close_section(parser_t *p)
             s = perr(p, HZ_E_FORMAT, "[object \"%s\"]: oscillate parameters or keys given for motion = spin",
                      o->pattern);
     } else if (o->motion == HZ_MOTION_OSCILLATE) {
-        if (!(o->set & BK_SC_AMPLITUDE) || !(o->set & BK_SC_FREQUENCY))
+        if (!(o->set & HZ_BAKE_SC_AMPLITUDE) || !(o->set & HZ_BAKE_SC_FREQUENCY))
             s = perr(p, HZ_E_FORMAT, "[object \"%s\"]: motion = oscillate needs 'amplitude' and 'frequency'",
                      o->pattern);
         else if ((given & spin) || o->keys.len)
@@ -437,12 +443,11 @@ static hz_status_t close_section(parser_t *p)
                      o->pattern);
     } else if (o->motion == HZ_MOTION_RIGID) {
         if (!o->keys.len)
-            s = perr(p, HZ_E_FORMAT, "[object \"%s\"]: motion = keys needs at least one 'key = ...' line",
-                     o->pattern);
+            s = perr(p, HZ_E_FORMAT, "[object \"%s\"]: motion = keys needs at least one 'key = ...' line", o->pattern);
         else if (given & (spin | osc))
             s = perr(p, HZ_E_FORMAT, "[object \"%s\"]: spin or oscillate parameters given for motion = keys",
                      o->pattern);
-    } else if ((given & ~BK_SC_MOTION) || o->keys.len) {
+    } else if ((given & ~HZ_BAKE_SC_MOTION) || o->keys.len) {
         s = perr(p, HZ_E_FORMAT, "[object \"%s\"]: motion parameters given for motion = none", o->pattern);
     }
     p->line = save;
@@ -492,7 +497,7 @@ static hz_status_t section_header(parser_t *p, char *s)
     if (!*name || strlen(name) >= 256)
         return perr(p, HZ_E_FORMAT, "[%s NAME]: the name is missing or longer than 255 bytes", kind);
     if (!strcmp(kind, "material")) {
-        bk_sc_material_t *m = bk_vec_push(&p->sc->materials, 1);
+        hz_bake_sc_material_t *m = hz_bake_vec_push(&p->sc->materials, 1);
         snprintf(m->pattern, sizeof m->pattern, "%s", name);
         m->line = p->line;
         p->section = SEC_MATERIAL;
@@ -501,10 +506,10 @@ static hz_status_t section_header(parser_t *p, char *s)
         return HZ_OK;
     }
     if (!strcmp(kind, "object")) {
-        bk_sc_object_t *o = bk_vec_push(&p->sc->objects, 1);
+        hz_bake_sc_object_t *o = hz_bake_vec_push(&p->sc->objects, 1);
         snprintf(o->pattern, sizeof o->pattern, "%s", name);
         o->line = p->line;
-        bk_vec_init(&o->keys, sizeof(bk_sc_key_t));
+        hz_bake_vec_init(&o->keys, sizeof(hz_bake_sc_key_t));
         p->section = SEC_OBJECT;
         p->target = o;
         p->set = &o->set;
@@ -544,19 +549,19 @@ static hz_status_t key_line(parser_t *p, char *s)
             continue;
         if (*p->set & k->bit)
             return perr(p, HZ_E_FORMAT, "%s: given twice in this section", key);
-        if (k->bit == BK_SC_PIVOT && ((bk_sc_object_t *)p->target)->pivot_center)
+        if (k->bit == HZ_BAKE_SC_PIVOT && ((hz_bake_sc_object_t *)p->target)->pivot_center)
             return perr(p, HZ_E_FORMAT, "%s: given twice in this section", key);
         hz_status_t s = simple_key(p, k, value);
         if (s)
             return s;
-        if (!(k->bit == BK_SC_PIVOT && ((bk_sc_object_t *)p->target)->pivot_center))
+        if (!(k->bit == HZ_BAKE_SC_PIVOT && ((hz_bake_sc_object_t *)p->target)->pivot_center))
             *p->set |= k->bit;
         return HZ_OK;
     }
     for (size_t i = 0; i < HZ_ARRAY_LEN(keys); i++)
         if (!strcmp(keys[i].key, key))
-            return perr(p, HZ_E_FORMAT, "'%s' belongs in a [%s] section, not [%s]", key,
-                        section_names[keys[i].section], section_names[p->section]);
+            return perr(p, HZ_E_FORMAT, "'%s' belongs in a [%s] section, not [%s]", key, section_names[keys[i].section],
+                        section_names[p->section]);
     if (!strcmp(key, "light") || !strcmp(key, "camera"))
         return perr(p, HZ_E_FORMAT, "'%s' belongs in the [scene] part (before any [material]/[object])", key);
     if (!strcmp(key, "key"))
@@ -564,7 +569,8 @@ static hz_status_t key_line(parser_t *p, char *s)
     return perr(p, HZ_E_FORMAT, "unknown key '%s' in [%s]", key, section_names[p->section]);
 }
 
-hz_status_t bk_sidecar_parse(bk_sidecar_t *sc, const char *path, const char *text, size_t size, hz_error_t *err)
+hz_status_t hz_bake_sidecar_parse(hz_bake_sidecar_t *sc, const char *path, const char *text, size_t size,
+                                  hz_error_t *err)
 {
     parser_t p = { sc, path, 0, SEC_SCENE, sc, &sc->set, err };
     snprintf(sc->path, sizeof sc->path, "%s", path);
@@ -610,47 +616,50 @@ hz_status_t bk_sidecar_parse(bk_sidecar_t *sc, const char *path, const char *tex
         return st;
     p.line = 0;
     for (size_t i = 0; i < sc->cameras.len; i++) {
-        bk_sc_camera_t *c = BK_AT(sc->cameras, bk_sc_camera_t, i);
+        hz_bake_sc_camera_t *c = HZ_BAKE_AT(sc->cameras, hz_bake_sc_camera_t, i);
         if (c->key.fov_y == 0.0f)
-            c->key.fov_y = (sc->fov_deg > 0.0f ? sc->fov_deg : 60.0f) * (float)(BK_PI / 180.0);
+            c->key.fov_y = (sc->fov_deg > 0.0f ? sc->fov_deg : 60.0f) * (float)(HZ_BAKE_PI / 180.0);
     }
     if (sc->camera_loop && !(sc->duration > 0.0f))
-        return bk_err(err, HZ_E_FORMAT, "%s: camera_loop = yes needs a duration > 0", path);
+        return hz_bake_err(err, HZ_E_FORMAT, "%s: camera_loop = yes needs a duration > 0", path);
     if (sc->tube_sides == 2)
-        return bk_err(err, HZ_E_RANGE, "%s: tube_sides = 2 makes a doubled flat ribbon; use 1 (ribbon) or 3..64",
-                      path);
+        return hz_bake_err(err, HZ_E_RANGE, "%s: tube_sides = 2 makes a doubled flat ribbon; use 1 (ribbon) or 3..64",
+                           path);
     if (sc->camera_loop && sc->cameras.len) {
-        const bk_sc_camera_t *last = BK_AT(sc->cameras, bk_sc_camera_t, sc->cameras.len - 1);
+        const hz_bake_sc_camera_t *last = HZ_BAKE_AT(sc->cameras, hz_bake_sc_camera_t, sc->cameras.len - 1);
         if (!(last->key.time < sc->duration))
-            return bk_err(err, HZ_E_RANGE, "%s:%d: a looping camera path needs every key time below the duration "
-                          "(%g s)", path, last->line, (double)sc->duration);
+            return hz_bake_err(err, HZ_E_RANGE,
+                               "%s:%d: a looping camera path needs every key time below the duration "
+                               "(%g s)",
+                               path, last->line, (double)sc->duration);
     }
     return HZ_OK;
 }
 
-hz_status_t bk_sidecar_load(bk_sidecar_t *sc, const char *path, hz_error_t *err)
+hz_status_t hz_bake_sidecar_load(hz_bake_sidecar_t *sc, const char *path, hz_error_t *err)
 {
     uint8_t *data;
     size_t size;
-    hz_status_t s = bk_read_file(path, &data, &size, err);
+    hz_status_t s = hz_bake_read_file(path, &data, &size, err);
     if (s)
         return s;
-    s = bk_sidecar_parse(sc, path, (const char *)data, size, err);
+    s = hz_bake_sidecar_parse(sc, path, (const char *)data, size, err);
     free(data);
     return s;
 }
 
-int bk_sidecar_match(const char *pattern, const char *name)
+int hz_bake_sidecar_match(const char *pattern, const char *name)
 {
     return fnmatch(pattern, name, 0) == 0;
 }
 
-static void list_names(char *buf, size_t size, const bk_vec_t *v, int objects)
+static void list_names(char *buf, size_t size, const hz_bake_vec_t *v, int objects)
 {
     size_t n = 0;
     buf[0] = 0;
     for (size_t i = 0; i < v->len && n + 40 < size; i++) {
-        const char *name = objects ? BK_AT(*v, bk_object_t, i)->name : BK_AT(*v, bk_material_t, i)->name;
+        const char *name =
+            objects ? HZ_BAKE_AT(*v, hz_bake_object_t, i)->name : HZ_BAKE_AT(*v, hz_bake_material_t, i)->name;
         n += (size_t)snprintf(buf + n, size - n, "%s'%s'", i ? ", " : "", name);
         if (i == 11 && v->len > 12) {
             snprintf(buf + n, size - n, ", ... (%zu in all)", v->len);
@@ -659,23 +668,23 @@ static void list_names(char *buf, size_t size, const bk_vec_t *v, int objects)
     }
 }
 
-hz_status_t bk_sidecar_unmatched(const bk_sidecar_t *sc, const bk_scene_t *s, hz_error_t *err)
+hz_status_t hz_bake_sidecar_unmatched(const hz_bake_sidecar_t *sc, const hz_bake_scene_t *s, hz_error_t *err)
 {
     char names[200];
     for (size_t i = 0; i < sc->materials.len; i++) {
-        const bk_sc_material_t *m = BK_AT(sc->materials, bk_sc_material_t, i);
+        const hz_bake_sc_material_t *m = HZ_BAKE_AT(sc->materials, hz_bake_sc_material_t, i);
         if (!m->matched) {
             list_names(names, sizeof names, &s->mats, 0);
-            return bk_err(err, HZ_E_FORMAT, "%s:%d: [material \"%s\"] matches no material of the model (%s)",
-                          sc->path, m->line, m->pattern, names);
+            return hz_bake_err(err, HZ_E_FORMAT, "%s:%d: [material \"%s\"] matches no material of the model (%s)",
+                               sc->path, m->line, m->pattern, names);
         }
     }
     for (size_t i = 0; i < sc->objects.len; i++) {
-        const bk_sc_object_t *o = BK_AT(sc->objects, bk_sc_object_t, i);
+        const hz_bake_sc_object_t *o = HZ_BAKE_AT(sc->objects, hz_bake_sc_object_t, i);
         if (!o->matched) {
             list_names(names, sizeof names, &s->objs, 1);
-            return bk_err(err, HZ_E_FORMAT, "%s:%d: [object \"%s\"] matches no object of the model (%s)", sc->path,
-                          o->line, o->pattern, names);
+            return hz_bake_err(err, HZ_E_FORMAT, "%s:%d: [object \"%s\"] matches no object of the model (%s)", sc->path,
+                               o->line, o->pattern, names);
         }
     }
     return HZ_OK;

@@ -12,8 +12,8 @@
 
 #include <stb/stb_image.h>
 
-static float srgb_lin[256];   /* byte -> linear */
-static float srgb_cut[256];   /* linear value where the encoded byte steps from k to k + 1 */
+static float srgb_lin[256]; /* byte -> linear */
+static float srgb_cut[256]; /* linear value where the encoded byte steps from k to k + 1 */
 static int tables_ready;
 
 static float decode(float c)
@@ -52,10 +52,10 @@ static uint8_t unit_byte(float a)
     return v <= 0.0f ? 0 : v >= 255.0f ? 255 : (uint8_t)v;
 }
 
-static int find_texture(const bk_scene_t *s, const char *key, int alpha_from_luma)
+static int find_texture(const hz_bake_scene_t *s, const char *key, int alpha_from_luma)
 {
     for (size_t i = 0; i < s->texs.len; i++) {
-        const bk_texture_t *t = BK_AT(s->texs, bk_texture_t, i);
+        const hz_bake_texture_t *t = HZ_BAKE_AT(s->texs, hz_bake_texture_t, i);
         if (t->alpha_from_luma == alpha_from_luma && !strcmp(t->path, key))
             return (int)i;
     }
@@ -63,7 +63,7 @@ static int find_texture(const bk_scene_t *s, const char *key, int alpha_from_lum
 }
 
 /* Builds the chain from decoded RGBA8 pixels and appends it to the scene. */
-static int add_levels(bk_scene_t *s, const char *key, uint8_t *px, uint32_t w, uint32_t h, int alpha_from_luma,
+static int add_levels(hz_bake_scene_t *s, const char *key, uint8_t *px, uint32_t w, uint32_t h, int alpha_from_luma,
                       uint32_t max_size)
 {
     init_tables();
@@ -99,10 +99,10 @@ static int add_levels(bk_scene_t *s, const char *key, uint8_t *px, uint32_t w, u
         }
     }
     if (total + s->texels.len > UINT32_MAX) {
-        bk_warn("%s: texture '%s' would take the scene past 2^32 texels; it is left out", s->model, key);
+        hz_bake_warn("%s: texture '%s' would take the scene past 2^32 texels; it is left out", s->model, key);
         return -1;
     }
-    bk_texture_t *t = bk_vec_push(&s->texs, 1);
+    hz_bake_texture_t *t = hz_bake_vec_push(&s->texs, 1);
     snprintf(t->path, sizeof t->path, "%s", key);
     t->alpha_from_luma = alpha_from_luma;
     t->t.width = lw;
@@ -110,12 +110,12 @@ static int add_levels(bk_scene_t *s, const char *key, uint8_t *px, uint32_t w, u
     t->t.levels = levels - first;
     t->t.first_texel = (uint32_t)s->texels.len;
     t->t.texel_count = (uint32_t)total;
-    bk_set_name(t->t.name, bk_basename(key));
+    hz_bake_set_name(t->t.name, hz_bake_basename(key));
     int index = (int)s->texs.len - 1;
-    uint8_t *out = bk_vec_push(&s->texels, (size_t)total);
+    uint8_t *out = hz_bake_vec_push(&s->texels, (size_t)total);
 
     /* Linear float working copy: rgb linear, a. */
-    float *cur = bk_xmalloc(n * 4 * sizeof(float));
+    float *cur = hz_bake_xmalloc(n * 4 * sizeof(float));
     for (size_t i = 0; i < n; i++) {
         for (int c = 0; c < 3; c++)
             cur[i * 4 + c] = srgb_lin[px[i * 4 + c]];
@@ -146,7 +146,7 @@ static int add_levels(bk_scene_t *s, const char *key, uint8_t *px, uint32_t w, u
         if (l + 1 == levels)
             break;
         uint32_t nw = cw > 1 ? cw / 2 : 1, nh = ch > 1 ? ch / 2 : 1;
-        float *next = bk_xmalloc((size_t)nw * nh * 4 * sizeof(float));
+        float *next = hz_bake_xmalloc((size_t)nw * nh * 4 * sizeof(float));
         for (uint32_t y = 0; y < nh; y++)
             for (uint32_t x = 0; x < nw; x++) {
                 uint32_t x0 = cw > 1 ? 2 * x : 0, x1 = cw > 1 ? 2 * x + 1 : 0;
@@ -157,8 +157,7 @@ static int add_levels(bk_scene_t *s, const char *key, uint8_t *px, uint32_t w, u
                 float *d = next + ((size_t)y * nw + x) * 4;
                 for (int c = 0; c < 3; c++) {
                     if (asum > 0.0f)
-                        d[c] = (q[0][c] * q[0][3] + q[1][c] * q[1][3] + q[2][c] * q[2][3] + q[3][c] * q[3][3]) /
-                               asum;
+                        d[c] = (q[0][c] * q[0][3] + q[1][c] * q[1][3] + q[2][c] * q[2][3] + q[3][c] * q[3][3]) / asum;
                     else
                         d[c] = 0.25f * (q[0][c] + q[1][c] + q[2][c] + q[3][c]);
                 }
@@ -173,37 +172,39 @@ static int add_levels(bk_scene_t *s, const char *key, uint8_t *px, uint32_t w, u
     return index;
 }
 
-static int decoded(bk_scene_t *s, const char *key, uint8_t *px, int w, int h, int alpha_from_luma,
+static int decoded(hz_bake_scene_t *s, const char *key, uint8_t *px, int w, int h, int alpha_from_luma,
                    uint32_t max_size, const char *material)
 {
     if (!px) {
-        bk_warn("%s: texture '%s' of material '%s' cannot be decoded (%s); the material uses its colour instead",
-                s->model, key, material, stbi_failure_reason());
+        hz_bake_warn("%s: texture '%s' of material '%s' cannot be decoded (%s); the material uses its colour instead",
+                     s->model, key, material, stbi_failure_reason());
         return -1;
     }
     if (w < 1 || h < 1 || w > 16384 || h > 16384) {
-        bk_warn("%s: texture '%s' is %dx%d, outside 1..16384; the material '%s' uses its colour instead", s->model,
-                key, w, h, material);
+        hz_bake_warn("%s: texture '%s' is %dx%d, outside 1..16384; the material '%s' uses its colour instead", s->model,
+                     key, w, h, material);
         stbi_image_free(px);
         return -1;
     }
     int index = add_levels(s, key, px, (uint32_t)w, (uint32_t)h, alpha_from_luma, max_size);
     stbi_image_free(px);
     if (index >= 0)
-        bk_progress("texture %s: %dx%d -> %ux%u, %u levels", bk_basename(key), w, h,
-                    BK_AT(s->texs, bk_texture_t, index)->t.width, BK_AT(s->texs, bk_texture_t, index)->t.height,
-                    BK_AT(s->texs, bk_texture_t, index)->t.levels);
+        hz_bake_progress("texture %s: %dx%d -> %ux%u, %u levels", hz_bake_basename(key), w, h,
+                         HZ_BAKE_AT(s->texs, hz_bake_texture_t, index)->t.width,
+                         HZ_BAKE_AT(s->texs, hz_bake_texture_t, index)->t.height,
+                         HZ_BAKE_AT(s->texs, hz_bake_texture_t, index)->t.levels);
     return index;
 }
 
-int bk_texture_get(bk_scene_t *s, const char *path, int alpha_from_luma, uint32_t max_size, const char *material)
+int hz_bake_texture_get(hz_bake_scene_t *s, const char *path, int alpha_from_luma, uint32_t max_size,
+                        const char *material)
 {
     int found = find_texture(s, path, alpha_from_luma);
     if (found >= 0)
         return found;
-    if (!bk_file_exists(path)) {
-        bk_warn("%s: texture '%s' of material '%s' is missing; the material uses its colour instead", s->model,
-                path, material);
+    if (!hz_bake_file_exists(path)) {
+        hz_bake_warn("%s: texture '%s' of material '%s' is missing; the material uses its colour instead", s->model,
+                     path, material);
         return -1;
     }
     int w = 0, h = 0, comp = 0;
@@ -211,15 +212,15 @@ int bk_texture_get(bk_scene_t *s, const char *path, int alpha_from_luma, uint32_
     return decoded(s, path, px, w, h, alpha_from_luma, max_size, material);
 }
 
-int bk_texture_from_memory(bk_scene_t *s, const char *key, const uint8_t *data, size_t size, int alpha_from_luma,
-                           uint32_t max_size, const char *material)
+int hz_bake_texture_from_memory(hz_bake_scene_t *s, const char *key, const uint8_t *data, size_t size,
+                                int alpha_from_luma, uint32_t max_size, const char *material)
 {
     int found = find_texture(s, key, alpha_from_luma);
     if (found >= 0)
         return found;
     if (size > (size_t)INT32_MAX) {
-        bk_warn("%s: embedded texture '%s' is too large; material '%s' uses its colour instead", s->model, key,
-                material);
+        hz_bake_warn("%s: embedded texture '%s' is too large; material '%s' uses its colour instead", s->model, key,
+                     material);
         return -1;
     }
     int w = 0, h = 0, comp = 0;

@@ -14,8 +14,8 @@
 
 #include "cli.h"
 
-int bk_verbose = 0;
-int bk_warnings = 0;
+int hz_bake_verbose = 0;
+int hz_bake_warnings = 0;
 
 static void out_of_memory(size_t n)
 {
@@ -23,7 +23,7 @@ static void out_of_memory(size_t n)
     exit(hz_status_exit_code(HZ_E_NO_MEMORY));
 }
 
-void *bk_xmalloc(size_t n)
+void *hz_bake_xmalloc(size_t n)
 {
     void *p = malloc(n ? n : 1);
     if (!p)
@@ -31,7 +31,7 @@ void *bk_xmalloc(size_t n)
     return p;
 }
 
-void *bk_xcalloc(size_t n, size_t size)
+void *hz_bake_xcalloc(size_t n, size_t size)
 {
     if (size && n > SIZE_MAX / size)
         out_of_memory(SIZE_MAX);
@@ -41,22 +41,22 @@ void *bk_xcalloc(size_t n, size_t size)
     return p;
 }
 
-char *bk_xstrdup(const char *s)
+char *hz_bake_xstrdup(const char *s)
 {
     size_t n = strlen(s) + 1;
-    char *d = bk_xmalloc(n);
+    char *d = hz_bake_xmalloc(n);
     memcpy(d, s, n);
     return d;
 }
 
-void bk_vec_init(bk_vec_t *v, size_t elem)
+void hz_bake_vec_init(hz_bake_vec_t *v, size_t elem)
 {
     v->data = NULL;
     v->len = v->cap = 0;
     v->elem = elem;
 }
 
-void *bk_vec_push(bk_vec_t *v, size_t n)
+void *hz_bake_vec_push(hz_bake_vec_t *v, size_t n)
 {
     if (n > SIZE_MAX / v->elem - v->len)
         out_of_memory(SIZE_MAX);
@@ -76,14 +76,14 @@ void *bk_vec_push(bk_vec_t *v, size_t n)
     return at;
 }
 
-void bk_vec_free(bk_vec_t *v)
+void hz_bake_vec_free(hz_bake_vec_t *v)
 {
     free(v->data);
     v->data = NULL;
     v->len = v->cap = 0;
 }
 
-void bk_warn(const char *fmt, ...)
+void hz_bake_warn(const char *fmt, ...)
 {
     va_list ap;
     va_start(ap, fmt);
@@ -91,12 +91,12 @@ void bk_warn(const char *fmt, ...)
     vfprintf(stderr, fmt, ap);
     fputc('\n', stderr);
     va_end(ap);
-    bk_warnings++;
+    hz_bake_warnings++;
 }
 
-void bk_progress(const char *fmt, ...)
+void hz_bake_progress(const char *fmt, ...)
 {
-    if (!bk_verbose)
+    if (!hz_bake_verbose)
         return;
     va_list ap;
     va_start(ap, fmt);
@@ -106,7 +106,7 @@ void bk_progress(const char *fmt, ...)
     va_end(ap);
 }
 
-hz_status_t bk_err(hz_error_t *err, hz_status_t code, const char *fmt, ...)
+hz_status_t hz_bake_err(hz_error_t *err, hz_status_t code, const char *fmt, ...)
 {
     if (err) {
         va_list ap;
@@ -118,33 +118,33 @@ hz_status_t bk_err(hz_error_t *err, hz_status_t code, const char *fmt, ...)
     return code;
 }
 
-double bk_now(void)
+double hz_bake_now(void)
 {
     struct timespec ts;
     clock_gettime(CLOCK_MONOTONIC, &ts);
     return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
 }
 
-hz_status_t bk_read_file(const char *path, uint8_t **data, size_t *size, hz_error_t *err)
+hz_status_t hz_bake_read_file(const char *path, uint8_t **data, size_t *size, hz_error_t *err)
 {
     *data = NULL;
     *size = 0;
     FILE *f = fopen(path, "rb");
     if (!f)
-        return bk_err(err, HZ_E_IO, "%s: %s", path, strerror(errno));
+        return hz_bake_err(err, HZ_E_IO, "%s: %s", path, strerror(errno));
     struct stat st;
     if (fstat(fileno(f), &st) != 0 || !S_ISREG(st.st_mode)) {
         fclose(f);
-        return bk_err(err, HZ_E_IO, "%s: not a regular file", path);
+        return hz_bake_err(err, HZ_E_IO, "%s: not a regular file", path);
     }
     size_t n = (size_t)st.st_size;
-    uint8_t *buf = bk_xmalloc(n + 1);
+    uint8_t *buf = hz_bake_xmalloc(n + 1);
     size_t got = n ? fread(buf, 1, n, f) : 0;
     int bad = ferror(f);
     fclose(f);
     if (got != n || bad) {
         free(buf);
-        return bk_err(err, HZ_E_IO, "%s: read failed after %zu of %zu bytes", path, got, n);
+        return hz_bake_err(err, HZ_E_IO, "%s: read failed after %zu of %zu bytes", path, got, n);
     }
     buf[n] = 0;
     *data = buf;
@@ -152,29 +152,29 @@ hz_status_t bk_read_file(const char *path, uint8_t **data, size_t *size, hz_erro
     return HZ_OK;
 }
 
-hz_status_t bk_read_gzip(const char *path, uint8_t **data, size_t *size, hz_error_t *err)
+hz_status_t hz_bake_read_gzip(const char *path, uint8_t **data, size_t *size, hz_error_t *err)
 {
     *data = NULL;
     *size = 0;
-    if (!bk_file_exists(path))
-        return bk_err(err, HZ_E_IO, "%s: %s", path, strerror(ENOENT));
+    if (!hz_bake_file_exists(path))
+        return hz_bake_err(err, HZ_E_IO, "%s: %s", path, strerror(ENOENT));
     gzFile g = gzopen(path, "rb");
     if (!g)
-        return bk_err(err, HZ_E_IO, "%s: %s", path, strerror(errno ? errno : ENOMEM));
+        return hz_bake_err(err, HZ_E_IO, "%s: %s", path, strerror(errno ? errno : ENOMEM));
     gzbuffer(g, 1 << 17);
-    bk_vec_t buf;
-    bk_vec_init(&buf, 1);
+    hz_bake_vec_t buf;
+    hz_bake_vec_init(&buf, 1);
     for (;;) {
         size_t at = buf.len;
-        bk_vec_push(&buf, 1 << 20);
+        hz_bake_vec_push(&buf, 1 << 20);
         int r = gzread(g, (char *)buf.data + at, 1 << 20);
         if (r < 0) {
             int code;
             const char *msg = gzerror(g, &code);
-            hz_status_t s = bk_err(err, code == Z_ERRNO ? HZ_E_IO : HZ_E_FORMAT, "%s: corrupt gzip stream: %s",
-                                   path, code == Z_ERRNO ? strerror(errno) : msg);
+            hz_status_t s = hz_bake_err(err, code == Z_ERRNO ? HZ_E_IO : HZ_E_FORMAT, "%s: corrupt gzip stream: %s",
+                                        path, code == Z_ERRNO ? strerror(errno) : msg);
             gzclose(g);
-            bk_vec_free(&buf);
+            hz_bake_vec_free(&buf);
             return s;
         }
         buf.len = at + (size_t)r;
@@ -185,28 +185,28 @@ hz_status_t bk_read_gzip(const char *path, uint8_t **data, size_t *size, hz_erro
     int code;
     const char *msg = gzerror(g, &code);
     if (code != Z_OK && code != Z_STREAM_END) {
-        hz_status_t s = bk_err(err, HZ_E_FORMAT, "%s: truncated or corrupt gzip stream: %s", path, msg);
+        hz_status_t s = hz_bake_err(err, HZ_E_FORMAT, "%s: truncated or corrupt gzip stream: %s", path, msg);
         gzclose(g);
-        bk_vec_free(&buf);
+        hz_bake_vec_free(&buf);
         return s;
     }
     if (gzclose(g) != Z_OK) {
-        bk_vec_free(&buf);
-        return bk_err(err, HZ_E_FORMAT, "%s: truncated or corrupt gzip stream", path);
+        hz_bake_vec_free(&buf);
+        return hz_bake_err(err, HZ_E_FORMAT, "%s: truncated or corrupt gzip stream", path);
     }
-    *(uint8_t *)bk_vec_push(&buf, 1) = 0; /* NUL for text formats, not counted */
+    *(uint8_t *)hz_bake_vec_push(&buf, 1) = 0; /* NUL for text formats, not counted */
     *data = buf.data;
     *size = buf.len - 1;
     return HZ_OK;
 }
 
-int bk_file_exists(const char *path)
+int hz_bake_file_exists(const char *path)
 {
     struct stat st;
     return stat(path, &st) == 0 && S_ISREG(st.st_mode);
 }
 
-int bk_ends_with(const char *s, const char *suffix)
+int hz_bake_ends_with(const char *s, const char *suffix)
 {
     size_t n = strlen(s), m = strlen(suffix);
     if (m > n)
@@ -217,7 +217,7 @@ int bk_ends_with(const char *s, const char *suffix)
     return 1;
 }
 
-void bk_dirname(const char *path, char *out, size_t size)
+void hz_bake_dirname(const char *path, char *out, size_t size)
 {
     const char *slash = strrchr(path, '/');
     if (!slash) {
@@ -230,7 +230,7 @@ void bk_dirname(const char *path, char *out, size_t size)
     snprintf(out, size, "%.*s", (int)n, path);
 }
 
-const char *bk_basename(const char *path)
+const char *hz_bake_basename(const char *path)
 {
     const char *slash = strrchr(path, '/');
     return slash ? slash + 1 : path;
@@ -244,7 +244,7 @@ static int ieq(const char *a, const char *b)
     return *a == *b;
 }
 
-int bk_resolve(const char *dir, const char *ref, char *out, size_t size)
+int hz_bake_resolve(const char *dir, const char *ref, char *out, size_t size)
 {
     char rel[4096];
     snprintf(rel, sizeof rel, "%s", ref);
@@ -264,12 +264,12 @@ int bk_resolve(const char *dir, const char *ref, char *out, size_t size)
         snprintf(out, size, "%s", r);
     else if ((size_t)snprintf(out, size, "%s/%s", dir, r) >= size)
         return 0;
-    if (bk_file_exists(out))
+    if (hz_bake_file_exists(out))
         return 1;
     /* Case-insensitive match of the last component in its directory. */
     char parent[4096];
-    bk_dirname(out, parent, sizeof parent);
-    const char *base = bk_basename(out);
+    hz_bake_dirname(out, parent, sizeof parent);
+    const char *base = hz_bake_basename(out);
     char want[1024];
     snprintf(want, sizeof want, "%s", base);
     DIR *d = opendir(parent);
@@ -279,7 +279,7 @@ int bk_resolve(const char *dir, const char *ref, char *out, size_t size)
     int found = 0;
     while ((e = readdir(d)) != NULL) {
         if (ieq(e->d_name, want)) {
-            if ((size_t)snprintf(out, size, "%s/%s", parent, e->d_name) < size && bk_file_exists(out))
+            if ((size_t)snprintf(out, size, "%s/%s", parent, e->d_name) < size && hz_bake_file_exists(out))
                 found = 1;
             break;
         }
@@ -288,7 +288,7 @@ int bk_resolve(const char *dir, const char *ref, char *out, size_t size)
     return found;
 }
 
-void bk_strcpy(char *dst, size_t size, const char *src)
+void hz_bake_strcpy(char *dst, size_t size, const char *src)
 {
     if (!size)
         return;
@@ -299,7 +299,7 @@ void bk_strcpy(char *dst, size_t size, const char *src)
     dst[n] = 0;
 }
 
-void bk_set_name(uint8_t dst[HZ_HZB_NAME_BYTES], const char *name)
+void hz_bake_set_name(uint8_t dst[HZ_HZB_NAME_BYTES], const char *name)
 {
     memset(dst, 0, HZ_HZB_NAME_BYTES);
     size_t n = strlen(name);

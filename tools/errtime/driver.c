@@ -56,6 +56,22 @@ static const char *or_empty(const char *s)
     return s ? s : "";
 }
 
+/* File-name-safe copy of s (letters, digits, '-', '_', '.'; a leading '.' becomes '_'). */
+static void safe_name(char *out, size_t size, const char *s)
+{
+    size_t n = 0;
+    for (; *s && n + 1 < size; s++) {
+        char c = *s;
+        bool ok = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '-' ||
+                  c == '_' || c == '.';
+        out[n] = ok && !(n == 0 && c == '.') ? c : '_';
+        n++;
+    }
+    if (n == 0 && size > 1)
+        out[n++] = '_';
+    out[n] = '\0';
+}
+
 hz_status_t hz_et_cache_entry(const hz_et_sequence_t *seq, const hz_et_method_t *reference, const char *cache_dir,
                               char *dir, size_t dir_size, char *key, size_t key_size, hz_error_t *err)
 {
@@ -69,16 +85,7 @@ hz_status_t hz_et_cache_entry(const hz_et_sequence_t *seq, const hz_et_method_t 
     if (n < 0 || (size_t)n >= key_size)
         return hz_error_set(err, HZ_E_RANGE, "errtime: the cache key is longer than %zu bytes", key_size);
     char name[65];
-    size_t len = 0;
-    for (const char *p = or_empty(seq->scene); *p && len < sizeof name - 1; p++) {
-        char c = *p;
-        bool ok = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '-' ||
-                  c == '_' || c == '.';
-        name[len++] = ok ? c : '_';
-    }
-    name[len] = '\0';
-    if (len == 0 || name[0] == '.')
-        name[0] = '_', name[len ? len : 1] = '\0';
+    safe_name(name, sizeof name, or_empty(seq->scene));
     n = snprintf(dir, dir_size, "%s/%s-%016llx", cache_dir, name, (unsigned long long)fnv1a64(key));
     if (n < 0 || (size_t)n >= dir_size)
         return hz_error_set(err, HZ_E_RANGE, "%s: cache path too long", cache_dir);
@@ -268,8 +275,36 @@ static hz_status_t load_reference(const char *dir, uint32_t i, const hz_et_seque
     return s;
 }
 
+/* Opens the Y4M stream of one method (or the reference when m is NULL); no-op without video_dir. */
+static hz_status_t open_video(hz_y4m_t *v, bool *open, const hz_et_sequence_t *seq, const hz_et_method_t *m,
+                              const hz_et_config_t *cfg, hz_error_t *err)
+{
+    *open = false;
+    if (!cfg->video_dir)
+        return HZ_OK;
+    char scene[72], what[128], path[FILE_BYTES];
+    safe_name(scene, sizeof scene, or_empty(seq->scene));
+    if (m) {
+        char raw[128];
+        snprintf(raw, sizeof raw, "%s-%s%g", m->name, m->knob, m->value);
+        safe_name(what, sizeof what, raw);
+    } else {
+        snprintf(what, sizeof what, "reference");
+    }
+    hz_status_t s = hz_mkdirs(cfg->video_dir, err);
+    if (s != HZ_OK)
+        return s;
+    if (snprintf(path, sizeof path, "%s/%s-%s.y4m", cfg->video_dir, scene, what) >= (int)sizeof path)
+        return hz_error_set(err, HZ_E_RANGE, "%s: video path too long", cfg->video_dir);
+    hz_y4m_opts_t o = { HZ_Y4M_C444, HZ_Y4M_BT709, true, seq->refresh_hz, 1 };
+    s = hz_y4m_open(v, path, seq->width, seq->height, &o, err);
+    *open = s == HZ_OK;
+    return s;
+}
+
 static hz_status_t run_method(const hz_et_sequence_t *seq, const hz_et_method_t *m, const char *dir,
-                              const hz_et_config_t *cfg, hz_progress_t *prog, hz_et_row_t *row, hz_error_t *err)
+                              const hz_et_config_t *cfg, bool ref_video, hz_progress_t *prog, hz_et_row_t *row,
+                              hz_error_t *err)
 {
     hz_arena_t *a = cfg->arena;
     const uint32_t k = hz_et_window(seq->refresh_hz), measured = seq->frames - seq->warmup;
@@ -285,9 +320,22 @@ static hz_status_t run_method(const hz_et_sequence_t *seq, const hz_et_method_t 
         s = hz_image_alloc(&mean_r, a, seq->width, seq->height, err);
     if (s != HZ_OK)
         return method_error(err, m, "frames", -1);
+    hz_y4m_t video, ref_stream;
+    bool video_open = false, ref_open = false;
+    if ((s = open_video(&video, &video_open, seq, m, cfg, err)) != HZ_OK ||
+        (ref_video && (s = open_video(&ref_stream, &ref_open, seq, NULL, cfg, err)) != HZ_OK)) {
+        if (video_open)
+            hz_y4m_abort(&video);
+        return s;
+    }
     void *state = NULL;
-    if (m->begin && (s = m->begin(m, seq, a, &state, err)) != HZ_OK)
+    if (m->begin && (s = m->begin(m, seq, a, &state, err)) != HZ_OK) {
+        if (video_open)
+            hz_y4m_abort(&video);
+        if (ref_open)
+            hz_y4m_abort(&ref_stream);
         return method_error(err, m, "begin", -1);
+    }
     acc_t acc;
     memset(&acc, 0, sizeof acc);
     const hz_image_t *dp[16], *rp[16];
@@ -310,6 +358,9 @@ static hz_status_t run_method(const hz_et_sequence_t *seq, const hz_et_method_t 
         if ((s = load_reference(dir, i, seq, a, r, err)) != HZ_OK)
             break;
         hz_image_quantize_srgb8(r);
+        if ((video_open && (s = hz_y4m_write(&video, d, err)) != HZ_OK) ||
+            (ref_open && (s = hz_y4m_write(&ref_stream, r, err)) != HZ_OK))
+            break;
         if (i >= seq->warmup) {
             ns[i - seq->warmup] = t1 - t0;
             acc.rays += rays;
@@ -344,6 +395,18 @@ static hz_status_t run_method(const hz_et_sequence_t *seq, const hz_et_method_t 
     }
     if (m->end)
         m->end(state);
+    if (video_open) {
+        if (s == HZ_OK)
+            s = hz_y4m_close(&video, err);
+        else
+            hz_y4m_abort(&video);
+    }
+    if (ref_open) {
+        if (s == HZ_OK)
+            s = hz_y4m_close(&ref_stream, err);
+        else
+            hz_y4m_abort(&ref_stream);
+    }
     if (s != HZ_OK)
         return s;
 
@@ -404,7 +467,7 @@ hz_status_t hz_et_run(const hz_et_sequence_t *seq, const hz_et_method_t *referen
         snprintf(label, sizeof label, "%s %s=%g", methods[j].name, methods[j].knob, methods[j].value);
         hz_progress_label(&prog, label);
         hz_arena_mark_t mark = hz_arena_mark(cfg->arena);
-        s = run_method(seq, &methods[j], dir, cfg, &prog, &rows[j], err);
+        s = run_method(seq, &methods[j], dir, cfg, j == 0, &prog, &rows[j], err);
         hz_arena_reset(cfg->arena, mark);
         if (s != HZ_OK)
             break;

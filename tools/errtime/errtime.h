@@ -31,6 +31,9 @@
  *    against the mean of the k reference frames at the same instants (averaged in linear light).
  *    A row reports PSNR from the mean MSE over frames (so one identical frame does not make it infinite), the
  *    mean SSIM and mean FLIP over frames, and the median and p99 (nearest rank) of the render times in ms.
+ *  - Videos (video_dir set): <video_dir>/<scene>-<method>-<knob><value>.y4m and <scene>-reference.y4m, the
+ *    quantised frames as displayed (warm-up included), 8-bit 4:4:4, BT.709 full range, at refresh_hz (play or
+ *    convert with ffmpeg -colorspace bt709 -i file.y4m ...). Written outside the timed call.
  *  - Requirements: frames >= warmup + k (at least one full display-integration window); the arena must hold
  *    the method's state plus about 2k + 3 frames and the metric scratch (hz_et_arena_bytes gives the driver's
  *    part). Errors name the method and frame.
@@ -78,6 +81,7 @@ typedef struct hz_et_config {
     hz_arena_t *arena;     /* methods' state, frames and metric scratch; back where it was after each method */
     FILE *progress;        /* progress bar stream (stderr) or NULL */
     bool progress_tty;     /* draw it (hz_cli_stderr_is_tty()) */
+    const char *video_dir; /* if set: every method's displayed frames, and the reference's, as Y4M videos */
 } hz_et_config_t;
 
 /* Frames the eye integrates at this refresh rate: max(1, round(refresh / 60)). */

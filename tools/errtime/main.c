@@ -27,6 +27,7 @@ static void usage(FILE *f)
             "  --ppd X            FLIP observer, pixels per degree (default 67.02)\n"
             "  --cache DIR        reference cache (default build/errtime-cache)\n"
             "  --out DIR          report directory (default build/errtime): errtime.csv, errtime.md, <scene>.svg\n"
+            "  --video DIR        also write each method's displayed frames (and the reference) as Y4M videos\n"
             "  --arena-mib N      working memory (default 1024; touched only as needed)\n"
             "  --list             scenes and their methods\n"
             "\n"
@@ -67,6 +68,7 @@ int main(int argc, char **argv)
 {
     hz_cli_prog = "hzerrtime";
     const char *scene_name = "synthetic", *methods = NULL, *cache = "build/errtime-cache", *out = "build/errtime";
+    const char *video = NULL;
     int w = 96, h = 64;
     long frames = 48, warmup = 8, refresh = HZ_DISPLAY_HZ, arena_mib = 1024;
     float ppd = HZ_FLIP_DEFAULT_PPD;
@@ -113,6 +115,8 @@ int main(int argc, char **argv)
             cache = v;
         } else if (!strcmp(a, "--out")) {
             out = v;
+        } else if (!strcmp(a, "--video")) {
+            video = v;
         } else {
             hz_cli_error("unknown option '%s' (try --help)", a);
             return HZ_EXIT_USAGE;
@@ -153,7 +157,7 @@ int main(int argc, char **argv)
     hz_arena_init(&arena, "errtime", mem, bytes);
     if (scene->open(&seq, &arena, &err) != HZ_OK)
         return hz_cli_report(&err);
-    hz_et_config_t cfg = { cache, ppd, &arena, stderr, hz_cli_stderr_is_tty() };
+    hz_et_config_t cfg = { cache, ppd, &arena, stderr, hz_cli_stderr_is_tty(), video };
     if (hz_et_run(&seq, scene->reference, chosen, count, &cfg, rows, &err) != HZ_OK)
         return hz_cli_report(&err);
 
