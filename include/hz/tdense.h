@@ -74,7 +74,7 @@ typedef struct hz_tdense {
     hz_q16_t *tile_motion; /* tiles x 2: the motion ĝ reads, filled in the last frame of a cycle */
     int8_t *sub_jitter;    /* tiles: MSAA index the sample was traced at, -1 for the centre, -2 none traced */
     float *mv;             /* pixels x 2: motion of each pixel's newest sample */
-    float *window;         /* pixels x 4 x 3: the moving window, one slot per MSAA position */
+    float *window;         /* pixels x 4 x 4: the moving window, one (r, g, b, -) slot per MSAA position */
     uint8_t *flags;        /* pixels: HZ_TDENSE_* bits */
     hz_image_t frames[2];  /* displayed frames, ping-pong: cur = frames[frame & 1] */
 } hz_tdense_t;

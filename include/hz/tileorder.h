@@ -68,8 +68,14 @@ typedef enum hz_tilecycle {
     HZ_TILECYCLE_BOWTIE = 2
 } hz_tilecycle_t;
 
+/* The orderings packed two bits per subframe: pixel of subframe s = (hz_tileorder_packed[order] >> 2s) & 3. */
+extern const uint8_t hz_tileorder_packed[HZ_TILEORDER_COUNT];
+
 /* Pixel (0..3) that ordering `order` (< 24) traces in subframe `subframe` (taken mod 4). */
-unsigned hz_tileorder_pixel(unsigned order, unsigned subframe);
+HZ_INLINE unsigned hz_tileorder_pixel(unsigned order, unsigned subframe)
+{
+    return (hz_tileorder_packed[order % HZ_TILEORDER_COUNT] >> (2u * (subframe & 3u))) & 3u;
+}
 /* Subframe (0..3) in which ordering `order` traces pixel `pixel` (< 4): the inverse of hz_tileorder_pixel. */
 unsigned hz_tileorder_subframe(unsigned order, unsigned pixel);
 /* Index of the ordering that visits seq[0..3]; -1 if seq is not a permutation of {0,1,2,3}. */

@@ -9,18 +9,13 @@ const int8_t hz_msaa4_jitter16[4][2] = { { -2, -6 }, { 6, -2 }, { -6, 2 }, { 2, 
 /* The 24 permutations of {0,1,2,3} in lexicographic order, packed two bits per subframe (subframe s in bits
  * 2s..2s+1). Built by hand in order; test_tileorder checks the table against its own enumeration. */
 #define PACK(a, b, c, d) (uint8_t)((a) | ((b) << 2) | ((c) << 4) | ((d) << 6))
-static const uint8_t order_table[HZ_TILEORDER_COUNT] = {
+const uint8_t hz_tileorder_packed[HZ_TILEORDER_COUNT] = {
     PACK(0, 1, 2, 3), PACK(0, 1, 3, 2), PACK(0, 2, 1, 3), PACK(0, 2, 3, 1), PACK(0, 3, 1, 2), PACK(0, 3, 2, 1),
     PACK(1, 0, 2, 3), PACK(1, 0, 3, 2), PACK(1, 2, 0, 3), PACK(1, 2, 3, 0), PACK(1, 3, 0, 2), PACK(1, 3, 2, 0),
     PACK(2, 0, 1, 3), PACK(2, 0, 3, 1), PACK(2, 1, 0, 3), PACK(2, 1, 3, 0), PACK(2, 3, 0, 1), PACK(2, 3, 1, 0),
     PACK(3, 0, 1, 2), PACK(3, 0, 2, 1), PACK(3, 1, 0, 2), PACK(3, 1, 2, 0), PACK(3, 2, 0, 1), PACK(3, 2, 1, 0),
 };
 #undef PACK
-
-unsigned hz_tileorder_pixel(unsigned order, unsigned subframe)
-{
-    return (order_table[order % HZ_TILEORDER_COUNT] >> (2u * (subframe & 3u))) & 3u;
-}
 
 unsigned hz_tileorder_subframe(unsigned order, unsigned pixel)
 {
@@ -40,7 +35,7 @@ int hz_tileorder_index(const uint8_t seq[4])
         packed |= (unsigned)seq[s] << (2u * s);
     }
     for (unsigned o = 0; o < HZ_TILEORDER_COUNT; o++)
-        if (order_table[o] == packed)
+        if (hz_tileorder_packed[o] == packed)
             return (int)o;
     return -1;
 }

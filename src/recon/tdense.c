@@ -5,6 +5,9 @@
 #include "hz/vmath.h"
 
 #define ALIGN 64u
+/* Window floats per pixel: 4 slots of (r, g, b, unused), so a pixel's window is one aligned 64-byte cache line
+ * (the window is the largest array, and the one pixel per tile that gets a sample touches one line). */
+#define WIN 16u
 
 hz_tdense_config_t hz_tdense_config_default(uint32_t width, uint32_t height)
 {
@@ -18,7 +21,8 @@ hz_tdense_config_t hz_tdense_config_default(uint32_t width, uint32_t height)
     return c;
 }
 
-/* The arrays hz_tdense_init takes, in order; bytes are rounded up to ALIGN each (the arena pads to it). */
+/* The arrays hz_tdense_init takes, in order, each rounded up to ALIGN: once the first is aligned, none of the
+ * others needs padding, so an arena with this many bytes available at ALIGN holds them all. */
 static size_t plan_bytes(uint32_t width, uint32_t height)
 {
     size_t px = (size_t)width * height;
@@ -30,14 +34,14 @@ static size_t plan_bytes(uint32_t width, uint32_t height)
         tiles * 2 * sizeof(hz_q16_t),   /* tile_motion */
         tiles,                          /* sub_jitter */
         px * 2 * sizeof(float),         /* mv */
-        px * 12 * sizeof(float),        /* window */
+        px * WIN * sizeof(float),       /* window */
         px,                             /* flags */
         px * 3 * sizeof(float),         /* frames[0] */
         px * 3 * sizeof(float),         /* frames[1] */
     };
     size_t total = 0;
     for (size_t i = 0; i < HZ_ARRAY_LEN(sizes); i++)
-        total += hz_align_up(sizes[i], ALIGN) + ALIGN; /* worst-case padding before each array */
+        total += hz_align_up(sizes[i], ALIGN);
     return total;
 }
 
@@ -46,7 +50,7 @@ size_t hz_tdense_bytes(uint32_t width, uint32_t height)
     size_t dummy;
     if (hz_image_check_size(width, height, &dummy, NULL) != HZ_OK)
         return 0;
-    return plan_bytes(width, height);
+    return plan_bytes(width, height) + ALIGN - 1; /* plus the worst padding before the first array */
 }
 
 hz_status_t hz_tdense_init(hz_tdense_t *td, const hz_tdense_config_t *cfg, hz_arena_t *arena, hz_error_t *err)
@@ -75,7 +79,7 @@ hz_status_t hz_tdense_init(hz_tdense_t *td, const hz_tdense_config_t *cfg, hz_ar
     td->tile_motion = hz_arena_alloc_array(arena, tiles * 2, sizeof(hz_q16_t), ALIGN);
     td->sub_jitter = hz_arena_alloc(arena, tiles, ALIGN);
     td->mv = hz_arena_alloc_array(arena, px * 2, sizeof(float), ALIGN);
-    td->window = hz_arena_alloc_array(arena, px * 12, sizeof(float), ALIGN);
+    td->window = hz_arena_alloc_array(arena, px * WIN, sizeof(float), ALIGN);
     td->flags = hz_arena_alloc(arena, px, ALIGN);
     float *f0 = hz_arena_alloc_array(arena, px * 3, sizeof(float), ALIGN);
     float *f1 = hz_arena_alloc_array(arena, px * 3, sizeof(float), ALIGN);
@@ -108,7 +112,7 @@ void hz_tdense_reset(hz_tdense_t *td)
     hz_memset(td->tile_motion, 0, tiles * 2 * sizeof(hz_q16_t));
     hz_memset(td->sub_jitter, -1, tiles);
     hz_memset(td->mv, 0, px * 2 * sizeof(float));
-    hz_memset(td->window, 0, px * 12 * sizeof(float));
+    hz_memset(td->window, 0, px * WIN * sizeof(float));
     hz_memset(td->flags, 0, px);
     hz_memset(td->frames[0].rgb, 0, px * 3 * sizeof(float));
     hz_memset(td->frames[1].rgb, 0, px * 3 * sizeof(float));
@@ -181,35 +185,44 @@ void hz_tdense_put(hz_tdense_t *td, uint32_t tx, uint32_t ty, const float rgb[3]
 }
 
 /* Whether pixel (x, y) is the one its tile traced this frame (then *tile is its tile index). */
-static bool is_new(const hz_tdense_t *td, uint32_t x, uint32_t y, unsigned subframe, size_t *tile)
+HZ_INLINE bool is_new(const hz_tdense_t *td, uint32_t x, uint32_t y, unsigned subframe, size_t *tile)
 {
     size_t t = (size_t)(y >> 1) * td->tiles_x + (x >> 1);
     *tile = t;
     return hz_tileorder_pixel(td->orders[t], subframe) == (((y & 1u) << 1) | (x & 1u));
 }
 
-/* Longest motion vector among the pixels [x0, x1] x [y0, y1] (clamped to the image); ties keep the first in
- * row-major order, so the result does not depend on how work is split. */
-static void longest_motion(const hz_tdense_t *td, int x0, int y0, int x1, int y1, float m[2])
+/* A motion vector and its squared length. */
+typedef struct motion {
+    float x, y, l2;
+} motion_t;
+
+/* The longer of a and b; a wins ties, so the scan order decides (and no split of the work can change it). */
+HZ_INLINE motion_t longer(motion_t a, motion_t b)
+{
+    return b.l2 > a.l2 ? b : a;
+}
+
+HZ_INLINE motion_t motion_at(const float *mv, size_t p)
+{
+    motion_t m = { mv[2 * p], mv[2 * p + 1], 0.0f };
+    m.l2 = m.x * m.x + m.y * m.y;
+    return m;
+}
+
+/* Longest motion vector among the pixels [x0, x1] x [y0, y1] (clamped to the image), scanned row by row. */
+static motion_t longest_in(const hz_tdense_t *td, int x0, int y0, int x1, int y1)
 {
     int w = (int)td->cfg.width, h = (int)td->cfg.height;
     x0 = x0 < 0 ? 0 : x0;
     y0 = y0 < 0 ? 0 : y0;
     x1 = x1 >= w ? w - 1 : x1;
     y1 = y1 >= h ? h - 1 : y1;
-    float best = 0.0f;
-    m[0] = m[1] = 0.0f;
-    for (int y = y0; y <= y1; y++) {
-        const float *row = td->mv + 2 * (size_t)y * td->cfg.width;
-        for (int x = x0; x <= x1; x++) {
-            float mx = row[2 * x], my = row[2 * x + 1], l2 = mx * mx + my * my;
-            if (l2 > best) {
-                best = l2;
-                m[0] = mx;
-                m[1] = my;
-            }
-        }
-    }
+    motion_t best = { 0.0f, 0.0f, 0.0f };
+    for (int y = y0; y <= y1; y++)
+        for (int x = x0; x <= x1; x++)
+            best = longer(best, motion_at(td->mv, (size_t)y * (size_t)w + (size_t)x));
+    return best;
 }
 
 /* Bilinear fetch of the previous frame at continuous pixel coordinates (pixel centres on integers), clamped
@@ -239,13 +252,12 @@ static int newest_box(const hz_tdense_t *td, uint32_t x, uint32_t y, unsigned su
 {
     float sum[3] = { 0, 0, 0 }, sq[3] = { 0, 0, 0 };
     int n = 0;
-    for (int dy = -1; dy <= 1; dy++) {
-        for (int dx = -1; dx <= 1; dx++) {
-            int qx = (int)x + dx, qy = (int)y + dy;
-            if ((dx == 0 && dy == 0) || qx < 0 || qy < 0 || qx >= (int)td->cfg.width || qy >= (int)td->cfg.height)
-                continue;
+    uint32_t xa = x ? x - 1 : 0, xb = x + 1 < td->cfg.width ? x + 1 : x;
+    uint32_t ya = y ? y - 1 : 0, yb = y + 1 < td->cfg.height ? y + 1 : y;
+    for (uint32_t qy = ya; qy <= yb; qy++) {
+        for (uint32_t qx = xa; qx <= xb; qx++) {
             size_t t;
-            if (!is_new(td, (uint32_t)qx, (uint32_t)qy, subframe, &t))
+            if ((qx == x && qy == y) || !is_new(td, qx, qy, subframe, &t))
                 continue;
             const float *c = td->sub_rgb + 3 * t;
             for (int k = 0; k < 3; k++) {
@@ -255,12 +267,8 @@ static int newest_box(const hz_tdense_t *td, uint32_t x, uint32_t y, unsigned su
             n++;
         }
     }
+    float inv = n ? 1.0f / (float)n : 0.0f;
     for (int k = 0; k < 3; k++) {
-        if (n == 0) {
-            mean[k] = half[k] = 0.0f;
-            continue;
-        }
-        float inv = 1.0f / (float)n;
         mean[k] = sum[k] * inv;
         float var = sq[k] * inv - mean[k] * mean[k];
         half[k] = td->cfg.gamma * hz_sqrtf(var > 0.0f ? var : 0.0f);
@@ -277,70 +285,61 @@ static void window_average(const float *win, unsigned mask, float out[3])
         if (!(mask & (1u << j)))
             continue;
         for (int k = 0; k < 3; k++)
-            s[k] += win[3 * j + k];
+            s[k] += win[4 * j + k];
         n++;
     }
     for (int k = 0; k < 3; k++)
         out[k] = n == 4 ? s[k] * 0.25f : s[k] / (float)n;
 }
 
-static void resolve_pixel(hz_tdense_t *td, uint32_t x, uint32_t y, unsigned subframe, const hz_image_t *prev,
-                          float *out)
+HZ_INLINE void copy3(float *dst, const float *src)
+{
+    dst[0] = src[0];
+    dst[1] = src[1];
+    dst[2] = src[2];
+}
+
+/* One pixel of Fig. 3; m is the longest motion in its 3x3 neighbourhood. */
+static void resolve_pixel(hz_tdense_t *td, uint32_t x, uint32_t y, unsigned subframe, motion_t m,
+                          const hz_image_t *prev, float *out)
 {
     size_t p = (size_t)y * td->cfg.width + x, t;
     bool fresh = is_new(td, x, y, subframe, &t);
-    float m[2];
-    longest_motion(td, (int)x - 1, (int)y - 1, (int)x + 1, (int)y + 1, m);
-    bool dynamic = td->camera_moved || m[0] != 0.0f || m[1] != 0.0f;
     unsigned f = td->flags[p];
     const float *sample = td->sub_rgb + 3 * t;
     float mean[3], half[3];
-    if (!dynamic) {
+    if (!td->camera_moved && m.l2 == 0.0f) {
+        /* Static. An old pixel's window has not changed since the previous frame, where the pixel was static
+         * too (turning static empties nothing, and a dynamic pixel's window is empty): its output then was the
+         * same average, or the previous output it kept, so it is copied. */
         f &= ~HZ_TDENSE_DYNAMIC;
         if (fresh) {
             int j = td->sub_jitter[t];
             if (j >= 0) {
-                float *slot = td->window + 12 * p + 3 * (unsigned)j;
-                slot[0] = sample[0];
-                slot[1] = sample[1];
-                slot[2] = sample[2];
+                copy3(td->window + WIN * p + 4 * (unsigned)j, sample);
                 f |= 1u << j;
+                window_average(td->window + WIN * p, f & HZ_TDENSE_SAMPLES, out);
             } else {
                 f &= ~HZ_TDENSE_SAMPLES; /* a centre sample starts no window: wait for a jittered one */
+                copy3(out, sample);
             }
-        }
-        if (f & HZ_TDENSE_SAMPLES) {
-            window_average(td->window + 12 * p, f & HZ_TDENSE_SAMPLES, out);
-        } else if (fresh) {
-            out[0] = sample[0];
-            out[1] = sample[1];
-            out[2] = sample[2];
         } else if (f & HZ_TDENSE_SEEN) {
-            const float *c = hz_image_at(prev, x, y); /* m = 0: reprojection is the pixel itself */
-            out[0] = c[0];
-            out[1] = c[1];
-            out[2] = c[2];
+            copy3(out, hz_image_at(prev, x, y));
         } else {
             newest_box(td, x, y, subframe, mean, half);
-            out[0] = mean[0];
-            out[1] = mean[1];
-            out[2] = mean[2];
+            copy3(out, mean);
         }
     } else {
         f = (f & ~HZ_TDENSE_SAMPLES) | HZ_TDENSE_DYNAMIC;
         if (fresh) {
-            out[0] = sample[0];
-            out[1] = sample[1];
-            out[2] = sample[2];
+            copy3(out, sample);
         } else {
             int n = newest_box(td, x, y, subframe, mean, half);
             if (!(f & HZ_TDENSE_SEEN)) {
-                out[0] = mean[0];
-                out[1] = mean[1];
-                out[2] = mean[2];
+                copy3(out, mean);
             } else {
                 float c[3];
-                fetch_bilinear(prev, (float)x - m[0], (float)y - m[1], c);
+                fetch_bilinear(prev, (float)x - m.x, (float)y - m.y, c);
                 for (int k = 0; k < 3; k++)
                     out[k] = n ? hz_clampf(c[k], mean[k] - half[k], mean[k] + half[k]) : c[k];
             }
@@ -349,27 +348,45 @@ static void resolve_pixel(hz_tdense_t *td, uint32_t x, uint32_t y, unsigned subf
     td->flags[p] = (uint8_t)(f | HZ_TDENSE_SEEN);
 }
 
+/* Pixel row y: the 3x3 longest motion slides along the row as three column maxima. */
+static void resolve_row(hz_tdense_t *td, uint32_t y, unsigned subframe, const hz_image_t *prev, hz_image_t *cur)
+{
+    uint32_t w = td->cfg.width, h = td->cfg.height;
+    const float *r0 = td->mv + 2 * (size_t)(y ? y - 1 : 0) * w;
+    const float *r1 = td->mv + 2 * (size_t)y * w;
+    const float *r2 = td->mv + 2 * (size_t)(y + 1 < h ? y + 1 : y) * w;
+    motion_t col_prev, col_cur, col_next;
+    col_cur = longer(longer(motion_at(r0, 0), motion_at(r1, 0)), motion_at(r2, 0));
+    col_prev = col_cur;
+    for (uint32_t x = 0; x < w; x++) {
+        uint32_t xn = x + 1 < w ? x + 1 : x;
+        col_next = longer(longer(motion_at(r0, xn), motion_at(r1, xn)), motion_at(r2, xn));
+        motion_t m = longer(longer(col_prev, col_cur), col_next);
+        resolve_pixel(td, x, y, subframe, m, prev, hz_image_at(cur, x, y));
+        col_prev = col_cur;
+        col_cur = col_next;
+    }
+}
+
 void hz_tdense_resolve_rows(hz_tdense_t *td, uint32_t ty0, uint32_t ty1)
 {
     unsigned subframe = hz_tdense_subframe(td->frame);
     hz_image_t *cur = &td->frames[td->frame & 1u];
     const hz_image_t *prev = &td->frames[(td->frame + 1u) & 1u];
-    uint32_t w = td->cfg.width, h = td->cfg.height;
+    uint32_t h = td->cfg.height;
     if (ty1 > td->tiles_y)
         ty1 = td->tiles_y;
     for (uint32_t ty = ty0; ty < ty1; ty++) {
         for (uint32_t y = 2 * ty; y < 2 * ty + 2 && y < h; y++)
-            for (uint32_t x = 0; x < w; x++)
-                resolve_pixel(td, x, y, subframe, prev, hz_image_at(cur, x, y));
+            resolve_row(td, y, subframe, prev, cur);
         if (subframe == 3) {
             /* Last frame of the cycle: each tile's motion is the longest over the 3x3 neighbourhoods of its
              * pixels, i.e. the 4x4 block around it; ĝ picks the next cycle's ordering. */
             for (uint32_t tx = 0; tx < td->tiles_x; tx++) {
-                float m[2];
-                longest_motion(td, 2 * (int)tx - 1, 2 * (int)ty - 1, 2 * (int)tx + 2, 2 * (int)ty + 2, m);
+                motion_t m = longest_in(td, 2 * (int)tx - 1, 2 * (int)ty - 1, 2 * (int)tx + 2, 2 * (int)ty + 2);
                 size_t t = (size_t)ty * td->tiles_x + tx;
-                td->tile_motion[2 * t] = hz_q16_from_float(m[0]);
-                td->tile_motion[2 * t + 1] = hz_q16_from_float(m[1]);
+                td->tile_motion[2 * t] = hz_q16_from_float(m.x);
+                td->tile_motion[2 * t + 1] = hz_q16_from_float(m.y);
             }
             hz_tileorder_choose(td->tile_motion, td->tiles_x, ty, ty + 1, hz_tdense_cycle(td->frame) + 1u,
                                 td->cfg.seed, td->cfg.rule, td->next_orders);

@@ -470,6 +470,16 @@ static void test_init_errors(void **state)
     cfg.rule = HZ_GHAT_RULE_COUNT;
     assert_int_equal(hz_tdense_init(&td, &cfg, &arena, &err), HZ_E_INVALID_ARG);
     assert_int_equal(hz_tdense_bytes(0, 3), 0);
+    /* Exactly hz_tdense_bytes is enough, wherever the arena's buffer starts. */
+    static uint8_t exact[1u << 16];
+    for (size_t misalign = 0; misalign < 64; misalign += 7) {
+        size_t n = hz_tdense_bytes(13, 9);
+        assert_true(n + misalign <= sizeof exact);
+        assert_int_equal(hz_arena_init(&arena, "exact", exact + misalign, n), HZ_OK);
+        cfg = hz_tdense_config_default(13, 9);
+        if (hz_tdense_init(&td, &cfg, &arena, &err) != HZ_OK)
+            fail_msg("misalign %zu: %s", misalign, err.msg);
+    }
     assert_true(hz_tdense_bytes(4, 4) > 0 && hz_tdense_bytes(4, 4) <= sizeof small);
 }
 
