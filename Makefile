@@ -135,7 +135,7 @@ TIMING_TESTS := tstat vsync marker traceio
 TIMING_PORT_TESTS := frameloop
 # Ports of the timing path (port/linux): `timing` (frame loop, report, `hzrt latency`, simulated display,
 # VCD/CSV replay) goes on every board; `fbdev`, `v4l2` and `gpio` where the hardware has them.
-PORT_SRCS_timing := port/linux/timebase.c port/linux/vsrc_timeline.c port/linux/frameloop.c port/linux/report.c \
+PORT_SRCS_timing := port/linux/timebase.c port/linux/vsrc_timeline.c port/linux/frameloop.c port/linux/latency_report.c \
                     port/linux/latency.c port/linux/scenesrc.c port/linux/devices_absent.c port/linux/sysio.c
 PORT_SRCS_fbdev := port/linux/fbdev.c
 PORT_SRCS_v4l2 := port/linux/v4l2.c

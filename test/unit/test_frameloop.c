@@ -14,7 +14,7 @@
 
 #include "frameloop.h"
 #include "hz/hz.h"
-#include "report.h"
+#include "latency_report.h"
 
 static uint8_t arena_buf[48u << 20] HZ_ALIGNED(64);
 static hz_arena_t arena;
