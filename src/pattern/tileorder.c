@@ -156,6 +156,8 @@ hz_q16_t hz_tileorder_length_frac(hz_q16_t mx, hz_q16_t my)
     /* |m|^2 in Q32.32: each square is at most 2^62, so the sum fits in 64 bits; its integer square root is
      * |m| in Q16.16 rounded down (up to 2^31.5, so only the fraction is returned). */
     uint64_t ax = uabs32(mx), ay = uabs32(my);
+    if (ax == 0 || ay == 0) /* on an axis the length is exact without a root (and static tiles are common) */
+        return (hz_q16_t)((ax | ay) & (uint32_t)(HZ_Q16_ONE - 1));
     uint32_t len = hz_isqrt_u64(ax * ax + ay * ay);
     return (hz_q16_t)(len & (uint32_t)(HZ_Q16_ONE - 1));
 }
