@@ -12,15 +12,15 @@
  *    threads); then hz_tdense_end_frame. Puts for different tiles and resolves of disjoint row ranges may run
  *    concurrently; the output is bit-identical for every split and thread count (each pixel is computed from
  *    state no other work item writes in the same phase).
- *  - Motion vectors are in pixels per frame, screen space (x right, y down), current position minus previous
- *    position: the content at pixel p was at p - m in the previous frame. For a pixel whose primary ray hit a
- *    mirror the tracer also passes the motion of the reflected hit (Fig. 5); it is used unless
- *    reflect_mv is off.
+ *  - Motion vectors are in pixels per frame, screen space (x right, y down), previous position minus current
+ *    position (hz/render.h's G-buffer convention): the content at pixel p was at p + m in the previous frame.
+ *    For a pixel whose primary ray hit a mirror the tracer also passes the motion of the reflected hit
+ *    (Fig. 5); it is used unless reflect_mv is off.
  *  - Per pixel (Fig. 3): the pixel is dynamic when the longest motion vector m in its 3x3 neighbourhood is
  *    non-zero, or the camera moved this frame. Static pixels average their samples at the four 4x MSAA positions
  *    (a moving window: one slot per position, the newest sample at a position replaces the previous one),
  *    traced with jitter; dynamic pixels are traced at the pixel centre, a new one is stored directly, an old one
- *    is the previous displayed frame, bilinearly resampled at p - m and clamped to the box mean ± γσ (per
+ *    is the previous displayed frame, bilinearly resampled at p + m and clamped to the box mean ± γσ (per
  *    channel, RGB) of the pixel's immediate neighbours that belong to the newest subframe (Fig. 7 right). Turning
  *    dynamic empties the window. There is no exponential history anywhere. A pixel that has never been traced
  *    nor reprojected from a traced one (the first frames after init/reset) shows the box mean.

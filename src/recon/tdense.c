@@ -339,7 +339,7 @@ static void resolve_pixel(hz_tdense_t *td, uint32_t x, uint32_t y, unsigned subf
                 copy3(out, mean);
             } else {
                 float c[3];
-                fetch_bilinear(prev, (float)x - m.x, (float)y - m.y, c);
+                fetch_bilinear(prev, (float)x + m.x, (float)y + m.y, c);
                 for (int k = 0; k < 3; k++)
                     out[k] = n ? hz_clampf(c[k], mean[k] - half[k], mean[k] + half[k]) : c[k];
             }

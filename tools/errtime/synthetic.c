@@ -33,19 +33,20 @@ static void frame_setup_motion(synth_frame_t *f, float t, float t_prev, uint32_t
     f->disc_dx = f->disc_x - (f->cx + 0.3f * (float)width * sinf(3.14159265f * t_prev));
 }
 
-/* Screen motion (current minus previous position, pixels) of what is seen at (x, y): the disc's step inside
- * it, else the board's rotation: a board point now at p was at c + R(a - a_prev)(p - c). */
+/* Screen motion (previous minus current position, pixels, as the renderer's G-buffer has it) of what is seen
+ * at (x, y): the disc's step inside it, else the board's rotation: a board point now at p was at
+ * c + R(a - a_prev)(p - c). */
 static void motion(const synth_frame_t *f, float x, float y, float mv[2])
 {
     float dx = x - f->disc_x, dy = y - f->cy;
     if (dx * dx + dy * dy < f->disc_r * f->disc_r) {
-        mv[0] = f->disc_dx;
+        mv[0] = -f->disc_dx;
         mv[1] = 0.0f;
         return;
     }
     float px = x - f->cx, py = y - f->cy;
-    mv[0] = px - (px * f->dca - py * f->dsa);
-    mv[1] = py - (px * f->dsa + py * f->dca);
+    mv[0] = (px * f->dca - py * f->dsa) - px;
+    mv[1] = (px * f->dsa + py * f->dca) - py;
 }
 
 static void shade(const synth_frame_t *f, float x, float y, float rgb[3])
