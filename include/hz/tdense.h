@@ -61,6 +61,7 @@ hz_tdense_config_t hz_tdense_config_default(uint32_t width, uint32_t height);
 #define HZ_TDENSE_SAMPLES 0x0fu /* bit j: the window holds the sample at MSAA position j */
 #define HZ_TDENSE_DYNAMIC 0x10u /* the pixel was dynamic in the last resolved frame */
 #define HZ_TDENSE_SEEN 0x20u    /* the pixel has shown traced content at least once */
+#define HZ_TDENSE_KEPT 0x40u    /* the last frame kept the pixel's value (static, no new sample) */
 
 typedef struct hz_tdense {
     hz_tdense_config_t cfg;

@@ -324,7 +324,12 @@ static void resolve_pixel(hz_tdense_t *td, uint32_t x, uint32_t y, unsigned subf
                 copy3(out, sample);
             }
         } else if (f & HZ_TDENSE_SEEN) {
-            copy3(out, hz_image_at(prev, x, y));
+            /* The frame being written is the one before the previous (ping-pong): if the previous frame kept
+             * the value too, it is already there. */
+            if (!(f & HZ_TDENSE_KEPT))
+                copy3(out, hz_image_at(prev, x, y));
+            td->flags[p] = (uint8_t)(f | HZ_TDENSE_KEPT);
+            return;
         } else {
             newest_box(td, x, y, subframe, mean, half);
             copy3(out, mean);
@@ -345,7 +350,7 @@ static void resolve_pixel(hz_tdense_t *td, uint32_t x, uint32_t y, unsigned subf
             }
         }
     }
-    td->flags[p] = (uint8_t)(f | HZ_TDENSE_SEEN);
+    td->flags[p] = (uint8_t)((f | HZ_TDENSE_SEEN) & ~HZ_TDENSE_KEPT);
 }
 
 /* Pixel row y: the 3x3 longest motion slides along the row as three column maxima. */
