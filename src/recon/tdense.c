@@ -226,15 +226,13 @@ static motion_t longest_in(const hz_tdense_t *td, int x0, int y0, int x1, int y1
 }
 
 /* Bilinear fetch of the previous frame at continuous pixel coordinates (pixel centres on integers), clamped
- * to the image edge. */
+ * to the image edge (so the coordinates are non-negative and truncation is the floor). */
 static void fetch_bilinear(const hz_image_t *img, float sx, float sy, float out[3])
 {
-    float maxx = (float)img->width - 1.0f, maxy = (float)img->height - 1.0f;
-    sx = hz_clampf(sx, 0.0f, maxx);
-    sy = hz_clampf(sy, 0.0f, maxy);
-    float fx0 = hz_floorf(sx), fy0 = hz_floorf(sy);
-    float fx = sx - fx0, fy = sy - fy0;
-    uint32_t x0 = (uint32_t)fx0, y0 = (uint32_t)fy0;
+    sx = hz_clampf(sx, 0.0f, (float)img->width - 1.0f);
+    sy = hz_clampf(sy, 0.0f, (float)img->height - 1.0f);
+    uint32_t x0 = (uint32_t)sx, y0 = (uint32_t)sy;
+    float fx = sx - (float)x0, fy = sy - (float)y0;
     uint32_t x1 = x0 + 1 < img->width ? x0 + 1 : x0, y1 = y0 + 1 < img->height ? y0 + 1 : y0;
     const float *a = hz_image_at(img, x0, y0), *b = hz_image_at(img, x1, y0);
     const float *c = hz_image_at(img, x0, y1), *d = hz_image_at(img, x1, y1);
@@ -245,33 +243,42 @@ static void fetch_bilinear(const hz_image_t *img, float sx, float sy, float out[
     }
 }
 
-/* Mean and half-extent (γσ) of the immediate neighbours of (x, y) that belong to this frame's subframe.
- * Returns how many there were. */
+/* Mean and variance of the immediate neighbours of (x, y) that belong to this frame's subframe. Returns how
+ * many there were. The 3x3 window around a pixel meets its own tile and, towards the side its
+ * position in the tile faces, one tile across, one tile down or up, and one diagonally; each of those traced
+ * exactly one pixel, so at most four candidates need checking (in a fixed order: the sums do not depend on
+ * how the work is split). */
 static int newest_box(const hz_tdense_t *td, uint32_t x, uint32_t y, unsigned subframe, float mean[3],
-                      float half[3])
+                      float var[3])
 {
     float sum[3] = { 0, 0, 0 }, sq[3] = { 0, 0, 0 };
     int n = 0;
-    uint32_t xa = x ? x - 1 : 0, xb = x + 1 < td->cfg.width ? x + 1 : x;
-    uint32_t ya = y ? y - 1 : 0, yb = y + 1 < td->cfg.height ? y + 1 : y;
-    for (uint32_t qy = ya; qy <= yb; qy++) {
-        for (uint32_t qx = xa; qx <= xb; qx++) {
-            size_t t;
-            if ((qx == x && qy == y) || !is_new(td, qx, qy, subframe, &t))
-                continue;
-            const float *c = td->sub_rgb + 3 * t;
-            for (int k = 0; k < 3; k++) {
-                sum[k] += c[k];
-                sq[k] += c[k] * c[k];
-            }
-            n++;
+    int tx = (int)(x >> 1), ty = (int)(y >> 1);
+    int sx = (x & 1u) ? 1 : -1, sy = (y & 1u) ? 1 : -1;
+    const int cand[4][2] = { { tx, ty }, { tx + sx, ty }, { tx, ty + sy }, { tx + sx, ty + sy } };
+    for (int i = 0; i < 4; i++) {
+        int cx = cand[i][0], cy = cand[i][1];
+        if (cx < 0 || cy < 0 || cx >= (int)td->tiles_x || cy >= (int)td->tiles_y)
+            continue;
+        size_t t = (size_t)cy * td->tiles_x + (size_t)cx;
+        unsigned pix = hz_tileorder_pixel(td->orders[t], subframe);
+        int nx = 2 * cx + (int)(pix & 1u), ny = 2 * cy + (int)(pix >> 1);
+        int dx = nx - (int)x, dy = ny - (int)y;
+        if ((dx == 0 && dy == 0) || dx < -1 || dx > 1 || dy < -1 || dy > 1 || nx >= (int)td->cfg.width ||
+            ny >= (int)td->cfg.height)
+            continue;
+        const float *c = td->sub_rgb + 3 * t;
+        for (int k = 0; k < 3; k++) {
+            sum[k] += c[k];
+            sq[k] += c[k] * c[k];
         }
+        n++;
     }
     float inv = n ? 1.0f / (float)n : 0.0f;
     for (int k = 0; k < 3; k++) {
         mean[k] = sum[k] * inv;
-        float var = sq[k] * inv - mean[k] * mean[k];
-        half[k] = td->cfg.gamma * hz_sqrtf(var > 0.0f ? var : 0.0f);
+        float v = sq[k] * inv - mean[k] * mean[k];
+        var[k] = v > 0.0f ? v : 0.0f;
     }
     return n;
 }
@@ -307,7 +314,7 @@ static void resolve_pixel(hz_tdense_t *td, uint32_t x, uint32_t y, unsigned subf
     bool fresh = is_new(td, x, y, subframe, &t);
     unsigned f = td->flags[p];
     const float *sample = td->sub_rgb + 3 * t;
-    float mean[3], half[3];
+    float mean[3], var[3];
     if (!td->camera_moved && m.l2 == 0.0f) {
         /* Static. An old pixel's window has not changed since the previous frame, where the pixel was static
          * too (turning static empties nothing, and a dynamic pixel's window is empty): its output then was the
@@ -331,7 +338,7 @@ static void resolve_pixel(hz_tdense_t *td, uint32_t x, uint32_t y, unsigned subf
             td->flags[p] = (uint8_t)(f | HZ_TDENSE_KEPT);
             return;
         } else {
-            newest_box(td, x, y, subframe, mean, half);
+            newest_box(td, x, y, subframe, mean, var);
             copy3(out, mean);
         }
     } else {
@@ -339,14 +346,15 @@ static void resolve_pixel(hz_tdense_t *td, uint32_t x, uint32_t y, unsigned subf
         if (fresh) {
             copy3(out, sample);
         } else {
-            int n = newest_box(td, x, y, subframe, mean, half);
+            int n = newest_box(td, x, y, subframe, mean, var);
             if (!(f & HZ_TDENSE_SEEN)) {
                 copy3(out, mean);
             } else {
-                float c[3];
-                fetch_bilinear(prev, (float)x + m.x, (float)y + m.y, c);
-                for (int k = 0; k < 3; k++)
-                    out[k] = n ? hz_clampf(c[k], mean[k] - half[k], mean[k] + half[k]) : c[k];
+                fetch_bilinear(prev, (float)x + m.x, (float)y + m.y, out);
+                for (int k = 0; n && k < 3; k++) { /* clamp to mean ± γσ (branch-free: min/max) */
+                    float half = td->cfg.gamma * hz_sqrtf(var[k]);
+                    out[k] = hz_clampf(out[k], mean[k] - half, mean[k] + half);
+                }
             }
         }
     }
