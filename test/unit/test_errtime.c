@@ -14,8 +14,8 @@
 #include <unistd.h>
 
 #include "errtime.h"
-#include "flip.h"
-#include "synthetic.h"
+#include "et_flip.h"
+#include "et_synthetic.h"
 
 static char cache[64];
 static uint8_t mem[64 << 20] HZ_ALIGNED(64);
@@ -211,7 +211,8 @@ static void test_tampered_cache_is_refused(void **state)
     hz_error_t err;
     assert_int_equal(hz_et_run(&seq, &hz_synth_reference, &hz_synth_methods[1], 1, &cfg, &row, &err), HZ_OK);
     char dir[4096], key[2048], p[4200];
-    assert_int_equal(hz_et_cache_entry(&seq, &hz_synth_reference, cache, dir, sizeof dir, key, sizeof key, &err), HZ_OK);
+    assert_int_equal(hz_et_cache_entry(&seq, &hz_synth_reference, cache, dir, sizeof dir, key, sizeof key, &err),
+                     HZ_OK);
     /* A frame cut short: the PFM reader names it when the run reaches it. */
     snprintf(p, sizeof p, "%s/ref-00007.pfm", dir);
     assert_int_equal(truncate(p, 100), 0);

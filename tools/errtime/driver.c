@@ -10,10 +10,10 @@
 
 #include "clock.h"
 #include "fileio.h"
-#include "flip.h"
+#include "et_flip.h"
 #include "imageio.h"
-#include "metrics.h"
-#include "progress.h"
+#include "et_metrics.h"
+#include "et_progress.h"
 
 /* Path buffers: a cache entry's directory, its temporary twin, and the files inside. */
 #define DIR_BYTES 4096
