@@ -352,6 +352,14 @@ static void test_argument_errors(void **state)
     hz_et_method_t bad = hz_synth_methods[0];
     bad.render = NULL;
     assert_int_equal(hz_et_run(&seq, &hz_synth_reference, &bad, 1, &cfg, &row, &err), HZ_E_INVALID_ARG);
+    hz_et_config_t nocache = cfg;
+    nocache.cache_dir = NULL;
+    assert_int_equal(hz_et_run(&seq, &hz_synth_reference, &hz_synth_methods[0], 1, &nocache, &row, &err),
+                     HZ_E_INVALID_ARG);
+    hz_et_config_t far = cfg;
+    far.ppd = 5000.0f;
+    assert_int_equal(hz_et_run(&seq, &hz_synth_reference, &hz_synth_methods[0], 1, &far, &row, &err),
+                     HZ_E_INVALID_ARG);
     assert_int_equal(entries("args"), 0); /* refused before rendering anything */
 }
 
