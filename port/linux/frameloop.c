@@ -190,7 +190,7 @@ static hz_status_t drain(loop_t *L, int *ended, hz_error_t *err)
 
 /* A sink-driven source (V4L2 output) ticks only with frames queued: feed it blank frames, which the device
  * takes at its own pace (present waits for a free buffer), until the model locks. */
-static hz_status_t prime(loop_t *L, int64_t limit, hz_error_t *err)
+static hz_status_t prime(loop_t *L, hz_error_t *err)
 {
     hz_image_t *img = L->warmup;
     if (!img || !L->src->needs_frames)
@@ -200,7 +200,6 @@ static hz_status_t prime(loop_t *L, int64_t limit, hz_error_t *err)
         hz_error_prefix(err, L->sink->name);
         return s;
     }
-    (void)limit;
     return HZ_OK;
 }
 
@@ -232,7 +231,7 @@ static hz_status_t wait_for_lock(loop_t *L, int *ended, hz_error_t *err)
         }
         hz_edge_t e;
         int r;
-        hz_status_t s = prime(L, limit, err);
+        hz_status_t s = prime(L, err);
         if (s != HZ_OK)
             return s;
         s = get_edge(L, L->warmup && L->src->needs_frames ? now : limit, &e, &r, err);
