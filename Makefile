@@ -437,6 +437,14 @@ deps: ## install the Debian packages BOARD needs to build, run and test (apt-get
 run: deps $(HZRT) ## build host-sim and run it (renders the built-in scene once the renderer lands)
 	$(Q)$(HZRT) board
 
+# The simulated 240 Hz run of issue 7: real time, a simulated display (+-50 us jitter, 1% missed pulses, 0.5%
+# glitches, +200 ppm), frames from the hz_framesrc_t hook (the test pattern until the built-in scene lands in
+# port/linux/scenesrc.c; then add --render scene), report and files in $(O)/latency-sim.
+LATENCY_SIM_ARGS ?= --source sim --hz 240 --jitter-us 50 --miss-pct 1 --glitch-pct 0.5 --drift-ppm 200 \
+                    --seconds 20 --size 320x180 --marker
+latency-sim: $(HZRT) ## simulated 240 Hz display-locked run: miss rate, latency percentiles, histogram (build/<board>/latency-sim)
+	$(Q)$(HZRT) latency $(LATENCY_SIM_ARGS) --out $(O)/latency-sim
+
 bench: $(BENCH) ## measure (side by side, in one run) and print a table; writes $(O)/bench/*.csv
 	$(Q)mkdir -p $(O)/bench
 	$(Q)$(BENCH) --csv $(O)/bench/bench.csv
@@ -548,4 +556,4 @@ help: ## list the targets
 
 .PHONY: all deps run bench size tests test-board test check-freestanding check-integer clean help gen-srgb errtime \
         bake scenes fuzz test-host
-.PHONY: vmtest vmtest-tier vmtest-board
+.PHONY: vmtest vmtest-tier vmtest-board latency-sim
