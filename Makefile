@@ -203,10 +203,12 @@ $(O)/test/unit/test_imageio: TEST_CFLAGS += -DHZ_HAVE_PNG=$(HAVE_PNG)
 
 # errtime (tools/errtime): image metrics (PSNR, SSIM, FLIP), report writers and the error-against-run-time driver.
 # Built with the board's compiler, like hzbench: it times the board's renderer. Hosted C99 with libm.
-ERRTIME_SRCS := tools/errtime/metrics.c tools/errtime/flip.c tools/errtime/report.c tools/errtime/progress.c \
-                tools/errtime/driver.c tools/errtime/synthetic.c tools/errtime/methods.c
+# Its files are prefixed et_ because it also sees port/linux (which has report.h, for instance).
+ERRTIME_SRCS := tools/errtime/et_metrics.c tools/errtime/et_flip.c tools/errtime/et_report.c \
+                tools/errtime/et_progress.c tools/errtime/driver.c tools/errtime/et_synthetic.c \
+                tools/errtime/et_methods.c
 ERRTIME_MAIN_SRCS := tools/errtime/main.c
-ERRTIME_TESTS := metrics flip report errtime
+ERRTIME_TESTS := metrics flip et_report errtime
 ERRTIME_OBJS := $(ERRTIME_SRCS:%.c=$(O)/%.o)
 ERRTIME_MAIN_OBJS := $(ERRTIME_MAIN_SRCS:%.c=$(O)/%.o)
 ERRTIME_LIB := $(O)/liberrtime.a
@@ -214,7 +216,7 @@ ERRTIME := $(O)/bin/hzerrtime
 ERRTIME_TEST_BINS := $(ERRTIME_TESTS:%=$(O)/test/unit/test_%)
 # The metric filters' inner loops run over x: vectorising them keeps every pixel's sum in the same order (same
 # results) and makes FLIP ~2x faster; -O2's "very cheap" cost model leaves them scalar.
-$(O)/tools/errtime/flip.o $(O)/tools/errtime/metrics.o: HOSTED_CFLAGS += -fvect-cost-model=dynamic
+$(O)/tools/errtime/et_flip.o $(O)/tools/errtime/et_metrics.o: HOSTED_CFLAGS += -fvect-cost-model=dynamic
 TEST_BINS += $(ERRTIME_TEST_BINS)
 
 ALL_OBJS := $(LIB_OBJS) $(PORT_OBJS) $(HZRT_OBJS) $(BENCH_OBJS) $(ERRTIME_OBJS) $(ERRTIME_MAIN_OBJS)
@@ -275,7 +277,7 @@ tests: $(ERRTIME)
 
 $(ERRTIME_TEST_BINS): $(O)/test/unit/test_%: test/unit/test_%.c $(ERRTIME_LIB) $(PORT_LIB) $(LIB)
 	@mkdir -p $(dir $@)
-	$(call msg,CCLD,$@)$(CC) $(TEST_CFLAGS) $(PORT_DEFS) -Iport/linux -Itools/errtime $(DEPFLAGS) \
+	$(call msg,CCLD,$@)$(CC) $(TEST_CFLAGS) $(PORT_DEFS) -Itools/errtime -Iport/linux $(DEPFLAGS) \
 		 $(LDFLAGS_ALL) -o $@ $< $(ERRTIME_LIB) $(PORT_LIB) $(LIB) $(TEST_LIBS) $(PORT_LIBS)
 
 -include $(ALL_OBJS:.o=.d) $(TEST_BINS:=.d)
@@ -435,6 +437,14 @@ deps: ## install the Debian packages BOARD needs to build, run and test (apt-get
 run: deps $(HZRT) ## build host-sim and run it (renders the built-in scene once the renderer lands)
 	$(Q)$(HZRT) board
 
+# The simulated 240 Hz run of issue 7: real time, a simulated display (+-50 us jitter, 1% missed pulses, 0.5%
+# glitches, +200 ppm), frames from the hz_framesrc_t hook (the test pattern until the built-in scene lands in
+# port/linux/scenesrc.c; then add --render scene), report and files in $(O)/latency-sim.
+LATENCY_SIM_ARGS ?= --source sim --hz 240 --jitter-us 50 --miss-pct 1 --glitch-pct 0.5 --drift-ppm 200 \
+                    --seconds 20 --size 320x180 --marker
+latency-sim: $(HZRT) ## simulated 240 Hz display-locked run: miss rate, latency percentiles, histogram (build/<board>/latency-sim)
+	$(Q)$(HZRT) latency $(LATENCY_SIM_ARGS) --out $(O)/latency-sim
+
 bench: $(BENCH) ## measure (side by side, in one run) and print a table; writes $(O)/bench/*.csv
 	$(Q)mkdir -p $(O)/bench
 	$(Q)$(BENCH) --csv $(O)/bench/bench.csv
@@ -546,4 +556,4 @@ help: ## list the targets
 
 .PHONY: all deps run bench size tests test-board test check-freestanding check-integer clean help gen-srgb errtime \
         bake scenes fuzz test-host
-.PHONY: vmtest vmtest-tier vmtest-board
+.PHONY: vmtest vmtest-tier vmtest-board latency-sim

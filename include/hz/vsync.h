@@ -44,7 +44,8 @@
 typedef struct hz_vsync_cfg {
     int64_t nominal_period_ns; /* expected period; 0: learn it from the first edges */
     uint32_t window;           /* accepted edges in the fit, 8..HZ_VSYNC_WINDOW_MAX; 0: the default */
-    int64_t tol_min_ns;        /* smallest acceptance half-width; 0: period / 64 */
+    int64_t tol_min_ns;        /* smallest acceptance half-width; 0: period / 64 (also widens the P/8 used while
+                                  acquiring, for sources with millisecond jitter) */
 } hz_vsync_cfg_t;
 
 enum hz_vsync_kind { HZ_VSYNC_EDGE = 1, HZ_VSYNC_SPURIOUS = 2 };

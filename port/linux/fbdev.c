@@ -2,6 +2,8 @@
 #include <errno.h>
 #include <fcntl.h>
 #include <linux/fb.h>
+#include <linux/kd.h>
+#include <stdint.h>
 #include <pthread.h>
 #include <stdio.h>
 #include <string.h>
@@ -42,6 +44,8 @@ typedef struct fb_impl {
     uint8_t *mem;
     size_t mem_len;
     int buffers, back;
+    int tty;          /* the console, switched to graphics mode while we own the display (-1: not) */
+    int tty_mode;
 } fb_impl_t;
 
 static fb_impl_t fb_pool[POOL];
@@ -53,6 +57,11 @@ static void fb_close(hz_sink_t *s)
         return;
     if (im->mem && im->mem != MAP_FAILED)
         im->io->munmap(im->mem, im->mem_len);
+    if (im->tty >= 0) {
+        hz_sysio_ioctl(im->io, im->tty, KDSETMODE, (void *)(uintptr_t)im->tty_mode);
+        im->io->close(im->tty);
+        im->tty = -1;
+    }
     if (im->fd >= 0) {
         if (im->buffers == 2) {
             struct fb_var_screeninfo v = im->var;
@@ -65,7 +74,7 @@ static void fb_close(hz_sink_t *s)
     s->impl = NULL;
 }
 
-static hz_status_t fb_present(hz_sink_t *s, const hz_image_t *img, uint64_t id, hz_error_t *err)
+static hz_status_t fb_present(hz_sink_t *s, const hz_rgb8_image_t *img, uint64_t id, hz_error_t *err)
 {
     (void)id;
     fb_impl_t *im = s->impl;
@@ -101,6 +110,7 @@ hz_status_t hz_fbdev_sink_open(hz_sink_t *s, const char *path, const hz_sysio_t 
         return hz_error_set(err, HZ_E_NO_MEMORY, "fbdev: more than %d framebuffers open", POOL);
     memset(im, 0, sizeof *im);
     im->io = io;
+    im->tty = -1;
     snprintf(im->path, sizeof im->path, "%s", path);
     im->fd = io->open(path, O_RDWR | O_CLOEXEC);
     if (im->fd < 0)
@@ -187,15 +197,31 @@ hz_status_t hz_fbdev_sink_open(hz_sink_t *s, const char *path, const hz_sysio_t 
         st = hz_error_set(err, HZ_E_DEVICE, "%s: mmap of %zu bytes failed: %s", path, im->mem_len, strerror(errno));
         goto fail;
     }
+    /* The framebuffer console would keep drawing its text and blinking cursor over our frames: put the VT in
+     * graphics mode while we own the display (best effort; restored on close). */
+    const char *console = "console left as it was (no access to /dev/tty0)";
+    int tty = io->open("/dev/tty0", O_RDWR | O_CLOEXEC);
+    if (tty >= 0) {
+        int mode = KD_TEXT;
+        if (hz_sysio_ioctl(io, tty, KDGETMODE, &mode) == 0 &&
+            hz_sysio_ioctl(io, tty, KDSETMODE, (void *)(uintptr_t)KD_GRAPHICS) == 0) {
+            im->tty = tty;
+            im->tty_mode = mode;
+            console = "console in graphics mode";
+        } else {
+            io->close(tty);
+            console = "console left as it was (KDSETMODE refused)";
+        }
+    }
     /* The back buffer is the one not on screen. */
     im->back = im->buffers == 2 && im->var.yoffset == 0 ? 1 : 0;
     s->w = (int)im->var.xres;
     s->h = (int)im->var.yres;
     s->present = fb_present;
-    snprintf(s->name, sizeof s->name, "fbdev %s %ux%u %u bpp (r%u@%u g%u@%u b%u@%u), %s", path, im->var.xres,
+    snprintf(s->name, sizeof s->name, "fbdev %s %ux%u %u bpp (r%u@%u g%u@%u b%u@%u), %s; %s", path, im->var.xres,
              im->var.yres, im->var.bits_per_pixel, im->var.red.length, im->var.red.offset, im->var.green.length,
              im->var.green.offset, im->var.blue.length, im->var.blue.offset,
-             im->buffers == 2 ? "page flips by panning" : "single-buffered (no panning: may tear)");
+             im->buffers == 2 ? "page flips by panning" : "single-buffered (no panning: may tear)", console);
     return HZ_OK;
 fail:
     fb_close(s);

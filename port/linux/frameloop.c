@@ -28,7 +28,9 @@ typedef struct loop {
     uint64_t edges_in;
     int64_t edge_timeout;
     hz_sink_t *sink;
-    hz_image_t *warmup; /* a blank frame for priming sink-driven sources (NULL: none) */
+    hz_rgb8_image_t *warmup; /* a blank frame for priming sink-driven sources (NULL: none) */
+    int64_t recent[8];  /* the last v-sync-polarity edge times, for messages */
+    uint32_t n_recent;
 } loop_t;
 
 /* Large state lives in statics, not on the stack (the model alone is ~20 KiB). One loop runs at a time. */
@@ -87,6 +89,7 @@ static void take_edge(loop_t *L, const hz_edge_t *e)
     if (L->vs_inputs < L->vs_cap)
         L->vs_pos[L->vs_inputs] = pos;
     L->vs_inputs++;
+    L->recent[L->n_recent++ % 8] = e->t_ns;
     hz_vsync_push(L->model, e->t_ns);
     take_events(L);
 }
@@ -187,9 +190,9 @@ static hz_status_t drain(loop_t *L, int *ended, hz_error_t *err)
 
 /* A sink-driven source (V4L2 output) ticks only with frames queued: feed it blank frames, which the device
  * takes at its own pace (present waits for a free buffer), until the model locks. */
-static hz_status_t prime(loop_t *L, int64_t limit, hz_error_t *err)
+static hz_status_t prime(loop_t *L, hz_error_t *err)
 {
-    hz_image_t *img = L->warmup;
+    hz_rgb8_image_t *img = L->warmup;
     if (!img || !L->src->needs_frames)
         return HZ_OK;
     hz_status_t s = L->sink->present(L->sink, img, UINT64_MAX, err);
@@ -197,14 +200,14 @@ static hz_status_t prime(loop_t *L, int64_t limit, hz_error_t *err)
         hz_error_prefix(err, L->sink->name);
         return s;
     }
-    (void)limit;
     return HZ_OK;
 }
 
 static hz_status_t wait_for_lock(loop_t *L, int *ended, hz_error_t *err)
 {
     int64_t p = L->cfg->nominal_period_ns > 0 ? L->cfg->nominal_period_ns : 16666667;
-    int64_t limit = hz_tb_now(L->tb) + L->edge_timeout + (HZ_VSYNC_ACQ + 4) * p;
+    int64_t wait = L->cfg->lock_timeout_ns > 0 ? L->cfg->lock_timeout_ns : L->edge_timeout + (HZ_VSYNC_ACQ + 4) * p;
+    int64_t limit = hz_tb_now(L->tb) + wait;
     *ended = 0;
     while (!hz_vsync_locked(L->model)) {
         int64_t now = hz_tb_now(L->tb);
@@ -212,16 +215,23 @@ static hz_status_t wait_for_lock(loop_t *L, int *ended, hz_error_t *err)
             const hz_vsync_counts_t *c = hz_vsync_counts(L->model);
             if (L->edges_in == 0)
                 return silence_error(L, now, err);
+            char gaps[96] = "";
+            uint32_t k = L->n_recent < 8 ? L->n_recent : 8;
+            for (uint32_t i = 1; i < k; i++) {
+                int64_t d = L->recent[(L->n_recent - k + i) % 8] - L->recent[(L->n_recent - k + i - 1) % 8];
+                size_t used = strlen(gaps);
+                snprintf(gaps + used, sizeof gaps - used, "%s%.2f", i > 1 ? " " : "", d / 1e6);
+            }
             return hz_error_set(err, HZ_E_TIMEOUT,
-                                "%s: no v-sync lock within %lld ms: %llu edges seen, none on a steady grid "
-                                "(%llu rejected; expected period %lld us)",
-                                L->src->name, (long long)((limit - now + L->edge_timeout) / 1000000),
+                                "%s: no v-sync lock within %lld ms: %llu edges seen, no majority on a steady grid "
+                                "(%llu rejected; expected period %lld us; last intervals %s ms)",
+                                L->src->name, (long long)(wait / 1000000),
                                 (unsigned long long)L->edges_in, (unsigned long long)c->spurious,
-                                (long long)(p / 1000));
+                                (long long)(p / 1000), gaps);
         }
         hz_edge_t e;
         int r;
-        hz_status_t s = prime(L, limit, err);
+        hz_status_t s = prime(L, err);
         if (s != HZ_OK)
             return s;
         s = get_edge(L, L->warmup && L->src->needs_frames ? now : limit, &e, &r, err);
@@ -305,7 +315,7 @@ hz_status_t hz_loop_run(const hz_loop_cfg_t *cfg, hz_timebase_t *tb, hz_vsource_
     L.vs_pos = hz_arena_alloc_array(arena, cfg->max_edges, sizeof(uint32_t), 64);
     L.vs_cap = cfg->max_edges;
     res->scratch = hz_arena_alloc_array(arena, scratch_n, sizeof(int64_t), 64);
-    hz_image_t img = { 0, cfg->w, cfg->h, (size_t)cfg->w * 3 };
+    hz_rgb8_image_t img = { 0, cfg->w, cfg->h, (size_t)cfg->w * 3 };
     if (cfg->frames_mode)
         img.rgb = hz_arena_alloc_array(arena, (size_t)cfg->w * (size_t)cfg->h, 3, 64);
     if (!res->edges || !L.vs_pos || !res->scratch || (cfg->max_frames && !recs) || (cfg->frames_mode && !img.rgb))
@@ -362,7 +372,7 @@ hz_status_t hz_loop_run(const hz_loop_cfg_t *cfg, hz_timebase_t *tb, hz_vsource_
         return HZ_OK;
     }
 
-    hz_image_t warmup = img;
+    hz_rgb8_image_t warmup = img;
     if (src->needs_frames) {
         memset(img.rgb, 0, (size_t)cfg->w * (size_t)cfg->h * 3);
         L.warmup = &warmup;

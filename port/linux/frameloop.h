@@ -52,6 +52,7 @@ typedef struct hz_loop_cfg {
     int64_t tol_min_ns;
     hz_pace_cfg_t pace;
     int64_t edge_timeout_ns;  /* longest silence tolerated; 0: max(500 ms, 10 periods) */
+    int64_t lock_timeout_ns;  /* longest wait for the v-sync model to lock; 0: edge time-out + 12 periods */
     int edge_mode;            /* HZ_EDGE_RISING, _FALLING or _ANY (photodiode on the flash square) */
     int marker;
     int w, h;

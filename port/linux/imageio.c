@@ -337,7 +337,8 @@ hz_status_t hz_pfm_read(const char *path, hz_arena_t *arena, hz_image_t *img, hz
     }
     tok[n] = '\0';
     if (c == EOF)
-        return finish(&r, fail(&r, HZ_E_FORMAT, "truncated: the header ends %s", n ? "after the scale" : "before the scale"));
+        return finish(&r, fail(&r, HZ_E_FORMAT, "truncated: the header ends %s",
+                               n ? "after the scale" : "before the scale"));
     if (!is_space(c))
         return finish(&r, fail(&r, HZ_E_FORMAT, "bad header: the scale is longer than %zu characters", sizeof tok - 1));
     char *end;
@@ -360,8 +361,9 @@ hz_status_t hz_pfm_read(const char *path, hz_arena_t *arena, hz_image_t *img, hz
         for (uint32_t x = 0; x < w; x++) {
             for (uint32_t ch = 0; ch < 3; ch++) {
                 const uint8_t *b = row + 4 * ((size_t)x * channels + (channels == 3 ? ch : 0));
-                uint32_t u = little ? (uint32_t)b[0] | (uint32_t)b[1] << 8 | (uint32_t)b[2] << 16 | (uint32_t)b[3] << 24
-                                    : (uint32_t)b[3] | (uint32_t)b[2] << 8 | (uint32_t)b[1] << 16 | (uint32_t)b[0] << 24;
+                uint32_t u = little
+                                 ? (uint32_t)b[0] | (uint32_t)b[1] << 8 | (uint32_t)b[2] << 16 | (uint32_t)b[3] << 24
+                                 : (uint32_t)b[3] | (uint32_t)b[2] << 8 | (uint32_t)b[1] << 16 | (uint32_t)b[0] << 24;
                 dst[3 * x + ch] = hz_float_from_bits(u);
             }
         }

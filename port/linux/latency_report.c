@@ -403,7 +403,7 @@ static hz_status_t write_svg(const char *path, const hz_report_t *r, hz_error_t 
     for (uint32_t i = lo; i <= hi; i++)
         if (h->count[i] > peak)
             peak = h->count[i];
-    const int W = 900, H = 360, L = 70, R = 20, T = 50, B = 60;
+    const int W = 900, H = 360, L = 70, R = 45, T = 50, B = 60;
     double pw = (double)(W - L - R) / (hi - lo + 1), ph = H - T - B;
     char a[24], b[24];
     fprintf(f, "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"%d\" height=\"%d\" font-family=\"sans-serif\" "

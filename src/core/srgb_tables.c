@@ -73,9 +73,9 @@ const uint32_t hz_srgb8_threshold_bits[256] = {
     0x3f7167d2u, 0x3f739e4du, 0x3f75d7ccu, 0x3f781451u, 0x3f7a53ddu, 0x3f7c9671u, 0x3f7edc0eu, 0x7f800000u,
 };
 
-/* [0]: below 2^-13, negative or NaN; [1 + ((bits - HZ_SRGB8_LUT_BASE) >> HZ_SRGB8_LUT_SHIFT)]: a bucket;
- * [HZ_SRGB8_LUT_SIZE + 1]: 1.0 and above. Bits 0..7: the code of the bucket's smallest float; bits 8..:
- * the low bits from which the code is one higher (0x10000: never). */
+/* [0]: below 2^-13, negative or NaN; [1 + ((bits - HZ_SRGB8_LUT_BASE) >> HZ_SRGB8_LUT_SHIFT)]:
+ * a bucket; [HZ_SRGB8_LUT_SIZE + 1]: 1.0 and above. Bits 0..7: the code of the bucket's smallest
+ * float; bits 8..: the low bits from which the code is one higher (0x10000: never). */
 const uint32_t hz_srgb8_lut[HZ_SRGB8_LUT_SIZE + 2] = {
     0x1000000u, 0x1000000u, 0x1000000u, 0x1000000u, 0x1000000u, 0x1000000u, 0x1000000u, 0x1000000u,
     0x1000000u, 0x1000000u, 0x1000000u, 0x1000000u, 0x1000000u, 0x1000000u, 0x1000000u, 0x1000000u,

@@ -52,6 +52,12 @@ static void emit_spurious(hz_vsync_t *v, int64_t t, uint64_t index, int64_t slot
     emit(v, &ev);
 }
 
+static int64_t acq_tol(const hz_vsync_t *v, int64_t p_q16)
+{
+    int64_t t = q16_to_ns(p_q16) / 8;
+    return v->cfg.tol_min_ns > t ? v->cfg.tol_min_ns : t;
+}
+
 static int64_t tol_floor(const hz_vsync_t *v)
 {
     int64_t p = q16_to_ns(v->period_q16);
@@ -131,7 +137,7 @@ static void refit(hz_vsync_t *v)
     v->sigma_ns = mad * 14826 / 10000;
     p_ns = q16_to_ns(v->period_q16);
     if (span < HZ_VSYNC_SPAN_FOR_SLOPE) {
-        v->tol_ns = p_ns / 8;
+        v->tol_ns = acq_tol(v, v->period_q16);
     } else {
         int64_t floor = tol_floor(v), cap = p_ns / 4, tol = 8 * v->sigma_ns;
         if (floor > cap)
@@ -177,7 +183,7 @@ static void commit_pending(hz_vsync_t *v)
 /* How many buffered edges lie on the grid of period p (Q16) through edge `anchor`, within p/8. */
 static uint32_t grid_count(const hz_vsync_t *v, uint32_t anchor, int64_t p_q16)
 {
-    int64_t tol = q16_to_ns(p_q16) / 8;
+    int64_t tol = acq_tol(v, p_q16);
     uint32_t count = 0;
     for (uint32_t j = 0; j < v->acq_n; j++) {
         int64_t d = v->acq_t[j] - v->acq_t[anchor];
@@ -240,7 +246,7 @@ static void acquire(hz_vsync_t *v, int final)
     /* Grid index and residual of every buffered edge; of two edges on one grid point keep the nearer. */
     int64_t k[HZ_VSYNC_ACQ], r[HZ_VSYNC_ACQ];
     uint8_t in[HZ_VSYNC_ACQ];
-    int64_t tol = q16_to_ns(best_p) / 8;
+    int64_t tol = acq_tol(v, best_p);
     for (uint32_t j = 0; j < n; j++) {
         int64_t d = v->acq_t[j] - v->acq_t[best_anchor];
         k[j] = hz_muldiv(d, Q16, best_p);
@@ -271,7 +277,7 @@ static void acquire(hz_vsync_t *v, int final)
     v->anchor_slot = base;
     v->anchor_t = v->acq_t[first];
     v->ring_n = v->ring_next = 0;
-    v->tol_ns = q16_to_ns(best_p) / 8;
+    v->tol_ns = tol;
     v->locked = v->ever_locked = true;
     v->rejects_in_row = 0;
     if (relock)

@@ -14,8 +14,8 @@
 #include <unistd.h>
 
 #include "errtime.h"
-#include "flip.h"
-#include "synthetic.h"
+#include "et_flip.h"
+#include "et_synthetic.h"
 
 static char cache[64];
 static uint8_t mem[64 << 20] HZ_ALIGNED(64);
@@ -211,7 +211,8 @@ static void test_tampered_cache_is_refused(void **state)
     hz_error_t err;
     assert_int_equal(hz_et_run(&seq, &hz_synth_reference, &hz_synth_methods[1], 1, &cfg, &row, &err), HZ_OK);
     char dir[4096], key[2048], p[4200];
-    assert_int_equal(hz_et_cache_entry(&seq, &hz_synth_reference, cache, dir, sizeof dir, key, sizeof key, &err), HZ_OK);
+    assert_int_equal(hz_et_cache_entry(&seq, &hz_synth_reference, cache, dir, sizeof dir, key, sizeof key, &err),
+                     HZ_OK);
     /* A frame cut short: the PFM reader names it when the run reaches it. */
     snprintf(p, sizeof p, "%s/ref-00007.pfm", dir);
     assert_int_equal(truncate(p, 100), 0);
@@ -412,6 +413,14 @@ static void test_argument_errors(void **state)
     hz_et_method_t bad = hz_synth_methods[0];
     bad.render = NULL;
     assert_int_equal(hz_et_run(&seq, &hz_synth_reference, &bad, 1, &cfg, &row, &err), HZ_E_INVALID_ARG);
+    hz_et_config_t nocache = cfg;
+    nocache.cache_dir = NULL;
+    assert_int_equal(hz_et_run(&seq, &hz_synth_reference, &hz_synth_methods[0], 1, &nocache, &row, &err),
+                     HZ_E_INVALID_ARG);
+    hz_et_config_t far = cfg;
+    far.ppd = 5000.0f;
+    assert_int_equal(hz_et_run(&seq, &hz_synth_reference, &hz_synth_methods[0], 1, &far, &row, &err),
+                     HZ_E_INVALID_ARG);
     assert_int_equal(entries("args"), 0); /* refused before rendering anything */
 }
 

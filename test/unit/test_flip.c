@@ -27,7 +27,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "flip.h"
+#include "et_flip.h"
 #include "hz/hash.h"
 #include "hz/image.h"
 #include "imageio.h"

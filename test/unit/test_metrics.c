@@ -10,7 +10,7 @@
 
 #include "hz/hash.h"
 #include "hz/image.h"
-#include "metrics.h"
+#include "et_metrics.h"
 
 static uint8_t buf[16 << 20] HZ_ALIGNED(64);
 static hz_arena_t arena;

@@ -106,6 +106,30 @@ static int run(char *cmdline)
     return rc;
 }
 
+/* The kernel's framebuffer console takes over every framebuffer that appears (vivid's fb0 included) and
+ * draws its blinking cursor into it. Unbind it so the fbdev check sees only what hzrt wrote. */
+static void unbind_fbcon(void)
+{
+    for (int i = 0; i < 8; i++) {
+        char path[64], name[128] = "";
+        snprintf(path, sizeof path, "/sys/class/vtconsole/vtcon%d/name", i);
+        FILE *f = fopen(path, "r");
+        if (!f)
+            continue;
+        if (!fgets(name, sizeof name, f))
+            name[0] = '\0';
+        fclose(f);
+        if (!strstr(name, "frame buffer"))
+            continue;
+        snprintf(path, sizeof path, "/sys/class/vtconsole/vtcon%d/bind", i);
+        f = fopen(path, "w");
+        if (f) {
+            fputs("0\n", f);
+            fclose(f);
+        }
+    }
+}
+
 int main(void)
 {
     mount("devtmpfs", "/dev", "devtmpfs", 0, NULL);
@@ -120,6 +144,7 @@ int main(void)
     uname(&u);
     say("HZVM-BOOT %s %s %s\n", u.sysname, u.release, u.machine);
     load_modules();
+    unbind_fbcon();
     FILE *f = fopen("/tests/list", "r");
     char line[512];
     while (f && fgets(line, sizeof line, f)) {

@@ -10,10 +10,10 @@
 
 #include "clock.h"
 #include "fileio.h"
-#include "flip.h"
+#include "et_flip.h"
 #include "imageio.h"
-#include "metrics.h"
-#include "progress.h"
+#include "et_metrics.h"
+#include "et_progress.h"
 
 /* Path buffers: a cache entry's directory, its temporary twin, and the files inside. */
 #define DIR_BYTES 4096
@@ -457,8 +457,9 @@ hz_status_t hz_et_run(const hz_et_sequence_t *seq, const hz_et_method_t *referen
         return hz_error_set(err, HZ_E_INVALID_ARG, "errtime: %u frames with %u of warm-up leave fewer than the %u "
                             "measured frames one display-integration window needs", (unsigned)seq->frames,
                             (unsigned)seq->warmup, (unsigned)k);
-    if (!reference || !reference->render || !(cfg->ppd > 0.0f))
-        return hz_error_set(err, HZ_E_INVALID_ARG, "errtime: no reference method or bad ppd");
+    if (!reference || !reference->render || !cfg->cache_dir || !cfg->arena || !(cfg->ppd > 0.0f && cfg->ppd <= 1000.0f))
+        return hz_error_set(err, HZ_E_INVALID_ARG, "errtime: no reference method, cache directory or arena, or a "
+                            "ppd outside (0, 1000]");
     for (size_t j = 0; j < count; j++)
         if (!methods[j].render || !methods[j].name || !methods[j].knob)
             return hz_error_set(err, HZ_E_INVALID_ARG, "errtime: method %zu has no name, knob or render callback", j);

@@ -1,7 +1,7 @@
 /*
  * errtime.h — error against run time: renders a sequence with every requested method and knob setting, scores
  * each displayed frame against a reference sequence and times it, and fills one report row per setting
- * (report.h). Later issues add methods by adding table entries (tools/errtime/methods.c); the driver does not
+ * (et_report.h). Later issues add methods by adding table entries (tools/errtime/et_methods.c); the driver does not
  * change.
  *
  * Contract:
@@ -27,7 +27,7 @@
  *    error names the file; delete the entry to rebuild it).
  *  - Scoring, per measured frame i: both the method's frame and reference frame i are quantised to 8-bit sRGB
  *    (hz_image_quantize_srgb8: what the display shows), then MSE (sRGB 8-bit and linear), SSIM and FLIP (ppd)
- *    are taken (metrics.h, flip.h). Display-integrated error, for every i with all of i-k+1 .. i measured
+ *    are taken (et_metrics.h, et_flip.h). Display-integrated error, for every i with all of i-k+1 .. i measured
  *    (k = max(1, round(refresh_hz / 60))): FLIP and sRGB 8-bit MSE of the mean of the last k displayed frames
  *    against the mean of the k reference frames at the same instants (averaged in linear light).
  *    A row reports PSNR from the mean MSE over frames (so one identical frame does not make it infinite), the
@@ -53,7 +53,7 @@
 #include "hz/arena.h"
 #include "hz/image.h"
 #include "hz/status.h"
-#include "report.h"
+#include "et_report.h"
 
 #define HZ_ET_CACHE_VERSION 1
 

@@ -1,4 +1,4 @@
-/* hzerrtime — error against run time for every method errtime knows (see errtime.h, methods.h, README). */
+/* hzerrtime — error against run time for every method errtime knows (see errtime.h, et_methods.h, README). */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -6,9 +6,9 @@
 #include "cli.h"
 #include "errtime.h"
 #include "fileio.h"
-#include "flip.h"
+#include "et_flip.h"
 #include "hz/config.h"
-#include "methods.h"
+#include "et_methods.h"
 
 static void usage(FILE *f)
 {

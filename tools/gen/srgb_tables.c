@@ -121,9 +121,9 @@ int main(int argc, char **argv)
     for (int k = 0; k < 256; k++)
         fprintf(f, "%s0x%08xu,%s", k % 8 ? " " : "    ", thr[k], k % 8 == 7 ? "\n" : "");
     fprintf(f, "};\n\n");
-    fprintf(f, "/* [0]: below 2^-13, negative or NaN; [1 + ((bits - HZ_SRGB8_LUT_BASE) >> HZ_SRGB8_LUT_SHIFT)]: a bucket;\n"
-               " * [HZ_SRGB8_LUT_SIZE + 1]: 1.0 and above. Bits 0..7: the code of the bucket's smallest float; bits 8..:\n"
-               " * the low bits from which the code is one higher (0x10000: never). */\n");
+    fprintf(f, "/* [0]: below 2^-13, negative or NaN; [1 + ((bits - HZ_SRGB8_LUT_BASE) >> HZ_SRGB8_LUT_SHIFT)]:\n"
+               " * a bucket; [HZ_SRGB8_LUT_SIZE + 1]: 1.0 and above. Bits 0..7: the code of the bucket's smallest\n"
+               " * float; bits 8..: the low bits from which the code is one higher (0x10000: never). */\n");
     fprintf(f, "const uint32_t hz_srgb8_lut[HZ_SRGB8_LUT_SIZE + 2] = {\n");
     uint32_t all[LUT_SIZE + 2];
     all[0] = 0u | 1u << (LUT_SHIFT + 8);

@@ -1,5 +1,5 @@
 /*
- * progress.h — a one-line progress bar for long errtime runs.
+ * et_progress.h — a one-line progress bar for long errtime runs.
  *
  * Contract: draws "label [#####-----]  42%  21/50  eta 12 s" on `f`, redrawn in place with '\r' whenever the
  * shown percentage or the label changes, and ended with a newline by hz_progress_end. It draws only when

@@ -1,5 +1,5 @@
 /*
- * metrics.h — full-reference image error: MSE/PSNR and SSIM (FLIP is in flip.h), plus the frame averaging the
+ * et_metrics.h — full-reference image error: MSE/PSNR and SSIM (FLIP is in et_flip.h), plus the frame averaging the
  * display-integrated error needs. Hosted C99 (libm), used by errtime and its tests.
  *
  * Contract (every function compares a test image against a reference of the same size; a size mismatch is

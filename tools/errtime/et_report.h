@@ -1,5 +1,5 @@
 /*
- * report.h — errtime's results and the files it writes: CSV, a Markdown table and an SVG chart.
+ * et_report.h — errtime's results and the files it writes: CSV, a Markdown table and an SVG chart.
  *
  * Contract:
  *  - One hz_et_row_t per method and knob setting on one scene (errtime's driver fills them, see errtime.h).

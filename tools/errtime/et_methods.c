@@ -1,7 +1,7 @@
-/* errtime's scene and method tables (see methods.h). */
-#include "methods.h"
+/* errtime's scene and method tables (see et_methods.h). */
+#include "et_methods.h"
 
-#include "synthetic.h"
+#include "et_synthetic.h"
 
 static hz_status_t synthetic_open(hz_et_sequence_t *seq, hz_arena_t *arena, hz_error_t *err)
 {

@@ -13,8 +13,8 @@
 #include <unistd.h>
 
 #include "hz/base.h"
-#include "progress.h"
-#include "report.h"
+#include "et_progress.h"
+#include "et_report.h"
 
 static char dir[64];
 
@@ -116,7 +116,8 @@ static void test_pareto_front(void **state)
 static void test_csv_text(void **state)
 {
     (void)state;
-    hz_et_row_t r[2] = { row("cornell", "full-frame", 4, 3.25, 0.125, 28.5), row("cornell", "taa, 8 frames", 1, 1.5, 0.0, INFINITY) };
+    hz_et_row_t r[2] = { row("cornell", "full-frame", 4, 3.25, 0.125, 28.5),
+                         row("cornell", "taa, 8 frames", 1, 1.5, 0.0, INFINITY) };
     r[1].psnr_linear = INFINITY;
     r[1].di_psnr_srgb8 = INFINITY;
     hz_et_pareto(r, 2);
@@ -143,7 +144,8 @@ static void test_markdown_table(void **state)
     assert_int_equal(hz_et_write_markdown(path_of("a.md"), r, 3, &err), HZ_OK);
     char *s = slurp(path_of("a.md"));
     assert_int_equal(count(s, "### "), 2);
-    assert_non_null(strstr(s, "### cornell — 64x48, 20 frames at 240 Hz (4 warm-up), display-integrated over k = 4\n"));
+    assert_non_null(
+        strstr(s, "### cornell — 64x48, 20 frames at 240 Hz (4 warm-up), display-integrated over k = 4\n"));
     assert_int_equal(count(s, "| method | setting | ms/frame |"), 2);
     assert_non_null(strstr(s, "| full\\|frame | spp=4 | 3.250 | 4.875 | 0.012 | 0.1250 | 28.50 | 29.50 | 0.9000 | "
                               "0.0625 | 31.50 |  |\n"));
@@ -187,7 +189,8 @@ static void test_svg_structure(void **state)
                     !strncmp(p, "&quot;", 6));
     assert_non_null(strstr(s, ">inf</text>"));                /* infinite PSNR marked at the top */
     /* knob labels of a series come in knob order: 1, 4, 16 although the rows are 16, 1, 4 */
-    const char *l1 = strstr(s, "class=\"knob\""), *p1 = strstr(l1, ">1<"), *p4 = strstr(l1, ">4<"), *p16 = strstr(l1, ">16<");
+    const char *l1 = strstr(s, "class=\"knob\"");
+    const char *p1 = strstr(l1, ">1<"), *p4 = strstr(l1, ">4<"), *p16 = strstr(l1, ">16<");
     assert_true(p1 && p4 && p16 && p1 < p4 && p4 < p16);
     /* log axis ticks: 0.1 to 10 ms covers 0.6 .. 8 ms */
     assert_non_null(strstr(s, ">0.1</text>"));

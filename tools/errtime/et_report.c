@@ -1,5 +1,5 @@
-/* errtime's CSV, Markdown and SVG writers and the Pareto front (see report.h). */
-#include "report.h"
+/* errtime's CSV, Markdown and SVG writers and the Pareto front (see et_report.h). */
+#include "et_report.h"
 
 #include <math.h>
 #include <stdio.h>

@@ -1,5 +1,5 @@
 /*
- * synthetic.h — errtime's built-in analytic scene, so the whole pipeline (reference cache, timing, scoring,
+ * et_synthetic.h — errtime's built-in analytic scene, so the whole pipeline (reference cache, timing, scoring,
  * reports) runs and is tested without the renderer: a rotating checkerboard behind a disc that sweeps across
  * the frame, defined exactly at every point (x, y) and time t = frame / refresh_hz.
  *

@@ -1,5 +1,5 @@
-/* MSE/PSNR, SSIM and frame averaging (see metrics.h). */
-#include "metrics.h"
+/* MSE/PSNR, SSIM and frame averaging (see et_metrics.h). */
+#include "et_metrics.h"
 
 #include <math.h>
 

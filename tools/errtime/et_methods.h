@@ -1,5 +1,5 @@
 /*
- * methods.h — what errtime can run: scenes, and per scene the methods and the reference. This table is the
+ * et_methods.h — what errtime can run: scenes, and per scene the methods and the reference. This table is the
  * one place later issues extend (a renderer method is a row in a method array; a scene is a row here).
  *
  * Contract: `open` fills in the sequence's scene_data, scene_hash, camera and settings (size, frame count,

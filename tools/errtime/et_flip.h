@@ -1,5 +1,5 @@
 /*
- * flip.h — LDR-FLIP (Andersson, Nilsson, Akenine-Möller, Oskarsson, Åström, Fairchild, "FLIP: A Difference
+ * et_flip.h — LDR-FLIP (Andersson, Nilsson, Akenine-Möller, Oskarsson, Åström, Fairchild, "FLIP: A Difference
  * Evaluator for Alternating Images", HPG 2020): a per-pixel perceptual error in [0, 1] for a test image against a
  * reference, as seen by an observer at a given number of pixels per degree of visual angle. Mean FLIP is errtime's
  * headline error.

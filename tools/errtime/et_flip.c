@@ -1,9 +1,9 @@
 /*
- * LDR-FLIP (see flip.h). Single precision throughout, like the paper's reference, so that the mean agrees with
+ * LDR-FLIP (see et_flip.h). Single precision throughout, like the paper's reference, so that the mean agrees with
  * NVIDIA's tool to float rounding; planar images and separable filters whose inner loops run over x, so the
  * compiler vectorises them.
  */
-#include "flip.h"
+#include "et_flip.h"
 
 #include <math.h>
 #include <stdbool.h>

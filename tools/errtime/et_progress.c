@@ -1,5 +1,5 @@
-/* One-line progress bar (see progress.h). */
-#include "progress.h"
+/* One-line progress bar (see et_progress.h). */
+#include "et_progress.h"
 
 #include <string.h>
 

@@ -1,5 +1,5 @@
-/* The built-in analytic errtime scene and its methods (see synthetic.h). */
-#include "synthetic.h"
+/* The built-in analytic errtime scene and its methods (see et_synthetic.h). */
+#include "et_synthetic.h"
 
 #include <math.h>
 
