@@ -124,7 +124,7 @@ ACCEL_PORT_TESTS_embree := accel_embree
 RENDER_SRCS := src/render/camera.c src/render/texture.c src/render/trace.c src/render/render.c src/recon/taa.c \
                src/recon/tdense.c
 RENDER_TESTS := tdense
-RENDER_PORT_TESTS := render
+RENDER_PORT_TESTS := render render_tdense
 
 # pattern (src/pattern): integer-only tile orderings, dither maps, masks
 PATTERN_SRCS := src/pattern/tileorder.c
@@ -199,7 +199,7 @@ HZRT_SRCS := port/linux/main.c
 HZRT_OBJS := $(HZRT_SRCS:%.c=$(O)/%.o)
 HZRT := $(O)/bin/hzrt
 
-BENCH_SRCS := tools/bench/bench.c
+BENCH_SRCS := tools/bench/bench.c tools/bench/bench_tdense.c
 BENCH_OBJS := $(BENCH_SRCS:%.c=$(O)/%.o)
 BENCH := $(O)/bin/hzbench
 
@@ -218,7 +218,7 @@ $(O)/test/unit/test_imageio: TEST_CFLAGS += -DHZ_HAVE_PNG=$(HAVE_PNG)
 # Its files are prefixed et_ because it also sees port/linux (which has report.h, for instance).
 ERRTIME_SRCS := tools/errtime/et_metrics.c tools/errtime/et_flip.c tools/errtime/et_report.c \
                 tools/errtime/et_progress.c tools/errtime/driver.c tools/errtime/et_synthetic.c \
-                tools/errtime/et_methods.c
+                tools/errtime/et_methods.c tools/errtime/et_render.c
 ERRTIME_MAIN_SRCS := tools/errtime/main.c
 ERRTIME_TESTS := metrics flip et_report errtime
 ERRTIME_OBJS := $(ERRTIME_SRCS:%.c=$(O)/%.o)
@@ -286,6 +286,16 @@ $(ERRTIME): $(ERRTIME_MAIN_OBJS) $(ERRTIME_LIB) $(PORT_LIB) $(LIB)
 
 errtime: $(ERRTIME) ## build hzerrtime (error against run time; `hzerrtime --help`) into O/bin
 tests: $(ERRTIME)
+
+# Error against run time for the renderer's scenes (tdense and its baselines at a 240 Hz display; the
+# references are cached in build/errtime-cache). Scenes that are not baked yet are left out with a note.
+REPORT_SCENES ?= builtin sponza conference
+REPORT_ARGS ?= --refresh 240
+report: $(ERRTIME) ## error vs. run time of tdense and its baselines (builtin, sponza, conference) into $(O)/report
+	$(Q)scenes=""; for s in $(REPORT_SCENES); do \
+		if [ "$$s" = builtin ] || [ -f "$(SCENES_O)/$$s.hzb" ]; then scenes="$$scenes$${scenes:+,}$$s"; \
+		else echo "report: $$s left out: $(SCENES_O)/$$s.hzb missing (make scenes)"; fi; done; \
+	HZ_SCENES_DIR=$(abspath $(SCENES_O)) $(ERRTIME) --scene "$$scenes" $(REPORT_ARGS) --out $(O)/report
 
 $(ERRTIME_TEST_BINS): $(O)/test/unit/test_%: test/unit/test_%.c $(ERRTIME_LIB) $(PORT_LIB) $(LIB)
 	@mkdir -p $(dir $@)
@@ -446,8 +456,8 @@ deps: ## install the Debian packages BOARD needs to build, run and test (apt-get
 
 # ---------------------------------------------------------------------------------------------------------
 # Run
-RUN_ARGS ?= --frames 240 --hz 240 --size 640x360
-run: deps $(HZRT) ## build host-sim and render the built-in scene: 240 frames at a simulated 240 Hz into $(O)/run
+RUN_ARGS ?= --mode tdense --frames 240 --hz 240 --size 640x360
+run: deps $(HZRT) ## build host-sim and render the built-in scene, temporally dense: 240 frames at a simulated 240 Hz into $(O)/run
 	$(Q)$(HZRT) render builtin $(RUN_ARGS) --out $(O)/run
 	@echo "outputs: $(O)/run/frames.y4m (mpv/ffplay), $(O)/run/last.png, $(O)/run/summary.json"
 
@@ -461,7 +471,7 @@ latency-sim: $(HZRT) ## simulated 240 Hz display-locked run: miss rate, latency 
 
 bench: $(BENCH) ## measure (side by side, in one run) and print a table; writes $(O)/bench/*.csv
 	$(Q)mkdir -p $(O)/bench
-	$(Q)$(BENCH) --csv $(O)/bench/bench.csv
+	$(Q)$(BENCH) --csv $(O)/bench/bench.csv --scenes $(SCENES_O)
 
 size: $(HZRT) ## section sizes of hzrt, its largest symbols and the board's static arenas
 	$(Q)$(SIZE) $(HZRT) $(LIB)
@@ -574,6 +584,6 @@ help: ## list the targets
 	@grep -hE '^[a-z][a-z-]*:.*## ' $(MAKEFILE_LIST) | sed -E 's/^([a-z-]+):.*## (.*)/\1|\2/' | \
 		awk -F'|' '{ printf "  %-20s %s\n", $$1, $$2 }'
 
-.PHONY: all deps run bench size tests test-board test check-freestanding check-integer clean help gen-srgb errtime \
+.PHONY: report all deps run bench size tests test-board test check-freestanding check-integer clean help gen-srgb errtime \
         bake scenes fuzz test-host
 .PHONY: vmtest vmtest-tier vmtest-board latency-sim

@@ -9,7 +9,9 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
+#include "bench_tdense.h"
 #include "cli.h"
 #include "clock.h"
 #include "fileio.h"
@@ -127,12 +129,47 @@ int main(int argc, char **argv)
 {
     hz_cli_prog = "hzbench";
     const char *csv_path = NULL;
+    hz_bench_tdense_opts_t td = { NULL, 640, 360, 0, 5, 4, 12, 1.0f, 240, false };
+    bool kernels = true, tdense = true;
     for (int i = 1; i < argc; i++) {
-        if (!strcmp(argv[i], "--csv") && i + 1 < argc) {
+        const char *v = i + 1 < argc ? argv[i + 1] : NULL;
+        long n;
+        if (!strcmp(argv[i], "--csv") && v) {
             csv_path = argv[++i];
+        } else if (!strcmp(argv[i], "--scenes") && v) {
+            td.scenes_dir = argv[++i];
+        } else if (!strcmp(argv[i], "--size")) {
+            int w, h;
+            if (!hz_cli_parse_size(argv[i], v, 16, 8192, &w, &h))
+                return HZ_EXIT_USAGE;
+            td.width = (uint32_t)w, td.height = (uint32_t)h, i++;
+        } else if (!strcmp(argv[i], "--threads")) {
+            if (!hz_cli_parse_long(argv[i], v, 1, HZ_MAX_THREADS, &n))
+                return HZ_EXIT_USAGE;
+            td.threads = (int)n, i++;
+        } else if (!strcmp(argv[i], "--frames")) {
+            if (!hz_cli_parse_long(argv[i], v, 1, 1000, &n))
+                return HZ_EXIT_USAGE;
+            td.frames = (uint32_t)n, i++;
+        } else if (!strcmp(argv[i], "--rounds")) {
+            if (!hz_cli_parse_long(argv[i], v, 1, HZ_BENCH_TDENSE_MAX_ROUNDS, &n))
+                return HZ_EXIT_USAGE;
+            td.rounds = (int)n, i++;
+        } else if (!strcmp(argv[i], "--only") && v) {
+            kernels = !strcmp(v, "kernels");
+            tdense = !strcmp(v, "tdense");
+            if (!kernels && !tdense) {
+                hz_cli_error("--only: '%s' is not kernels or tdense", v);
+                return HZ_EXIT_USAGE;
+            }
+            i++;
         } else if (!strcmp(argv[i], "-h") || !strcmp(argv[i], "--help")) {
-            printf("usage: hzbench [--csv FILE]\n\nMeasures hzrt's kernels side by side and prints medians of %d "
-                   "interleaved rounds.\n", ROUNDS);
+            printf("usage: hzbench [--csv FILE] [--only kernels|tdense] [--scenes DIR] [--size WxH] [--threads N]\n"
+                   "               [--frames N] [--rounds N]\n\n"
+                   "Measures hzrt's kernels side by side and prints medians of %d interleaved rounds; then the\n"
+                   "displayed-frame time of tdense against full-frame 1 spp + TAA on the built-in scene and on\n"
+                   "sponza/conference from --scenes (default size 640x360, all cores, 12 timed frames after 4,\n"
+                   "5 rounds).\n", ROUNDS);
             return 0;
         } else {
             hz_cli_error("unknown option '%s' (try --help)", argv[i]);
@@ -149,15 +186,41 @@ int main(int argc, char **argv)
     };
     double (*fns[])(uint32_t) = { bench_hash, bench_hash_pcg, bench_rng, bench_arena, bench_srgb8_table,
                                   bench_srgb8_powf };
+    size_t nrows = kernels ? HZ_ARRAY_LEN(rows) : 0;
     const uint32_t n = 1u << 24;
     for (int r = 0; r < ROUNDS; r++)
-        for (size_t k = 0; k < HZ_ARRAY_LEN(rows); k++)
+        for (size_t k = 0; k < nrows; k++)
             rows[k].per_sec[r] = fns[k](n) * 1e-6;
-    printf("%-8s %-28s %12s %s\n", "group", "kernel", "median", "unit");
-    for (size_t k = 0; k < HZ_ARRAY_LEN(rows); k++) {
+    if (nrows)
+        printf("%-8s %-28s %12s %s\n", "group", "kernel", "median", "unit");
+    for (size_t k = 0; k < nrows; k++) {
         qsort(rows[k].per_sec, ROUNDS, sizeof(double), cmp_double);
         rows[k].median = rows[k].per_sec[ROUNDS / 2];
         printf("%-8s %-28s %12.1f %s\n", rows[k].group, rows[k].name, rows[k].median, rows[k].unit);
+    }
+
+    hz_bench_tdense_row_t trows[8];
+    int nt = 0;
+    if (tdense) {
+        hz_error_t err;
+        td.progress = hz_cli_stderr_is_tty();
+        if (td.threads == 0) {
+            long c = sysconf(_SC_NPROCESSORS_ONLN);
+            td.threads = c < 1 ? 1 : c > HZ_MAX_THREADS ? HZ_MAX_THREADS : (int)c;
+        }
+        printf("\ntdense vs full-frame 1 spp + TAA: %ux%u, %d threads, %u frames after %u from t = %.1f s at %u Hz, "
+               "median of %d rounds\n", td.width, td.height, td.threads, td.frames, td.warm, td.start, td.hz,
+               td.rounds);
+        nt = hz_bench_tdense(&td, trows, 8, &err);
+        if (nt < 0)
+            return hz_cli_report(&err);
+        printf("%-12s %12s %12s %8s %15s %14s %14s\n", "scene", "tdense ms", "taa ms", "ratio", "ratio min..max",
+               "tdense rays", "taa rays");
+        for (int k = 0; k < nt; k++)
+            printf("%-12s %12.2f %12.2f %7.2fx %7.2f..%-7.2f %14.0f %14.0f\n", trows[k].scene, trows[k].tdense_ms,
+                   trows[k].taa_ms, trows[k].ratio, trows[k].ratio_min, trows[k].ratio_max, trows[k].tdense_rays,
+                   trows[k].taa_rays);
+        printf("(seed 001 reports about 3.5x at 1920x1080 on an RTX 2080 Ti)\n");
     }
     if (csv_path) {
         hz_out_t out;
@@ -165,9 +228,17 @@ int main(int argc, char **argv)
         if (hz_out_open(&out, csv_path, &err) != HZ_OK)
             return hz_cli_report(&err);
         fprintf(out.f, "group,kernel,median,min,max,unit\n");
-        for (size_t k = 0; k < HZ_ARRAY_LEN(rows); k++)
+        for (size_t k = 0; k < nrows; k++)
             fprintf(out.f, "%s,%s,%.3f,%.3f,%.3f,%s\n", rows[k].group, rows[k].name, rows[k].median,
                     rows[k].per_sec[0], rows[k].per_sec[ROUNDS - 1], rows[k].unit);
+        for (int k = 0; k < nt; k++) {
+            fprintf(out.f, "tdense,%s %ux%u tdense,%.3f,,,ms/frame\n", trows[k].scene, td.width, td.height,
+                    trows[k].tdense_ms);
+            fprintf(out.f, "tdense,%s %ux%u full 1 spp + taa,%.3f,,,ms/frame\n", trows[k].scene, td.width,
+                    td.height, trows[k].taa_ms);
+            fprintf(out.f, "tdense,%s %ux%u taa/tdense,%.3f,%.3f,%.3f,ratio\n", trows[k].scene, td.width, td.height,
+                    trows[k].ratio, trows[k].ratio_min, trows[k].ratio_max);
+        }
         if (hz_out_commit(&out, &err) != HZ_OK)
             return hz_cli_report(&err);
         printf("wrote %s\n", csv_path);
