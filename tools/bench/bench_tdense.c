@@ -26,26 +26,38 @@ static void run_item(void *user, uint32_t item, int thread)
 }
 
 /* Mean displayed-frame time (ms, begin_frame to end_frame) of `frames` frames from scene time t0 at `hz`, after
- * `warm` untimed frames; history restarts first, so every round sees the same sequence. */
+ * `warm` untimed frames, and its parts: part[0] begin_frame (animation, refit, camera), part[1] the trace pass,
+ * part[2] the resolve pass (TAA or tdense composite). History restarts first, so every round sees the same
+ * sequence. */
 static hz_status_t run_frames(hz_renderer_t *r, uint32_t warm, uint32_t frames, float t0, uint32_t hz, double *ms,
-                              hz_error_t *err)
+                              double part[3], hz_error_t *err)
 {
     hz_render_reset_history(r);
-    int64_t sum = 0;
+    int64_t sum = 0, parts[3] = { 0, 0, 0 };
     for (uint32_t i = 0; i < warm + frames; i++) {
         int64_t a = hz_clock_ns();
         hz_status_t s = hz_render_begin_frame(r, i, t0 + (float)i / (float)hz, err);
         if (s != HZ_OK)
             return s;
+        int64_t b = hz_clock_ns(), c[2] = { b, b };
         for (uint32_t p = 0; p < hz_render_pass_count(r); p++) {
             job_t j = { r, p };
             hz_threads_run(run_item, &j, hz_render_pass_items(r, p));
+            if (p < 2)
+                c[p] = hz_clock_ns();
         }
         hz_render_end_frame(r);
-        if (i >= warm)
-            sum += hz_clock_ns() - a;
+        int64_t e = hz_clock_ns();
+        if (i >= warm) {
+            sum += e - a;
+            parts[0] += b - a;
+            parts[1] += c[0] - b;
+            parts[2] += e - c[0];
+        }
     }
     *ms = (double)sum / frames * 1e-6;
+    for (int k = 0; k < 3; k++)
+        part[k] = (double)parts[k] / frames * 1e-6;
     return HZ_OK;
 }
 
@@ -87,10 +99,14 @@ static hz_status_t bench_scene(const char *label, const char *path, const hz_ben
         s = hz_render_create(&r[m], &scene, accel, &ro, &pools->frame, pools->thread, (uint32_t)o->threads, err);
     }
     double ms_mode[2][HZ_BENCH_TDENSE_MAX_ROUNDS], ratio[HZ_BENCH_TDENSE_MAX_ROUNDS];
+    double parts[2][3][HZ_BENCH_TDENSE_MAX_ROUNDS];
     for (int round = 0; round < o->rounds && s == HZ_OK; round++) {
         for (int k = 0; k < 2 && s == HZ_OK; k++) {
             int m = (round + k) & 1;
-            s = run_frames(r[m], o->warm, o->frames, o->start, o->hz, &ms_mode[m][round], err);
+            double part[3] = { 0, 0, 0 };
+            s = run_frames(r[m], o->warm, o->frames, o->start, o->hz, &ms_mode[m][round], part, err);
+            for (int q = 0; q < 3; q++)
+                parts[m][q][round] = part[q];
         }
         ratio[round] = ms_mode[1][round] / ms_mode[0][round];
         if (o->progress) {
@@ -103,6 +119,9 @@ static hz_status_t bench_scene(const char *label, const char *path, const hz_ben
     if (s == HZ_OK) {
         memset(row, 0, sizeof *row);
         snprintf(row->scene, sizeof row->scene, "%s", label);
+        for (int m = 0; m < 2; m++)
+            for (int q = 0; q < 3; q++)
+                row->part_ms[m][q] = median(parts[m][q], o->rounds);
         row->tdense_ms = median(ms_mode[0], o->rounds);
         row->taa_ms = median(ms_mode[1], o->rounds);
         row->ratio = median(ratio, o->rounds);

@@ -8,7 +8,9 @@
  * `start` at `hz` (history reset first, so every round sees the same frames), the modes taking turns at going
  * first. A frame's time is begin_frame to end_frame with all passes on `threads` threads (scene animation,
  * accel refit, tracing and the resolve: what a displayed frame costs). Figures are medians over rounds, the
- * ratio (TAA ms / tdense ms) is taken per round. Returns the rows written, or -1 with err set.
+ * ratio (TAA ms / tdense ms) is taken per round; the parts of a frame (begin_frame: animation, refit and
+ * camera; the trace pass; the resolve pass) are timed too, to show what limits the ratio. Returns the rows
+ * written, or -1 with err set.
  */
 #ifndef HZ_BENCH_TDENSE_H
 #define HZ_BENCH_TDENSE_H
@@ -36,6 +38,7 @@ typedef struct hz_bench_tdense_row {
     double tdense_ms, taa_ms;      /* median over rounds of the mean displayed-frame time */
     double ratio, ratio_min, ratio_max;
     double tdense_rays, taa_rays;  /* rays of the last frame (primary + shadow + secondary) */
+    double part_ms[2][3];          /* [tdense, taa][begin_frame, trace pass, resolve pass], medians */
 } hz_bench_tdense_row_t;
 
 int hz_bench_tdense(const hz_bench_tdense_opts_t *o, hz_bench_tdense_row_t *rows, int max_rows, hz_error_t *err);
