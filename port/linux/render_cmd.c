@@ -54,6 +54,8 @@ static void usage(FILE *f)
             "options:\n"
             "  --mode M          tdense (one sample per 2x2 tile per frame, temporally dense composite), full (N\n"
             "                    samples per pixel) or taa (1 jittered sample + temporal resolve); default tdense\n"
+            "                    (a tdense frame holds a quarter of fresh samples: run 4 frames or more; a still\n"
+            "                    view reaches the 4x MSAA average after 16)\n"
             "  --spp N           samples per pixel in full mode: 1, 4, 9, ... 1024 (squares); default 1\n"
             "  --msaa4           full mode, 4 spp at the fixed 4x MSAA positions (what tdense converges to)\n"
             "  --ordering R      tdense tile orderings: full (the paper's adaptive choice), dominant, shear-up,\n"
