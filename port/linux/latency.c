@@ -46,7 +46,8 @@ static void usage(FILE *f)
             "frames:\n"
             "  --frames N | --seconds S    run length (default 10 s)\n"
             "  --size WxH            frame size (default: the sink's mode, else 320x180)\n"
-            "  --render pattern|scene     what to draw (scene: the built-in scene, once the renderer is in)\n"
+            "  --render pattern|scene     what to draw (scene: the built-in scene, rendered at --size)\n"
+            "  --render-scale N      scene: render at size / N and show each pixel as an N x N block (default 1)\n"
             "  --marker, --no-marker      frame-id marker in the top-left corner (default: on with a sink)\n"
             "  --virtual             simulated clock (sim, vcd, csv sources): no sleeping, render times from\n"
             "                        --render-model const:T | uniform:A:B | spikes:A:B:PCT | triangle:A:B:N |\n"
@@ -181,6 +182,7 @@ typedef struct opts {
     int w, h;
     double percentile;
     long window, lookahead, timeout_ms;
+    long render_scale;
     const char *guard, *latch, *wake;
     int rt;
 } opts_t;
@@ -201,6 +203,7 @@ static int parse_opts(int argc, char **argv, opts_t *o, int *help)
     o->sink = "none";
     o->out = "out/latency";
     o->render = "pattern";
+    o->render_scale = 1;
     o->signal = "";
     o->marker = -1;
     o->hz = HZ_DISPLAY_HZ;
@@ -229,6 +232,10 @@ static int parse_opts(int argc, char **argv, opts_t *o, int *help)
                 return 0;
             }
             o->render = v;
+        } else if (!strcmp(a, "--render-scale")) {
+            NEXT_ARG();
+            if (!hz_cli_parse_long(a, v, 1, 64, &o->render_scale))
+                return 0;
         } else if (!strcmp(a, "--signal")) {
             NEXT_ARG();
             o->signal = v;
@@ -512,7 +519,7 @@ int hz_cmd_latency(int argc, char **argv)
         s = err.code;
     }
     if (s == HZ_OK && cfg.frames_mode && !strcmp(o.render, "scene"))
-        s = hz_scene_framesrc(&frames, cfg.w, cfg.h, &err);
+        s = hz_scene_framesrc(&frames, cfg.w, cfg.h, (int)o.render_scale, &err);
     cfg.marker = o.marker < 0 ? strcmp(skind, "none") != 0 : o.marker;
     /* ---- run length and record capacity ---- */
     double hz_cap = o.hz > 0 ? o.hz : 1000;
