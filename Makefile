@@ -110,11 +110,14 @@ SCENE_TESTS :=
 SCENE_PORT_TESTS :=
 
 # accel (src/accel): BVH build and traversal; the Embree backend lives in port/embree
-ACCEL_SRCS :=
-ACCEL_SRCS_avx2 :=
-ACCEL_SRCS_neon :=
-ACCEL_TESTS :=
-ACCEL_PORT_TESTS :=
+ACCEL_SRCS := src/accel/accel.c src/accel/bvh_build.c src/accel/trav_scalar.c src/accel/meshgen.c
+ACCEL_SRCS_avx2 := src/accel/trav_avx2.c
+ACCEL_SRCS_neon := src/accel/trav_neon.c
+ACCEL_TESTS := accel_build accel_trav
+ACCEL_PORT_TESTS := threads accel_water
+# with embree in BOARD_ACCEL: the backend's port sources and its cross-check tests
+PORT_SRCS_embree := port/embree/embree_accel.c
+ACCEL_PORT_TESTS_embree := accel_embree
 
 # render (src/render, src/recon): camera, shading, G-buffer, reconstruction
 RENDER_SRCS :=
@@ -139,13 +142,18 @@ INTEGER_SRCS := $(CORE_INTEGER_SRCS) $(PATTERN_SRCS)
 
 # Ports: each board lists the ones it links (BOARD_PORTS); accel backends come from BOARD_ACCEL.
 KNOWN_PORTS := linux
-PORT_SRCS_linux := port/linux/pools.c port/linux/cli.c port/linux/clock.c port/linux/fileio.c
+PORT_SRCS_linux := port/linux/pools.c port/linux/cli.c port/linux/clock.c port/linux/fileio.c port/linux/threads.c
 $(foreach p,$(BOARD_PORTS),$(if $(filter $(p),$(KNOWN_PORTS)),,$(error $(BOARD_DIR)/board.mk: unknown port '$(p)' (known: $(KNOWN_PORTS)))))
 PORT_SRCS := $(foreach p,$(BOARD_PORTS),$(PORT_SRCS_$(p)))
-PORT_OBJS := $(PORT_SRCS:%.c=$(O)/%.o)
-PORT_LIB := $(O)/libhzport.a
 PORT_LIBS := -lpthread -lm
 PORT_DEFS := $(foreach p,$(BOARD_PORTS),-DHZ_PORT_$(shell echo $(p) | tr a-z A-Z)=1)
+ifneq ($(filter embree,$(BOARD_ACCEL)),)
+PORT_SRCS += $(PORT_SRCS_embree)
+PORT_LIBS += -lembree3
+PORT_DEFS += -DHZ_HAVE_EMBREE=1 -Iport/embree
+endif
+PORT_OBJS := $(PORT_SRCS:%.c=$(O)/%.o)
+PORT_LIB := $(O)/libhzport.a
 
 HZRT_SRCS := port/linux/main.c
 HZRT_OBJS := $(HZRT_SRCS:%.c=$(O)/%.o)
@@ -157,7 +165,8 @@ BENCH := $(O)/bin/hzbench
 
 UNIT_TESTS := $(foreach m,$(MODULES),$($(m)_TESTS))
 UNIT_BINS := $(UNIT_TESTS:%=$(O)/test/unit/test_%)
-PORT_TESTS := $(foreach m,$(MODULES),$($(m)_PORT_TESTS))
+PORT_TESTS := $(foreach m,$(MODULES),$($(m)_PORT_TESTS)) \
+              $(if $(filter embree,$(BOARD_ACCEL)),$(ACCEL_PORT_TESTS_embree))
 PORT_TEST_BINS := $(PORT_TESTS:%=$(O)/test/unit/test_%)
 TEST_BINS := $(UNIT_BINS) $(PORT_TEST_BINS)
 TEST_CFLAGS := $(HOSTED_CFLAGS) -Itest
