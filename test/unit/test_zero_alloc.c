@@ -15,6 +15,7 @@
 #include <string.h>
 
 #include "clock.h"
+#include "frameloop.h"
 #include "hz/hz.h"
 #include "pools.h"
 
@@ -181,11 +182,64 @@ static void test_frames_allocate_nothing(void **state)
     assert_true(pools->frame.high_water >= (size_t)320 * 180 * 16);
 }
 
+/* The display-locked frame loop (issue 7): lock, pace, render, present, record, report statistics, for a
+ * simulated 240 Hz display on a simulated clock. Setup and teardown included, it allocates nothing. */
+static void test_frame_loop_allocates_nothing(void **state)
+{
+    (void)state;
+    hz_pools_t *pools = hz_pools_get();
+    assert_non_null(pools);
+    hz_error_t err;
+    hz_vsynth_cfg_t g;
+    memset(&g, 0, sizeof g);
+    g.period_q16 = hz_vsync_period_q16_from_mhz(240000);
+    g.jitter_ns = 50000;
+    g.miss_ppm = 10000;
+    g.glitch_ppm = 10000;
+    g.slots = 2000;
+    hz_rtm_cfg_t m = { HZ_RTM_UNIFORM, 500000, 3000000, 0, 0, 50000, 7 };
+    hz_loop_cfg_t cfg;
+    memset(&cfg, 0, sizeof cfg);
+    cfg.frames_mode = 1;
+    cfg.frames = 1500;
+    cfg.nominal_period_ns = 4166667;
+    cfg.pace.guard_ns = -1;
+    cfg.marker = 1;
+    cfg.w = 160;
+    cfg.h = 90;
+    cfg.rtm = &m;
+    cfg.max_frames = 1500;
+    cfg.max_edges = 5000;
+    static hz_loop_result_t res;
+    static hz_frames_summary_t sum;
+    hz_vsource_t src;
+    hz_sink_t sink;
+    hz_timebase_t tb;
+    hz_framesrc_t fs = hz_framesrc_testpattern();
+    hz_arena_mark_t mark = hz_arena_mark(&pools->frame);
+    armed_calls = 0;
+    armed = 1;
+    hz_status_t s = hz_vsource_sim(&src, &g, &err);
+    hz_sink_null(&sink);
+    hz_tb_init_virtual(&tb, 0);
+    if (s == HZ_OK)
+        s = hz_loop_run(&cfg, &tb, &src, &sink, &fs, &pools->frame, &res, &err);
+    if (s == HZ_OK)
+        hz_frames_summarise(res.frames, res.n_frames, res.scratch, &sum);
+    hz_vsource_close(&src);
+    armed = 0;
+    hz_arena_reset(&pools->frame, mark);
+    assert_int_equal(s, HZ_OK);
+    assert_int_equal(armed_calls, 0);
+    assert_int_equal(sum.frames, 1500);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_interposer_sees_allocations),
         cmocka_unit_test(test_frames_allocate_nothing),
+        cmocka_unit_test(test_frame_loop_allocates_nothing),
     };
     return HZ_RUN(tests);
 }

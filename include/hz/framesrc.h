@@ -1,0 +1,47 @@
+/*
+ * hz/framesrc.h — what the frame loop asks for: "render frame n into this RGB buffer".
+ *
+ * Contract: the frame loop (port/linux/frameloop.h) owns the image buffer (W x H RGB24 from the frame arena)
+ * and calls render() once per frame, from one thread, in frame order. req->display_ns is the predicted
+ * scan-out time of the frame's target edge (animate the scene to that instant, not to "now"); req->period_ns
+ * is the display period. render() fills every pixel and returns HZ_OK, or an error in err (the loop stops and
+ * reports it). It must not allocate: steady-state frames allocate nothing anywhere.
+ *
+ * Until the renderer lands the loop uses hz_framesrc_testpattern(): a deterministic moving test pattern (the
+ * built-in scene plugs in here: a hz_framesrc_t whose render() renders the scene into out->rgb).
+ */
+#ifndef HZ_FRAMESRC_H
+#define HZ_FRAMESRC_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "hz/status.h"
+
+typedef struct hz_rgb8_image {
+    uint8_t *rgb;  /* RGB24 */
+    int w, h;
+    size_t stride; /* bytes per row, >= 3 w */
+} hz_rgb8_image_t;
+
+typedef struct hz_frame_req {
+    uint64_t id;        /* frame number, 0, 1, 2, ... */
+    int64_t display_ns; /* predicted scan-out time (CLOCK_MONOTONIC domain, or the simulation's clock) */
+    int64_t period_ns;
+} hz_frame_req_t;
+
+typedef struct hz_framesrc {
+    const char *name; /* for reports: "test pattern", "built-in scene" */
+    void *ctx;
+    hz_status_t (*render)(void *ctx, const hz_frame_req_t *req, hz_rgb8_image_t *out, hz_error_t *err);
+} hz_framesrc_t;
+
+/* The synthetic source: hz_testpattern_draw() of the frame id. ctx is unused. */
+hz_framesrc_t hz_framesrc_testpattern(void);
+
+/* A moving pattern that depends only on (id, w, h): a gradient, a hashed 8x8 checker that changes every 16
+ * frames, a vertical bar moving 8 px and a horizontal bar moving 4 px per frame. Every pixel of two
+ * consecutive frames' bars differs, so a repeated or torn frame shows. */
+void hz_testpattern_draw(uint8_t *rgb, size_t stride, int w, int h, uint64_t id);
+
+#endif /* HZ_FRAMESRC_H */

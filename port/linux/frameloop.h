@@ -1,0 +1,83 @@
+/*
+ * frameloop.h — the display-locked frame loop: lock onto v-sync, pace, render, present, record.
+ *
+ * Contract:
+ *  - hz_loop_run() locks the v-sync model on the source (HZ_E_TIMEOUT naming the source if it does not lock
+ *    within lock time-out), then per frame: takes in the edges that arrived, plans the frame (hz/pace.h),
+ *    waits until its start while taking in edges, renders it through the hz_framesrc_t hook (the only place
+ *    pixels come from: the test pattern today, the built-in scene once the renderer lands), draws the frame-id
+ *    marker when asked, holds the frame until the edge before its target has passed, presents it to the sink
+ *    and records it. Afterwards it waits (bounded) for the edges that show the last frames and settles the
+ *    model. In edges-only mode (frames_mode 0) it only captures and classifies edges.
+ *  - Time: a real timebase needs a live source or a timeline (which is then replayed in real time); a virtual
+ *    timebase needs a timeline and a render-time model (hz/rtmodel.h): render times are modelled, frames are
+ *    still rendered for real. Live sources with a virtual clock are refused.
+ *  - A silent source is an error, not a hang: HZ_E_TIMEOUT when no edge at all came for edge_timeout_ns.
+ *  - Memory: everything comes from the arena passed in (records, edge log, image), sized by hz_loop_bytes();
+ *    a run that does not fit is refused up front with both byte counts. The steady state allocates nothing.
+ *  - Every input edge is logged (edge log) with its classification, until the log is full; edges beyond it
+ *    are still used and counted (edges_unlogged), never dropped silently.
+ */
+#ifndef HZ_PORT_FRAMELOOP_H
+#define HZ_PORT_FRAMELOOP_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "hz/arena.h"
+#include "hz/frames.h"
+#include "hz/pace.h"
+#include "hz/rtmodel.h"
+#include "hz/vsync.h"
+#include "vsource.h"
+
+enum { HZ_EDGE_RISING = 0, HZ_EDGE_FALLING, HZ_EDGE_ANY };
+enum { HZ_ECLS_OTHER = 0, HZ_ECLS_VSYNC, HZ_ECLS_SPURIOUS, HZ_ECLS_PENDING };
+
+typedef struct hz_edge_rec {
+    int64_t t_ns; /* on the loop's clock */
+    int64_t slot;
+    int64_t residual_ns;
+    int64_t frame_id;
+    uint32_t missed_before;
+    uint8_t level, cls, why, relock;
+} hz_edge_rec_t;
+
+typedef struct hz_loop_cfg {
+    int frames_mode;          /* 1: render and present frames; 0: capture and classify edges only */
+    uint64_t frames;          /* stop after this many frames (0: by duration) */
+    int64_t duration_ns;      /* stop after this long (0: by frames; both 0 in edges-only mode: until the end) */
+    int64_t nominal_period_ns;
+    uint32_t vsync_window;
+    int64_t tol_min_ns;
+    hz_pace_cfg_t pace;
+    int64_t edge_timeout_ns;  /* longest silence tolerated; 0: max(500 ms, 10 periods) */
+    int64_t lock_timeout_ns;  /* longest wait for the v-sync model to lock; 0: edge time-out + 12 periods */
+    int edge_mode;            /* HZ_EDGE_RISING, _FALLING or _ANY (photodiode on the flash square) */
+    int marker;
+    int w, h;
+    const hz_rtm_cfg_t *rtm;  /* virtual time: the render-time model */
+    size_t max_frames, max_edges;
+} hz_loop_cfg_t;
+
+typedef struct hz_loop_result {
+    hz_frame_rec_t *frames;
+    size_t n_frames;
+    hz_edge_rec_t *edges;
+    size_t n_edges;
+    uint64_t edges_unlogged;
+    int64_t *scratch; /* max(max_frames, max_edges) values for summaries */
+    hz_vsync_counts_t counts;
+    int64_t period_ns, period_q16, offset_ppb, sigma_ns, tol_ns, nominal_period_ns;
+    int64_t t_origin, t_end;  /* loop clock at start and end */
+    uint64_t kernel_dropped;
+    int locked;
+    int marker_cell;
+    char stop_reason[96];
+} hz_loop_result_t;
+
+size_t hz_loop_bytes(const hz_loop_cfg_t *cfg);
+hz_status_t hz_loop_run(const hz_loop_cfg_t *cfg, hz_timebase_t *tb, hz_vsource_t *src, hz_sink_t *sink,
+                        const hz_framesrc_t *frames, hz_arena_t *arena, hz_loop_result_t *res, hz_error_t *err);
+
+#endif

@@ -1,0 +1,49 @@
+/*
+ * latency_report.h — what `hzrt latency` prints and writes: the summary on a stream, and per-frame CSV, per-edge CSV,
+ * JSON and an SVG histogram in a directory.
+ *
+ * Contract:
+ *  - hz_report_compute() derives everything from a loop result: the frame summary (hz/frames.h), the v-sync
+ *    residual and pulse-width distributions, the histogram of latency with bin P/32 (frames) or of residuals
+ *    (edges only). Percentiles are nearest-rank over the frames (or edges) counted, and every count that
+ *    was excluded from a distribution is printed next to it: unresolved frames, inferred edges, edges past the
+ *    log, the histogram's overflow. Nothing is culled silently.
+ *  - hz_report_write() writes frames.csv (one row per frame), edges.csv (one row per input edge; readable
+ *    again by --source csv:FILE), report.json and histogram.svg into dir (created if needed), each through a
+ *    temporary file and a rename, so an interrupted run leaves no half-written file.
+ */
+#ifndef HZ_PORT_REPORT_H
+#define HZ_PORT_REPORT_H
+
+#include <stdio.h>
+
+#include "frameloop.h"
+#include "hz/frames.h"
+#include "hz/tstat.h"
+
+typedef struct hz_report_info {
+    const char *source, *sink, *frames;
+    const char *clock;      /* "real time" or "simulated clock, render model ..." */
+    int w, h;
+    int marker;
+} hz_report_info_t;
+
+typedef struct hz_report {
+    const hz_loop_cfg_t *cfg;
+    hz_report_info_t info;
+    hz_loop_result_t *res;
+    hz_frames_summary_t frames;
+    hz_dist_t residual, abs_residual, pulse, interval;
+    uint64_t pulses;
+    hz_hist_t hist;
+    int hist_is_latency;
+} hz_report_t;
+
+void hz_report_compute(hz_report_t *r, const hz_loop_cfg_t *cfg, const hz_report_info_t *info, hz_loop_result_t *res);
+void hz_report_print(FILE *f, hz_report_t *r);
+hz_status_t hz_report_write(const char *dir, hz_report_t *r, hz_error_t *err);
+
+/* "4.167 ms", "12.3 us", "850 ns": a duration for humans. */
+const char *hz_report_dur(char *buf, size_t cap, int64_t ns);
+
+#endif

