@@ -262,6 +262,13 @@ struct hz_accel {
     void *impl; /* backend data */
 };
 
+/* The view of a loaded scene: its current positions (animation writes them in place, so refit sees them) and
+ * indices; triangles whose material is alpha-tested or blended get HZ_ACCEL_TRI_ANYHIT, in a flag array taken
+ * from `arena` (only when the scene has such materials; tri_flags stays NULL otherwise). */
+struct hz_scene;
+hz_status_t hz_accel_geom_from_scene(hz_accel_geom_t *g, const struct hz_scene *scene, hz_arena_t *arena,
+                                     hz_error_t *err);
+
 /* Validates geom (HZ_E_INVALID_ARG / HZ_E_RANGE naming the field or triangle); shared by both backends. */
 hz_status_t hz_accel_geom_check(const hz_accel_geom_t *g, hz_error_t *err);
 

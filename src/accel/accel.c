@@ -5,6 +5,8 @@
  */
 #include "bvh.h"
 
+#include "hz/scene.h"
+
 void hz_accel_config_default(hz_accel_config_t *cfg)
 {
     cfg->leaf_max = HZ_BVH_W;
@@ -25,6 +27,32 @@ hz_status_t hz_accel_plan_check(uint32_t tri_count, const hz_accel_config_t *cfg
     return hz_error_set(err, HZ_E_NO_MEMORY,
                         "accel: %u triangles need up to %zu bytes to build (%zu kept), arena '%s' has %zu", tri_count,
                         b.peak, b.kept, arena && arena->name ? arena->name : "?", avail);
+}
+
+hz_status_t hz_accel_geom_from_scene(hz_accel_geom_t *g, const hz_scene_t *s, hz_arena_t *arena, hz_error_t *err)
+{
+    g->pos = s->pos;
+    g->vertex_count = s->vertex_count;
+    g->tri = s->tri;
+    g->tri_count = s->triangle_count;
+    g->tri_flags = 0;
+    bool any = false;
+    for (uint32_t m = 0; m < s->material_count && !any; m++)
+        any = s->materials[m].alpha_mode != HZ_ALPHA_OPAQUE;
+    if (!any)
+        return HZ_OK;
+    uint8_t *f = hz_arena_alloc(arena, s->triangle_count ? s->triangle_count : 1u, 16);
+    if (!f) {
+        hz_arena_error(arena, err);
+        hz_error_prefix(err, "accel: any-hit flags");
+        return HZ_E_NO_MEMORY;
+    }
+    for (uint32_t t = 0; t < s->triangle_count; t++) {
+        uint32_t m = hz_scene_tri_material(s, t);
+        f[t] = m < s->material_count && s->materials[m].alpha_mode != HZ_ALPHA_OPAQUE ? HZ_ACCEL_TRI_ANYHIT : 0;
+    }
+    g->tri_flags = f;
+    return HZ_OK;
 }
 
 hz_status_t hz_accel_geom_check(const hz_accel_geom_t *g, hz_error_t *err)
