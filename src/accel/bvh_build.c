@@ -12,8 +12,17 @@
 #define OBJ_BINS 32
 #define SPATIAL_BINS 32     /* at most; smaller nodes use fewer (spatial_bins) */
 #define DEPTH_FORCE_MEDIAN 48 /* from here on, halve by index: 2^27 refs need 27 more levels < MAX_DEPTH */
-#define COST_NODE 1.0f        /* SAH: cost of a binary node relative to one ray/triangle test */
+#define COST_NODE 1.0f        /* SAH: cost of a binary node relative to one test of a block of triangles */
 #define COST_TRI 1.0f
+#ifndef SAH_BLOCK
+#define SAH_BLOCK 4u          /* SAH counts triangles in blocks of 4 (leaves test them together) */
+#endif
+
+/* Triangle count as the SAH sees it: whole blocks. */
+HZ_INLINE float sah_count(uint32_t n)
+{
+    return (float)((n + SAH_BLOCK - 1u) / SAH_BLOCK);
+}
 
 typedef struct box {
     float lo[3], hi[3];
@@ -327,7 +336,7 @@ static void find_object_split(build_t *bd, uint32_t base, uint32_t n, const box_
             uint32_t nr = n - nl;
             if (nl == 0 || nr == 0)
                 continue;
-            float c = box_area(&lacc) * (float)nl + box_area(&bd->rbox[i + 1]) * (float)nr;
+            float c = box_area(&lacc) * sah_count(nl) + box_area(&bd->rbox[i + 1]) * sah_count(nr);
             if (c < best->cost) {
                 best->cost = c;
                 best->axis = k;
@@ -406,7 +415,7 @@ static void find_spatial_split(build_t *bd, uint32_t base, uint32_t n, const box
             nr -= bins[i].exit;
             if (nl == 0 || nr == 0)
                 continue;
-            float c = box_area(&lacc) * (float)nl + box_area(&bd->rbox[i + 1]) * (float)nr;
+            float c = box_area(&lacc) * sah_count(nl) + box_area(&bd->rbox[i + 1]) * sah_count(nr);
             if (c < best->cost) {
                 best->cost = c;
                 best->axis = k;
@@ -475,8 +484,8 @@ static uint32_t partition_spatial(build_t *bd, uint32_t base, uint32_t n, const 
         box_t lub = lb, rub = rb;
         box_grow(&lub, &r->b);
         box_grow(&rub, &r->b);
-        float c_left = box_area(&lub) * (float)(nl + 1) + box_area(&rb) * (float)nr;
-        float c_right = box_area(&lb) * (float)nl + box_area(&rub) * (float)(nr + 1);
+        float c_left = box_area(&lub) * sah_count(nl + 1) + box_area(&rb) * sah_count(nr);
+        float c_right = box_area(&lb) * sah_count(nl) + box_area(&rub) * sah_count(nr + 1);
         ref_t lr, rr;
         float c_dup = FLT_MAX;
         box_t ldb = lb, rdb = rb;
@@ -486,7 +495,7 @@ static uint32_t partition_spatial(build_t *bd, uint32_t base, uint32_t n, const 
                 ldb = lb, rdb = rb;
                 box_grow(&ldb, &lr.b);
                 box_grow(&rdb, &rr.b);
-                c_dup = box_area(&ldb) * (float)(nl + 1) + box_area(&rdb) * (float)(nr + 1);
+                c_dup = box_area(&ldb) * sah_count(nl + 1) + box_area(&rdb) * sah_count(nr + 1);
             }
         }
         if (c_dup < c_left && c_dup < c_right) {
@@ -541,7 +550,7 @@ static float make_leaf(build_t *bd, uint32_t idx, uint32_t n, float area)
     for (uint32_t i = 0; i < n; i++)
         bd->leaf_prims[bd->leaf_count++] = bd->refs[base + i].prim;
     bd->top = base;
-    return COST_TRI * (float)n * area;
+    return COST_TRI * sah_count(n) * area;
 }
 
 /* Builds the node for the n references on top of the stack (bounds b); pops them. `budget` is the subtree's
@@ -580,7 +589,7 @@ static float build_node(build_t *bd, uint32_t idx, uint32_t n, const box_t *b, u
         os.cost = FLT_MAX;
     }
     float best = hz_minf(os.cost, ss.cost);
-    float leaf_cost = COST_TRI * (float)n * area;
+    float leaf_cost = COST_TRI * sah_count(n) * area;
     float split_cost = COST_NODE * area + COST_TRI * best;
     if (n <= bd->leaf_max && (leaf_cost <= split_cost || best == FLT_MAX))
         return make_leaf(bd, idx, n, area);

@@ -42,6 +42,7 @@ typedef struct rayset {
 } rayset_t;
 
 typedef struct job {
+    hz_accel_stats_t *stats; /* HZ_BENCH_STATS: counters of the one-thread run */
     const hz_accel_t *accel;
     method_t m;
     kind_t k;
@@ -53,13 +54,13 @@ typedef struct job {
 
 static void run_item(void *user, uint32_t item, int thread)
 {
-    (void)thread;
     const job_t *j = user;
     if (item % j->stride)
         return;
     const rayset_t *rs = j->rs;
     hz_accel_ctx_t ctx;
     hz_accel_ctx_init(&ctx);
+    ctx.stats = thread == 0 ? j->stats : NULL;
     ctx.flags = j->k == K_DIFFUSE ? 0 : HZ_ACCEL_COHERENT;
     ctx.kernel = j->m == M_SCALAR ? HZ_ACCEL_KERNEL_SCALAR
                  : j->m == M_SINGLE ? HZ_ACCEL_KERNEL_SIMD_SINGLE
@@ -381,11 +382,18 @@ static int bench_scene(const hz_bench_accel_opts_t *o, const char *name, FILE *c
             for (int m = 0; m < M_COUNT; m++) {
                 if ((m == M_E1 || m == M_E8) && !e)
                     continue;
-                job_t j = { m >= M_E1 ? e : a, (method_t)m, (kind_t)k, &sets[k], m == M_SCALAR ? SCALAR_STRIDE : 1,
-                            hits[m], sums[m] };
+                hz_accel_stats_t st;
+                memset(&st, 0, sizeof st);
+                job_t j = { r == 0 && getenv("HZ_BENCH_STATS") ? &st : NULL, m >= M_E1 ? e : a, (method_t)m,
+                            (kind_t)k, &sets[k], m == M_SCALAR ? SCALAR_STRIDE : 1, hits[m], sums[m] };
                 const uint32_t items = (sets[k].n + CHUNK - 1) / CHUNK;
-                for (int t = 0; t < 2; t++)
+                for (int t = 0; t < 2; t++) {
                     res[k][m].mr[t][r] = measure(&j, items, t == 1);
+                    j.stats = NULL;
+                }
+                if (st.rays)
+                    printf("  stats %s %s: %.2f nodes, %.2f triangle tests per ray\n", kind_name[k], method_name[m],
+                           (double)st.nodes / (double)st.rays, (double)st.tris / (double)st.rays);
                 res[k][m].ran = true;
                 if (r > 0 || m != M_E8)
                     continue;
@@ -393,9 +401,24 @@ static int bench_scene(const hz_bench_accel_opts_t *o, const char *name, FILE *c
                 for (int q = M_SCALAR; q < M_E1; q++)
                     for (uint32_t it = 0; it < items; it += q == M_SCALAR ? SCALAR_STRIDE : 1)
                         if (hits[q][it] != hits[M_SINGLE][it] || sums[q][it] != sums[M_SINGLE][it]) {
-                            if (bad++ < 3)
+                            if (bad++ < 3) {
                                 fprintf(stderr, "bench: %s %s: %s disagrees with simd-1 on rays %u..%u\n", name,
                                         kind_name[k], method_name[q], it * CHUNK, it * CHUNK + CHUNK - 1);
+                                if (getenv("HZ_BENCH_DEBUG"))
+                                    for (uint32_t i = it * CHUNK; i < (it + 1) * CHUNK && i < sets[k].n; i++) {
+                                        hz_rayhit_t x = sets[k].aos[i], y = sets[k].aos[i];
+                                        hz_accel_ctx_t c1, c2;
+                                        hz_accel_ctx_init(&c1), hz_accel_ctx_init(&c2);
+                                        c1.kernel = HZ_ACCEL_KERNEL_SCALAR, c2.kernel = HZ_ACCEL_KERNEL_SIMD_SINGLE;
+                                        hz_accel_intersect1(a, &c1, &x);
+                                        hz_accel_intersect1(a, &c2, &y);
+                                        if (memcmp(&x, &y, sizeof x))
+                                            fprintf(stderr, "  ray %u org %a %a %a dir %a %a %a: scalar %u t %.9g, "
+                                                    "simd %u t %.9g\n", i, x.ray.org_x, x.ray.org_y, x.ray.org_z,
+                                                    x.ray.dir_x, x.ray.dir_y, x.ray.dir_z, x.hit.prim_id,
+                                                    (double)x.ray.tfar, y.hit.prim_id, (double)y.ray.tfar);
+                                    }
+                            }
                         }
             }
     printf("%-8s %3s", "rays", "thr");
