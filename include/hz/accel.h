@@ -170,7 +170,8 @@ typedef enum hz_accel_kernel {
     HZ_ACCEL_KERNEL_SIMD_SINGLE, /* one ray against all children of a wide node at once (AVX2 / NEON) */
     HZ_ACCEL_KERNEL_SIMD_PACKET, /* packet against a node through its frustum (coherent rays) */
     HZ_ACCEL_KERNEL_SIMD_MASKED, /* packet with per-lane box tests and active-mask compaction, switching to
-                                    single rays when few lanes stay active (incoherent rays) */
+                                    single rays when few lanes stay active (incoherent rays; AVX2 closest hit
+                                    only: NEON and occlusion run it as single rays) */
     HZ_ACCEL_KERNEL_COUNT
 } hz_accel_kernel_t;
 
