@@ -115,7 +115,7 @@ ACCEL_SRCS := src/accel/accel.c src/accel/bvh_build.c src/accel/trav_scalar.c sr
 ACCEL_SRCS_avx2 := src/accel/trav_avx2.c
 ACCEL_SRCS_neon := src/accel/trav_neon.c
 ACCEL_TESTS := accel_build accel_trav
-ACCEL_PORT_TESTS := threads accel_water
+ACCEL_PORT_TESTS := threads accel_water accel_scenes
 # with embree in BOARD_ACCEL: the backend's port sources and its cross-check tests
 PORT_SRCS_embree := port/embree/embree_accel.c
 ACCEL_PORT_TESTS_embree := accel_embree
