@@ -115,7 +115,7 @@ ACCEL_SRCS := src/accel/accel.c src/accel/bvh_build.c src/accel/trav_scalar.c sr
 ACCEL_SRCS_avx2 := src/accel/trav_avx2.c
 ACCEL_SRCS_neon := src/accel/trav_neon.c
 ACCEL_TESTS := accel_build accel_trav
-ACCEL_PORT_TESTS := threads accel_water
+ACCEL_PORT_TESTS := threads accel_water accel_scenes
 # with embree in BOARD_ACCEL: the backend's port sources and its cross-check tests
 PORT_SRCS_embree := port/embree/embree_accel.c
 ACCEL_PORT_TESTS_embree := accel_embree
@@ -175,7 +175,8 @@ INTEGER_SRCS += $(TIMING_INTEGER_SRCS)
 
 # Ports: each board lists the ones it links (BOARD_PORTS); accel backends come from BOARD_ACCEL.
 KNOWN_PORTS := linux timing fbdev v4l2 gpio
-PORT_SRCS_linux := port/linux/pools.c port/linux/cli.c port/linux/clock.c port/linux/fileio.c port/linux/scenefile.c port/linux/threads.c port/linux/render_cmd.c port/linux/summary.c port/linux/accel_backend.c
+PORT_SRCS_linux := port/linux/pools.c port/linux/cli.c port/linux/clock.c port/linux/fileio.c port/linux/scenefile.c \
+                   port/linux/threads.c port/linux/render_cmd.c port/linux/summary.c port/linux/accel_backend.c
 $(foreach p,$(BOARD_PORTS),$(if $(filter $(p),$(KNOWN_PORTS)),,$(error $(BOARD_DIR)/board.mk: unknown port '$(p)' (known: $(KNOWN_PORTS)))))
 # Image files (port/linux/imageio.c): PNG needs libpng for the target. It is on when the target's compiler links
 # -lpng (host builds: libpng-dev is in host-sim's BOARD_DEPS); elsewhere the PNG calls report "not built in".
@@ -184,24 +185,22 @@ HAVE_PNG := $(shell printf 'int main(void){return 0;}\n' | $(CC) -x c - -o /dev/
 $(O)/port/linux/imageio.o: EXTRA_CFLAGS += -DHZ_HAVE_PNG=$(HAVE_PNG)
 PNG_LIBS := $(if $(filter 1,$(HAVE_PNG)),-lpng)
 PORT_SRCS := $(foreach p,$(BOARD_PORTS),$(PORT_SRCS_$(p)))
-ifneq ($(filter embree,$(BOARD_ACCEL)),)
-PORT_SRCS += $(PORT_SRCS_embree)
-PORT_LIBS_embree := -lembree3
-PORT_DEFS_embree := -DHZ_HAVE_EMBREE=1 -Iport/embree
-endif
-PORT_OBJS := $(PORT_SRCS:%.c=$(O)/%.o)
-PORT_LIB := $(O)/libhzport.a
 PORT_LIBS := -lpthread -lm $(PNG_LIBS)
 PORT_LIBS += $(foreach p,$(BOARD_PORTS),$(PORT_LIBS_$(p)))
 PORT_DEFS := $(foreach p,$(BOARD_PORTS),-DHZ_PORT_$(shell echo $(p) | tr a-z A-Z)=1)
-PORT_LIBS += $(PORT_LIBS_embree)
-PORT_DEFS += $(PORT_DEFS_embree)
+ifneq ($(filter embree,$(BOARD_ACCEL)),)
+PORT_SRCS += $(PORT_SRCS_embree)
+PORT_LIBS += -lembree3
+PORT_DEFS += -DHZ_HAVE_EMBREE=1 -Iport/embree
+endif
+PORT_OBJS := $(PORT_SRCS:%.c=$(O)/%.o)
+PORT_LIB := $(O)/libhzport.a
 
 HZRT_SRCS := port/linux/main.c
 HZRT_OBJS := $(HZRT_SRCS:%.c=$(O)/%.o)
 HZRT := $(O)/bin/hzrt
 
-BENCH_SRCS := tools/bench/bench.c
+BENCH_SRCS := tools/bench/bench.c tools/bench/bench_accel.c
 BENCH_OBJS := $(BENCH_SRCS:%.c=$(O)/%.o)
 BENCH := $(O)/bin/hzbench
 
@@ -464,7 +463,7 @@ latency-sim: $(HZRT) ## simulated 240 Hz display-locked run: miss rate, latency 
 
 bench: $(BENCH) ## measure (side by side, in one run) and print a table; writes $(O)/bench/*.csv
 	$(Q)mkdir -p $(O)/bench
-	$(Q)$(BENCH) --csv $(O)/bench/bench.csv
+	$(Q)$(BENCH) --csv $(O)/bench/bench.csv --accel-csv $(O)/bench/accel.csv $(BENCH_ARGS)
 
 size: $(HZRT) ## section sizes of hzrt, its largest symbols and the board's static arenas
 	$(Q)$(SIZE) $(HZRT) $(LIB)

@@ -16,6 +16,8 @@
 #include "hz/hz.h"
 #include "hz/image.h"
 
+#include "bench_accel.h"
+
 #define ROUNDS 7
 
 typedef struct row {
@@ -127,18 +129,59 @@ int main(int argc, char **argv)
 {
     hz_cli_prog = "hzbench";
     const char *csv_path = NULL;
+    bool core = true, accel = true;
+    hz_bench_accel_opts_t ao;
+    memset(&ao, 0, sizeof ao);
     for (int i = 1; i < argc; i++) {
+        long v;
         if (!strcmp(argv[i], "--csv") && i + 1 < argc) {
             csv_path = argv[++i];
+        } else if (!strcmp(argv[i], "--accel-csv") && i + 1 < argc) {
+            ao.csv_path = argv[++i];
+        } else if (!strcmp(argv[i], "--accel-only")) {
+            core = false;
+        } else if (!strcmp(argv[i], "--no-accel")) {
+            accel = false;
+        } else if (!strcmp(argv[i], "--scenes") && i + 1 < argc) {
+            ao.scenes_dir = argv[++i];
+        } else if (!strcmp(argv[i], "--scene") && i + 1 < argc) {
+            if (ao.scene_count == HZ_BENCH_MAX_SCENES) {
+                hz_cli_error("--scene: at most %d scenes", HZ_BENCH_MAX_SCENES);
+                return HZ_EXIT_USAGE;
+            }
+            ao.scenes[ao.scene_count++] = argv[++i];
+        } else if (!strcmp(argv[i], "--rounds") && i + 1 < argc) {
+            if (!hz_cli_parse_long("--rounds", argv[++i], 1, 15, &v))
+                return HZ_EXIT_USAGE;
+            ao.rounds = (int)v;
+        } else if (!strcmp(argv[i], "--threads") && i + 1 < argc) {
+            if (!hz_cli_parse_long("--threads", argv[++i], 0, HZ_MAX_THREADS, &v))
+                return HZ_EXIT_USAGE;
+            ao.threads = (int)v;
+        } else if (!strcmp(argv[i], "--size") && i + 1 < argc) {
+            int w, h;
+            if (!hz_cli_parse_size("--size", argv[++i], 8, 8192, &w, &h))
+                return HZ_EXIT_USAGE;
+            ao.width = (uint32_t)w, ao.height = (uint32_t)h;
+        } else if (!strcmp(argv[i], "--embree-config") && i + 1 < argc) {
+            ao.embree_config = argv[++i];
         } else if (!strcmp(argv[i], "-h") || !strcmp(argv[i], "--help")) {
-            printf("usage: hzbench [--csv FILE]\n\nMeasures hzrt's kernels side by side and prints medians of %d "
-                   "interleaved rounds.\n", ROUNDS);
+            printf("usage: hzbench [--csv FILE] [--accel-csv FILE] [--accel-only | --no-accel] [--scenes DIR]\n"
+                   "               [--scene NAME]... [--rounds N] [--threads N] [--size WxH] [--embree-config S]\n"
+                   "\nMeasures hzrt's kernels side by side and prints medians of interleaved rounds: core kernels\n"
+                   "(%d rounds), then the accel comparison, native against Embree, on the baked scenes of --scenes\n"
+                   "(default $HZ_SCENES_DIR or build/scenes; `make scenes` bakes them). --scene picks scenes\n"
+                   "(default: conference sponza lost-empire furball dragon-res4 dragon-res3 dragon-res2 dragon),\n"
+                   "--rounds the accel rounds (5), --threads the pool size (0: every CPU), --size the primary\n"
+                   "rays (1024x1024), --embree-config Embree's device config string.\n", ROUNDS);
             return 0;
         } else {
             hz_cli_error("unknown option '%s' (try --help)", argv[i]);
             return HZ_EXIT_USAGE;
         }
     }
+    if (!core)
+        return accel ? hz_bench_accel(&ao) : 0;
     row_t rows[] = {
         { "core", "hash32 (murmur3 fmix)", "Mops/s", { 0 }, 0 },
         { "core", "hash_pcg", "Mops/s", { 0 }, 0 },
@@ -172,5 +215,5 @@ int main(int argc, char **argv)
             return hz_cli_report(&err);
         printf("wrote %s\n", csv_path);
     }
-    return 0;
+    return accel ? hz_bench_accel(&ao) : 0;
 }
