@@ -75,8 +75,8 @@ static int list(void)
 int main(int argc, char **argv)
 {
     hz_cli_prog = "hzerrtime";
-    const char *scene_names = "synthetic", *methods = NULL, *skip = NULL, *cache = "build/errtime-cache", *out = "build/errtime";
-    const char *video = NULL, *scene_dir = getenv("HZ_SCENES_DIR");
+    const char *scene_names = "synthetic", *methods = NULL, *cache = "build/errtime-cache", *out = "build/errtime";
+    const char *skip = NULL, *video = NULL, *scene_dir = getenv("HZ_SCENES_DIR");
     bool size_given = false, frames_given = false, warmup_given = false;
     long threads = 0;
     int w = 96, h = 64;
