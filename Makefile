@@ -220,9 +220,9 @@ $(O)/test/unit/test_imageio: TEST_CFLAGS += -DHZ_HAVE_PNG=$(HAVE_PNG)
 # Its files are prefixed et_ because it also sees port/linux (which has report.h, for instance).
 ERRTIME_SRCS := tools/errtime/et_metrics.c tools/errtime/et_flip.c tools/errtime/et_report.c \
                 tools/errtime/et_progress.c tools/errtime/driver.c tools/errtime/et_synthetic.c \
-                tools/errtime/et_methods.c
+                tools/errtime/et_methods.c tools/errtime/et_render.c
 ERRTIME_MAIN_SRCS := tools/errtime/main.c
-ERRTIME_TESTS := metrics flip et_report errtime
+ERRTIME_TESTS := metrics flip et_report errtime et_render
 ERRTIME_OBJS := $(ERRTIME_SRCS:%.c=$(O)/%.o)
 ERRTIME_MAIN_OBJS := $(ERRTIME_MAIN_SRCS:%.c=$(O)/%.o)
 ERRTIME_LIB := $(O)/liberrtime.a
@@ -288,6 +288,18 @@ $(ERRTIME): $(ERRTIME_MAIN_OBJS) $(ERRTIME_LIB) $(PORT_LIB) $(LIB)
 
 errtime: $(ERRTIME) ## build hzerrtime (error against run time; `hzerrtime --help`) into O/bin
 tests: $(ERRTIME)
+
+# `make report`: every renderer method of tools/errtime/et_methods.c on the standard scenes, each at its table
+# entry's size and length; references cached in $(BUILD_ROOT)/errtime-cache (delete it for a cold run). The TAA
+# variants stay out of the chart (within ~2% of the default TAA's FLIP everywhere, they pile up on its point):
+# `hzerrtime --methods taa,taa-clip,taa-catmull-rom,taa-clip-cr` compares them.
+REPORT_O := $(BUILD_ROOT)/report
+REPORT_SCENES := CornellBox-Mirror,sponza,lost-empire,builtin
+REPORT_SKIP := taa-clip,taa-catmull-rom,taa-clip-cr
+report: $(ERRTIME) scenes ## error against run time of every method on the standard scenes: build/report/ (CSV, MD, SVG)
+	$(Q)t0=$$(date +%s); nice $(ERRTIME) --scene $(REPORT_SCENES) --skip $(REPORT_SKIP) --scenes $(SCENES_O) \
+		--cache $(BUILD_ROOT)/errtime-cache --out $(REPORT_O) || exit $$?; \
+	echo "report: $$(( $$(date +%s) - t0 )) s on $$(nproc) cores"
 
 $(ERRTIME_TEST_BINS): $(O)/test/unit/test_%: test/unit/test_%.c $(ERRTIME_LIB) $(PORT_LIB) $(LIB)
 	@mkdir -p $(dir $@)
@@ -533,7 +545,7 @@ VM_DEVICE_TEST := $(O)/test/vm/test_vm_devices
 # In the VM (software-emulated CPU, ~10x slower than qemu user mode) run the unit tests that need no scene files
 # and take seconds; the heavy ones (BVH builds over 10^5..10^6 triangles, whole-image corruption sweeps,
 # rendered sequences) already run on the same AArch64 binaries under qemu-aarch64 in the board stage.
-VM_HEAVY_TESTS := scene_corrupt accel_build accel_trav accel_water zero_alloc render errtime
+VM_HEAVY_TESTS := scene_corrupt accel_build accel_trav accel_water zero_alloc render errtime et_render
 VM_TEST_BINS := $(filter-out $(VM_HEAVY_TESTS:%=$(O)/test/unit/test_%),$(TEST_BINS))
 
 vmtest: deps ## boot Debian's arm64 kernel in qemu-system-aarch64: AArch64 unit tests, V4L2 loop-back, GPIO capture
@@ -577,5 +589,5 @@ help: ## list the targets
 		awk -F'|' '{ printf "  %-20s %s\n", $$1, $$2 }'
 
 .PHONY: all deps run bench size tests test-board test check-freestanding check-integer clean help gen-srgb errtime \
-        bake scenes fuzz test-host
+        bake scenes fuzz test-host report
 .PHONY: vmtest vmtest-tier vmtest-board latency-sim
