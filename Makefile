@@ -121,16 +121,17 @@ PORT_SRCS_embree := port/embree/embree_accel.c
 ACCEL_PORT_TESTS_embree := accel_embree
 
 # render (src/render, src/recon): camera, shading, G-buffer, reconstruction
-RENDER_SRCS := src/render/camera.c src/render/texture.c src/render/trace.c src/render/render.c src/recon/taa.c
-RENDER_TESTS :=
-RENDER_PORT_TESTS := render
+RENDER_SRCS := src/render/camera.c src/render/texture.c src/render/trace.c src/render/render.c src/recon/taa.c \
+               src/recon/tdense.c
+RENDER_TESTS := tdense
+RENDER_PORT_TESTS := render render_tdense
 RENDER_PORT_TESTS_embree := render_backends
 # Heavy render tests for boards whose tests run natively (not under emulation).
 RENDER_PORT_TESTS_native := render_taa
 
 # pattern (src/pattern): integer-only tile orderings, dither maps, masks
-PATTERN_SRCS :=
-PATTERN_TESTS :=
+PATTERN_SRCS := src/pattern/tileorder.c
+PATTERN_TESTS := tileorder
 
 # timing (src/timing): v-sync model, pacing, latency statistics; integer-only throughout
 TIMING_SRCS := src/timing/wide.c src/timing/tstat.c src/timing/vsync.c src/timing/vsynth.c src/timing/pace.c \
@@ -200,7 +201,7 @@ HZRT_SRCS := port/linux/main.c
 HZRT_OBJS := $(HZRT_SRCS:%.c=$(O)/%.o)
 HZRT := $(O)/bin/hzrt
 
-BENCH_SRCS := tools/bench/bench.c tools/bench/bench_accel.c
+BENCH_SRCS := tools/bench/bench.c tools/bench/bench_accel.c tools/bench/bench_tdense.c
 BENCH_OBJS := $(BENCH_SRCS:%.c=$(O)/%.o)
 BENCH := $(O)/bin/hzbench
 
@@ -290,11 +291,13 @@ errtime: $(ERRTIME) ## build hzerrtime (error against run time; `hzerrtime --hel
 tests: $(ERRTIME)
 
 # `make report`: every renderer method of tools/errtime/et_methods.c on the standard scenes, each at its table
-# entry's size and length; references cached in $(BUILD_ROOT)/errtime-cache (delete it for a cold run). The TAA
-# variants stay out of the chart (within ~2% of the default TAA's FLIP everywhere, they pile up on its point):
-# `hzerrtime --methods taa,taa-clip,taa-catmull-rom,taa-clip-cr` compares them.
+# entry's size, length and display rate: the general set (full-frame 1/4/9/16 spp, TAA) on CornellBox-Mirror,
+# Sponza, Lost Empire and the built-in scene, and temporally dense rendering against 1 spp and TAA at 60 and
+# 240 Hz on a 240 Hz display (the @240 scenes). References cached in $(BUILD_ROOT)/errtime-cache (delete it for
+# a cold run). The TAA variants stay out of the chart (within ~2% of the default TAA's FLIP everywhere, they pile
+# up on its point): `hzerrtime --methods taa,taa-clip,taa-catmull-rom,taa-clip-cr` compares them.
 REPORT_O := $(BUILD_ROOT)/report
-REPORT_SCENES := CornellBox-Mirror,sponza,lost-empire,builtin
+REPORT_SCENES := CornellBox-Mirror,sponza,lost-empire,builtin,builtin@240,sponza@240,conference@240
 REPORT_SKIP := taa-clip,taa-catmull-rom,taa-clip-cr
 report: $(ERRTIME) scenes ## error against run time of every method on the standard scenes: build/report/ (CSV, MD, SVG)
 	$(Q)t0=$$(date +%s); nice $(ERRTIME) --scene $(REPORT_SCENES) --skip $(REPORT_SKIP) --scenes $(SCENES_O) \
@@ -460,8 +463,8 @@ deps: ## install the Debian packages BOARD needs to build, run and test (apt-get
 
 # ---------------------------------------------------------------------------------------------------------
 # Run
-RUN_ARGS ?= --frames 240 --hz 240 --size 640x360
-run: deps $(HZRT) ## build host-sim and render the built-in scene: 240 frames at a simulated 240 Hz into $(O)/run
+RUN_ARGS ?= --mode tdense --frames 240 --hz 240 --size 640x360
+run: deps $(HZRT) ## build host-sim and render the built-in scene, temporally dense: 240 frames at a simulated 240 Hz into $(O)/run
 	$(Q)$(HZRT) render builtin $(RUN_ARGS) --out $(O)/run
 	@echo "outputs: $(O)/run/frames.y4m (mpv/ffplay), $(O)/run/last.png, $(O)/run/summary.json"
 
@@ -475,7 +478,7 @@ latency-sim: $(HZRT) ## simulated 240 Hz display-locked run: miss rate, latency 
 
 bench: $(BENCH) ## measure (side by side, in one run) and print a table; writes $(O)/bench/*.csv
 	$(Q)mkdir -p $(O)/bench
-	$(Q)$(BENCH) --csv $(O)/bench/bench.csv --accel-csv $(O)/bench/accel.csv $(BENCH_ARGS)
+	$(Q)$(BENCH) --csv $(O)/bench/bench.csv --accel-csv $(O)/bench/accel.csv --scenes $(SCENES_O) $(BENCH_ARGS)
 
 size: $(HZRT) ## section sizes of hzrt, its largest symbols and the board's static arenas
 	$(Q)$(SIZE) $(HZRT) $(LIB)

@@ -38,6 +38,7 @@
 #include "hz/image.h"
 #include "hz/scene.h"
 #include "hz/status.h"
+#include "hz/tileorder.h"
 
 #define HZ_RENDER_MAX_LAYERS 128
 #define HZ_RENDER_TILE 8 /* tiles are 8 x 8 pixels */
@@ -45,6 +46,7 @@
 typedef enum hz_render_mode {
     HZ_MODE_FULL = 0, /* every pixel, opts.spp stratified samples */
     HZ_MODE_TAA = 1,  /* every pixel, 1 jittered sample, temporal anti-aliasing resolve */
+    HZ_MODE_TDENSE = 2, /* one sample per 2x2 tile per frame, temporally dense composite (seed 001, hz/tdense.h) */
     HZ_MODE_COUNT
 } hz_render_mode_t;
 
@@ -52,6 +54,8 @@ typedef struct hz_render_opts {
     uint32_t width, height;
     hz_render_mode_t mode;
     uint32_t spp;          /* full mode: a square (1, 4, 9, ... 256); 1 = pixel centres */
+    bool msaa4;            /* full mode, spp 4: the fixed 4x MSAA positions (hz_msaa4_jitter16, the static
+                            * pattern of tdense) in that order, instead of stratified random positions */
     uint32_t max_bounces;  /* mirror reflections per path, 0..3 (default 3) */
     float min_visibility;  /* transparency: stop when less is left (default 0.001) */
     /* TAA */
@@ -59,6 +63,10 @@ typedef struct hz_render_opts {
     float taa_alpha;       /* weight of the new sample (default 0.1) */
     bool taa_clip;         /* clip towards the box centre instead of clamping per channel */
     bool taa_catmull_rom;  /* history fetched with Catmull-Rom instead of bilinear */
+    /* tdense */
+    hz_ghat_rule_t tdense_rule; /* per-tile ordering rule (default HZ_GHAT_FULL, the paper's ĝ) */
+    bool tdense_reflect_mv;     /* mirrors use the reflected hit's motion (default true) */
+    float tdense_gamma;         /* variance box of old dynamic pixels: mean +- gamma * sigma (default 1) */
     uint32_t seed;         /* decorrelates sample patterns between runs that want it */
 } hz_render_opts_t;
 
@@ -129,6 +137,9 @@ const hz_image_t *hz_render_output(const hz_renderer_t *r);
 const hz_gbuffer_t *hz_render_gbuffer(const hz_renderer_t *r);
 /* Counters of the last frame (summed over threads at end_frame) and since create. */
 void hz_render_frame_stats(const hz_renderer_t *r, hz_render_stats_t *last, hz_render_stats_t *total);
+/* tdense mode: the compositor's state (tile orderings, per-pixel flags: hz/tdense.h), for tests and tools that
+ * show it; NULL in the other modes. */
+const struct hz_tdense *hz_render_tdense(const hz_renderer_t *r);
 /* Forget history (TAA) and previous-frame state, e.g. after a cut. */
 void hz_render_reset_history(hz_renderer_t *r);
 

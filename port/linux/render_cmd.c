@@ -52,8 +52,14 @@ static void usage(FILE *f)
             "  summary.json  what the run did and how fast (also printed)\n"
             "\n"
             "options:\n"
-            "  --mode M          full (N samples per pixel) or taa (1 jittered sample + temporal resolve); default full\n"
+            "  --mode M          tdense (one sample per 2x2 tile per frame, temporally dense composite), full (N\n"
+            "                    samples per pixel) or taa (1 jittered sample + temporal resolve); default tdense\n"
             "  --spp N           samples per pixel in full mode: 1, 4, 9, ... 1024 (squares); default 1\n"
+            "  --msaa4           full mode, 4 spp at the fixed 4x MSAA positions (what tdense converges to)\n"
+            "  --ordering R      tdense tile orderings: full (the paper's adaptive choice), dominant, shear-up,\n"
+            "                    shear-down, hourglass or bowtie; default full\n"
+            "  --no-reflected-mv tdense: mirrors use their own motion, not the reflected hit's\n"
+            "  --tdense-gamma G  tdense variance box width in standard deviations; default 1\n"
             "  --size WxH        image size; default the board's display (%dx%d)\n"
             "  --hz N            simulated display refresh: frame n shows scene time start + n / N; default %d\n"
             "  --frames N        display frames to render; default 1\n"
@@ -76,6 +82,7 @@ static int parse(int argc, char **argv, args_t *a)
 {
     memset(a, 0, sizeof *a);
     hz_render_opts_default(&a->opts);
+    a->opts.mode = HZ_MODE_TDENSE;
     a->opts.width = HZ_DISPLAY_WIDTH;
     a->opts.height = HZ_DISPLAY_HEIGHT;
     a->hz = HZ_DISPLAY_HZ;
@@ -97,11 +104,36 @@ static int parse(int argc, char **argv, args_t *a)
                 a->opts.mode = HZ_MODE_FULL;
             else if (v && !strcmp(v, "taa"))
                 a->opts.mode = HZ_MODE_TAA;
+            else if (v && !strcmp(v, "tdense"))
+                a->opts.mode = HZ_MODE_TDENSE;
             else {
-                hz_cli_error("render: --mode: '%s' is not full or taa", v ? v : "");
+                hz_cli_error("render: --mode: '%s' is not tdense, full or taa", v ? v : "");
                 return HZ_EXIT_USAGE;
             }
             i++;
+        } else if (!strcmp(o, "--msaa4")) {
+            a->opts.msaa4 = true;
+        } else if (!strcmp(o, "--ordering")) {
+            int rule = -1;
+            for (int k = 0; v && k < HZ_GHAT_RULE_COUNT; k++)
+                if (!strcmp(v, hz_ghat_rule_name((hz_ghat_rule_t)k)))
+                    rule = k;
+            if (rule < 0) {
+                hz_cli_error("render: --ordering: '%s' is not full, dominant, shear-up, shear-down, hourglass or "
+                             "bowtie", v ? v : "");
+                return HZ_EXIT_USAGE;
+            }
+            a->opts.tdense_rule = (hz_ghat_rule_t)rule, i++;
+        } else if (!strcmp(o, "--no-reflected-mv")) {
+            a->opts.tdense_reflect_mv = false;
+        } else if (!strcmp(o, "--tdense-gamma")) {
+            char *end = NULL;
+            double g = v ? strtod(v, &end) : 0.0;
+            if (!v || !*v || *end || !(g > 0.0 && g <= 16.0)) {
+                hz_cli_error("render: --tdense-gamma: '%s' is not a number in (0, 16]", v ? v : "");
+                return HZ_EXIT_USAGE;
+            }
+            a->opts.tdense_gamma = (float)g, i++;
         } else if (!strcmp(o, "--spp")) {
             if (!hz_cli_parse_long(o, v, 1, 1024, &n))
                 return HZ_EXIT_USAGE;

@@ -19,12 +19,16 @@ void hz_render_opts_default(hz_render_opts_t *o)
     o->taa_alpha = 0.1f;
     o->taa_clip = false;
     o->taa_catmull_rom = false;
+    o->msaa4 = false;
+    o->tdense_rule = HZ_GHAT_FULL;
+    o->tdense_reflect_mv = true;
+    o->tdense_gamma = 1.0f;
     o->seed = 0;
 }
 
 const char *hz_render_mode_name(hz_render_mode_t m)
 {
-    static const char *const names[HZ_MODE_COUNT] = { "full", "taa" };
+    static const char *const names[HZ_MODE_COUNT] = { "full", "taa", "tdense" };
     return (unsigned)m < HZ_MODE_COUNT ? names[m] : "unknown";
 }
 
@@ -44,6 +48,12 @@ hz_status_t hz_render_opts_check(const hz_render_opts_t *o, hz_error_t *err)
         return hz_error_set(err, HZ_E_INVALID_ARG, "min visibility must lie in [0, 1)");
     if (!(o->taa_gamma > 0.0f && o->taa_gamma <= 16.0f) || !(o->taa_alpha > 0.0f && o->taa_alpha <= 1.0f))
         return hz_error_set(err, HZ_E_INVALID_ARG, "TAA gamma must lie in (0, 16], alpha in (0, 1]");
+    if (o->msaa4 && (o->mode != HZ_MODE_FULL || o->spp != 4))
+        return hz_error_set(err, HZ_E_INVALID_ARG, "the 4x MSAA positions need full mode with 4 spp");
+    if ((unsigned)o->tdense_rule >= HZ_GHAT_RULE_COUNT)
+        return hz_error_set(err, HZ_E_INVALID_ARG, "unknown tdense ordering rule %d", (int)o->tdense_rule);
+    if (!(o->tdense_gamma > 0.0f && o->tdense_gamma <= 16.0f))
+        return hz_error_set(err, HZ_E_INVALID_ARG, "tdense gamma must lie in (0, 16]");
     return HZ_OK;
 }
 
@@ -70,7 +80,8 @@ static size_t frame_bytes(const hz_render_opts_t *o, const needs_t *n)
     size_t px = (size_t)o->width * o->height, a = 64, total = 0;
 #define ADD(bytes) total += hz_align_up((bytes), a) + a
     ADD(sizeof(struct hz_renderer));
-    ADD(px * 12); /* out */
+    if (o->mode != HZ_MODE_TDENSE)
+        ADD(px * 12); /* out (tdense displays its own frames) */
     ADD(px * 4);  /* depth */
     ADD(px * 2);  /* object */
     ADD(px * 12); /* normal */
@@ -93,6 +104,8 @@ static size_t frame_bytes(const hz_render_opts_t *o, const needs_t *n)
         ADD(px * 2);  /* prev_object */
     }
 #undef ADD
+    if (o->mode == HZ_MODE_TDENSE)
+        total += hz_tdense_bytes(o->width, o->height);
     return total;
 }
 
@@ -185,7 +198,8 @@ hz_status_t hz_render_create(hz_renderer_t **out, hz_scene_t *scene, hz_accel_t 
     r->tiles_x = (opts->width + HZ_RENDER_TILE - 1) / HZ_RENDER_TILE;
     r->tiles_y = (opts->height + HZ_RENDER_TILE - 1) / HZ_RENDER_TILE;
     r->out.width = opts->width, r->out.height = opts->height;
-    r->out.rgb = take(frame_arena, px * 12, &ok);
+    if (opts->mode != HZ_MODE_TDENSE)
+        r->out.rgb = take(frame_arena, px * 12, &ok);
     hz_gbuffer_t *gb = &r->gb;
     gb->width = opts->width, gb->height = opts->height;
     gb->depth = take(frame_arena, px * 4, &ok);
@@ -216,7 +230,19 @@ hz_status_t hz_render_create(hz_renderer_t **out, hz_scene_t *scene, hz_accel_t 
         hz_arena_reset(frame_arena, mark);
         return s;
     }
-    hz_memset(r->out.rgb, 0, px * 12);
+    if (opts->mode == HZ_MODE_TDENSE) {
+        hz_tdense_config_t tc = hz_tdense_config_default(opts->width, opts->height);
+        tc.rule = opts->tdense_rule;
+        tc.seed = opts->seed;
+        tc.reflect_mv = opts->tdense_reflect_mv;
+        tc.gamma = opts->tdense_gamma;
+        if ((s = hz_tdense_init(&r->td, &tc, frame_arena, err)) != HZ_OK) {
+            hz_arena_reset(frame_arena, mark);
+            return s;
+        }
+    } else {
+        hz_memset(r->out.rgb, 0, px * 12);
+    }
     if (gb->mv)
         hz_memset(gb->mv, 0, px * 8);
     if (gb->mv_reflect)
@@ -277,6 +303,15 @@ hz_status_t hz_render_begin_frame(hz_renderer_t *r, uint64_t frame_index, float 
         r->prev_view = r->view;
     r->frame = frame_index;
     r->time = time;
+    if (r->opts.mode == HZ_MODE_TDENSE) {
+        /* Any change of the camera restarts every static window (seed 001, 3.2.2). */
+        const hz_view_t *a = &r->view, *b = &r->prev_view;
+        bool same = a->eye.x == b->eye.x && a->eye.y == b->eye.y && a->eye.z == b->eye.z && a->fwd.x == b->fwd.x &&
+                    a->fwd.y == b->fwd.y && a->fwd.z == b->fwd.z && a->right.x == b->right.x &&
+                    a->right.y == b->right.y && a->right.z == b->right.z && a->up.x == b->up.x &&
+                    a->up.y == b->up.y && a->up.z == b->up.z;
+        hz_tdense_begin_frame(&r->td, r->have_prev && !same);
+    }
     /* TAA jitter: Halton (2, 3), 16 phases, centred on the pixel. */
     uint32_t phase = (uint32_t)(frame_index % 16u) + 1u;
     r->jitter[0] = halton(phase, 2) - 0.5f;
@@ -288,12 +323,15 @@ hz_status_t hz_render_begin_frame(hz_renderer_t *r, uint64_t frame_index, float 
 
 uint32_t hz_render_pass_count(const hz_renderer_t *r)
 {
-    return r->opts.mode == HZ_MODE_TAA ? 2u : 1u;
+    return r->opts.mode == HZ_MODE_FULL ? 1u : 2u;
 }
 
 uint32_t hz_render_pass_items(const hz_renderer_t *r, uint32_t pass)
 {
-    return pass < hz_render_pass_count(r) ? r->tiles_x * r->tiles_y : 0u;
+    if (pass >= hz_render_pass_count(r))
+        return 0u;
+    /* tdense resolves whole rows (its 3x3 neighbourhoods span tiles): one item per row of tiles. */
+    return r->opts.mode == HZ_MODE_TDENSE && pass == 1 ? r->tiles_y : r->tiles_x * r->tiles_y;
 }
 
 /* Radiance -> image, replacing anything non-finite or negative (a bug upstream) by 0, counted. */
@@ -320,6 +358,9 @@ static void trace_tile(hz_renderer_t *r, uint32_t tile, hz_worker_t *w, hz_image
         for (uint32_t slot = 0; slot < HZ_TILE_PIXELS; slot++) {
             if (r->opts.mode == HZ_MODE_TAA) {
                 jitter[slot][0] = r->jitter[0], jitter[slot][1] = r->jitter[1];
+            } else if (r->opts.msaa4) {
+                jitter[slot][0] = (float)hz_msaa4_jitter16[k][0] * (1.0f / 16.0f);
+                jitter[slot][1] = (float)hz_msaa4_jitter16[k][1] * (1.0f / 16.0f);
             } else if (spp == 1) {
                 jitter[slot][0] = jitter[slot][1] = 0.0f;
             } else {
@@ -340,15 +381,56 @@ static void trace_tile(hz_renderer_t *r, uint32_t tile, hz_worker_t *w, hz_image
     }
 }
 
+/* tdense: the tile traces one pixel of each of its 2x2 tdense tiles, the one the tile's ordering names for this
+ * subframe (jittered where static). The chosen pixels take the first slots, in rows of tdense tiles, so they
+ * form full packets; the other slots stay empty (UINT32_MAX), which hz_trace_batch skips. */
+static void trace_tile_tdense(hz_renderer_t *r, uint32_t tile, hz_worker_t *w)
+{
+    enum { PER = HZ_RENDER_TILE / 2 };
+    float jitter[HZ_TILE_PIXELS][2];
+    uint16_t where[HZ_TILE_PIXELS][2];
+    hz_tdense_t *td = &r->td;
+    uint32_t tx0 = (tile % r->tiles_x) * PER, ty0 = (tile / r->tiles_x) * PER, n = 0;
+    for (uint32_t slot = 0; slot < HZ_TILE_PIXELS; slot++)
+        w->pixel[slot] = UINT32_MAX;
+    for (uint32_t k = 0; k < PER * PER; k++) {
+        uint32_t tx = tx0 + k % PER, ty = ty0 + k / PER, px, py;
+        int msaa;
+        if (tx >= td->tiles_x || ty >= td->tiles_y || !hz_tdense_tile_sample(td, tx, ty, &px, &py, jitter[n], &msaa))
+            continue;
+        w->pixel[n] = py * r->opts.width + px;
+        where[n][0] = (uint16_t)tx, where[n][1] = (uint16_t)ty;
+        n++;
+    }
+    hz_memset(w->radiance, 0, sizeof w->radiance);
+    hz_trace_batch(w, (const float(*)[2])jitter, true);
+    const hz_gbuffer_t *gb = &r->gb;
+    static const float still[2] = { 0.0f, 0.0f };
+    for (uint32_t slot = 0; slot < n; slot++) {
+        uint32_t px = w->pixel[slot];
+        float c[3];
+        store(w, c, &w->radiance[slot * 3], 1.0f);
+        const float *mv = gb->mv ? gb->mv + (size_t)px * 2 : still;
+        const float *mvr = gb->mv_reflect && (gb->flags[px] & HZ_GB_MIRROR) ? gb->mv_reflect + (size_t)px * 2 : NULL;
+        hz_tdense_put(td, where[slot][0], where[slot][1], c, mv, mvr);
+    }
+}
+
 void hz_render_pass_run(hz_renderer_t *r, uint32_t pass, uint32_t item, uint32_t thread)
 {
-    if (thread >= r->thread_count || item >= r->tiles_x * r->tiles_y)
+    if (thread >= r->thread_count || item >= hz_render_pass_items(r, pass))
         return;
     hz_worker_t *w = r->workers_by_thread[thread];
-    if (pass == 0)
+    if (r->opts.mode == HZ_MODE_TDENSE) {
+        if (pass == 0)
+            trace_tile_tdense(r, item, w);
+        else
+            hz_tdense_resolve_rows(&r->td, item * (HZ_RENDER_TILE / 2), (item + 1) * (HZ_RENDER_TILE / 2));
+    } else if (pass == 0) {
         trace_tile(r, item, w, r->opts.mode == HZ_MODE_TAA ? &r->cur : &r->out);
-    else if (pass == 1 && r->opts.mode == HZ_MODE_TAA)
+    } else if (pass == 1 && r->opts.mode == HZ_MODE_TAA) {
         hz_taa_resolve_tile(r, item);
+    }
 }
 
 static void add_stats(hz_render_stats_t *a, const hz_render_stats_t *b)
@@ -372,12 +454,14 @@ void hz_render_end_frame(hz_renderer_t *r)
         r->hist_valid = true;
         hz_memcpy(r->prev_object, r->gb.object, (size_t)r->opts.width * r->opts.height * 2);
     }
+    if (r->opts.mode == HZ_MODE_TDENSE)
+        hz_tdense_end_frame(&r->td);
     r->have_prev = true;
 }
 
 const hz_image_t *hz_render_output(const hz_renderer_t *r)
 {
-    return &r->out;
+    return r->opts.mode == HZ_MODE_TDENSE ? hz_tdense_output(&r->td) : &r->out;
 }
 
 const hz_gbuffer_t *hz_render_gbuffer(const hz_renderer_t *r)
@@ -393,8 +477,15 @@ void hz_render_frame_stats(const hz_renderer_t *r, hz_render_stats_t *last, hz_r
         *total = r->total;
 }
 
+const struct hz_tdense *hz_render_tdense(const hz_renderer_t *r)
+{
+    return r->opts.mode == HZ_MODE_TDENSE ? &r->td : NULL;
+}
+
 void hz_render_reset_history(hz_renderer_t *r)
 {
     r->hist_valid = false;
     r->have_prev = false;
+    if (r->opts.mode == HZ_MODE_TDENSE)
+        hz_tdense_reset(&r->td);
 }

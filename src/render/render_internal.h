@@ -11,6 +11,7 @@
 
 #include "hz/config.h"
 #include "hz/render.h"
+#include "hz/tdense.h"
 
 #if HZ_SIMD_LANES >= 8
 #define HZ_RENDER_LANES 8
@@ -102,6 +103,7 @@ struct hz_renderer {
     uint32_t hist_index;       /* hist[hist_index] is the previous frame's */
     bool hist_valid;
     uint16_t *prev_object;     /* TAA: previous frame's primary object ids */
+    hz_tdense_t td;            /* tdense: subframe placement and composite (its frames are the output) */
     hz_gbuffer_t gb;
     hz_worker_t *workers_by_thread[HZ_MAX_THREADS]; /* each from its thread's arena */
     uint32_t thread_count;
@@ -124,7 +126,9 @@ float hz_log2_approx(float x);
 
 /* trace.c */
 /* Traces one sample of every slot of the worker's tile (w->pixel set by the caller; jitter[slot] in pixels,
- * each in [-0.5, 0.5]) and adds its radiance to w->radiance[slot]; fills the G-buffer when asked. */
+ * each in [-0.5, 0.5]) and adds its radiance to w->radiance[slot]; fills the G-buffer when asked. Slots whose
+ * pixel is UINT32_MAX are skipped: to trace a subset of pixels, put them in the first slots (consecutive
+ * HZ_RENDER_LANES slots form a packet) and mark the rest UINT32_MAX, as tdense does. */
 void hz_trace_batch(hz_worker_t *w, const float (*jitter)[2], bool write_gbuffer);
 /* Slot -> pixel of tile `tile`, ordered so that consecutive HZ_RENDER_LANES slots form compact packets. */
 void hz_tile_slots(const struct hz_renderer *r, uint32_t tile, uint32_t pixel[HZ_TILE_PIXELS]);

@@ -37,7 +37,11 @@ expect render-no-scene 2 "which scene" "$hzrt" render
 expect render-bad-spp 2 "square" "$hzrt" render builtin --spp 3
 expect render-bad-size 2 "--size" "$hzrt" render builtin --size 0x5
 expect render-bad-frames 2 "'abc' is not an integer" "$hzrt" render builtin --frames abc
-expect render-bad-mode 2 "not full or taa" "$hzrt" render builtin --mode xyz
+expect render-bad-mode 2 "not tdense, full or taa" "$hzrt" render builtin --mode xyz
+expect render-bad-ordering 2 "'zigzag' is not full, dominant" "$hzrt" render builtin --ordering zigzag
+expect render-bad-tdense-gamma 2 "--tdense-gamma: '0' is not a number" "$hzrt" render builtin --tdense-gamma 0
+expect render-msaa4-needs-4spp 2 "4x MSAA positions need full mode with 4 spp" "$hzrt" render builtin --mode full --msaa4
+expect render-help-tdense 0 "--no-reflected-mv" "$hzrt" render --help
 expect render-unknown-option 2 "unknown option '--fast'" "$hzrt" render builtin --fast
 expect render-missing-file 73 "$tmp/nope.hzb: No such file" "$hzrt" render "$tmp/nope.hzb" --out "$tmp/o1"
 head -c 300 /dev/urandom >"$tmp/random.hzb"

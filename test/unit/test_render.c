@@ -69,11 +69,11 @@ static void test_threads_give_identical_bytes(void **state)
     (void)state;
     static float one[160 * 90 * 3], two[160 * 90 * 3];
     static float mv1[160 * 90 * 2], mv2[160 * 90 * 2];
-    for (int mode = 0; mode < 2; mode++) {
+    for (int mode = 0; mode < 3; mode++) {
         rfix_t f;
         hz_error_t err;
         assert_int_equal(rfix_open(&f, "builtin", HZ_ACCEL_NATIVE, &err), HZ_OK);
-        hz_render_mode_t m = mode ? HZ_MODE_TAA : HZ_MODE_FULL;
+        hz_render_mode_t m = mode == 0 ? HZ_MODE_FULL : mode == 1 ? HZ_MODE_TAA : HZ_MODE_TDENSE;
         const hz_image_t *a = render_builtin(&f, m, mode ? 1 : 4, 160, 90, 1, 3, 0.5f);
         memcpy(one, a->rgb, sizeof one);
         memcpy(mv1, hz_render_gbuffer(f.r)->mv, sizeof mv1);

@@ -6,7 +6,7 @@
  *
  * Two frame loops run armed: a synthetic one (arenas, hashing, formatting, the clock) and the real one — the
  * built-in scene (every feature: animation + refit, textures, cutouts, blending, mirrors, motion vectors)
- * rendered in TAA and full-frame modes on two threads.
+ * rendered in TAA, full-frame and temporally dense modes on two threads.
  */
 #define _GNU_SOURCE
 #include "hz_test.h"
@@ -262,6 +262,7 @@ static void test_rendering_allocates_nothing(void **state)
     (void)state;
     render_armed(HZ_MODE_TAA, 1);
     render_armed(HZ_MODE_FULL, 4);
+    render_armed(HZ_MODE_TDENSE, 1);
 }
 
 int main(void)

@@ -28,7 +28,11 @@ static hz_status_t render_open(const hz_et_scene_t *scene, const hz_et_env_t *en
 
 #define RENDERED(name, about, file, w, h, frames, warmup)                                                       \
     { name, about, file, render_open, hz_et_render_close, hz_et_render_methods, HZ_ET_RENDER_METHOD_COUNT,     \
-      &hz_et_render_reference, w, h, frames, warmup }
+      &hz_et_render_reference, w, h, frames, warmup, 0 }
+/* tdense and its baselines shown on a 240 Hz display. */
+#define AT240(name, about, file, w, h, frames, warmup)                                                          \
+    { name, about, file, render_open, hz_et_render_close, hz_et_display_methods, HZ_ET_DISPLAY_METHOD_COUNT,   \
+      &hz_et_display_reference, w, h, frames, warmup, 240 }
 
 /* The standard set (`make report`): sizes and lengths keep a cold run (256-spp references included) within
  * ~15 minutes on 2 cores; see README "Error against run time". */
@@ -41,8 +45,14 @@ const hz_et_scene_t hz_et_scenes[] = {
              "lost-empire.hzb", 160, 90, 48, 16),
     RENDERED("builtin", "hzrt's built-in scene: motion, skinning, instancing, blended and cut-out surfaces, mirror",
              "builtin", 160, 90, 40, 16),
+    AT240("builtin@240", "built-in scene on a 240 Hz display: tdense vs 1 spp and TAA at 60 and 240 Hz", "builtin",
+          160, 90, 48, 16),
+    AT240("sponza@240", "Sponza on a 240 Hz display: tdense vs 1 spp and TAA at 60 and 240 Hz", "sponza.hzb", 160, 90,
+          48, 16),
+    AT240("conference@240", "Conference on a 240 Hz display: tdense vs 1 spp and TAA at 60 and 240 Hz",
+          "conference.hzb", 160, 90, 48, 16),
     { "synthetic", "built-in analytic animation (rotating checkerboard, sweeping disc); needs no renderer", NULL,
-      synthetic_open, NULL, hz_synth_methods, HZ_SYNTH_METHOD_COUNT, &hz_synth_reference, 0, 0, 0, 0 },
+      synthetic_open, NULL, hz_synth_methods, HZ_SYNTH_METHOD_COUNT, &hz_synth_reference, 0, 0, 0, 0, 0 },
 };
 const size_t hz_et_scene_count = sizeof hz_et_scenes / sizeof hz_et_scenes[0];
 

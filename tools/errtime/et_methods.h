@@ -8,8 +8,9 @@
  * `file` and the environment (scene folder, threads); it may allocate from the arena, which lives until the
  * scene's run is over. `close` (may be NULL) gives back what open took, after the scene's run; errtime opens
  * one scene at a time. `methods` run in table order; `reference` renders the cached reference sequence.
- * width/height/frames/warmup are the scene's defaults for the report (`make report` runs every scene at these);
- * 0 means the command line's value.
+ * width/height/frames/warmup/refresh_hz are the scene's defaults for the report (`make report` runs every scene
+ * at these); 0 means the command line's value. The `@240` entries run the display-rate comparison of temporally
+ * dense rendering (seed 001) on a 240 Hz display.
  */
 #ifndef HZ_ERRTIME_METHODS_H
 #define HZ_ERRTIME_METHODS_H
@@ -32,6 +33,7 @@ struct hz_et_scene {
     size_t method_count;
     const hz_et_method_t *reference;
     uint32_t width, height, frames, warmup; /* report defaults; --size/--frames/--warmup win */
+    uint32_t refresh_hz;                    /* display refresh of the sequence; 0: --refresh (default 60) */
 };
 
 extern const hz_et_scene_t hz_et_scenes[];

@@ -27,6 +27,8 @@ typedef struct et_state {
     et_scene_t *sc;
     hz_renderer_t *r;
     float refresh_hz;
+    uint64_t rendered; /* frames this renderer drew: its own frame index (TAA's jitter phase, tdense's subframe),
+                        * which differs from the displayed frame's for held methods */
 } et_state_t;
 
 typedef struct et_job {
@@ -83,6 +85,7 @@ static hz_status_t rbegin(const hz_et_method_t *m, const hz_et_sequence_t *seq, 
     hz_render_opts_t o;
     opts_for(m->params, seq->width, seq->height, &o);
     st->sc = sc;
+    st->rendered = 0;
     st->refresh_hz = (float)seq->refresh_hz;
     hz_status_t s = hz_render_create(&st->r, &sc->scene, sc->accel, &o, arena, sc->pools->thread, sc->threads, err);
     if (s != HZ_OK) {
@@ -96,7 +99,7 @@ static hz_status_t rbegin(const hz_et_method_t *m, const hz_et_sequence_t *seq, 
 static hz_status_t rrender(void *state, uint32_t frame, hz_image_t *out, uint64_t *rays, hz_error_t *err)
 {
     et_state_t *st = state;
-    hz_status_t s = render_frame(st->r, frame, (float)frame / st->refresh_hz, err);
+    hz_status_t s = render_frame(st->r, st->rendered++, (float)frame / st->refresh_hz, err);
     if (s != HZ_OK)
         return s;
     if ((s = hz_image_copy(out, hz_render_output(st->r), err)) != HZ_OK)
@@ -128,14 +131,13 @@ static const hz_et_render_params_t p_taa_clip_cr = { HZ_MODE_TAA, 1, true, true,
 /* The reference: 256 stratified samples with a seed no method uses. */
 static const hz_et_render_params_t p_ref = { HZ_MODE_FULL, 256, false, false, 0x5eed };
 
-#define METHOD(name, knob, value, params) { name, knob, value, rbegin, rrender, rend, params }
+#define METHOD(name, knob, value, params) { name, knob, value, rbegin, rrender, rend, params, 0 }
+#define HELD(name, knob, value, params, hold) { name, knob, value, rbegin, rrender, rend, params, hold }
 
 const hz_et_method_t hz_et_render_reference = METHOD("full-frame", "spp", 256, &p_ref);
 
 /* Every method the renderer offers, in chart order. Later render modes add their rows here (one polyline per
- * name, one point per knob value), e.g. temporally dense rendering (seed 001) once it is a render mode:
- *     METHOD("tdense", "spp", 0.25, &p_tdense)   with p_tdense = { HZ_MODE_TDENSE, 1, ... }
- * and adaptive supersampling (seed 003) with its threshold as the knob. */
+ * name, one point per knob value), e.g. adaptive supersampling (seed 003) with its threshold as the knob. */
 const hz_et_method_t hz_et_render_methods[HZ_ET_RENDER_METHOD_COUNT] = {
     METHOD("full-frame", "spp", 1, &p_full1),
     METHOD("full-frame", "spp", 4, &p_full4),
@@ -145,6 +147,19 @@ const hz_et_method_t hz_et_render_methods[HZ_ET_RENDER_METHOD_COUNT] = {
     METHOD("taa-clip", "spp", 1, &p_taa_clip),         /* clip towards the box centre */
     METHOD("taa-catmull-rom", "spp", 1, &p_taa_cr),    /* Catmull-Rom history fetch */
     METHOD("taa-clip-cr", "spp", 1, &p_taa_clip_cr),   /* both */
+};
+
+static const hz_et_render_params_t p_tdense = { HZ_MODE_TDENSE, 1, false, false, 0 };
+static const hz_et_render_params_t p_ref64 = { HZ_MODE_FULL, 64, false, false, 0x5eed };
+
+const hz_et_method_t hz_et_display_reference = METHOD("full-frame", "spp", 64, &p_ref64);
+
+const hz_et_method_t hz_et_display_methods[HZ_ET_DISPLAY_METHOD_COUNT] = {
+    METHOD("tdense", "hz", 240, &p_tdense),
+    HELD("full-1spp", "hz", 60, &p_full1, 4),
+    METHOD("full-1spp", "hz", 240, &p_full1),
+    HELD("taa", "hz", 60, &p_taa, 4),
+    METHOD("taa", "hz", 240, &p_taa),
 };
 
 /* ---- scenes ---- */

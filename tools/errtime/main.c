@@ -77,7 +77,7 @@ int main(int argc, char **argv)
     hz_cli_prog = "hzerrtime";
     const char *scene_names = "synthetic", *methods = NULL, *cache = "build/errtime-cache", *out = "build/errtime";
     const char *skip = NULL, *video = NULL, *scene_dir = getenv("HZ_SCENES_DIR");
-    bool size_given = false, frames_given = false, warmup_given = false;
+    bool size_given = false, frames_given = false, warmup_given = false, refresh_given = false;
     long threads = 0;
     int w = 96, h = 64;
     long frames = 48, warmup = 8, refresh = HZ_DISPLAY_HZ, arena_mib = 1024;
@@ -116,6 +116,7 @@ int main(int argc, char **argv)
         } else if (!strcmp(a, "--refresh")) {
             if (!hz_cli_parse_long(a, v, 1, 960, &refresh))
                 return HZ_EXIT_USAGE;
+            refresh_given = true;
         } else if (!strcmp(a, "--arena-mib")) {
             if (!hz_cli_parse_long(a, v, 1, 1 << 20, &arena_mib))
                 return HZ_EXIT_USAGE;
@@ -197,7 +198,8 @@ int main(int argc, char **argv)
         uint32_t sh = size_given || !scene->height ? (uint32_t)h : scene->height;
         uint32_t sf = frames_given || !scene->frames ? (uint32_t)frames : scene->frames;
         uint32_t swu = warmup_given || !scene->warmup ? (uint32_t)warmup : scene->warmup;
-        hz_et_sequence_t seq = { scene->name, 0, NULL, NULL, sw, sh, sf, swu, (uint32_t)refresh, NULL };
+        uint32_t sr = refresh_given || !scene->refresh_hz ? (uint32_t)refresh : scene->refresh_hz;
+        hz_et_sequence_t seq = { scene->name, 0, NULL, NULL, sw, sh, sf, swu, sr, NULL };
         size_t need = (size_t)arena_mib << 20;
         if (need < hz_et_arena_bytes(&seq, ppd) + (64u << 20))
             need = hz_et_arena_bytes(&seq, ppd) + (64u << 20);
