@@ -288,7 +288,7 @@ tests: $(ERRTIME)
 
 # `make report`: every renderer method of tools/errtime/et_methods.c on the standard scenes, each at its table
 # entry's size and length; references cached in $(BUILD_ROOT)/errtime-cache (delete it for a cold run). The TAA
-# variants stay out of the chart (within ~2% of the default TAA's FLIP everywhere, they pile up on its point):
+# variants stay out of the chart (within 2.5% of the default TAA's FLIP everywhere, they pile up on its point):
 # `hzerrtime --methods taa,taa-clip,taa-catmull-rom,taa-clip-cr` compares them.
 REPORT_O := $(BUILD_ROOT)/report
 REPORT_SCENES := CornellBox-Mirror,sponza,lost-empire,builtin
