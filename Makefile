@@ -131,7 +131,7 @@ TIMING_SRCS := src/timing/wide.c src/timing/tstat.c src/timing/vsync.c src/timin
                src/timing/rtmodel.c src/timing/vcd.c src/timing/ecsv.c
 TIMING_INTEGER_SRCS = $(TIMING_SRCS)
 TIMING_TESTS := tstat vsync marker traceio
-TIMING_PORT_TESTS := frameloop
+TIMING_PORT_TESTS := frameloop latency_cli
 # Ports of the timing path (port/linux): `timing` (frame loop, report, `hzrt latency`, simulated display,
 # VCD/CSV replay) goes on every board; `fbdev`, `v4l2` and `gpio` where the hardware has them.
 PORT_SRCS_timing := port/linux/timebase.c port/linux/vsrc_timeline.c port/linux/frameloop.c port/linux/report.c \

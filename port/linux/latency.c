@@ -39,6 +39,7 @@ static void usage(FILE *f)
             "  csv:FILE              replay edge timestamps (t_ns[,level], or hzrt's edges.csv)\n"
             "  --edge rising|falling|any   v-sync polarity (any: every edge, e.g. a photodiode on the marker)\n"
             "  --active-low          (gpio) the line is active low\n"
+            "  --gpio-one-edge       (gpio) request only the v-sync polarity's edges (default both: pulse widths)\n"
             "  --hz HZ               nominal refresh rate, may have decimals (default %d; 0: learn it)\n"
             "  --timeout-ms MS       give up after this long without an edge (default max(500, 10 periods))\n"
             "display sink (--sink; default none):\n"
@@ -182,7 +183,7 @@ typedef struct opts {
     double percentile;
     long window, lookahead, timeout_ms;
     const char *guard, *latch, *wake;
-    int rt;
+    int rt, one_edge;
 } opts_t;
 
 #define NEXT_ARG()                                                                                   \
@@ -324,6 +325,8 @@ static int parse_opts(int argc, char **argv, opts_t *o, int *help)
             o->quiet = 1;
         } else if (!strcmp(a, "--rt")) {
             o->rt = 1;
+        } else if (!strcmp(a, "--gpio-one-edge")) {
+            o->one_edge = 1;
         } else {
             hz_cli_error("latency: unknown option '%s' (try hzrt latency --help)", a);
             return 0;
@@ -480,7 +483,9 @@ int hz_cmd_latency(int argc, char **argv)
                 hz_sink_close(&sink);
                 return HZ_EXIT_USAGE;
             }
-            hz_gpio_cfg_t gc = { chip, (int)line, o.active_low || HZ_VSYNC_GPIO_ACTIVE_LOW, NULL };
+            hz_gpio_cfg_t gc = { chip, (int)line, o.active_low || HZ_VSYNC_GPIO_ACTIVE_LOW, NULL, 0 };
+            if (o.one_edge)
+                gc.one_edge = o.edge_mode == HZ_EDGE_FALLING ? -1 : 1;
             s = hz_gpio_vsource_open(&src, &gc, &err);
         }
     } else if (!strcmp(kind, "fbdev")) {

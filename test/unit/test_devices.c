@@ -495,7 +495,7 @@ static void test_gpio_missing_chip(void **state)
     (void)state;
     hz_error_t err;
     hz_vsource_t v;
-    hz_gpio_cfg_t c = { "hz-no-such-chip", 3, 0, NULL };
+    hz_gpio_cfg_t c = { "hz-no-such-chip", 3, 0, NULL, 0 };
     hz_status_t s = hz_gpio_vsource_open(&v, &c, &err);
 #if defined(HZ_PORT_GPIO)
     assert_int_equal(s, HZ_E_DEVICE);

@@ -133,10 +133,13 @@ cat "$mon.out" >"$results/monitor.log" &
 catpid=$!
 exec 7>"$mon.in"
 start=$(date +%s)
-pulsed=0
+served=0
 while kill -0 "$qpid" 2>/dev/null; do
-    if [ $pulsed = 0 ] && grep -q '^HZVM-GPIO-READY' "$log" 2>/dev/null; then
-        n=$(sed -n 's/^HZVM-GPIO-READY \([0-9]*\).*/\1/p' "$log" | head -n 1)
+    # Each "HZVM-GPIO-READY n" the guest prints asks for n pulses on line 3.
+    asked=$(grep -c '^HZVM-GPIO-READY' "$log" 2>/dev/null)
+    if [ "${asked:-0}" -gt $served ]; then
+        served=$((served + 1))
+        n=$(sed -n 's/^HZVM-GPIO-READY \([0-9]*\).*/\1/p' "$log" | sed -n "${served}p")
         sleep 0.3
         i=0
         while [ $i -lt "${n:-4}" ]; do
@@ -144,7 +147,6 @@ while kill -0 "$qpid" 2>/dev/null; do
             sleep "$pulses_gap"
             i=$((i + 1))
         done
-        pulsed=1
     fi
     if [ $(($(date +%s) - start)) -ge "$limit" ]; then
         kill "$qpid" 2>/dev/null

@@ -361,22 +361,22 @@ static void test_gpio_busy_and_bad_lines(void **state)
     snprintf(req.consumer, sizeof req.consumer, "vm-holder");
     if (ioctl(chip, GPIO_V2_GET_LINE_IOCTL, &req) != 0)
         fail_msg("cannot hold gpiochip0 line 3: %s", strerror(errno));
-    hz_gpio_cfg_t c = { "gpiochip0", 3, 0, NULL };
+    hz_gpio_cfg_t c = { "gpiochip0", 3, 0, NULL, 0 };
     assert_int_equal(hz_gpio_vsource_open(&v, &c, &err), HZ_E_DEVICE);
     print_message("  %s\n", err.msg);
     assert_non_null(strstr(err.msg, "is busy: held by 'vm-holder'"));
     close(req.fd);
     close(chip);
-    hz_gpio_cfg_t bad_line = { "gpiochip0", 99, 0, NULL };
+    hz_gpio_cfg_t bad_line = { "gpiochip0", 99, 0, NULL, 0 };
     assert_int_equal(hz_gpio_vsource_open(&v, &bad_line, &err), HZ_E_DEVICE);
     print_message("  %s\n", err.msg);
     assert_non_null(strstr(err.msg, "has lines 0..7, not 99"));
-    hz_gpio_cfg_t no_chip = { "gpiochip7", 3, 0, NULL };
+    hz_gpio_cfg_t no_chip = { "gpiochip7", 3, 0, NULL, 0 };
     assert_int_equal(hz_gpio_vsource_open(&v, &no_chip, &err), HZ_E_DEVICE);
     print_message("  %s\n", err.msg);
     assert_non_null(strstr(err.msg, "no such chip"));
     /* By label, as boards name their chips. */
-    hz_gpio_cfg_t by_label = { "9030000.pl061", 3, 0, NULL };
+    hz_gpio_cfg_t by_label = { "9030000.pl061", 3, 0, NULL, 0 };
     assert_int_equal(hz_gpio_vsource_open(&v, &by_label, &err), HZ_OK);
     print_message("  %s\n", v.name);
     hz_vsource_close(&v);
@@ -387,7 +387,7 @@ static void test_gpio_silent_line_times_out(void **state)
     (void)state;
     hz_error_t err;
     hz_vsource_t v;
-    hz_gpio_cfg_t c = { "gpiochip0", 3, 0, NULL };
+    hz_gpio_cfg_t c = { "gpiochip0", 3, 0, NULL, 0 };
     assert_int_equal(hz_gpio_vsource_open(&v, &c, &err), HZ_OK);
     hz_arena_t arena;
     hz_arena_init(&arena, "frame", arena_buf, sizeof arena_buf);
@@ -412,7 +412,7 @@ static void test_gpio_capture_host_pulses(void **state)
     (void)state;
     hz_error_t err;
     hz_vsource_t v;
-    hz_gpio_cfg_t c = { "gpiochip0", 3, 0, NULL };
+    hz_gpio_cfg_t c = { "gpiochip0", 3, 0, NULL, 0 };
     assert_int_equal(hz_gpio_vsource_open(&v, &c, &err), HZ_OK);
     int64_t t_open = hz_clock_ns();
     printf("HZVM-GPIO-READY %d\n", GPIO_PULSES);
@@ -449,6 +449,38 @@ static void test_gpio_capture_host_pulses(void **state)
         assert_true(e[i].t_ns >= t_open && e[i].t_ns <= t_end);
     }
 }
+/* Only rising edges requested: half the events, the same pulses. */
+static void test_gpio_capture_rising_only(void **state)
+{
+    (void)state;
+    hz_error_t err;
+    hz_vsource_t v;
+    hz_gpio_cfg_t c = { "gpiochip0", 3, 0, NULL, 1 };
+    assert_int_equal(hz_gpio_vsource_open(&v, &c, &err), HZ_OK);
+    print_message("  %s\n", v.name);
+    int64_t t_open = hz_clock_ns();
+    printf("HZVM-GPIO-READY %d\n", GPIO_PULSES);
+    fflush(stdout);
+    hz_edge_t e[GPIO_PULSES + 4];
+    int n = 0;
+    while (n < GPIO_PULSES + 4) {
+        int r;
+        int64_t deadline = n >= GPIO_PULSES ? hz_clock_ns() + 1500000000 : t_open + 60000000000ll;
+        if (v.next(&v, deadline, &e[n], &r, &err) != HZ_OK)
+            fail_msg("%s", err.msg);
+        if (r != HZ_VS_EDGE)
+            break;
+        n++;
+    }
+    hz_vsource_close(&v);
+    print_message("  %d rising edges requested alone (expected %d)\n", n, GPIO_PULSES);
+    assert_int_equal(n, GPIO_PULSES);
+    for (int i = 0; i < n; i++) {
+        assert_int_equal(e[i].level, 1);
+        if (i)
+            assert_true(e[i].t_ns - e[i - 1].t_ns > 100000000); /* one per pulse, not per edge */
+    }
+}
 #else
 static void test_gpio_port_off(void **state)
 {
@@ -469,6 +501,7 @@ int main(void)
         cmocka_unit_test(test_gpio_busy_and_bad_lines),
         cmocka_unit_test(test_gpio_silent_line_times_out),
         cmocka_unit_test(test_gpio_capture_host_pulses),
+        cmocka_unit_test(test_gpio_capture_rising_only),
 #else
         cmocka_unit_test(test_gpio_port_off),
 #endif
