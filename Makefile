@@ -98,15 +98,16 @@ INTEGER_FLAGS := -mgeneral-regs-only
 # boards with BOARD_SIMD=<simd> (avx2, neon), <M>_TESTS are test/unit/test_<name>.c linked with libhz.a,
 # <M>_PORT_TESTS also link the port library.
 
-# core (src/core): arenas, status, formatter, fixed point, hash + RNG, vec/mat
-CORE_SRCS := src/core/arena.c src/core/status.c src/core/fmt.c src/core/fixed.c src/core/hash.c src/core/vmath.c
-CORE_INTEGER_SRCS := src/core/fixed.c src/core/hash.c
-CORE_TESTS := arena status fmt fixed hash vmath config
-CORE_PORT_TESTS := zero_alloc
+# core (src/core): arenas, status, formatter, fixed point, hash + RNG, CRC-32, vec/mat, images + sRGB codes
+CORE_SRCS := src/core/arena.c src/core/status.c src/core/fmt.c src/core/fixed.c src/core/hash.c src/core/vmath.c \
+             src/core/crc32.c src/core/image.c src/core/srgb_tables.c
+CORE_INTEGER_SRCS := src/core/fixed.c src/core/hash.c src/core/crc32.c
+CORE_TESTS := arena status fmt fixed hash vmath config crc32 image
+CORE_PORT_TESTS := zero_alloc imageio
 
 # scene (src/scene): baked format, validating loader, built-in scene
-SCENE_SRCS :=
-SCENE_TESTS :=
+SCENE_SRCS := src/scene/hzb.c src/scene/write.c src/scene/load.c src/scene/animate.c src/scene/builtin.c
+SCENE_TESTS := scene scene_corrupt
 SCENE_PORT_TESTS :=
 
 # accel (src/accel): BVH build and traversal; the Embree backend lives in port/embree
@@ -134,7 +135,7 @@ TIMING_TESTS := tstat vsync marker traceio
 TIMING_PORT_TESTS := frameloop latency_cli
 # Ports of the timing path (port/linux): `timing` (frame loop, report, `hzrt latency`, simulated display,
 # VCD/CSV replay) goes on every board; `fbdev`, `v4l2` and `gpio` where the hardware has them.
-PORT_SRCS_timing := port/linux/timebase.c port/linux/vsrc_timeline.c port/linux/frameloop.c port/linux/report.c \
+PORT_SRCS_timing := port/linux/timebase.c port/linux/vsrc_timeline.c port/linux/frameloop.c port/linux/latency_report.c \
                     port/linux/latency.c port/linux/scenesrc.c port/linux/devices_absent.c port/linux/sysio.c
 PORT_SRCS_fbdev := port/linux/fbdev.c
 PORT_SRCS_v4l2 := port/linux/v4l2.c
@@ -168,12 +169,18 @@ INTEGER_SRCS += $(TIMING_INTEGER_SRCS)
 
 # Ports: each board lists the ones it links (BOARD_PORTS); accel backends come from BOARD_ACCEL.
 KNOWN_PORTS := linux timing fbdev v4l2 gpio
-PORT_SRCS_linux := port/linux/pools.c port/linux/cli.c port/linux/clock.c port/linux/fileio.c
+PORT_SRCS_linux := port/linux/pools.c port/linux/cli.c port/linux/clock.c port/linux/fileio.c port/linux/scenefile.c
 $(foreach p,$(BOARD_PORTS),$(if $(filter $(p),$(KNOWN_PORTS)),,$(error $(BOARD_DIR)/board.mk: unknown port '$(p)' (known: $(KNOWN_PORTS)))))
+# Image files (port/linux/imageio.c): PNG needs libpng for the target. It is on when the target's compiler links
+# -lpng (host builds: libpng-dev is in host-sim's BOARD_DEPS); elsewhere the PNG calls report "not built in".
+PORT_SRCS_linux += port/linux/imageio.c
+HAVE_PNG := $(shell printf 'int main(void){return 0;}\n' | $(CC) -x c - -o /dev/null -lpng >/dev/null 2>&1 && echo 1 || echo 0)
+$(O)/port/linux/imageio.o: EXTRA_CFLAGS += -DHZ_HAVE_PNG=$(HAVE_PNG)
+PNG_LIBS := $(if $(filter 1,$(HAVE_PNG)),-lpng)
 PORT_SRCS := $(foreach p,$(BOARD_PORTS),$(PORT_SRCS_$(p)))
 PORT_OBJS := $(PORT_SRCS:%.c=$(O)/%.o)
 PORT_LIB := $(O)/libhzport.a
-PORT_LIBS := -lpthread -lm
+PORT_LIBS := -lpthread -lm $(PNG_LIBS)
 PORT_LIBS += $(foreach p,$(BOARD_PORTS),$(PORT_LIBS_$(p)))
 PORT_DEFS := $(foreach p,$(BOARD_PORTS),-DHZ_PORT_$(shell echo $(p) | tr a-z A-Z)=1)
 
@@ -192,8 +199,27 @@ PORT_TEST_BINS := $(PORT_TESTS:%=$(O)/test/unit/test_%)
 TEST_BINS := $(UNIT_BINS) $(PORT_TEST_BINS)
 TEST_CFLAGS := $(HOSTED_CFLAGS) -Itest
 TEST_LIBS := -lcmocka
+$(O)/test/unit/test_imageio: TEST_CFLAGS += -DHZ_HAVE_PNG=$(HAVE_PNG)
 
-ALL_OBJS := $(LIB_OBJS) $(PORT_OBJS) $(HZRT_OBJS) $(BENCH_OBJS)
+# errtime (tools/errtime): image metrics (PSNR, SSIM, FLIP), report writers and the error-against-run-time driver.
+# Built with the board's compiler, like hzbench: it times the board's renderer. Hosted C99 with libm.
+# Its files are prefixed et_ because it also sees port/linux (which has report.h, for instance).
+ERRTIME_SRCS := tools/errtime/et_metrics.c tools/errtime/et_flip.c tools/errtime/et_report.c \
+                tools/errtime/et_progress.c tools/errtime/driver.c tools/errtime/et_synthetic.c \
+                tools/errtime/et_methods.c
+ERRTIME_MAIN_SRCS := tools/errtime/main.c
+ERRTIME_TESTS := metrics flip et_report errtime
+ERRTIME_OBJS := $(ERRTIME_SRCS:%.c=$(O)/%.o)
+ERRTIME_MAIN_OBJS := $(ERRTIME_MAIN_SRCS:%.c=$(O)/%.o)
+ERRTIME_LIB := $(O)/liberrtime.a
+ERRTIME := $(O)/bin/hzerrtime
+ERRTIME_TEST_BINS := $(ERRTIME_TESTS:%=$(O)/test/unit/test_%)
+# The metric filters' inner loops run over x: vectorising them keeps every pixel's sum in the same order (same
+# results) and makes FLIP ~2x faster; -O2's "very cheap" cost model leaves them scalar.
+$(O)/tools/errtime/et_flip.o $(O)/tools/errtime/et_metrics.o: HOSTED_CFLAGS += -fvect-cost-model=dynamic
+TEST_BINS += $(ERRTIME_TEST_BINS)
+
+ALL_OBJS := $(LIB_OBJS) $(PORT_OBJS) $(HZRT_OBJS) $(BENCH_OBJS) $(ERRTIME_OBJS) $(ERRTIME_MAIN_OBJS)
 
 # ---------------------------------------------------------------------------------------------------------
 # Build rules
@@ -239,16 +265,171 @@ $(PORT_TEST_BINS): $(O)/test/unit/test_%: test/unit/test_%.c $(PORT_LIB) $(LIB)
 	$(call msg,CCLD,$@)$(CC) $(TEST_CFLAGS) $(PORT_DEFS) -Iport/linux $(DEPFLAGS) $(LDFLAGS_ALL) -o $@ $< \
 		$(PORT_LIB) $(LIB) $(TEST_LIBS) $(PORT_LIBS) -ldl
 
+$(ERRTIME_LIB): $(ERRTIME_OBJS)
+	$(call msg,AR,$@)rm -f $@ && $(AR) rcs $@ $^
+
+$(ERRTIME): $(ERRTIME_MAIN_OBJS) $(ERRTIME_LIB) $(PORT_LIB) $(LIB)
+	@mkdir -p $(dir $@)
+	$(call msg,LD,$@)$(CC) $(LDFLAGS_ALL) -o $@ $(ERRTIME_MAIN_OBJS) $(ERRTIME_LIB) $(PORT_LIB) $(LIB) $(PORT_LIBS)
+
+errtime: $(ERRTIME) ## build hzerrtime (error against run time; `hzerrtime --help`) into O/bin
+tests: $(ERRTIME)
+
+$(ERRTIME_TEST_BINS): $(O)/test/unit/test_%: test/unit/test_%.c $(ERRTIME_LIB) $(PORT_LIB) $(LIB)
+	@mkdir -p $(dir $@)
+	$(call msg,CCLD,$@)$(CC) $(TEST_CFLAGS) $(PORT_DEFS) -Itools/errtime -Iport/linux $(DEPFLAGS) \
+		 $(LDFLAGS_ALL) -o $@ $< $(ERRTIME_LIB) $(PORT_LIB) $(LIB) $(TEST_LIBS) $(PORT_LIBS)
+
 -include $(ALL_OBJS:.o=.d) $(TEST_BINS:=.d)
 
 # ---------------------------------------------------------------------------------------------------------
+# Host tools: the scene baker (tools/bake), its tests (test/host) and the loader fuzzer (test/fuzz). They are
+# built for the build machine with HOSTCC whatever BOARD is, against a host-compiled copy of the core and
+# scene sources (tools/host/board.h), into $(BUILD_ROOT)/host (host-san with SAN=1). `make scenes` always
+# bakes with the plain build, so SAN=1 does not re-bake every scene.
+HOSTAR ?= ar
+HOST_CFLAGS := $(WARN) $(OPT) -D_POSIX_C_SOURCE=200809L -Iinclude -Itools/host -Iport/linux
+HOST_SAN_FLAGS := -fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer
+HOST_LIB_SRCS := $(CORE_SRCS) $(SCENE_SRCS) port/linux/cli.c port/linux/fileio.c
+BAKE_LIB_SRCS := tools/bake/util.c tools/bake/sidecar.c tools/bake/scene.c tools/bake/texture.c \
+                 tools/bake/import_assimp.c tools/bake/import_furball.c
+BAKE_SRCS := tools/bake/main.c $(BAKE_LIB_SRCS)
+BAKE_LIBS := -lassimp -lstb -lz -lm
+HOST_TESTS := sidecar bake
+
+# $(1): output directory, $(2): extra compiler/linker flags
+define HOST_TREE
+$(1)/obj/src/%.o: src/%.c
+	@mkdir -p $$(dir $$@)
+	$$(call msg,HOSTCC,$$@)$$(HOSTCC) $$(HOST_CFLAGS) -ffreestanding $(2) $$(DEPFLAGS) -c $$< -o $$@
+$(1)/obj/%.o: %.c
+	@mkdir -p $$(dir $$@)
+	$$(call msg,HOSTCC,$$@)$$(HOSTCC) $$(HOST_CFLAGS) $(2) $$(DEPFLAGS) -c $$< -o $$@
+$(1)/libhz-host.a: $$(HOST_LIB_SRCS:%.c=$(1)/obj/%.o)
+	$$(call msg,AR,$$@)rm -f $$@ && $$(HOSTAR) rcs $$@ $$^
+$(1)/libbake.a: $$(BAKE_LIB_SRCS:%.c=$(1)/obj/%.o)
+	$$(call msg,AR,$$@)rm -f $$@ && $$(HOSTAR) rcs $$@ $$^
+$(1)/bin/hzbake: $(1)/obj/tools/bake/main.o $(1)/libbake.a $(1)/libhz-host.a
+	@mkdir -p $$(dir $$@)
+	$$(call msg,HOSTLD,$$@)$$(HOSTCC) $(2) -o $$@ $$^ $$(BAKE_LIBS)
+$(1)/test/test_%: test/host/test_%.c $(1)/libbake.a $(1)/libhz-host.a
+	@mkdir -p $$(dir $$@)
+	$$(call msg,HOSTCC,$$@)$$(HOSTCC) $$(HOST_CFLAGS) -Itest -Itools/bake $(2) $$(DEPFLAGS) -o $$@ $$< \
+		$(1)/libbake.a $(1)/libhz-host.a $$(BAKE_LIBS) -lcmocka
+-include $$(patsubst %.c,$(1)/obj/%.d,$$(HOST_LIB_SRCS) $$(BAKE_SRCS)) $$(HOST_TESTS:%=$(1)/test/test_%.d)
+endef
+HOST_PLAIN_O := $(BUILD_ROOT)/host
+HOST_O := $(BUILD_ROOT)/host$(SAN_SUFFIX)
+$(eval $(call HOST_TREE,$(HOST_PLAIN_O),))
+ifeq ($(SAN),1)
+$(eval $(call HOST_TREE,$(HOST_O),$(HOST_SAN_FLAGS)))
+endif
+BAKE := $(HOST_PLAIN_O)/bin/hzbake
+HOST_TEST_BINS := $(HOST_TESTS:%=$(HOST_O)/test/test_%)
+
+bake: $(BAKE) ## build the scene baker tools/bake (hzbake) for the build machine into $(BUILD_ROOT)/host
+
+# Real scenes (../shared/scenes, see SOURCES.md there): zips are unpacked into $(BUILD_ROOT)/scenes-src, each
+# scene is baked with its sidecar tools/bake/scenes/<name>.hzs into $(BUILD_ROOT)/scenes/<name>.hzb. A scene is
+# re-baked when its model, sidecar or the baker changes. The -small variants are the same models with tiny
+# textures and few vertex-key frames: seeds for the fuzzer and images for the exhaustive corruption test.
+SCENES_SRC ?= ../shared/scenes
+SCENES_O := $(BUILD_ROOT)/scenes
+SCENES_UNPACK := $(BUILD_ROOT)/scenes-src
+SIDECAR_DIR := tools/bake/scenes
+SCENE_ZIPS := CornellBox conference sponza lost-empire pine
+SCENE_MODEL_CornellBox-Original := $(SCENES_UNPACK)/CornellBox/CornellBox-Original.obj
+SCENE_MODEL_CornellBox-Mirror := $(SCENES_UNPACK)/CornellBox/CornellBox-Mirror.obj
+SCENE_MODEL_conference := $(SCENES_UNPACK)/conference/conference.obj
+SCENE_MODEL_sponza := $(SCENES_UNPACK)/sponza/sponza.obj
+SCENE_MODEL_lost-empire := $(SCENES_UNPACK)/lost-empire/lost_empire.obj
+SCENE_MODEL_pine := $(SCENES_UNPACK)/pine/scrubPine.obj
+SCENE_MODEL_dragon-res4 := $(SCENES_SRC)/dragon/dragon_vrip_res4.ply.gz
+SCENE_MODEL_dragon-res3 := $(SCENES_SRC)/dragon/dragon_vrip_res3.ply.gz
+SCENE_MODEL_dragon-res2 := $(SCENES_SRC)/dragon/dragon_vrip_res2.ply.gz
+SCENE_MODEL_dragon := $(SCENES_SRC)/dragon/dragon_vrip.ply.gz
+SCENE_MODEL_furball := $(SCENES_SRC)/furball/furBall_A.xml
+SCENE_MODEL_BoxAnimated := $(SCENES_SRC)/gltf/BoxAnimated/glTF/BoxAnimated.gltf
+SCENE_MODEL_CesiumMan := $(SCENES_SRC)/gltf/CesiumMan/glTF/CesiumMan.gltf
+SCENE_MODEL_AlphaBlendModeTest := $(SCENES_SRC)/gltf/AlphaBlendModeTest/glTF/AlphaBlendModeTest.gltf
+SCENE_MODEL_CesiumMan-small := $(SCENE_MODEL_CesiumMan)
+SCENE_MODEL_AlphaBlendModeTest-small := $(SCENE_MODEL_AlphaBlendModeTest)
+SCENES := CornellBox-Original CornellBox-Mirror conference sponza lost-empire pine dragon-res4 dragon-res3 \
+          dragon-res2 dragon furball BoxAnimated CesiumMan AlphaBlendModeTest CesiumMan-small \
+          AlphaBlendModeTest-small
+SCENE_FILES := $(SCENES:%=$(SCENES_O)/%.hzb)
+# What each scene reads besides its model: the unpacked zip (its stamp) or every file beside the model.
+scene_inputs = $(if $(filter $(SCENES_UNPACK)/%,$(1)),$(dir $(1)).unpacked,$(1) $(wildcard $(dir $(1))*))
+
+$(SCENES_UNPACK)/%/.unpacked: $(SCENES_SRC)/%.zip
+	@rm -rf $(dir $@) && mkdir -p $(dir $@)
+	$(call msg,UNZIP,$<)unzip -q -o $< -d $(dir $@) && rm -rf $(dir $@)__MACOSX && touch $@
+
+$(SCENES_O)/%.hzb: $(BAKE) $(SIDECAR_DIR)/%.hzs
+	@mkdir -p $(dir $@)
+	$(call msg,BAKE,$@)$(BAKE) -q -s $(SIDECAR_DIR)/$*.hzs $(SCENE_MODEL_$*) $@
+$(foreach s,$(SCENES),$(eval $(SCENES_O)/$(s).hzb: $(call scene_inputs,$(SCENE_MODEL_$(s)))))
+
+ifeq ($(wildcard $(SCENES_SRC)/SOURCES.md),)
+scenes:
+	@echo "scenes: no scene sources in '$(SCENES_SRC)' (set SCENES_SRC to the folder with conference.zip, gltf/, ...)" >&2
+	@exit 1
+else
+scenes: deps $(SCENE_FILES) ## bake every scene of ../shared/scenes (SCENES_SRC) into $(BUILD_ROOT)/scenes/*.hzb
+endif
+
+# Tests read the baked scenes from here (qemu passes the environment to the AArch64 tests too).
+HZ_SCENES_DIR ?= $(abspath $(SCENES_O))
+export HZ_SCENES_DIR
+# test_flip compares with NVIDIA's FLIP on crops of two textures of the unpacked scene zips.
+HZ_SCENES_UNPACK ?= $(abspath $(SCENES_UNPACK))
+export HZ_SCENES_UNPACK
+$(O)/test/unit/test_flip: $(SCENES_UNPACK)/pine/.unpacked $(SCENES_UNPACK)/lost-empire/.unpacked
+
+# Loader fuzzer: libFuzzer (clang -fsanitize=fuzzer) on hz_scene_plan/hz_scene_load, seeded with the small
+# real scenes. `make fuzz` runs it for FUZZ_SECONDS; `make test` runs FUZZ_RUNS inputs (seconds).
+FUZZ_CC ?= clang
+FUZZ_O := $(BUILD_ROOT)/fuzz
+FUZZ := $(FUZZ_O)/fuzz_hzb
+FUZZ_SECONDS ?= 60
+FUZZ_RUNS ?= 4000
+FUZZ_SEEDS := CornellBox-Original CornellBox-Mirror BoxAnimated dragon-res4 CesiumMan-small \
+              AlphaBlendModeTest-small
+FUZZ_FLAGS := -std=c99 -O1 -g -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=undefined \
+              -ffp-contract=off -fno-math-errno -fno-strict-aliasing -Iinclude -Itools/host
+$(FUZZ): test/fuzz/fuzz_hzb.c $(CORE_SRCS) $(SCENE_SRCS) $(wildcard include/hz/*.h src/scene/*.h)
+	@mkdir -p $(dir $@)
+	$(call msg,FUZZCC,$@)$(FUZZ_CC) $(FUZZ_FLAGS) -o $@ test/fuzz/fuzz_hzb.c $(CORE_SRCS) $(SCENE_SRCS)
+$(FUZZ_O)/seeds/.stamp: $(FUZZ_SEEDS:%=$(SCENES_O)/%.hzb)
+	@rm -rf $(dir $@) && mkdir -p $(dir $@)
+	$(Q)cp $^ $(dir $@) && touch $@
+
+fuzz: deps $(FUZZ) $(FUZZ_O)/seeds/.stamp ## fuzz the .hzb loader for FUZZ_SECONDS (libFuzzer; findings in $(BUILD_ROOT)/fuzz)
+	$(Q)mkdir -p $(FUZZ_O)/corpus $(FUZZ_O)/artifacts
+	$(Q)$(FUZZ) -max_total_time=$(FUZZ_SECONDS) -max_len=4194304 -rss_limit_mb=4096 \
+		-artifact_prefix=$(FUZZ_O)/artifacts/ $(FUZZ_O)/corpus $(FUZZ_O)/seeds
+
+# Host-side tests (run by `make test`): the baker's tests and a bounded fuzzer run, results for the summary.
+test-host: $(HOST_TEST_BINS) $(HOST_O)/bin/hzbake $(FUZZ) $(FUZZ_O)/seeds/.stamp scenes
+	$(Q)rm -rf $(HOST_O)/test-results && mkdir -p $(HOST_O)/test-results
+	$(Q)HZ_BAKE=$(abspath $(HOST_O)/bin/hzbake) HZ_SCENES_SRC=$(abspath $(SCENES_SRC)) \
+		HZ_SCENES_UNPACK=$(abspath $(SCENES_UNPACK)) \
+		sh test/run-tests.sh $(HOST_O)/test-results host "" $(HOST_TEST_BINS)
+	$(Q)sh test/fuzz/run-fuzz.sh $(HOST_O)/test-results $(FUZZ) $(FUZZ_O)/seeds $(FUZZ_RUNS)
+
+# ---------------------------------------------------------------------------------------------------------
 # Dependencies (Debian packages). `?pkg` is optional: a failed install warns instead of stopping.
-DEPS_TEST_HOST := libcmocka-dev file
+DEPS_TEST_HOST := libcmocka-dev file unzip
+# Host tools: the baker (assimp, stb_image, zlib; unzip for the scene zips) and the loader fuzzer (libFuzzer).
+DEPS_BAKE := gcc libc6-dev libassimp-dev libstb-dev zlib1g-dev unzip libcmocka-dev
+DEPS_FUZZ := clang libclang-rt-14-dev
 DEPS_TEST_CROSS := gcc-aarch64-linux-gnu libc6-dev-arm64-cross binutils-aarch64-linux-gnu qemu-user-static \
                    libcmocka-dev:arm64
 deps: ## install the Debian packages BOARD needs to build, run and test (apt-get as root; else print the line)
 	$(Q)sh tools/deps.sh $(BOARD_DEPS) $(BOARD_TEST_DEPS) \
 		$(if $(filter test,$(MAKECMDGOALS)),$(DEPS_TEST_HOST) $(DEPS_TEST_CROSS)) \
+		$(if $(filter test scenes bake test-host,$(MAKECMDGOALS)),$(DEPS_BAKE)) \
+		$(if $(filter test fuzz test-host,$(MAKECMDGOALS)),$(DEPS_FUZZ)) \
 		$(if $(filter test vmtest,$(MAKECMDGOALS)),$(DEPS_VMTEST))
 
 # ---------------------------------------------------------------------------------------------------------
@@ -271,6 +452,16 @@ bench: $(BENCH) ## measure (side by side, in one run) and print a table; writes 
 size: $(HZRT) ## section sizes of hzrt, its largest symbols and the board's static arenas
 	$(Q)$(SIZE) $(HZRT) $(LIB)
 	$(Q)echo "largest symbols:"; $(NM) --size-sort -S -r $(HZRT) | head -n 12
+
+# ---------------------------------------------------------------------------------------------------------
+# Generated tables (host tools under tools/gen; their output is committed and checked by tests)
+GEN_BIN := $(BUILD_ROOT)/host/tools/gen
+$(GEN_BIN)/srgb_tables: tools/gen/srgb_tables.c
+	@mkdir -p $(dir $@)
+	$(call msg,HOSTCC,$@)$(HOSTCC) $(WARN) -O2 -o $@ $< -lm
+
+gen-srgb: $(GEN_BIN)/srgb_tables ## regenerate src/core/srgb_tables.c (exact sRGB 8-bit tables; test_image checks them)
+	$(Q)$(GEN_BIN)/srgb_tables src/core/srgb_tables.c
 
 # ---------------------------------------------------------------------------------------------------------
 # Tests
@@ -298,8 +489,10 @@ CHECK_OBJS := $(LIB_OBJS)
 endif
 
 TEST_BOARDS := host-sim aarch64-generic
-test: deps ## build and run every test: host, then AArch64 under qemu, plus the design guards
-	$(Q)for b in $(TEST_BOARDS); do \
+test: deps ## build and run every test: scenes, host tools, host-sim, AArch64 under qemu, design guards
+	$(Q)$(MAKE) --no-print-directory scenes || exit 1; \
+	$(MAKE) --no-print-directory test-host || exit 1; \
+	for b in $(TEST_BOARDS); do \
 		$(MAKE) --no-print-directory BOARD=$$b O=$(BUILD_ROOT)/$$b$(SAN_SUFFIX) test-board || exit 1; \
 	done; \
 	for t in $(TEST_TIERS); do \
@@ -307,7 +500,7 @@ test: deps ## build and run every test: host, then AArch64 under qemu, plus the 
 	done; \
 	rm -rf $(BUILD_ROOT)/guards$(SAN_SUFFIX); \
 	sh test/guard/run-guards.sh --record $(BUILD_ROOT)/guards$(SAN_SUFFIX); \
-	sh test/summary.sh $(foreach b,$(TEST_BOARDS),$(BUILD_ROOT)/$(b)$(SAN_SUFFIX)/test-results) \
+	sh test/summary.sh $(HOST_O)/test-results $(foreach b,$(TEST_BOARDS),$(BUILD_ROOT)/$(b)$(SAN_SUFFIX)/test-results) \
 		$(TEST_TIER_RESULTS) $(BUILD_ROOT)/guards$(SAN_SUFFIX)
 
 # ---------------------------------------------------------------------------------------------------------
@@ -320,6 +513,9 @@ DEPS_VMTEST := qemu-system-arm cpio kmod ?libgpiod-dev:arm64
 TEST_TIERS += vmtest-tier
 TEST_TIER_RESULTS += $(VM_RESULTS)
 VM_DEVICE_TEST := $(O)/test/vm/test_vm_devices
+# Variables the unit tests read (as exported to them on the host); directories among their values are shared
+# into the guest read-only at the same paths.
+VM_TEST_ENV := HZ_SCENES_DIR HZ_SCENES_UNPACK
 
 vmtest: deps ## boot Debian's arm64 kernel in qemu-system-aarch64: AArch64 unit tests, V4L2 loop-back, GPIO capture
 	$(Q)$(MAKE) --no-print-directory vmtest-tier
@@ -331,8 +527,8 @@ vmtest-tier:
 # Runs with BOARD=aarch64-generic (see vmtest-tier): its test binaries, plus a static hzrt and init.
 vmtest-board: tests $(VM_DEVICE_TEST) $(VM_ROOT)/init
 	$(Q)$(MAKE) --no-print-directory BOARD=aarch64-generic O=$(VM_ROOT)/static BOARD_LDFLAGS=-static SAN= all
-	$(Q)sh test/vm/run.sh $(VM_RESULTS) $(VM_ROOT)/kernel $(VM_ROOT)/init $(VM_ROOT)/static/bin/hzrt \
-		$(VM_DEVICE_TEST) $(TEST_BINS)
+	$(Q)VM_ENV="$(foreach v,$(VM_TEST_ENV),$(v)=$($(v)))" sh test/vm/run.sh $(VM_RESULTS) $(VM_ROOT)/kernel \
+		$(VM_ROOT)/init $(VM_ROOT)/static/bin/hzrt $(VM_DEVICE_TEST) $(TEST_BINS)
 
 $(VM_DEVICE_TEST): test/vm/test_vm_devices.c $(PORT_LIB) $(LIB)
 	@mkdir -p $(dir $@)
@@ -361,5 +557,6 @@ help: ## list the targets
 	@grep -hE '^[a-z][a-z-]*:.*## ' $(MAKEFILE_LIST) | sed -E 's/^([a-z-]+):.*## (.*)/\1|\2/' | \
 		awk -F'|' '{ printf "  %-20s %s\n", $$1, $$2 }'
 
-.PHONY: all deps run bench size tests test-board test check-freestanding check-integer clean help
+.PHONY: all deps run bench size tests test-board test check-freestanding check-integer clean help gen-srgb errtime \
+        bake scenes fuzz test-host
 .PHONY: vmtest vmtest-tier vmtest-board latency-sim

@@ -18,11 +18,11 @@
 
 #include "hz/status.h"
 
-typedef struct hz_image {
+typedef struct hz_rgb8_image {
     uint8_t *rgb;  /* RGB24 */
     int w, h;
     size_t stride; /* bytes per row, >= 3 w */
-} hz_image_t;
+} hz_rgb8_image_t;
 
 typedef struct hz_frame_req {
     uint64_t id;        /* frame number, 0, 1, 2, ... */
@@ -33,7 +33,7 @@ typedef struct hz_frame_req {
 typedef struct hz_framesrc {
     const char *name; /* for reports: "test pattern", "built-in scene" */
     void *ctx;
-    hz_status_t (*render)(void *ctx, const hz_frame_req_t *req, hz_image_t *out, hz_error_t *err);
+    hz_status_t (*render)(void *ctx, const hz_frame_req_t *req, hz_rgb8_image_t *out, hz_error_t *err);
 } hz_framesrc_t;
 
 /* The synthetic source: hz_testpattern_draw() of the frame id. ctx is unused. */

@@ -74,7 +74,7 @@ static void fb_close(hz_sink_t *s)
     s->impl = NULL;
 }
 
-static hz_status_t fb_present(hz_sink_t *s, const hz_image_t *img, uint64_t id, hz_error_t *err)
+static hz_status_t fb_present(hz_sink_t *s, const hz_rgb8_image_t *img, uint64_t id, hz_error_t *err)
 {
     (void)id;
     fb_impl_t *im = s->impl;

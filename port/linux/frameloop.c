@@ -28,7 +28,7 @@ typedef struct loop {
     uint64_t edges_in;
     int64_t edge_timeout;
     hz_sink_t *sink;
-    hz_image_t *warmup; /* a blank frame for priming sink-driven sources (NULL: none) */
+    hz_rgb8_image_t *warmup; /* a blank frame for priming sink-driven sources (NULL: none) */
     int64_t recent[8];  /* the last v-sync-polarity edge times, for messages */
     uint32_t n_recent;
 } loop_t;
@@ -192,7 +192,7 @@ static hz_status_t drain(loop_t *L, int *ended, hz_error_t *err)
  * takes at its own pace (present waits for a free buffer), until the model locks. */
 static hz_status_t prime(loop_t *L, hz_error_t *err)
 {
-    hz_image_t *img = L->warmup;
+    hz_rgb8_image_t *img = L->warmup;
     if (!img || !L->src->needs_frames)
         return HZ_OK;
     hz_status_t s = L->sink->present(L->sink, img, UINT64_MAX, err);
@@ -315,7 +315,7 @@ hz_status_t hz_loop_run(const hz_loop_cfg_t *cfg, hz_timebase_t *tb, hz_vsource_
     L.vs_pos = hz_arena_alloc_array(arena, cfg->max_edges, sizeof(uint32_t), 64);
     L.vs_cap = cfg->max_edges;
     res->scratch = hz_arena_alloc_array(arena, scratch_n, sizeof(int64_t), 64);
-    hz_image_t img = { 0, cfg->w, cfg->h, (size_t)cfg->w * 3 };
+    hz_rgb8_image_t img = { 0, cfg->w, cfg->h, (size_t)cfg->w * 3 };
     if (cfg->frames_mode)
         img.rgb = hz_arena_alloc_array(arena, (size_t)cfg->w * (size_t)cfg->h, 3, 64);
     if (!res->edges || !L.vs_pos || !res->scratch || (cfg->max_frames && !recs) || (cfg->frames_mode && !img.rgb))
@@ -372,7 +372,7 @@ hz_status_t hz_loop_run(const hz_loop_cfg_t *cfg, hz_timebase_t *tb, hz_vsource_
         return HZ_OK;
     }
 
-    hz_image_t warmup = img;
+    hz_rgb8_image_t warmup = img;
     if (src->needs_frames) {
         memset(img.rgb, 0, (size_t)cfg->w * (size_t)cfg->h * 3);
         L.warmup = &warmup;

@@ -15,7 +15,7 @@
 #include "hz/pixconv.h"
 #include "hz/vsync.h"
 #include "pools.h"
-#include "report.h"
+#include "latency_report.h"
 #include "scenesrc.h"
 
 static void usage(FILE *f)

@@ -6,6 +6,7 @@
 #include "hz/hz.h"
 #include "latency.h"
 #include "pools.h"
+#include "scenefile.h"
 
 static void usage(FILE *f)
 {
@@ -13,6 +14,8 @@ static void usage(FILE *f)
             "usage: hzrt <command> [options]\n"
             "\n"
             "commands:\n"
+            "  info SCENE   validate a scene (.hzb file or `builtin`) and print its header, counts, features\n"
+            "               and memory plan\n"
             "  board        print this build's board settings: display, arenas, features, v-sync source\n"
             "  latency      display-locked latency: v-sync capture, frame pacing, report (CSV, JSON, SVG)\n"
             "\n"
@@ -72,6 +75,71 @@ static int cmd_board(int argc, char **argv)
     return 0;
 }
 
+static void print_mib(const char *what, size_t bytes)
+{
+    printf("  %-22s %12zu bytes (%.1f MiB)\n", what, bytes, bytes / 1048576.0);
+}
+
+static int cmd_info(int argc, char **argv)
+{
+    const char *name = NULL;
+    for (int i = 1; i < argc; i++) {
+        if (!strcmp(argv[i], "-h") || !strcmp(argv[i], "--help")) {
+            printf("usage: hzrt info SCENE\n\n"
+                   "Validates SCENE (a .hzb file from tools/bake, or `builtin`) exactly as a render would load it,\n"
+                   "then prints its header, counts, feature mask and memory plan against this board's arenas.\n");
+            return 0;
+        }
+        if (argv[i][0] == '-' || name) {
+            hz_cli_error("info: unexpected argument '%s' (try hzrt info --help)", argv[i]);
+            return HZ_EXIT_USAGE;
+        }
+        name = argv[i];
+    }
+    if (!name) {
+        hz_cli_error("info: which scene? (a .hzb file or `builtin`)");
+        return HZ_EXIT_USAGE;
+    }
+    hz_pools_t *pools = hz_pools_get();
+    hz_scene_t scene;
+    hz_error_t err;
+    if (!pools) {
+        hz_cli_error("info: could not set up the static arenas");
+        return hz_status_exit_code(HZ_E_INTERNAL);
+    }
+    if (hz_scenefile_open(name, pools, &scene, &err) != HZ_OK)
+        return hz_cli_report(&err);
+    const hz_hzb_header_t *h = scene.header;
+    char feats[160];
+    hz_scene_features_str(scene.features, feats, sizeof feats);
+    printf("scene        %s (%s)\n", h->name[0] ? (const char *)h->name : "(unnamed)", name);
+    printf("format       .hzb version %u, %llu bytes, %u sections\n", h->version,
+           (unsigned long long)h->file_bytes, h->section_count);
+    printf("features     %s\n", feats);
+    printf("geometry     %u triangles, %u vertices, %u objects\n", h->triangle_count, h->vertex_count,
+           h->object_count);
+    printf("materials    %u materials, %u textures (%u texels)\n", h->material_count, h->texture_count,
+           h->texel_count);
+    printf("lights       %u\n", h->light_count);
+    printf("animation    %u camera keys, %u rigid keys, %u vertex keys, loop %.3g s\n", h->camera_key_count,
+           h->rigid_key_count, h->vertex_key_count, (double)h->duration);
+    printf("bounds       (%.4g %.4g %.4g) .. (%.4g %.4g %.4g)\n", (double)h->bounds_min[0],
+           (double)h->bounds_min[1], (double)h->bounds_min[2], (double)h->bounds_max[0],
+           (double)h->bounds_max[1], (double)h->bounds_max[2]);
+    for (uint32_t i = 0; i < scene.object_count; i++) {
+        static const char *const kinds[] = { "static", "rigid keys", "vertex keys", "spin", "oscillate" };
+        const hz_object_t *o = &scene.objects[i];
+        printf("  object %-3u %-24s %8u tris %8u verts  %s\n", i, (const char *)o->name, o->triangle_count,
+               o->vertex_count, kinds[o->motion]);
+    }
+    printf("memory plan (board %s)\n", HZ_BOARD_NAME);
+    print_mib("scene image", scene.plan.file_bytes);
+    print_mib("animation state", scene.plan.arena_bytes);
+    print_mib("scene arena used", pools->scene.used);
+    print_mib("scene arena size", pools->scene.cap);
+    return 0;
+}
+
 int main(int argc, char **argv)
 {
     if (argc < 2) {
@@ -89,6 +157,8 @@ int main(int argc, char **argv)
     }
     if (!strcmp(cmd, "board"))
         return cmd_board(argc - 1, argv + 1);
+    if (!strcmp(cmd, "info"))
+        return cmd_info(argc - 1, argv + 1);
     if (!strcmp(cmd, "latency"))
         return hz_cmd_latency(argc - 1, argv + 1);
     hz_cli_error("unknown command '%s' (try hzrt --help)", cmd);

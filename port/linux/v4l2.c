@@ -267,7 +267,7 @@ static void out_push_edge(vdev_t *d, const struct v4l2_buffer *b)
     e->frame_id = d->buf[b->index].frame_id;
 }
 
-static hz_status_t out_present(hz_sink_t *s, const hz_image_t *img, uint64_t id, hz_error_t *err)
+static hz_status_t out_present(hz_sink_t *s, const hz_rgb8_image_t *img, uint64_t id, hz_error_t *err)
 {
     vdev_t *d = s->impl;
     int idx = -1;

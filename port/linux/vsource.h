@@ -66,7 +66,7 @@ typedef struct hz_sink hz_sink_t;
 struct hz_sink {
     char name[160];
     int w, h;            /* the mode frames must have; 0: any size */
-    hz_status_t (*present)(hz_sink_t *s, const hz_image_t *img, uint64_t id, hz_error_t *err);
+    hz_status_t (*present)(hz_sink_t *s, const hz_rgb8_image_t *img, uint64_t id, hz_error_t *err);
     void (*close)(hz_sink_t *s);
     void *impl;
 };

@@ -216,7 +216,7 @@ hz_status_t hz_vsource_csv(hz_vsource_t *s, const char *path, hz_error_t *err)
 
 /* ---- null sink ---- */
 
-static hz_status_t null_present(hz_sink_t *s, const hz_image_t *img, uint64_t id, hz_error_t *err)
+static hz_status_t null_present(hz_sink_t *s, const hz_rgb8_image_t *img, uint64_t id, hz_error_t *err)
 {
     (void)s;
     (void)img;

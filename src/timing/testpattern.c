@@ -26,7 +26,7 @@ void hz_testpattern_draw(uint8_t *rgb, size_t stride, int w, int h, uint64_t id)
     }
 }
 
-static hz_status_t render_pattern(void *ctx, const hz_frame_req_t *req, hz_image_t *out, hz_error_t *err)
+static hz_status_t render_pattern(void *ctx, const hz_frame_req_t *req, hz_rgb8_image_t *out, hz_error_t *err)
 {
     (void)ctx;
     (void)err;

@@ -173,7 +173,7 @@ static void present(hz_sink_t *s, uint64_t id)
 {
     hz_error_t err;
     hz_testpattern_draw(rgb, W * 3, W, H, id);
-    hz_image_t img = { rgb, W, H, W * 3 };
+    hz_rgb8_image_t img = { rgb, W, H, W * 3 };
     assert_int_equal(s->present(s, &img, id, &err), HZ_OK);
 }
 

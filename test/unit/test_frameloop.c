@@ -14,7 +14,7 @@
 
 #include "frameloop.h"
 #include "hz/hz.h"
-#include "report.h"
+#include "latency_report.h"
 
 static uint8_t arena_buf[48u << 20] HZ_ALIGNED(64);
 static hz_arena_t arena;
@@ -239,7 +239,7 @@ static void test_arena_too_small_is_refused_up_front(void **state)
     hz_vsource_close(&src);
 }
 
-static hz_status_t failing_render(void *ctx, const hz_frame_req_t *req, hz_image_t *img, hz_error_t *err)
+static hz_status_t failing_render(void *ctx, const hz_frame_req_t *req, hz_rgb8_image_t *img, hz_error_t *err)
 {
     (void)ctx;
     (void)img;

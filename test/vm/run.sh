@@ -13,6 +13,9 @@
 # DEVICE_TEST  test_vm_devices (dynamic AArch64, cmocka)
 # UNIT_TEST    the AArch64 unit test binaries of `make test` (dynamic; their libraries are copied in)
 #
+# VM_ENV (optional): NAME=VALUE words the tests get in the guest, as `make test` exports them on the host
+# (HZ_SCENES_DIR=...). A VALUE that is a host directory is shared into the guest read-only (virtio-9p) at
+# the same path, so tests that read data files find them where the host tests do.
 # A guest that does not finish within VM_LIMIT_S (default 170 s) is killed and counted as a failure.
 set -u
 results=$1 cache=$2 init=$3 hzrt=$4 devtest=$5
@@ -86,6 +89,28 @@ add_module() { # NAME [PARAMS]; `local` is not POSIX but dash, bash and busybox 
 add_module vivid "n_devs=1 node_types=0x10101 num_inputs=1 input_types=0x3 num_outputs=1 output_types=0x1" ||
     fail_tier "cannot collect vivid's modules from $deb (see $results/initramfs.log)"
 
+# The tests' environment, and their data directories over virtio-9p (read-only, same paths as on the host).
+: >"$stage/vm-env"
+: >"$stage/vm-mounts"
+share_args=""
+nshare=0
+for kv in ${VM_ENV:-}; do
+    case $kv in *=*) ;; *) continue ;; esac
+    echo "$kv" >>"$stage/vm-env"
+    dir=${kv#*=}
+    if [ -d "$dir" ]; then
+        nshare=$((nshare + 1))
+        share_args="$share_args -fsdev local,id=fs$nshare,path=$dir,security_model=none,readonly=on"
+        share_args="$share_args -device virtio-9p-device,fsdev=fs$nshare,mount_tag=hz$nshare"
+        echo "hz$nshare $dir" >>"$stage/vm-mounts"
+    fi
+done
+if [ $nshare -gt 0 ]; then
+    for m in virtio_mmio 9pnet_virtio 9p; do
+        add_module $m || fail_tier "cannot collect the 9p modules from $deb (see $results/initramfs.log)"
+    done
+fi
+
 # Programs, and the shared libraries they need (the multiarch arm64 ones the host ran them with).
 : >"$stage/tests/list"
 libs=""
@@ -124,7 +149,8 @@ log="$results/console.log"
 mon="$results/monitor"
 rm -f "$log" "$mon.in" "$mon.out"
 mkfifo "$mon.in" "$mon.out" || fail_tier "mkfifo failed"
-qemu-system-aarch64 -M virt -cpu cortex-a72 -smp 2 -m 1024 -display none -nic none -no-reboot \
+# shellcheck disable=SC2086 # share_args is a list of arguments
+qemu-system-aarch64 -M virt -cpu cortex-a72 -smp 2 -m 1024 -display none -nic none -no-reboot $share_args \
     -kernel "$vmlinuz" -initrd "$initrd" -append "console=ttyAMA0 panic=-1 quiet" \
     -serial "file:$log" -monitor "pipe:$mon" >"$results/qemu.log" 2>&1 &
 qpid=$!

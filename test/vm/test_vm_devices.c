@@ -306,7 +306,7 @@ static void test_fbdev_on_vivid(void **state)
     static uint8_t rgb[1920 * 1080 * 3];
     assert_true((size_t)w * h * 3 <= sizeof rgb);
     hz_testpattern_draw(rgb, (size_t)w * 3, w, h, 3);
-    hz_image_t img = { rgb, w, h, (size_t)w * 3 };
+    hz_rgb8_image_t img = { rgb, w, h, (size_t)w * 3 };
     assert_int_equal(sink.present(&sink, &img, 3, &err), HZ_OK);
     /* Read it back through our own mapping and compare with the packing of its layout. */
     int fd = open("/dev/fb0", O_RDWR);

@@ -1,5 +1,5 @@
 /*
- * report.h — what `hzrt latency` prints and writes: the summary on a stream, and per-frame CSV, per-edge CSV,
+ * latency_report.h — what `hzrt latency` prints and writes: the summary on a stream, and per-frame CSV, per-edge CSV,
  * JSON and an SVG histogram in a directory.
  *
  * Contract:

@@ -1,5 +1,5 @@
 /* The latency report: summary text, CSV, JSON, SVG (see report.h). */
-#include "report.h"
+#include "latency_report.h"
 
 #include <errno.h>
 #include <stdlib.h>

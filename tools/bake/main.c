@@ -1,0 +1,457 @@
+/* hzbake — the scene baker: imports a model (OBJ, PLY, glTF via assimp; Embree furball XML) plus its sidecar
+ * and writes a validated .hzb (see tools/README.md and `hzbake --help`).
+ *
+ * The import and conversion run in a child process: importers crash on some malformed inputs (assimp 5.2 aborts
+ * on a truncated PLY), and a crash there must become a clear error, not a crash of the baker. The child writes
+ * the image into the temporary output file; the parent waits (with a time limit), validates the image with the
+ * runtime's own loader (hz_scene_plan) and only then renames it over the target. Any failure leaves the target
+ * as it was. */
+#include <errno.h>
+#include <signal.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "bake.h"
+#include "cli.h"
+#include "fileio.h"
+#include "hz/scene.h"
+#include "scene.h"
+#include "sidecar.h"
+
+#define BAKE_VERSION "1.0"
+
+static void usage(FILE *f)
+{
+    fprintf(f,
+            "usage: hzbake [options] MODEL OUT.hzb\n"
+            "       hzbake --info FILE.hzb\n"
+            "\n"
+            "Bakes MODEL and its sidecar into OUT.hzb, the scene format hzrt loads (include/hz/hzb.h).\n"
+            "MODEL: .obj (+ .mtl), .ply, .ply.gz, .gltf, .glb (through assimp), or an Embree furball .xml\n"
+            "(+ .bin or .bin.gz beside it). Textures (PNG, JPEG) are decoded and get mip levels.\n"
+            "\n"
+            "options:\n"
+            "  -s, --sidecar FILE   scene settings (.hzs: lights, camera path, material and motion overrides);\n"
+            "                       default: MODEL's name with .hzs instead of its extension, if that exists\n"
+            "      --texture-max N  largest stored texture level (overrides the sidecar; default 1024)\n"
+            "      --timeout S      give up on an import that takes longer than S seconds (default 600)\n"
+            "      --info FILE.hzb  validate a baked scene and print its header, sections, objects and\n"
+            "                       memory plan\n"
+            "  -q, --quiet          no summary line\n"
+            "  -v, --verbose        progress of each step\n"
+            "  -h, --help           this text\n"
+            "      --version        version\n"
+            "\n"
+            "The output is written to a temporary file, validated with the runtime loader and renamed into\n"
+            "place: a failed bake leaves OUT.hzb as it was. Missing textures are warnings (the material keeps\n"
+            "its colour).\n"
+            "\n"
+            "exit status: 0 ok (warnings may have been printed), 2 bad command line, and 64 + hz status code:\n"
+            "  66 out of memory, 67 too large, 68 malformed model, sidecar or scene, 71 value out of range\n"
+            "  (e.g. NaN vertex), 72 unsupported format, 73 file missing or unreadable, 75 import timed out,\n"
+            "  76 the importer crashed (or another internal failure)\n");
+}
+
+/* ---- --info ---- */
+
+static int info(const char *path)
+{
+    hz_error_t err;
+    uint8_t *raw;
+    size_t size;
+    if (hz_bake_read_file(path, &raw, &size, &err) != HZ_OK)
+        return hz_cli_report(&err);
+    void *buf = NULL;
+    if (posix_memalign(&buf, HZ_HZB_ALIGN, size ? size : 1) != 0) {
+        free(raw);
+        hz_bake_err(&err, HZ_E_NO_MEMORY, "%s: cannot allocate %zu bytes", path, size);
+        return hz_cli_report(&err);
+    }
+    memcpy(buf, raw, size);
+    free(raw);
+    hz_scene_plan_t plan;
+    if (hz_scene_plan(buf, size, &plan, &err) != HZ_OK) {
+        hz_error_prefix(&err, path);
+        free(buf);
+        return hz_cli_report(&err);
+    }
+    const hz_hzb_header_t *h = buf;
+    char feats[160];
+    hz_scene_features_str(h->features, feats, sizeof feats);
+    printf("scene        %s (%s)\n", (const char *)h->name, path);
+    printf("format       .hzb version %u, %llu bytes, %u sections\n", h->version, (unsigned long long)h->file_bytes,
+           h->section_count);
+    printf("features     %s (0x%03x)\n", feats, h->features);
+    printf("geometry     %u triangles, %u vertices, %u objects\n", h->triangle_count, h->vertex_count, h->object_count);
+    printf("materials    %u materials, %u textures (%u texels)\n", h->material_count, h->texture_count, h->texel_count);
+    printf("lights       %u\n", h->light_count);
+    printf("animation    %u camera keys, %u rigid keys, %u vertex keys, loop %g s%s\n", h->camera_key_count,
+           h->rigid_key_count, h->vertex_key_count, (double)h->duration,
+           (h->camera_flags & 1u) ? ", camera loops" : "");
+    printf("bounds       (%g %g %g) .. (%g %g %g)\n", (double)h->bounds_min[0], (double)h->bounds_min[1],
+           (double)h->bounds_min[2], (double)h->bounds_max[0], (double)h->bounds_max[1], (double)h->bounds_max[2]);
+    printf("sections\n");
+    const hz_hzb_section_t *t = (const hz_hzb_section_t *)((const uint8_t *)buf + sizeof *h);
+    for (uint32_t i = 0; i < h->section_count; i++)
+        printf("  %-20s %12llu bytes at %10llu, crc %08x\n", hz_hzb_section_name(t[i].id),
+               (unsigned long long)t[i].size, (unsigned long long)t[i].offset, t[i].crc32);
+    hz_scene_t scene;
+    hz_arena_t arena;
+    void *state = NULL;
+    if (plan.arena_bytes && posix_memalign(&state, HZ_HZB_ALIGN, plan.arena_bytes) != 0) {
+        free(buf);
+        hz_bake_err(&err, HZ_E_NO_MEMORY, "%s: cannot allocate %zu bytes of animation state", path, plan.arena_bytes);
+        return hz_cli_report(&err);
+    }
+    hz_arena_init(&arena, "scene", state, plan.arena_bytes);
+    if (hz_scene_load(&scene, buf, size, &arena, &err) == HZ_OK) {
+        static const char *const kinds[] = { "static", "rigid keys", "vertex keys", "spin", "oscillate" };
+        printf("objects\n");
+        for (uint32_t i = 0; i < scene.object_count; i++) {
+            const hz_object_t *o = &scene.objects[i];
+            if (i == 40 && scene.object_count > 48) {
+                printf("  ... %u more\n", scene.object_count - 40);
+                break;
+            }
+            printf("  %-4u %-32s %9u tris %9u verts  %s\n", i, (const char *)o->name, o->triangle_count,
+                   o->vertex_count, kinds[o->motion]);
+        }
+        printf("materials\n");
+        for (uint32_t i = 0; i < scene.material_count && i < 64; i++) {
+            static const char *const modes[] = { "opaque", "mask", "blend" };
+            const hz_material_t *m = &scene.materials[i];
+            printf("  %-4u %-32s color %.3g %.3g %.3g  %s", i, (const char *)m->name, (double)m->base_color[0],
+                   (double)m->base_color[1], (double)m->base_color[2], modes[m->alpha_mode]);
+            if (m->alpha_mode == HZ_ALPHA_MASK)
+                printf(" >= %.3g", (double)m->alpha_cutoff);
+            if (m->alpha < 1.0f)
+                printf(" alpha %.3g", (double)m->alpha);
+            if (m->mirror > 0.0f)
+                printf(" mirror %.3g", (double)m->mirror);
+            if (m->base_texture >= 0)
+                printf(" texture %d", m->base_texture);
+            if (m->alpha_texture >= 0 && m->alpha_mode != HZ_ALPHA_OPAQUE)
+                printf(" alpha-texture %d", m->alpha_texture);
+            printf("\n");
+        }
+    }
+    printf("memory plan\n");
+    printf("  scene image          %12zu bytes (%.1f MiB, used in place)\n", plan.file_bytes,
+           plan.file_bytes / 1048576.0);
+    printf("  animation state      %12zu bytes (%.1f MiB, %u animated vertices)\n", plan.arena_bytes,
+           plan.arena_bytes / 1048576.0, plan.animated_vertices);
+    printf("  scene arena needs    %12zu bytes (%.1f MiB)\n", plan.file_bytes + plan.arena_bytes + 2 * HZ_HZB_ALIGN,
+           (plan.file_bytes + plan.arena_bytes + 2 * HZ_HZB_ALIGN) / 1048576.0);
+    free(state);
+    free(buf);
+    return 0;
+}
+
+/* ---- the child: import, convert, write ---- */
+
+typedef struct job {
+    const char *model;
+    const char *out;
+    hz_bake_sidecar_t sc;
+    long timeout_s;
+    int quiet;
+} job_t;
+
+/* Test hooks (tests only): HZ_BAKE_TEST_CRASH=abort|segv|hang makes the child fail that way once the import
+ * begins, to check that the parent turns it into a clean error. */
+static void test_hook(void)
+{
+    const char *hook = getenv("HZ_BAKE_TEST_CRASH");
+    if (!hook || !*hook)
+        return;
+    if (!strcmp(hook, "abort"))
+        abort();
+    if (!strcmp(hook, "segv"))
+        raise(SIGSEGV);
+    if (!strcmp(hook, "hang"))
+        for (;;)
+            pause();
+}
+
+static int child(job_t *job, FILE *out)
+{
+    hz_error_t err;
+    hz_bake_scene_t s;
+    hz_bake_scene_init(&s, job->model);
+    test_hook();
+    hz_status_t st;
+    if (hz_bake_ends_with(job->model, ".xml"))
+        st = hz_bake_import_furball(&s, job->model, &job->sc, &err);
+    else
+        st = hz_bake_import_assimp(&s, job->model, &job->sc, &err);
+    hz_bake_image_t img = { NULL, 0, { 0 } };
+    if (st == HZ_OK) {
+        hz_bake_progress("converted: %zu triangles, %zu vertices, %zu objects, %zu materials, %zu textures", s.tri.len,
+                         s.pos.len, s.objs.len, s.mats.len, s.texs.len);
+        st = hz_bake_scene_finish(&s, &job->sc, &img, &err);
+    }
+    hz_bake_scene_free(&s);
+    if (st != HZ_OK)
+        return hz_cli_report(&err);
+    hz_bake_progress("writing %zu bytes", img.size);
+    if (fwrite(img.data, 1, img.size, out) != img.size || fflush(out) != 0) {
+        hz_bake_err(&err, HZ_E_IO, "%s: write failed: %s", job->out, strerror(errno));
+        free(img.data);
+        return hz_cli_report(&err);
+    }
+    free(img.data);
+    return 0;
+}
+
+/* ---- the parent ---- */
+
+static const char *signal_name(int sig)
+{
+    switch (sig) {
+    case SIGSEGV: return "segmentation fault";
+    case SIGABRT: return "abort";
+    case SIGBUS: return "bus error";
+    case SIGFPE: return "arithmetic exception";
+    case SIGILL: return "illegal instruction";
+    case SIGKILL: return "killed";
+    default: return "signal";
+    }
+}
+
+static void sleep_ms(long ms)
+{
+    struct timespec ts = { ms / 1000, (ms % 1000) * 1000000L };
+    while (nanosleep(&ts, &ts) != 0 && errno == EINTR)
+        ;
+}
+
+static int bake(job_t *job)
+{
+    hz_error_t err;
+    double t0 = hz_bake_now();
+    if (!hz_bake_file_exists(job->model)) {
+        hz_bake_err(&err, HZ_E_IO, "%s: no such file (or not a regular file)", job->model);
+        return hz_cli_report(&err);
+    }
+    if (!(hz_bake_ends_with(job->model, ".obj") || hz_bake_ends_with(job->model, ".ply") ||
+          hz_bake_ends_with(job->model, ".ply.gz") || hz_bake_ends_with(job->model, ".gltf") ||
+          hz_bake_ends_with(job->model, ".glb") || hz_bake_ends_with(job->model, ".xml"))) {
+        const char *dot = strrchr(hz_bake_basename(job->model), '.');
+        hz_bake_err(&err, HZ_E_UNSUPPORTED,
+                    "%s: unsupported model format '%s' (the baker reads .obj, .ply, .ply.gz, "
+                    ".gltf, .glb and Embree furball .xml)",
+                    job->model, dot ? dot : "(no extension)");
+        return hz_cli_report(&err);
+    }
+    hz_out_t out;
+    if (hz_out_open(&out, job->out, &err) != HZ_OK)
+        return hz_cli_report(&err);
+    fflush(stdout);
+    fflush(stderr);
+    pid_t pid = fork();
+    if (pid < 0) {
+        hz_out_abort(&out);
+        hz_bake_err(&err, HZ_E_INTERNAL, "cannot start the import process: %s", strerror(errno));
+        return hz_cli_report(&err);
+    }
+    if (pid == 0)
+        _exit(child(job, out.f));
+
+    int status = 0;
+    double next_note = hz_bake_now() + 5.0;
+    for (;;) {
+        pid_t r = waitpid(pid, &status, WNOHANG);
+        if (r == pid)
+            break;
+        if (r < 0 && errno != EINTR) {
+            hz_out_abort(&out);
+            hz_bake_err(&err, HZ_E_INTERNAL, "%s: lost the import process: %s", job->model, strerror(errno));
+            return hz_cli_report(&err);
+        }
+        double now = hz_bake_now();
+        if (now - t0 > (double)job->timeout_s) {
+            kill(pid, SIGKILL);
+            waitpid(pid, &status, 0);
+            hz_out_abort(&out);
+            hz_bake_err(&err, HZ_E_TIMEOUT, "%s: the import took longer than %ld s and was stopped; %s is unchanged",
+                        job->model, job->timeout_s, job->out);
+            return hz_cli_report(&err);
+        }
+        if (now >= next_note && (hz_bake_verbose || hz_cli_stderr_is_tty())) {
+            fprintf(stderr, "%s: %s: still importing (%.0f s)\n", hz_cli_prog, job->model, now - t0);
+            next_note = now + 5.0;
+        }
+        sleep_ms(now - t0 < 1.0 ? 2 : 20);
+    }
+    if (WIFSIGNALED(status)) {
+        hz_out_abort(&out);
+        hz_bake_err(&err, HZ_E_INTERNAL, "%s: the importer crashed (%s, signal %d) while reading it; %s is unchanged",
+                    job->model, signal_name(WTERMSIG(status)), WTERMSIG(status), job->out);
+        return hz_cli_report(&err);
+    }
+    int code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    if (code != 0) {
+        hz_out_abort(&out);
+        if (code >= hz_status_exit_code(HZ_E_INVALID_ARG) && code <= hz_status_exit_code(HZ_E_INTERNAL))
+            return code; /* the child reported the failure itself */
+        /* Not one of ours: a runtime (a sanitizer, the C++ library) ended the process after a crash. */
+        hz_bake_err(&err, HZ_E_INTERNAL,
+                    "%s: the importer crashed (it exited with status %d without a report); %s is "
+                    "unchanged",
+                    job->model, code, job->out);
+        return hz_cli_report(&err);
+    }
+
+    /* Validate what the child wrote, with the runtime's own loader, before it replaces anything. */
+    uint8_t *raw;
+    size_t size;
+    if (hz_bake_read_file(out.tmp, &raw, &size, &err) != HZ_OK) {
+        hz_out_abort(&out);
+        return hz_cli_report(&err);
+    }
+    void *buf = NULL;
+    if (posix_memalign(&buf, HZ_HZB_ALIGN, size ? size : 1) != 0) {
+        free(raw);
+        hz_out_abort(&out);
+        hz_bake_err(&err, HZ_E_NO_MEMORY, "%s: cannot allocate %zu bytes to check the image", job->out, size);
+        return hz_cli_report(&err);
+    }
+    memcpy(buf, raw, size);
+    free(raw);
+    hz_scene_plan_t plan;
+    if (hz_scene_plan(buf, size, &plan, &err) != HZ_OK) {
+        free(buf);
+        hz_out_abort(&out);
+        char msg[HZ_ERROR_MSG_BYTES];
+        snprintf(msg, sizeof msg, "%s", err.msg);
+        hz_bake_err(&err, err.code, "%s: the baked image fails validation (%s); %s is unchanged", job->model, msg,
+                    job->out);
+        return hz_cli_report(&err);
+    }
+    if (hz_out_commit(&out, &err) != HZ_OK) {
+        free(buf);
+        return hz_cli_report(&err);
+    }
+    if (!job->quiet) {
+        const hz_hzb_header_t *h = buf;
+        char feats[160];
+        hz_scene_features_str(h->features, feats, sizeof feats);
+        printf("%s: %u triangles, %u vertices, %u objects, %u materials, %u textures, %u lights, %u camera keys; "
+               "features %s; %zu bytes; %.2f s\n",
+               job->out, h->triangle_count, h->vertex_count, h->object_count, h->material_count, h->texture_count,
+               h->light_count, h->camera_key_count, feats, size, hz_bake_now() - t0);
+    }
+    free(buf);
+    return 0;
+}
+
+static char *default_sidecar(const char *model)
+{
+    size_t n = strlen(model);
+    char *p = hz_bake_xmalloc(n + 8);
+    memcpy(p, model, n + 1);
+    if (hz_bake_ends_with(p, ".gz"))
+        p[n - 3] = 0;
+    char *slash = strrchr(p, '/'), *dot = strrchr(p, '.');
+    if (dot && (!slash || dot > slash + 1))
+        *dot = 0;
+    strcat(p, ".hzs");
+    if (!hz_bake_file_exists(p)) {
+        free(p);
+        return NULL;
+    }
+    return p;
+}
+
+int main(int argc, char **argv)
+{
+    hz_cli_prog = "hzbake";
+    job_t job;
+    memset(&job, 0, sizeof job);
+    job.timeout_s = 600;
+    const char *sidecar = NULL, *info_path = NULL;
+    const char *pos[2] = { NULL, NULL };
+    int npos = 0;
+    long texture_max = -1;
+    for (int i = 1; i < argc; i++) {
+        const char *a = argv[i];
+        const char *v = i + 1 < argc ? argv[i + 1] : NULL;
+        if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
+            usage(stdout);
+            return 0;
+        } else if (!strcmp(a, "--version")) {
+            printf("hzbake %s (.hzb version %u)\n", BAKE_VERSION, HZ_HZB_VERSION);
+            return 0;
+        } else if (!strcmp(a, "-s") || !strcmp(a, "--sidecar")) {
+            if (!v) {
+                hz_cli_error("%s: missing file name", a);
+                return HZ_EXIT_USAGE;
+            }
+            sidecar = v, i++;
+        } else if (!strcmp(a, "--texture-max")) {
+            if (!hz_cli_parse_long(a, v, 1, 16384, &texture_max))
+                return HZ_EXIT_USAGE;
+            i++;
+        } else if (!strcmp(a, "--timeout")) {
+            if (!hz_cli_parse_long(a, v, 1, 86400, &job.timeout_s))
+                return HZ_EXIT_USAGE;
+            i++;
+        } else if (!strcmp(a, "--info")) {
+            if (!v) {
+                hz_cli_error("--info: which .hzb file?");
+                return HZ_EXIT_USAGE;
+            }
+            info_path = v, i++;
+        } else if (!strcmp(a, "-q") || !strcmp(a, "--quiet")) {
+            job.quiet = 1;
+        } else if (!strcmp(a, "-v") || !strcmp(a, "--verbose")) {
+            hz_bake_verbose = 1;
+        } else if (a[0] == '-' && a[1]) {
+            hz_cli_error("unknown option '%s' (try hzbake --help)", a);
+            return HZ_EXIT_USAGE;
+        } else if (npos < 2) {
+            pos[npos++] = a;
+        } else {
+            hz_cli_error("unexpected argument '%s' (try hzbake --help)", a);
+            return HZ_EXIT_USAGE;
+        }
+    }
+    if (info_path) {
+        if (npos || sidecar) {
+            hz_cli_error("--info takes one .hzb file and nothing else");
+            return HZ_EXIT_USAGE;
+        }
+        return info(info_path);
+    }
+    if (npos != 2) {
+        hz_cli_error("expected MODEL and OUT.hzb (try hzbake --help)");
+        return HZ_EXIT_USAGE;
+    }
+    job.model = pos[0];
+    job.out = pos[1];
+    hz_bake_sidecar_defaults(&job.sc);
+    char *auto_sidecar = NULL;
+    if (!sidecar)
+        sidecar = auto_sidecar = default_sidecar(job.model);
+    if (sidecar) {
+        hz_error_t err;
+        if (hz_bake_sidecar_load(&job.sc, sidecar, &err) != HZ_OK) {
+            hz_bake_sidecar_free(&job.sc);
+            free(auto_sidecar);
+            return hz_cli_report(&err);
+        }
+        hz_bake_progress("sidecar %s: %zu lights, %zu camera keys, %zu material and %zu object sections", sidecar,
+                         job.sc.lights.len, job.sc.cameras.len, job.sc.materials.len, job.sc.objects.len);
+    }
+    if (texture_max > 0)
+        job.sc.texture_max = (uint32_t)texture_max;
+    int rc = bake(&job);
+    hz_bake_sidecar_free(&job.sc);
+    free(auto_sidecar);
+    return rc;
+}

@@ -1,0 +1,182 @@
+/* hzerrtime — error against run time for every method errtime knows (see errtime.h, et_methods.h, README). */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "cli.h"
+#include "errtime.h"
+#include "fileio.h"
+#include "et_flip.h"
+#include "hz/config.h"
+#include "et_methods.h"
+
+static void usage(FILE *f)
+{
+    fprintf(f,
+            "usage: hzerrtime [options]\n"
+            "\n"
+            "Renders a reference sequence (cached), runs every method of a scene on the same frames, and writes\n"
+            "error (mean FLIP, PSNR, SSIM, display-integrated FLIP/PSNR) against ms per displayed frame.\n"
+            "\n"
+            "  --scene NAME       scene (default synthetic; --list shows them)\n"
+            "  --size WxH         frame size (default 96x64)\n"
+            "  --frames N         displayed frames (default 48)\n"
+            "  --warmup N         leading frames neither timed nor scored (default 8)\n"
+            "  --refresh HZ       display refresh rate (default the board's, %d Hz)\n"
+            "  --methods A,B      only these methods (names as in --list)\n"
+            "  --ppd X            FLIP observer, pixels per degree (default 67.02)\n"
+            "  --cache DIR        reference cache (default build/errtime-cache)\n"
+            "  --out DIR          report directory (default build/errtime): errtime.csv, errtime.md, <scene>.svg\n"
+            "  --video DIR        also write each method's displayed frames (and the reference) as Y4M videos\n"
+            "  --arena-mib N      working memory (default 1024; touched only as needed)\n"
+            "  --list             scenes and their methods\n"
+            "\n"
+            "exit status: 0 ok, 2 bad command line, 64+N a failure with hz status code N\n",
+            HZ_DISPLAY_HZ);
+}
+
+static bool wanted(const char *list, const char *name)
+{
+    if (!list)
+        return true;
+    size_t n = strlen(name);
+    for (const char *p = list; *p;) {
+        const char *e = strchr(p, ',');
+        size_t len = e ? (size_t)(e - p) : strlen(p);
+        if (len == n && !strncmp(p, name, n))
+            return true;
+        if (!e)
+            break;
+        p = e + 1;
+    }
+    return false;
+}
+
+static int list(void)
+{
+    for (size_t i = 0; i < hz_et_scene_count; i++) {
+        const hz_et_scene_t *s = &hz_et_scenes[i];
+        printf("%s: %s\n  reference: %s %s=%g\n", s->name, s->about, s->reference->name, s->reference->knob,
+               s->reference->value);
+        for (size_t j = 0; j < s->method_count; j++)
+            printf("  %-14s %s=%g\n", s->methods[j].name, s->methods[j].knob, s->methods[j].value);
+    }
+    return 0;
+}
+
+int main(int argc, char **argv)
+{
+    hz_cli_prog = "hzerrtime";
+    const char *scene_name = "synthetic", *methods = NULL, *cache = "build/errtime-cache", *out = "build/errtime";
+    const char *video = NULL;
+    int w = 96, h = 64;
+    long frames = 48, warmup = 8, refresh = HZ_DISPLAY_HZ, arena_mib = 1024;
+    float ppd = HZ_FLIP_DEFAULT_PPD;
+    for (int i = 1; i < argc; i++) {
+        const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
+        bool takes = strcmp(a, "--list") && strcmp(a, "-h") && strcmp(a, "--help");
+        if (takes && !v) {
+            hz_cli_error("%s needs a value (try --help)", a);
+            return HZ_EXIT_USAGE;
+        }
+        if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
+            usage(stdout);
+            return 0;
+        } else if (!strcmp(a, "--list")) {
+            return list();
+        } else if (!strcmp(a, "--scene")) {
+            scene_name = v;
+        } else if (!strcmp(a, "--size")) {
+            if (!hz_cli_parse_size(a, v, 11, (int)HZ_IMAGE_MAX_DIM, &w, &h))
+                return HZ_EXIT_USAGE;
+        } else if (!strcmp(a, "--frames")) {
+            if (!hz_cli_parse_long(a, v, 1, 1000000, &frames))
+                return HZ_EXIT_USAGE;
+        } else if (!strcmp(a, "--warmup")) {
+            if (!hz_cli_parse_long(a, v, 0, 1000000, &warmup))
+                return HZ_EXIT_USAGE;
+        } else if (!strcmp(a, "--refresh")) {
+            if (!hz_cli_parse_long(a, v, 1, 960, &refresh))
+                return HZ_EXIT_USAGE;
+        } else if (!strcmp(a, "--arena-mib")) {
+            if (!hz_cli_parse_long(a, v, 1, 1 << 20, &arena_mib))
+                return HZ_EXIT_USAGE;
+        } else if (!strcmp(a, "--ppd")) {
+            char *end;
+            double d = strtod(v, &end);
+            if (end == v || *end || !(d > 0.0 && d <= 1000.0)) {
+                hz_cli_error("--ppd: '%s' is not a number in (0, 1000]", v);
+                return HZ_EXIT_USAGE;
+            }
+            ppd = (float)d;
+        } else if (!strcmp(a, "--methods")) {
+            methods = v;
+        } else if (!strcmp(a, "--cache")) {
+            cache = v;
+        } else if (!strcmp(a, "--out")) {
+            out = v;
+        } else if (!strcmp(a, "--video")) {
+            video = v;
+        } else {
+            hz_cli_error("unknown option '%s' (try --help)", a);
+            return HZ_EXIT_USAGE;
+        }
+        i++;
+    }
+    const hz_et_scene_t *scene = NULL;
+    for (size_t i = 0; i < hz_et_scene_count; i++)
+        if (!strcmp(hz_et_scenes[i].name, scene_name))
+            scene = &hz_et_scenes[i];
+    if (!scene) {
+        hz_cli_error("--scene: unknown scene '%s' (try --list)", scene_name);
+        return HZ_EXIT_USAGE;
+    }
+    hz_et_method_t *chosen = calloc(scene->method_count, sizeof *chosen);
+    hz_et_row_t *rows = calloc(scene->method_count, sizeof *rows);
+    size_t count = 0;
+    for (size_t j = 0; chosen && rows && j < scene->method_count; j++)
+        if (wanted(methods, scene->methods[j].name))
+            chosen[count++] = scene->methods[j];
+    if (count == 0) {
+        hz_cli_error("--methods: none of '%s' runs on scene %s (try --list)", methods ? methods : "", scene->name);
+        return HZ_EXIT_USAGE;
+    }
+
+    hz_et_sequence_t seq = { scene->name, 0, NULL, NULL, (uint32_t)w, (uint32_t)h, (uint32_t)frames,
+                             (uint32_t)warmup, (uint32_t)refresh, NULL };
+    size_t bytes = (size_t)arena_mib << 20;
+    if (bytes < hz_et_arena_bytes(&seq, ppd))
+        bytes = hz_et_arena_bytes(&seq, ppd) + (64u << 20);
+    void *mem = malloc(bytes);
+    hz_arena_t arena;
+    hz_error_t err;
+    if (!mem) {
+        hz_error_set(&err, HZ_E_NO_MEMORY, "cannot allocate %zu MiB of working memory", bytes >> 20);
+        return hz_cli_report(&err);
+    }
+    hz_arena_init(&arena, "errtime", mem, bytes);
+    if (scene->open(&seq, &arena, &err) != HZ_OK)
+        return hz_cli_report(&err);
+    hz_et_config_t cfg = { cache, ppd, &arena, stderr, hz_cli_stderr_is_tty(), video };
+    if (hz_et_run(&seq, scene->reference, chosen, count, &cfg, rows, &err) != HZ_OK)
+        return hz_cli_report(&err);
+
+    char path[4200];
+    if (hz_mkdirs(out, &err) != HZ_OK)
+        return hz_cli_report(&err);
+    snprintf(path, sizeof path, "%s/errtime.csv", out);
+    if (hz_et_write_csv(path, rows, count, &err) != HZ_OK)
+        return hz_cli_report(&err);
+    snprintf(path, sizeof path, "%s/errtime.md", out);
+    if (hz_et_write_markdown(path, rows, count, &err) != HZ_OK)
+        return hz_cli_report(&err);
+    snprintf(path, sizeof path, "%s/%s.svg", out, scene->name);
+    if (hz_et_write_svg(path, rows, count, scene->name, &err) != HZ_OK)
+        return hz_cli_report(&err);
+    hz_et_print_markdown(stdout, rows, count);
+    printf("\nwrote %s/errtime.csv, %s/errtime.md, %s\n", out, out, path);
+    free(mem);
+    free(chosen);
+    free(rows);
+    return 0;
+}
