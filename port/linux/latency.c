@@ -164,7 +164,8 @@ static void hz_rt_setup(char *out, size_t cap)
     int locked = mlockall(MCL_CURRENT | MCL_FUTURE) == 0;
 #endif
     int e2 = errno;
-    snprintf(out, cap, "%s, %s", fifo ? "SCHED_FIFO 50" : (e1 == EPERM ? "SCHED_FIFO refused (EPERM)" : "SCHED_FIFO failed"),
+    snprintf(out, cap, "%s, %s",
+             fifo ? "SCHED_FIFO 50" : (e1 == EPERM ? "SCHED_FIFO refused (EPERM)" : "SCHED_FIFO failed"),
              locked ? "memory locked" : (e2 == EPERM || e2 == ENOMEM ? "mlockall refused" : "mlockall failed"));
     if (!fifo || !locked)
         hz_cli_error("warning: --rt: %s", out);
@@ -568,8 +569,8 @@ int hz_cmd_latency(int argc, char **argv)
     }
     char clock[160];
     if (o.virt && cfg.frames_mode)
-        snprintf(clock, sizeof clock, "simulated clock, render-time model %s%s%s", o.model, o.wake ? ", wake-up up to " : "",
-                 o.wake ? o.wake : "");
+        snprintf(clock, sizeof clock, "simulated clock, render-time model %s%s%s", o.model,
+                 o.wake ? ", wake-up up to " : "", o.wake ? o.wake : "");
     else if (tb.virtual_time)
         snprintf(clock, sizeof clock, "trace time (analysed as fast as it reads)");
     else

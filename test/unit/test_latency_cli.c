@@ -80,8 +80,8 @@ static void test_bad_inputs_have_their_own_status(void **state)
     write_file(csv + 4, "# nothing but a comment\n");
     assert_int_equal(run("--source", csv, "--quiet", "--out", dir, NULL), 64 + HZ_E_FORMAT); /* no edges */
     assert_int_equal(run("--sink", "v4l2:/dev/video1:nv12", NULL), 64 + HZ_E_UNSUPPORTED);
-    assert_int_equal(run("--source", "sim", "--render", "scene", "--virtual", "--render-model", "const:1ms", "--frames", "5",
-                         NULL),
+    assert_int_equal(run("--source", "sim", "--render", "scene", "--virtual", "--render-model", "const:1ms",
+                         "--frames", "5", NULL),
                      64 + HZ_E_UNSUPPORTED);
     assert_false(exists("report.json")); /* nothing half-written by the failures */
 }

@@ -4,8 +4,9 @@
  * It mounts /dev, /proc, /sys and /tmp, loads the kernel modules listed in /modules/order ("file.ko [params]"
  * per line, dependencies first), sets the variables of /vm-env ("NAME=VALUE" per line), mounts the host
  * directories of /vm-mounts ("tag path": virtio-9p, read-only, at the host's path), runs every program listed
- * in /tests/list (one per line: name, then optional arguments) with a time limit, and powers the machine off. The host reads the console: each program's
- * output is framed by "HZVM-BEGIN <name>" and "HZVM-END <name> <exit status>", and "HZVM-DONE" ends the run.
+ * in /tests/list (one per line: name, then optional arguments) with a time limit, and powers the machine off.
+ * The host reads the console: each program's output is framed by "HZVM-BEGIN <name>" and
+ * "HZVM-END <name> <exit status> <seconds>", and "HZVM-DONE" ends the run.
  * Module failures are printed as "HZVM-MODULE-FAIL <file> <errno text>" (the device tests then fail with a
  * clear message rather than hang).
  */

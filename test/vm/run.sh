@@ -38,7 +38,8 @@ for tool in qemu-system-aarch64 cpio gzip dpkg-deb modinfo; do
 done
 
 # ---- kernel: Debian's current arm64 image, downloaded once into the cache ----
-pkg=$(apt-cache depends linux-image-arm64:arm64 2>/dev/null | sed -n 's/.*Depends: \(linux-image-[0-9][^ :]*\).*/\1/p' | head -n 1)
+pkg=$(apt-cache depends linux-image-arm64:arm64 2>/dev/null |
+    sed -n 's/.*Depends: \(linux-image-[0-9][^ :]*\).*/\1/p' | head -n 1)
 deb=""
 if [ -n "$pkg" ]; then
     deb=$(ls "$cache"/"$pkg"_*_arm64.deb 2>/dev/null | head -n 1)
@@ -51,8 +52,9 @@ fi
 if [ -z "$deb" ]; then
     # No package lists for arm64, or no network: any kernel cached earlier will do.
     deb=$(ls -t "$cache"/linux-image-*_arm64.deb 2>/dev/null | head -n 1)
-    [ -n "$deb" ] || fail_tier "no arm64 kernel: 'apt-cache depends linux-image-arm64:arm64' found '${pkg:-nothing}' and \
-apt-get download failed ($(tail -n 1 "$results/apt-download.log" 2>/dev/null)); dpkg --add-architecture arm64 && apt-get update"
+    why=$(tail -n 1 "$results/apt-download.log" 2>/dev/null)
+    [ -n "$deb" ] || fail_tier "no arm64 kernel: linux-image-arm64:arm64 depends on '${pkg:-nothing}' and apt-get \
+download failed ($why); try: dpkg --add-architecture arm64 && apt-get update"
 fi
 tree="$cache/$(basename "$deb" .deb)"
 if [ ! -d "$tree/boot" ]; then
@@ -189,7 +191,8 @@ exec 7>&-
 kill "$catpid" 2>/dev/null
 qpid=""
 elapsed=$(($(date +%s) - start))
-grep -q '^HZVM-BOOT' "$log" 2>/dev/null || fail_tier "the kernel did not start init (qemu exit $qrc; see $results/qemu.log, $log)"
+grep -q '^HZVM-BOOT' "$log" 2>/dev/null ||
+    fail_tier "the kernel did not start init (qemu exit $qrc; see $results/qemu.log, $log)"
 echo "  vm: $(sed -n 's/^HZVM-BOOT //p' "$log" | tr -d '\r') ($deb), ${elapsed} s"
 grep '^HZVM-MODULE-FAIL' "$log" | tr -d '\r' | sed 's/^/  vm: /'
 
@@ -198,7 +201,8 @@ status=0
 for t in "$@" "$devtest"; do
     name=$(basename "$t")
     out="$results/$name.log"
-    awk -v n="$name" '$0 ~ "^HZVM-BEGIN "n"\r?$" {on=1; next} $0 ~ "^HZVM-END "n" " {on=0} on' "$log" | tr -d '\r' >"$out"
+    awk -v n="$name" '$0 ~ "^HZVM-BEGIN "n"\r?$" {on=1; next} $0 ~ "^HZVM-END "n" " {on=0} on' "$log" |
+        tr -d '\r' >"$out"
     rc=$(sed -n "s/^HZVM-END $name \([0-9-]*\).*/\1/p" "$log" | tr -d '\r' | head -n 1)
     passed=$(sed -n 's/^\[  PASSED  \] \([0-9][0-9]*\) test.*/\1/p' "$out" | awk '{s+=$1} END {print s+0}')
     failed=$(sed -n 's/^\[  FAILED  \] \([0-9][0-9]*\) test.*/\1/p' "$out" | awk '{s+=$1} END {print s+0}')
@@ -223,5 +227,6 @@ for t in "$@" "$devtest"; do
 done
 # The device checks' figures, for the log of make test.
 grep '^  ' "$results/$(basename "$devtest").log" | sed 's/^/  vm:/'
-grep -q '^HZVM-GPIO-SKIP' "$log" && echo "  vm: GPIO checks SKIPPED: $(sed -n 's/^HZVM-GPIO-SKIP //p' "$log" | head -n 1)"
+grep -q '^HZVM-GPIO-SKIP' "$log" &&
+    echo "  vm: GPIO checks SKIPPED: $(sed -n 's/^HZVM-GPIO-SKIP //p' "$log" | head -n 1)"
 exit 0
