@@ -205,6 +205,7 @@ static int parse_opts(int argc, char **argv, opts_t *o, int *help)
     o->render = "pattern";
     o->signal = "";
     o->marker = -1;
+    o->edge_mode = HZ_VSYNC_GPIO_EDGE; /* HZ_EDGE_RISING, _FALLING, _ANY: the board's default */
     o->hz = HZ_DISPLAY_HZ;
     o->seed = 1;
     o->percentile = 100;
