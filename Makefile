@@ -111,16 +111,19 @@ SCENE_TESTS := scene scene_corrupt
 SCENE_PORT_TESTS :=
 
 # accel (src/accel): BVH build and traversal; the Embree backend lives in port/embree
-ACCEL_SRCS :=
-ACCEL_SRCS_avx2 :=
-ACCEL_SRCS_neon :=
-ACCEL_TESTS :=
-ACCEL_PORT_TESTS :=
+ACCEL_SRCS := src/accel/accel.c src/accel/bvh_build.c src/accel/trav_scalar.c src/accel/meshgen.c
+ACCEL_SRCS_avx2 := src/accel/trav_avx2.c
+ACCEL_SRCS_neon := src/accel/trav_neon.c
+ACCEL_TESTS := accel_build accel_trav
+ACCEL_PORT_TESTS := threads accel_water
+# with embree in BOARD_ACCEL: the backend's port sources and its cross-check tests
+PORT_SRCS_embree := port/embree/embree_accel.c
+ACCEL_PORT_TESTS_embree := accel_embree
 
 # render (src/render, src/recon): camera, shading, G-buffer, reconstruction
-RENDER_SRCS :=
+RENDER_SRCS := src/render/camera.c src/render/texture.c src/render/trace.c src/render/render.c src/recon/taa.c
 RENDER_TESTS :=
-RENDER_PORT_TESTS :=
+RENDER_PORT_TESTS := render
 
 # pattern (src/pattern): integer-only tile orderings, dither maps, masks
 PATTERN_SRCS :=
@@ -169,7 +172,7 @@ INTEGER_SRCS += $(TIMING_INTEGER_SRCS)
 
 # Ports: each board lists the ones it links (BOARD_PORTS); accel backends come from BOARD_ACCEL.
 KNOWN_PORTS := linux timing fbdev v4l2 gpio
-PORT_SRCS_linux := port/linux/pools.c port/linux/cli.c port/linux/clock.c port/linux/fileio.c port/linux/scenefile.c
+PORT_SRCS_linux := port/linux/pools.c port/linux/cli.c port/linux/clock.c port/linux/fileio.c port/linux/scenefile.c port/linux/threads.c port/linux/render_cmd.c port/linux/summary.c port/linux/accel_backend.c
 $(foreach p,$(BOARD_PORTS),$(if $(filter $(p),$(KNOWN_PORTS)),,$(error $(BOARD_DIR)/board.mk: unknown port '$(p)' (known: $(KNOWN_PORTS)))))
 # Image files (port/linux/imageio.c): PNG needs libpng for the target. It is on when the target's compiler links
 # -lpng (host builds: libpng-dev is in host-sim's BOARD_DEPS); elsewhere the PNG calls report "not built in".
@@ -178,11 +181,18 @@ HAVE_PNG := $(shell printf 'int main(void){return 0;}\n' | $(CC) -x c - -o /dev/
 $(O)/port/linux/imageio.o: EXTRA_CFLAGS += -DHZ_HAVE_PNG=$(HAVE_PNG)
 PNG_LIBS := $(if $(filter 1,$(HAVE_PNG)),-lpng)
 PORT_SRCS := $(foreach p,$(BOARD_PORTS),$(PORT_SRCS_$(p)))
+ifneq ($(filter embree,$(BOARD_ACCEL)),)
+PORT_SRCS += $(PORT_SRCS_embree)
+PORT_LIBS_embree := -lembree3
+PORT_DEFS_embree := -DHZ_HAVE_EMBREE=1 -Iport/embree
+endif
 PORT_OBJS := $(PORT_SRCS:%.c=$(O)/%.o)
 PORT_LIB := $(O)/libhzport.a
 PORT_LIBS := -lpthread -lm $(PNG_LIBS)
 PORT_LIBS += $(foreach p,$(BOARD_PORTS),$(PORT_LIBS_$(p)))
 PORT_DEFS := $(foreach p,$(BOARD_PORTS),-DHZ_PORT_$(shell echo $(p) | tr a-z A-Z)=1)
+PORT_LIBS += $(PORT_LIBS_embree)
+PORT_DEFS += $(PORT_DEFS_embree)
 
 HZRT_SRCS := port/linux/main.c
 HZRT_OBJS := $(HZRT_SRCS:%.c=$(O)/%.o)
@@ -194,7 +204,8 @@ BENCH := $(O)/bin/hzbench
 
 UNIT_TESTS := $(foreach m,$(MODULES),$($(m)_TESTS))
 UNIT_BINS := $(UNIT_TESTS:%=$(O)/test/unit/test_%)
-PORT_TESTS := $(foreach m,$(MODULES),$($(m)_PORT_TESTS))
+PORT_TESTS := $(foreach m,$(MODULES),$($(m)_PORT_TESTS)) \
+              $(if $(filter embree,$(BOARD_ACCEL)),$(ACCEL_PORT_TESTS_embree))
 PORT_TEST_BINS := $(PORT_TESTS:%=$(O)/test/unit/test_%)
 TEST_BINS := $(UNIT_BINS) $(PORT_TEST_BINS)
 TEST_CFLAGS := $(HOSTED_CFLAGS) -Itest
@@ -434,8 +445,10 @@ deps: ## install the Debian packages BOARD needs to build, run and test (apt-get
 
 # ---------------------------------------------------------------------------------------------------------
 # Run
-run: deps $(HZRT) ## build host-sim and run it (renders the built-in scene once the renderer lands)
-	$(Q)$(HZRT) board
+RUN_ARGS ?= --frames 240 --hz 240 --size 640x360
+run: deps $(HZRT) ## build host-sim and render the built-in scene: 240 frames at a simulated 240 Hz into $(O)/run
+	$(Q)$(HZRT) render builtin $(RUN_ARGS) --out $(O)/run
+	@echo "outputs: $(O)/run/frames.y4m (mpv/ffplay), $(O)/run/last.png, $(O)/run/summary.json"
 
 # The simulated 240 Hz run of issue 7: real time, a simulated display (+-50 us jitter, 1% missed pulses, 0.5%
 # glitches, +200 ppm), frames from the hz_framesrc_t hook (the test pattern until the built-in scene lands in
@@ -475,6 +488,7 @@ test-board: tests
 	$(Q)HZ_GUARD_LABEL=$(BOARD) sh test/guard/check-freestanding.sh --record $(O)/test-results "$(NM)" \
 		$(CHECK_OBJS) || true
 	$(Q)sh test/guard/check-integer.sh --record $(O)/test-results "$(CC)" "$(BOARD_ARCH)" $(INTEGER_SRCS) || true
+	$(Q)$(if $(BOARD_TEST_LAUNCHER),true,sh test/cli/run.sh $(O)/test-results $(HZRT))
 
 ifeq ($(SAN),1)
 # Sanitizer objects reference the sanitizer runtime: check a plain build of the core instead.
@@ -516,6 +530,11 @@ VM_DEVICE_TEST := $(O)/test/vm/test_vm_devices
 # Variables the unit tests read (as exported to them on the host); directories among their values are shared
 # into the guest read-only at the same paths.
 VM_TEST_ENV := HZ_SCENES_DIR HZ_SCENES_UNPACK
+# In the VM (software-emulated CPU, ~10x slower than qemu user mode) run the unit tests that need no scene files
+# and take seconds; the heavy ones (BVH builds over 10^5..10^6 triangles, whole-image corruption sweeps,
+# rendered sequences) already run on the same AArch64 binaries under qemu-aarch64 in the board stage.
+VM_HEAVY_TESTS := scene_corrupt accel_build accel_trav accel_water zero_alloc render errtime
+VM_TEST_BINS := $(filter-out $(VM_HEAVY_TESTS:%=$(O)/test/unit/test_%),$(TEST_BINS))
 
 vmtest: deps ## boot Debian's arm64 kernel in qemu-system-aarch64: AArch64 unit tests, V4L2 loop-back, GPIO capture
 	$(Q)$(MAKE) --no-print-directory vmtest-tier
@@ -528,7 +547,7 @@ vmtest-tier:
 vmtest-board: tests $(VM_DEVICE_TEST) $(VM_ROOT)/init
 	$(Q)$(MAKE) --no-print-directory BOARD=aarch64-generic O=$(VM_ROOT)/static BOARD_LDFLAGS=-static SAN= all
 	$(Q)VM_ENV="$(foreach v,$(VM_TEST_ENV),$(v)=$($(v)))" sh test/vm/run.sh $(VM_RESULTS) $(VM_ROOT)/kernel \
-		$(VM_ROOT)/init $(VM_ROOT)/static/bin/hzrt $(VM_DEVICE_TEST) $(TEST_BINS)
+		$(VM_ROOT)/init $(VM_ROOT)/static/bin/hzrt $(VM_DEVICE_TEST) $(VM_TEST_BINS)
 
 $(VM_DEVICE_TEST): test/vm/test_vm_devices.c $(PORT_LIB) $(LIB)
 	@mkdir -p $(dir $@)

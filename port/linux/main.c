@@ -6,6 +6,7 @@
 #include "hz/hz.h"
 #include "latency.h"
 #include "pools.h"
+#include "render_cmd.h"
 #include "scenefile.h"
 
 static void usage(FILE *f)
@@ -14,6 +15,7 @@ static void usage(FILE *f)
             "usage: hzrt <command> [options]\n"
             "\n"
             "commands:\n"
+            "  render SCENE render a scene (.hzb file or `builtin`) to files: video, last frame, summary\n"
             "  info SCENE   validate a scene (.hzb file or `builtin`) and print its header, counts, features\n"
             "               and memory plan\n"
             "  board        print this build's board settings: display, arenas, features, v-sync source\n"
@@ -158,6 +160,8 @@ int main(int argc, char **argv)
     }
     if (!strcmp(cmd, "board"))
         return cmd_board(argc - 1, argv + 1);
+    if (!strcmp(cmd, "render"))
+        return hz_cmd_render(argc - 1, argv + 1);
     if (!strcmp(cmd, "info"))
         return cmd_info(argc - 1, argv + 1);
     if (!strcmp(cmd, "latency"))

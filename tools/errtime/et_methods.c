@@ -16,6 +16,6 @@ static hz_status_t synthetic_open(hz_et_sequence_t *seq, hz_arena_t *arena, hz_e
 
 const hz_et_scene_t hz_et_scenes[] = {
     { "synthetic", "built-in analytic animation (rotating checkerboard, sweeping disc); needs no renderer",
-      synthetic_open, hz_synth_methods, HZ_SYNTH_METHOD_COUNT, &hz_synth_reference },
+      synthetic_open, hz_synth_methods, HZ_SYNTH_METHOD_COUNT, &hz_synth_reference, 0, 0, 0 },
 };
 const size_t hz_et_scene_count = sizeof hz_et_scenes / sizeof hz_et_scenes[0];

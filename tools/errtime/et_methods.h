@@ -10,6 +10,7 @@
 #define HZ_ERRTIME_METHODS_H
 
 #include <stddef.h>
+#include <stdint.h>
 
 #include "errtime.h"
 
@@ -20,6 +21,7 @@ typedef struct hz_et_scene {
     const hz_et_method_t *methods;
     size_t method_count;
     const hz_et_method_t *reference;
+    uint32_t width, height, frames; /* defaults for the report (0: the command line's); --size/--frames win */
 } hz_et_scene_t;
 
 extern const hz_et_scene_t hz_et_scenes[];

@@ -1,0 +1,327 @@
+/*
+ * hz/accel.h — ray/triangle acceleration: one interface over the native BVH (src/accel/) and Embree
+ * (port/embree/, host builds only).
+ *
+ * Contract
+ *  Geometry. An accel is built from an hz_accel_geom_t view: float4 positions (x, y, z, unused; 16-byte
+ *  aligned), u32 triangle indices, optional per-triangle flags. The view's arrays must stay alive and in place
+ *  for the life of the accel: refit re-reads `pos` (animation writes new positions into the same array).
+ *  Building validates the view (alignment, counts, every index < vertex_count; error names the triangle).
+ *  Triangles with non-finite vertices are kept out of the structure (never hit) and counted in info.
+ *  Degenerate triangles (zero area) never report a hit.
+ *
+ *  Memory. The native build takes every byte from the arena passed in (the board's accel arena): the build's
+ *  scratch is released before it returns, the structure stays. hz_accel_bytes_bound(n, cfg) gives upper bounds
+ *  for the peak (what the arena must have free to build n triangles) and for what stays, so a memory plan can
+ *  refuse a scene up front (hz_accel_plan_check prints both byte counts). A build the arena cannot hold fails
+ *  with HZ_E_NO_MEMORY naming needed and available bytes, and leaves the arena as it found it. Embree
+ *  allocates on its own; its memory monitor charges every byte against the same arena's free space (and
+ *  refuses past it), and info.bytes reports Embree's figure.
+ *
+ *  Rays. hz_ray_t/hz_hit_t and the 4- and 8-wide SoA packets have exactly the layout of Embree 3's
+ *  RTCRay/RTCHit, RTCRay4/RTCHit4, RTCRay8/RTCHit8 (fields renamed to house style: ng_x = Ng_x,
+ *  prim_id = primID, geom_id = geomID, inst_id = instID), so the Embree backend passes them through without
+ *  copying (port/embree checks the offsets at compile time). Packets: 16-byte (4) / 32-byte (8) aligned;
+ *  `valid[i]` is -1 for an active lane and 0 for one left untouched. Rays must have finite origin and finite,
+ *  non-zero direction (need not be normalised) and 0 <= tnear <= tfar; zero direction components are fine.
+ *  Rays that break this never crash or loop: they miss.
+ *  - intersect: finds the closest hit with t in [tnear, tfar] (both ends included). On a hit it writes
+ *    ray.tfar = t, hit.u/v (barycentrics of vertices 1 and 2: P = (1-u-v) v0 + u v1 + v v2), hit.ng_* (the
+ *    unnormalised geometric normal (v1 - v0) x (v2 - v0)), prim_id (the triangle index), geom_id = 0,
+ *    inst_id[0] = HZ_ACCEL_INVALID_ID. On a miss the ray and hit are left untouched, so set
+ *    hit.geom_id = HZ_ACCEL_INVALID_ID before the call (as with Embree).
+ *    Native results do not depend on traversal order or kernel: hits at equal t go to the lower prim_id, and
+ *    the scalar, AVX2 and NEON kernels return bit-identical t, u, v, ng and prim_id.
+ *  - occluded: true when any hit with t in [tnear, tfar] exists; then ray.tfar = -inf, else untouched.
+ *  - Hits are watertight (Woop, Benthin, Wald 2013): a ray through a shared edge or vertex of a closed,
+ *    consistently indexed mesh hits at least one of the triangles there. Both faces hit (no culling).
+ *  - time, mask, flags and id are carried for the renderer; id reaches the any-hit callback, time is for the
+ *    motion-blur extension (the native static BVH ignores it), mask is ignored (as in Debian's Embree).
+ *
+ *  Any-hit. Triangles with HZ_ACCEL_TRI_ANYHIT in geom.tri_flags do not hit by themselves: every candidate
+ *  hit on one (t in range, closer than the best so far for intersect) is offered to ctx->anyhit, which returns
+ *  true to accept it. It may be called more than once for the same triangle and ray, and for candidates that
+ *  a closer hit later replaces, in any order: decide from the arguments only. Without a callback such
+ *  triangles are opaque.
+ *
+ *  Context. hz_accel_ctx_t is per query (or per thread, reused): flags (HZ_ACCEL_COHERENT when the rays of a
+ *  packet are coherent, e.g. primary rays of a pixel tile), the any-hit callback, a kernel override for tests
+ *  and benchmarks, and a statistics sink. Statistics (rays, nodes visited, triangles tested) are counted only
+ *  when the board sets HZ_FEATURE_STATS to 1; otherwise the code is compiled out and the sink stays zero.
+ *  Embree does not report them.
+ *
+ *  Threads. Queries only read the accel: any number of threads may query at once, each with its own ctx.
+ *  Build, refit and release need exclusive access.
+ *
+ *  Layout note for the motion-blur extension (seed 002, MSBVH): the native node's child words reserve a
+ *  "motion node" type whose node carries a second box set at t1; traversal would interpolate boxes at
+ *  ray.time, and the builder's split search runs on boxes at the shutter midpoint (see src/accel/bvh.h).
+ */
+#ifndef HZ_ACCEL_H
+#define HZ_ACCEL_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include "hz/arena.h"
+#include "hz/base.h"
+#include "hz/config.h"
+#include "hz/status.h"
+#include "hz/vmath.h"
+
+#define HZ_ACCEL_INVALID_ID 0xFFFFFFFFu
+/* tri_flags bit 0: the any-hit callback decides hits on this triangle (alpha cutouts, blended surfaces). */
+#define HZ_ACCEL_TRI_ANYHIT 0x01u
+/* Most triangles one accel takes (the native leaf encoding's limit). */
+#define HZ_ACCEL_MAX_TRIS (1u << 25)
+
+/* Children per native BVH node and triangles per leaf block: the SIMD width of the board (scalar boards use 4,
+ * so their nodes match the NEON layout). */
+#if defined(HZ_SIMD_AVX2)
+#define HZ_BVH_WIDTH 8
+#else
+#define HZ_BVH_WIDTH 4
+#endif
+
+/* ---- geometry view ---- */
+typedef struct hz_accel_geom {
+    const float *pos;         /* 4 floats per vertex (x, y, z, unused), 16-byte aligned */
+    uint32_t vertex_count;
+    const uint32_t *tri;      /* 3 vertex indices per triangle */
+    uint32_t tri_count;
+    const uint8_t *tri_flags; /* optional, NULL = all opaque; bit 0: HZ_ACCEL_TRI_ANYHIT */
+} hz_accel_geom_t;
+
+/* ---- rays and hits: Embree 3 layouts ---- */
+typedef struct HZ_ALIGNED(16) hz_ray {
+    float org_x, org_y, org_z, tnear;
+    float dir_x, dir_y, dir_z, time;
+    float tfar;
+    uint32_t mask, id, flags;
+} hz_ray_t;
+
+typedef struct HZ_ALIGNED(16) hz_hit {
+    float ng_x, ng_y, ng_z;
+    float u, v;
+    uint32_t prim_id, geom_id, inst_id[1];
+} hz_hit_t;
+
+typedef struct hz_rayhit {
+    hz_ray_t ray;
+    hz_hit_t hit;
+} hz_rayhit_t;
+
+typedef struct HZ_ALIGNED(16) hz_ray4 {
+    float org_x[4], org_y[4], org_z[4], tnear[4];
+    float dir_x[4], dir_y[4], dir_z[4], time[4];
+    float tfar[4];
+    uint32_t mask[4], id[4], flags[4];
+} hz_ray4_t;
+
+typedef struct HZ_ALIGNED(16) hz_hit4 {
+    float ng_x[4], ng_y[4], ng_z[4];
+    float u[4], v[4];
+    uint32_t prim_id[4], geom_id[4], inst_id[1][4];
+} hz_hit4_t;
+
+typedef struct hz_rayhit4 {
+    hz_ray4_t ray;
+    hz_hit4_t hit;
+} hz_rayhit4_t;
+
+typedef struct HZ_ALIGNED(32) hz_ray8 {
+    float org_x[8], org_y[8], org_z[8], tnear[8];
+    float dir_x[8], dir_y[8], dir_z[8], time[8];
+    float tfar[8];
+    uint32_t mask[8], id[8], flags[8];
+} hz_ray8_t;
+
+typedef struct HZ_ALIGNED(32) hz_hit8 {
+    float ng_x[8], ng_y[8], ng_z[8];
+    float u[8], v[8];
+    uint32_t prim_id[8], geom_id[8], inst_id[1][8];
+} hz_hit8_t;
+
+typedef struct hz_rayhit8 {
+    hz_ray8_t ray;
+    hz_hit8_t hit;
+} hz_rayhit8_t;
+
+/* ---- query context ---- */
+
+/* Decides a candidate hit on an HZ_ACCEL_TRI_ANYHIT triangle: true accepts it. ray_id is the ray's id field,
+ * lane its lane in the packet (0 for single rays). Called from the querying thread. */
+typedef bool (*hz_accel_anyhit_fn)(void *user, uint32_t prim_id, float u, float v, float t, uint32_t ray_id,
+                                   int lane);
+
+typedef struct hz_accel_stats {
+    uint64_t rays;         /* rays (active lanes) queried */
+    uint64_t nodes;        /* wide nodes visited (box tests of all children of one node count once) */
+    uint64_t tris;         /* ray/triangle tests (per ray and triangle) */
+    uint64_t anyhit_calls; /* calls of the any-hit callback */
+} hz_accel_stats_t;
+
+/* Native kernel choice. AUTO takes the fastest measured form for the packet's coherence (see README:
+ * coherent 8-ray packets: frustum packet traversal; incoherent: single rays against wide nodes). */
+typedef enum hz_accel_kernel {
+    HZ_ACCEL_KERNEL_AUTO = 0,
+    HZ_ACCEL_KERNEL_SCALAR,      /* the scalar reference, one ray at a time */
+    HZ_ACCEL_KERNEL_SIMD_SINGLE, /* one ray against all children of a wide node at once (AVX2 / NEON) */
+    HZ_ACCEL_KERNEL_SIMD_PACKET, /* packet against a node through its frustum (coherent rays) */
+    HZ_ACCEL_KERNEL_SIMD_MASKED, /* packet with per-lane box tests and active-mask compaction, switching to
+                                    single rays when few lanes stay active (incoherent rays) */
+    HZ_ACCEL_KERNEL_COUNT
+} hz_accel_kernel_t;
+
+#define HZ_ACCEL_COHERENT 0x1u /* ctx.flags: the packet's rays are coherent */
+
+typedef struct hz_accel_ctx {
+    uint32_t flags;           /* HZ_ACCEL_COHERENT */
+    hz_accel_kernel_t kernel; /* native backend only; AUTO unless testing or benchmarking */
+    hz_accel_anyhit_fn anyhit;
+    void *user;
+    hz_accel_stats_t *stats;  /* may be NULL; accumulated only when HZ_FEATURE_STATS */
+} hz_accel_ctx_t;
+
+HZ_INLINE void hz_accel_ctx_init(hz_accel_ctx_t *c)
+{
+    c->flags = 0;
+    c->kernel = HZ_ACCEL_KERNEL_AUTO;
+    c->anyhit = 0;
+    c->user = 0;
+    c->stats = 0;
+}
+
+/* ---- build ---- */
+typedef enum hz_accel_backend { HZ_ACCEL_NATIVE = 0, HZ_ACCEL_EMBREE = 1 } hz_accel_backend_t;
+
+typedef struct hz_accel_config {
+    /* native */
+    uint32_t leaf_max;     /* triangles per leaf, 1..HZ_BVH_WIDTH (default HZ_BVH_WIDTH) */
+    bool spatial_splits;   /* SBVH (Stich et al. 2009); false gives a plain binned-SAH BVH */
+    float split_alpha;     /* try spatial splits where children overlap > alpha * root area (1e-5) */
+    float split_budget;    /* extra references allowed, as a fraction of the triangle count (0.25) */
+    /* Embree */
+    bool robust;           /* RTC_SCENE_FLAG_ROBUST (watertight, slower) */
+    int quality;           /* 0 low, 1 medium (default), 2 high (Embree's own spatial splits) */
+} hz_accel_config_t;
+
+void hz_accel_config_default(hz_accel_config_t *cfg);
+
+/* Bytes of the accel arena a native build of tri_count triangles with cfg needs at most: `peak` must be free
+ * when the build starts, `kept` stays allocated after it. Guaranteed bounds (the builder enforces the
+ * replication budget); typical builds use a third to a half. Saturates at SIZE_MAX. */
+typedef struct hz_accel_bytes {
+    size_t peak;
+    size_t kept;
+} hz_accel_bytes_t;
+
+hz_accel_bytes_t hz_accel_bytes_bound(uint32_t tri_count, const hz_accel_config_t *cfg);
+
+/* HZ_OK if a native build of tri_count triangles surely fits in `available` bytes, else HZ_E_NO_MEMORY with
+ * "accel: <n> triangles need up to <peak> bytes to build, arena '<name>' has <available>". */
+hz_status_t hz_accel_plan_check(uint32_t tri_count, const hz_accel_config_t *cfg, const hz_arena_t *arena,
+                                hz_error_t *err);
+
+/* What a build produced (filled by the backend; times are measured by the caller, src/ has no clock). */
+typedef struct hz_accel_info {
+    const char *backend;     /* "native-avx2", "native-neon", "native-scalar", "embree" */
+    uint32_t tri_count;      /* triangles in the view */
+    uint32_t tri_skipped;    /* triangles left out (non-finite vertices) */
+    uint32_t ref_count;      /* triangle references after spatial splits (native) */
+    uint32_t spatial_splits; /* nodes split spatially (native) */
+    uint32_t node_count;     /* wide nodes (native) */
+    uint32_t leaf_count;
+    uint32_t block_count;    /* triangle blocks of HZ_BVH_WIDTH slots */
+    uint32_t depth;          /* deepest wide-node level */
+    float sah_cost;          /* SAH cost of the binary tree, relative to the root box (native) */
+    size_t bytes;            /* bytes the built structure holds */
+    size_t bytes_peak;       /* most bytes held during the build */
+} hz_accel_info_t;
+
+typedef struct hz_accel hz_accel_t;
+
+/* Backend operations: the native backend's live in src/accel, Embree's in port/embree. */
+typedef struct hz_accel_ops {
+    void (*intersect1)(const hz_accel_t *a, hz_accel_ctx_t *ctx, hz_rayhit_t *rh);
+    void (*occluded1)(const hz_accel_t *a, hz_accel_ctx_t *ctx, hz_ray_t *r);
+    void (*intersect4)(const int32_t *valid, const hz_accel_t *a, hz_accel_ctx_t *ctx, hz_rayhit4_t *rh);
+    void (*occluded4)(const int32_t *valid, const hz_accel_t *a, hz_accel_ctx_t *ctx, hz_ray4_t *r);
+    void (*intersect8)(const int32_t *valid, const hz_accel_t *a, hz_accel_ctx_t *ctx, hz_rayhit8_t *rh);
+    void (*occluded8)(const int32_t *valid, const hz_accel_t *a, hz_accel_ctx_t *ctx, hz_ray8_t *r);
+    hz_status_t (*refit)(hz_accel_t *a, hz_error_t *err);
+    void (*release)(hz_accel_t *a);
+} hz_accel_ops_t;
+
+struct hz_accel {
+    const hz_accel_ops_t *ops;
+    hz_accel_backend_t backend;
+    hz_accel_geom_t geom;
+    hz_accel_info_t info;
+    void *impl; /* backend data */
+};
+
+/* Validates geom (HZ_E_INVALID_ARG / HZ_E_RANGE naming the field or triangle); shared by both backends. */
+hz_status_t hz_accel_geom_check(const hz_accel_geom_t *g, hz_error_t *err);
+
+/* Native build ("commit"): all memory from `arena` (cfg may be NULL for defaults). *out points into the
+ * arena; nothing needs releasing, the arena owner resets it. */
+hz_status_t hz_accel_build_native(hz_accel_t **out, const hz_accel_geom_t *g, const hz_accel_config_t *cfg,
+                                  hz_arena_t *arena, hz_error_t *err);
+
+/* Recomputes boxes (and the native backend's triangle copies) after the renderer moved vertices in geom.pos;
+ * the topology stays. Cheaper than a build, but rays slow down as the motion grows; rebuild then. */
+HZ_INLINE hz_status_t hz_accel_refit(hz_accel_t *a, hz_error_t *err) { return a->ops->refit(a, err); }
+/* Gives back what the backend holds outside arenas (Embree's device and scene). */
+HZ_INLINE void hz_accel_release(hz_accel_t *a)
+{
+    if (a && a->ops->release)
+        a->ops->release(a);
+}
+
+/* ---- queries (argument order as in Embree: valid, accel, ctx, rays); ctx may be NULL ---- */
+HZ_INLINE void hz_accel_intersect1(const hz_accel_t *a, hz_accel_ctx_t *ctx, hz_rayhit_t *rh)
+{
+    a->ops->intersect1(a, ctx, rh);
+}
+HZ_INLINE void hz_accel_occluded1(const hz_accel_t *a, hz_accel_ctx_t *ctx, hz_ray_t *r)
+{
+    a->ops->occluded1(a, ctx, r);
+}
+HZ_INLINE void hz_accel_intersect4(const int32_t *valid, const hz_accel_t *a, hz_accel_ctx_t *ctx,
+                                   hz_rayhit4_t *rh)
+{
+    a->ops->intersect4(valid, a, ctx, rh);
+}
+HZ_INLINE void hz_accel_occluded4(const int32_t *valid, const hz_accel_t *a, hz_accel_ctx_t *ctx, hz_ray4_t *r)
+{
+    a->ops->occluded4(valid, a, ctx, r);
+}
+HZ_INLINE void hz_accel_intersect8(const int32_t *valid, const hz_accel_t *a, hz_accel_ctx_t *ctx,
+                                   hz_rayhit8_t *rh)
+{
+    a->ops->intersect8(valid, a, ctx, rh);
+}
+HZ_INLINE void hz_accel_occluded8(const int32_t *valid, const hz_accel_t *a, hz_accel_ctx_t *ctx, hz_ray8_t *r)
+{
+    a->ops->occluded8(valid, a, ctx, r);
+}
+
+/* Whether the native build of this board has a SIMD form of `kernel` (SCALAR and AUTO always). */
+bool hz_accel_kernel_available(hz_accel_kernel_t kernel);
+const char *hz_accel_kernel_name(hz_accel_kernel_t kernel);
+
+/* ---- secondary-ray origins ---- */
+
+/* Offsets a hit point p along the geometric normal n (need not be normalised, must face the side the new ray
+ * leaves from: flip it for rays into the surface) so that a ray started there does not hit the surface it
+ * left (Wächter and Binder, "A Fast and Robust Method for Avoiding Self-Intersection", Ray Tracing Gems ch. 6):
+ * away from the origin the point moves by 256 float ulps per unit of normal component; where a component is
+ * within scale/32 of 0 it moves by scale/65536 instead. `scale` is the scene's size (the largest absolute
+ * coordinate of its bounds): with scale = 1 these are the chapter's constants, and scaling them with the scene
+ * keeps the method robust from scenes of 1e-6 to 1e6 units. scale <= 0 (or not finite) means 1. Use the new
+ * ray with tnear = 0. */
+hz_vec3_t hz_accel_offset_origin(hz_vec3_t p, hz_vec3_t n, float scale);
+
+#endif /* HZ_ACCEL_H */

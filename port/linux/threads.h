@@ -1,0 +1,34 @@
+/*
+ * threads.h — the static worker pool: hzrt's only threads, shared by the renderer, accel builds and tools.
+ *
+ * Contract:
+ *  - hz_threads_start(n, err) starts n - 1 workers (n total participants, the calling thread being thread 0);
+ *    n = 0 means one per online CPU. n is clamped to [1, HZ_MAX_THREADS]. Thread creation is the pool's only
+ *    allocation (the C library's thread stacks); nothing allocates after start returns.
+ *    Starting a started pool is refused (HZ_E_INVALID_ARG); a failed start stops what it began.
+ *  - hz_threads_run(fn, user, items) calls fn(user, item, thread) exactly once for every item in
+ *    [0, items) and returns when all calls have returned. Items are handed out one at a time from an atomic
+ *    counter, so which thread runs an item varies from run to run: fn must write its results by item (and may
+ *    use per-thread scratch indexed by `thread`, e.g. hz_pools_get()->thread[thread]), so results do not
+ *    depend on the thread count. `thread` is in [0, hz_threads_count()). The caller's thread takes items too.
+ *    run is called from thread 0 only, never from inside fn. Without a started pool it runs everything on
+ *    the calling thread (thread 0).
+ *  - Workers wait on a condition variable between runs (after a short spin), so an idle pool costs no CPU.
+ *  - hz_threads_stop() joins the workers; the pool can be started again.
+ */
+#ifndef HZ_PORT_THREADS_H
+#define HZ_PORT_THREADS_H
+
+#include <stdint.h>
+
+#include "hz/config.h"
+#include "hz/status.h"
+
+typedef void (*hz_threads_fn)(void *user, uint32_t item, int thread);
+
+hz_status_t hz_threads_start(int n, hz_error_t *err);
+void hz_threads_run(hz_threads_fn fn, void *user, uint32_t items);
+int hz_threads_count(void);
+void hz_threads_stop(void);
+
+#endif

@@ -1,0 +1,452 @@
+/*
+ * The accel interface's shared parts and the native backend's operations: argument checks, memory bounds,
+ * kernel dispatch (packets fall back to lane-by-lane loops where a board has no SIMD form), hit attributes,
+ * any-hit calls and the ray-origin offset.
+ */
+#include "bvh.h"
+
+void hz_accel_config_default(hz_accel_config_t *cfg)
+{
+    cfg->leaf_max = HZ_BVH_W;
+    cfg->spatial_splits = true;
+    cfg->split_alpha = 1e-5f;
+    cfg->split_budget = 0.25f;
+    cfg->robust = false;
+    cfg->quality = 1;
+}
+
+hz_status_t hz_accel_plan_check(uint32_t tri_count, const hz_accel_config_t *cfg, const hz_arena_t *arena,
+                                hz_error_t *err)
+{
+    hz_accel_bytes_t b = hz_accel_bytes_bound(tri_count, cfg);
+    size_t avail = hz_arena_available(arena, 64);
+    if (b.peak <= avail)
+        return HZ_OK;
+    return hz_error_set(err, HZ_E_NO_MEMORY,
+                        "accel: %u triangles need up to %zu bytes to build (%zu kept), arena '%s' has %zu", tri_count,
+                        b.peak, b.kept, arena && arena->name ? arena->name : "?", avail);
+}
+
+hz_status_t hz_accel_geom_check(const hz_accel_geom_t *g, hz_error_t *err)
+{
+    if (!g)
+        return hz_error_set(err, HZ_E_INVALID_ARG, "accel: no geometry");
+    if (g->tri_count > HZ_ACCEL_MAX_TRIS)
+        return hz_error_set(err, HZ_E_RANGE, "accel: %u triangles, at most %u supported", g->tri_count,
+                            HZ_ACCEL_MAX_TRIS);
+    if (g->vertex_count && !g->pos)
+        return hz_error_set(err, HZ_E_INVALID_ARG, "accel: %u vertices but no position array", g->vertex_count);
+    if (((uintptr_t)g->pos & 15u) != 0)
+        return hz_error_set(err, HZ_E_INVALID_ARG, "accel: positions at %p are not 16-byte aligned",
+                            (const void *)g->pos);
+    if (g->tri_count && !g->tri)
+        return hz_error_set(err, HZ_E_INVALID_ARG, "accel: %u triangles but no index array", g->tri_count);
+    for (uint32_t t = 0; t < g->tri_count; t++)
+        for (int k = 0; k < 3; k++)
+            if (g->tri[3u * (size_t)t + (uint32_t)k] >= g->vertex_count)
+                return hz_error_set(err, HZ_E_RANGE, "accel: triangle %u: vertex index %u >= vertex count %u", t,
+                                    g->tri[3u * (size_t)t + (uint32_t)k], g->vertex_count);
+    return HZ_OK;
+}
+
+/* ---- shared kernel helpers ---- */
+void hz_bvh_hit_attributes(const hz_bvh_t *bvh, uint32_t slot, const hz_bvh_ray_t *r, float *ng, float *u,
+                           float *v)
+{
+    const hz_bvh_block_t *b = &bvh->blocks[slot / HZ_BVH_W];
+    unsigned s = slot % HZ_BVH_W;
+    float t, U, V, W, det;
+    if (hz_bvh_tri_test(b, s, r, &t, &U, &V, &W, &det)) {
+        *u = V / det;
+        *v = W / det;
+    } else {
+        *u = *v = 0.0f; /* unreachable: the slot was hit with these exact operations */
+    }
+    float e1[3], e2[3];
+    for (int k = 0; k < 3; k++) {
+        e1[k] = b->v[1][k][s] - b->v[0][k][s];
+        e2[k] = b->v[2][k][s] - b->v[0][k][s];
+    }
+    ng[0] = e1[1] * e2[2] - e1[2] * e2[1];
+    ng[1] = e1[2] * e2[0] - e1[0] * e2[2];
+    ng[2] = e1[0] * e2[1] - e1[1] * e2[0];
+}
+
+bool hz_bvh_anyhit(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, uint32_t slot, const hz_bvh_ray_t *r, float t,
+                   uint32_t ray_id, int lane)
+{
+    float ng[3], u, v;
+    hz_bvh_hit_attributes(bvh, slot, r, ng, &u, &v);
+#if HZ_FEATURE_STATS
+    if (ctx->stats)
+        ctx->stats->anyhit_calls++;
+#endif
+    uint32_t prim = bvh->blocks[slot / HZ_BVH_W].prim[slot % HZ_BVH_W] & HZ_BVH_PRIM_MASK;
+    return ctx->anyhit(ctx->user, prim, u, v, t, ray_id, lane);
+}
+
+bool hz_accel_kernel_available(hz_accel_kernel_t kernel)
+{
+    switch (kernel) {
+    case HZ_ACCEL_KERNEL_AUTO:
+    case HZ_ACCEL_KERNEL_SCALAR: return true;
+#if defined(HZ_BVH_HAS_SIMD)
+    case HZ_ACCEL_KERNEL_SIMD_SINGLE:
+    case HZ_ACCEL_KERNEL_SIMD_PACKET:
+    case HZ_ACCEL_KERNEL_SIMD_MASKED: return true;
+#endif
+    default: return false;
+    }
+}
+
+const char *hz_accel_kernel_name(hz_accel_kernel_t kernel)
+{
+    switch (kernel) {
+    case HZ_ACCEL_KERNEL_AUTO: return "auto";
+    case HZ_ACCEL_KERNEL_SCALAR: return "scalar";
+    case HZ_ACCEL_KERNEL_SIMD_SINGLE: return "simd-single";
+    case HZ_ACCEL_KERNEL_SIMD_PACKET: return "simd-packet";
+    case HZ_ACCEL_KERNEL_SIMD_MASKED: return "simd-masked";
+    default: return "unknown";
+    }
+}
+
+/* ---- native operations ---- */
+static hz_accel_kernel_t kernel_of(const hz_accel_ctx_t *ctx)
+{
+    hz_accel_kernel_t k = ctx ? ctx->kernel : HZ_ACCEL_KERNEL_AUTO;
+    return hz_accel_kernel_available(k) ? k : HZ_ACCEL_KERNEL_SCALAR;
+}
+
+static void count_rays(hz_accel_ctx_t *ctx, uint32_t n)
+{
+#if HZ_FEATURE_STATS
+    if (ctx && ctx->stats)
+        ctx->stats->rays += n;
+#else
+    (void)ctx;
+    (void)n;
+#endif
+}
+
+static uint32_t closest(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, hz_accel_kernel_t k, hz_bvh_ray_t *r,
+                        uint32_t id, int lane)
+{
+#if defined(HZ_BVH_HAS_SIMD)
+    if (k != HZ_ACCEL_KERNEL_SCALAR)
+        return hz_bvh_simd_closest(bvh, ctx, r, id, lane);
+#endif
+    (void)k;
+    return hz_bvh_scalar_closest(bvh, ctx, r, id, lane);
+}
+
+static bool any(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, hz_accel_kernel_t k, const hz_bvh_ray_t *r, uint32_t id,
+                int lane)
+{
+#if defined(HZ_BVH_HAS_SIMD)
+    if (k != HZ_ACCEL_KERNEL_SCALAR)
+        return hz_bvh_simd_any(bvh, ctx, r, id, lane);
+#endif
+    (void)k;
+    return hz_bvh_scalar_any(bvh, ctx, r, id, lane);
+}
+
+static void native_intersect1(const hz_accel_t *a, hz_accel_ctx_t *ctx, hz_rayhit_t *rh)
+{
+    const hz_bvh_t *bvh = a->impl;
+    hz_bvh_ray_t r;
+    count_rays(ctx, 1);
+    if (!hz_bvh_ray_prep(&r, rh->ray.org_x, rh->ray.org_y, rh->ray.org_z, rh->ray.dir_x, rh->ray.dir_y,
+                         rh->ray.dir_z, rh->ray.tnear, rh->ray.tfar))
+        return;
+    uint32_t slot = closest(bvh, ctx, kernel_of(ctx), &r, rh->ray.id, 0);
+    if (slot == HZ_ACCEL_INVALID_ID)
+        return;
+    float ng[3];
+    hz_bvh_hit_attributes(bvh, slot, &r, ng, &rh->hit.u, &rh->hit.v);
+    rh->ray.tfar = r.tfar;
+    rh->hit.ng_x = ng[0], rh->hit.ng_y = ng[1], rh->hit.ng_z = ng[2];
+    rh->hit.prim_id = bvh->blocks[slot / HZ_BVH_W].prim[slot % HZ_BVH_W] & HZ_BVH_PRIM_MASK;
+    rh->hit.geom_id = 0;
+    rh->hit.inst_id[0] = HZ_ACCEL_INVALID_ID;
+}
+
+static void native_occluded1(const hz_accel_t *a, hz_accel_ctx_t *ctx, hz_ray_t *ray)
+{
+    hz_bvh_ray_t r;
+    count_rays(ctx, 1);
+    if (!hz_bvh_ray_prep(&r, ray->org_x, ray->org_y, ray->org_z, ray->dir_x, ray->dir_y, ray->dir_z, ray->tnear,
+                         ray->tfar))
+        return;
+    if (any(a->impl, ctx, kernel_of(ctx), &r, ray->id, 0))
+        ray->tfar = -__builtin_inff();
+}
+
+/* Packets of n lanes seen as arrays: the ray is 12 arrays of n words (org xyz, tnear, dir xyz, time, tfar, mask,
+ * id, flags), the hit 8 (ng xyz, u, v, prim, geom, inst). */
+enum { R_OX, R_OY, R_OZ, R_TNEAR, R_DX, R_DY, R_DZ, R_TIME, R_TFAR, R_MASK, R_ID, R_FLAGS };
+enum { H_NGX, H_NGY, H_NGZ, H_U, H_V, H_PRIM, H_GEOM, H_INST };
+
+static bool lane_prep(hz_bvh_ray_t *r, const float *ray, int n, int i)
+{
+    return hz_bvh_ray_prep(r, ray[R_OX * n + i], ray[R_OY * n + i], ray[R_OZ * n + i], ray[R_DX * n + i],
+                    ray[R_DY * n + i], ray[R_DZ * n + i], ray[R_TNEAR * n + i], ray[R_TFAR * n + i]);
+}
+
+static void loop_intersect(const int32_t *valid, const hz_accel_t *a, hz_accel_ctx_t *ctx, float *ray, float *hit,
+                           int n, hz_accel_kernel_t k)
+{
+    const hz_bvh_t *bvh = a->impl;
+    uint32_t *ray_u = (uint32_t *)(void *)ray, *hit_u = (uint32_t *)(void *)hit;
+    for (int i = 0; i < n; i++) {
+        if (!valid[i])
+            continue;
+        hz_bvh_ray_t r;
+        count_rays(ctx, 1);
+        if (!lane_prep(&r, ray, n, i))
+            continue;
+        uint32_t slot = closest(bvh, ctx, k, &r, ray_u[R_ID * n + i], i);
+        if (slot == HZ_ACCEL_INVALID_ID)
+            continue;
+        float ng[3];
+        hz_bvh_hit_attributes(bvh, slot, &r, ng, &hit[H_U * n + i], &hit[H_V * n + i]);
+        ray[R_TFAR * n + i] = r.tfar;
+        hit[H_NGX * n + i] = ng[0], hit[H_NGY * n + i] = ng[1], hit[H_NGZ * n + i] = ng[2];
+        hit_u[H_PRIM * n + i] = bvh->blocks[slot / HZ_BVH_W].prim[slot % HZ_BVH_W] & HZ_BVH_PRIM_MASK;
+        hit_u[H_GEOM * n + i] = 0;
+        hit_u[H_INST * n + i] = HZ_ACCEL_INVALID_ID;
+    }
+}
+
+static void loop_occluded(const int32_t *valid, const hz_accel_t *a, hz_accel_ctx_t *ctx, float *ray, int n,
+                          hz_accel_kernel_t k)
+{
+    const uint32_t *ray_u = (const uint32_t *)(const void *)ray;
+    for (int i = 0; i < n; i++) {
+        if (!valid[i])
+            continue;
+        hz_bvh_ray_t r;
+        count_rays(ctx, 1);
+        if (!lane_prep(&r, ray, n, i))
+            continue;
+        if (any(a->impl, ctx, k, &r, ray_u[R_ID * n + i], i))
+            ray[R_TFAR * n + i] = -__builtin_inff();
+    }
+}
+
+#if defined(HZ_BVH_HAS_SIMD)
+/* The packet kernel AUTO picks: the frustum packet for coherent rays; for incoherent rays, single rays against
+ * wide nodes (the faster of the two incoherent forms in `make bench` on every shared scene). */
+static hz_accel_kernel_t packet_kernel(const hz_accel_ctx_t *ctx, hz_accel_kernel_t k)
+{
+    if (k == HZ_ACCEL_KERNEL_AUTO)
+        return ctx && (ctx->flags & HZ_ACCEL_COHERENT) ? HZ_ACCEL_KERNEL_SIMD_PACKET : HZ_ACCEL_KERNEL_SIMD_SINGLE;
+    return k;
+}
+
+static int count_valid(const int32_t *valid, int n)
+{
+    int c = 0;
+    for (int i = 0; i < n; i++)
+        c += valid[i] != 0;
+    return c;
+}
+
+/* Moves n-lane packets into the native width and back (a plain copy of the SoA arrays). */
+static void widen(const float *src, int n, float *dst, int fields, int base)
+{
+    for (int f = 0; f < fields; f++)
+        for (int i = 0; i < HZ_BVH_W && base + i < n; i++)
+            dst[f * HZ_BVH_W + i] = src[f * n + base + i];
+}
+
+static void narrow(const float *src, int n, float *dst, int fields, int base)
+{
+    for (int f = 0; f < fields; f++)
+        for (int i = 0; i < HZ_BVH_W && base + i < n; i++)
+            dst[f * n + base + i] = src[f * HZ_BVH_W + i];
+}
+
+static void simd_intersect(const int32_t *valid, const hz_accel_t *a, hz_accel_ctx_t *ctx, float *ray, float *hit,
+                           int n)
+{
+    hz_accel_kernel_t k = packet_kernel(ctx, kernel_of(ctx));
+    if (k == HZ_ACCEL_KERNEL_SIMD_SINGLE || k == HZ_ACCEL_KERNEL_SCALAR) {
+        loop_intersect(valid, a, ctx, ray, hit, n, k);
+        return;
+    }
+    count_rays(ctx, (uint32_t)count_valid(valid, n));
+    if (n == HZ_BVH_W) {
+        hz_bvh_simd_intersectw(valid, a->impl, ctx, (hz_bvh_rayhitw_t *)(void *)ray, k);
+        return;
+    }
+    for (int base = 0; base < n; base += HZ_BVH_W) {
+        hz_bvh_rayhitw_t w;
+        int32_t v[HZ_BVH_W];
+        hz_memset(&w, 0, sizeof w);
+        for (int i = 0; i < HZ_BVH_W; i++)
+            v[i] = base + i < n ? valid[base + i] : 0;
+        widen(ray, n, (float *)(void *)&w.ray, 12, base);
+        widen(hit, n, (float *)(void *)&w.hit, 8, base);
+        hz_bvh_simd_intersectw(v, a->impl, ctx, &w, k);
+        narrow((const float *)(const void *)&w.ray, n, ray, 12, base);
+        narrow((const float *)(const void *)&w.hit, n, hit, 8, base);
+    }
+}
+
+static void simd_occluded(const int32_t *valid, const hz_accel_t *a, hz_accel_ctx_t *ctx, float *ray, int n)
+{
+    hz_accel_kernel_t k = packet_kernel(ctx, kernel_of(ctx));
+    if (k == HZ_ACCEL_KERNEL_SIMD_SINGLE || k == HZ_ACCEL_KERNEL_SCALAR) {
+        loop_occluded(valid, a, ctx, ray, n, k);
+        return;
+    }
+    count_rays(ctx, (uint32_t)count_valid(valid, n));
+    if (n == HZ_BVH_W) {
+        hz_bvh_simd_occludedw(valid, a->impl, ctx, (hz_bvh_rayw_t *)(void *)ray, k);
+        return;
+    }
+    for (int base = 0; base < n; base += HZ_BVH_W) {
+        hz_bvh_rayw_t w;
+        int32_t v[HZ_BVH_W];
+        hz_memset(&w, 0, sizeof w);
+        for (int i = 0; i < HZ_BVH_W; i++)
+            v[i] = base + i < n ? valid[base + i] : 0;
+        widen(ray, n, (float *)(void *)&w, 12, base);
+        hz_bvh_simd_occludedw(v, a->impl, ctx, &w, k);
+        narrow((const float *)(const void *)&w, n, ray, 12, base);
+    }
+}
+#define PACKET_INTERSECT simd_intersect
+#define PACKET_OCCLUDED simd_occluded
+#else
+static void scalar_intersect(const int32_t *valid, const hz_accel_t *a, hz_accel_ctx_t *ctx, float *ray,
+                             float *hit, int n)
+{
+    loop_intersect(valid, a, ctx, ray, hit, n, HZ_ACCEL_KERNEL_SCALAR);
+}
+static void scalar_occluded(const int32_t *valid, const hz_accel_t *a, hz_accel_ctx_t *ctx, float *ray, int n)
+{
+    loop_occluded(valid, a, ctx, ray, n, HZ_ACCEL_KERNEL_SCALAR);
+}
+#define PACKET_INTERSECT scalar_intersect
+#define PACKET_OCCLUDED scalar_occluded
+#endif
+
+static void native_intersect4(const int32_t *valid, const hz_accel_t *a, hz_accel_ctx_t *ctx, hz_rayhit4_t *rh)
+{
+    PACKET_INTERSECT(valid, a, ctx, (float *)(void *)&rh->ray, (float *)(void *)&rh->hit, 4);
+}
+
+static void native_occluded4(const int32_t *valid, const hz_accel_t *a, hz_accel_ctx_t *ctx, hz_ray4_t *r)
+{
+    PACKET_OCCLUDED(valid, a, ctx, (float *)(void *)r, 4);
+}
+
+static void native_intersect8(const int32_t *valid, const hz_accel_t *a, hz_accel_ctx_t *ctx, hz_rayhit8_t *rh)
+{
+    PACKET_INTERSECT(valid, a, ctx, (float *)(void *)&rh->ray, (float *)(void *)&rh->hit, 8);
+}
+
+static void native_occluded8(const int32_t *valid, const hz_accel_t *a, hz_accel_ctx_t *ctx, hz_ray8_t *r)
+{
+    PACKET_OCCLUDED(valid, a, ctx, (float *)(void *)r, 8);
+}
+
+static hz_status_t native_refit(hz_accel_t *a, hz_error_t *err)
+{
+    (void)err;
+    hz_bvh_refit(a->impl, &a->geom);
+    return HZ_OK;
+}
+
+static const hz_accel_ops_t native_ops = {
+    native_intersect1, native_occluded1, native_intersect4, native_occluded4,
+    native_intersect8, native_occluded8, native_refit,      0,
+};
+
+hz_status_t hz_accel_build_native(hz_accel_t **out, const hz_accel_geom_t *g, const hz_accel_config_t *cfg,
+                                  hz_arena_t *arena, hz_error_t *err)
+{
+    if (!out || !arena)
+        return hz_error_set(err, HZ_E_INVALID_ARG, "accel: no output or arena");
+    *out = 0;
+    hz_status_t s = hz_accel_geom_check(g, err);
+    if (s != HZ_OK)
+        return s;
+    hz_accel_config_t d;
+    if (!cfg) {
+        hz_accel_config_default(&d);
+        cfg = &d;
+    }
+    const hz_arena_mark_t m0 = hz_arena_mark(arena);
+    hz_accel_t *a = hz_arena_alloc(arena, sizeof *a, 64);
+    hz_bvh_t *bvh = hz_arena_alloc(arena, sizeof *bvh, 64);
+    if (!a || !bvh) {
+        hz_arena_error(arena, err);
+        hz_arena_reset(arena, m0);
+        return HZ_E_NO_MEMORY;
+    }
+    hz_bvh_build_out_t bo;
+    hz_memset(&bo, 0, sizeof bo);
+    s = hz_bvh_build(bvh, g, cfg, arena, &bo, err);
+    if (s != HZ_OK) {
+        hz_arena_reset(arena, m0);
+        if (s == HZ_E_NO_MEMORY) {
+            hz_accel_bytes_t b = hz_accel_bytes_bound(g->tri_count, cfg);
+            char inner[HZ_ERROR_MSG_BYTES];
+            hz_memcpy(inner, err ? err->msg : "", err ? sizeof inner : 1);
+            hz_error_set(err, s, "accel: %u triangles (bound %zu bytes): %s", g->tri_count, b.peak, inner);
+        }
+        return s;
+    }
+    a->ops = &native_ops;
+    a->backend = HZ_ACCEL_NATIVE;
+    a->geom = *g;
+    a->impl = bvh;
+    hz_memset(&a->info, 0, sizeof a->info);
+#if defined(HZ_SIMD_AVX2)
+    a->info.backend = "native-avx2";
+#elif defined(HZ_SIMD_NEON)
+    a->info.backend = "native-neon";
+#else
+    a->info.backend = "native-scalar";
+#endif
+    a->info.tri_count = g->tri_count;
+    a->info.tri_skipped = bo.tri_skipped;
+    a->info.ref_count = bo.ref_count;
+    a->info.spatial_splits = bo.spatial_splits;
+    a->info.node_count = bvh->node_count;
+    a->info.leaf_count = bvh->leaf_count;
+    a->info.block_count = bvh->block_count;
+    a->info.depth = bvh->depth;
+    a->info.sah_cost = bo.sah_cost;
+    a->info.bytes = hz_arena_mark(arena) - m0;
+    a->info.bytes_peak = bo.bytes_peak + (size_t)((const uint8_t *)bvh - (arena->base + m0)) + sizeof *bvh;
+    *out = a;
+    return HZ_OK;
+}
+
+/* ---- ray origin offset (Wächter and Binder 2019, constants scaled with the scene) ---- */
+static float offset_component(float p, float n, float scale)
+{
+    const float origin = scale * (1.0f / 32.0f), float_scale = scale * (1.0f / 65536.0f), int_scale = 256.0f;
+    if (hz_absf(p) < origin)
+        return p + float_scale * n;
+    int32_t of = (int32_t)(int_scale * n);
+    int32_t bits;
+    hz_memcpy(&bits, &p, sizeof bits);
+    bits += p < 0.0f ? -of : of;
+    float r;
+    hz_memcpy(&r, &bits, sizeof r);
+    return r;
+}
+
+hz_vec3_t hz_accel_offset_origin(hz_vec3_t p, hz_vec3_t n, float scale)
+{
+    if (!(scale > 0.0f) || !hz_isfinitef(scale))
+        scale = 1.0f;
+    n = hz_v3_normalize(n);
+    return hz_v3(offset_component(p.x, n.x, scale), offset_component(p.y, n.y, scale),
+                 offset_component(p.z, n.z, scale));
+}

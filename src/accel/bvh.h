@@ -1,0 +1,209 @@
+/*
+ * src/accel/bvh.h — the native BVH's memory layout and the pieces its kernels share (internal to src/accel).
+ *
+ * Contract
+ *  Layout. A tree of wide nodes (HZ_BVH_WIDTH children: 8 on AVX2, 4 on NEON and scalar boards) in depth-first
+ *  pre-order (node 0 is the root, every child node has a larger index than its parent, which refit relies on),
+ *  plus triangle blocks of HZ_BVH_WIDTH slots holding the triangles' vertices in SoA form (v[vertex][axis][slot])
+ *  with the triangle index per slot: the watertight test reads them directly, with no index indirection.
+ *  A leaf is a run of 1..HZ_BVH_WIDTH consecutive slots inside one block (leaves are packed next-fit, so blocks
+ *  are on average more than half full). Spatial splits may put one triangle in several leaves.
+ *  Child words: bit 31 set = leaf (bits 28..30 count - 1, bits 0..27 first slot); bits 31..30 = 00 = inner
+ *  node index; 01 = reserved for the motion-blur node type (MSBVH: a node carrying boxes at t0 and t1 that
+ *  traversal interpolates at ray.time; HZ_BVH_EMPTY uses this type's all-ones value). Empty child slots have
+ *  inverted boxes (lo = +inf, hi = -inf), so every box test rejects them without a branch.
+ *  Depth: the builder bounds the binary tree to HZ_BVH_MAX_DEPTH levels, so HZ_BVH_STACK entries always suffice.
+ *
+ *  Ray/triangle test. hz_bvh_ray_prep and hz_bvh_tri_test define the exact float operations (order included)
+ *  of the watertight test; every kernel (scalar, AVX2, NEON) performs the same operations lane by lane, so
+ *  their t values are bit-identical, and the tie rule (equal t: lower prim_id) makes the closest hit
+ *  independent of traversal order. Box tests only need to be conservative: (plane - org) * (1 / dir) with the
+ *  far distance enlarged by HZ_BVH_ROBUST (Ize 2013, 1 + 2 gamma(3)). A zero direction component gives an
+ *  infinite reciprocal; a ray lying in a slab's plane then makes 0 * inf = NaN for that plane, and every kernel
+ *  folds slab distances so that a NaN drops out (x86 max/min return their second operand on NaN, so NaN-prone
+ *  values go first and the running value second; NEON uses maxNum/minNum): the ray counts as inside that slab,
+ *  which is the right answer for a closed box. (Replacing zero components by a tiny epsilon instead would put
+ *  the in-plane ray's exit at t = 0 and lose hits on box faces.)
+ */
+#ifndef HZ_ACCEL_BVH_H
+#define HZ_ACCEL_BVH_H
+
+#include "hz/accel.h"
+
+#define HZ_BVH_W HZ_BVH_WIDTH
+#define HZ_BVH_MAX_DEPTH 80
+#define HZ_BVH_STACK (HZ_BVH_MAX_DEPTH * (HZ_BVH_W - 1) + 2)
+
+#define HZ_BVH_LEAF 0x80000000u
+#define HZ_BVH_EMPTY 0x7FFFFFFFu
+#define HZ_BVH_SLOT_MASK 0x0FFFFFFFu
+#define HZ_BVH_PRIM_ANYHIT 0x80000000u /* in block prim words: the triangle has HZ_ACCEL_TRI_ANYHIT */
+#define HZ_BVH_PRIM_MASK 0x7FFFFFFFu
+#define HZ_BVH_PRIM_PAD 0x7FFFFFFFu    /* prim word of an unused slot */
+
+#define HZ_BVH_ROBUST 1.00000048f      /* 1 + 4 * 2^-23 >= 1 + 2 gamma(3) */
+
+typedef struct HZ_ALIGNED(64) hz_bvh_node {
+    float lo_x[HZ_BVH_W], hi_x[HZ_BVH_W];
+    float lo_y[HZ_BVH_W], hi_y[HZ_BVH_W];
+    float lo_z[HZ_BVH_W], hi_z[HZ_BVH_W];
+    uint32_t child[HZ_BVH_W];
+    uint32_t pad[HZ_BVH_W]; /* rounds the node to cache lines; room for MSBVH bookkeeping */
+} hz_bvh_node_t;
+
+typedef struct HZ_ALIGNED(32) hz_bvh_block {
+    float v[3][3][HZ_BVH_W]; /* [vertex][axis][slot] */
+    uint32_t prim[HZ_BVH_W]; /* triangle index | HZ_BVH_PRIM_ANYHIT, or HZ_BVH_PRIM_PAD */
+} hz_bvh_block_t;
+
+typedef struct hz_bvh {
+    hz_bvh_node_t *nodes;
+    hz_bvh_block_t *blocks;
+    uint32_t node_count, block_count, leaf_count;
+    uint32_t depth;
+    bool has_anyhit; /* some triangle carries HZ_ACCEL_TRI_ANYHIT */
+} hz_bvh_t;
+
+HZ_INLINE bool hz_bvh_is_leaf(uint32_t c) { return (c & HZ_BVH_LEAF) != 0; }
+HZ_INLINE uint32_t hz_bvh_leaf_count(uint32_t c) { return ((c >> 28) & 7u) + 1u; }
+HZ_INLINE uint32_t hz_bvh_leaf_slot(uint32_t c) { return c & HZ_BVH_SLOT_MASK; }
+HZ_INLINE uint32_t hz_bvh_make_leaf(uint32_t slot, uint32_t count)
+{
+    return HZ_BVH_LEAF | ((count - 1u) << 28) | slot;
+}
+
+/* ---- per-ray precomputation ---- */
+typedef struct hz_bvh_ray {
+    float org[3], dir[3];
+    float rdir[3];   /* 1 / dir for box tests, +-inf for zero components */
+    int kx, ky, kz;  /* watertight test: kz = dominant axis, kx/ky keep the winding */
+    float sx, sy, sz;
+    float tnear, tfar;
+} hz_bvh_ray_t;
+
+/* Returns false for a ray the contract rules out (non-finite origin or direction, zero direction,
+ * !(tnear <= tfar)): callers treat it as a miss without traversing. */
+HZ_INLINE bool hz_bvh_ray_prep(hz_bvh_ray_t *r, float ox, float oy, float oz, float dx, float dy, float dz,
+                               float tnear, float tfar)
+{
+    r->org[0] = ox, r->org[1] = oy, r->org[2] = oz;
+    r->dir[0] = dx, r->dir[1] = dy, r->dir[2] = dz;
+    r->rdir[0] = 1.0f / dx; /* +-inf for +-0 */
+    r->rdir[1] = 1.0f / dy;
+    r->rdir[2] = 1.0f / dz;
+    int kz = 0;
+    if (hz_absf(dy) > hz_absf(r->dir[kz]))
+        kz = 1;
+    if (hz_absf(dz) > hz_absf(r->dir[kz]))
+        kz = 2;
+    int kx = kz == 2 ? 0 : kz + 1;
+    int ky = kx == 2 ? 0 : kx + 1;
+    if (r->dir[kz] < 0.0f) {
+        int t = kx;
+        kx = ky;
+        ky = t;
+    }
+    r->kx = kx, r->ky = ky, r->kz = kz;
+    r->sx = r->dir[kx] / r->dir[kz];
+    r->sy = r->dir[ky] / r->dir[kz];
+    r->sz = 1.0f / r->dir[kz];
+    r->tnear = tnear;
+    r->tfar = tfar;
+    return hz_isfinitef(ox) && hz_isfinitef(oy) && hz_isfinitef(oz) && hz_isfinitef(dx) && hz_isfinitef(dy) &&
+           hz_isfinitef(dz) && (dx != 0.0f || dy != 0.0f || dz != 0.0f) && tnear <= tfar && !hz_isnanf(tfar);
+}
+
+/* The watertight test of one block slot (Woop, Benthin, Wald 2013, without the double-precision fallback:
+ * shared edges are evaluated from the same two vertices in both triangles, so their signs agree exactly and a
+ * zero counts as inside for both). Returns false when the ray's line misses or the triangle is degenerate;
+ * otherwise t (not yet range-checked) and the edge weights U, V, W with det = U + V + W. */
+HZ_INLINE bool hz_bvh_tri_test(const hz_bvh_block_t *b, unsigned s, const hz_bvh_ray_t *r, float *t_out,
+                               float *u_out, float *v_out, float *w_out, float *det_out)
+{
+    const float akx = b->v[0][r->kx][s] - r->org[r->kx];
+    const float aky = b->v[0][r->ky][s] - r->org[r->ky];
+    const float akz = b->v[0][r->kz][s] - r->org[r->kz];
+    const float bkx = b->v[1][r->kx][s] - r->org[r->kx];
+    const float bky = b->v[1][r->ky][s] - r->org[r->ky];
+    const float bkz = b->v[1][r->kz][s] - r->org[r->kz];
+    const float ckx = b->v[2][r->kx][s] - r->org[r->kx];
+    const float cky = b->v[2][r->ky][s] - r->org[r->ky];
+    const float ckz = b->v[2][r->kz][s] - r->org[r->kz];
+    const float ax = akx - r->sx * akz, ay = aky - r->sy * akz;
+    const float bx = bkx - r->sx * bkz, by = bky - r->sy * bkz;
+    const float cx = ckx - r->sx * ckz, cy = cky - r->sy * ckz;
+    const float U = cx * by - cy * bx;
+    const float V = ax * cy - ay * cx;
+    const float W = bx * ay - by * ax;
+    if ((U < 0.0f || V < 0.0f || W < 0.0f) && (U > 0.0f || V > 0.0f || W > 0.0f))
+        return false;
+    const float det = U + V + W;
+    if (det == 0.0f)
+        return false;
+    const float az = r->sz * akz, bz = r->sz * bkz, cz = r->sz * ckz;
+    const float T = U * az + V * bz + W * cz;
+    *t_out = T / det;
+    *u_out = U, *v_out = V, *w_out = W, *det_out = det;
+    return true;
+}
+
+/* Candidate (t, prim) beats the best so far (best_t, best_prim): closer, or as close with a lower index. */
+HZ_INLINE bool hz_bvh_better(float t, uint32_t prim, float best_t, uint32_t best_prim)
+{
+    return t < best_t || (t == best_t && prim < best_prim);
+}
+
+/* Writes the hit of block slot `slot` for ray r into the hit fields (the scalar test recomputes the exact
+ * values every kernel compared with). */
+void hz_bvh_hit_attributes(const hz_bvh_t *bvh, uint32_t slot, const hz_bvh_ray_t *r, float *ng, float *u,
+                           float *v);
+
+/* Asks the any-hit callback about block slot `slot`; true = the hit counts. */
+bool hz_bvh_anyhit(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, uint32_t slot, const hz_bvh_ray_t *r, float t,
+                   uint32_t ray_id, int lane);
+
+/* ---- kernels ---- */
+/* Scalar reference (every board). Return the hit slot or HZ_ACCEL_INVALID_ID; r->tfar holds the hit t. */
+uint32_t hz_bvh_scalar_closest(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, hz_bvh_ray_t *r, uint32_t ray_id,
+                               int lane);
+bool hz_bvh_scalar_any(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const hz_bvh_ray_t *r, uint32_t ray_id, int lane);
+
+#if defined(HZ_SIMD_AVX2) || defined(HZ_SIMD_NEON)
+#define HZ_BVH_HAS_SIMD 1
+#if defined(HZ_SIMD_AVX2)
+typedef hz_rayhit8_t hz_bvh_rayhitw_t;
+typedef hz_ray8_t hz_bvh_rayw_t;
+#else
+typedef hz_rayhit4_t hz_bvh_rayhitw_t;
+typedef hz_ray4_t hz_bvh_rayw_t;
+#endif
+/* One ray against all children of a node at once (trav_avx2.c / trav_neon.c). Same returns as scalar. */
+uint32_t hz_bvh_simd_closest(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, hz_bvh_ray_t *r, uint32_t ray_id,
+                             int lane);
+bool hz_bvh_simd_any(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const hz_bvh_ray_t *r, uint32_t ray_id, int lane);
+/* Packets of HZ_BVH_W rays: `kernel` is HZ_ACCEL_KERNEL_SIMD_PACKET (frustum) or _SIMD_MASKED. */
+void hz_bvh_simd_intersectw(const int32_t *valid, const hz_bvh_t *bvh, hz_accel_ctx_t *ctx,
+                            hz_bvh_rayhitw_t *rh, hz_accel_kernel_t kernel);
+void hz_bvh_simd_occludedw(const int32_t *valid, const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, hz_bvh_rayw_t *r,
+                           hz_accel_kernel_t kernel);
+#endif
+
+/* ---- build (bvh_build.c) ---- */
+typedef struct hz_bvh_build_out {
+    uint32_t ref_count, spatial_splits, tri_skipped;
+    float sah_cost;
+    size_t bytes_peak; /* arena bytes in use at the build's peak (scratch + result) */
+} hz_bvh_build_out_t;
+
+/* Builds bvh (arrays allocated from `arena`, scratch released) for geometry g. */
+hz_status_t hz_bvh_build(hz_bvh_t *bvh, const hz_accel_geom_t *g, const hz_accel_config_t *cfg,
+                         hz_arena_t *arena, hz_bvh_build_out_t *out, hz_error_t *err);
+/* Recomputes triangle copies and boxes from g->pos (bvh_build.c). */
+void hz_bvh_refit(hz_bvh_t *bvh, const hz_accel_geom_t *g);
+
+/* Upper bounds on the wide nodes and blocks a build of `refs` references produces. */
+uint64_t hz_bvh_nodes_bound(uint64_t refs);
+uint64_t hz_bvh_blocks_bound(uint64_t refs);
+uint64_t hz_bvh_scratch_bound(uint64_t refs);
+
+#endif /* HZ_ACCEL_BVH_H */

@@ -1,0 +1,922 @@
+/*
+ * Native BVH build: a binary SBVH (binned SAH object splits plus spatial splits with reference unsplitting,
+ * Stich, Friedrich, Dietrich 2009) built on a reference stack in scratch memory, then collapsed into wide nodes
+ * (greedy: open the largest child until the node has HZ_BVH_W children) whose leaves are packed next-fit into
+ * triangle blocks. Scratch and result come from one arena; the result is moved down over the scratch at the end
+ * so only the structure stays. Refit lives here too: it shares the box helpers.
+ *
+ * Everything is scalar C with a fixed operation order, so a build is bit-identical on every ISA.
+ */
+#include "bvh.h"
+
+#define OBJ_BINS 32
+#define SPATIAL_BINS 32
+#define DEPTH_FORCE_MEDIAN 48 /* from here on, halve by index: 2^27 refs need 27 more levels < MAX_DEPTH */
+#define COST_NODE 1.0f        /* SAH: cost of a binary node relative to one ray/triangle test */
+#define COST_TRI 1.0f
+
+typedef struct box {
+    float lo[3], hi[3];
+} box_t;
+
+typedef struct ref {
+    box_t b;
+    uint32_t prim;
+    uint32_t pad;
+} ref_t;
+
+/* Binary node in scratch: inner: a = left, n = right; leaf: a = first leaf_prims index, n = LEAF | count. */
+typedef struct bnode {
+    box_t b;
+    uint32_t a, n;
+} bnode_t;
+
+#define BLEAF 0x80000000u
+
+typedef struct obj_bin {
+    box_t b;
+    uint32_t n;
+} obj_bin_t;
+
+typedef struct sp_bin {
+    box_t b;
+    uint32_t enter, exit;
+} sp_bin_t;
+
+typedef struct build {
+    const hz_accel_geom_t *g;
+    ref_t *refs;
+    uint32_t ref_cap, top;
+    bnode_t *nodes;
+    uint32_t node_cap, node_count;
+    uint32_t *leaf_prims;
+    uint32_t leaf_cap, leaf_count;
+    uint32_t dup_left; /* duplicates the budget still allows */
+    uint32_t leaf_max;
+    bool spatial;
+    float min_overlap; /* alpha * root area */
+    uint32_t spatial_splits;
+    obj_bin_t obins[3][OBJ_BINS];
+    sp_bin_t sbins[3][SPATIAL_BINS];
+    box_t rbox[OBJ_BINS > SPATIAL_BINS ? OBJ_BINS : SPATIAL_BINS]; /* sweep: union of bins right of i */
+    bool failed;
+} build_t;
+
+/* ---- boxes: written out per axis (no loops, no arrays indexed by a variable) so the compiler keeps boxes of
+ * the hot loops in registers; struct copies of boxes just built from scalar stores stall on store forwarding. */
+HZ_INLINE void box_empty(box_t *b)
+{
+    const float inf = __builtin_inff();
+    b->lo[0] = inf, b->lo[1] = inf, b->lo[2] = inf;
+    b->hi[0] = -inf, b->hi[1] = -inf, b->hi[2] = -inf;
+}
+
+HZ_INLINE void box_grow_pt(box_t *b, float x, float y, float z)
+{
+    b->lo[0] = hz_minf(b->lo[0], x), b->hi[0] = hz_maxf(b->hi[0], x);
+    b->lo[1] = hz_minf(b->lo[1], y), b->hi[1] = hz_maxf(b->hi[1], y);
+    b->lo[2] = hz_minf(b->lo[2], z), b->hi[2] = hz_maxf(b->hi[2], z);
+}
+
+HZ_INLINE void box_grow(box_t *b, const box_t *o)
+{
+    b->lo[0] = hz_minf(b->lo[0], o->lo[0]), b->hi[0] = hz_maxf(b->hi[0], o->hi[0]);
+    b->lo[1] = hz_minf(b->lo[1], o->lo[1]), b->hi[1] = hz_maxf(b->hi[1], o->hi[1]);
+    b->lo[2] = hz_minf(b->lo[2], o->lo[2]), b->hi[2] = hz_maxf(b->hi[2], o->hi[2]);
+}
+
+HZ_INLINE bool box_valid(const box_t *b)
+{
+    return b->lo[0] <= b->hi[0] && b->lo[1] <= b->hi[1] && b->lo[2] <= b->hi[2];
+}
+
+HZ_INLINE float box_area(const box_t *b)
+{
+    if (!box_valid(b))
+        return 0.0f;
+    float dx = b->hi[0] - b->lo[0], dy = b->hi[1] - b->lo[1], dz = b->hi[2] - b->lo[2];
+    return 2.0f * (dx * dy + dy * dz + dz * dx);
+}
+
+/* a = a intersected with b */
+HZ_INLINE void box_clip(box_t *a, const box_t *b)
+{
+    a->lo[0] = hz_maxf(a->lo[0], b->lo[0]), a->hi[0] = hz_minf(a->hi[0], b->hi[0]);
+    a->lo[1] = hz_maxf(a->lo[1], b->lo[1]), a->hi[1] = hz_minf(a->hi[1], b->hi[1]);
+    a->lo[2] = hz_maxf(a->lo[2], b->lo[2]), a->hi[2] = hz_minf(a->hi[2], b->hi[2]);
+}
+
+HZ_INLINE box_t box_and(const box_t *a, const box_t *b)
+{
+    box_t r = *a;
+    box_clip(&r, b);
+    return r;
+}
+
+static const float *vtx(const hz_accel_geom_t *g, uint32_t i)
+{
+    return g->pos + 4u * (size_t)i;
+}
+
+static bool tri_box(const hz_accel_geom_t *g, uint32_t t, box_t *b)
+{
+    box_empty(b);
+    for (int k = 0; k < 3; k++) {
+        const float *p = vtx(g, g->tri[3u * (size_t)t + (uint32_t)k]);
+        if (!hz_isfinitef(p[0]) || !hz_isfinitef(p[1]) || !hz_isfinitef(p[2]))
+            return false;
+        box_grow_pt(b, p[0], p[1], p[2]);
+    }
+    return true;
+}
+
+/* ---- spatial split of one reference: the triangle clipped to each side of `pos` on `axis`, conservatively
+ * (intersection points may round inwards: the other axes are padded by a few ulps of the coordinates), then
+ * cut to the reference's box. ---- */
+static void split_ref(const build_t *bd, const ref_t *r, int axis, float pos, ref_t *l, ref_t *rr)
+{
+    box_t lb, rb;
+    box_empty(&lb);
+    box_empty(&rb);
+    const uint32_t *t = bd->g->tri + 3u * (size_t)r->prim;
+    const float *v[3] = { vtx(bd->g, t[0]), vtx(bd->g, t[1]), vtx(bd->g, t[2]) };
+    for (int i = 0; i < 3; i++) {
+        const float *a = v[i], *b = v[i == 2 ? 0 : i + 1];
+        float pa = a[axis], pb = b[axis];
+        if (pa <= pos)
+            box_grow_pt(&lb, a[0], a[1], a[2]);
+        if (pa >= pos)
+            box_grow_pt(&rb, a[0], a[1], a[2]);
+        if ((pa < pos && pos < pb) || (pb < pos && pos < pa)) {
+            float s = (pos - pa) / (pb - pa);
+            s = hz_clampf(s, 0.0f, 1.0f);
+            float x[3];
+            for (int k = 0; k < 3; k++)
+                x[k] = a[k] + (b[k] - a[k]) * s;
+            x[axis] = pos;
+            box_grow_pt(&lb, x[0], x[1], x[2]);
+            box_grow_pt(&rb, x[0], x[1], x[2]);
+        }
+    }
+    for (int k = 0; k < 3; k++) {
+        if (k == axis)
+            continue;
+        float pad = (hz_absf(r->b.lo[k]) + hz_absf(r->b.hi[k])) * (1.0f / 1048576.0f); /* 2^-20 */
+        lb.lo[k] -= pad, lb.hi[k] += pad;
+        rb.lo[k] -= pad, rb.hi[k] += pad;
+    }
+    lb.hi[axis] = pos;
+    rb.lo[axis] = pos;
+    l->b = box_and(&lb, &r->b);
+    rr->b = box_and(&rb, &r->b);
+    l->prim = rr->prim = r->prim;
+    l->pad = rr->pad = 0;
+}
+
+HZ_INLINE float spatial_pos(const box_t *nb, int k, int i);
+
+/* Bins one reference for the spatial split search on `axis`: the triangle's part inside each bin [b0, b1]
+ * (clipped like split_ref, but walking the planes once: the triangle's cross-section at a plane is a segment
+ * whose ends lie on edge lo-hi and on lo-mid or mid-hi of its vertices sorted along the axis). */
+static void cross_section(const float *v[3], int axis, float x, box_t *b)
+{
+    const float *lo = v[0], *mid = v[1], *hi = v[2];
+    if (!(lo[axis] < x && x < hi[axis]))
+        return;
+    const float *e0 = x < mid[axis] ? lo : mid, *e1 = x < mid[axis] ? mid : hi;
+    float s = (x - lo[axis]) / (hi[axis] - lo[axis]);
+    float t = e1[axis] > e0[axis] ? (x - e0[axis]) / (e1[axis] - e0[axis]) : 0.0f;
+    float p[3], q[3];
+    for (int k = 0; k < 3; k++) {
+        p[k] = lo[k] + (hi[k] - lo[k]) * hz_clampf(s, 0.0f, 1.0f);
+        q[k] = e0[k] + (e1[k] - e0[k]) * hz_clampf(t, 0.0f, 1.0f);
+    }
+    p[axis] = q[axis] = x;
+    box_grow_pt(b, p[0], p[1], p[2]);
+    box_grow_pt(b, q[0], q[1], q[2]);
+}
+
+static void chop_into_bins(const build_t *bd, const ref_t *r, int axis, const box_t *nb, int b0, int b1,
+                           sp_bin_t *bins)
+{
+    if (b0 == b1) {
+        box_grow(&bins[b0].b, &r->b);
+        return;
+    }
+    const uint32_t *t = bd->g->tri + 3u * (size_t)r->prim;
+    const float *v[3] = { vtx(bd->g, t[0]), vtx(bd->g, t[1]), vtx(bd->g, t[2]) };
+    if (v[0][axis] > v[1][axis]) { /* sort the three vertices along the axis */
+        const float *x = v[0];
+        v[0] = v[1], v[1] = x;
+    }
+    if (v[1][axis] > v[2][axis]) {
+        const float *x = v[1];
+        v[1] = v[2], v[2] = x;
+    }
+    if (v[0][axis] > v[1][axis]) {
+        const float *x = v[0];
+        v[0] = v[1], v[1] = x;
+    }
+    const float px = axis == 0 ? 0.0f : (hz_absf(r->b.lo[0]) + hz_absf(r->b.hi[0])) * (1.0f / 1048576.0f);
+    const float py = axis == 1 ? 0.0f : (hz_absf(r->b.lo[1]) + hz_absf(r->b.hi[1])) * (1.0f / 1048576.0f);
+    const float pz = axis == 2 ? 0.0f : (hz_absf(r->b.lo[2]) + hz_absf(r->b.hi[2])) * (1.0f / 1048576.0f);
+    box_t cut; /* cross-section at the piece's lower plane */
+    box_empty(&cut);
+    for (int j = b0; j <= b1; j++) {
+        const float x0 = j == b0 ? -__builtin_inff() : spatial_pos(nb, axis, j);
+        const float x1 = j == b1 ? __builtin_inff() : spatial_pos(nb, axis, j + 1);
+        box_t piece = cut;
+        box_empty(&cut);
+        if (j < b1)
+            cross_section(v, axis, x1, &cut);
+        box_grow(&piece, &cut);
+        for (int q = 0; q < 3; q++)
+            if (v[q][axis] >= x0 && v[q][axis] <= x1)
+                box_grow_pt(&piece, v[q][0], v[q][1], v[q][2]);
+        piece.lo[0] -= px, piece.hi[0] += px;
+        piece.lo[1] -= py, piece.hi[1] += py;
+        piece.lo[2] -= pz, piece.hi[2] += pz;
+        if (j > b0)
+            piece.lo[axis] = hz_maxf(piece.lo[axis], x0);
+        if (j < b1)
+            piece.hi[axis] = hz_minf(piece.hi[axis], x1);
+        box_clip(&piece, &r->b);
+        if (box_valid(&piece))
+            box_grow(&bins[j].b, &piece);
+    }
+}
+
+/* ---- split search ---- */
+typedef struct split {
+    float cost; /* SAH of the children, area-weighted (sum of area * count) */
+    int axis;
+    int bin;    /* object: last bin on the left; spatial: last bin on the left */
+    float pos;  /* spatial: plane */
+    box_t lb, rb;
+    uint32_t nl, nr;
+} split_t;
+
+static float centroid(const ref_t *r, int k)
+{
+    return (r->b.lo[k] + r->b.hi[k]) * 0.5f;
+}
+
+static int obj_bin_of(float c, float lo, float scale)
+{
+    int i = (int)((c - lo) * scale);
+    return i < 0 ? 0 : (i >= OBJ_BINS ? OBJ_BINS - 1 : i);
+}
+
+static void find_object_split(build_t *bd, uint32_t base, uint32_t n, const box_t *cb, split_t *best)
+{
+    best->cost = FLT_MAX;
+    best->axis = -1;
+    for (int k = 0; k < 3; k++) {
+        float ext = cb->hi[k] - cb->lo[k];
+        if (!(ext > 0.0f))
+            continue;
+        obj_bin_t *bins = bd->obins[k];
+        for (int i = 0; i < OBJ_BINS; i++) {
+            box_empty(&bins[i].b);
+            bins[i].n = 0;
+        }
+        float scale = (float)OBJ_BINS * 0.99999f / ext;
+        for (uint32_t i = base; i < base + n; i++) {
+            int bi = obj_bin_of(centroid(&bd->refs[i], k), cb->lo[k], scale);
+            box_grow(&bins[bi].b, &bd->refs[i].b);
+            bins[bi].n++;
+        }
+        box_t acc;
+        box_empty(&acc);
+        for (int i = OBJ_BINS - 1; i > 0; i--) {
+            box_grow(&acc, &bins[i].b);
+            bd->rbox[i] = acc;
+        }
+        box_t lacc;
+        box_empty(&lacc);
+        uint32_t nl = 0;
+        for (int i = 0; i < OBJ_BINS - 1; i++) {
+            box_grow(&lacc, &bins[i].b);
+            nl += bins[i].n;
+            uint32_t nr = n - nl;
+            if (nl == 0 || nr == 0)
+                continue;
+            float c = box_area(&lacc) * (float)nl + box_area(&bd->rbox[i + 1]) * (float)nr;
+            if (c < best->cost) {
+                best->cost = c;
+                best->axis = k;
+                best->bin = i;
+                best->lb = lacc;
+                best->rb = bd->rbox[i + 1];
+                best->nl = nl;
+                best->nr = nr;
+            }
+        }
+    }
+}
+
+HZ_INLINE float spatial_pos(const box_t *nb, int k, int i)
+{
+    float ext = nb->hi[k] - nb->lo[k];
+    return nb->lo[k] + ext * ((float)i / (float)SPATIAL_BINS);
+}
+
+static int spatial_bin_of(float x, const box_t *nb, int k)
+{
+    float ext = nb->hi[k] - nb->lo[k];
+    int i = (int)((x - nb->lo[k]) * ((float)SPATIAL_BINS / ext));
+    i = i < 0 ? 0 : (i >= SPATIAL_BINS ? SPATIAL_BINS - 1 : i);
+    /* The float bin index may disagree with the plane positions by one: settle it against the planes. */
+    while (i > 0 && x < spatial_pos(nb, k, i))
+        i--;
+    while (i < SPATIAL_BINS - 1 && x >= spatial_pos(nb, k, i + 1))
+        i++;
+    return i;
+}
+
+static void find_spatial_split(build_t *bd, uint32_t base, uint32_t n, const box_t *nb, split_t *best)
+{
+    best->cost = FLT_MAX;
+    best->axis = -1;
+    for (int k = 0; k < 3; k++) {
+        float ext = nb->hi[k] - nb->lo[k];
+        if (!(ext > 0.0f))
+            continue;
+        sp_bin_t *bins = bd->sbins[k];
+        for (int i = 0; i < SPATIAL_BINS; i++) {
+            box_empty(&bins[i].b);
+            bins[i].enter = bins[i].exit = 0;
+        }
+        for (uint32_t i = base; i < base + n; i++) {
+            const ref_t cur = bd->refs[i];
+            int b0 = spatial_bin_of(cur.b.lo[k], nb, k);
+            int b1 = spatial_bin_of(cur.b.hi[k], nb, k);
+            if (b1 < b0)
+                b1 = b0;
+            chop_into_bins(bd, &cur, k, nb, b0, b1, bins);
+            bins[b0].enter++;
+            bins[b1].exit++;
+        }
+        box_t acc;
+        box_empty(&acc);
+        for (int i = SPATIAL_BINS - 1; i > 0; i--) {
+            box_grow(&acc, &bins[i].b);
+            bd->rbox[i] = acc;
+        }
+        box_t lacc;
+        box_empty(&lacc);
+        uint32_t nl = 0, nr = n;
+        for (int i = 0; i < SPATIAL_BINS - 1; i++) {
+            box_grow(&lacc, &bins[i].b);
+            nl += bins[i].enter;
+            nr -= bins[i].exit;
+            if (nl == 0 || nr == 0)
+                continue;
+            float c = box_area(&lacc) * (float)nl + box_area(&bd->rbox[i + 1]) * (float)nr;
+            if (c < best->cost) {
+                best->cost = c;
+                best->axis = k;
+                best->bin = i;
+                best->pos = spatial_pos(nb, k, i + 1);
+                best->lb = lacc;
+                best->rb = bd->rbox[i + 1];
+                best->nl = nl;
+                best->nr = nr;
+            }
+        }
+    }
+}
+
+/* ---- partitions: left refs end up below right refs; returns the left count ---- */
+static void swap_ref(ref_t *a, ref_t *b)
+{
+    ref_t t = *a;
+    *a = *b;
+    *b = t;
+}
+
+static uint32_t partition_object(build_t *bd, uint32_t base, uint32_t n, const box_t *cb, const split_t *s)
+{
+    float ext = cb->hi[s->axis] - cb->lo[s->axis];
+    float scale = (float)OBJ_BINS * 0.99999f / ext;
+    uint32_t i = base, j = base + n;
+    while (i < j) {
+        if (obj_bin_of(centroid(&bd->refs[i], s->axis), cb->lo[s->axis], scale) <= s->bin)
+            i++;
+        else
+            swap_ref(&bd->refs[i], &bd->refs[--j]);
+    }
+    return i - base;
+}
+
+/* Spatial partition with reference unsplitting (Stich et al. section 4.5): straddling references go whole to
+ * one side when that is cheaper than duplicating them, and always once the duplicate budget is spent. The
+ * right pieces of duplicated references are pushed on top of the stack. Returns the left count; the right
+ * child's references are [base + left, top). */
+static uint32_t partition_spatial(build_t *bd, uint32_t base, uint32_t n, const split_t *s, box_t *lbox,
+                                  box_t *rbox)
+{
+    const int k = s->axis;
+    uint32_t lend = base, rstart = base + n;
+    box_t lb, rb;
+    box_empty(&lb);
+    box_empty(&rb);
+    for (uint32_t i = base; i < rstart;) {
+        ref_t *r = &bd->refs[i];
+        if (r->b.hi[k] <= s->pos) {
+            box_grow(&lb, &r->b);
+            swap_ref(r, &bd->refs[lend++]);
+            i++;
+        } else if (r->b.lo[k] >= s->pos) {
+            box_grow(&rb, &r->b);
+            swap_ref(r, &bd->refs[--rstart]);
+        } else {
+            i++;
+        }
+    }
+    /* [lend, rstart) straddle the plane */
+    while (lend < rstart) {
+        ref_t *r = &bd->refs[lend];
+        uint32_t nl = lend - base, nr = bd->top - rstart;
+        box_t lub = lb, rub = rb;
+        box_grow(&lub, &r->b);
+        box_grow(&rub, &r->b);
+        float c_left = box_area(&lub) * (float)(nl + 1) + box_area(&rb) * (float)nr;
+        float c_right = box_area(&lb) * (float)nl + box_area(&rub) * (float)(nr + 1);
+        ref_t lr, rr;
+        float c_dup = FLT_MAX;
+        box_t ldb = lb, rdb = rb;
+        if (bd->dup_left > 0 && bd->top < bd->ref_cap) {
+            split_ref(bd, r, k, s->pos, &lr, &rr);
+            if (box_valid(&lr.b) && box_valid(&rr.b)) {
+                ldb = lb, rdb = rb;
+                box_grow(&ldb, &lr.b);
+                box_grow(&rdb, &rr.b);
+                c_dup = box_area(&ldb) * (float)(nl + 1) + box_area(&rdb) * (float)(nr + 1);
+            }
+        }
+        if (c_dup < c_left && c_dup < c_right) {
+            *r = lr;
+            bd->refs[bd->top++] = rr;
+            bd->dup_left--;
+            lb = ldb, rb = rdb;
+            lend++;
+        } else if (c_left <= c_right) {
+            lb = lub;
+            lend++;
+        } else {
+            rb = rub;
+            swap_ref(r, &bd->refs[--rstart]);
+        }
+    }
+    *lbox = lb;
+    *rbox = rb;
+    return lend - base;
+}
+
+static void bounds_of(const build_t *bd, uint32_t base, uint32_t n, box_t *b, box_t *cb)
+{
+    box_empty(b);
+    box_empty(cb);
+    for (uint32_t i = base; i < base + n; i++) {
+        const ref_t *r = &bd->refs[i];
+        box_grow(b, &r->b);
+        box_grow_pt(cb, centroid(r, 0), centroid(r, 1), centroid(r, 2));
+    }
+}
+
+static uint32_t new_node(build_t *bd)
+{
+    if (bd->node_count >= bd->node_cap) {
+        bd->failed = true;
+        return 0;
+    }
+    return bd->node_count++;
+}
+
+static float make_leaf(build_t *bd, uint32_t idx, uint32_t n, float area)
+{
+    bnode_t *nd = &bd->nodes[idx];
+    uint32_t base = bd->top - n;
+    if (bd->leaf_count + n > bd->leaf_cap) {
+        bd->failed = true;
+        return 0.0f;
+    }
+    nd->a = bd->leaf_count;
+    nd->n = BLEAF | n;
+    for (uint32_t i = 0; i < n; i++)
+        bd->leaf_prims[bd->leaf_count++] = bd->refs[base + i].prim;
+    bd->top = base;
+    return COST_TRI * (float)n * area;
+}
+
+/* Builds the node for the n references on top of the stack (bounds b); pops them. Returns the SAH cost
+ * (unnormalised: area-weighted). */
+static float build_node(build_t *bd, uint32_t idx, uint32_t n, const box_t *b, uint32_t depth)
+{
+    bnode_t *nd = &bd->nodes[idx];
+    nd->b = *b;
+    const float area = box_area(b);
+    const uint32_t base = bd->top - n;
+    if (bd->failed)
+        return 0.0f;
+    if (n <= 1 || (n <= bd->leaf_max && depth + 1 >= HZ_BVH_MAX_DEPTH))
+        return make_leaf(bd, idx, n, area);
+
+    box_t nb, cb;
+    bounds_of(bd, base, n, &nb, &cb);
+    split_t os, ss;
+    hz_memset(&os, 0, sizeof os);
+    hz_memset(&ss, 0, sizeof ss);
+    ss.cost = FLT_MAX;
+    ss.axis = -1;
+    bool median = depth >= DEPTH_FORCE_MEDIAN;
+    if (!median) {
+        find_object_split(bd, base, n, &cb, &os);
+        if (bd->spatial && bd->dup_left > 0) {
+            box_t ov = box_and(&os.lb, &os.rb);
+            if (os.axis < 0 || box_area(&ov) > bd->min_overlap)
+                find_spatial_split(bd, base, n, b, &ss);
+        }
+    } else {
+        os.axis = -1;
+        os.cost = FLT_MAX;
+    }
+    float best = hz_minf(os.cost, ss.cost);
+    float leaf_cost = COST_TRI * (float)n * area;
+    float split_cost = COST_NODE * area + COST_TRI * best;
+    if (n <= bd->leaf_max && (leaf_cost <= split_cost || best == FLT_MAX))
+        return make_leaf(bd, idx, n, area);
+
+    uint32_t nl;
+    box_t lb, rb;
+    if (ss.axis >= 0 && ss.cost < os.cost) {
+        nl = partition_spatial(bd, base, n, &ss, &lb, &rb);
+        if (nl == 0 || nl == bd->top - base) {
+            median = true; /* unsplitting emptied a side (possible only without duplicates) */
+        } else {
+            bd->spatial_splits++;
+        }
+    } else if (os.axis >= 0) {
+        nl = partition_object(bd, base, n, &cb, &os);
+        if (nl == 0 || nl == n) {
+            median = true;
+        } else {
+            lb = os.lb;
+            rb = os.rb;
+        }
+    } else {
+        median = true;
+    }
+    if (median) {
+        /* No usable split (coincident centroids, or too deep): halve by index. */
+        nl = (bd->top - base) / 2;
+        box_t dummy;
+        bounds_of(bd, base, nl, &lb, &dummy);
+        bounds_of(bd, base + nl, bd->top - base - nl, &rb, &dummy);
+    }
+    uint32_t nr = bd->top - base - nl;
+    uint32_t li = new_node(bd), ri = new_node(bd);
+    if (bd->failed)
+        return 0.0f;
+    nd = &bd->nodes[idx];
+    nd->a = li;
+    nd->n = ri;
+    /* Right references are on top: build them first, which pops them. */
+    float c = COST_NODE * area;
+    c += build_node(bd, ri, nr, &rb, depth + 1);
+    c += build_node(bd, li, nl, &lb, depth + 1);
+    return c;
+}
+
+/* ---- collapse into wide nodes ---- */
+typedef struct collapse {
+    const build_t *bd;
+    const hz_accel_geom_t *g;
+    hz_bvh_node_t *nodes; /* NULL in the counting pass */
+    hz_bvh_block_t *blocks;
+    uint32_t node_count, block_count, fill, leaf_count;
+    uint32_t depth;
+} collapse_t;
+
+static void fill_block_slot(hz_bvh_block_t *bl, uint32_t s, const hz_accel_geom_t *g, uint32_t prim)
+{
+    const uint32_t *t = g->tri + 3u * (size_t)prim;
+    bool ok = true;
+    for (int v = 0; v < 3; v++) {
+        const float *p = vtx(g, t[v]);
+        for (int k = 0; k < 3; k++) {
+            bl->v[v][k][s] = p[k];
+            ok = ok && hz_isfinitef(p[k]);
+        }
+    }
+    if (!ok) /* moved to a non-finite place by the caller: the triangle disappears (degenerate) */
+        for (int v = 0; v < 3; v++)
+            for (int k = 0; k < 3; k++)
+                bl->v[v][k][s] = 0.0f;
+    uint32_t w = prim;
+    if (g->tri_flags && (g->tri_flags[prim] & HZ_ACCEL_TRI_ANYHIT))
+        w |= HZ_BVH_PRIM_ANYHIT;
+    bl->prim[s] = w;
+}
+
+static void clear_block(hz_bvh_block_t *bl)
+{
+    hz_memset(bl, 0, sizeof *bl);
+    for (int s = 0; s < HZ_BVH_W; s++)
+        bl->prim[s] = HZ_BVH_PRIM_PAD;
+}
+
+static uint32_t place_leaf(collapse_t *c, const bnode_t *leaf)
+{
+    uint32_t n = leaf->n & ~BLEAF;
+    if (c->block_count == 0 || c->fill + n > HZ_BVH_W) {
+        if (c->blocks)
+            clear_block(&c->blocks[c->block_count]);
+        c->block_count++;
+        c->fill = 0;
+    }
+    uint32_t b = c->block_count - 1, s0 = c->fill;
+    if (c->blocks)
+        for (uint32_t i = 0; i < n; i++)
+            fill_block_slot(&c->blocks[b], s0 + i, c->g, c->bd->leaf_prims[leaf->a + i]);
+    c->fill += n;
+    c->leaf_count++;
+    return hz_bvh_make_leaf(b * HZ_BVH_W + s0, n);
+}
+
+static void set_child_box(hz_bvh_node_t *w, int i, const box_t *b)
+{
+    w->lo_x[i] = b->lo[0], w->hi_x[i] = b->hi[0];
+    w->lo_y[i] = b->lo[1], w->hi_y[i] = b->hi[1];
+    w->lo_z[i] = b->lo[2], w->hi_z[i] = b->hi[2];
+}
+
+static uint32_t collapse_node(collapse_t *c, uint32_t bi, uint32_t depth)
+{
+    const bnode_t *bn = c->bd->nodes;
+    uint32_t wi = c->node_count++;
+    if (depth + 1 > c->depth)
+        c->depth = depth + 1;
+    uint32_t kids[HZ_BVH_W];
+    int nk = 0;
+    if (bn[bi].n & BLEAF) {
+        kids[nk++] = bi;
+    } else {
+        kids[nk++] = bn[bi].a;
+        kids[nk++] = bn[bi].n;
+    }
+    while (nk < HZ_BVH_W) {
+        int pick = -1;
+        float best = -1.0f;
+        for (int i = 0; i < nk; i++) {
+            if (bn[kids[i]].n & BLEAF)
+                continue;
+            float a = box_area(&bn[kids[i]].b);
+            if (a > best) {
+                best = a;
+                pick = i;
+            }
+        }
+        if (pick < 0)
+            break;
+        uint32_t open = kids[pick];
+        kids[pick] = bn[open].a;
+        kids[nk++] = bn[open].n;
+    }
+    uint32_t words[HZ_BVH_W];
+    for (int i = 0; i < nk; i++) /* leaves first, so a node's leaves sit side by side in the blocks */
+        if (bn[kids[i]].n & BLEAF)
+            words[i] = place_leaf(c, &bn[kids[i]]);
+    for (int i = 0; i < nk; i++)
+        if (!(bn[kids[i]].n & BLEAF))
+            words[i] = collapse_node(c, kids[i], depth + 1);
+    if (c->nodes) {
+        hz_bvh_node_t *w = &c->nodes[wi];
+        box_t e;
+        box_empty(&e);
+        for (int i = 0; i < HZ_BVH_W; i++) {
+            set_child_box(w, i, i < nk ? &bn[kids[i]].b : &e);
+            w->child[i] = i < nk ? words[i] : HZ_BVH_EMPTY;
+            w->pad[i] = 0;
+        }
+    }
+    return wi;
+}
+
+/* ---- bounds ---- */
+static uint64_t refs_bound(uint32_t tri_count, const hz_accel_config_t *cfg)
+{
+    uint64_t n = tri_count ? tri_count : 1;
+    if (cfg->spatial_splits && cfg->split_budget > 0.0f) {
+        float b = cfg->split_budget > 1.0f ? 1.0f : cfg->split_budget;
+        n += (uint64_t)((float)tri_count * b);
+    }
+    return n;
+}
+
+uint64_t hz_bvh_blocks_bound(uint64_t refs)
+{
+    /* next-fit: two consecutive blocks hold more than W slots together */
+    return 2u * refs / HZ_BVH_W + 1u;
+}
+
+uint64_t hz_bvh_nodes_bound(uint64_t refs)
+{
+    /* With L <= refs leaves: a node with fewer than W children has only leaf children (and >= 2 of them but
+     * for a leaf root), so full nodes <= (L - 1) / (W - 1) and the others <= (L + 1) / 2. */
+    return refs / (HZ_BVH_W - 1) + (refs + 1) / 2 + 2;
+}
+
+uint64_t hz_bvh_scratch_bound(uint64_t refs)
+{
+    return refs * sizeof(ref_t) + 2u * refs * sizeof(bnode_t) + refs * sizeof(uint32_t) + sizeof(build_t) + 4u * 64u;
+}
+
+static size_t sat_size(uint64_t x)
+{
+    return x > (uint64_t)SIZE_MAX ? SIZE_MAX : (size_t)x;
+}
+
+hz_accel_bytes_t hz_accel_bytes_bound(uint32_t tri_count, const hz_accel_config_t *cfg)
+{
+    hz_accel_config_t d;
+    if (!cfg) {
+        hz_accel_config_default(&d);
+        cfg = &d;
+    }
+    uint64_t r = refs_bound(tri_count, cfg);
+    uint64_t kept = sizeof(hz_accel_t) + sizeof(hz_bvh_t) + hz_bvh_nodes_bound(r) * sizeof(hz_bvh_node_t) +
+                    hz_bvh_blocks_bound(r) * sizeof(hz_bvh_block_t) + 4u * 64u;
+    hz_accel_bytes_t out;
+    out.kept = sat_size(kept);
+    out.peak = sat_size(kept + hz_bvh_scratch_bound(r));
+    return out;
+}
+
+/* ---- the build ---- */
+hz_status_t hz_bvh_build(hz_bvh_t *bvh, const hz_accel_geom_t *g, const hz_accel_config_t *cfg,
+                         hz_arena_t *arena, hz_bvh_build_out_t *out, hz_error_t *err)
+{
+    const hz_arena_mark_t m0 = hz_arena_mark(arena);
+    const uint64_t rb = refs_bound(g->tri_count, cfg);
+    build_t *bd = hz_arena_alloc(arena, sizeof(build_t), 64);
+    ref_t *refs = hz_arena_alloc_array(arena, (size_t)rb, sizeof(ref_t), 64);
+    bnode_t *nodes = hz_arena_alloc_array(arena, (size_t)(2u * rb), sizeof(bnode_t), 64);
+    uint32_t *leaf_prims = hz_arena_alloc_array(arena, (size_t)rb, sizeof(uint32_t), 64);
+    if (!bd || !refs || !nodes || !leaf_prims) {
+        hz_arena_error(arena, err);
+        hz_error_prefix(err, "accel build scratch");
+        hz_arena_reset(arena, m0);
+        return HZ_E_NO_MEMORY;
+    }
+    hz_memset(bd, 0, sizeof *bd);
+    bd->g = g;
+    bd->refs = refs;
+    bd->ref_cap = (uint32_t)rb;
+    bd->nodes = nodes;
+    bd->node_cap = (uint32_t)(2u * rb);
+    bd->leaf_prims = leaf_prims;
+    bd->leaf_cap = (uint32_t)rb;
+    bd->leaf_max = cfg->leaf_max < 1 ? 1 : (cfg->leaf_max > HZ_BVH_W ? HZ_BVH_W : cfg->leaf_max);
+    bd->spatial = cfg->spatial_splits;
+    bd->dup_left = (uint32_t)(rb - g->tri_count);
+
+    box_t root;
+    box_empty(&root);
+    uint32_t skipped = 0;
+    for (uint32_t t = 0; t < g->tri_count; t++) {
+        box_t b;
+        if (!tri_box(g, t, &b)) {
+            skipped++;
+            continue;
+        }
+        ref_t *r = &refs[bd->top++];
+        r->b = b;
+        r->prim = t;
+        r->pad = 0;
+        box_grow(&root, &b);
+    }
+    float alpha = cfg->split_alpha > 0.0f ? cfg->split_alpha : 0.0f;
+    bd->min_overlap = alpha * box_area(&root);
+    float sah = 0.0f;
+    uint32_t root_idx = new_node(bd);
+    if (bd->top == 0) {
+        /* nothing to hit: one empty leaf */
+        nodes[0].b = root;
+        nodes[0].a = 0;
+        nodes[0].n = BLEAF | 0u;
+    } else {
+        sah = build_node(bd, root_idx, bd->top, &root, 0);
+    }
+    if (bd->failed) {
+        hz_arena_reset(arena, m0);
+        return hz_error_set(err, HZ_E_INTERNAL, "accel build: scratch capacity exceeded (a bug: the bounds "
+                                                "must hold)");
+    }
+
+    /* Counting pass, then the real one into arrays above the scratch. */
+    collapse_t c;
+    hz_memset(&c, 0, sizeof c);
+    c.bd = bd;
+    c.g = g;
+    bool empty = (nodes[0].n & BLEAF) && (nodes[0].n & ~BLEAF) == 0;
+    uint32_t wn = 1, wb = 0;
+    if (!empty) {
+        collapse_node(&c, 0, 0);
+        wn = c.node_count;
+        wb = c.block_count;
+    }
+    hz_bvh_node_t *wnodes = hz_arena_alloc_array(arena, wn, sizeof(hz_bvh_node_t), 64);
+    hz_bvh_block_t *wblocks = wb ? hz_arena_alloc_array(arena, wb, sizeof(hz_bvh_block_t), 64) : 0;
+    out->bytes_peak = hz_arena_mark(arena) - m0;
+    if (!wnodes || (wb && !wblocks)) {
+        hz_arena_error(arena, err);
+        hz_error_prefix(err, "accel build");
+        hz_arena_reset(arena, m0);
+        return HZ_E_NO_MEMORY;
+    }
+    hz_memset(&c, 0, sizeof c);
+    c.bd = bd;
+    c.g = g;
+    c.nodes = wnodes;
+    c.blocks = wblocks;
+    if (empty) {
+        box_t e;
+        box_empty(&e);
+        for (int i = 0; i < HZ_BVH_W; i++) {
+            set_child_box(&wnodes[0], i, &e);
+            wnodes[0].child[i] = HZ_BVH_EMPTY;
+            wnodes[0].pad[i] = 0;
+        }
+        c.node_count = 1;
+        c.depth = 1;
+    } else {
+        collapse_node(&c, 0, 0);
+    }
+    out->ref_count = bd->leaf_count;
+    out->spatial_splits = bd->spatial_splits;
+    out->tri_skipped = skipped;
+    float ra = box_area(&root);
+    out->sah_cost = ra > 0.0f ? sah / ra : 0.0f;
+
+    /* Move the result down over the scratch (memmove: the regions may overlap) and release the rest. */
+    size_t node_bytes = (size_t)wn * sizeof(hz_bvh_node_t);
+    size_t block_bytes = (size_t)wb * sizeof(hz_bvh_block_t);
+    uint8_t *dst = (uint8_t *)hz_align_up((size_t)(arena->base + m0), 64);
+    hz_memmove(dst, wnodes, node_bytes);
+    hz_memmove(dst + node_bytes, wblocks ? (const void *)wblocks : (const void *)dst, block_bytes);
+    size_t end = (size_t)(dst + node_bytes + block_bytes - arena->base);
+    hz_arena_reset(arena, end);
+    bvh->nodes = (hz_bvh_node_t *)(void *)dst;
+    bvh->blocks = wb ? (hz_bvh_block_t *)(void *)(dst + node_bytes) : 0;
+    bvh->node_count = wn;
+    bvh->block_count = wb;
+    bvh->leaf_count = c.leaf_count;
+    bvh->depth = c.depth;
+    bvh->has_anyhit = false;
+    if (g->tri_flags)
+        for (uint32_t t = 0; t < g->tri_count && !bvh->has_anyhit; t++)
+            bvh->has_anyhit = (g->tri_flags[t] & HZ_ACCEL_TRI_ANYHIT) != 0;
+    return HZ_OK;
+}
+
+/* ---- refit ---- */
+void hz_bvh_refit(hz_bvh_t *bvh, const hz_accel_geom_t *g)
+{
+    for (uint32_t b = 0; b < bvh->block_count; b++) {
+        hz_bvh_block_t *bl = &bvh->blocks[b];
+        for (uint32_t s = 0; s < HZ_BVH_W; s++)
+            if (bl->prim[s] != HZ_BVH_PRIM_PAD)
+                fill_block_slot(bl, s, g, bl->prim[s] & HZ_BVH_PRIM_MASK);
+    }
+    for (uint32_t i = bvh->node_count; i-- > 0;) {
+        hz_bvh_node_t *w = &bvh->nodes[i];
+        for (int c = 0; c < HZ_BVH_W; c++) {
+            uint32_t cw = w->child[c];
+            box_t b;
+            box_empty(&b);
+            if (cw == HZ_BVH_EMPTY) {
+                /* stays empty */
+            } else if (hz_bvh_is_leaf(cw)) {
+                uint32_t slot = hz_bvh_leaf_slot(cw), n = hz_bvh_leaf_count(cw);
+                const hz_bvh_block_t *bl = &bvh->blocks[slot / HZ_BVH_W];
+                for (uint32_t s = slot % HZ_BVH_W; s < slot % HZ_BVH_W + n; s++) {
+                    bool point = true; /* all three vertices equal: never hit, adds nothing */
+                    for (int k = 0; k < 3; k++)
+                        point = point && bl->v[0][k][s] == bl->v[1][k][s] && bl->v[0][k][s] == bl->v[2][k][s];
+                    if (!point)
+                        for (int v = 0; v < 3; v++)
+                            box_grow_pt(&b, bl->v[v][0][s], bl->v[v][1][s], bl->v[v][2][s]);
+                }
+            } else {
+                const hz_bvh_node_t *k = &bvh->nodes[cw];
+                for (int j = 0; j < HZ_BVH_W; j++) {
+                    box_t kb = { { k->lo_x[j], k->lo_y[j], k->lo_z[j] }, { k->hi_x[j], k->hi_y[j], k->hi_z[j] } };
+                    box_grow(&b, &kb);
+                }
+            }
+            set_child_box(w, c, &b);
+        }
+    }
+}
