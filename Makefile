@@ -451,10 +451,12 @@ run: deps $(HZRT) ## build host-sim and render the built-in scene: 240 frames at
 	@echo "outputs: $(O)/run/frames.y4m (mpv/ffplay), $(O)/run/last.png, $(O)/run/summary.json"
 
 # The simulated 240 Hz run of issue 7: real time, a simulated display (+-50 us jitter, 1% missed pulses, 0.5%
-# glitches, +200 ppm), frames from the hz_framesrc_t hook (the test pattern until the built-in scene lands in
-# port/linux/scenesrc.c; then add --render scene), report and files in $(O)/latency-sim.
+# glitches, +200 ppm), the built-in scene through the renderer at a size this host sustains at 240 Hz (raise
+# LATENCY_SIM_SIZE as the renderer gets faster), SCHED_FIFO when permitted; report and files in
+# $(O)/latency-sim.
+LATENCY_SIM_SIZE ?= 64x36
 LATENCY_SIM_ARGS ?= --source sim --hz 240 --jitter-us 50 --miss-pct 1 --glitch-pct 0.5 --drift-ppm 200 \
-                    --seconds 20 --size 320x180 --marker
+                    --seconds 20 --render scene --size $(LATENCY_SIM_SIZE) --marker --rt
 latency-sim: $(HZRT) ## simulated 240 Hz display-locked run: miss rate, latency percentiles, histogram (build/<board>/latency-sim)
 	$(Q)$(HZRT) latency $(LATENCY_SIM_ARGS) --out $(O)/latency-sim
 

@@ -47,7 +47,8 @@ static void usage(FILE *f)
             "frames:\n"
             "  --frames N | --seconds S    run length (default 10 s)\n"
             "  --size WxH            frame size (default: the sink's mode, else 320x180)\n"
-            "  --render pattern|scene     what to draw (scene: the built-in scene, once the renderer is in)\n"
+            "  --render pattern|scene     what to draw: the test pattern, or the built-in scene (the renderer)\n"
+            "  --render-scale N      (scene) render 1/N of the width and height, each pixel shown N x N\n"
             "  --marker, --no-marker      frame-id marker in the top-left corner (default: on with a sink)\n"
             "  --virtual             simulated clock (sim, vcd, csv sources): no sleeping, render times from\n"
             "                        --render-model const:T | uniform:A:B | spikes:A:B:PCT | triangle:A:B:N |\n"
@@ -185,6 +186,7 @@ typedef struct opts {
     long window, lookahead, timeout_ms;
     const char *guard, *latch, *wake;
     int rt, one_edge;
+    long render_scale;
 } opts_t;
 
 #define NEXT_ARG()                                                                                   \
@@ -208,6 +210,7 @@ static int parse_opts(int argc, char **argv, opts_t *o, int *help)
     o->edge_mode = HZ_VSYNC_GPIO_EDGE; /* HZ_EDGE_RISING, _FALLING, _ANY: the board's default */
     o->hz = HZ_DISPLAY_HZ;
     o->seed = 1;
+    o->render_scale = 1;
     o->percentile = 100;
     o->lookahead = 1;
     for (int i = 1; i < argc; i++) {
@@ -329,6 +332,10 @@ static int parse_opts(int argc, char **argv, opts_t *o, int *help)
             o->rt = 1;
         } else if (!strcmp(a, "--gpio-one-edge")) {
             o->one_edge = 1;
+        } else if (!strcmp(a, "--render-scale")) {
+            NEXT_ARG();
+            if (!hz_cli_parse_long(a, v, 1, 64, &o->render_scale))
+                return 0;
         } else {
             hz_cli_error("latency: unknown option '%s' (try hzrt latency --help)", a);
             return 0;
@@ -407,6 +414,11 @@ int hz_cmd_latency(int argc, char **argv)
         return HZ_EXIT_USAGE;
     cfg.edge_timeout_ns = o.timeout_ms * 1000000LL;
     cfg.rtm = o.model ? &model : NULL;
+
+    /* Real-time scheduling first: threads started later (the renderer's workers) inherit it. */
+    char sched[128] = "";
+    if (o.rt && !o.virt)
+        hz_rt_setup(sched, sizeof sched);
 
     /* ---- open the sink first: its mode sets the frame size, and V4L2 output is also a source ---- */
     hz_sink_t sink;
@@ -519,7 +531,7 @@ int hz_cmd_latency(int argc, char **argv)
         s = err.code;
     }
     if (s == HZ_OK && cfg.frames_mode && !strcmp(o.render, "scene"))
-        s = hz_scene_framesrc(&frames, cfg.w, cfg.h, &err);
+        s = hz_scene_framesrc(&frames, cfg.w, cfg.h, (int)o.render_scale, &err);
     cfg.marker = o.marker < 0 ? strcmp(skind, "none") != 0 : o.marker;
     /* ---- run length and record capacity ---- */
     double hz_cap = o.hz > 0 ? o.hz : 1000;
@@ -548,9 +560,6 @@ int hz_cmd_latency(int argc, char **argv)
         if (!cfg.frames_mode)
             cfg.max_frames = 0;
     }
-    char sched[128] = "";
-    if (o.rt && s == HZ_OK && !o.virt)
-        hz_rt_setup(sched, sizeof sched);
     hz_loop_result_t res;
     memset(&res, 0, sizeof res);
     hz_timebase_t tb;
@@ -566,6 +575,7 @@ int hz_cmd_latency(int argc, char **argv)
     if (s != HZ_OK) {
         if (pools)
             hz_arena_reset(&pools->frame, mark);
+        hz_scene_framesrc_close();
         return hz_cli_report(&err);
     }
     char clock[160];
@@ -583,6 +593,7 @@ int hz_cmd_latency(int argc, char **argv)
         hz_report_print(stdout, &rep);
     s = hz_report_write(o.out, &rep, &err);
     hz_arena_reset(&pools->frame, mark);
+    hz_scene_framesrc_close();
     if (s != HZ_OK)
         return hz_cli_report(&err);
     if (!o.quiet)
