@@ -124,6 +124,9 @@ ACCEL_PORT_TESTS_embree := accel_embree
 RENDER_SRCS := src/render/camera.c src/render/texture.c src/render/trace.c src/render/render.c src/recon/taa.c
 RENDER_TESTS :=
 RENDER_PORT_TESTS := render
+RENDER_PORT_TESTS_embree := render_backends
+# Heavy render tests for boards whose tests run natively (not under emulation).
+RENDER_PORT_TESTS_native := render_taa
 
 # pattern (src/pattern): integer-only tile orderings, dither maps, masks
 PATTERN_SRCS :=
@@ -205,7 +208,8 @@ BENCH := $(O)/bin/hzbench
 UNIT_TESTS := $(foreach m,$(MODULES),$($(m)_TESTS))
 UNIT_BINS := $(UNIT_TESTS:%=$(O)/test/unit/test_%)
 PORT_TESTS := $(foreach m,$(MODULES),$($(m)_PORT_TESTS)) \
-              $(if $(filter embree,$(BOARD_ACCEL)),$(ACCEL_PORT_TESTS_embree))
+              $(if $(filter embree,$(BOARD_ACCEL)),$(ACCEL_PORT_TESTS_embree) $(RENDER_PORT_TESTS_embree)) \
+              $(if $(BOARD_TEST_LAUNCHER),,$(RENDER_PORT_TESTS_native))
 PORT_TEST_BINS := $(PORT_TESTS:%=$(O)/test/unit/test_%)
 TEST_BINS := $(UNIT_BINS) $(PORT_TEST_BINS)
 TEST_CFLAGS := $(HOSTED_CFLAGS) -Itest

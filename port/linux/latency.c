@@ -48,7 +48,8 @@ static void usage(FILE *f)
             "  --frames N | --seconds S    run length (default 10 s)\n"
             "  --size WxH            frame size (default: the sink's mode, else 320x180)\n"
             "  --render pattern|scene     what to draw: the test pattern, or the built-in scene (the renderer)\n"
-            "  --render-scale N      (scene) render 1/N of the width and height, each pixel shown N x N\n"
+            "  --render-scale N      (scene) render 1/N of the width and height (multiples of N), each pixel\n"
+            "                        shown N x N\n"
             "  --marker, --no-marker      frame-id marker in the top-left corner (default: on with a sink)\n"
             "  --virtual             simulated clock (sim, vcd, csv sources): no sleeping, render times from\n"
             "                        --render-model const:T | uniform:A:B | spikes:A:B:PCT | triangle:A:B:N |\n"
@@ -575,7 +576,6 @@ int hz_cmd_latency(int argc, char **argv)
     if (s != HZ_OK) {
         if (pools)
             hz_arena_reset(&pools->frame, mark);
-        hz_scene_framesrc_close();
         return hz_cli_report(&err);
     }
     char clock[160];
@@ -593,7 +593,6 @@ int hz_cmd_latency(int argc, char **argv)
         hz_report_print(stdout, &rep);
     s = hz_report_write(o.out, &rep, &err);
     hz_arena_reset(&pools->frame, mark);
-    hz_scene_framesrc_close();
     if (s != HZ_OK)
         return hz_cli_report(&err);
     if (!o.quiet)

@@ -272,10 +272,8 @@ static void loopback(hz_pix_fmt_t fmt, int count, int scene)
     hz_v4l2_cap_close(cs.cap);
     hz_vsource_close(&src);
     hz_sink_close(&sink);
-    if (s != HZ_OK) {
-        hz_scene_framesrc_close();
+    if (s != HZ_OK)
         fail_msg("frame loop: %s", err.msg);
-    }
     if (cs.error[0])
         fail_msg("capture: %s", cs.error);
     hz_frames_summary_t sum;
@@ -334,7 +332,6 @@ static void loopback(hz_pix_fmt_t fmt, int count, int scene)
     assert_true(n > 0);                                 /* and latency was measured */
     assert_true(sum.resolved >= (uint64_t)count - 2);  /* the refresh edges placed (nearly) every frame */
     assert_true(res.period_ns > 15000000 && res.period_ns < 18500000); /* vivid runs at 59.94 Hz */
-    hz_scene_framesrc_close();
 }
 
 static void test_vivid_loopback_rgb24(void **state)
