@@ -139,7 +139,7 @@ TIMING_SRCS := src/timing/wide.c src/timing/tstat.c src/timing/vsync.c src/timin
                src/timing/rtmodel.c src/timing/vcd.c src/timing/ecsv.c
 TIMING_INTEGER_SRCS = $(TIMING_SRCS)
 TIMING_TESTS := tstat vsync marker traceio
-TIMING_PORT_TESTS := frameloop
+TIMING_PORT_TESTS := frameloop latency_cli
 # Ports of the timing path (port/linux): `timing` (frame loop, report, `hzrt latency`, simulated display,
 # VCD/CSV replay) goes on every board; `fbdev`, `v4l2` and `gpio` where the hardware has them.
 PORT_SRCS_timing := port/linux/timebase.c port/linux/vsrc_timeline.c port/linux/frameloop.c port/linux/latency_report.c \
@@ -469,10 +469,12 @@ run: deps $(HZRT) ## build host-sim and render the built-in scene, temporally de
 	@echo "outputs: $(O)/run/frames.y4m (mpv/ffplay), $(O)/run/last.png, $(O)/run/summary.json"
 
 # The simulated 240 Hz run of issue 7: real time, a simulated display (+-50 us jitter, 1% missed pulses, 0.5%
-# glitches, +200 ppm), the built-in scene rendered through the frame source hook (port/linux/scenesrc.c) at a
-# size this host sustains, report and files in $(O)/latency-sim.
+# glitches, +200 ppm), the built-in scene through the renderer at a size this host sustains at 240 Hz (raise
+# LATENCY_SIM_SIZE as the renderer gets faster), SCHED_FIFO when permitted; report and files in
+# $(O)/latency-sim.
+LATENCY_SIM_SIZE ?= 64x36
 LATENCY_SIM_ARGS ?= --source sim --hz 240 --jitter-us 50 --miss-pct 1 --glitch-pct 0.5 --drift-ppm 200 \
-                    --seconds 20 --size 160x90 --render scene --marker
+                    --seconds 20 --render scene --size $(LATENCY_SIM_SIZE) --marker --rt
 latency-sim: $(HZRT) ## simulated 240 Hz display-locked run: miss rate, latency percentiles, histogram (build/<board>/latency-sim)
 	$(Q)$(HZRT) latency $(LATENCY_SIM_ARGS) --out $(O)/latency-sim
 
@@ -545,6 +547,9 @@ DEPS_VMTEST := qemu-system-arm cpio kmod ?libgpiod-dev:arm64
 TEST_TIERS += vmtest-tier
 TEST_TIER_RESULTS += $(VM_RESULTS)
 VM_DEVICE_TEST := $(O)/test/vm/test_vm_devices
+# Variables the unit tests read (as exported to them on the host); directories among their values are shared
+# into the guest read-only at the same paths.
+VM_TEST_ENV := HZ_SCENES_DIR HZ_SCENES_UNPACK
 # In the VM (software-emulated CPU, ~10x slower than qemu user mode) run the unit tests that need no scene files
 # and take seconds; the heavy ones (BVH builds over 10^5..10^6 triangles, whole-image corruption sweeps,
 # rendered sequences) already run on the same AArch64 binaries under qemu-aarch64 in the board stage.
@@ -561,8 +566,8 @@ vmtest-tier:
 # Runs with BOARD=aarch64-generic (see vmtest-tier): its test binaries, plus a static hzrt and init.
 vmtest-board: tests $(VM_DEVICE_TEST) $(VM_ROOT)/init
 	$(Q)$(MAKE) --no-print-directory BOARD=aarch64-generic O=$(VM_ROOT)/static BOARD_LDFLAGS=-static SAN= all
-	$(Q)sh test/vm/run.sh $(VM_RESULTS) $(VM_ROOT)/kernel $(VM_ROOT)/init $(VM_ROOT)/static/bin/hzrt \
-		$(VM_DEVICE_TEST) $(VM_TEST_BINS)
+	$(Q)VM_ENV="$(foreach v,$(VM_TEST_ENV),$(v)=$($(v)))" sh test/vm/run.sh $(VM_RESULTS) $(VM_ROOT)/kernel \
+		$(VM_ROOT)/init $(VM_ROOT)/static/bin/hzrt $(VM_DEVICE_TEST) $(VM_TEST_BINS)
 
 $(VM_DEVICE_TEST): test/vm/test_vm_devices.c $(PORT_LIB) $(LIB)
 	@mkdir -p $(dir $@)

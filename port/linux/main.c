@@ -67,7 +67,8 @@ static int cmd_board(int argc, char **argv)
            HZ_SIMD_LANES);
     printf("vsync      %s", vsync_name(HZ_VSYNC_SOURCE));
     if (HZ_VSYNC_SOURCE == HZ_VSYNC_GPIO)
-        printf(" (chip %s, line %d%s)", HZ_VSYNC_GPIO_CHIP, HZ_VSYNC_GPIO_LINE,
+        printf(" (chip %s, line %d, %s edges%s)", HZ_VSYNC_GPIO_CHIP, HZ_VSYNC_GPIO_LINE,
+               HZ_VSYNC_GPIO_EDGE == 0 ? "rising" : HZ_VSYNC_GPIO_EDGE == 1 ? "falling" : "all",
                HZ_VSYNC_GPIO_ACTIVE_LOW ? ", active low" : "");
     printf("\n");
     printf("features   textures=%d mirrors=%d transparency=%d motion=%d stats=%d\n", HZ_FEATURE_TEXTURES,
