@@ -193,7 +193,7 @@ endif
 PORT_OBJS := $(PORT_SRCS:%.c=$(O)/%.o)
 PORT_LIB := $(O)/libhzport.a
 
-HZRT_SRCS := port/linux/main.c
+HZRT_SRCS := port/linux/main.c port/linux/accel_cmd.c
 HZRT_OBJS := $(HZRT_SRCS:%.c=$(O)/%.o)
 HZRT := $(O)/bin/hzrt
 

@@ -805,13 +805,18 @@ done:;
 }
 
 /* Frustum traversal, occlusion: lanes drop out as they find a hit; children in any order. */
-static unsigned frustum_any(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const frustum_t *f, const hz_ray8_t *ray,
+/* Frustum traversal, occlusion: lanes drop out as they find a hit; children in any order. The packet's bounds
+ * are those of its live lanes: when lanes drop out they are recomputed (shadow rays in architecture: the
+ * lanes still unoccluded travel furthest), and a last live lane finishes as a single ray. */
+static unsigned frustum_any(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const frustum_t *f0, const hz_ray8_t *ray,
                             counters_t *k)
 {
     uint32_t stack[HZ_BVH_STACK + W];
     int sp = 0;
     uint32_t cur = 0;
     const bool anyhit = bvh->has_anyhit && ctx && ctx->anyhit;
+    frustum_t fl;
+    const frustum_t *f = f0;
     __m256 tfar = f->ltfar;
     __m256 vtfar_max = _mm256_set1_ps(hmax8(tfar) * HZ_BVH_CULL); /* for culling nodes (see bvh.h) */
     unsigned live = f->active;
@@ -857,15 +862,34 @@ static unsigned frustum_any(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const frus
         }
         if (!live)
             break;
-        if (changed)
-            vtfar_max = _mm256_set1_ps(hmax8(tfar) * HZ_BVH_CULL);
         for (unsigned in = m & ~leafbits; in; in &= in - 1)
             stack[sp++] = n->child[__builtin_ctz(in)];
+        if (changed) {
+            if (__builtin_popcount(live) == 1) {
+                /* the last live lane goes on alone through what is left on the stack */
+                const unsigned i = (unsigned)__builtin_ctz(live);
+                hz_bvh_ray_t r;
+                sray_t sr;
+                hz_bvh_ray_prep(&r, ray->org_x[i], ray->org_y[i], ray->org_z[i], ray->dir_x[i], ray->dir_y[i],
+                                ray->dir_z[i], ray->tnear[i], ray->tfar[i]);
+                sray_init(&sr, &r);
+                while (sp > 0 && live)
+                    if (any_from(bvh, ctx, &r, &sr, stack[--sp], ray->id[i], (int)i, k))
+                        live = 0;
+                break;
+            }
+            int32_t lv[W];
+            for (int q = 0; q < W; q++)
+                lv[q] = (live >> q) & 1u ? -1 : 0;
+            if (frustum_init(&fl, lv, ray))
+                f = &fl;
+            vtfar_max = _mm256_set1_ps(hmax8(tfar) * HZ_BVH_CULL);
+        }
         if (sp == 0)
             break;
         cur = stack[--sp];
     }
-    return f->active & ~live;
+    return f0->active & ~live;
 }
 
 /* Masked packet, closest hit: per-lane box tests, lane masks on the stack, single rays once few lanes remain. */
