@@ -2,6 +2,7 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "accel_cmd.h"
 #include "cli.h"
 #include "hz/hz.h"
 #include "latency.h"
@@ -20,6 +21,7 @@ static void usage(FILE *f)
             "  info SCENE   validate a scene (.hzb file or `builtin`) and print its header, counts, features\n"
             "               and memory plan\n"
             "  board        print this build's board settings: display, arenas, features, v-sync source\n"
+            "  accel SCENE  build a scene's acceleration structure: memory plan, build time, bytes per triangle\n"
             "  latency      display-locked latency: v-sync capture, frame pacing, report (CSV, JSON, SVG)\n"
             "\n"
             "options:\n"
@@ -184,6 +186,8 @@ int main(int argc, char **argv)
         return cmd_board(argc - 1, argv + 1);
     if (!strcmp(cmd, "render"))
         return hz_cmd_render(argc - 1, argv + 1);
+    if (!strcmp(cmd, "accel"))
+        return hz_cmd_accel(argc - 1, argv + 1);
     if (!strcmp(cmd, "info"))
         return cmd_info(argc - 1, argv + 1);
     if (!strcmp(cmd, "latency"))

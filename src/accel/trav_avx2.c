@@ -258,6 +258,7 @@ HZ_INLINE void order_children(const hz_bvh_node_t *n, unsigned m, __m256 tmin, u
 static void closest_from(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, hz_bvh_ray_t *r, const sray_t *s,
                          uint32_t start, hz_bvh_best_t *best, uint32_t ray_id, int lane, counters_t *k)
 {
+    (void)k; /* counters exist only with HZ_FEATURE_STATS */
     uint32_t st_c[HZ_BVH_STACK + W];
     float st_d[HZ_BVH_STACK + W];
     int sp = 0;
@@ -327,6 +328,7 @@ void hz_bvh_simd_closest(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, hz_bvh_ray_t 
 static bool any_from(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const hz_bvh_ray_t *r, const sray_t *s, uint32_t start,
                      uint32_t ray_id, int lane, counters_t *k)
 {
+    (void)k; /* counters exist only with HZ_FEATURE_STATS */
     entry_t stack[HZ_BVH_STACK];
     int sp = 0;
     uint32_t cur = start;
@@ -423,6 +425,19 @@ HZ_INLINE float hmin8(__m256 v)
     return _mm_cvtss_f32(m);
 }
 
+/* Horizontal minima of 8 vectors at once: lane i of the result is the minimum of v[i]'s lanes. */
+HZ_INLINE __m256 hmin8x8(const __m256 *v)
+{
+    const __m256 a01 = _mm256_min_ps(_mm256_unpacklo_ps(v[0], v[1]), _mm256_unpackhi_ps(v[0], v[1]));
+    const __m256 a23 = _mm256_min_ps(_mm256_unpacklo_ps(v[2], v[3]), _mm256_unpackhi_ps(v[2], v[3]));
+    const __m256 a45 = _mm256_min_ps(_mm256_unpacklo_ps(v[4], v[5]), _mm256_unpackhi_ps(v[4], v[5]));
+    const __m256 a67 = _mm256_min_ps(_mm256_unpacklo_ps(v[6], v[7]), _mm256_unpackhi_ps(v[6], v[7]));
+    /* per 128-bit half: a01 = [v0 v1 v0 v1] partial minima; combine pairs into [v0 v1 v2 v3] */
+    const __m256 b03 = _mm256_min_ps(_mm256_shuffle_ps(a01, a23, 0x44), _mm256_shuffle_ps(a01, a23, 0xEE));
+    const __m256 b47 = _mm256_min_ps(_mm256_shuffle_ps(a45, a67, 0x44), _mm256_shuffle_ps(a45, a67, 0xEE));
+    return _mm256_min_ps(_mm256_permute2f128_ps(b03, b47, 0x20), _mm256_permute2f128_ps(b03, b47, 0x31));
+}
+
 static void lanes_tfar(const packet_t *p, float *tf)
 {
     for (int i = 0; i < W; i++)
@@ -435,7 +450,7 @@ static void lanes_tfar(const packet_t *p, float *tf)
  * go lane by lane. */
 typedef struct frustum {
     unsigned active;
-    size_t nx, ny, nz, fx, fy, fz;
+    size_t nx, ny, nz, fx, fy, fz;         /* near and far planes (the direction signs) */
     __m256 on[3], of[3], rmin[3], rmax[3]; /* origins for the near and far planes, reciprocal ranges */
     __m256 tnear;                          /* smallest tnear of the packet */
     /* lanes, for leaf boxes and the leaf test */
@@ -502,16 +517,33 @@ static bool frustum_init(frustum_t *f, const int32_t *valid, const hz_ray8_t *ra
     const size_t base[3] = { offsetof(hz_bvh_node_t, lo_x), offsetof(hz_bvh_node_t, lo_y),
                              offsetof(hz_bvh_node_t, lo_z) };
     size_t nn[3], ff[3];
+    /* one sign per axis, finite reciprocals (a zero component makes 0 * inf in interval bounds) */
+    unsigned negs = 0;
     for (int k = 0; k < 3; k++) {
-        /* one sign per axis, finite reciprocals (a zero component makes 0 * inf in interval bounds) */
         const unsigned neg = (unsigned)_mm256_movemask_ps(_mm256_cmp_ps(r[k], zero, _CMP_LT_OQ)) & act;
         const unsigned fin = (unsigned)_mm256_movemask_ps(_mm256_cmp_ps(lane_abs(r[k]), inf, _CMP_LT_OQ)) & act;
         if ((neg != 0 && neg != act) || fin != act)
             return false;
-        const float omin = hmin8(_mm256_blendv_ps(inf, o[k], lanes));
-        const float omax = hmax8(_mm256_blendv_ps(_mm256_sub_ps(zero, inf), o[k], lanes));
-        const float rmn = hmin8(_mm256_blendv_ps(inf, r[k], lanes));
-        const float rmx = hmax8(_mm256_blendv_ps(_mm256_sub_ps(zero, inf), r[k], lanes));
+        negs |= (neg != 0) << k;
+    }
+    /* the packet's bounds: minima of o, r and tnear, maxima (as minima of negatives) of o and r, over the
+     * active lanes, eight horizontal minima at once */
+    const __m256 sign = _mm256_set1_ps(-0.0f);
+    __m256 mins[8], mins2[8];
+    for (int k = 0; k < 3; k++) {
+        mins[k] = _mm256_blendv_ps(inf, o[k], lanes);
+        mins[3 + k] = _mm256_blendv_ps(inf, r[k], lanes);
+        mins2[k] = _mm256_xor_ps(_mm256_blendv_ps(_mm256_xor_ps(inf, sign), o[k], lanes), sign);
+        mins2[3 + k] = _mm256_xor_ps(_mm256_blendv_ps(_mm256_xor_ps(inf, sign), r[k], lanes), sign);
+    }
+    mins[6] = _mm256_blendv_ps(inf, tn, lanes);
+    mins[7] = mins2[6] = mins2[7] = inf;
+    float lo8[8] HZ_ALIGNED(32), hi8[8] HZ_ALIGNED(32);
+    _mm256_store_ps(lo8, hmin8x8(mins));
+    _mm256_store_ps(hi8, hmin8x8(mins2));
+    for (int k = 0; k < 3; k++) {
+        const bool neg = (negs >> k) & 1u;
+        const float omin = lo8[k], omax = -hi8[k], rmn = lo8[3 + k], rmx = -hi8[3 + k];
         nn[k] = base[k] + (neg ? a : 0);
         ff[k] = base[k] + (neg ? 0 : a);
         /* near plane: lower bound of (plane - o) * r over the packet; far plane: upper bound */
@@ -520,11 +552,11 @@ static bool frustum_init(frustum_t *f, const int32_t *valid, const hz_ray8_t *ra
         f->rmin[k] = _mm256_set1_ps(rmn);
         f->rmax[k] = _mm256_set1_ps(rmx);
     }
+    f->tnear = _mm256_set1_ps(lo8[6]);
     f->nx = nn[0], f->ny = nn[1], f->nz = nn[2];
     f->fx = ff[0], f->fy = ff[1], f->fz = ff[2];
     f->ltnear = _mm256_blendv_ps(inf, tn, lanes);
     f->ltfar = _mm256_blendv_ps(_mm256_sub_ps(zero, inf), tf, lanes);
-    f->tnear = _mm256_set1_ps(hmin8(f->ltnear));
     f->kx = kx, f->ky = ky, f->kz = kz;
     for (int k = 0; k < 3; k++)
         f->o[k] = o[k], f->r[k] = r[k];
@@ -637,6 +669,7 @@ static bool fr_anyhit(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, uint32_t slot, c
 static void frustum_closest(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const frustum_t *f, hz_rayhit8_t *rh,
                             counters_t *k)
 {
+    (void)k; /* counters exist only with HZ_FEATURE_STATS */
     uint32_t st_c[HZ_BVH_STACK + W];
     float st_d[HZ_BVH_STACK + W];
     int sp = 0;
@@ -775,13 +808,18 @@ done:;
 }
 
 /* Frustum traversal, occlusion: lanes drop out as they find a hit; children in any order. */
-static unsigned frustum_any(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const frustum_t *f, const hz_ray8_t *ray,
+/* Frustum traversal, occlusion: lanes drop out as they find a hit; children in any order. The packet's bounds
+ * are those of its live lanes: when lanes drop out they are recomputed (shadow rays in architecture: the
+ * lanes still unoccluded travel furthest), and a last live lane finishes as a single ray. */
+static unsigned frustum_any(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const frustum_t *f0, const hz_ray8_t *ray,
                             counters_t *k)
 {
     uint32_t stack[HZ_BVH_STACK + W];
     int sp = 0;
     uint32_t cur = 0;
     const bool anyhit = bvh->has_anyhit && ctx && ctx->anyhit;
+    frustum_t fl;
+    const frustum_t *f = f0;
     __m256 tfar = f->ltfar;
     __m256 vtfar_max = _mm256_set1_ps(hmax8(tfar) * HZ_BVH_CULL); /* for culling nodes (see bvh.h) */
     unsigned live = f->active;
@@ -827,15 +865,34 @@ static unsigned frustum_any(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const frus
         }
         if (!live)
             break;
-        if (changed)
-            vtfar_max = _mm256_set1_ps(hmax8(tfar) * HZ_BVH_CULL);
         for (unsigned in = m & ~leafbits; in; in &= in - 1)
             stack[sp++] = n->child[__builtin_ctz(in)];
+        if (changed) {
+            if (__builtin_popcount(live) == 1) {
+                /* the last live lane goes on alone through what is left on the stack */
+                const unsigned i = (unsigned)__builtin_ctz(live);
+                hz_bvh_ray_t r;
+                sray_t sr;
+                hz_bvh_ray_prep(&r, ray->org_x[i], ray->org_y[i], ray->org_z[i], ray->dir_x[i], ray->dir_y[i],
+                                ray->dir_z[i], ray->tnear[i], ray->tfar[i]);
+                sray_init(&sr, &r);
+                while (sp > 0 && live)
+                    if (any_from(bvh, ctx, &r, &sr, stack[--sp], ray->id[i], (int)i, k))
+                        live = 0;
+                break;
+            }
+            int32_t lv[W];
+            for (int q = 0; q < W; q++)
+                lv[q] = (live >> q) & 1u ? -1 : 0;
+            if (frustum_init(&fl, lv, ray))
+                f = &fl;
+            vtfar_max = _mm256_set1_ps(hmax8(tfar) * HZ_BVH_CULL);
+        }
         if (sp == 0)
             break;
         cur = stack[--sp];
     }
-    return f->active & ~live;
+    return f0->active & ~live;
 }
 
 /* Masked packet, closest hit: per-lane box tests, lane masks on the stack, single rays once few lanes remain. */

@@ -168,6 +168,7 @@ HZ_INLINE void order_children(const hz_bvh_node_t *n, unsigned m, float32x4_t tm
 static void closest_from(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, hz_bvh_ray_t *r, const sray_t *s, uint32_t start,
                          hz_bvh_best_t *best, uint32_t ray_id, int lane, counters_t *k)
 {
+    (void)k; /* counters exist only with HZ_FEATURE_STATS */
     uint32_t st_c[HZ_BVH_STACK + W];
     float st_d[HZ_BVH_STACK + W];
     int sp = 0;
@@ -231,12 +232,13 @@ void hz_bvh_simd_closest(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, hz_bvh_ray_t 
     flush(ctx, &k);
 }
 
-static bool any_from(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const hz_bvh_ray_t *r, const sray_t *s,
-                     uint32_t ray_id, int lane, counters_t *k)
+static bool any_from_node(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const hz_bvh_ray_t *r, const sray_t *s,
+                          uint32_t start, uint32_t ray_id, int lane, counters_t *k)
 {
+    (void)k; /* counters exist only with HZ_FEATURE_STATS */
     uint32_t stack[HZ_BVH_STACK + W];
     int sp = 0;
-    uint32_t cur = 0;
+    uint32_t cur = start;
     const bool anyhit = bvh->has_anyhit && ctx && ctx->anyhit;
     const float32x4_t cull = vdupq_n_f32(r->tfar * HZ_BVH_CULL);
     for (;;) {
@@ -282,7 +284,7 @@ bool hz_bvh_simd_any(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const hz_bvh_ray_
     sray_t s;
     counters_t k = { 0, 0 };
     sray_init(&s, r);
-    bool hit = any_from(bvh, ctx, r, &s, ray_id, lane, &k);
+    bool hit = any_from_node(bvh, ctx, r, &s, 0, ray_id, lane, &k);
     flush(ctx, &k);
     return hit;
 }
@@ -317,16 +319,16 @@ typedef struct frustum {
     int kx, ky, kz;
 } frustum_t;
 
-static bool frustum_init(frustum_t *f, const packet_t *p)
+static bool frustum_init(frustum_t *f, const packet_t *p, unsigned active)
 {
-    if (__builtin_popcount(p->active) < 2)
+    if (__builtin_popcount(active) < 2)
         return false;
-    const int first = __builtin_ctz(p->active);
+    const int first = __builtin_ctz(active);
     const hz_bvh_ray_t *r0 = &p->r[first];
     float omin[3], omax[3], rmn[3], rmx[3], tn = r0->tnear;
     for (int k = 0; k < 3; k++)
         omin[k] = omax[k] = r0->org[k], rmn[k] = rmx[k] = r0->rdir[k];
-    for (unsigned m = p->active; m; m &= m - 1) {
+    for (unsigned m = active; m; m &= m - 1) {
         const hz_bvh_ray_t *r = &p->r[__builtin_ctz(m)];
         if (r->kx != r0->kx || r->ky != r0->ky || r->kz != r0->kz)
             return false;
@@ -357,7 +359,7 @@ static bool frustum_init(frustum_t *f, const packet_t *p)
     f->kx = r0->kx, f->ky = r0->ky, f->kz = r0->kz;
     float o[3][W], rr[3][W], okx[W], oky[W], okz[W], sx[W], sy[W], sz[W], ltn[W];
     for (int i = 0; i < W; i++) {
-        const bool on = (p->active >> i) & 1u;
+        const bool on = (active >> i) & 1u;
         const hz_bvh_ray_t *r = &p->r[on ? i : first];
         for (int k = 0; k < 3; k++)
             o[k][i] = r->org[k], rr[k][i] = r->rdir[k];
@@ -437,6 +439,7 @@ static void lanes_tfar(const packet_t *p, float *tf)
 static void frustum_closest(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, packet_t *p, const frustum_t *f,
                             counters_t *k)
 {
+    (void)k; /* counters exist only with HZ_FEATURE_STATS */
     uint32_t st_c[HZ_BVH_STACK + W];
     float st_d[HZ_BVH_STACK + W];
     int sp = 0;
@@ -516,12 +519,16 @@ static void frustum_closest(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, packet_t *
     }
 }
 
-static unsigned frustum_any(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, packet_t *p, const frustum_t *f, counters_t *k)
+/* Occlusion: lanes drop out as they find a hit; the bounds follow the live lanes (recomputed when lanes drop
+ * out) and a last live lane finishes as a single ray. */
+static unsigned frustum_any(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, packet_t *p, const frustum_t *f0, counters_t *k)
 {
     uint32_t stack[HZ_BVH_STACK + W];
     int sp = 0;
     uint32_t cur = 0;
     const bool anyhit = bvh->has_anyhit && ctx && ctx->anyhit;
+    frustum_t fl;
+    const frustum_t *f = f0;
     float tfa[W];
     lanes_tfar(p, tfa);
     float32x4_t tfar = vld1q_f32(tfa);
@@ -531,6 +538,7 @@ static unsigned frustum_any(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, packet_t *
         float32x4_t tmin;
         COUNT(k, nodes, 1);
         unsigned m = fr_node_hit(n, f, vdupq_n_f32(vmaxvq_f32(tfar) * HZ_BVH_CULL), &tmin);
+        bool changed = false;
         for (int j = 0; j < W && live; j++) {
             if (!((m >> j) & 1u) || !hz_bvh_is_leaf(n->child[j]))
                 continue;
@@ -553,10 +561,13 @@ static unsigned frustum_any(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, packet_t *
                             mm &= ~(1u << i);
                     }
                 }
-                live &= ~mm, lanes &= ~mm;
-                for (unsigned x = mm; x; x &= x - 1)
-                    tfa[__builtin_ctz(x)] = -__builtin_inff();
-                tfar = vld1q_f32(tfa);
+                if (mm) {
+                    live &= ~mm, lanes &= ~mm;
+                    for (unsigned x = mm; x; x &= x - 1)
+                        tfa[__builtin_ctz(x)] = -__builtin_inff();
+                    tfar = vld1q_f32(tfa);
+                    changed = true;
+                }
             }
         }
         if (!live)
@@ -564,6 +575,19 @@ static unsigned frustum_any(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, packet_t *
         for (unsigned in = m; in; in &= in - 1)
             if (!hz_bvh_is_leaf(n->child[__builtin_ctz(in)]))
                 stack[sp++] = n->child[__builtin_ctz(in)];
+        if (changed) {
+            if (__builtin_popcount(live) == 1) {
+                const unsigned i = (unsigned)__builtin_ctz(live);
+                sray_t sr;
+                sray_init(&sr, &p->r[i]);
+                while (sp > 0 && live)
+                    if (any_from_node(bvh, ctx, &p->r[i], &sr, stack[--sp], p->id[i], (int)i, k))
+                        live = 0;
+                break;
+            }
+            if (frustum_init(&fl, p, live))
+                f = &fl;
+        }
         if (sp == 0)
             break;
         cur = stack[--sp];
@@ -595,7 +619,7 @@ void hz_bvh_simd_intersectw(const int32_t *valid, const hz_bvh_t *bvh, hz_accel_
     if (!packet_init(&p, valid, &rh->ray))
         return;
     frustum_t f;
-    if (kernel == HZ_ACCEL_KERNEL_SIMD_PACKET && frustum_init(&f, &p)) {
+    if (kernel == HZ_ACCEL_KERNEL_SIMD_PACKET && frustum_init(&f, &p, p.active)) {
         frustum_closest(bvh, ctx, &p, &f, &k);
     } else {
         for (unsigned m = p.active; m; m &= m - 1) {
@@ -618,14 +642,14 @@ void hz_bvh_simd_occludedw(const int32_t *valid, const hz_bvh_t *bvh, hz_accel_c
         return;
     unsigned hit = 0;
     frustum_t f;
-    if (kernel == HZ_ACCEL_KERNEL_SIMD_PACKET && frustum_init(&f, &p)) {
+    if (kernel == HZ_ACCEL_KERNEL_SIMD_PACKET && frustum_init(&f, &p, p.active)) {
         hit = frustum_any(bvh, ctx, &p, &f, &k);
     } else {
         for (unsigned m = p.active; m; m &= m - 1) {
             unsigned i = (unsigned)__builtin_ctz(m);
             sray_t s;
             sray_init(&s, &p.r[i]);
-            if (any_from(bvh, ctx, &p.r[i], &s, p.id[i], (int)i, &k))
+            if (any_from_node(bvh, ctx, &p.r[i], &s, 0, p.id[i], (int)i, &k))
                 hit |= 1u << i;
         }
     }

@@ -426,6 +426,13 @@ static int bench_scene(const hz_bench_accel_opts_t *o, const char *name, FILE *c
             for (int m = 0; m < M_COUNT; m++) {
                 if ((m == M_E1 || m == M_E8) && !e)
                     continue;
+                const char *only = getenv("HZ_BENCH_ONLY"); /* profiling aid: "kind:method" */
+                if (only) {
+                    char want[64];
+                    snprintf(want, sizeof want, "%s:%s", kind_name[k], method_name[m]);
+                    if (strcmp(only, want) != 0)
+                        continue;
+                }
                 hz_accel_stats_t st;
                 memset(&st, 0, sizeof st);
                 job_t j = { r == 0 && getenv("HZ_BENCH_STATS") ? &st : NULL, m >= M_E1 ? e : a, (method_t)m,
@@ -439,7 +446,7 @@ static int bench_scene(const hz_bench_accel_opts_t *o, const char *name, FILE *c
                     printf("  stats %s %s: %.2f nodes, %.2f triangle tests per ray\n", kind_name[k], method_name[m],
                            (double)st.nodes / (double)st.rays, (double)st.tris / (double)st.rays);
                 res[k][m].ran = true;
-                if (r > 0 || m != M_E8)
+                if (r > 0 || m != M_E8 || getenv("HZ_BENCH_ONLY"))
                     continue;
                 /* first round, set done: every native method agrees exactly with SIMD single rays */
                 for (int q = M_SCALAR; q < M_E1; q++)
