@@ -11,6 +11,7 @@
 #include "hz/image.h"
 #include "hz/render.h"
 #include "pools.h"
+#include "render_run.h"
 #include "scenefile.h"
 #include "threads.h"
 
@@ -26,16 +27,6 @@ typedef struct scenesrc {
 
 static scenesrc_t state;
 
-typedef struct pass_job {
-    hz_renderer_t *r;
-    uint32_t pass;
-} pass_job_t;
-
-static void run_item(void *user, uint32_t item, int thread)
-{
-    pass_job_t *j = (pass_job_t *)user;
-    hz_render_pass_run(j->r, j->pass, item, (uint32_t)thread);
-}
 
 static hz_status_t render(void *ctx, const hz_frame_req_t *req, hz_rgb8_image_t *out, hz_error_t *err)
 {
@@ -45,14 +36,9 @@ static hz_status_t render(void *ctx, const hz_frame_req_t *req, hz_rgb8_image_t 
         s->have_t0 = true;
     }
     float t = (float)((double)(req->display_ns - s->t0_ns) * 1e-9);
-    hz_status_t st = hz_render_begin_frame(s->r, req->id, t, err);
+    hz_status_t st = hz_render_run_frame(s->r, req->id, t, err);
     if (st != HZ_OK)
         return st;
-    for (uint32_t p = 0; p < hz_render_pass_count(s->r); p++) {
-        pass_job_t j = { s->r, p };
-        hz_threads_run(run_item, &j, hz_render_pass_items(s->r, p));
-    }
-    hz_render_end_frame(s->r);
     const hz_image_t *img = hz_render_output(s->r);
     int k = s->scale;
     if (k == 1) {

@@ -8,6 +8,7 @@
 #include "hz/config.h"
 #include "pools.h"
 #include "scenefile.h"
+#include "render_run.h"
 #include "threads.h"
 
 /* The open scene: the pools are process-wide, so there is one. */
@@ -30,30 +31,6 @@ typedef struct et_state {
     uint64_t rendered; /* frames this renderer drew: its own frame index (TAA's jitter phase, tdense's subframe),
                         * which differs from the displayed frame's for held methods */
 } et_state_t;
-
-typedef struct et_job {
-    hz_renderer_t *r;
-    uint32_t pass;
-} et_job_t;
-
-static void run_item(void *user, uint32_t item, int thread)
-{
-    et_job_t *j = user;
-    hz_render_pass_run(j->r, j->pass, item, (uint32_t)thread);
-}
-
-static hz_status_t render_frame(hz_renderer_t *r, uint64_t index, float t, hz_error_t *err)
-{
-    hz_status_t s = hz_render_begin_frame(r, index, t, err);
-    if (s != HZ_OK)
-        return s;
-    for (uint32_t p = 0; p < hz_render_pass_count(r); p++) {
-        et_job_t j = { r, p };
-        hz_threads_run(run_item, &j, hz_render_pass_items(r, p));
-    }
-    hz_render_end_frame(r);
-    return HZ_OK;
-}
 
 static void give_back_threads(et_scene_t *sc)
 {
@@ -99,7 +76,7 @@ static hz_status_t rbegin(const hz_et_method_t *m, const hz_et_sequence_t *seq, 
 static hz_status_t rrender(void *state, uint32_t frame, hz_image_t *out, uint64_t *rays, hz_error_t *err)
 {
     et_state_t *st = state;
-    hz_status_t s = render_frame(st->r, st->rendered++, (float)frame / st->refresh_hz, err);
+    hz_status_t s = hz_render_run_frame(st->r, st->rendered++, (float)frame / st->refresh_hz, err);
     if (s != HZ_OK)
         return s;
     if ((s = hz_image_copy(out, hz_render_output(st->r), err)) != HZ_OK)
@@ -189,7 +166,7 @@ static hz_status_t fingerprint(et_scene_t *sc, uint64_t *out, hz_error_t *err)
         hz_status_t s = hz_render_create(&r, &sc->scene, sc->accel, &o, &sc->pools->frame, sc->pools->thread,
                                          sc->threads, err);
         if (s == HZ_OK)
-            s = render_frame(r, 0, when[k], err);
+            s = hz_render_run_frame(r, 0, when[k], err);
         if (s == HZ_OK) {
             const hz_image_t *img = hz_render_output(r);
             h = fnv1a64(h, img->rgb, hz_image_pixels(img) * 3 * sizeof(float));

@@ -1,0 +1,16 @@
+/*
+ * render_run.h — one frame of the renderer on the port's static thread pool: begin_frame, every pass's items
+ * spread over the pool (hz_threads_run), end_frame. What `hzrt render`, the frame loop's scene source, errtime
+ * and the benchmarks all do per frame.
+ *
+ * Contract: the pool must be started with as many threads as the renderer was created for (or fewer); the
+ * result does not depend on the thread count. Allocates nothing.
+ */
+#ifndef HZ_PORT_RENDER_RUN_H
+#define HZ_PORT_RENDER_RUN_H
+
+#include "hz/render.h"
+
+hz_status_t hz_render_run_frame(hz_renderer_t *r, uint64_t index, float time, hz_error_t *err);
+
+#endif
