@@ -14,6 +14,7 @@
 #include "accel_backend.h"
 #include "hz/render.h"
 #include "pools.h"
+#include "render_run.h"
 #include "scenefile.h"
 #include "threads.h"
 
@@ -74,28 +75,9 @@ static hz_status_t rfix_renderer(rfix_t *f, const hz_render_opts_t *o, int threa
                             err);
 }
 
-typedef struct rfix_job {
-    hz_renderer_t *r;
-    uint32_t pass;
-} rfix_job_t;
-
-static void rfix_item(void *user, uint32_t item, int thread)
-{
-    rfix_job_t *j = (rfix_job_t *)user;
-    hz_render_pass_run(j->r, j->pass, item, (uint32_t)thread);
-}
-
 static hz_status_t rfix_frame(rfix_t *f, uint64_t index, float t, hz_error_t *err)
 {
-    hz_status_t s = hz_render_begin_frame(f->r, index, t, err);
-    if (s != HZ_OK)
-        return s;
-    for (uint32_t p = 0; p < hz_render_pass_count(f->r); p++) {
-        rfix_job_t j = { f->r, p };
-        hz_threads_run(rfix_item, &j, hz_render_pass_items(f->r, p));
-    }
-    hz_render_end_frame(f->r);
-    return HZ_OK;
+    return hz_render_run_frame(f->r, index, t, err);
 }
 
 static void rfix_close(rfix_t *f)

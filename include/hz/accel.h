@@ -170,7 +170,8 @@ typedef enum hz_accel_kernel {
     HZ_ACCEL_KERNEL_SIMD_SINGLE, /* one ray against all children of a wide node at once (AVX2 / NEON) */
     HZ_ACCEL_KERNEL_SIMD_PACKET, /* packet against a node through its frustum (coherent rays) */
     HZ_ACCEL_KERNEL_SIMD_MASKED, /* packet with per-lane box tests and active-mask compaction, switching to
-                                    single rays when few lanes stay active (incoherent rays) */
+                                    single rays when few lanes stay active (incoherent rays; AVX2 closest hit
+                                    only: NEON and occlusion run it as single rays) */
     HZ_ACCEL_KERNEL_COUNT
 } hz_accel_kernel_t;
 
@@ -261,6 +262,13 @@ struct hz_accel {
     hz_accel_info_t info;
     void *impl; /* backend data */
 };
+
+/* The view of a loaded scene: its current positions (animation writes them in place, so refit sees them) and
+ * indices; triangles whose material is alpha-tested or blended get HZ_ACCEL_TRI_ANYHIT, in a flag array taken
+ * from `arena` (only when the scene has such materials; tri_flags stays NULL otherwise). */
+struct hz_scene;
+hz_status_t hz_accel_geom_from_scene(hz_accel_geom_t *g, const struct hz_scene *scene, hz_arena_t *arena,
+                                     hz_error_t *err);
 
 /* Validates geom (HZ_E_INVALID_ARG / HZ_E_RANGE naming the field or triangle); shared by both backends. */
 hz_status_t hz_accel_geom_check(const hz_accel_geom_t *g, hz_error_t *err);

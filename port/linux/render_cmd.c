@@ -15,6 +15,7 @@
 #include "hz/render.h"
 #include "imageio.h"
 #include "pools.h"
+#include "render_run.h"
 #include "scenefile.h"
 #include "summary.h"
 #include "threads.h"
@@ -225,17 +226,6 @@ static int parse(int argc, char **argv, args_t *a)
     return 0;
 }
 
-typedef struct job {
-    hz_renderer_t *r;
-    uint32_t pass;
-} job_t;
-
-static void run_item(void *user, uint32_t item, int thread)
-{
-    job_t *j = (job_t *)user;
-    hz_render_pass_run(j->r, j->pass, item, (uint32_t)thread);
-}
-
 static int cmp_double(const void *a, const void *b)
 {
     double x = *(const double *)a, y = *(const double *)b;
@@ -323,15 +313,10 @@ int hz_cmd_render(int argc, char **argv)
     for (uint32_t f = 0; f < a.frames; f++) {
         float t = a.start + (float)f / (float)a.hz;
         int64_t f0 = hz_clock_ns();
-        if (hz_render_begin_frame(r, f, t, &err) != HZ_OK) {
+        if (hz_render_run_frame(r, f, t, &err) != HZ_OK) {
             rc = hz_cli_report(&err);
             goto done;
         }
-        for (uint32_t p = 0; p < hz_render_pass_count(r); p++) {
-            job_t j = { r, p };
-            hz_threads_run(run_item, &j, hz_render_pass_items(r, p));
-        }
-        hz_render_end_frame(r);
         frame_ms[f] = (hz_clock_ns() - f0) * 1e-6;
         if (y4m_open && hz_y4m_write(&y4m, hz_render_output(r), &err) != HZ_OK) {
             rc = hz_cli_report(&err);

@@ -5,6 +5,8 @@
  */
 #include "bvh.h"
 
+#include "hz/scene.h"
+
 void hz_accel_config_default(hz_accel_config_t *cfg)
 {
     cfg->leaf_max = HZ_BVH_W;
@@ -25,6 +27,32 @@ hz_status_t hz_accel_plan_check(uint32_t tri_count, const hz_accel_config_t *cfg
     return hz_error_set(err, HZ_E_NO_MEMORY,
                         "accel: %u triangles need up to %zu bytes to build (%zu kept), arena '%s' has %zu", tri_count,
                         b.peak, b.kept, arena && arena->name ? arena->name : "?", avail);
+}
+
+hz_status_t hz_accel_geom_from_scene(hz_accel_geom_t *g, const hz_scene_t *s, hz_arena_t *arena, hz_error_t *err)
+{
+    g->pos = s->pos;
+    g->vertex_count = s->vertex_count;
+    g->tri = s->tri;
+    g->tri_count = s->triangle_count;
+    g->tri_flags = 0;
+    bool any = false;
+    for (uint32_t m = 0; m < s->material_count && !any; m++)
+        any = s->materials[m].alpha_mode != HZ_ALPHA_OPAQUE;
+    if (!any)
+        return HZ_OK;
+    uint8_t *f = hz_arena_alloc(arena, s->triangle_count ? s->triangle_count : 1u, 16);
+    if (!f) {
+        hz_arena_error(arena, err);
+        hz_error_prefix(err, "accel: any-hit flags");
+        return HZ_E_NO_MEMORY;
+    }
+    for (uint32_t t = 0; t < s->triangle_count; t++) {
+        uint32_t m = hz_scene_tri_material(s, t);
+        f[t] = m < s->material_count && s->materials[m].alpha_mode != HZ_ALPHA_OPAQUE ? HZ_ACCEL_TRI_ANYHIT : 0;
+    }
+    g->tri_flags = f;
+    return HZ_OK;
 }
 
 hz_status_t hz_accel_geom_check(const hz_accel_geom_t *g, hz_error_t *err)
@@ -50,18 +78,13 @@ hz_status_t hz_accel_geom_check(const hz_accel_geom_t *g, hz_error_t *err)
 }
 
 /* ---- shared kernel helpers ---- */
-void hz_bvh_hit_attributes(const hz_bvh_t *bvh, uint32_t slot, const hz_bvh_ray_t *r, float *ng, float *u,
-                           float *v)
+void hz_bvh_best_finish(const hz_bvh_t *bvh, const hz_bvh_best_t *best, float *ng, float *u, float *v)
 {
-    const hz_bvh_block_t *b = &bvh->blocks[slot / HZ_BVH_W];
-    unsigned s = slot % HZ_BVH_W;
-    float t, U, V, W, det;
-    if (hz_bvh_tri_test(b, s, r, &t, &U, &V, &W, &det)) {
-        *u = V / det;
-        *v = W / det;
-    } else {
-        *u = *v = 0.0f; /* unreachable: the slot was hit with these exact operations */
-    }
+    const hz_bvh_block_t *b = &bvh->blocks[best->slot / HZ_BVH_W];
+    unsigned s = best->slot % HZ_BVH_W;
+    const float rdet = 1.0f / best->det;
+    *u = best->v * rdet;
+    *v = best->w * rdet;
     float e1[3], e2[3];
     for (int k = 0; k < 3; k++) {
         e1[k] = b->v[1][k][s] - b->v[0][k][s];
@@ -75,8 +98,11 @@ void hz_bvh_hit_attributes(const hz_bvh_t *bvh, uint32_t slot, const hz_bvh_ray_
 bool hz_bvh_anyhit(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, uint32_t slot, const hz_bvh_ray_t *r, float t,
                    uint32_t ray_id, int lane)
 {
-    float ng[3], u, v;
-    hz_bvh_hit_attributes(bvh, slot, r, ng, &u, &v);
+    float tt, U, V, W, det, u = 0.0f, v = 0.0f;
+    if (hz_bvh_tri_test(&bvh->blocks[slot / HZ_BVH_W], slot % HZ_BVH_W, r, &tt, &U, &V, &W, &det)) {
+        const float rdet = 1.0f / det; /* the same values the closest hit would report */
+        u = V * rdet, v = W * rdet;
+    }
 #if HZ_FEATURE_STATS
     if (ctx->stats)
         ctx->stats->anyhit_calls++;
@@ -129,15 +155,18 @@ static void count_rays(hz_accel_ctx_t *ctx, uint32_t n)
 #endif
 }
 
-static uint32_t closest(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, hz_accel_kernel_t k, hz_bvh_ray_t *r,
-                        uint32_t id, int lane)
+static void closest(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, hz_accel_kernel_t k, hz_bvh_ray_t *r,
+                    hz_bvh_best_t *best, uint32_t id, int lane)
 {
+    hz_bvh_best_init(best);
 #if defined(HZ_BVH_HAS_SIMD)
-    if (k != HZ_ACCEL_KERNEL_SCALAR)
-        return hz_bvh_simd_closest(bvh, ctx, r, id, lane);
+    if (k != HZ_ACCEL_KERNEL_SCALAR) {
+        hz_bvh_simd_closest(bvh, ctx, r, best, id, lane);
+        return;
+    }
 #endif
     (void)k;
-    return hz_bvh_scalar_closest(bvh, ctx, r, id, lane);
+    hz_bvh_scalar_closest(bvh, ctx, r, best, id, lane);
 }
 
 static bool any(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, hz_accel_kernel_t k, const hz_bvh_ray_t *r, uint32_t id,
@@ -159,14 +188,15 @@ static void native_intersect1(const hz_accel_t *a, hz_accel_ctx_t *ctx, hz_rayhi
     if (!hz_bvh_ray_prep(&r, rh->ray.org_x, rh->ray.org_y, rh->ray.org_z, rh->ray.dir_x, rh->ray.dir_y,
                          rh->ray.dir_z, rh->ray.tnear, rh->ray.tfar))
         return;
-    uint32_t slot = closest(bvh, ctx, kernel_of(ctx), &r, rh->ray.id, 0);
-    if (slot == HZ_ACCEL_INVALID_ID)
+    hz_bvh_best_t best;
+    closest(bvh, ctx, kernel_of(ctx), &r, &best, rh->ray.id, 0);
+    if (best.slot == HZ_ACCEL_INVALID_ID)
         return;
     float ng[3];
-    hz_bvh_hit_attributes(bvh, slot, &r, ng, &rh->hit.u, &rh->hit.v);
+    hz_bvh_best_finish(bvh, &best, ng, &rh->hit.u, &rh->hit.v);
     rh->ray.tfar = r.tfar;
     rh->hit.ng_x = ng[0], rh->hit.ng_y = ng[1], rh->hit.ng_z = ng[2];
-    rh->hit.prim_id = bvh->blocks[slot / HZ_BVH_W].prim[slot % HZ_BVH_W] & HZ_BVH_PRIM_MASK;
+    rh->hit.prim_id = best.prim;
     rh->hit.geom_id = 0;
     rh->hit.inst_id[0] = HZ_ACCEL_INVALID_ID;
 }
@@ -205,14 +235,15 @@ static void loop_intersect(const int32_t *valid, const hz_accel_t *a, hz_accel_c
         count_rays(ctx, 1);
         if (!lane_prep(&r, ray, n, i))
             continue;
-        uint32_t slot = closest(bvh, ctx, k, &r, ray_u[R_ID * n + i], i);
-        if (slot == HZ_ACCEL_INVALID_ID)
+        hz_bvh_best_t best;
+        closest(bvh, ctx, k, &r, &best, ray_u[R_ID * n + i], i);
+        if (best.slot == HZ_ACCEL_INVALID_ID)
             continue;
         float ng[3];
-        hz_bvh_hit_attributes(bvh, slot, &r, ng, &hit[H_U * n + i], &hit[H_V * n + i]);
+        hz_bvh_best_finish(bvh, &best, ng, &hit[H_U * n + i], &hit[H_V * n + i]);
         ray[R_TFAR * n + i] = r.tfar;
         hit[H_NGX * n + i] = ng[0], hit[H_NGY * n + i] = ng[1], hit[H_NGZ * n + i] = ng[2];
-        hit_u[H_PRIM * n + i] = bvh->blocks[slot / HZ_BVH_W].prim[slot % HZ_BVH_W] & HZ_BVH_PRIM_MASK;
+        hit_u[H_PRIM * n + i] = best.prim;
         hit_u[H_GEOM * n + i] = 0;
         hit_u[H_INST * n + i] = HZ_ACCEL_INVALID_ID;
     }

@@ -42,6 +42,10 @@
 #define HZ_BVH_PRIM_PAD 0x7FFFFFFFu    /* prim word of an unused slot */
 
 #define HZ_BVH_ROBUST 1.00000048f      /* 1 + 4 * 2^-23 >= 1 + 2 gamma(3) */
+/* Nodes are culled against the best hit so far only when they start beyond tfar * HZ_BVH_CULL: a triangle's t
+ * (from the watertight test) and its box's entry distance (from the slab test) round differently, and a
+ * triangle whose t lies a few ulps before its box's computed entry must still be found, by every kernel. */
+#define HZ_BVH_CULL 1.0009765625f      /* 1 + 2^-10 */
 
 typedef struct HZ_ALIGNED(64) hz_bvh_node {
     float lo_x[HZ_BVH_W], hi_x[HZ_BVH_W];
@@ -104,9 +108,10 @@ HZ_INLINE bool hz_bvh_ray_prep(hz_bvh_ray_t *r, float ox, float oy, float oz, fl
         ky = t;
     }
     r->kx = kx, r->ky = ky, r->kz = kz;
-    r->sx = r->dir[kx] / r->dir[kz];
-    r->sy = r->dir[ky] / r->dir[kz];
-    r->sz = 1.0f / r->dir[kz];
+    /* shear constants from the reciprocal (no further division; the packet preparation does the same) */
+    r->sx = r->dir[kx] * r->rdir[kz];
+    r->sy = r->dir[ky] * r->rdir[kz];
+    r->sz = r->rdir[kz];
     r->tnear = tnear;
     r->tfar = tfar;
     return hz_isfinitef(ox) && hz_isfinitef(oy) && hz_isfinitef(oz) && hz_isfinitef(dx) && hz_isfinitef(dy) &&
@@ -153,19 +158,31 @@ HZ_INLINE bool hz_bvh_better(float t, uint32_t prim, float best_t, uint32_t best
     return t < best_t || (t == best_t && prim < best_prim);
 }
 
-/* Writes the hit of block slot `slot` for ray r into the hit fields (the scalar test recomputes the exact
- * values every kernel compared with). */
-void hz_bvh_hit_attributes(const hz_bvh_t *bvh, uint32_t slot, const hz_bvh_ray_t *r, float *ng, float *u,
-                           float *v);
+/* The closest hit so far: block slot, triangle, and the watertight test's edge weights of vertices 1 and 2
+ * with their sum det (u = v * (1 / det), v = w * (1 / det): every kernel computes exactly this). */
+typedef struct hz_bvh_best {
+    uint32_t slot, prim; /* HZ_ACCEL_INVALID_ID: none */
+    float v, w, det;
+} hz_bvh_best_t;
+
+HZ_INLINE void hz_bvh_best_init(hz_bvh_best_t *b)
+{
+    b->slot = b->prim = HZ_ACCEL_INVALID_ID;
+    b->v = b->w = 0.0f;
+    b->det = 1.0f;
+}
+
+/* Barycentrics and the geometric normal (v1 - v0) x (v2 - v0) of a recorded hit. */
+void hz_bvh_best_finish(const hz_bvh_t *bvh, const hz_bvh_best_t *b, float *ng, float *u, float *v);
 
 /* Asks the any-hit callback about block slot `slot`; true = the hit counts. */
 bool hz_bvh_anyhit(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, uint32_t slot, const hz_bvh_ray_t *r, float t,
                    uint32_t ray_id, int lane);
 
 /* ---- kernels ---- */
-/* Scalar reference (every board). Return the hit slot or HZ_ACCEL_INVALID_ID; r->tfar holds the hit t. */
-uint32_t hz_bvh_scalar_closest(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, hz_bvh_ray_t *r, uint32_t ray_id,
-                               int lane);
+/* Scalar reference (every board): fills *best (hz_bvh_best_init first) and r->tfar with the closest hit. */
+void hz_bvh_scalar_closest(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, hz_bvh_ray_t *r, hz_bvh_best_t *best,
+                           uint32_t ray_id, int lane);
 bool hz_bvh_scalar_any(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const hz_bvh_ray_t *r, uint32_t ray_id, int lane);
 
 #if defined(HZ_SIMD_AVX2) || defined(HZ_SIMD_NEON)
@@ -177,9 +194,9 @@ typedef hz_ray8_t hz_bvh_rayw_t;
 typedef hz_rayhit4_t hz_bvh_rayhitw_t;
 typedef hz_ray4_t hz_bvh_rayw_t;
 #endif
-/* One ray against all children of a node at once (trav_avx2.c / trav_neon.c). Same returns as scalar. */
-uint32_t hz_bvh_simd_closest(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, hz_bvh_ray_t *r, uint32_t ray_id,
-                             int lane);
+/* One ray against all children of a node at once (trav_avx2.c / trav_neon.c). Same results as scalar. */
+void hz_bvh_simd_closest(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, hz_bvh_ray_t *r, hz_bvh_best_t *best,
+                         uint32_t ray_id, int lane);
 bool hz_bvh_simd_any(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const hz_bvh_ray_t *r, uint32_t ray_id, int lane);
 /* Packets of HZ_BVH_W rays: `kernel` is HZ_ACCEL_KERNEL_SIMD_PACKET (frustum) or _SIMD_MASKED. */
 void hz_bvh_simd_intersectw(const int32_t *valid, const hz_bvh_t *bvh, hz_accel_ctx_t *ctx,

@@ -10,10 +10,19 @@
 #include "bvh.h"
 
 #define OBJ_BINS 32
-#define SPATIAL_BINS 32
+#define SPATIAL_BINS 32     /* at most; smaller nodes use fewer (spatial_bins) */
 #define DEPTH_FORCE_MEDIAN 48 /* from here on, halve by index: 2^27 refs need 27 more levels < MAX_DEPTH */
-#define COST_NODE 1.0f        /* SAH: cost of a binary node relative to one ray/triangle test */
+#define COST_NODE 1.0f        /* SAH: cost of a binary node relative to one test of a block of triangles */
 #define COST_TRI 1.0f
+#ifndef SAH_BLOCK
+#define SAH_BLOCK 4u          /* SAH counts triangles in blocks of 4 (leaves test them together) */
+#endif
+
+/* Triangle count as the SAH sees it: whole blocks. */
+HZ_INLINE float sah_count(uint32_t n)
+{
+    return (float)((n + SAH_BLOCK - 1u) / SAH_BLOCK);
+}
 
 typedef struct box {
     float lo[3], hi[3];
@@ -51,7 +60,7 @@ typedef struct build {
     uint32_t node_cap, node_count;
     uint32_t *leaf_prims;
     uint32_t leaf_cap, leaf_count;
-    uint32_t dup_left; /* duplicates the budget still allows */
+    uint32_t dup_left; /* duplicates the current node's share of the budget still allows */
     uint32_t leaf_max;
     bool spatial;
     float min_overlap; /* alpha * root area */
@@ -173,30 +182,50 @@ static void split_ref(const build_t *bd, const ref_t *r, int axis, float pos, re
     l->pad = rr->pad = 0;
 }
 
-HZ_INLINE float spatial_pos(const box_t *nb, int k, int i);
+HZ_INLINE float spatial_pos(const box_t *nb, int k, int i, int nbins);
 
 /* Bins one reference for the spatial split search on `axis`: the triangle's part inside each bin [b0, b1]
  * (clipped like split_ref, but walking the planes once: the triangle's cross-section at a plane is a segment
- * whose ends lie on edge lo-hi and on lo-mid or mid-hi of its vertices sorted along the axis). */
-static void cross_section(const float *v[3], int axis, float x, box_t *b)
+ * whose ends lie on edge lo-hi and on lo-mid or mid-hi of its vertices sorted along the axis). Boxes here are
+ * named scalars, not arrays, so they stay in registers: this loop runs for every reference and bin. */
+typedef struct sbox {
+    float lx, ly, lz, hx, hy, hz;
+} sbox_t;
+
+HZ_INLINE void sbox_empty(sbox_t *b)
 {
-    const float *lo = v[0], *mid = v[1], *hi = v[2];
+    b->lx = b->ly = b->lz = __builtin_inff();
+    b->hx = b->hy = b->hz = -__builtin_inff();
+}
+
+HZ_INLINE void sbox_pt(sbox_t *b, float x, float y, float z)
+{
+    b->lx = hz_minf(b->lx, x), b->hx = hz_maxf(b->hx, x);
+    b->ly = hz_minf(b->ly, y), b->hy = hz_maxf(b->hy, y);
+    b->lz = hz_minf(b->lz, z), b->hz = hz_maxf(b->hz, z);
+}
+
+/* Cross-section of the sorted triangle (lo, mid, hi along axis) at plane x into b. */
+HZ_INLINE void cross_section(const float *lo, const float *mid, const float *hi, int axis, float x, sbox_t *b)
+{
     if (!(lo[axis] < x && x < hi[axis]))
         return;
     const float *e0 = x < mid[axis] ? lo : mid, *e1 = x < mid[axis] ? mid : hi;
-    float s = (x - lo[axis]) / (hi[axis] - lo[axis]);
-    float t = e1[axis] > e0[axis] ? (x - e0[axis]) / (e1[axis] - e0[axis]) : 0.0f;
-    float p[3], q[3];
-    for (int k = 0; k < 3; k++) {
-        p[k] = lo[k] + (hi[k] - lo[k]) * hz_clampf(s, 0.0f, 1.0f);
-        q[k] = e0[k] + (e1[k] - e0[k]) * hz_clampf(t, 0.0f, 1.0f);
-    }
-    p[axis] = q[axis] = x;
-    box_grow_pt(b, p[0], p[1], p[2]);
-    box_grow_pt(b, q[0], q[1], q[2]);
+    float s = hz_clampf((x - lo[axis]) / (hi[axis] - lo[axis]), 0.0f, 1.0f);
+    float t = e1[axis] > e0[axis] ? hz_clampf((x - e0[axis]) / (e1[axis] - e0[axis]), 0.0f, 1.0f) : 0.0f;
+    float px = lo[0] + (hi[0] - lo[0]) * s, py = lo[1] + (hi[1] - lo[1]) * s, pz = lo[2] + (hi[2] - lo[2]) * s;
+    float qx = e0[0] + (e1[0] - e0[0]) * t, qy = e0[1] + (e1[1] - e0[1]) * t, qz = e0[2] + (e1[2] - e0[2]) * t;
+    if (axis == 0)
+        px = qx = x;
+    else if (axis == 1)
+        py = qy = x;
+    else
+        pz = qz = x;
+    sbox_pt(b, px, py, pz);
+    sbox_pt(b, qx, qy, qz);
 }
 
-static void chop_into_bins(const build_t *bd, const ref_t *r, int axis, const box_t *nb, int b0, int b1,
+static void chop_into_bins(const build_t *bd, const ref_t *r, int axis, const box_t *nb, int nbins, int b0, int b1,
                            sp_bin_t *bins)
 {
     if (b0 == b1) {
@@ -204,45 +233,51 @@ static void chop_into_bins(const build_t *bd, const ref_t *r, int axis, const bo
         return;
     }
     const uint32_t *t = bd->g->tri + 3u * (size_t)r->prim;
-    const float *v[3] = { vtx(bd->g, t[0]), vtx(bd->g, t[1]), vtx(bd->g, t[2]) };
-    if (v[0][axis] > v[1][axis]) { /* sort the three vertices along the axis */
-        const float *x = v[0];
-        v[0] = v[1], v[1] = x;
-    }
-    if (v[1][axis] > v[2][axis]) {
-        const float *x = v[1];
-        v[1] = v[2], v[2] = x;
-    }
-    if (v[0][axis] > v[1][axis]) {
-        const float *x = v[0];
-        v[0] = v[1], v[1] = x;
-    }
-    const float px = axis == 0 ? 0.0f : (hz_absf(r->b.lo[0]) + hz_absf(r->b.hi[0])) * (1.0f / 1048576.0f);
-    const float py = axis == 1 ? 0.0f : (hz_absf(r->b.lo[1]) + hz_absf(r->b.hi[1])) * (1.0f / 1048576.0f);
-    const float pz = axis == 2 ? 0.0f : (hz_absf(r->b.lo[2]) + hz_absf(r->b.hi[2])) * (1.0f / 1048576.0f);
-    box_t cut; /* cross-section at the piece's lower plane */
-    box_empty(&cut);
+    const float *v0 = vtx(bd->g, t[0]), *v1 = vtx(bd->g, t[1]), *v2 = vtx(bd->g, t[2]), *x;
+    if (v0[axis] > v1[axis]) /* sort the three vertices along the axis */
+        x = v0, v0 = v1, v1 = x;
+    if (v1[axis] > v2[axis])
+        x = v1, v1 = v2, v2 = x;
+    if (v0[axis] > v1[axis])
+        x = v0, v0 = v1, v1 = x;
+    const sbox_t rb = { r->b.lo[0], r->b.lo[1], r->b.lo[2], r->b.hi[0], r->b.hi[1], r->b.hi[2] };
+    const float px = axis == 0 ? 0.0f : (hz_absf(rb.lx) + hz_absf(rb.hx)) * (1.0f / 1048576.0f);
+    const float py = axis == 1 ? 0.0f : (hz_absf(rb.ly) + hz_absf(rb.hy)) * (1.0f / 1048576.0f);
+    const float pz = axis == 2 ? 0.0f : (hz_absf(rb.lz) + hz_absf(rb.hz)) * (1.0f / 1048576.0f);
+    sbox_t cut; /* cross-section at the piece's lower plane */
+    sbox_empty(&cut);
     for (int j = b0; j <= b1; j++) {
-        const float x0 = j == b0 ? -__builtin_inff() : spatial_pos(nb, axis, j);
-        const float x1 = j == b1 ? __builtin_inff() : spatial_pos(nb, axis, j + 1);
-        box_t piece = cut;
-        box_empty(&cut);
+        const float x0 = j == b0 ? -__builtin_inff() : spatial_pos(nb, axis, j, nbins);
+        const float x1 = j == b1 ? __builtin_inff() : spatial_pos(nb, axis, j + 1, nbins);
+        sbox_t piece = cut;
+        sbox_empty(&cut);
         if (j < b1)
-            cross_section(v, axis, x1, &cut);
-        box_grow(&piece, &cut);
-        for (int q = 0; q < 3; q++)
-            if (v[q][axis] >= x0 && v[q][axis] <= x1)
-                box_grow_pt(&piece, v[q][0], v[q][1], v[q][2]);
-        piece.lo[0] -= px, piece.hi[0] += px;
-        piece.lo[1] -= py, piece.hi[1] += py;
-        piece.lo[2] -= pz, piece.hi[2] += pz;
-        if (j > b0)
-            piece.lo[axis] = hz_maxf(piece.lo[axis], x0);
-        if (j < b1)
-            piece.hi[axis] = hz_minf(piece.hi[axis], x1);
-        box_clip(&piece, &r->b);
-        if (box_valid(&piece))
-            box_grow(&bins[j].b, &piece);
+            cross_section(v0, v1, v2, axis, x1, &cut);
+        piece.lx = hz_minf(piece.lx, cut.lx), piece.hx = hz_maxf(piece.hx, cut.hx);
+        piece.ly = hz_minf(piece.ly, cut.ly), piece.hy = hz_maxf(piece.hy, cut.hy);
+        piece.lz = hz_minf(piece.lz, cut.lz), piece.hz = hz_maxf(piece.hz, cut.hz);
+        if (v0[axis] >= x0 && v0[axis] <= x1)
+            sbox_pt(&piece, v0[0], v0[1], v0[2]);
+        if (v1[axis] >= x0 && v1[axis] <= x1)
+            sbox_pt(&piece, v1[0], v1[1], v1[2]);
+        if (v2[axis] >= x0 && v2[axis] <= x1)
+            sbox_pt(&piece, v2[0], v2[1], v2[2]);
+        /* pad (off the split axis), cut to the bin's slab and to the reference's box */
+        piece.lx = hz_maxf(piece.lx - px, rb.lx), piece.hx = hz_minf(piece.hx + px, rb.hx);
+        piece.ly = hz_maxf(piece.ly - py, rb.ly), piece.hy = hz_minf(piece.hy + py, rb.hy);
+        piece.lz = hz_maxf(piece.lz - pz, rb.lz), piece.hz = hz_minf(piece.hz + pz, rb.hz);
+        if (axis == 0)
+            piece.lx = hz_maxf(piece.lx, x0), piece.hx = hz_minf(piece.hx, x1);
+        else if (axis == 1)
+            piece.ly = hz_maxf(piece.ly, x0), piece.hy = hz_minf(piece.hy, x1);
+        else
+            piece.lz = hz_maxf(piece.lz, x0), piece.hz = hz_minf(piece.hz, x1);
+        if (piece.lx <= piece.hx && piece.ly <= piece.hy && piece.lz <= piece.hz) {
+            box_t *bb = &bins[j].b;
+            bb->lo[0] = hz_minf(bb->lo[0], piece.lx), bb->hi[0] = hz_maxf(bb->hi[0], piece.hx);
+            bb->lo[1] = hz_minf(bb->lo[1], piece.ly), bb->hi[1] = hz_maxf(bb->hi[1], piece.hy);
+            bb->lo[2] = hz_minf(bb->lo[2], piece.lz), bb->hi[2] = hz_maxf(bb->hi[2], piece.hz);
+        }
     }
 }
 
@@ -301,7 +336,7 @@ static void find_object_split(build_t *bd, uint32_t base, uint32_t n, const box_
             uint32_t nr = n - nl;
             if (nl == 0 || nr == 0)
                 continue;
-            float c = box_area(&lacc) * (float)nl + box_area(&bd->rbox[i + 1]) * (float)nr;
+            float c = box_area(&lacc) * sah_count(nl) + box_area(&bd->rbox[i + 1]) * sah_count(nr);
             if (c < best->cost) {
                 best->cost = c;
                 best->axis = k;
@@ -315,21 +350,28 @@ static void find_object_split(build_t *bd, uint32_t base, uint32_t n, const box_
     }
 }
 
-HZ_INLINE float spatial_pos(const box_t *nb, int k, int i)
+HZ_INLINE float spatial_pos(const box_t *nb, int k, int i, int nbins)
 {
     float ext = nb->hi[k] - nb->lo[k];
-    return nb->lo[k] + ext * ((float)i / (float)SPATIAL_BINS);
+    return nb->lo[k] + ext * ((float)i * (1.0f / (float)nbins)); /* nbins is a power of two: exact */
 }
 
-static int spatial_bin_of(float x, const box_t *nb, int k)
+/* Spatial bins for a node of n references: chopping costs (references x bins spanned), and fine planes pay
+ * off only where many references share a node. */
+static int spatial_bins(uint32_t n)
+{
+    return n >= 1024 ? SPATIAL_BINS : n >= 128 ? SPATIAL_BINS / 2 : SPATIAL_BINS / 4;
+}
+
+static int spatial_bin_of(float x, const box_t *nb, int k, int nbins)
 {
     float ext = nb->hi[k] - nb->lo[k];
-    int i = (int)((x - nb->lo[k]) * ((float)SPATIAL_BINS / ext));
-    i = i < 0 ? 0 : (i >= SPATIAL_BINS ? SPATIAL_BINS - 1 : i);
+    int i = (int)((x - nb->lo[k]) * ((float)nbins / ext));
+    i = i < 0 ? 0 : (i >= nbins ? nbins - 1 : i);
     /* The float bin index may disagree with the plane positions by one: settle it against the planes. */
-    while (i > 0 && x < spatial_pos(nb, k, i))
+    while (i > 0 && x < spatial_pos(nb, k, i, nbins))
         i--;
-    while (i < SPATIAL_BINS - 1 && x >= spatial_pos(nb, k, i + 1))
+    while (i < nbins - 1 && x >= spatial_pos(nb, k, i + 1, nbins))
         i++;
     return i;
 }
@@ -338,46 +380,47 @@ static void find_spatial_split(build_t *bd, uint32_t base, uint32_t n, const box
 {
     best->cost = FLT_MAX;
     best->axis = -1;
+    const int nbins = spatial_bins(n);
     for (int k = 0; k < 3; k++) {
         float ext = nb->hi[k] - nb->lo[k];
         if (!(ext > 0.0f))
             continue;
         sp_bin_t *bins = bd->sbins[k];
-        for (int i = 0; i < SPATIAL_BINS; i++) {
+        for (int i = 0; i < nbins; i++) {
             box_empty(&bins[i].b);
             bins[i].enter = bins[i].exit = 0;
         }
         for (uint32_t i = base; i < base + n; i++) {
             const ref_t cur = bd->refs[i];
-            int b0 = spatial_bin_of(cur.b.lo[k], nb, k);
-            int b1 = spatial_bin_of(cur.b.hi[k], nb, k);
+            int b0 = spatial_bin_of(cur.b.lo[k], nb, k, nbins);
+            int b1 = spatial_bin_of(cur.b.hi[k], nb, k, nbins);
             if (b1 < b0)
                 b1 = b0;
-            chop_into_bins(bd, &cur, k, nb, b0, b1, bins);
+            chop_into_bins(bd, &cur, k, nb, nbins, b0, b1, bins);
             bins[b0].enter++;
             bins[b1].exit++;
         }
         box_t acc;
         box_empty(&acc);
-        for (int i = SPATIAL_BINS - 1; i > 0; i--) {
+        for (int i = nbins - 1; i > 0; i--) {
             box_grow(&acc, &bins[i].b);
             bd->rbox[i] = acc;
         }
         box_t lacc;
         box_empty(&lacc);
         uint32_t nl = 0, nr = n;
-        for (int i = 0; i < SPATIAL_BINS - 1; i++) {
+        for (int i = 0; i < nbins - 1; i++) {
             box_grow(&lacc, &bins[i].b);
             nl += bins[i].enter;
             nr -= bins[i].exit;
             if (nl == 0 || nr == 0)
                 continue;
-            float c = box_area(&lacc) * (float)nl + box_area(&bd->rbox[i + 1]) * (float)nr;
+            float c = box_area(&lacc) * sah_count(nl) + box_area(&bd->rbox[i + 1]) * sah_count(nr);
             if (c < best->cost) {
                 best->cost = c;
                 best->axis = k;
                 best->bin = i;
-                best->pos = spatial_pos(nb, k, i + 1);
+                best->pos = spatial_pos(nb, k, i + 1, nbins);
                 best->lb = lacc;
                 best->rb = bd->rbox[i + 1];
                 best->nl = nl;
@@ -441,8 +484,8 @@ static uint32_t partition_spatial(build_t *bd, uint32_t base, uint32_t n, const 
         box_t lub = lb, rub = rb;
         box_grow(&lub, &r->b);
         box_grow(&rub, &r->b);
-        float c_left = box_area(&lub) * (float)(nl + 1) + box_area(&rb) * (float)nr;
-        float c_right = box_area(&lb) * (float)nl + box_area(&rub) * (float)(nr + 1);
+        float c_left = box_area(&lub) * sah_count(nl + 1) + box_area(&rb) * sah_count(nr);
+        float c_right = box_area(&lb) * sah_count(nl) + box_area(&rub) * sah_count(nr + 1);
         ref_t lr, rr;
         float c_dup = FLT_MAX;
         box_t ldb = lb, rdb = rb;
@@ -452,7 +495,7 @@ static uint32_t partition_spatial(build_t *bd, uint32_t base, uint32_t n, const 
                 ldb = lb, rdb = rb;
                 box_grow(&ldb, &lr.b);
                 box_grow(&rdb, &rr.b);
-                c_dup = box_area(&ldb) * (float)(nl + 1) + box_area(&rdb) * (float)(nr + 1);
+                c_dup = box_area(&ldb) * sah_count(nl + 1) + box_area(&rdb) * sah_count(nr + 1);
             }
         }
         if (c_dup < c_left && c_dup < c_right) {
@@ -507,13 +550,16 @@ static float make_leaf(build_t *bd, uint32_t idx, uint32_t n, float area)
     for (uint32_t i = 0; i < n; i++)
         bd->leaf_prims[bd->leaf_count++] = bd->refs[base + i].prim;
     bd->top = base;
-    return COST_TRI * (float)n * area;
+    return COST_TRI * sah_count(n) * area;
 }
 
-/* Builds the node for the n references on top of the stack (bounds b); pops them. Returns the SAH cost
- * (unnormalised: area-weighted). */
-static float build_node(build_t *bd, uint32_t idx, uint32_t n, const box_t *b, uint32_t depth)
+/* Builds the node for the n references on top of the stack (bounds b); pops them. `budget` is the subtree's
+ * share of the replication budget: what a split does not use is shared between the children in proportion to
+ * their references, so the first subtrees built cannot spend it all (which left the rest of Sponza without
+ * any). Returns the SAH cost (unnormalised: area-weighted). */
+static float build_node(build_t *bd, uint32_t idx, uint32_t n, const box_t *b, uint32_t depth, uint32_t *budget_io)
 {
+    const uint32_t budget = *budget_io;
     bnode_t *nd = &bd->nodes[idx];
     nd->b = *b;
     const float area = box_area(b);
@@ -533,7 +579,7 @@ static float build_node(build_t *bd, uint32_t idx, uint32_t n, const box_t *b, u
     bool median = depth >= DEPTH_FORCE_MEDIAN;
     if (!median) {
         find_object_split(bd, base, n, &cb, &os);
-        if (bd->spatial && bd->dup_left > 0) {
+        if (bd->spatial && budget > 0) {
             box_t ov = box_and(&os.lb, &os.rb);
             if (os.axis < 0 || box_area(&ov) > bd->min_overlap)
                 find_spatial_split(bd, base, n, b, &ss);
@@ -543,13 +589,14 @@ static float build_node(build_t *bd, uint32_t idx, uint32_t n, const box_t *b, u
         os.cost = FLT_MAX;
     }
     float best = hz_minf(os.cost, ss.cost);
-    float leaf_cost = COST_TRI * (float)n * area;
+    float leaf_cost = COST_TRI * sah_count(n) * area;
     float split_cost = COST_NODE * area + COST_TRI * best;
     if (n <= bd->leaf_max && (leaf_cost <= split_cost || best == FLT_MAX))
         return make_leaf(bd, idx, n, area);
 
     uint32_t nl;
     box_t lb, rb;
+    bd->dup_left = budget;
     if (ss.axis >= 0 && ss.cost < os.cost) {
         nl = partition_spatial(bd, base, n, &ss, &lb, &rb);
         if (nl == 0 || nl == bd->top - base) {
@@ -584,8 +631,13 @@ static float build_node(build_t *bd, uint32_t idx, uint32_t n, const box_t *b, u
     nd->n = ri;
     /* Right references are on top: build them first, which pops them. */
     float c = COST_NODE * area;
-    c += build_node(bd, ri, nr, &rb, depth + 1);
-    c += build_node(bd, li, nl, &lb, depth + 1);
+    const uint32_t left_over = bd->dup_left;
+    uint32_t rbud = (uint32_t)((uint64_t)left_over * nr / (nl + nr));
+    const uint32_t keep = left_over - rbud;
+    c += build_node(bd, ri, nr, &rb, depth + 1, &rbud);
+    uint32_t lbud = keep + rbud; /* what the right subtree left unused goes on to the left one */
+    c += build_node(bd, li, nl, &lb, depth + 1, &lbud);
+    *budget_io = lbud;
     return c;
 }
 
@@ -780,7 +832,7 @@ hz_status_t hz_bvh_build(hz_bvh_t *bvh, const hz_accel_geom_t *g, const hz_accel
     bd->leaf_cap = (uint32_t)rb;
     bd->leaf_max = cfg->leaf_max < 1 ? 1 : (cfg->leaf_max > HZ_BVH_W ? HZ_BVH_W : cfg->leaf_max);
     bd->spatial = cfg->spatial_splits;
-    bd->dup_left = (uint32_t)(rb - g->tri_count);
+    const uint32_t budget = (uint32_t)(rb - g->tri_count);
 
     box_t root;
     box_empty(&root);
@@ -807,7 +859,8 @@ hz_status_t hz_bvh_build(hz_bvh_t *bvh, const hz_accel_geom_t *g, const hz_accel
         nodes[0].a = 0;
         nodes[0].n = BLEAF | 0u;
     } else {
-        sah = build_node(bd, root_idx, bd->top, &root, 0);
+        uint32_t bud = budget;
+        sah = build_node(bd, root_idx, bd->top, &root, 0, &bud);
     }
     if (bd->failed) {
         hz_arena_reset(arena, m0);

@@ -33,7 +33,6 @@ typedef struct counters {
 
 static void flush(hz_accel_ctx_t *ctx, const counters_t *k)
 {
-    (void)k; /* counters are compiled out unless HZ_FEATURE_STATS */
 #if HZ_FEATURE_STATS
     if (ctx && ctx->stats) {
         ctx->stats->nodes += k->nodes;
@@ -55,6 +54,15 @@ HZ_INLINE __m256 ld(const hz_bvh_node_t *n, size_t off)
 {
     return _mm256_load_ps((const float *)(const void *)((const char *)n + off));
 }
+
+#if W == 8
+/* Lane mask vector (all ones where bit i of m is set). */
+HZ_INLINE __m256 lanes_of(unsigned m)
+{
+    const __m256i bits = _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128);
+    return _mm256_castsi256_ps(_mm256_cmpeq_epi32(_mm256_and_si256(_mm256_set1_epi32((int)m), bits), bits));
+}
+#endif
 
 /* ---------------------------------------------------------------------------------------------------------
  * single ray */
@@ -111,8 +119,9 @@ HZ_INLINE unsigned node_hit(const hz_bvh_node_t *n, const sray_t *s, __m256 tfar
 }
 
 /* One ray against the slots `lm` of block b: lanes that pass the watertight test with t >= tnear and
- * t <= tfar; t in *t_out. */
-HZ_INLINE unsigned leaf_hit(const hz_bvh_block_t *b, unsigned lm, const sray_t *s, float tfar, __m256 *t_out)
+ * t <= tfar; t and the edge weights V, W, det in the out vectors (written only when lanes pass). */
+HZ_INLINE unsigned leaf_hit(const hz_bvh_block_t *b, unsigned lm, const sray_t *s, float tfar, __m256 *t_out,
+                            __m256 *v_out, __m256 *w_out, __m256 *det_out)
 {
     const __m256 akx = _mm256_sub_ps(_mm256_load_ps(b->v[0][s->kx]), s->okx);
     const __m256 aky = _mm256_sub_ps(_mm256_load_ps(b->v[0][s->ky]), s->oky);
@@ -148,7 +157,7 @@ HZ_INLINE unsigned leaf_hit(const hz_bvh_block_t *b, unsigned lm, const sray_t *
     const __m256 t = _mm256_div_ps(T, det);
     const __m256 in = _mm256_and_ps(_mm256_cmp_ps(t, s->tnear, _CMP_GE_OQ),
                                     _mm256_cmp_ps(t, _mm256_set1_ps(tfar), _CMP_LE_OQ));
-    *t_out = t;
+    *t_out = t, *v_out = V, *w_out = Wv, *det_out = det;
     return m & (unsigned)_mm256_movemask_ps(in);
 }
 
@@ -157,17 +166,105 @@ HZ_INLINE unsigned slot_mask(uint32_t slot, uint32_t n)
     return ((1u << n) - 1u) << (slot % W);
 }
 
-/* Closest hit of one ray from node word `start` on, continuing a search with best (r->tfar, *prim, *slot). */
-static void closest_from(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, hz_bvh_ray_t *r, const sray_t *s,
-                         uint32_t start, uint32_t *best_prim, uint32_t *best_slot, uint32_t ray_id, int lane,
-                         counters_t *k)
+/* Children a node test hit (mask m, entry distances tmin): the nearest becomes *cur, the others go on the
+ * stack farthest first, so the nearest of them is popped next. Two hits take one compare; more are sorted in
+ * registers: keys are the distances' float bits (distances are >= 0, so their bits order like the floats) with
+ * the child's slot in the low 3 bits, a bitonic network sorts the 8 keys, and the sorted children and distances
+ * are stored with one vector store each (the stack keeps children and distances in separate arrays). Stored
+ * distances lose their low 3 bits: they round down, so culling by them stays conservative. */
+#if W == 8
+static const int32_t sort_perm[6][8] = {
+    { 1, 0, 3, 2, 5, 4, 7, 6 }, { 2, 3, 0, 1, 6, 7, 4, 5 }, { 1, 0, 3, 2, 5, 4, 7, 6 },
+    { 4, 5, 6, 7, 0, 1, 2, 3 }, { 2, 3, 0, 1, 6, 7, 4, 5 }, { 1, 0, 3, 2, 5, 4, 7, 6 },
+};
+/* lane takes the larger key: (lane & j) != 0 differs from (lane & k) != 0, stages (k, j) = (2,1) (4,2) (4,1)
+ * (8,4) (8,2) (8,1) */
+static const int32_t sort_max[6][8] = {
+    { 0, -1, -1, 0, 0, -1, -1, 0 },  { 0, 0, -1, -1, -1, -1, 0, 0 }, { 0, -1, 0, -1, -1, 0, -1, 0 },
+    { 0, 0, 0, 0, -1, -1, -1, -1 },  { 0, 0, -1, -1, 0, 0, -1, -1 }, { 0, -1, 0, -1, 0, -1, 0, -1 },
+};
+
+HZ_INLINE __m256i sort8(__m256i v)
 {
-    (void)k; /* counters are compiled out unless HZ_FEATURE_STATS */
-    entry_t stack[HZ_BVH_STACK];
+    for (int i = 0; i < 6; i++) {
+        const __m256i p = _mm256_permutevar8x32_epi32(v, _mm256_loadu_si256((const __m256i *)(const void *)sort_perm[i]));
+        const __m256i lo = _mm256_min_epu32(v, p), hi = _mm256_max_epu32(v, p);
+        v = _mm256_blendv_epi8(lo, hi, _mm256_loadu_si256((const __m256i *)(const void *)sort_max[i]));
+    }
+    return v;
+}
+#endif
+
+HZ_INLINE void order_children(const hz_bvh_node_t *n, unsigned m, __m256 tmin, uint32_t *cur, uint32_t *st_c,
+                              float *st_d, int *sp)
+{
+    const int cnt = __builtin_popcount(m);
+    if (cnt == 1) {
+        *cur = n->child[__builtin_ctz(m)];
+        return;
+    }
+    float d[W] HZ_ALIGNED(32);
+    _mm256_store_ps(d, tmin);
+    if (cnt == 2) {
+        unsigned i0 = (unsigned)__builtin_ctz(m), i1 = (unsigned)__builtin_ctz(m & (m - 1));
+        bool swap = d[i1] < d[i0];
+        unsigned near = swap ? i1 : i0, far = swap ? i0 : i1;
+        st_c[*sp] = n->child[far];
+        st_d[*sp] = d[far];
+        (*sp)++;
+        *cur = n->child[near];
+        return;
+    }
+#if W == 8
+    const __m256i iota = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
+    const __m256i seven = _mm256_set1_epi32(7);
+    const __m256i hitm = _mm256_castps_si256(lanes_of(m));
+    __m256i key = _mm256_or_si256(_mm256_andnot_si256(seven, _mm256_castps_si256(_mm256_max_ps(tmin, _mm256_setzero_ps()))),
+                                  iota);
+    key = _mm256_blendv_epi8(_mm256_set1_epi32(-1), key, hitm);
+    const __m256i sorted = sort8(key);
+    const __m256i kids = _mm256_permutevar8x32_epi32(_mm256_load_si256((const __m256i *)(const void *)n->child),
+                                                     _mm256_and_si256(sorted, seven));
+    const __m256i dists = _mm256_andnot_si256(seven, sorted);
+    /* lanes 0 .. cnt-2 of the stores: the hits from the farthest (sorted[cnt - 1]) down to sorted[1] */
+    const __m256i rev = _mm256_sub_epi32(_mm256_set1_epi32(cnt - 1), iota);
+    _mm256_storeu_si256((__m256i *)(void *)(st_c + *sp), _mm256_permutevar8x32_epi32(kids, rev));
+    _mm256_storeu_si256((__m256i *)(void *)(st_d + *sp), _mm256_permutevar8x32_epi32(dists, rev));
+    *sp += cnt - 1;
+    *cur = (uint32_t)_mm256_cvtsi256_si32(kids);
+#else
+    entry_t h[W];
+    int c = 0;
+    for (unsigned mm = m; mm; mm &= mm - 1) {
+        unsigned i = (unsigned)__builtin_ctz(mm);
+        entry_t e = { n->child[i], d[i] };
+        int j = c++;
+        while (j > 0 && h[j - 1].d < e.d) { /* descending: nearest last */
+            h[j] = h[j - 1];
+            j--;
+        }
+        h[j] = e;
+    }
+    for (int i = 0; i < c - 1; i++) {
+        st_c[*sp] = h[i].c;
+        st_d[*sp] = h[i].d;
+        (*sp)++;
+    }
+    *cur = h[c - 1].c;
+#endif
+}
+
+/* Closest hit of one ray from node word `start` on, continuing a search with best (r->tfar, *best). */
+static void closest_from(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, hz_bvh_ray_t *r, const sray_t *s,
+                         uint32_t start, hz_bvh_best_t *best, uint32_t ray_id, int lane, counters_t *k)
+{
+    (void)k; /* counters exist only with HZ_FEATURE_STATS */
+    uint32_t st_c[HZ_BVH_STACK + W];
+    float st_d[HZ_BVH_STACK + W];
     int sp = 0;
     uint32_t cur = start;
     const bool anyhit = bvh->has_anyhit && ctx && ctx->anyhit;
-    __m256 tfar = _mm256_set1_ps(r->tfar);
+    __m256 tfar = _mm256_set1_ps(r->tfar * HZ_BVH_CULL); /* for culling nodes (see bvh.h) */
     for (;;) {
         if (!hz_bvh_is_leaf(cur)) {
             const hz_bvh_node_t *n = &bvh->nodes[cur];
@@ -175,90 +272,68 @@ static void closest_from(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, hz_bvh_ray_t 
             COUNT(k, nodes, 1);
             unsigned m = node_hit(n, s, tfar, &tmin);
             if (m) {
-                unsigned i0 = (unsigned)__builtin_ctz(m);
-                m &= m - 1;
-                if (!m) {
-                    cur = n->child[i0];
-                    continue;
-                }
-                float d[W] HZ_ALIGNED(32);
-                _mm256_store_ps(d, tmin);
-                entry_t h[W];
-                int c = 0;
-                h[c].c = n->child[i0], h[c++].d = d[i0];
-                do {
-                    unsigned i = (unsigned)__builtin_ctz(m);
-                    m &= m - 1;
-                    entry_t e = { n->child[i], d[i] };
-                    int j = c++;
-                    while (j > 0 && h[j - 1].d < e.d) { /* descending: nearest last */
-                        h[j] = h[j - 1];
-                        j--;
-                    }
-                    h[j] = e;
-                } while (m);
-                for (int i = 0; i < c - 1; i++)
-                    stack[sp++] = h[i];
-                cur = h[c - 1].c;
+                order_children(n, m, tmin, &cur, st_c, st_d, &sp);
                 continue;
             }
         } else {
             const uint32_t slot = hz_bvh_leaf_slot(cur), cnt = hz_bvh_leaf_count(cur);
             const hz_bvh_block_t *b = &bvh->blocks[slot / W];
-            __m256 t;
+            __m256 t, V, Wv, det;
             COUNT(k, tris, cnt);
-            unsigned m = leaf_hit(b, slot_mask(slot, cnt), s, r->tfar, &t);
+            unsigned m = leaf_hit(b, slot_mask(slot, cnt), s, r->tfar, &t, &V, &Wv, &det);
             if (m) {
-                float tv[W] HZ_ALIGNED(32);
+                float tv[W] HZ_ALIGNED(32), vv[W] HZ_ALIGNED(32), wv[W] HZ_ALIGNED(32), dv[W] HZ_ALIGNED(32);
                 _mm256_store_ps(tv, t);
+                _mm256_store_ps(vv, V);
+                _mm256_store_ps(wv, Wv);
+                _mm256_store_ps(dv, det);
                 do {
                     unsigned i = (unsigned)__builtin_ctz(m);
                     m &= m - 1;
                     uint32_t pw = b->prim[i], prim = pw & HZ_BVH_PRIM_MASK;
-                    if (!hz_bvh_better(tv[i], prim, r->tfar, *best_prim))
+                    if (!hz_bvh_better(tv[i], prim, r->tfar, best->prim))
                         continue;
                     uint32_t hs = (slot / W) * W + i;
                     if (anyhit && (pw & HZ_BVH_PRIM_ANYHIT) && !hz_bvh_anyhit(bvh, ctx, hs, r, tv[i], ray_id, lane))
                         continue;
                     r->tfar = tv[i];
-                    *best_prim = prim;
-                    *best_slot = hs;
+                    best->prim = prim, best->slot = hs;
+                    best->v = vv[i], best->w = wv[i], best->det = dv[i];
                 } while (m);
-                tfar = _mm256_set1_ps(r->tfar);
+                tfar = _mm256_set1_ps(r->tfar * HZ_BVH_CULL);
             }
         }
         for (;;) {
             if (sp == 0)
                 return;
-            entry_t e = stack[--sp];
-            if (e.d <= r->tfar) {
-                cur = e.c;
+            --sp;
+            if (st_d[sp] <= r->tfar * HZ_BVH_CULL) {
+                cur = st_c[sp];
                 break;
             }
         }
     }
 }
 
-uint32_t hz_bvh_simd_closest(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, hz_bvh_ray_t *r, uint32_t ray_id, int lane)
+void hz_bvh_simd_closest(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, hz_bvh_ray_t *r, hz_bvh_best_t *best,
+                         uint32_t ray_id, int lane)
 {
     sray_t s;
     counters_t k = { 0, 0 };
-    uint32_t prim = HZ_ACCEL_INVALID_ID, slot = HZ_ACCEL_INVALID_ID;
     sray_init(&s, r);
-    closest_from(bvh, ctx, r, &s, 0, &prim, &slot, ray_id, lane, &k);
+    closest_from(bvh, ctx, r, &s, 0, best, ray_id, lane, &k);
     flush(ctx, &k);
-    return slot;
 }
 
 static bool any_from(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const hz_bvh_ray_t *r, const sray_t *s, uint32_t start,
                      uint32_t ray_id, int lane, counters_t *k)
 {
-    (void)k; /* counters are compiled out unless HZ_FEATURE_STATS */
+    (void)k; /* counters exist only with HZ_FEATURE_STATS */
     entry_t stack[HZ_BVH_STACK];
     int sp = 0;
     uint32_t cur = start;
     const bool anyhit = bvh->has_anyhit && ctx && ctx->anyhit;
-    const __m256 tfar = _mm256_set1_ps(r->tfar);
+    const __m256 tfar = _mm256_set1_ps(r->tfar * HZ_BVH_CULL); /* for culling nodes (see bvh.h) */
     for (;;) {
         if (!hz_bvh_is_leaf(cur)) {
             const hz_bvh_node_t *n = &bvh->nodes[cur];
@@ -277,9 +352,9 @@ static bool any_from(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const hz_bvh_ray_
         } else {
             const uint32_t slot = hz_bvh_leaf_slot(cur), cnt = hz_bvh_leaf_count(cur);
             const hz_bvh_block_t *b = &bvh->blocks[slot / W];
-            __m256 t;
+            __m256 t, V, Wv, det;
             COUNT(k, tris, cnt);
-            unsigned m = leaf_hit(b, slot_mask(slot, cnt), s, r->tfar, &t);
+            unsigned m = leaf_hit(b, slot_mask(slot, cnt), s, r->tfar, &t, &V, &Wv, &det);
             if (m) {
                 if (!anyhit)
                     return true;
@@ -316,14 +391,14 @@ typedef struct packet {
     hz_bvh_ray_t r[W];
     unsigned active;
     uint32_t id[W];
-    uint32_t best_prim[W], best_slot[W];
+    hz_bvh_best_t best[W];
 } packet_t;
 
 static unsigned packet_init(packet_t *p, const int32_t *valid, const hz_ray8_t *ray)
 {
     p->active = 0;
     for (int i = 0; i < W; i++) {
-        p->best_prim[i] = p->best_slot[i] = HZ_ACCEL_INVALID_ID;
+        hz_bvh_best_init(&p->best[i]);
         p->id[i] = ray->id[i];
         if (!valid[i])
             continue;
@@ -334,64 +409,162 @@ static unsigned packet_init(packet_t *p, const int32_t *valid, const hz_ray8_t *
     return p->active;
 }
 
-/* Frustum form: needs every active lane to share the direction signs and the dominant axis (kx, ky, kz). */
+HZ_INLINE float hmax8(__m256 v)
+{
+    __m128 m = _mm_max_ps(_mm256_castps256_ps128(v), _mm256_extractf128_ps(v, 1));
+    m = _mm_max_ps(m, _mm_movehl_ps(m, m));
+    m = _mm_max_ss(m, _mm_shuffle_ps(m, m, 1));
+    return _mm_cvtss_f32(m);
+}
+
+HZ_INLINE float hmin8(__m256 v)
+{
+    __m128 m = _mm_min_ps(_mm256_castps256_ps128(v), _mm256_extractf128_ps(v, 1));
+    m = _mm_min_ps(m, _mm_movehl_ps(m, m));
+    m = _mm_min_ss(m, _mm_shuffle_ps(m, m, 1));
+    return _mm_cvtss_f32(m);
+}
+
+/* Horizontal minima of 8 vectors at once: lane i of the result is the minimum of v[i]'s lanes. */
+HZ_INLINE __m256 hmin8x8(const __m256 *v)
+{
+    const __m256 a01 = _mm256_min_ps(_mm256_unpacklo_ps(v[0], v[1]), _mm256_unpackhi_ps(v[0], v[1]));
+    const __m256 a23 = _mm256_min_ps(_mm256_unpacklo_ps(v[2], v[3]), _mm256_unpackhi_ps(v[2], v[3]));
+    const __m256 a45 = _mm256_min_ps(_mm256_unpacklo_ps(v[4], v[5]), _mm256_unpackhi_ps(v[4], v[5]));
+    const __m256 a67 = _mm256_min_ps(_mm256_unpacklo_ps(v[6], v[7]), _mm256_unpackhi_ps(v[6], v[7]));
+    /* per 128-bit half: a01 = [v0 v1 v0 v1] partial minima; combine pairs into [v0 v1 v2 v3] */
+    const __m256 b03 = _mm256_min_ps(_mm256_shuffle_ps(a01, a23, 0x44), _mm256_shuffle_ps(a01, a23, 0xEE));
+    const __m256 b47 = _mm256_min_ps(_mm256_shuffle_ps(a45, a67, 0x44), _mm256_shuffle_ps(a45, a67, 0xEE));
+    return _mm256_min_ps(_mm256_permute2f128_ps(b03, b47, 0x20), _mm256_permute2f128_ps(b03, b47, 0x31));
+}
+
+static void lanes_tfar(const packet_t *p, float *tf)
+{
+    for (int i = 0; i < W; i++)
+        tf[i] = (p->active >> i) & 1u ? p->r[i].tfar : -__builtin_inff();
+}
+
+/* The frustum form works on the packet as vectors throughout: preparation (the same operations as
+ * hz_bvh_ray_prep, lane by lane), traversal, and the hit attributes at the end. It needs every active lane to
+ * share the direction signs and the watertight test's axes (kx, ky, kz), and finite reciprocals; other packets
+ * go lane by lane. */
 typedef struct frustum {
-    size_t nx, ny, nz, fx, fy, fz;
+    unsigned active;
+    size_t nx, ny, nz, fx, fy, fz;         /* near and far planes (the direction signs) */
     __m256 on[3], of[3], rmin[3], rmax[3]; /* origins for the near and far planes, reciprocal ranges */
     __m256 tnear;                          /* smallest tnear of the packet */
-    /* lanes, for the leaf test */
-    __m256 okx, oky, okz, sx, sy, sz, ltnear;
+    /* lanes, for leaf boxes and the leaf test */
+    __m256 o[3], r[3];
+    __m256 okx, oky, okz, sx, sy, sz, ltnear, ltfar;
     int kx, ky, kz;
 } frustum_t;
 
-static bool frustum_init(frustum_t *f, const packet_t *p)
+HZ_INLINE __m256 lane_abs(__m256 x)
 {
-    int first = __builtin_ctz(p->active);
-    const hz_bvh_ray_t *r0 = &p->r[first];
-    float omin[3], omax[3], rmn[3], rmx[3], tn = r0->tnear;
-    for (int k = 0; k < 3; k++)
-        omin[k] = omax[k] = r0->org[k], rmn[k] = rmx[k] = r0->rdir[k];
-    for (unsigned m = p->active; m; m &= m - 1) {
-        const hz_bvh_ray_t *r = &p->r[__builtin_ctz(m)];
-        if (r->kx != r0->kx || r->ky != r0->ky || r->kz != r0->kz)
-            return false;
-        for (int k = 0; k < 3; k++) {
-            /* interval bounds need finite reciprocals of one sign (a zero component makes 0 * inf) */
-            if ((r->rdir[k] < 0.0f) != (r0->rdir[k] < 0.0f) || !hz_isfinitef(r->rdir[k]))
-                return false;
-            omin[k] = hz_minf(omin[k], r->org[k]), omax[k] = hz_maxf(omax[k], r->org[k]);
-            rmn[k] = hz_minf(rmn[k], r->rdir[k]), rmx[k] = hz_maxf(rmx[k], r->rdir[k]);
-        }
-        tn = hz_minf(tn, r->tnear);
+    return _mm256_andnot_ps(_mm256_set1_ps(-0.0f), x);
+}
+
+static bool frustum_init(frustum_t *f, const int32_t *valid, const hz_ray8_t *ray)
+{
+    const __m256 inf = _mm256_set1_ps(__builtin_inff()), zero = _mm256_setzero_ps();
+    const __m256 o[3] = { _mm256_load_ps(ray->org_x), _mm256_load_ps(ray->org_y), _mm256_load_ps(ray->org_z) };
+    const __m256 d[3] = { _mm256_load_ps(ray->dir_x), _mm256_load_ps(ray->dir_y), _mm256_load_ps(ray->dir_z) };
+    const __m256 tn = _mm256_load_ps(ray->tnear), tf = _mm256_load_ps(ray->tfar);
+    /* hz_bvh_ray_prep's contract check, lane by lane */
+    __m256 ok = _mm256_castsi256_ps(
+        _mm256_xor_si256(_mm256_cmpeq_epi32(_mm256_loadu_si256((const __m256i *)(const void *)valid),
+                                            _mm256_setzero_si256()),
+                         _mm256_set1_epi32(-1)));
+    __m256 nonzero = zero;
+    for (int k = 0; k < 3; k++) {
+        ok = _mm256_and_ps(ok, _mm256_cmp_ps(lane_abs(o[k]), inf, _CMP_LT_OQ));
+        ok = _mm256_and_ps(ok, _mm256_cmp_ps(lane_abs(d[k]), inf, _CMP_LT_OQ));
+        nonzero = _mm256_or_ps(nonzero, _mm256_cmp_ps(d[k], zero, _CMP_NEQ_OQ));
     }
+    ok = _mm256_and_ps(_mm256_and_ps(ok, nonzero), _mm256_cmp_ps(tn, tf, _CMP_LE_OQ));
+    f->active = (unsigned)_mm256_movemask_ps(ok);
+    const unsigned act = f->active;
+    if (__builtin_popcount(act) < 2)
+        return false;
+    const __m256 r[3] = { _mm256_div_ps(_mm256_set1_ps(1.0f), d[0]), _mm256_div_ps(_mm256_set1_ps(1.0f), d[1]),
+                          _mm256_div_ps(_mm256_set1_ps(1.0f), d[2]) };
+    /* dominant axis: kz = 0; |dy| > |d[kz]| -> 1; |dz| > |d[kz]| -> 2 (as in hz_bvh_ray_prep) */
+    const __m256 ax = lane_abs(d[0]), ay = lane_abs(d[1]), az = lane_abs(d[2]);
+    const __m256 y_over = _mm256_cmp_ps(ay, ax, _CMP_GT_OQ);
+    const __m256 a_kz = _mm256_blendv_ps(ax, ay, y_over);
+    const __m256 z_over = _mm256_cmp_ps(az, a_kz, _CMP_GT_OQ);
+    const unsigned my = (unsigned)_mm256_movemask_ps(y_over) & act, mz = (unsigned)_mm256_movemask_ps(z_over) & act;
+    int kz;
+    if (mz == act)
+        kz = 2;
+    else if (mz == 0 && my == act)
+        kz = 1;
+    else if (mz == 0 && my == 0)
+        kz = 0;
+    else
+        return false;
+    const unsigned neg_kz = (unsigned)_mm256_movemask_ps(_mm256_cmp_ps(d[kz], zero, _CMP_LT_OQ)) & act;
+    if (neg_kz != 0 && neg_kz != act)
+        return false;
+    int kx = kz == 2 ? 0 : kz + 1, ky = kx == 2 ? 0 : kx + 1;
+    if (neg_kz) {
+        int t = kx;
+        kx = ky;
+        ky = t;
+    }
+    const __m256 lanes = lanes_of(act);
     const size_t a = offsetof(hz_bvh_node_t, hi_x) - offsetof(hz_bvh_node_t, lo_x);
     const size_t base[3] = { offsetof(hz_bvh_node_t, lo_x), offsetof(hz_bvh_node_t, lo_y),
                              offsetof(hz_bvh_node_t, lo_z) };
     size_t nn[3], ff[3];
+    /* one sign per axis, finite reciprocals (a zero component makes 0 * inf in interval bounds) */
+    unsigned negs = 0;
     for (int k = 0; k < 3; k++) {
-        bool neg = r0->rdir[k] < 0.0f;
+        const unsigned neg = (unsigned)_mm256_movemask_ps(_mm256_cmp_ps(r[k], zero, _CMP_LT_OQ)) & act;
+        const unsigned fin = (unsigned)_mm256_movemask_ps(_mm256_cmp_ps(lane_abs(r[k]), inf, _CMP_LT_OQ)) & act;
+        if ((neg != 0 && neg != act) || fin != act)
+            return false;
+        negs |= (neg != 0) << k;
+    }
+    /* the packet's bounds: minima of o, r and tnear, maxima (as minima of negatives) of o and r, over the
+     * active lanes, eight horizontal minima at once */
+    const __m256 sign = _mm256_set1_ps(-0.0f);
+    __m256 mins[8], mins2[8];
+    for (int k = 0; k < 3; k++) {
+        mins[k] = _mm256_blendv_ps(inf, o[k], lanes);
+        mins[3 + k] = _mm256_blendv_ps(inf, r[k], lanes);
+        mins2[k] = _mm256_xor_ps(_mm256_blendv_ps(_mm256_xor_ps(inf, sign), o[k], lanes), sign);
+        mins2[3 + k] = _mm256_xor_ps(_mm256_blendv_ps(_mm256_xor_ps(inf, sign), r[k], lanes), sign);
+    }
+    mins[6] = _mm256_blendv_ps(inf, tn, lanes);
+    mins[7] = mins2[6] = mins2[7] = inf;
+    float lo8[8] HZ_ALIGNED(32), hi8[8] HZ_ALIGNED(32);
+    _mm256_store_ps(lo8, hmin8x8(mins));
+    _mm256_store_ps(hi8, hmin8x8(mins2));
+    for (int k = 0; k < 3; k++) {
+        const bool neg = (negs >> k) & 1u;
+        const float omin = lo8[k], omax = -hi8[k], rmn = lo8[3 + k], rmx = -hi8[3 + k];
         nn[k] = base[k] + (neg ? a : 0);
         ff[k] = base[k] + (neg ? 0 : a);
-        /* near plane: lower bound of (plane - o) * r over the packet; far plane: upper bound (see bvh.h) */
-        f->on[k] = _mm256_set1_ps(neg ? omin[k] : omax[k]);
-        f->of[k] = _mm256_set1_ps(neg ? omax[k] : omin[k]);
-        f->rmin[k] = _mm256_set1_ps(rmn[k]);
-        f->rmax[k] = _mm256_set1_ps(rmx[k]);
+        /* near plane: lower bound of (plane - o) * r over the packet; far plane: upper bound */
+        f->on[k] = _mm256_set1_ps(neg ? omin : omax);
+        f->of[k] = _mm256_set1_ps(neg ? omax : omin);
+        f->rmin[k] = _mm256_set1_ps(rmn);
+        f->rmax[k] = _mm256_set1_ps(rmx);
     }
+    f->tnear = _mm256_set1_ps(lo8[6]);
     f->nx = nn[0], f->ny = nn[1], f->nz = nn[2];
     f->fx = ff[0], f->fy = ff[1], f->fz = ff[2];
-    f->tnear = _mm256_set1_ps(tn);
-    f->kx = r0->kx, f->ky = r0->ky, f->kz = r0->kz;
-    float okx[W], oky[W], okz[W], sx[W], sy[W], sz[W], ltn[W];
-    for (int i = 0; i < W; i++) {
-        const hz_bvh_ray_t *r = &p->r[(p->active >> i) & 1u ? i : first];
-        okx[i] = r->org[f->kx], oky[i] = r->org[f->ky], okz[i] = r->org[f->kz];
-        sx[i] = r->sx, sy[i] = r->sy, sz[i] = r->sz;
-        ltn[i] = (p->active >> i) & 1u ? r->tnear : __builtin_inff();
-    }
-    f->okx = _mm256_loadu_ps(okx), f->oky = _mm256_loadu_ps(oky), f->okz = _mm256_loadu_ps(okz);
-    f->sx = _mm256_loadu_ps(sx), f->sy = _mm256_loadu_ps(sy), f->sz = _mm256_loadu_ps(sz);
-    f->ltnear = _mm256_loadu_ps(ltn);
+    f->ltnear = _mm256_blendv_ps(inf, tn, lanes);
+    f->ltfar = _mm256_blendv_ps(_mm256_sub_ps(zero, inf), tf, lanes);
+    f->kx = kx, f->ky = ky, f->kz = kz;
+    for (int k = 0; k < 3; k++)
+        f->o[k] = o[k], f->r[k] = r[k];
+    f->okx = o[kx], f->oky = o[ky], f->okz = o[kz];
+    /* shear constants exactly as hz_bvh_ray_prep computes them */
+    f->sx = _mm256_mul_ps(d[kx], r[kz]);
+    f->sy = _mm256_mul_ps(d[ky], r[kz]);
+    f->sz = r[kz];
     return true;
 }
 
@@ -421,7 +594,8 @@ HZ_INLINE unsigned fr_node_hit(const hz_bvh_node_t *n, const frustum_t *f, __m25
 }
 
 /* One triangle (block slot s) against the packet's lanes: lanes with a watertight hit at t in [tnear, tfar]. */
-HZ_INLINE unsigned fr_tri_hit(const hz_bvh_block_t *b, unsigned s, const frustum_t *f, __m256 tfar, __m256 *t_out)
+HZ_INLINE unsigned fr_tri_hit(const hz_bvh_block_t *b, unsigned s, const frustum_t *f, __m256 tfar, __m256 *t_out,
+                              __m256 *v_out, __m256 *w_out, __m256 *det_out)
 {
     const __m256 akx = _mm256_sub_ps(_mm256_set1_ps(b->v[0][f->kx][s]), f->okx);
     const __m256 aky = _mm256_sub_ps(_mm256_set1_ps(b->v[0][f->ky][s]), f->oky);
@@ -457,199 +631,273 @@ HZ_INLINE unsigned fr_tri_hit(const hz_bvh_block_t *b, unsigned s, const frustum
     const __m256 t = _mm256_div_ps(T, det);
     const __m256 in =
         _mm256_and_ps(_mm256_cmp_ps(t, f->ltnear, _CMP_GE_OQ), _mm256_cmp_ps(t, tfar, _CMP_LE_OQ));
-    *t_out = t;
+    *t_out = t, *v_out = V, *w_out = Wv, *det_out = det;
     return m & (unsigned)_mm256_movemask_ps(in);
 }
 
-HZ_INLINE float hmax8(__m256 v)
+/* Lanes whose own ray meets child j of node n within [tnear, cull[lane]] (the lane's slab test, the signs shared
+ * by the packet): a leaf is tested only against these lanes. */
+HZ_INLINE unsigned fr_lanes_hit(const hz_bvh_node_t *n, unsigned j, const frustum_t *f, __m256 cull)
 {
-    __m128 m = _mm_max_ps(_mm256_castps256_ps128(v), _mm256_extractf128_ps(v, 1));
-    m = _mm_max_ps(m, _mm_movehl_ps(m, m));
-    m = _mm_max_ss(m, _mm_shuffle_ps(m, m, 1));
-    return _mm_cvtss_f32(m);
+    const char *c = (const char *)n + 4u * j;
+    const __m256 tnx = _mm256_mul_ps(_mm256_sub_ps(_mm256_broadcast_ss((const float *)(const void *)(c + f->nx)), f->o[0]), f->r[0]);
+    const __m256 tny = _mm256_mul_ps(_mm256_sub_ps(_mm256_broadcast_ss((const float *)(const void *)(c + f->ny)), f->o[1]), f->r[1]);
+    const __m256 tnz = _mm256_mul_ps(_mm256_sub_ps(_mm256_broadcast_ss((const float *)(const void *)(c + f->nz)), f->o[2]), f->r[2]);
+    const __m256 tfx = _mm256_mul_ps(_mm256_sub_ps(_mm256_broadcast_ss((const float *)(const void *)(c + f->fx)), f->o[0]), f->r[0]);
+    const __m256 tfy = _mm256_mul_ps(_mm256_sub_ps(_mm256_broadcast_ss((const float *)(const void *)(c + f->fy)), f->o[1]), f->r[1]);
+    const __m256 tfz = _mm256_mul_ps(_mm256_sub_ps(_mm256_broadcast_ss((const float *)(const void *)(c + f->fz)), f->o[2]), f->r[2]);
+    const __m256 tmin = _mm256_max_ps(_mm256_max_ps(tnx, tny), _mm256_max_ps(tnz, f->ltnear));
+    const __m256 tmax = _mm256_min_ps(
+        _mm256_mul_ps(_mm256_min_ps(_mm256_min_ps(tfx, tfy), tfz), _mm256_set1_ps(HZ_BVH_ROBUST)), cull);
+    return (unsigned)_mm256_movemask_ps(_mm256_cmp_ps(tmin, tmax, _CMP_LE_OQ));
 }
 
-HZ_INLINE float hmin8(__m256 v)
+/* Asks the any-hit callback about lane i of the packet (the ray prepared as the scalar kernels do). */
+static bool fr_anyhit(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, uint32_t slot, const hz_ray8_t *ray, unsigned i,
+                      float t)
 {
-    __m128 m = _mm_min_ps(_mm256_castps256_ps128(v), _mm256_extractf128_ps(v, 1));
-    m = _mm_min_ps(m, _mm_movehl_ps(m, m));
-    m = _mm_min_ss(m, _mm_shuffle_ps(m, m, 1));
-    return _mm_cvtss_f32(m);
+    hz_bvh_ray_t r;
+    hz_bvh_ray_prep(&r, ray->org_x[i], ray->org_y[i], ray->org_z[i], ray->dir_x[i], ray->dir_y[i], ray->dir_z[i],
+                    ray->tnear[i], ray->tfar[i]);
+    return hz_bvh_anyhit(bvh, ctx, slot, &r, t, ray->id[i], (int)i);
 }
 
-static void lanes_tfar(const packet_t *p, float *tf)
-{
-    for (int i = 0; i < W; i++)
-        tf[i] = (p->active >> i) & 1u ? p->r[i].tfar : -__builtin_inff();
-}
-
-/* Frustum traversal, closest hit. */
-static void frustum_closest(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, packet_t *p, const frustum_t *f,
+/* Frustum traversal, closest hit. The best hit of every lane lives in vectors (t, triangle, slot, weights):
+ * a triangle updates all lanes it beats at once; any-hit triangles go lane by lane through the callback. At
+ * the end the hit attributes are computed for all lanes at once (the same operations as hz_bvh_best_finish)
+ * and stored into the lanes that hit. */
+static void frustum_closest(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const frustum_t *f, hz_rayhit8_t *rh,
                             counters_t *k)
 {
-    (void)k; /* counters are compiled out unless HZ_FEATURE_STATS */
-    entry_t stack[HZ_BVH_STACK];
+    (void)k; /* counters exist only with HZ_FEATURE_STATS */
+    uint32_t st_c[HZ_BVH_STACK + W];
+    float st_d[HZ_BVH_STACK + W];
     int sp = 0;
     uint32_t cur = 0;
     const bool anyhit = bvh->has_anyhit && ctx && ctx->anyhit;
-    float tfa[W] HZ_ALIGNED(32);
-    lanes_tfar(p, tfa);
-    __m256 tfar = _mm256_load_ps(tfa);
-    float tfar_max = hmax8(tfar);
+    __m256 tfar = f->ltfar;
+    __m256i bprim = _mm256_set1_epi32(0x7FFFFFFF), bslot = _mm256_set1_epi32(-1);
+    __m256 bv = _mm256_setzero_ps(), bw = _mm256_setzero_ps(), bdet = _mm256_set1_ps(1.0f);
+    float tfar_max = hmax8(tfar) * HZ_BVH_CULL; /* for culling nodes (see bvh.h) */
     __m256 vtfar_max = _mm256_set1_ps(tfar_max);
     for (;;) {
-        if (!hz_bvh_is_leaf(cur)) {
-            const hz_bvh_node_t *n = &bvh->nodes[cur];
-            __m256 tmin;
-            COUNT(k, nodes, 1);
-            unsigned m = fr_node_hit(n, f, vtfar_max, &tmin);
-            if (m) {
-                unsigned i0 = (unsigned)__builtin_ctz(m);
-                m &= m - 1;
-                if (!m) {
-                    cur = n->child[i0];
-                    continue;
+        /* cur is an inner node here: leaf children are tested at once, against the lanes that reach them
+         * (nearest first), inner children go through the ordered stack */
+        const hz_bvh_node_t *n = &bvh->nodes[cur];
+        __m256 tmin;
+        COUNT(k, nodes, 1);
+        unsigned m = fr_node_hit(n, f, vtfar_max, &tmin);
+        const unsigned leafbits =
+            (unsigned)_mm256_movemask_ps(_mm256_load_ps((const float *)(const void *)n->child)) & m;
+        if (leafbits) {
+            float d[W] HZ_ALIGNED(32);
+            _mm256_store_ps(d, tmin);
+            unsigned order[W], nl = 0;
+            for (unsigned lm = leafbits; lm; lm &= lm - 1) {
+                unsigned j = (unsigned)__builtin_ctz(lm), q = nl++;
+                while (q > 0 && d[order[q - 1]] > d[j]) {
+                    order[q] = order[q - 1];
+                    q--;
                 }
-                float d[W] HZ_ALIGNED(32);
-                _mm256_store_ps(d, tmin);
-                entry_t h[W];
-                int c = 0;
-                h[c].c = n->child[i0], h[c++].d = d[i0];
-                do {
-                    unsigned i = (unsigned)__builtin_ctz(m);
-                    m &= m - 1;
-                    entry_t e = { n->child[i], d[i] };
-                    int j = c++;
-                    while (j > 0 && h[j - 1].d < e.d) {
-                        h[j] = h[j - 1];
-                        j--;
-                    }
-                    h[j] = e;
-                } while (m);
-                for (int i = 0; i < c - 1; i++)
-                    stack[sp++] = h[i];
-                cur = h[c - 1].c;
-                continue;
+                order[q] = j;
             }
-        } else {
-            const uint32_t slot = hz_bvh_leaf_slot(cur), cnt = hz_bvh_leaf_count(cur);
-            const hz_bvh_block_t *b = &bvh->blocks[slot / W];
             bool changed = false;
-            COUNT(k, tris, (uint64_t)cnt * (uint64_t)__builtin_popcount(p->active));
-            for (unsigned s = slot % W; s < slot % W + cnt; s++) {
-                __m256 t;
-                unsigned m = fr_tri_hit(b, s, f, tfar, &t) & p->active;
-                if (!m)
+            for (unsigned q = 0; q < nl; q++) {
+                const unsigned j = order[q];
+                if (d[j] > tfar_max)
+                    break;
+                const unsigned lanes =
+                    fr_lanes_hit(n, j, f, _mm256_mul_ps(tfar, _mm256_set1_ps(HZ_BVH_CULL))) & f->active;
+                if (!lanes)
                     continue;
-                const uint32_t pw = b->prim[s], prim = pw & HZ_BVH_PRIM_MASK, hs = (slot / W) * W + s;
-                float tv[W] HZ_ALIGNED(32);
-                _mm256_store_ps(tv, t);
-                do {
-                    unsigned i = (unsigned)__builtin_ctz(m);
-                    m &= m - 1;
-                    hz_bvh_ray_t *r = &p->r[i];
-                    if (!hz_bvh_better(tv[i], prim, r->tfar, p->best_prim[i]))
+                const uint32_t cw = n->child[j], slot = hz_bvh_leaf_slot(cw), cnt = hz_bvh_leaf_count(cw);
+                const hz_bvh_block_t *b = &bvh->blocks[slot / W];
+                COUNT(k, tris, (uint64_t)cnt * (uint64_t)__builtin_popcount(lanes));
+                for (unsigned s = slot % W; s < slot % W + cnt; s++) {
+                    __m256 t, V, Wv, det;
+                    unsigned mm = fr_tri_hit(b, s, f, tfar, &t, &V, &Wv, &det) & lanes;
+                    if (!mm)
                         continue;
-                    if (anyhit && (pw & HZ_BVH_PRIM_ANYHIT) && !hz_bvh_anyhit(bvh, ctx, hs, r, tv[i], p->id[i], (int)i))
+                    const uint32_t pw = b->prim[s], prim = pw & HZ_BVH_PRIM_MASK, hs = (slot / W) * W + s;
+                    const __m256i vprim = _mm256_set1_epi32((int)prim);
+                    /* t < best, or t == best and a lower triangle index (best starts at 0x7FFFFFFF) */
+                    __m256 better = _mm256_or_ps(
+                        _mm256_cmp_ps(t, tfar, _CMP_LT_OQ),
+                        _mm256_and_ps(_mm256_cmp_ps(t, tfar, _CMP_EQ_OQ),
+                                      _mm256_castsi256_ps(_mm256_cmpgt_epi32(bprim, vprim))));
+                    unsigned bm = (unsigned)_mm256_movemask_ps(better) & mm;
+                    if (!bm)
                         continue;
-                    r->tfar = tv[i];
-                    tfa[i] = tv[i];
-                    p->best_prim[i] = prim;
-                    p->best_slot[i] = hs;
+                    if (anyhit && (pw & HZ_BVH_PRIM_ANYHIT)) {
+                        float tv[W] HZ_ALIGNED(32);
+                        _mm256_store_ps(tv, t);
+                        for (unsigned x = bm; x; x &= x - 1) {
+                            unsigned i = (unsigned)__builtin_ctz(x);
+                            if (!fr_anyhit(bvh, ctx, hs, &rh->ray, i, tv[i]))
+                                bm &= ~(1u << i);
+                        }
+                        if (!bm)
+                            continue;
+                    }
+                    better = lanes_of(bm);
+                    tfar = _mm256_blendv_ps(tfar, t, better);
+                    bv = _mm256_blendv_ps(bv, V, better);
+                    bw = _mm256_blendv_ps(bw, Wv, better);
+                    bdet = _mm256_blendv_ps(bdet, det, better);
+                    bprim = _mm256_blendv_epi8(bprim, vprim, _mm256_castps_si256(better));
+                    bslot = _mm256_blendv_epi8(bslot, _mm256_set1_epi32((int)hs), _mm256_castps_si256(better));
                     changed = true;
-                } while (m);
+                }
+                if (changed) {
+                    tfar_max = hmax8(tfar) * HZ_BVH_CULL;
+                    vtfar_max = _mm256_set1_ps(tfar_max);
+                }
             }
-            if (changed) {
-                tfar = _mm256_load_ps(tfa);
-                tfar_max = hmax8(tfar);
-                vtfar_max = _mm256_set1_ps(tfar_max);
-            }
+        }
+        const unsigned inner = m & ~leafbits;
+        if (inner) {
+            order_children(n, inner, tmin, &cur, st_c, st_d, &sp);
+            continue;
         }
         for (;;) {
             if (sp == 0)
-                return;
-            entry_t e = stack[--sp];
-            if (e.d <= tfar_max) {
-                cur = e.c;
+                goto done;
+            --sp;
+            if (st_d[sp] <= tfar_max) {
+                cur = st_c[sp];
                 break;
             }
         }
     }
+done:;
+    const __m256i hitm = _mm256_cmpgt_epi32(bslot, _mm256_set1_epi32(-1));
+    if (_mm256_testz_si256(hitm, hitm))
+        return;
+    /* attributes, as hz_bvh_best_finish: u = v * (1 / det), Ng = (v1 - v0) x (v2 - v0) from the block */
+    const __m256 rdet = _mm256_div_ps(_mm256_set1_ps(1.0f), bdet);
+    const __m256 u = _mm256_mul_ps(bv, rdet), vv = _mm256_mul_ps(bw, rdet);
+    /* float index of slot s's vertex 0, x: block (s / W) * (sizeof block / 4) + s % W */
+    const __m256i sl = _mm256_and_si256(bslot, hitm);
+    const __m256i idx = _mm256_add_epi32(_mm256_mullo_epi32(_mm256_srli_epi32(sl, 3),
+                                                            _mm256_set1_epi32((int)(sizeof(hz_bvh_block_t) / 4))),
+                                         _mm256_and_si256(sl, _mm256_set1_epi32(7)));
+    const float *base = &bvh->blocks[0].v[0][0][0];
+    __m256 vx[3][3];
+    for (int vi = 0; vi < 3; vi++)
+        for (int c = 0; c < 3; c++)
+            vx[vi][c] = _mm256_mask_i32gather_ps(_mm256_setzero_ps(), base,
+                                                 _mm256_add_epi32(idx, _mm256_set1_epi32((vi * 3 + c) * W)),
+                                                 _mm256_castsi256_ps(hitm), 4);
+    __m256 e1[3], e2[3];
+    for (int c = 0; c < 3; c++) {
+        e1[c] = _mm256_sub_ps(vx[1][c], vx[0][c]);
+        e2[c] = _mm256_sub_ps(vx[2][c], vx[0][c]);
+    }
+    const __m256 ngx = _mm256_sub_ps(_mm256_mul_ps(e1[1], e2[2]), _mm256_mul_ps(e1[2], e2[1]));
+    const __m256 ngy = _mm256_sub_ps(_mm256_mul_ps(e1[2], e2[0]), _mm256_mul_ps(e1[0], e2[2]));
+    const __m256 ngz = _mm256_sub_ps(_mm256_mul_ps(e1[0], e2[1]), _mm256_mul_ps(e1[1], e2[0]));
+    _mm256_maskstore_ps(rh->ray.tfar, hitm, tfar);
+    _mm256_maskstore_ps(rh->hit.u, hitm, u);
+    _mm256_maskstore_ps(rh->hit.v, hitm, vv);
+    _mm256_maskstore_ps(rh->hit.ng_x, hitm, ngx);
+    _mm256_maskstore_ps(rh->hit.ng_y, hitm, ngy);
+    _mm256_maskstore_ps(rh->hit.ng_z, hitm, ngz);
+    _mm256_maskstore_epi32((int *)(void *)rh->hit.prim_id, hitm, bprim);
+    _mm256_maskstore_epi32((int *)(void *)rh->hit.geom_id, hitm, _mm256_setzero_si256());
+    _mm256_maskstore_epi32((int *)(void *)rh->hit.inst_id[0], hitm, _mm256_set1_epi32(-1));
 }
 
-static void frustum_any(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, packet_t *p, const frustum_t *f, unsigned *hit,
-                        counters_t *k)
+/* Frustum traversal, occlusion: lanes drop out as they find a hit; children in any order. */
+/* Frustum traversal, occlusion: lanes drop out as they find a hit; children in any order. The packet's bounds
+ * are those of its live lanes: when lanes drop out they are recomputed (shadow rays in architecture: the
+ * lanes still unoccluded travel furthest), and a last live lane finishes as a single ray. */
+static unsigned frustum_any(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const frustum_t *f0, const hz_ray8_t *ray,
+                            counters_t *k)
 {
-    (void)k; /* counters are compiled out unless HZ_FEATURE_STATS */
-    entry_t stack[HZ_BVH_STACK];
+    uint32_t stack[HZ_BVH_STACK + W];
     int sp = 0;
     uint32_t cur = 0;
     const bool anyhit = bvh->has_anyhit && ctx && ctx->anyhit;
-    float tfa[W] HZ_ALIGNED(32);
-    lanes_tfar(p, tfa);
-    __m256 tfar = _mm256_load_ps(tfa);
-    __m256 vtfar_max = _mm256_set1_ps(hmax8(tfar));
-    unsigned live = p->active;
+    frustum_t fl;
+    const frustum_t *f = f0;
+    __m256 tfar = f->ltfar;
+    __m256 vtfar_max = _mm256_set1_ps(hmax8(tfar) * HZ_BVH_CULL); /* for culling nodes (see bvh.h) */
+    unsigned live = f->active;
     for (;;) {
-        if (!hz_bvh_is_leaf(cur)) {
-            const hz_bvh_node_t *n = &bvh->nodes[cur];
-            __m256 tmin;
-            COUNT(k, nodes, 1);
-            unsigned m = fr_node_hit(n, f, vtfar_max, &tmin);
-            if (m) {
-                cur = n->child[__builtin_ctz(m)];
-                m &= m - 1;
-                while (m) {
-                    stack[sp++].c = n->child[__builtin_ctz(m)];
-                    m &= m - 1;
-                }
+        /* cur is an inner node: leaf children are tested at once against the live lanes that reach them */
+        const hz_bvh_node_t *n = &bvh->nodes[cur];
+        __m256 tmin;
+        COUNT(k, nodes, 1);
+        unsigned m = fr_node_hit(n, f, vtfar_max, &tmin);
+        const unsigned leafbits =
+            (unsigned)_mm256_movemask_ps(_mm256_load_ps((const float *)(const void *)n->child)) & m;
+        bool changed = false;
+        for (unsigned lb = leafbits; lb && live; lb &= lb - 1) {
+            const unsigned j = (unsigned)__builtin_ctz(lb);
+            unsigned lanes = fr_lanes_hit(n, j, f, _mm256_mul_ps(tfar, _mm256_set1_ps(HZ_BVH_CULL))) & live;
+            if (!lanes)
                 continue;
-            }
-        } else {
-            const uint32_t slot = hz_bvh_leaf_slot(cur), cnt = hz_bvh_leaf_count(cur);
+            const uint32_t cw = n->child[j], slot = hz_bvh_leaf_slot(cw), cnt = hz_bvh_leaf_count(cw);
             const hz_bvh_block_t *b = &bvh->blocks[slot / W];
-            bool changed = false;
-            COUNT(k, tris, (uint64_t)cnt * (uint64_t)__builtin_popcount(live));
-            for (unsigned s = slot % W; s < slot % W + cnt && live; s++) {
-                __m256 t;
-                unsigned m = fr_tri_hit(b, s, f, tfar, &t) & live;
-                if (!m)
+            COUNT(k, tris, (uint64_t)cnt * (uint64_t)__builtin_popcount(lanes));
+            for (unsigned s = slot % W; s < slot % W + cnt && lanes; s++) {
+                __m256 t, V, Wv, det;
+                unsigned mm = fr_tri_hit(b, s, f, tfar, &t, &V, &Wv, &det) & lanes;
+                if (!mm)
                     continue;
                 const uint32_t pw = b->prim[s], hs = (slot / W) * W + s;
                 if (anyhit && (pw & HZ_BVH_PRIM_ANYHIT)) {
                     float tv[W] HZ_ALIGNED(32);
                     _mm256_store_ps(tv, t);
-                    for (unsigned mm = m; mm; mm &= mm - 1) {
-                        unsigned i = (unsigned)__builtin_ctz(mm);
-                        if (!hz_bvh_anyhit(bvh, ctx, hs, &p->r[i], tv[i], p->id[i], (int)i))
-                            m &= ~(1u << i);
+                    for (unsigned x = mm; x; x &= x - 1) {
+                        unsigned i = (unsigned)__builtin_ctz(x);
+                        if (!fr_anyhit(bvh, ctx, hs, ray, i, tv[i]))
+                            mm &= ~(1u << i);
                     }
                 }
-                if (m) {
-                    live &= ~m;
-                    for (unsigned mm = m; mm; mm &= mm - 1)
-                        tfa[__builtin_ctz(mm)] = -__builtin_inff();
+                if (mm) {
+                    live &= ~mm;
+                    lanes &= ~mm;
+                    tfar = _mm256_blendv_ps(tfar, _mm256_set1_ps(-__builtin_inff()), lanes_of(mm));
                     changed = true;
                 }
             }
-            if (!live)
+        }
+        if (!live)
+            break;
+        for (unsigned in = m & ~leafbits; in; in &= in - 1)
+            stack[sp++] = n->child[__builtin_ctz(in)];
+        if (changed) {
+            if (__builtin_popcount(live) == 1) {
+                /* the last live lane goes on alone through what is left on the stack */
+                const unsigned i = (unsigned)__builtin_ctz(live);
+                hz_bvh_ray_t r;
+                sray_t sr;
+                hz_bvh_ray_prep(&r, ray->org_x[i], ray->org_y[i], ray->org_z[i], ray->dir_x[i], ray->dir_y[i],
+                                ray->dir_z[i], ray->tnear[i], ray->tfar[i]);
+                sray_init(&sr, &r);
+                while (sp > 0 && live)
+                    if (any_from(bvh, ctx, &r, &sr, stack[--sp], ray->id[i], (int)i, k))
+                        live = 0;
                 break;
-            if (changed) {
-                tfar = _mm256_load_ps(tfa);
-                vtfar_max = _mm256_set1_ps(hmax8(tfar));
             }
+            int32_t lv[W];
+            for (int q = 0; q < W; q++)
+                lv[q] = (live >> q) & 1u ? -1 : 0;
+            if (frustum_init(&fl, lv, ray))
+                f = &fl;
+            vtfar_max = _mm256_set1_ps(hmax8(tfar) * HZ_BVH_CULL);
         }
         if (sp == 0)
             break;
-        cur = stack[--sp].c;
+        cur = stack[--sp];
     }
-    *hit = p->active & ~live;
+    return f0->active & ~live;
 }
 
 /* Masked packet, closest hit: per-lane box tests, lane masks on the stack, single rays once few lanes remain. */
 static void masked_closest(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, packet_t *p, counters_t *k)
 {
-    (void)k; /* counters are compiled out unless HZ_FEATURE_STATS */
     mentry_t stack[HZ_BVH_STACK];
     int sp = 0;
     float ox[W], oy[W], oz[W], rx[W], ry[W], rz[W], tn[W], tfa[W] HZ_ALIGNED(32);
@@ -660,6 +908,8 @@ static void masked_closest(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, packet_t *p
         tn[i] = r->tnear;
     }
     lanes_tfar(p, tfa);
+    for (int i = 0; i < W; i++) /* tfa holds culling distances (see bvh.h) */
+        tfa[i] *= HZ_BVH_CULL;
     const __m256 vox = _mm256_loadu_ps(ox), voy = _mm256_loadu_ps(oy), voz = _mm256_loadu_ps(oz);
     const __m256 vrx = _mm256_loadu_ps(rx), vry = _mm256_loadu_ps(ry), vrz = _mm256_loadu_ps(rz);
     const __m256 vtn = _mm256_loadu_ps(tn), robust = _mm256_set1_ps(HZ_BVH_ROBUST);
@@ -676,9 +926,8 @@ static void masked_closest(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, packet_t *p
         if (__builtin_popcount(lanes) <= MASKED_SWITCH) {
             for (unsigned m = lanes; m; m &= m - 1) {
                 unsigned i = (unsigned)__builtin_ctz(m);
-                closest_from(bvh, ctx, &p->r[i], &sr[i], cur, &p->best_prim[i], &p->best_slot[i], p->id[i], (int)i,
-                             k);
-                tfa[i] = p->r[i].tfar;
+                closest_from(bvh, ctx, &p->r[i], &sr[i], cur, &p->best[i], p->id[i], (int)i, k);
+                tfa[i] = p->r[i].tfar * HZ_BVH_CULL;
             }
             tfar = _mm256_load_ps(tfa);
         } else if (!hz_bvh_is_leaf(cur)) {
@@ -730,25 +979,28 @@ static void masked_closest(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, packet_t *p
             for (unsigned lm = lanes; lm; lm &= lm - 1) {
                 unsigned i = (unsigned)__builtin_ctz(lm);
                 hz_bvh_ray_t *r = &p->r[i];
-                __m256 t;
-                unsigned m = leaf_hit(b, slot_mask(slot, cnt), &sr[i], r->tfar, &t);
+                __m256 t, V, Wv, det;
+                unsigned m = leaf_hit(b, slot_mask(slot, cnt), &sr[i], r->tfar, &t, &V, &Wv, &det);
                 if (!m)
                     continue;
-                float tv[W] HZ_ALIGNED(32);
+                float tv[W] HZ_ALIGNED(32), vv[W] HZ_ALIGNED(32), wv[W] HZ_ALIGNED(32), dv[W] HZ_ALIGNED(32);
                 _mm256_store_ps(tv, t);
+                _mm256_store_ps(vv, V);
+                _mm256_store_ps(wv, Wv);
+                _mm256_store_ps(dv, det);
                 do {
                     unsigned s = (unsigned)__builtin_ctz(m);
                     m &= m - 1;
                     uint32_t pw = b->prim[s], prim = pw & HZ_BVH_PRIM_MASK, hs = (slot / W) * W + s;
-                    if (!hz_bvh_better(tv[s], prim, r->tfar, p->best_prim[i]))
+                    if (!hz_bvh_better(tv[s], prim, r->tfar, p->best[i].prim))
                         continue;
                     if (anyhit && (pw & HZ_BVH_PRIM_ANYHIT) && !hz_bvh_anyhit(bvh, ctx, hs, r, tv[s], p->id[i], (int)i))
                         continue;
                     r->tfar = tv[s];
-                    p->best_prim[i] = prim;
-                    p->best_slot[i] = hs;
+                    p->best[i].prim = prim, p->best[i].slot = hs;
+                    p->best[i].v = vv[s], p->best[i].w = wv[s], p->best[i].det = dv[s];
                 } while (m);
-                tfa[i] = r->tfar;
+                tfa[i] = r->tfar * HZ_BVH_CULL;
             }
             tfar = _mm256_load_ps(tfa);
         }
@@ -771,14 +1023,13 @@ static void write_hits(const hz_bvh_t *bvh, const packet_t *p, hz_rayhit8_t *rh)
 {
     for (unsigned m = p->active; m; m &= m - 1) {
         unsigned i = (unsigned)__builtin_ctz(m);
-        uint32_t slot = p->best_slot[i];
-        if (slot == HZ_ACCEL_INVALID_ID)
+        if (p->best[i].slot == HZ_ACCEL_INVALID_ID)
             continue;
         float ng[3];
-        hz_bvh_hit_attributes(bvh, slot, &p->r[i], ng, &rh->hit.u[i], &rh->hit.v[i]);
+        hz_bvh_best_finish(bvh, &p->best[i], ng, &rh->hit.u[i], &rh->hit.v[i]);
         rh->ray.tfar[i] = p->r[i].tfar;
         rh->hit.ng_x[i] = ng[0], rh->hit.ng_y[i] = ng[1], rh->hit.ng_z[i] = ng[2];
-        rh->hit.prim_id[i] = p->best_prim[i];
+        rh->hit.prim_id[i] = p->best[i].prim;
         rh->hit.geom_id[i] = 0;
         rh->hit.inst_id[0][i] = HZ_ACCEL_INVALID_ID;
     }
@@ -787,21 +1038,24 @@ static void write_hits(const hz_bvh_t *bvh, const packet_t *p, hz_rayhit8_t *rh)
 void hz_bvh_simd_intersectw(const int32_t *valid, const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, hz_rayhit8_t *rh,
                             hz_accel_kernel_t kernel)
 {
-    packet_t p;
     counters_t k = { 0, 0 };
+    frustum_t f;
+    if (kernel == HZ_ACCEL_KERNEL_SIMD_PACKET && frustum_init(&f, valid, &rh->ray)) {
+        frustum_closest(bvh, ctx, &f, rh, &k);
+        flush(ctx, &k);
+        return;
+    }
+    packet_t p;
     if (!packet_init(&p, valid, &rh->ray))
         return;
-    frustum_t f;
-    if (kernel == HZ_ACCEL_KERNEL_SIMD_PACKET && __builtin_popcount(p.active) > 1 && frustum_init(&f, &p)) {
-        frustum_closest(bvh, ctx, &p, &f, &k);
-    } else if (kernel == HZ_ACCEL_KERNEL_SIMD_MASKED) {
+    if (kernel == HZ_ACCEL_KERNEL_SIMD_MASKED) {
         masked_closest(bvh, ctx, &p, &k);
     } else {
         for (unsigned m = p.active; m; m &= m - 1) {
             unsigned i = (unsigned)__builtin_ctz(m);
             sray_t s;
             sray_init(&s, &p.r[i]);
-            closest_from(bvh, ctx, &p.r[i], &s, 0, &p.best_prim[i], &p.best_slot[i], p.id[i], (int)i, &k);
+            closest_from(bvh, ctx, &p.r[i], &s, 0, &p.best[i], p.id[i], (int)i, &k);
         }
     }
     write_hits(bvh, &p, rh);
@@ -811,15 +1065,15 @@ void hz_bvh_simd_intersectw(const int32_t *valid, const hz_bvh_t *bvh, hz_accel_
 void hz_bvh_simd_occludedw(const int32_t *valid, const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, hz_ray8_t *ray,
                            hz_accel_kernel_t kernel)
 {
-    packet_t p;
     counters_t k = { 0, 0 };
-    if (!packet_init(&p, valid, ray))
-        return;
     unsigned hit = 0;
     frustum_t f;
-    if (kernel == HZ_ACCEL_KERNEL_SIMD_PACKET && __builtin_popcount(p.active) > 1 && frustum_init(&f, &p)) {
-        frustum_any(bvh, ctx, &p, &f, &hit, &k);
+    if (kernel == HZ_ACCEL_KERNEL_SIMD_PACKET && frustum_init(&f, valid, ray)) {
+        hit = frustum_any(bvh, ctx, &f, ray, &k);
     } else {
+        packet_t p;
+        if (!packet_init(&p, valid, ray))
+            return;
         /* the masked form brings nothing to occlusion (no ordering, early exit per lane): single rays */
         for (unsigned m = p.active; m; m &= m - 1) {
             unsigned i = (unsigned)__builtin_ctz(m);

@@ -1,82 +1,20 @@
 /*
- * NEON kernels over 4-wide nodes and 4-slot triangle blocks, a lane-for-lane port of trav_avx2.c (keep the two
- * in step):
+ * NEON kernels over 4-wide nodes and 4-slot triangle blocks (AArch64):
  *  - single ray: one ray against the 4 child boxes of a node at once, nearest child first; one ray against the
  *    4 triangles of a block at once;
- *  - frustum packet (coherent rays): 4 rays whose direction signs and dominant axes agree are tested against a
- *    node's 4 boxes through the packet's interval bounds (one 4-wide test per node for the whole packet, always
- *    conservative), then leaf triangles against all 4 rays; other packets run as single rays;
- *  - masked packet (incoherent rays): per-lane box tests of each child with lane masks on the stack; subtrees
- *    that only a few lanes reach continue as single rays (active-mask compaction).
- * All use exactly the scalar reference's ray/triangle operations (bvh.h), so results are bit-identical.
+ *  - frustum packet (coherent rays): 4 rays whose direction signs and watertight-test axes agree are tested
+ *    against a node's boxes through the packet's interval bounds; leaf children are tested right away against
+ *    the lanes whose own slab test reaches them; other packets run as single rays;
+ *  - the masked form (HZ_ACCEL_KERNEL_SIMD_MASKED) runs single rays here: with 4 lanes, per-lane box tests of
+ *    every child cost as much as the single-ray traversals they would replace.
+ * The same float operations as the scalar reference (bvh.h), so results are bit-identical. The structure
+ * follows trav_avx2.c; NEON's maxNum/minNum drop a NaN operand on either side (see bvh.h).
  */
 #include <arm_neon.h>
 
 #include "bvh.h"
 
 #define W 4
-#define MASKED_SWITCH 1 /* masked packet: subtrees reached by this many lanes or fewer go on as single rays */
-
-/* The AVX2 file's operations on 4 lanes. Masks live in float registers as all-ones / all-zero lanes, as they
- * do on x86, so the kernels read the same. */
-typedef float32x4_t vq_t;
-enum { CMP_LT, CMP_LE, CMP_GT, CMP_GE, CMP_NEQ };
-HZ_INLINE vq_t vq_set1_ps(float x) { return vdupq_n_f32(x); }
-HZ_INLINE vq_t vq_setzero_ps(void) { return vdupq_n_f32(0.0f); }
-HZ_INLINE vq_t vq_load_ps(const float *p) { return vld1q_f32(p); }
-HZ_INLINE vq_t vq_loadu_ps(const float *p) { return vld1q_f32(p); }
-HZ_INLINE void vq_store_ps(float *p, vq_t v) { vst1q_f32(p, v); }
-HZ_INLINE vq_t vq_add_ps(vq_t a, vq_t b) { return vaddq_f32(a, b); }
-HZ_INLINE vq_t vq_sub_ps(vq_t a, vq_t b) { return vsubq_f32(a, b); }
-HZ_INLINE vq_t vq_mul_ps(vq_t a, vq_t b) { return vmulq_f32(a, b); }
-HZ_INLINE vq_t vq_div_ps(vq_t a, vq_t b) { return vdivq_f32(a, b); }
-/* maxNum/minNum: a NaN operand drops out, whichever side it is on (x86 needs it first, see bvh.h) */
-HZ_INLINE vq_t vq_min_ps(vq_t a, vq_t b) { return vminnmq_f32(a, b); }
-HZ_INLINE vq_t vq_max_ps(vq_t a, vq_t b) { return vmaxnmq_f32(a, b); }
-HZ_INLINE vq_t vq_cmp_ps(vq_t a, vq_t b, int op)
-{
-    uint32x4_t m;
-    switch (op) {
-    case CMP_LT: m = vcltq_f32(a, b); break;
-    case CMP_LE: m = vcleq_f32(a, b); break;
-    case CMP_GT: m = vcgtq_f32(a, b); break;
-    case CMP_GE: m = vcgeq_f32(a, b); break;
-    default: m = vmvnq_u32(vceqq_f32(a, b)); break; /* not equal, or unordered */
-    }
-    return vreinterpretq_f32_u32(m);
-}
-HZ_INLINE vq_t vq_or_ps(vq_t a, vq_t b)
-{
-    return vreinterpretq_f32_u32(vorrq_u32(vreinterpretq_u32_f32(a), vreinterpretq_u32_f32(b)));
-}
-HZ_INLINE vq_t vq_and_ps(vq_t a, vq_t b)
-{
-    return vreinterpretq_f32_u32(vandq_u32(vreinterpretq_u32_f32(a), vreinterpretq_u32_f32(b)));
-}
-HZ_INLINE vq_t vq_andnot_ps(vq_t a, vq_t b) /* ~a & b */
-{
-    return vreinterpretq_f32_u32(vbicq_u32(vreinterpretq_u32_f32(b), vreinterpretq_u32_f32(a)));
-}
-HZ_INLINE vq_t vq_blendv_ps(vq_t a, vq_t b, vq_t m) /* m ? b : a, m all-ones or all-zero per lane */
-{
-    return vbslq_f32(vreinterpretq_u32_f32(m), b, a);
-}
-HZ_INLINE int vq_movemask_ps(vq_t m)
-{
-    static const uint32_t bits[4] = { 1, 2, 4, 8 };
-    return (int)vaddvq_u32(vandq_u32(vreinterpretq_u32_f32(m), vld1q_u32(bits)));
-}
-
-typedef struct entry {
-    uint32_t c;
-    float d;
-} entry_t;
-
-typedef struct mentry {
-    uint32_t c;
-    uint32_t m; /* lanes */
-    float d;
-} mentry_t;
 
 typedef struct counters {
     uint64_t nodes, tris;
@@ -84,7 +22,6 @@ typedef struct counters {
 
 static void flush(hz_accel_ctx_t *ctx, const counters_t *k)
 {
-    (void)k; /* counters are compiled out unless HZ_FEATURE_STATS */
 #if HZ_FEATURE_STATS
     if (ctx && ctx->stats) {
         ctx->stats->nodes += k->nodes;
@@ -102,29 +39,62 @@ static void flush(hz_accel_ctx_t *ctx, const counters_t *k)
 #define COUNT(k, field, n) ((void)0)
 #endif
 
-HZ_INLINE vq_t ld(const hz_bvh_node_t *n, size_t off)
+HZ_INLINE unsigned movemask(uint32x4_t m)
 {
-    return vq_load_ps((const float *)(const void *)((const char *)n + off));
+    static const uint32_t bits[4] = { 1, 2, 4, 8 };
+    return vaddvq_u32(vandq_u32(m, vld1q_u32(bits)));
+}
+
+HZ_INLINE float32x4_t ld(const hz_bvh_node_t *n, size_t off)
+{
+    return vld1q_f32((const float *)(const void *)((const char *)n + off));
+}
+
+HZ_INLINE unsigned slot_mask(uint32_t slot, uint32_t n)
+{
+    return ((1u << n) - 1u) << (slot % W);
+}
+
+/* The watertight test of 4 triangles (or one triangle's broadcast vertices against 4 rays): lanes that pass the
+ * edge tests with det != 0, and t, V, W, det (the scalar reference's operations, lane by lane). */
+HZ_INLINE unsigned woop4(float32x4_t akx, float32x4_t aky, float32x4_t akz, float32x4_t bkx, float32x4_t bky,
+                         float32x4_t bkz, float32x4_t ckx, float32x4_t cky, float32x4_t ckz, float32x4_t sx,
+                         float32x4_t sy, float32x4_t sz, float32x4_t *t, float32x4_t *v, float32x4_t *w,
+                         float32x4_t *det)
+{
+    const float32x4_t ax = vsubq_f32(akx, vmulq_f32(sx, akz)), ay = vsubq_f32(aky, vmulq_f32(sy, akz));
+    const float32x4_t bx = vsubq_f32(bkx, vmulq_f32(sx, bkz)), by = vsubq_f32(bky, vmulq_f32(sy, bkz));
+    const float32x4_t cx = vsubq_f32(ckx, vmulq_f32(sx, ckz)), cy = vsubq_f32(cky, vmulq_f32(sy, ckz));
+    const float32x4_t U = vsubq_f32(vmulq_f32(cx, by), vmulq_f32(cy, bx));
+    const float32x4_t V = vsubq_f32(vmulq_f32(ax, cy), vmulq_f32(ay, cx));
+    const float32x4_t Wv = vsubq_f32(vmulq_f32(bx, ay), vmulq_f32(by, ax));
+    const float32x4_t z = vdupq_n_f32(0.0f);
+    const uint32x4_t neg = vorrq_u32(vorrq_u32(vcltq_f32(U, z), vcltq_f32(V, z)), vcltq_f32(Wv, z));
+    const uint32x4_t pos = vorrq_u32(vorrq_u32(vcgtq_f32(U, z), vcgtq_f32(V, z)), vcgtq_f32(Wv, z));
+    const float32x4_t d = vaddq_f32(vaddq_f32(U, V), Wv);
+    const uint32x4_t ok = vbicq_u32(vmvnq_u32(vceqq_f32(d, z)), vandq_u32(neg, pos));
+    const unsigned m = movemask(ok);
+    if (!m)
+        return 0;
+    const float32x4_t az = vmulq_f32(sz, akz), bz = vmulq_f32(sz, bkz), cz = vmulq_f32(sz, ckz);
+    const float32x4_t T = vaddq_f32(vaddq_f32(vmulq_f32(U, az), vmulq_f32(V, bz)), vmulq_f32(Wv, cz));
+    *t = vdivq_f32(T, d), *v = V, *w = Wv, *det = d;
+    return m;
 }
 
 /* ---------------------------------------------------------------------------------------------------------
  * single ray */
 typedef struct sray {
-    vq_t ox, oy, oz, rdx, rdy, rdz;
-    size_t nx, ny, nz, fx, fy, fz; /* byte offsets of the near and far planes in a node */
-    /* watertight test */
-    vq_t okx, oky, okz, sx, sy, sz, tnear, inf;
+    float32x4_t ox, oy, oz, rdx, rdy, rdz, tnear, inf;
+    size_t nx, ny, nz, fx, fy, fz;
+    float32x4_t okx, oky, okz, sx, sy, sz;
     int kx, ky, kz;
 } sray_t;
 
 static void sray_init(sray_t *s, const hz_bvh_ray_t *r)
 {
-    s->ox = vq_set1_ps(r->org[0]);
-    s->oy = vq_set1_ps(r->org[1]);
-    s->oz = vq_set1_ps(r->org[2]);
-    s->rdx = vq_set1_ps(r->rdir[0]);
-    s->rdy = vq_set1_ps(r->rdir[1]);
-    s->rdz = vq_set1_ps(r->rdir[2]);
+    s->ox = vdupq_n_f32(r->org[0]), s->oy = vdupq_n_f32(r->org[1]), s->oz = vdupq_n_f32(r->org[2]);
+    s->rdx = vdupq_n_f32(r->rdir[0]), s->rdy = vdupq_n_f32(r->rdir[1]), s->rdz = vdupq_n_f32(r->rdir[2]);
     const size_t a = offsetof(hz_bvh_node_t, hi_x) - offsetof(hz_bvh_node_t, lo_x);
     s->nx = offsetof(hz_bvh_node_t, lo_x) + (r->rdir[0] < 0.0f ? a : 0);
     s->ny = offsetof(hz_bvh_node_t, lo_y) + (r->rdir[1] < 0.0f ? a : 0);
@@ -133,209 +103,167 @@ static void sray_init(sray_t *s, const hz_bvh_ray_t *r)
     s->fy = offsetof(hz_bvh_node_t, lo_y) + (r->rdir[1] < 0.0f ? 0 : a);
     s->fz = offsetof(hz_bvh_node_t, lo_z) + (r->rdir[2] < 0.0f ? 0 : a);
     s->kx = r->kx, s->ky = r->ky, s->kz = r->kz;
-    s->okx = vq_set1_ps(r->org[r->kx]);
-    s->oky = vq_set1_ps(r->org[r->ky]);
-    s->okz = vq_set1_ps(r->org[r->kz]);
-    s->sx = vq_set1_ps(r->sx);
-    s->sy = vq_set1_ps(r->sy);
-    s->sz = vq_set1_ps(r->sz);
-    s->tnear = vq_set1_ps(r->tnear);
-    s->inf = vq_set1_ps(__builtin_inff());
+    s->okx = vdupq_n_f32(r->org[r->kx]), s->oky = vdupq_n_f32(r->org[r->ky]), s->okz = vdupq_n_f32(r->org[r->kz]);
+    s->sx = vdupq_n_f32(r->sx), s->sy = vdupq_n_f32(r->sy), s->sz = vdupq_n_f32(r->sz);
+    s->tnear = vdupq_n_f32(r->tnear);
+    s->inf = vdupq_n_f32(__builtin_inff());
 }
 
-HZ_INLINE unsigned node_hit(const hz_bvh_node_t *n, const sray_t *s, vq_t tfar, vq_t *tmin_out)
+HZ_INLINE unsigned node_hit(const hz_bvh_node_t *n, const sray_t *s, float32x4_t cull, float32x4_t *tmin_out)
 {
-    const vq_t tnx = vq_mul_ps(vq_sub_ps(ld(n, s->nx), s->ox), s->rdx);
-    const vq_t tny = vq_mul_ps(vq_sub_ps(ld(n, s->ny), s->oy), s->rdy);
-    const vq_t tnz = vq_mul_ps(vq_sub_ps(ld(n, s->nz), s->oz), s->rdz);
-    const vq_t tfx = vq_mul_ps(vq_sub_ps(ld(n, s->fx), s->ox), s->rdx);
-    const vq_t tfy = vq_mul_ps(vq_sub_ps(ld(n, s->fy), s->oy), s->rdy);
-    const vq_t tfz = vq_mul_ps(vq_sub_ps(ld(n, s->fz), s->oz), s->rdz);
-    /* NaN-prone slab distances first: max/min return the second operand on NaN (see bvh.h) */
-    const vq_t tmin = vq_max_ps(tnz, vq_max_ps(tny, vq_max_ps(tnx, s->tnear)));
-    const vq_t tmax = vq_min_ps(
-        vq_mul_ps(vq_min_ps(tfz, vq_min_ps(tfy, vq_min_ps(tfx, s->inf))),
-                      vq_set1_ps(HZ_BVH_ROBUST)),
-        tfar);
+    const float32x4_t tnx = vmulq_f32(vsubq_f32(ld(n, s->nx), s->ox), s->rdx);
+    const float32x4_t tny = vmulq_f32(vsubq_f32(ld(n, s->ny), s->oy), s->rdy);
+    const float32x4_t tnz = vmulq_f32(vsubq_f32(ld(n, s->nz), s->oz), s->rdz);
+    const float32x4_t tfx = vmulq_f32(vsubq_f32(ld(n, s->fx), s->ox), s->rdx);
+    const float32x4_t tfy = vmulq_f32(vsubq_f32(ld(n, s->fy), s->oy), s->rdy);
+    const float32x4_t tfz = vmulq_f32(vsubq_f32(ld(n, s->fz), s->oz), s->rdz);
+    const float32x4_t tmin = vmaxnmq_f32(vmaxnmq_f32(tnx, tny), vmaxnmq_f32(tnz, s->tnear));
+    const float32x4_t tmax =
+        vminnmq_f32(vmulq_f32(vminnmq_f32(vminnmq_f32(tfx, tfy), tfz), vdupq_n_f32(HZ_BVH_ROBUST)), cull);
     *tmin_out = tmin;
-    return (unsigned)vq_movemask_ps(vq_cmp_ps(tmin, tmax, CMP_LE));
+    return movemask(vcleq_f32(tmin, tmax));
 }
 
-/* One ray against the slots `lm` of block b: lanes that pass the watertight test with t >= tnear and
- * t <= tfar; t in *t_out. */
-HZ_INLINE unsigned leaf_hit(const hz_bvh_block_t *b, unsigned lm, const sray_t *s, float tfar, vq_t *t_out)
+HZ_INLINE unsigned leaf_hit(const hz_bvh_block_t *b, unsigned lm, const sray_t *s, float tfar, float32x4_t *t,
+                            float32x4_t *v, float32x4_t *w, float32x4_t *det)
 {
-    const vq_t akx = vq_sub_ps(vq_load_ps(b->v[0][s->kx]), s->okx);
-    const vq_t aky = vq_sub_ps(vq_load_ps(b->v[0][s->ky]), s->oky);
-    const vq_t akz = vq_sub_ps(vq_load_ps(b->v[0][s->kz]), s->okz);
-    const vq_t bkx = vq_sub_ps(vq_load_ps(b->v[1][s->kx]), s->okx);
-    const vq_t bky = vq_sub_ps(vq_load_ps(b->v[1][s->ky]), s->oky);
-    const vq_t bkz = vq_sub_ps(vq_load_ps(b->v[1][s->kz]), s->okz);
-    const vq_t ckx = vq_sub_ps(vq_load_ps(b->v[2][s->kx]), s->okx);
-    const vq_t cky = vq_sub_ps(vq_load_ps(b->v[2][s->ky]), s->oky);
-    const vq_t ckz = vq_sub_ps(vq_load_ps(b->v[2][s->kz]), s->okz);
-    const vq_t ax = vq_sub_ps(akx, vq_mul_ps(s->sx, akz));
-    const vq_t ay = vq_sub_ps(aky, vq_mul_ps(s->sy, akz));
-    const vq_t bx = vq_sub_ps(bkx, vq_mul_ps(s->sx, bkz));
-    const vq_t by = vq_sub_ps(bky, vq_mul_ps(s->sy, bkz));
-    const vq_t cx = vq_sub_ps(ckx, vq_mul_ps(s->sx, ckz));
-    const vq_t cy = vq_sub_ps(cky, vq_mul_ps(s->sy, ckz));
-    const vq_t U = vq_sub_ps(vq_mul_ps(cx, by), vq_mul_ps(cy, bx));
-    const vq_t V = vq_sub_ps(vq_mul_ps(ax, cy), vq_mul_ps(ay, cx));
-    const vq_t Wv = vq_sub_ps(vq_mul_ps(bx, ay), vq_mul_ps(by, ax));
-    const vq_t z = vq_setzero_ps();
-    const vq_t neg = vq_or_ps(vq_or_ps(vq_cmp_ps(U, z, CMP_LT), vq_cmp_ps(V, z, CMP_LT)),
-                                    vq_cmp_ps(Wv, z, CMP_LT));
-    const vq_t pos = vq_or_ps(vq_or_ps(vq_cmp_ps(U, z, CMP_GT), vq_cmp_ps(V, z, CMP_GT)),
-                                    vq_cmp_ps(Wv, z, CMP_GT));
-    const vq_t det = vq_add_ps(vq_add_ps(U, V), Wv);
-    const vq_t ok = vq_andnot_ps(vq_and_ps(neg, pos), vq_cmp_ps(det, z, CMP_NEQ));
-    unsigned m = (unsigned)vq_movemask_ps(ok) & lm;
+    unsigned m = woop4(vsubq_f32(vld1q_f32(b->v[0][s->kx]), s->okx), vsubq_f32(vld1q_f32(b->v[0][s->ky]), s->oky),
+                       vsubq_f32(vld1q_f32(b->v[0][s->kz]), s->okz), vsubq_f32(vld1q_f32(b->v[1][s->kx]), s->okx),
+                       vsubq_f32(vld1q_f32(b->v[1][s->ky]), s->oky), vsubq_f32(vld1q_f32(b->v[1][s->kz]), s->okz),
+                       vsubq_f32(vld1q_f32(b->v[2][s->kx]), s->okx), vsubq_f32(vld1q_f32(b->v[2][s->ky]), s->oky),
+                       vsubq_f32(vld1q_f32(b->v[2][s->kz]), s->okz), s->sx, s->sy, s->sz, t, v, w, det) &
+                 lm;
     if (!m)
         return 0;
-    const vq_t az = vq_mul_ps(s->sz, akz), bz = vq_mul_ps(s->sz, bkz), cz = vq_mul_ps(s->sz, ckz);
-    const vq_t T =
-        vq_add_ps(vq_add_ps(vq_mul_ps(U, az), vq_mul_ps(V, bz)), vq_mul_ps(Wv, cz));
-    const vq_t t = vq_div_ps(T, det);
-    const vq_t in = vq_and_ps(vq_cmp_ps(t, s->tnear, CMP_GE),
-                                    vq_cmp_ps(t, vq_set1_ps(tfar), CMP_LE));
-    *t_out = t;
-    return m & (unsigned)vq_movemask_ps(in);
+    return m & movemask(vandq_u32(vcgeq_f32(*t, s->tnear), vcleq_f32(*t, vdupq_n_f32(tfar))));
 }
 
-HZ_INLINE unsigned slot_mask(uint32_t slot, uint32_t n)
+/* The hit children of a node: the nearest becomes *cur, the others go on the stack farthest first. */
+HZ_INLINE void order_children(const hz_bvh_node_t *n, unsigned m, float32x4_t tmin, uint32_t *cur, uint32_t *st_c,
+                              float *st_d, int *sp)
 {
-    return ((1u << n) - 1u) << (slot % W);
+    if (!(m & (m - 1))) {
+        *cur = n->child[__builtin_ctz(m)];
+        return;
+    }
+    float d[W];
+    vst1q_f32(d, tmin);
+    unsigned idx[W], c = 0;
+    for (unsigned mm = m; mm; mm &= mm - 1) {
+        unsigned i = (unsigned)__builtin_ctz(mm), j = c++;
+        while (j > 0 && d[idx[j - 1]] < d[i]) { /* descending: nearest last */
+            idx[j] = idx[j - 1];
+            j--;
+        }
+        idx[j] = i;
+    }
+    for (unsigned i = 0; i + 1 < c; i++) {
+        st_c[*sp] = n->child[idx[i]];
+        st_d[*sp] = d[idx[i]];
+        (*sp)++;
+    }
+    *cur = n->child[idx[c - 1]];
 }
 
-/* Closest hit of one ray from node word `start` on, continuing a search with best (r->tfar, *prim, *slot). */
-static void closest_from(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, hz_bvh_ray_t *r, const sray_t *s,
-                         uint32_t start, uint32_t *best_prim, uint32_t *best_slot, uint32_t ray_id, int lane,
-                         counters_t *k)
+static void closest_from(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, hz_bvh_ray_t *r, const sray_t *s, uint32_t start,
+                         hz_bvh_best_t *best, uint32_t ray_id, int lane, counters_t *k)
 {
-    (void)k; /* counters are compiled out unless HZ_FEATURE_STATS */
-    entry_t stack[HZ_BVH_STACK];
+    (void)k; /* counters exist only with HZ_FEATURE_STATS */
+    uint32_t st_c[HZ_BVH_STACK + W];
+    float st_d[HZ_BVH_STACK + W];
     int sp = 0;
     uint32_t cur = start;
     const bool anyhit = bvh->has_anyhit && ctx && ctx->anyhit;
-    vq_t tfar = vq_set1_ps(r->tfar);
+    float32x4_t cull = vdupq_n_f32(r->tfar * HZ_BVH_CULL); /* see bvh.h */
     for (;;) {
         if (!hz_bvh_is_leaf(cur)) {
             const hz_bvh_node_t *n = &bvh->nodes[cur];
-            vq_t tmin;
+            float32x4_t tmin;
             COUNT(k, nodes, 1);
-            unsigned m = node_hit(n, s, tfar, &tmin);
+            unsigned m = node_hit(n, s, cull, &tmin);
             if (m) {
-                unsigned i0 = (unsigned)__builtin_ctz(m);
-                m &= m - 1;
-                if (!m) {
-                    cur = n->child[i0];
-                    continue;
-                }
-                float d[W] HZ_ALIGNED(32);
-                vq_store_ps(d, tmin);
-                entry_t h[W];
-                int c = 0;
-                h[c].c = n->child[i0], h[c++].d = d[i0];
-                do {
-                    unsigned i = (unsigned)__builtin_ctz(m);
-                    m &= m - 1;
-                    entry_t e = { n->child[i], d[i] };
-                    int j = c++;
-                    while (j > 0 && h[j - 1].d < e.d) { /* descending: nearest last */
-                        h[j] = h[j - 1];
-                        j--;
-                    }
-                    h[j] = e;
-                } while (m);
-                for (int i = 0; i < c - 1; i++)
-                    stack[sp++] = h[i];
-                cur = h[c - 1].c;
+                order_children(n, m, tmin, &cur, st_c, st_d, &sp);
                 continue;
             }
         } else {
             const uint32_t slot = hz_bvh_leaf_slot(cur), cnt = hz_bvh_leaf_count(cur);
             const hz_bvh_block_t *b = &bvh->blocks[slot / W];
-            vq_t t;
+            float32x4_t t, V, Wv, det;
             COUNT(k, tris, cnt);
-            unsigned m = leaf_hit(b, slot_mask(slot, cnt), s, r->tfar, &t);
+            unsigned m = leaf_hit(b, slot_mask(slot, cnt), s, r->tfar, &t, &V, &Wv, &det);
             if (m) {
-                float tv[W] HZ_ALIGNED(32);
-                vq_store_ps(tv, t);
+                float tv[W], vv[W], wv[W], dv[W];
+                vst1q_f32(tv, t), vst1q_f32(vv, V), vst1q_f32(wv, Wv), vst1q_f32(dv, det);
                 do {
                     unsigned i = (unsigned)__builtin_ctz(m);
                     m &= m - 1;
                     uint32_t pw = b->prim[i], prim = pw & HZ_BVH_PRIM_MASK;
-                    if (!hz_bvh_better(tv[i], prim, r->tfar, *best_prim))
+                    if (!hz_bvh_better(tv[i], prim, r->tfar, best->prim))
                         continue;
                     uint32_t hs = (slot / W) * W + i;
                     if (anyhit && (pw & HZ_BVH_PRIM_ANYHIT) && !hz_bvh_anyhit(bvh, ctx, hs, r, tv[i], ray_id, lane))
                         continue;
                     r->tfar = tv[i];
-                    *best_prim = prim;
-                    *best_slot = hs;
+                    best->prim = prim, best->slot = hs;
+                    best->v = vv[i], best->w = wv[i], best->det = dv[i];
                 } while (m);
-                tfar = vq_set1_ps(r->tfar);
+                cull = vdupq_n_f32(r->tfar * HZ_BVH_CULL);
             }
         }
         for (;;) {
             if (sp == 0)
                 return;
-            entry_t e = stack[--sp];
-            if (e.d <= r->tfar) {
-                cur = e.c;
+            --sp;
+            if (st_d[sp] <= r->tfar * HZ_BVH_CULL) {
+                cur = st_c[sp];
                 break;
             }
         }
     }
 }
 
-uint32_t hz_bvh_simd_closest(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, hz_bvh_ray_t *r, uint32_t ray_id, int lane)
+void hz_bvh_simd_closest(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, hz_bvh_ray_t *r, hz_bvh_best_t *best,
+                         uint32_t ray_id, int lane)
 {
     sray_t s;
     counters_t k = { 0, 0 };
-    uint32_t prim = HZ_ACCEL_INVALID_ID, slot = HZ_ACCEL_INVALID_ID;
     sray_init(&s, r);
-    closest_from(bvh, ctx, r, &s, 0, &prim, &slot, ray_id, lane, &k);
+    closest_from(bvh, ctx, r, &s, 0, best, ray_id, lane, &k);
     flush(ctx, &k);
-    return slot;
 }
 
-static bool any_from(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const hz_bvh_ray_t *r, const sray_t *s, uint32_t start,
-                     uint32_t ray_id, int lane, counters_t *k)
+static bool any_from_node(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const hz_bvh_ray_t *r, const sray_t *s,
+                          uint32_t start, uint32_t ray_id, int lane, counters_t *k)
 {
-    (void)k; /* counters are compiled out unless HZ_FEATURE_STATS */
-    entry_t stack[HZ_BVH_STACK];
+    (void)k; /* counters exist only with HZ_FEATURE_STATS */
+    uint32_t stack[HZ_BVH_STACK + W];
     int sp = 0;
     uint32_t cur = start;
     const bool anyhit = bvh->has_anyhit && ctx && ctx->anyhit;
-    const vq_t tfar = vq_set1_ps(r->tfar);
+    const float32x4_t cull = vdupq_n_f32(r->tfar * HZ_BVH_CULL);
     for (;;) {
         if (!hz_bvh_is_leaf(cur)) {
             const hz_bvh_node_t *n = &bvh->nodes[cur];
-            vq_t tmin;
+            float32x4_t tmin;
             COUNT(k, nodes, 1);
-            unsigned m = node_hit(n, s, tfar, &tmin);
+            unsigned m = node_hit(n, s, cull, &tmin);
             if (m) {
                 cur = n->child[__builtin_ctz(m)];
-                m &= m - 1;
-                while (m) {
-                    stack[sp++].c = n->child[__builtin_ctz(m)];
-                    m &= m - 1;
-                }
+                for (m &= m - 1; m; m &= m - 1)
+                    stack[sp++] = n->child[__builtin_ctz(m)];
                 continue;
             }
         } else {
             const uint32_t slot = hz_bvh_leaf_slot(cur), cnt = hz_bvh_leaf_count(cur);
             const hz_bvh_block_t *b = &bvh->blocks[slot / W];
-            vq_t t;
+            float32x4_t t, V, Wv, det;
             COUNT(k, tris, cnt);
-            unsigned m = leaf_hit(b, slot_mask(slot, cnt), s, r->tfar, &t);
+            unsigned m = leaf_hit(b, slot_mask(slot, cnt), s, r->tfar, &t, &V, &Wv, &det);
             if (m) {
                 if (!anyhit)
                     return true;
-                float tv[W] HZ_ALIGNED(32);
-                vq_store_ps(tv, t);
+                float tv[W];
+                vst1q_f32(tv, t);
                 do {
                     unsigned i = (unsigned)__builtin_ctz(m);
                     m &= m - 1;
@@ -347,7 +275,7 @@ static bool any_from(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const hz_bvh_ray_
         }
         if (sp == 0)
             return false;
-        cur = stack[--sp].c;
+        cur = stack[--sp];
     }
 }
 
@@ -356,58 +284,55 @@ bool hz_bvh_simd_any(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const hz_bvh_ray_
     sray_t s;
     counters_t k = { 0, 0 };
     sray_init(&s, r);
-    bool hit = any_from(bvh, ctx, r, &s, 0, ray_id, lane, &k);
+    bool hit = any_from_node(bvh, ctx, r, &s, 0, ray_id, lane, &k);
     flush(ctx, &k);
     return hit;
 }
 
 /* ---------------------------------------------------------------------------------------------------------
- * packets */
+ * packets of 4 */
 typedef struct packet {
     hz_bvh_ray_t r[W];
     unsigned active;
     uint32_t id[W];
-    uint32_t best_prim[W], best_slot[W];
+    hz_bvh_best_t best[W];
 } packet_t;
 
 static unsigned packet_init(packet_t *p, const int32_t *valid, const hz_ray4_t *ray)
 {
     p->active = 0;
     for (int i = 0; i < W; i++) {
-        p->best_prim[i] = p->best_slot[i] = HZ_ACCEL_INVALID_ID;
+        hz_bvh_best_init(&p->best[i]);
         p->id[i] = ray->id[i];
-        if (!valid[i])
-            continue;
-        if (hz_bvh_ray_prep(&p->r[i], ray->org_x[i], ray->org_y[i], ray->org_z[i], ray->dir_x[i], ray->dir_y[i],
-                            ray->dir_z[i], ray->tnear[i], ray->tfar[i]))
+        if (valid[i] && hz_bvh_ray_prep(&p->r[i], ray->org_x[i], ray->org_y[i], ray->org_z[i], ray->dir_x[i],
+                                        ray->dir_y[i], ray->dir_z[i], ray->tnear[i], ray->tfar[i]))
             p->active |= 1u << i;
     }
     return p->active;
 }
 
-/* Frustum form: needs every active lane to share the direction signs and the dominant axis (kx, ky, kz). */
+/* Frustum form: every active lane shares the direction signs and (kx, ky, kz), reciprocals are finite. */
 typedef struct frustum {
     size_t nx, ny, nz, fx, fy, fz;
-    vq_t on[3], of[3], rmin[3], rmax[3]; /* origins for the near and far planes, reciprocal ranges */
-    vq_t tnear;                          /* smallest tnear of the packet */
-    /* lanes, for the leaf test */
-    vq_t okx, oky, okz, sx, sy, sz, ltnear;
+    float32x4_t on[3], of[3], rmin[3], rmax[3], tnear;
+    float32x4_t o[3], r[3], okx, oky, okz, sx, sy, sz, ltnear;
     int kx, ky, kz;
 } frustum_t;
 
-static bool frustum_init(frustum_t *f, const packet_t *p)
+static bool frustum_init(frustum_t *f, const packet_t *p, unsigned active)
 {
-    int first = __builtin_ctz(p->active);
+    if (__builtin_popcount(active) < 2)
+        return false;
+    const int first = __builtin_ctz(active);
     const hz_bvh_ray_t *r0 = &p->r[first];
     float omin[3], omax[3], rmn[3], rmx[3], tn = r0->tnear;
     for (int k = 0; k < 3; k++)
         omin[k] = omax[k] = r0->org[k], rmn[k] = rmx[k] = r0->rdir[k];
-    for (unsigned m = p->active; m; m &= m - 1) {
+    for (unsigned m = active; m; m &= m - 1) {
         const hz_bvh_ray_t *r = &p->r[__builtin_ctz(m)];
         if (r->kx != r0->kx || r->ky != r0->ky || r->kz != r0->kz)
             return false;
         for (int k = 0; k < 3; k++) {
-            /* interval bounds need finite reciprocals of one sign (a zero component makes 0 * inf) */
             if ((r->rdir[k] < 0.0f) != (r0->rdir[k] < 0.0f) || !hz_isfinitef(r->rdir[k]))
                 return false;
             omin[k] = hz_minf(omin[k], r->org[k]), omax[k] = hz_maxf(omax[k], r->org[k]);
@@ -423,103 +348,86 @@ static bool frustum_init(frustum_t *f, const packet_t *p)
         bool neg = r0->rdir[k] < 0.0f;
         nn[k] = base[k] + (neg ? a : 0);
         ff[k] = base[k] + (neg ? 0 : a);
-        /* near plane: lower bound of (plane - o) * r over the packet; far plane: upper bound (see bvh.h) */
-        f->on[k] = vq_set1_ps(neg ? omin[k] : omax[k]);
-        f->of[k] = vq_set1_ps(neg ? omax[k] : omin[k]);
-        f->rmin[k] = vq_set1_ps(rmn[k]);
-        f->rmax[k] = vq_set1_ps(rmx[k]);
+        f->on[k] = vdupq_n_f32(neg ? omin[k] : omax[k]);
+        f->of[k] = vdupq_n_f32(neg ? omax[k] : omin[k]);
+        f->rmin[k] = vdupq_n_f32(rmn[k]);
+        f->rmax[k] = vdupq_n_f32(rmx[k]);
     }
     f->nx = nn[0], f->ny = nn[1], f->nz = nn[2];
     f->fx = ff[0], f->fy = ff[1], f->fz = ff[2];
-    f->tnear = vq_set1_ps(tn);
+    f->tnear = vdupq_n_f32(tn);
     f->kx = r0->kx, f->ky = r0->ky, f->kz = r0->kz;
-    float okx[W], oky[W], okz[W], sx[W], sy[W], sz[W], ltn[W];
+    float o[3][W], rr[3][W], okx[W], oky[W], okz[W], sx[W], sy[W], sz[W], ltn[W];
     for (int i = 0; i < W; i++) {
-        const hz_bvh_ray_t *r = &p->r[(p->active >> i) & 1u ? i : first];
+        const bool on = (active >> i) & 1u;
+        const hz_bvh_ray_t *r = &p->r[on ? i : first];
+        for (int k = 0; k < 3; k++)
+            o[k][i] = r->org[k], rr[k][i] = r->rdir[k];
         okx[i] = r->org[f->kx], oky[i] = r->org[f->ky], okz[i] = r->org[f->kz];
         sx[i] = r->sx, sy[i] = r->sy, sz[i] = r->sz;
-        ltn[i] = (p->active >> i) & 1u ? r->tnear : __builtin_inff();
+        ltn[i] = on ? r->tnear : __builtin_inff();
     }
-    f->okx = vq_loadu_ps(okx), f->oky = vq_loadu_ps(oky), f->okz = vq_loadu_ps(okz);
-    f->sx = vq_loadu_ps(sx), f->sy = vq_loadu_ps(sy), f->sz = vq_loadu_ps(sz);
-    f->ltnear = vq_loadu_ps(ltn);
+    for (int k = 0; k < 3; k++)
+        f->o[k] = vld1q_f32(o[k]), f->r[k] = vld1q_f32(rr[k]);
+    f->okx = vld1q_f32(okx), f->oky = vld1q_f32(oky), f->okz = vld1q_f32(okz);
+    f->sx = vld1q_f32(sx), f->sy = vld1q_f32(sy), f->sz = vld1q_f32(sz);
+    f->ltnear = vld1q_f32(ltn);
     return true;
 }
 
-HZ_INLINE vq_t fr_near(const hz_bvh_node_t *n, size_t off, const frustum_t *f, int k)
+HZ_INLINE float32x4_t fr_near(const hz_bvh_node_t *n, size_t off, const frustum_t *f, int k)
 {
-    const vq_t a = vq_sub_ps(ld(n, off), f->on[k]);
-    return vq_min_ps(vq_mul_ps(a, f->rmin[k]), vq_mul_ps(a, f->rmax[k]));
+    const float32x4_t a = vsubq_f32(ld(n, off), f->on[k]);
+    return vminnmq_f32(vmulq_f32(a, f->rmin[k]), vmulq_f32(a, f->rmax[k]));
 }
 
-HZ_INLINE vq_t fr_far(const hz_bvh_node_t *n, size_t off, const frustum_t *f, int k)
+HZ_INLINE float32x4_t fr_far(const hz_bvh_node_t *n, size_t off, const frustum_t *f, int k)
 {
-    const vq_t a = vq_sub_ps(ld(n, off), f->of[k]);
-    return vq_max_ps(vq_mul_ps(a, f->rmin[k]), vq_mul_ps(a, f->rmax[k]));
+    const float32x4_t a = vsubq_f32(ld(n, off), f->of[k]);
+    return vmaxnmq_f32(vmulq_f32(a, f->rmin[k]), vmulq_f32(a, f->rmax[k]));
 }
 
-HZ_INLINE unsigned fr_node_hit(const hz_bvh_node_t *n, const frustum_t *f, vq_t tfar_max, vq_t *tmin_out)
+HZ_INLINE unsigned fr_node_hit(const hz_bvh_node_t *n, const frustum_t *f, float32x4_t cull, float32x4_t *tmin_out)
 {
-    const vq_t tmin = vq_max_ps(vq_max_ps(fr_near(n, f->nx, f, 0), fr_near(n, f->ny, f, 1)),
-                                      vq_max_ps(fr_near(n, f->nz, f, 2), f->tnear));
-    const vq_t tmax = vq_min_ps(
-        vq_mul_ps(vq_min_ps(vq_min_ps(fr_far(n, f->fx, f, 0), fr_far(n, f->fy, f, 1)),
-                                    fr_far(n, f->fz, f, 2)),
-                      vq_set1_ps(HZ_BVH_ROBUST)),
-        tfar_max);
+    const float32x4_t tmin = vmaxnmq_f32(vmaxnmq_f32(fr_near(n, f->nx, f, 0), fr_near(n, f->ny, f, 1)),
+                                         vmaxnmq_f32(fr_near(n, f->nz, f, 2), f->tnear));
+    const float32x4_t tmax = vminnmq_f32(
+        vmulq_f32(vminnmq_f32(vminnmq_f32(fr_far(n, f->fx, f, 0), fr_far(n, f->fy, f, 1)), fr_far(n, f->fz, f, 2)),
+                  vdupq_n_f32(HZ_BVH_ROBUST)),
+        cull);
     *tmin_out = tmin;
-    return (unsigned)vq_movemask_ps(vq_cmp_ps(tmin, tmax, CMP_LE));
+    return movemask(vcleq_f32(tmin, tmax));
 }
 
-/* One triangle (block slot s) against the packet's lanes: lanes with a watertight hit at t in [tnear, tfar]. */
-HZ_INLINE unsigned fr_tri_hit(const hz_bvh_block_t *b, unsigned s, const frustum_t *f, vq_t tfar, vq_t *t_out)
+/* Lanes whose own ray reaches child j of n within [tnear, cull[lane]]. */
+HZ_INLINE unsigned fr_lanes_hit(const hz_bvh_node_t *n, unsigned j, const frustum_t *f, float32x4_t cull)
 {
-    const vq_t akx = vq_sub_ps(vq_set1_ps(b->v[0][f->kx][s]), f->okx);
-    const vq_t aky = vq_sub_ps(vq_set1_ps(b->v[0][f->ky][s]), f->oky);
-    const vq_t akz = vq_sub_ps(vq_set1_ps(b->v[0][f->kz][s]), f->okz);
-    const vq_t bkx = vq_sub_ps(vq_set1_ps(b->v[1][f->kx][s]), f->okx);
-    const vq_t bky = vq_sub_ps(vq_set1_ps(b->v[1][f->ky][s]), f->oky);
-    const vq_t bkz = vq_sub_ps(vq_set1_ps(b->v[1][f->kz][s]), f->okz);
-    const vq_t ckx = vq_sub_ps(vq_set1_ps(b->v[2][f->kx][s]), f->okx);
-    const vq_t cky = vq_sub_ps(vq_set1_ps(b->v[2][f->ky][s]), f->oky);
-    const vq_t ckz = vq_sub_ps(vq_set1_ps(b->v[2][f->kz][s]), f->okz);
-    const vq_t ax = vq_sub_ps(akx, vq_mul_ps(f->sx, akz));
-    const vq_t ay = vq_sub_ps(aky, vq_mul_ps(f->sy, akz));
-    const vq_t bx = vq_sub_ps(bkx, vq_mul_ps(f->sx, bkz));
-    const vq_t by = vq_sub_ps(bky, vq_mul_ps(f->sy, bkz));
-    const vq_t cx = vq_sub_ps(ckx, vq_mul_ps(f->sx, ckz));
-    const vq_t cy = vq_sub_ps(cky, vq_mul_ps(f->sy, ckz));
-    const vq_t U = vq_sub_ps(vq_mul_ps(cx, by), vq_mul_ps(cy, bx));
-    const vq_t V = vq_sub_ps(vq_mul_ps(ax, cy), vq_mul_ps(ay, cx));
-    const vq_t Wv = vq_sub_ps(vq_mul_ps(bx, ay), vq_mul_ps(by, ax));
-    const vq_t z = vq_setzero_ps();
-    const vq_t neg = vq_or_ps(vq_or_ps(vq_cmp_ps(U, z, CMP_LT), vq_cmp_ps(V, z, CMP_LT)),
-                                    vq_cmp_ps(Wv, z, CMP_LT));
-    const vq_t pos = vq_or_ps(vq_or_ps(vq_cmp_ps(U, z, CMP_GT), vq_cmp_ps(V, z, CMP_GT)),
-                                    vq_cmp_ps(Wv, z, CMP_GT));
-    const vq_t det = vq_add_ps(vq_add_ps(U, V), Wv);
-    const vq_t ok = vq_andnot_ps(vq_and_ps(neg, pos), vq_cmp_ps(det, z, CMP_NEQ));
-    unsigned m = (unsigned)vq_movemask_ps(ok);
+    const char *c = (const char *)n + 4u * j;
+#define PLANE(off) vdupq_n_f32(*(const float *)(const void *)(c + (off)))
+    const float32x4_t tnx = vmulq_f32(vsubq_f32(PLANE(f->nx), f->o[0]), f->r[0]);
+    const float32x4_t tny = vmulq_f32(vsubq_f32(PLANE(f->ny), f->o[1]), f->r[1]);
+    const float32x4_t tnz = vmulq_f32(vsubq_f32(PLANE(f->nz), f->o[2]), f->r[2]);
+    const float32x4_t tfx = vmulq_f32(vsubq_f32(PLANE(f->fx), f->o[0]), f->r[0]);
+    const float32x4_t tfy = vmulq_f32(vsubq_f32(PLANE(f->fy), f->o[1]), f->r[1]);
+    const float32x4_t tfz = vmulq_f32(vsubq_f32(PLANE(f->fz), f->o[2]), f->r[2]);
+#undef PLANE
+    const float32x4_t tmin = vmaxnmq_f32(vmaxnmq_f32(tnx, tny), vmaxnmq_f32(tnz, f->ltnear));
+    const float32x4_t tmax =
+        vminnmq_f32(vmulq_f32(vminnmq_f32(vminnmq_f32(tfx, tfy), tfz), vdupq_n_f32(HZ_BVH_ROBUST)), cull);
+    return movemask(vcleq_f32(tmin, tmax));
+}
+
+/* One triangle against the packet's lanes. */
+HZ_INLINE unsigned fr_tri_hit(const hz_bvh_block_t *b, unsigned s, const frustum_t *f, float32x4_t tfar,
+                              float32x4_t *t, float32x4_t *v, float32x4_t *w, float32x4_t *det)
+{
+#define VB(vtx, k) vsubq_f32(vdupq_n_f32(b->v[vtx][f->k][s]), f->o##k)
+    unsigned m = woop4(VB(0, kx), VB(0, ky), VB(0, kz), VB(1, kx), VB(1, ky), VB(1, kz), VB(2, kx), VB(2, ky),
+                       VB(2, kz), f->sx, f->sy, f->sz, t, v, w, det);
+#undef VB
     if (!m)
         return 0;
-    const vq_t az = vq_mul_ps(f->sz, akz), bz = vq_mul_ps(f->sz, bkz), cz = vq_mul_ps(f->sz, ckz);
-    const vq_t T =
-        vq_add_ps(vq_add_ps(vq_mul_ps(U, az), vq_mul_ps(V, bz)), vq_mul_ps(Wv, cz));
-    const vq_t t = vq_div_ps(T, det);
-    const vq_t in =
-        vq_and_ps(vq_cmp_ps(t, f->ltnear, CMP_GE), vq_cmp_ps(t, tfar, CMP_LE));
-    *t_out = t;
-    return m & (unsigned)vq_movemask_ps(in);
-}
-
-HZ_INLINE float hmax8(vq_t v)
-{
-    return vmaxvq_f32(v);
-}
-
-HZ_INLINE float hmin8(vq_t v)
-{
-    return vminvq_f32(v);
+    return m & movemask(vandq_u32(vcgeq_f32(*t, f->ltnear), vcleq_f32(*t, tfar)));
 }
 
 static void lanes_tfar(const packet_t *p, float *tf)
@@ -528,302 +436,176 @@ static void lanes_tfar(const packet_t *p, float *tf)
         tf[i] = (p->active >> i) & 1u ? p->r[i].tfar : -__builtin_inff();
 }
 
-/* Frustum traversal, closest hit. */
 static void frustum_closest(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, packet_t *p, const frustum_t *f,
                             counters_t *k)
 {
-    (void)k; /* counters are compiled out unless HZ_FEATURE_STATS */
-    entry_t stack[HZ_BVH_STACK];
+    (void)k; /* counters exist only with HZ_FEATURE_STATS */
+    uint32_t st_c[HZ_BVH_STACK + W];
+    float st_d[HZ_BVH_STACK + W];
     int sp = 0;
     uint32_t cur = 0;
     const bool anyhit = bvh->has_anyhit && ctx && ctx->anyhit;
-    float tfa[W] HZ_ALIGNED(32);
+    float tfa[W];
     lanes_tfar(p, tfa);
-    vq_t tfar = vq_load_ps(tfa);
-    float tfar_max = hmax8(tfar);
-    vq_t vtfar_max = vq_set1_ps(tfar_max);
+    float32x4_t tfar = vld1q_f32(tfa);
+    float cull_max = vmaxvq_f32(tfar) * HZ_BVH_CULL;
     for (;;) {
-        if (!hz_bvh_is_leaf(cur)) {
-            const hz_bvh_node_t *n = &bvh->nodes[cur];
-            vq_t tmin;
-            COUNT(k, nodes, 1);
-            unsigned m = fr_node_hit(n, f, vtfar_max, &tmin);
-            if (m) {
-                unsigned i0 = (unsigned)__builtin_ctz(m);
-                m &= m - 1;
-                if (!m) {
-                    cur = n->child[i0];
-                    continue;
-                }
-                float d[W] HZ_ALIGNED(32);
-                vq_store_ps(d, tmin);
-                entry_t h[W];
-                int c = 0;
-                h[c].c = n->child[i0], h[c++].d = d[i0];
-                do {
-                    unsigned i = (unsigned)__builtin_ctz(m);
-                    m &= m - 1;
-                    entry_t e = { n->child[i], d[i] };
-                    int j = c++;
-                    while (j > 0 && h[j - 1].d < e.d) {
-                        h[j] = h[j - 1];
-                        j--;
-                    }
-                    h[j] = e;
-                } while (m);
-                for (int i = 0; i < c - 1; i++)
-                    stack[sp++] = h[i];
-                cur = h[c - 1].c;
-                continue;
+        const hz_bvh_node_t *n = &bvh->nodes[cur]; /* always an inner node: leaves are tested from their parent */
+        float32x4_t tmin;
+        COUNT(k, nodes, 1);
+        unsigned m = fr_node_hit(n, f, vdupq_n_f32(cull_max), &tmin);
+        unsigned leafbits = 0;
+        for (int j = 0; j < W; j++)
+            leafbits |= (unsigned)((m >> j) & 1u && hz_bvh_is_leaf(n->child[j])) << j;
+        float d[W];
+        vst1q_f32(d, tmin);
+        unsigned order[W], nl = 0;
+        for (unsigned lb = leafbits; lb; lb &= lb - 1) {
+            unsigned j = (unsigned)__builtin_ctz(lb), q = nl++;
+            while (q > 0 && d[order[q - 1]] > d[j]) {
+                order[q] = order[q - 1];
+                q--;
             }
-        } else {
-            const uint32_t slot = hz_bvh_leaf_slot(cur), cnt = hz_bvh_leaf_count(cur);
+            order[q] = j;
+        }
+        for (unsigned q = 0; q < nl && d[order[q]] <= cull_max; q++) {
+            const unsigned j = order[q];
+            const unsigned lanes =
+                fr_lanes_hit(n, j, f, vmulq_f32(tfar, vdupq_n_f32(HZ_BVH_CULL))) & p->active;
+            if (!lanes)
+                continue;
+            const uint32_t cw = n->child[j], slot = hz_bvh_leaf_slot(cw), cnt = hz_bvh_leaf_count(cw);
             const hz_bvh_block_t *b = &bvh->blocks[slot / W];
-            bool changed = false;
-            COUNT(k, tris, (uint64_t)cnt * (uint64_t)__builtin_popcount(p->active));
+            COUNT(k, tris, (uint64_t)cnt * (uint64_t)__builtin_popcount(lanes));
             for (unsigned s = slot % W; s < slot % W + cnt; s++) {
-                vq_t t;
-                unsigned m = fr_tri_hit(b, s, f, tfar, &t) & p->active;
-                if (!m)
+                float32x4_t t, V, Wv, det;
+                unsigned mm = fr_tri_hit(b, s, f, tfar, &t, &V, &Wv, &det) & lanes;
+                if (!mm)
                     continue;
                 const uint32_t pw = b->prim[s], prim = pw & HZ_BVH_PRIM_MASK, hs = (slot / W) * W + s;
-                float tv[W] HZ_ALIGNED(32);
-                vq_store_ps(tv, t);
+                float tv[W], vv[W], wv[W], dv[W];
+                vst1q_f32(tv, t), vst1q_f32(vv, V), vst1q_f32(wv, Wv), vst1q_f32(dv, det);
                 do {
-                    unsigned i = (unsigned)__builtin_ctz(m);
-                    m &= m - 1;
+                    unsigned i = (unsigned)__builtin_ctz(mm);
+                    mm &= mm - 1;
                     hz_bvh_ray_t *r = &p->r[i];
-                    if (!hz_bvh_better(tv[i], prim, r->tfar, p->best_prim[i]))
+                    if (!hz_bvh_better(tv[i], prim, r->tfar, p->best[i].prim))
                         continue;
                     if (anyhit && (pw & HZ_BVH_PRIM_ANYHIT) && !hz_bvh_anyhit(bvh, ctx, hs, r, tv[i], p->id[i], (int)i))
                         continue;
                     r->tfar = tv[i];
                     tfa[i] = tv[i];
-                    p->best_prim[i] = prim;
-                    p->best_slot[i] = hs;
-                    changed = true;
-                } while (m);
+                    p->best[i].prim = prim, p->best[i].slot = hs;
+                    p->best[i].v = vv[i], p->best[i].w = wv[i], p->best[i].det = dv[i];
+                } while (mm);
+                tfar = vld1q_f32(tfa);
+                cull_max = vmaxvq_f32(tfar) * HZ_BVH_CULL;
             }
-            if (changed) {
-                tfar = vq_load_ps(tfa);
-                tfar_max = hmax8(tfar);
-                vtfar_max = vq_set1_ps(tfar_max);
-            }
+        }
+        const unsigned inner = m & ~leafbits;
+        if (inner) {
+            order_children(n, inner, tmin, &cur, st_c, st_d, &sp);
+            continue;
         }
         for (;;) {
             if (sp == 0)
                 return;
-            entry_t e = stack[--sp];
-            if (e.d <= tfar_max) {
-                cur = e.c;
+            --sp;
+            if (st_d[sp] <= cull_max) {
+                cur = st_c[sp];
                 break;
             }
         }
     }
 }
 
-static void frustum_any(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, packet_t *p, const frustum_t *f, unsigned *hit,
-                        counters_t *k)
+/* Occlusion: lanes drop out as they find a hit; the bounds follow the live lanes (recomputed when lanes drop
+ * out) and a last live lane finishes as a single ray. */
+static unsigned frustum_any(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, packet_t *p, const frustum_t *f0, counters_t *k)
 {
-    (void)k; /* counters are compiled out unless HZ_FEATURE_STATS */
-    entry_t stack[HZ_BVH_STACK];
+    uint32_t stack[HZ_BVH_STACK + W];
     int sp = 0;
     uint32_t cur = 0;
     const bool anyhit = bvh->has_anyhit && ctx && ctx->anyhit;
-    float tfa[W] HZ_ALIGNED(32);
+    frustum_t fl;
+    const frustum_t *f = f0;
+    float tfa[W];
     lanes_tfar(p, tfa);
-    vq_t tfar = vq_load_ps(tfa);
-    vq_t vtfar_max = vq_set1_ps(hmax8(tfar));
+    float32x4_t tfar = vld1q_f32(tfa);
     unsigned live = p->active;
     for (;;) {
-        if (!hz_bvh_is_leaf(cur)) {
-            const hz_bvh_node_t *n = &bvh->nodes[cur];
-            vq_t tmin;
-            COUNT(k, nodes, 1);
-            unsigned m = fr_node_hit(n, f, vtfar_max, &tmin);
-            if (m) {
-                cur = n->child[__builtin_ctz(m)];
-                m &= m - 1;
-                while (m) {
-                    stack[sp++].c = n->child[__builtin_ctz(m)];
-                    m &= m - 1;
-                }
+        const hz_bvh_node_t *n = &bvh->nodes[cur];
+        float32x4_t tmin;
+        COUNT(k, nodes, 1);
+        unsigned m = fr_node_hit(n, f, vdupq_n_f32(vmaxvq_f32(tfar) * HZ_BVH_CULL), &tmin);
+        bool changed = false;
+        for (int j = 0; j < W && live; j++) {
+            if (!((m >> j) & 1u) || !hz_bvh_is_leaf(n->child[j]))
                 continue;
-            }
-        } else {
-            const uint32_t slot = hz_bvh_leaf_slot(cur), cnt = hz_bvh_leaf_count(cur);
+            m &= ~(1u << j);
+            unsigned lanes = fr_lanes_hit(n, (unsigned)j, f, vmulq_f32(tfar, vdupq_n_f32(HZ_BVH_CULL))) & live;
+            const uint32_t cw = n->child[j], slot = hz_bvh_leaf_slot(cw), cnt = hz_bvh_leaf_count(cw);
             const hz_bvh_block_t *b = &bvh->blocks[slot / W];
-            bool changed = false;
-            COUNT(k, tris, (uint64_t)cnt * (uint64_t)__builtin_popcount(live));
-            for (unsigned s = slot % W; s < slot % W + cnt && live; s++) {
-                vq_t t;
-                unsigned m = fr_tri_hit(b, s, f, tfar, &t) & live;
-                if (!m)
+            COUNT(k, tris, (uint64_t)cnt * (uint64_t)__builtin_popcount(lanes));
+            for (unsigned s = slot % W; s < slot % W + cnt && lanes; s++) {
+                float32x4_t t, V, Wv, det;
+                unsigned mm = fr_tri_hit(b, s, f, tfar, &t, &V, &Wv, &det) & lanes;
+                if (!mm)
                     continue;
-                const uint32_t pw = b->prim[s], hs = (slot / W) * W + s;
-                if (anyhit && (pw & HZ_BVH_PRIM_ANYHIT)) {
-                    float tv[W] HZ_ALIGNED(32);
-                    vq_store_ps(tv, t);
-                    for (unsigned mm = m; mm; mm &= mm - 1) {
-                        unsigned i = (unsigned)__builtin_ctz(mm);
-                        if (!hz_bvh_anyhit(bvh, ctx, hs, &p->r[i], tv[i], p->id[i], (int)i))
-                            m &= ~(1u << i);
+                if (anyhit && (b->prim[s] & HZ_BVH_PRIM_ANYHIT)) {
+                    float tv[W];
+                    vst1q_f32(tv, t);
+                    for (unsigned x = mm; x; x &= x - 1) {
+                        unsigned i = (unsigned)__builtin_ctz(x);
+                        if (!hz_bvh_anyhit(bvh, ctx, (slot / W) * W + s, &p->r[i], tv[i], p->id[i], (int)i))
+                            mm &= ~(1u << i);
                     }
                 }
-                if (m) {
-                    live &= ~m;
-                    for (unsigned mm = m; mm; mm &= mm - 1)
-                        tfa[__builtin_ctz(mm)] = -__builtin_inff();
+                if (mm) {
+                    live &= ~mm, lanes &= ~mm;
+                    for (unsigned x = mm; x; x &= x - 1)
+                        tfa[__builtin_ctz(x)] = -__builtin_inff();
+                    tfar = vld1q_f32(tfa);
                     changed = true;
                 }
             }
-            if (!live)
+        }
+        if (!live)
+            break;
+        for (unsigned in = m; in; in &= in - 1)
+            if (!hz_bvh_is_leaf(n->child[__builtin_ctz(in)]))
+                stack[sp++] = n->child[__builtin_ctz(in)];
+        if (changed) {
+            if (__builtin_popcount(live) == 1) {
+                const unsigned i = (unsigned)__builtin_ctz(live);
+                sray_t sr;
+                sray_init(&sr, &p->r[i]);
+                while (sp > 0 && live)
+                    if (any_from_node(bvh, ctx, &p->r[i], &sr, stack[--sp], p->id[i], (int)i, k))
+                        live = 0;
                 break;
-            if (changed) {
-                tfar = vq_load_ps(tfa);
-                vtfar_max = vq_set1_ps(hmax8(tfar));
             }
+            if (frustum_init(&fl, p, live))
+                f = &fl;
         }
         if (sp == 0)
             break;
-        cur = stack[--sp].c;
+        cur = stack[--sp];
     }
-    *hit = p->active & ~live;
-}
-
-/* Masked packet, closest hit: per-lane box tests, lane masks on the stack, single rays once few lanes remain. */
-static void masked_closest(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, packet_t *p, counters_t *k)
-{
-    (void)k; /* counters are compiled out unless HZ_FEATURE_STATS */
-    mentry_t stack[HZ_BVH_STACK];
-    int sp = 0;
-    float ox[W], oy[W], oz[W], rx[W], ry[W], rz[W], tn[W], tfa[W] HZ_ALIGNED(32);
-    for (int i = 0; i < W; i++) {
-        const hz_bvh_ray_t *r = &p->r[(p->active >> i) & 1u ? i : __builtin_ctz(p->active)];
-        ox[i] = r->org[0], oy[i] = r->org[1], oz[i] = r->org[2];
-        rx[i] = r->rdir[0], ry[i] = r->rdir[1], rz[i] = r->rdir[2];
-        tn[i] = r->tnear;
-    }
-    lanes_tfar(p, tfa);
-    const vq_t vox = vq_loadu_ps(ox), voy = vq_loadu_ps(oy), voz = vq_loadu_ps(oz);
-    const vq_t vrx = vq_loadu_ps(rx), vry = vq_loadu_ps(ry), vrz = vq_loadu_ps(rz);
-    const vq_t vtn = vq_loadu_ps(tn), robust = vq_set1_ps(HZ_BVH_ROBUST);
-    const vq_t vinf = vq_set1_ps(__builtin_inff()), zero = vq_setzero_ps();
-    const vq_t negx = vq_cmp_ps(vrx, zero, CMP_LT), negy = vq_cmp_ps(vry, zero, CMP_LT);
-    const vq_t negz = vq_cmp_ps(vrz, zero, CMP_LT);
-    vq_t tfar = vq_load_ps(tfa);
-    sray_t sr[W];
-    for (unsigned m = p->active; m; m &= m - 1)
-        sray_init(&sr[__builtin_ctz(m)], &p->r[__builtin_ctz(m)]);
-    uint32_t cur = 0;
-    unsigned lanes = p->active;
-    for (;;) {
-        if (__builtin_popcount(lanes) <= MASKED_SWITCH) {
-            for (unsigned m = lanes; m; m &= m - 1) {
-                unsigned i = (unsigned)__builtin_ctz(m);
-                closest_from(bvh, ctx, &p->r[i], &sr[i], cur, &p->best_prim[i], &p->best_slot[i], p->id[i], (int)i,
-                             k);
-                tfa[i] = p->r[i].tfar;
-            }
-            tfar = vq_load_ps(tfa);
-        } else if (!hz_bvh_is_leaf(cur)) {
-            const hz_bvh_node_t *n = &bvh->nodes[cur];
-            COUNT(k, nodes, 1);
-            mentry_t h[W];
-            int c = 0;
-            for (int j = 0; j < W; j++) {
-                if (n->child[j] == HZ_BVH_EMPTY)
-                    continue;
-                const vq_t t0x = vq_mul_ps(vq_sub_ps(vq_set1_ps(n->lo_x[j]), vox), vrx);
-                const vq_t t1x = vq_mul_ps(vq_sub_ps(vq_set1_ps(n->hi_x[j]), vox), vrx);
-                const vq_t t0y = vq_mul_ps(vq_sub_ps(vq_set1_ps(n->lo_y[j]), voy), vry);
-                const vq_t t1y = vq_mul_ps(vq_sub_ps(vq_set1_ps(n->hi_y[j]), voy), vry);
-                const vq_t t0z = vq_mul_ps(vq_sub_ps(vq_set1_ps(n->lo_z[j]), voz), vrz);
-                const vq_t t1z = vq_mul_ps(vq_sub_ps(vq_set1_ps(n->hi_z[j]), voz), vrz);
-                /* near/far by the sign of each lane's direction, NaN-prone values first (see bvh.h) */
-                const vq_t tnx = vq_blendv_ps(t0x, t1x, negx), tfx = vq_blendv_ps(t1x, t0x, negx);
-                const vq_t tny = vq_blendv_ps(t0y, t1y, negy), tfy = vq_blendv_ps(t1y, t0y, negy);
-                const vq_t tnz = vq_blendv_ps(t0z, t1z, negz), tfz = vq_blendv_ps(t1z, t0z, negz);
-                const vq_t tmin = vq_max_ps(tnz, vq_max_ps(tny, vq_max_ps(tnx, vtn)));
-                const vq_t tmax = vq_min_ps(
-                    vq_mul_ps(vq_min_ps(tfz, vq_min_ps(tfy, vq_min_ps(tfx, vinf))), robust), tfar);
-                const vq_t hit = vq_cmp_ps(tmin, tmax, CMP_LE);
-                unsigned m = (unsigned)vq_movemask_ps(hit) & lanes;
-                if (!m)
-                    continue;
-                float d = hmin8(vq_blendv_ps(vq_set1_ps(__builtin_inff()), tmin, hit));
-                mentry_t e = { n->child[j], m, d };
-                int q = c++;
-                while (q > 0 && h[q - 1].d < e.d) {
-                    h[q] = h[q - 1];
-                    q--;
-                }
-                h[q] = e;
-            }
-            if (c > 0) {
-                for (int i = 0; i < c - 1; i++)
-                    stack[sp++] = h[i];
-                cur = h[c - 1].c;
-                lanes = h[c - 1].m;
-                continue;
-            }
-        } else {
-            const uint32_t slot = hz_bvh_leaf_slot(cur), cnt = hz_bvh_leaf_count(cur);
-            const hz_bvh_block_t *b = &bvh->blocks[slot / W];
-            const bool anyhit = bvh->has_anyhit && ctx && ctx->anyhit;
-            COUNT(k, tris, (uint64_t)cnt * (uint64_t)__builtin_popcount(lanes));
-            for (unsigned lm = lanes; lm; lm &= lm - 1) {
-                unsigned i = (unsigned)__builtin_ctz(lm);
-                hz_bvh_ray_t *r = &p->r[i];
-                vq_t t;
-                unsigned m = leaf_hit(b, slot_mask(slot, cnt), &sr[i], r->tfar, &t);
-                if (!m)
-                    continue;
-                float tv[W] HZ_ALIGNED(32);
-                vq_store_ps(tv, t);
-                do {
-                    unsigned s = (unsigned)__builtin_ctz(m);
-                    m &= m - 1;
-                    uint32_t pw = b->prim[s], prim = pw & HZ_BVH_PRIM_MASK, hs = (slot / W) * W + s;
-                    if (!hz_bvh_better(tv[s], prim, r->tfar, p->best_prim[i]))
-                        continue;
-                    if (anyhit && (pw & HZ_BVH_PRIM_ANYHIT) && !hz_bvh_anyhit(bvh, ctx, hs, r, tv[s], p->id[i], (int)i))
-                        continue;
-                    r->tfar = tv[s];
-                    p->best_prim[i] = prim;
-                    p->best_slot[i] = hs;
-                } while (m);
-                tfa[i] = r->tfar;
-            }
-            tfar = vq_load_ps(tfa);
-        }
-        /* pop, dropping lanes whose best hit is already closer than the subtree */
-        for (;;) {
-            if (sp == 0)
-                return;
-            mentry_t e = stack[--sp];
-            unsigned m = e.m & (unsigned)vq_movemask_ps(vq_cmp_ps(vq_set1_ps(e.d), tfar, CMP_LE));
-            if (m) {
-                cur = e.c;
-                lanes = m;
-                break;
-            }
-        }
-    }
+    return p->active & ~live;
 }
 
 static void write_hits(const hz_bvh_t *bvh, const packet_t *p, hz_rayhit4_t *rh)
 {
     for (unsigned m = p->active; m; m &= m - 1) {
         unsigned i = (unsigned)__builtin_ctz(m);
-        uint32_t slot = p->best_slot[i];
-        if (slot == HZ_ACCEL_INVALID_ID)
+        if (p->best[i].slot == HZ_ACCEL_INVALID_ID)
             continue;
         float ng[3];
-        hz_bvh_hit_attributes(bvh, slot, &p->r[i], ng, &rh->hit.u[i], &rh->hit.v[i]);
+        hz_bvh_best_finish(bvh, &p->best[i], ng, &rh->hit.u[i], &rh->hit.v[i]);
         rh->ray.tfar[i] = p->r[i].tfar;
         rh->hit.ng_x[i] = ng[0], rh->hit.ng_y[i] = ng[1], rh->hit.ng_z[i] = ng[2];
-        rh->hit.prim_id[i] = p->best_prim[i];
+        rh->hit.prim_id[i] = p->best[i].prim;
         rh->hit.geom_id[i] = 0;
         rh->hit.inst_id[0][i] = HZ_ACCEL_INVALID_ID;
     }
@@ -837,16 +619,14 @@ void hz_bvh_simd_intersectw(const int32_t *valid, const hz_bvh_t *bvh, hz_accel_
     if (!packet_init(&p, valid, &rh->ray))
         return;
     frustum_t f;
-    if (kernel == HZ_ACCEL_KERNEL_SIMD_PACKET && __builtin_popcount(p.active) > 1 && frustum_init(&f, &p)) {
+    if (kernel == HZ_ACCEL_KERNEL_SIMD_PACKET && frustum_init(&f, &p, p.active)) {
         frustum_closest(bvh, ctx, &p, &f, &k);
-    } else if (kernel == HZ_ACCEL_KERNEL_SIMD_MASKED) {
-        masked_closest(bvh, ctx, &p, &k);
     } else {
         for (unsigned m = p.active; m; m &= m - 1) {
             unsigned i = (unsigned)__builtin_ctz(m);
             sray_t s;
             sray_init(&s, &p.r[i]);
-            closest_from(bvh, ctx, &p.r[i], &s, 0, &p.best_prim[i], &p.best_slot[i], p.id[i], (int)i, &k);
+            closest_from(bvh, ctx, &p.r[i], &s, 0, &p.best[i], p.id[i], (int)i, &k);
         }
     }
     write_hits(bvh, &p, rh);
@@ -862,15 +642,14 @@ void hz_bvh_simd_occludedw(const int32_t *valid, const hz_bvh_t *bvh, hz_accel_c
         return;
     unsigned hit = 0;
     frustum_t f;
-    if (kernel == HZ_ACCEL_KERNEL_SIMD_PACKET && __builtin_popcount(p.active) > 1 && frustum_init(&f, &p)) {
-        frustum_any(bvh, ctx, &p, &f, &hit, &k);
+    if (kernel == HZ_ACCEL_KERNEL_SIMD_PACKET && frustum_init(&f, &p, p.active)) {
+        hit = frustum_any(bvh, ctx, &p, &f, &k);
     } else {
-        /* the masked form brings nothing to occlusion (no ordering, early exit per lane): single rays */
         for (unsigned m = p.active; m; m &= m - 1) {
             unsigned i = (unsigned)__builtin_ctz(m);
             sray_t s;
             sray_init(&s, &p.r[i]);
-            if (any_from(bvh, ctx, &p.r[i], &s, 0, p.id[i], (int)i, &k))
+            if (any_from_node(bvh, ctx, &p.r[i], &s, 0, p.id[i], (int)i, &k))
                 hit |= 1u << i;
         }
     }

@@ -40,7 +40,7 @@ static int node_hits(const hz_bvh_node_t *n, const hz_bvh_ray_t *r, entry_t *out
             tmin = hz_maxf(tn, tmin); /* a NaN slab distance (ray in the plane) drops out */
             tmax = hz_minf(tf, tmax);
         }
-        tmax = hz_minf(tmax * HZ_BVH_ROBUST, r->tfar);
+        tmax = hz_minf(tmax * HZ_BVH_ROBUST, r->tfar * HZ_BVH_CULL);
         if (tmin <= tmax) {
             int j = m++;
             while (j > 0 && out[j - 1].d > tmin) { /* keep sorted ascending */
@@ -54,19 +54,18 @@ static int node_hits(const hz_bvh_node_t *n, const hz_bvh_ray_t *r, entry_t *out
     return m;
 }
 
-uint32_t hz_bvh_scalar_closest(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, hz_bvh_ray_t *r, uint32_t ray_id,
-                               int lane)
+void hz_bvh_scalar_closest(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, hz_bvh_ray_t *r, hz_bvh_best_t *best,
+                           uint32_t ray_id, int lane)
 {
     entry_t stack[HZ_BVH_STACK];
     counters_t k = { 0, 0 };
     int sp = 0;
-    uint32_t best_slot = HZ_ACCEL_INVALID_ID, best_prim = HZ_ACCEL_INVALID_ID;
     const bool anyhit = bvh->has_anyhit && ctx && ctx->anyhit;
     stack[sp].c = 0;
     stack[sp++].d = r->tnear;
     while (sp > 0) {
         entry_t e = stack[--sp];
-        if (e.d > r->tfar)
+        if (e.d > r->tfar * HZ_BVH_CULL)
             continue;
         if (!hz_bvh_is_leaf(e.c)) {
             entry_t hits[HZ_BVH_W];
@@ -84,18 +83,18 @@ uint32_t hz_bvh_scalar_closest(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, hz_bvh_
             if (!hz_bvh_tri_test(b, s, r, &t, &U, &V, &W, &det))
                 continue;
             uint32_t pw = b->prim[s], prim = pw & HZ_BVH_PRIM_MASK;
-            if (!(t >= r->tnear) || !hz_bvh_better(t, prim, r->tfar, best_prim))
+            if (!(t >= r->tnear) || !hz_bvh_better(t, prim, r->tfar, best->prim))
                 continue;
             uint32_t hs = (slot / HZ_BVH_W) * HZ_BVH_W + s;
             if (anyhit && (pw & HZ_BVH_PRIM_ANYHIT) && !hz_bvh_anyhit(bvh, ctx, hs, r, t, ray_id, lane))
                 continue;
             r->tfar = t;
-            best_prim = prim;
-            best_slot = hs;
+            best->prim = prim;
+            best->slot = hs;
+            best->v = V, best->w = W, best->det = det;
         }
     }
     flush(ctx, &k);
-    return best_slot;
 }
 
 bool hz_bvh_scalar_any(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const hz_bvh_ray_t *r, uint32_t ray_id, int lane)

@@ -134,14 +134,16 @@ hz_status_t hz_render_accel_geom(const hz_scene_t *scene, hz_arena_t *arena, hz_
     geom->tri = scene->tri;
     geom->tri_count = scene->triangle_count;
     geom->tri_flags = NULL;
-    if (!(HZ_FEATURE_TRANSPARENCY && (scene->features & HZ_FEAT_CUTOUT)))
-        return HZ_OK; /* no cutouts: no any-hit work at all */
+    /* Cutouts are decided in the any-hit callback; blended surfaces go through it too, so that a shadow ray's
+     * first, opaque-only pass (occlusion with early exit) can step through them. */
+    if (!(HZ_FEATURE_TRANSPARENCY && (scene->features & (HZ_FEAT_CUTOUT | HZ_FEAT_BLEND))))
+        return HZ_OK; /* no transparency: no any-hit work at all */
     uint8_t *flags = hz_arena_alloc(arena, scene->triangle_count, 64);
     if (!flags)
         return hz_arena_error(arena, err);
     for (uint32_t t = 0; t < scene->triangle_count; t++)
-        flags[t] = scene->materials[scene->tri_info[t] & 0xffffu].alpha_mode == HZ_ALPHA_MASK ? HZ_ACCEL_TRI_ANYHIT
-                                                                                              : 0;
+        flags[t] = scene->materials[scene->tri_info[t] & 0xffffu].alpha_mode != HZ_ALPHA_OPAQUE ? HZ_ACCEL_TRI_ANYHIT
+                                                                                                : 0;
     geom->tri_flags = flags;
     return HZ_OK;
 }
@@ -260,7 +262,7 @@ hz_status_t hz_render_create(hz_renderer_t **out, hz_scene_t *scene, hz_accel_t 
         w->shadows = shadows, w->shadow_cap = SHADOW_JOBS;
         w->r = r;
         hz_accel_ctx_init(&w->ctx);
-        if (n.mask) {
+        if (n.mask || n.blend) {
             w->ctx.anyhit = hz_render_anyhit;
             w->ctx.user = w;
         }

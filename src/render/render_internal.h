@@ -20,6 +20,9 @@
 #endif
 
 #define HZ_TILE_PIXELS (HZ_RENDER_TILE * HZ_RENDER_TILE)
+/* Blended triangles one shadow ray can composite in its single occlusion pass; rays crossing more take the
+ * exact layer-by-layer path. */
+#define HZ_SHADOW_LAYERS 32
 
 /* Which G-buffer record a ray's first hit fills. */
 enum { GSLOT_NONE = 0, GSLOT_PRIMARY = 1, GSLOT_SECONDARY = 2 };
@@ -70,6 +73,12 @@ typedef struct hz_worker {
     uint32_t pixel[HZ_TILE_PIXELS];          /* slot -> pixel index; UINT32_MAX for slots outside the image */
     uint8_t alpha_touched[HZ_TILE_PIXELS];   /* a cutout was tested on the slot's primary path */
     mirror_rec_t mirror[HZ_TILE_PIXELS];
+    /* Shadow packet in flight (scenes with blended surfaces): per lane the transmittance of the blended
+     * triangles met so far and which ones (the any-hit callback may see a triangle more than once). */
+    float shadow_vis[HZ_RENDER_LANES];
+    uint32_t shadow_prims[HZ_RENDER_LANES][HZ_SHADOW_LAYERS];
+    uint8_t shadow_nprims[HZ_RENDER_LANES];
+    uint8_t shadow_overflow[HZ_RENDER_LANES];
     hz_accel_ctx_t ctx;
     hz_render_stats_t stats;
     struct hz_renderer *r;

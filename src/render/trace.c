@@ -10,8 +10,10 @@ typedef struct hitrec {
     uint32_t prim; /* HZ_ACCEL_INVALID_ID on a miss */
 } hitrec_t;
 
-/* ray id seen by the any-hit callback: slot, and whether the ray is a primary one (marks alpha_touched). */
+/* ray id seen by the any-hit callback: the slot and whether the ray is a primary one (marks alpha_touched), or
+ * for shadow rays the lane and ID_SHADOW (blended surfaces then composite into the lane's transmittance). */
 #define ID_PRIMARY 0x10000u
+#define ID_SHADOW 0x20000u /* shadow ray; the low bits are its packet lane */
 
 /* ---- packets ---- */
 
@@ -175,6 +177,22 @@ bool hz_render_anyhit(void *user, uint32_t prim, float u, float v, float t, uint
     hz_worker_t *w = (hz_worker_t *)user;
     const hz_scene_t *s = w->r->scene;
     const hz_material_t *m = &s->materials[s->tri_info[prim] & 0xffffu];
+    if (m->alpha_mode == HZ_ALPHA_BLEND) {
+        if (!(ray_id & ID_SHADOW))
+            return true; /* camera and secondary rays stop at a blended surface and continue behind it */
+        /* A shadow ray lets the layer's opacity through and goes on, counting each triangle once. */
+        uint32_t ln = (ray_id & 0xffu) % HZ_RENDER_LANES;
+        for (uint32_t i = 0; i < w->shadow_nprims[ln]; i++)
+            if (w->shadow_prims[ln][i] == prim)
+                return false;
+        if (w->shadow_nprims[ln] == HZ_SHADOW_LAYERS) {
+            w->shadow_overflow[ln] = 1; /* the exact path takes over */
+            return false;
+        }
+        w->shadow_prims[ln][w->shadow_nprims[ln]++] = prim;
+        w->shadow_vis[ln] *= 1.0f - blend_alpha(w->r, prim, u, v);
+        return !(w->shadow_vis[ln] >= w->r->opts.min_visibility); /* nothing left: as good as blocked */
+    }
     if (m->alpha_mode != HZ_ALPHA_MASK)
         return true;
     if (ray_id & ID_PRIMARY)
@@ -237,32 +255,43 @@ static void process_shadows(hz_worker_t *w)
         jobs[i] = w->shadows[w->shadow_n + i];
     w->stats.shadow_rays += n;
     w->ctx.flags = 0;
-    if (!r->has_blend) {
-        shadow_packet_t p;
-        int32_t valid[HZ_RENDER_LANES] HZ_ALIGNED(32);
-        for (uint32_t i = 0; i < HZ_RENDER_LANES; i++) {
-            const shadow_job_t *j = &jobs[i < n ? i : 0];
-            valid[i] = i < n ? -1 : 0;
-            p.org_x[i] = j->o[0], p.org_y[i] = j->o[1], p.org_z[i] = j->o[2];
-            p.dir_x[i] = j->d[0], p.dir_y[i] = j->d[1], p.dir_z[i] = j->d[2];
-            p.tnear[i] = 0.0f;
-            p.tfar[i] = j->tmax;
-            p.time[i] = r->time;
-            p.mask[i] = 0xffffffffu;
-            p.id[i] = j->slot;
-            p.flags[i] = 0;
-        }
-        OCCLUDED(valid, r->accel, &w->ctx, &p);
-        for (uint32_t i = 0; i < n; i++) {
-            if (p.tfar[i] < 0.0f) /* -inf: blocked */
-                count_blocked(w, jobs[i].slot, jobs[i].gslot);
-            else
-                add_radiance(w, jobs[i].slot, jobs[i].w, (const float[3]){ 1.0f, 1.0f, 1.0f });
-        }
-        return;
+    /* One occlusion pass with early exit; blended surfaces composite into the lane's transmittance in the
+     * any-hit callback. Rays that met more layers than it tracks, and continuations of the exact path below
+     * (layers > 0), go the exact way. */
+    shadow_packet_t p;
+    int32_t valid[HZ_RENDER_LANES] HZ_ALIGNED(32);
+    for (uint32_t i = 0; i < HZ_RENDER_LANES; i++) {
+        const shadow_job_t *j = &jobs[i < n ? i : 0];
+        valid[i] = i < n && j->layers == 0 ? -1 : 0;
+        p.org_x[i] = j->o[0], p.org_y[i] = j->o[1], p.org_z[i] = j->o[2];
+        p.dir_x[i] = j->d[0], p.dir_y[i] = j->d[1], p.dir_z[i] = j->d[2];
+        p.tnear[i] = 0.0f;
+        p.tfar[i] = j->tmax;
+        p.time[i] = r->time;
+        p.mask[i] = 0xffffffffu;
+        p.id[i] = i | ID_SHADOW;
+        p.flags[i] = 0;
+        w->shadow_vis[i] = 1.0f;
+        w->shadow_nprims[i] = 0;
+        w->shadow_overflow[i] = 0;
     }
-    /* With blended surfaces a shadow ray is a deep shadow ray: find the nearest surface, let its opacity
-     * through, continue behind it until the light or full occlusion. */
+    OCCLUDED(valid, r->accel, &w->ctx, &p);
+    uint32_t m = 0;
+    for (uint32_t i = 0; i < n; i++) {
+        if (valid[i] && p.tfar[i] < 0.0f) { /* -inf: blocked (or nothing left after the layers) */
+            count_blocked(w, jobs[i].slot, jobs[i].gslot);
+        } else if (valid[i] && !w->shadow_overflow[i]) {
+            float v = w->shadow_vis[i];
+            add_radiance(w, jobs[i].slot, jobs[i].w, (const float[3]){ v, v, v });
+        } else {
+            jobs[m++] = jobs[i];
+        }
+    }
+    n = m;
+    if (n == 0)
+        return;
+    /* The exact deep shadow ray through the blended layers: find the nearest, let its opacity through,
+     * continue behind it until the light. */
     ray_job_t rj[HZ_RENDER_LANES];
     hitrec_t h[HZ_RENDER_LANES];
     float tmax[HZ_RENDER_LANES];

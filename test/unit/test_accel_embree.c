@@ -8,6 +8,7 @@
 #include "hz_test.h"
 
 #include "accel_fixture.h"
+#include "accel_scenes.h"
 #include "embree_accel.h"
 
 #define N_RAYS 200000u /* per mesh: the first 10^5 from a camera, the rest random */
@@ -251,6 +252,48 @@ static void test_errors_and_memory(void **state)
     hz_arena_reset(&arena, m0);
 }
 
+/* The shared scenes (`make test` bakes them): 10^5 camera rays from the scene's camera + 10^5 random rays. */
+static void check_scene(const char *name)
+{
+    hz_scene_t sc;
+    hz_accel_geom_t g;
+    if (!fx_scene_load(name, &sc, &g))
+        skip();
+    hz_pools_t *p = hz_pools_get();
+    hz_accel_t *a, *e;
+    hz_error_t err;
+    assert_int_equal(hz_accel_build_native(&a, &g, NULL, &p->accel, &err), HZ_OK);
+    assert_int_equal(hz_accel_build_embree(&e, &g, NULL, NULL, &p->accel, &err), HZ_OK);
+    fx_scene_rays(&sc, in, 100000, N_RAYS, 4242);
+    fx_trace1(a, HZ_ACCEL_KERNEL_AUTO, in, nat, N_RAYS, NULL);
+    fx_trace1(e, HZ_ACCEL_KERNEL_AUTO, in, emb, N_RAYS, NULL);
+    char what[96];
+    snprintf(what, sizeof what, "%s: native vs embree rtcIntersect1", name);
+    assert_agree(what, compare(nat, emb, N_RAYS));
+    fx_trace_packets(e, HZ_ACCEL_KERNEL_AUTO, HZ_ACCEL_COHERENT, 8, false, in, emb, N_RAYS, NULL);
+    snprintf(what, sizeof what, "%s: native vs embree rtcIntersect8", name);
+    assert_agree(what, compare(nat, emb, N_RAYS));
+    hz_accel_release(e);
+}
+
+static void test_scene_dragon(void **state)
+{
+    (void)state;
+    check_scene("dragon-res4");
+}
+
+static void test_scene_cornell(void **state)
+{
+    (void)state;
+    check_scene("CornellBox-Original");
+}
+
+static void test_scene_sponza(void **state)
+{
+    (void)state;
+    check_scene("sponza");
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -260,6 +303,9 @@ int main(void)
         cmocka_unit_test(test_anyhit_filters),
         cmocka_unit_test(test_refit),
         cmocka_unit_test(test_errors_and_memory),
+        cmocka_unit_test(test_scene_dragon),
+        cmocka_unit_test(test_scene_cornell),
+        cmocka_unit_test(test_scene_sponza),
     };
     return cmocka_run_group_tests(tests, setup, NULL);
 }

@@ -18,6 +18,8 @@
 #include "hz/hz.h"
 #include "hz/image.h"
 
+#include "bench_accel.h"
+
 #define ROUNDS 7
 
 typedef struct row {
@@ -129,47 +131,78 @@ int main(int argc, char **argv)
 {
     hz_cli_prog = "hzbench";
     const char *csv_path = NULL;
+    bool core = true, accel = true, tdense = true, only_given = false;
+    hz_bench_accel_opts_t ao;
+    memset(&ao, 0, sizeof ao);
     hz_bench_tdense_opts_t td = { NULL, 640, 360, 0, 5, 4, 12, 1.0f, 240, false };
-    bool kernels = true, tdense = true;
     for (int i = 1; i < argc; i++) {
-        const char *v = i + 1 < argc ? argv[i + 1] : NULL;
-        long n;
-        if (!strcmp(argv[i], "--csv") && v) {
+        long v;
+        if (!strcmp(argv[i], "--csv") && i + 1 < argc) {
             csv_path = argv[++i];
-        } else if (!strcmp(argv[i], "--scenes") && v) {
-            td.scenes_dir = argv[++i];
-        } else if (!strcmp(argv[i], "--size")) {
-            int w, h;
-            if (!hz_cli_parse_size(argv[i], v, 16, 8192, &w, &h))
-                return HZ_EXIT_USAGE;
-            td.width = (uint32_t)w, td.height = (uint32_t)h, i++;
-        } else if (!strcmp(argv[i], "--threads")) {
-            if (!hz_cli_parse_long(argv[i], v, 1, HZ_MAX_THREADS, &n))
-                return HZ_EXIT_USAGE;
-            td.threads = (int)n, i++;
-        } else if (!strcmp(argv[i], "--frames")) {
-            if (!hz_cli_parse_long(argv[i], v, 1, 1000, &n))
-                return HZ_EXIT_USAGE;
-            td.frames = (uint32_t)n, i++;
-        } else if (!strcmp(argv[i], "--rounds")) {
-            if (!hz_cli_parse_long(argv[i], v, 1, HZ_BENCH_TDENSE_MAX_ROUNDS, &n))
-                return HZ_EXIT_USAGE;
-            td.rounds = (int)n, i++;
-        } else if (!strcmp(argv[i], "--only") && v) {
-            kernels = !strcmp(v, "kernels");
-            tdense = !strcmp(v, "tdense");
-            if (!kernels && !tdense) {
-                hz_cli_error("--only: '%s' is not kernels or tdense", v);
+        } else if (!strcmp(argv[i], "--accel-csv") && i + 1 < argc) {
+            ao.csv_path = argv[++i];
+        } else if (!strcmp(argv[i], "--only") && i + 1 < argc) {
+            const char *what = argv[++i];
+            if (!only_given)
+                core = accel = tdense = false;
+            only_given = true;
+            if (!strcmp(what, "kernels"))
+                core = true;
+            else if (!strcmp(what, "accel"))
+                accel = true;
+            else if (!strcmp(what, "tdense"))
+                tdense = true;
+            else {
+                hz_cli_error("--only: '%s' is not kernels, accel or tdense", what);
                 return HZ_EXIT_USAGE;
             }
-            i++;
+        } else if (!strcmp(argv[i], "--scenes") && i + 1 < argc) {
+            ao.scenes_dir = td.scenes_dir = argv[++i];
+        } else if (!strcmp(argv[i], "--scene") && i + 1 < argc) {
+            if (ao.scene_count == HZ_BENCH_MAX_SCENES) {
+                hz_cli_error("--scene: at most %d scenes", HZ_BENCH_MAX_SCENES);
+                return HZ_EXIT_USAGE;
+            }
+            ao.scenes[ao.scene_count++] = argv[++i];
+        } else if (!strcmp(argv[i], "--rounds") && i + 1 < argc) {
+            if (!hz_cli_parse_long("--rounds", argv[++i], 1, HZ_BENCH_TDENSE_MAX_ROUNDS < 15 ? HZ_BENCH_TDENSE_MAX_ROUNDS : 15, &v))
+                return HZ_EXIT_USAGE;
+            ao.rounds = td.rounds = (int)v;
+        } else if (!strcmp(argv[i], "--threads") && i + 1 < argc) {
+            if (!hz_cli_parse_long("--threads", argv[++i], 0, HZ_MAX_THREADS, &v))
+                return HZ_EXIT_USAGE;
+            ao.threads = td.threads = (int)v;
+        } else if (!strcmp(argv[i], "--size") && i + 1 < argc) {
+            int w, h;
+            if (!hz_cli_parse_size("--size", argv[++i], 8, 8192, &w, &h))
+                return HZ_EXIT_USAGE;
+            ao.width = (uint32_t)w, ao.height = (uint32_t)h;
+        } else if (!strcmp(argv[i], "--tdense-size") && i + 1 < argc) {
+            int w, h;
+            if (!hz_cli_parse_size("--tdense-size", argv[++i], 16, 8192, &w, &h))
+                return HZ_EXIT_USAGE;
+            td.width = (uint32_t)w, td.height = (uint32_t)h;
+        } else if (!strcmp(argv[i], "--frames") && i + 1 < argc) {
+            if (!hz_cli_parse_long("--frames", argv[++i], 1, 1000, &v))
+                return HZ_EXIT_USAGE;
+            td.frames = (uint32_t)v;
+        } else if (!strcmp(argv[i], "--embree-config") && i + 1 < argc) {
+            ao.embree_config = argv[++i];
         } else if (!strcmp(argv[i], "-h") || !strcmp(argv[i], "--help")) {
-            printf("usage: hzbench [--csv FILE] [--only kernels|tdense] [--scenes DIR] [--size WxH] [--threads N]\n"
-                   "               [--frames N] [--rounds N]\n\n"
-                   "Measures hzrt's kernels side by side and prints medians of %d interleaved rounds; then the\n"
-                   "displayed-frame time of tdense against full-frame 1 spp + TAA on the built-in scene and on\n"
-                   "sponza/conference from --scenes (default size 640x360, all cores, 12 timed frames after 4,\n"
-                   "5 rounds).\n", ROUNDS);
+            printf("usage: hzbench [--only kernels|accel|tdense]... [--csv FILE] [--accel-csv FILE] [--scenes DIR]\n"
+                   "               [--scene NAME]... [--rounds N] [--threads N] [--size WxH] [--tdense-size WxH]\n"
+                   "               [--frames N] [--embree-config S]\n"
+                   "\nMeasures hzrt's kernels side by side and prints medians of interleaved rounds, in three parts\n"
+                   "(all by default, or those --only names):\n"
+                   "  kernels  core kernels (%d rounds)\n"
+                   "  tdense   displayed-frame time of tdense against full-frame 1 spp + TAA on the built-in scene\n"
+                   "           and sponza/conference (--tdense-size, default 640x360; --frames timed frames, 12)\n"
+                   "  accel    native BVH against Embree on the baked scenes (--scene picks them, default\n"
+                   "           conference sponza lost-empire furball dragon-res4 dragon-res3 dragon-res2 dragon;\n"
+                   "           --size the primary rays, default 1024x1024; --embree-config Embree's device config)\n"
+                   "--scenes: the baked scenes (default $HZ_SCENES_DIR or build/scenes; `make scenes` bakes them),\n"
+                   "--rounds: rounds of the accel and tdense parts (5), --threads: pool size (0: every CPU).\n",
+                   ROUNDS);
             return 0;
         } else {
             hz_cli_error("unknown option '%s' (try --help)", argv[i]);
@@ -186,7 +219,7 @@ int main(int argc, char **argv)
     };
     double (*fns[])(uint32_t) = { bench_hash, bench_hash_pcg, bench_rng, bench_arena, bench_srgb8_table,
                                   bench_srgb8_powf };
-    size_t nrows = kernels ? HZ_ARRAY_LEN(rows) : 0;
+    size_t nrows = core ? HZ_ARRAY_LEN(rows) : 0;
     const uint32_t n = 1u << 24;
     for (int r = 0; r < ROUNDS; r++)
         for (size_t k = 0; k < nrows; k++)
@@ -257,5 +290,5 @@ int main(int argc, char **argv)
             return hz_cli_report(&err);
         printf("wrote %s\n", csv_path);
     }
-    return 0;
+    return accel ? hz_bench_accel(&ao) : 0;
 }

@@ -12,18 +12,8 @@
 #include "hz/render.h"
 #include "pools.h"
 #include "scenefile.h"
+#include "render_run.h"
 #include "threads.h"
-
-typedef struct job {
-    hz_renderer_t *r;
-    uint32_t pass;
-} job_t;
-
-static void run_item(void *user, uint32_t item, int thread)
-{
-    job_t *j = user;
-    hz_render_pass_run(j->r, j->pass, item, (uint32_t)thread);
-}
 
 /* Mean displayed-frame time (ms, begin_frame to end_frame) of `frames` frames from scene time t0 at `hz`, after
  * `warm` untimed frames, and its parts: part[0] begin_frame (animation, refit, camera), part[1] the trace pass,
@@ -36,23 +26,14 @@ static hz_status_t run_frames(hz_renderer_t *r, uint32_t warm, uint32_t frames, 
     int64_t sum = 0, parts[3] = { 0, 0, 0 };
     for (uint32_t i = 0; i < warm + frames; i++) {
         int64_t a = hz_clock_ns();
-        hz_status_t s = hz_render_begin_frame(r, i, t0 + (float)i / (float)hz, err);
+        int64_t ns[3];
+        hz_status_t s = hz_render_run_frame_parts(r, i, t0 + (float)i / (float)hz, ns, err);
         if (s != HZ_OK)
             return s;
-        int64_t b = hz_clock_ns(), c[2] = { b, b };
-        for (uint32_t p = 0; p < hz_render_pass_count(r); p++) {
-            job_t j = { r, p };
-            hz_threads_run(run_item, &j, hz_render_pass_items(r, p));
-            if (p < 2)
-                c[p] = hz_clock_ns();
-        }
-        hz_render_end_frame(r);
-        int64_t e = hz_clock_ns();
         if (i >= warm) {
-            sum += e - a;
-            parts[0] += b - a;
-            parts[1] += c[0] - b;
-            parts[2] += e - c[0];
+            sum += hz_clock_ns() - a;
+            for (int k = 0; k < 3; k++)
+                parts[k] += ns[k];
         }
     }
     *ms = (double)sum / frames * 1e-6;

@@ -22,13 +22,17 @@ static void usage(FILE *f)
             "                     for all, one chart per scene\n"
             "  --size WxH         frame size (default: the scene's, else 96x64)\n"
             "  --frames N         displayed frames (default: the scene's, else 48)\n"
-            "  --warmup N         leading frames neither timed nor scored (default 8)\n"
+            "  --warmup N         leading frames neither timed nor scored (default: the scene's, else 8)\n"
             "  --refresh HZ       display refresh rate (default the board's, %d Hz)\n"
             "  --methods A,B      only these methods (names as in --list)\n"
+            "  --skip A,B         all but these methods\n"
             "  --ppd X            FLIP observer, pixels per degree (default 67.02)\n"
             "  --cache DIR        reference cache (default build/errtime-cache)\n"
             "  --out DIR          report directory (default build/errtime): errtime.csv, errtime.md, <scene>.svg\n"
             "  --video DIR        also write each method's displayed frames (and the reference) as Y4M videos\n"
+            "  --scenes DIR       baked scenes (.hzb) for the rendered scenes (default $HZ_SCENES_DIR, else\n"
+            "                     build/scenes; `make scenes` bakes them)\n"
+            "  --threads N        render threads (default: one per online CPU)\n"
             "  --arena-mib N      working memory (default 1024; touched only as needed)\n"
             "  --list             scenes and their methods\n"
             "\n"
@@ -57,8 +61,11 @@ static int list(void)
 {
     for (size_t i = 0; i < hz_et_scene_count; i++) {
         const hz_et_scene_t *s = &hz_et_scenes[i];
-        printf("%s: %s\n  reference: %s %s=%g\n", s->name, s->about, s->reference->name, s->reference->knob,
-               s->reference->value);
+        printf("%s: %s\n", s->name, s->about);
+        if (s->width)
+            printf("  default: %ux%u, %u frames (%u warm-up)\n", (unsigned)s->width, (unsigned)s->height,
+                   (unsigned)s->frames, (unsigned)s->warmup);
+        printf("  reference: %s %s=%g\n", s->reference->name, s->reference->knob, s->reference->value);
         for (size_t j = 0; j < s->method_count; j++)
             printf("  %-14s %s=%g\n", s->methods[j].name, s->methods[j].knob, s->methods[j].value);
     }
@@ -69,8 +76,9 @@ int main(int argc, char **argv)
 {
     hz_cli_prog = "hzerrtime";
     const char *scene_names = "synthetic", *methods = NULL, *cache = "build/errtime-cache", *out = "build/errtime";
-    const char *video = NULL;
-    bool size_given = false, frames_given = false;
+    const char *skip = NULL, *video = NULL, *scene_dir = getenv("HZ_SCENES_DIR");
+    bool size_given = false, frames_given = false, warmup_given = false, refresh_given = false;
+    long threads = 0;
     int w = 96, h = 64;
     long frames = 48, warmup = 8, refresh = HZ_DISPLAY_HZ, arena_mib = 1024;
     float ppd = HZ_FLIP_DEFAULT_PPD;
@@ -99,9 +107,16 @@ int main(int argc, char **argv)
         } else if (!strcmp(a, "--warmup")) {
             if (!hz_cli_parse_long(a, v, 0, 1000000, &warmup))
                 return HZ_EXIT_USAGE;
+            warmup_given = true;
+        } else if (!strcmp(a, "--threads")) {
+            if (!hz_cli_parse_long(a, v, 1, HZ_MAX_THREADS, &threads))
+                return HZ_EXIT_USAGE;
+        } else if (!strcmp(a, "--scenes")) {
+            scene_dir = v;
         } else if (!strcmp(a, "--refresh")) {
             if (!hz_cli_parse_long(a, v, 1, 960, &refresh))
                 return HZ_EXIT_USAGE;
+            refresh_given = true;
         } else if (!strcmp(a, "--arena-mib")) {
             if (!hz_cli_parse_long(a, v, 1, 1 << 20, &arena_mib))
                 return HZ_EXIT_USAGE;
@@ -115,6 +130,8 @@ int main(int argc, char **argv)
             ppd = (float)d;
         } else if (!strcmp(a, "--methods")) {
             methods = v;
+        } else if (!strcmp(a, "--skip")) {
+            skip = v;
         } else if (!strcmp(a, "--cache")) {
             cache = v;
         } else if (!strcmp(a, "--out")) {
@@ -161,6 +178,7 @@ int main(int argc, char **argv)
     }
     size_t count = 0;
 
+    hz_et_env_t env = { scene_dir && *scene_dir ? scene_dir : "build/scenes", (uint32_t)threads };
     hz_arena_t arena;
     hz_error_t err;
     void *mem = NULL;
@@ -169,18 +187,19 @@ int main(int argc, char **argv)
         const hz_et_scene_t *scene = scenes[k];
         size_t first = count;
         for (size_t j = 0; j < scene->method_count; j++)
-            if (wanted(methods, scene->methods[j].name))
+            if (wanted(methods, scene->methods[j].name) && !(skip && wanted(skip, scene->methods[j].name)))
                 chosen[count++] = scene->methods[j];
         if (count == first) {
-            hz_cli_error("--methods: none of '%s' runs on scene %s (try --list)", methods ? methods : "",
-                         scene->name);
+            hz_cli_error("--methods/--skip: no method of scene %s is left (try --list)", scene->name);
             return HZ_EXIT_USAGE;
         }
         /* The scene's own size and length unless the command line gave them. */
         uint32_t sw = size_given || !scene->width ? (uint32_t)w : scene->width;
         uint32_t sh = size_given || !scene->height ? (uint32_t)h : scene->height;
         uint32_t sf = frames_given || !scene->frames ? (uint32_t)frames : scene->frames;
-        hz_et_sequence_t seq = { scene->name, 0, NULL, NULL, sw, sh, sf, (uint32_t)warmup, (uint32_t)refresh, NULL };
+        uint32_t swu = warmup_given || !scene->warmup ? (uint32_t)warmup : scene->warmup;
+        uint32_t sr = refresh_given || !scene->refresh_hz ? (uint32_t)refresh : scene->refresh_hz;
+        hz_et_sequence_t seq = { scene->name, 0, NULL, NULL, sw, sh, sf, swu, sr, NULL };
         size_t need = (size_t)arena_mib << 20;
         if (need < hz_et_arena_bytes(&seq, ppd) + (64u << 20))
             need = hz_et_arena_bytes(&seq, ppd) + (64u << 20);
@@ -194,10 +213,13 @@ int main(int argc, char **argv)
             }
         }
         hz_arena_init(&arena, "errtime", mem, bytes);
-        if (scene->open(&seq, &arena, &err) != HZ_OK)
+        if (scene->open(scene, &env, &seq, &arena, &err) != HZ_OK)
             return hz_cli_report(&err);
         hz_et_config_t cfg = { cache, ppd, &arena, stderr, hz_cli_stderr_is_tty(), video };
-        if (hz_et_run(&seq, scene->reference, chosen + first, count - first, &cfg, rows + first, &err) != HZ_OK)
+        hz_status_t s = hz_et_run(&seq, scene->reference, chosen + first, count - first, &cfg, rows + first, &err);
+        if (scene->close)
+            scene->close();
+        if (s != HZ_OK)
             return hz_cli_report(&err);
     }
 

@@ -1,0 +1,44 @@
+/* One renderer frame on the static thread pool (see render_run.h). */
+#include "render_run.h"
+
+#include "clock.h"
+#include "threads.h"
+
+typedef struct pass_job {
+    hz_renderer_t *r;
+    uint32_t pass;
+} pass_job_t;
+
+static void run_item(void *user, uint32_t item, int thread)
+{
+    pass_job_t *j = (pass_job_t *)user;
+    hz_render_pass_run(j->r, j->pass, item, (uint32_t)thread);
+}
+
+hz_status_t hz_render_run_frame_parts(hz_renderer_t *r, uint64_t index, float time, int64_t ns[3],
+                                      hz_error_t *err)
+{
+    int64_t t0 = ns ? hz_clock_ns() : 0;
+    hz_status_t s = hz_render_begin_frame(r, index, time, err);
+    if (s != HZ_OK)
+        return s;
+    int64_t t1 = ns ? hz_clock_ns() : 0, t2 = t1;
+    for (uint32_t p = 0; p < hz_render_pass_count(r); p++) {
+        pass_job_t j = { r, p };
+        hz_threads_run(run_item, &j, hz_render_pass_items(r, p));
+        if (p == 0 && ns)
+            t2 = hz_clock_ns();
+    }
+    hz_render_end_frame(r);
+    if (ns) {
+        ns[0] = t1 - t0;
+        ns[1] = t2 - t1;
+        ns[2] = hz_clock_ns() - t2;
+    }
+    return HZ_OK;
+}
+
+hz_status_t hz_render_run_frame(hz_renderer_t *r, uint64_t index, float time, hz_error_t *err)
+{
+    return hz_render_run_frame_parts(r, index, time, NULL, err);
+}

@@ -1,0 +1,21 @@
+/*
+ * render_run.h — one frame of the renderer on the port's static thread pool: begin_frame, every pass's items
+ * spread over the pool (hz_threads_run), end_frame. What `hzrt render`, the frame loop's scene source, errtime
+ * and the benchmarks all do per frame.
+ *
+ * Contract: the pool must be started with as many threads as the renderer was created for (or fewer); the
+ * result does not depend on the thread count. Allocates nothing.
+ */
+#ifndef HZ_PORT_RENDER_RUN_H
+#define HZ_PORT_RENDER_RUN_H
+
+#include "hz/render.h"
+
+hz_status_t hz_render_run_frame(hz_renderer_t *r, uint64_t index, float time, hz_error_t *err);
+
+/* The same, and where the time went (CLOCK_MONOTONIC, ns): ns[0] begin_frame (animation, refit, camera),
+ * ns[1] the first pass (tracing), ns[2] the other passes (resolves) and end_frame. ns may be NULL. */
+hz_status_t hz_render_run_frame_parts(hz_renderer_t *r, uint64_t index, float time, int64_t ns[3],
+                                      hz_error_t *err);
+
+#endif
