@@ -121,13 +121,17 @@ PORT_SRCS_embree := port/embree/embree_accel.c
 ACCEL_PORT_TESTS_embree := accel_embree
 
 # render (src/render, src/recon): camera, shading, G-buffer, reconstruction
-RENDER_SRCS :=
-RENDER_TESTS :=
-RENDER_PORT_TESTS :=
+RENDER_SRCS := src/render/camera.c src/render/texture.c src/render/trace.c src/render/render.c src/recon/taa.c \
+               src/recon/tdense.c
+RENDER_TESTS := tdense
+RENDER_PORT_TESTS := render render_tdense
+RENDER_PORT_TESTS_embree := render_backends
+# Heavy render tests for boards whose tests run natively (not under emulation).
+RENDER_PORT_TESTS_native := render_taa
 
 # pattern (src/pattern): integer-only tile orderings, dither maps, masks
-PATTERN_SRCS :=
-PATTERN_TESTS :=
+PATTERN_SRCS := src/pattern/tileorder.c
+PATTERN_TESTS := tileorder
 
 # timing (src/timing): v-sync model, pacing, latency statistics; integer-only throughout
 TIMING_SRCS := src/timing/wide.c src/timing/tstat.c src/timing/vsync.c src/timing/vsynth.c src/timing/pace.c \
@@ -135,7 +139,7 @@ TIMING_SRCS := src/timing/wide.c src/timing/tstat.c src/timing/vsync.c src/timin
                src/timing/rtmodel.c src/timing/vcd.c src/timing/ecsv.c
 TIMING_INTEGER_SRCS = $(TIMING_SRCS)
 TIMING_TESTS := tstat vsync marker traceio
-TIMING_PORT_TESTS := frameloop
+TIMING_PORT_TESTS := frameloop latency_cli
 # Ports of the timing path (port/linux): `timing` (frame loop, report, `hzrt latency`, simulated display,
 # VCD/CSV replay) goes on every board; `fbdev`, `v4l2` and `gpio` where the hardware has them.
 PORT_SRCS_timing := port/linux/timebase.c port/linux/vsrc_timeline.c port/linux/frameloop.c port/linux/latency_report.c \
@@ -173,7 +177,7 @@ INTEGER_SRCS += $(TIMING_INTEGER_SRCS)
 # Ports: each board lists the ones it links (BOARD_PORTS); accel backends come from BOARD_ACCEL.
 KNOWN_PORTS := linux timing fbdev v4l2 gpio
 PORT_SRCS_linux := port/linux/pools.c port/linux/cli.c port/linux/clock.c port/linux/fileio.c port/linux/scenefile.c \
-                   port/linux/threads.c
+                   port/linux/threads.c port/linux/render_cmd.c port/linux/summary.c port/linux/accel_backend.c
 $(foreach p,$(BOARD_PORTS),$(if $(filter $(p),$(KNOWN_PORTS)),,$(error $(BOARD_DIR)/board.mk: unknown port '$(p)' (known: $(KNOWN_PORTS)))))
 # Image files (port/linux/imageio.c): PNG needs libpng for the target. It is on when the target's compiler links
 # -lpng (host builds: libpng-dev is in host-sim's BOARD_DEPS); elsewhere the PNG calls report "not built in".
@@ -197,14 +201,15 @@ HZRT_SRCS := port/linux/main.c port/linux/accel_cmd.c
 HZRT_OBJS := $(HZRT_SRCS:%.c=$(O)/%.o)
 HZRT := $(O)/bin/hzrt
 
-BENCH_SRCS := tools/bench/bench.c tools/bench/bench_accel.c
+BENCH_SRCS := tools/bench/bench.c tools/bench/bench_accel.c tools/bench/bench_tdense.c
 BENCH_OBJS := $(BENCH_SRCS:%.c=$(O)/%.o)
 BENCH := $(O)/bin/hzbench
 
 UNIT_TESTS := $(foreach m,$(MODULES),$($(m)_TESTS))
 UNIT_BINS := $(UNIT_TESTS:%=$(O)/test/unit/test_%)
 PORT_TESTS := $(foreach m,$(MODULES),$($(m)_PORT_TESTS)) \
-              $(if $(filter embree,$(BOARD_ACCEL)),$(ACCEL_PORT_TESTS_embree))
+              $(if $(filter embree,$(BOARD_ACCEL)),$(ACCEL_PORT_TESTS_embree) $(RENDER_PORT_TESTS_embree)) \
+              $(if $(BOARD_TEST_LAUNCHER),,$(RENDER_PORT_TESTS_native))
 PORT_TEST_BINS := $(PORT_TESTS:%=$(O)/test/unit/test_%)
 TEST_BINS := $(UNIT_BINS) $(PORT_TEST_BINS)
 TEST_CFLAGS := $(HOSTED_CFLAGS) -Itest
@@ -216,9 +221,9 @@ $(O)/test/unit/test_imageio: TEST_CFLAGS += -DHZ_HAVE_PNG=$(HAVE_PNG)
 # Its files are prefixed et_ because it also sees port/linux (which has report.h, for instance).
 ERRTIME_SRCS := tools/errtime/et_metrics.c tools/errtime/et_flip.c tools/errtime/et_report.c \
                 tools/errtime/et_progress.c tools/errtime/driver.c tools/errtime/et_synthetic.c \
-                tools/errtime/et_methods.c
+                tools/errtime/et_methods.c tools/errtime/et_render.c
 ERRTIME_MAIN_SRCS := tools/errtime/main.c
-ERRTIME_TESTS := metrics flip et_report errtime
+ERRTIME_TESTS := metrics flip et_report errtime et_render
 ERRTIME_OBJS := $(ERRTIME_SRCS:%.c=$(O)/%.o)
 ERRTIME_MAIN_OBJS := $(ERRTIME_MAIN_SRCS:%.c=$(O)/%.o)
 ERRTIME_LIB := $(O)/liberrtime.a
@@ -284,6 +289,20 @@ $(ERRTIME): $(ERRTIME_MAIN_OBJS) $(ERRTIME_LIB) $(PORT_LIB) $(LIB)
 
 errtime: $(ERRTIME) ## build hzerrtime (error against run time; `hzerrtime --help`) into O/bin
 tests: $(ERRTIME)
+
+# `make report`: every renderer method of tools/errtime/et_methods.c on the standard scenes, each at its table
+# entry's size, length and display rate: the general set (full-frame 1/4/9/16 spp, TAA) on CornellBox-Mirror,
+# Sponza, Lost Empire and the built-in scene, and temporally dense rendering against 1 spp and TAA at 60 and
+# 240 Hz on a 240 Hz display (the @240 scenes). References cached in $(BUILD_ROOT)/errtime-cache (delete it for
+# a cold run). The TAA variants stay out of the chart (within ~2% of the default TAA's FLIP everywhere, they pile
+# up on its point): `hzerrtime --methods taa,taa-clip,taa-catmull-rom,taa-clip-cr` compares them.
+REPORT_O := $(BUILD_ROOT)/report
+REPORT_SCENES := CornellBox-Mirror,sponza,lost-empire,builtin,builtin@240,sponza@240,conference@240
+REPORT_SKIP := taa-clip,taa-catmull-rom,taa-clip-cr
+report: $(ERRTIME) scenes ## error against run time of every method on the standard scenes: build/report/ (CSV, MD, SVG)
+	$(Q)t0=$$(date +%s); nice $(ERRTIME) --scene $(REPORT_SCENES) --skip $(REPORT_SKIP) --scenes $(SCENES_O) \
+		--cache $(BUILD_ROOT)/errtime-cache --out $(REPORT_O) || exit $$?; \
+	echo "report: $$(( $$(date +%s) - t0 )) s on $$(nproc) cores"
 
 $(ERRTIME_TEST_BINS): $(O)/test/unit/test_%: test/unit/test_%.c $(ERRTIME_LIB) $(PORT_LIB) $(LIB)
 	@mkdir -p $(dir $@)
@@ -444,20 +463,24 @@ deps: ## install the Debian packages BOARD needs to build, run and test (apt-get
 
 # ---------------------------------------------------------------------------------------------------------
 # Run
-run: deps $(HZRT) ## build host-sim and run it (renders the built-in scene once the renderer lands)
-	$(Q)$(HZRT) board
+RUN_ARGS ?= --mode tdense --frames 240 --hz 240 --size 640x360
+run: deps $(HZRT) ## build host-sim and render the built-in scene, temporally dense: 240 frames at a simulated 240 Hz into $(O)/run
+	$(Q)$(HZRT) render builtin $(RUN_ARGS) --out $(O)/run
+	@echo "outputs: $(O)/run/frames.y4m (mpv/ffplay), $(O)/run/last.png, $(O)/run/summary.json"
 
 # The simulated 240 Hz run of issue 7: real time, a simulated display (+-50 us jitter, 1% missed pulses, 0.5%
-# glitches, +200 ppm), frames from the hz_framesrc_t hook (the test pattern until the built-in scene lands in
-# port/linux/scenesrc.c; then add --render scene), report and files in $(O)/latency-sim.
+# glitches, +200 ppm), the built-in scene through the renderer at a size this host sustains at 240 Hz (raise
+# LATENCY_SIM_SIZE as the renderer gets faster), SCHED_FIFO when permitted; report and files in
+# $(O)/latency-sim.
+LATENCY_SIM_SIZE ?= 64x36
 LATENCY_SIM_ARGS ?= --source sim --hz 240 --jitter-us 50 --miss-pct 1 --glitch-pct 0.5 --drift-ppm 200 \
-                    --seconds 20 --size 320x180 --marker
+                    --seconds 20 --render scene --size $(LATENCY_SIM_SIZE) --marker --rt
 latency-sim: $(HZRT) ## simulated 240 Hz display-locked run: miss rate, latency percentiles, histogram (build/<board>/latency-sim)
 	$(Q)$(HZRT) latency $(LATENCY_SIM_ARGS) --out $(O)/latency-sim
 
 bench: $(BENCH) ## measure (side by side, in one run) and print a table; writes $(O)/bench/*.csv
 	$(Q)mkdir -p $(O)/bench
-	$(Q)$(BENCH) --csv $(O)/bench/bench.csv --accel-csv $(O)/bench/accel.csv $(BENCH_ARGS)
+	$(Q)$(BENCH) --csv $(O)/bench/bench.csv --accel-csv $(O)/bench/accel.csv --scenes $(SCENES_O) $(BENCH_ARGS)
 
 size: $(HZRT) ## section sizes of hzrt, its largest symbols and the board's static arenas
 	$(Q)$(SIZE) $(HZRT) $(LIB)
@@ -485,6 +508,7 @@ test-board: tests
 	$(Q)HZ_GUARD_LABEL=$(BOARD) sh test/guard/check-freestanding.sh --record $(O)/test-results "$(NM)" \
 		$(CHECK_OBJS) || true
 	$(Q)sh test/guard/check-integer.sh --record $(O)/test-results "$(CC)" "$(BOARD_ARCH)" $(INTEGER_SRCS) || true
+	$(Q)$(if $(BOARD_TEST_LAUNCHER),true,sh test/cli/run.sh $(O)/test-results $(HZRT))
 
 ifeq ($(SAN),1)
 # Sanitizer objects reference the sanitizer runtime: check a plain build of the core instead.
@@ -499,6 +523,9 @@ CHECK_OBJS := $(LIB_OBJS)
 endif
 
 TEST_BOARDS := host-sim aarch64-generic
+# Boards make test only builds (their tests are the same code on the same ISAs): x86-kiosk and rpi4 compile with
+# HZ_FEATURE_STATS 0 and their own ISA flags, which the tested boards do not.
+BUILD_CHECK_BOARDS := x86-kiosk rpi4
 test: deps ## build and run every test: scenes, host tools, host-sim, AArch64 under qemu, design guards
 	$(Q)$(MAKE) --no-print-directory scenes || exit 1; \
 	$(MAKE) --no-print-directory test-host || exit 1; \
@@ -510,6 +537,13 @@ test: deps ## build and run every test: scenes, host tools, host-sim, AArch64 un
 	done; \
 	rm -rf $(BUILD_ROOT)/guards$(SAN_SUFFIX); \
 	sh test/guard/run-guards.sh --record $(BUILD_ROOT)/guards$(SAN_SUFFIX); \
+	for b in $(BUILD_CHECK_BOARDS); do \
+		if $(MAKE) --no-print-directory BOARD=$$b O=$(BUILD_ROOT)/$$b$(SAN_SUFFIX) all >$(BUILD_ROOT)/guards$(SAN_SUFFIX)/build-$$b.log 2>&1; \
+		then echo "  ok    board $$b builds"; echo "board-build/$$b 1 0 0" >$(BUILD_ROOT)/guards$(SAN_SUFFIX)/build-$$b.res; \
+		else echo "  FAIL  board $$b does not build: $(BUILD_ROOT)/guards$(SAN_SUFFIX)/build-$$b.log"; \
+			grep -m 5 error $(BUILD_ROOT)/guards$(SAN_SUFFIX)/build-$$b.log | sed 's/^/        /'; \
+			echo "board-build/$$b 0 1 0" >$(BUILD_ROOT)/guards$(SAN_SUFFIX)/build-$$b.res; fi; \
+	done; \
 	sh test/summary.sh $(HOST_O)/test-results $(foreach b,$(TEST_BOARDS),$(BUILD_ROOT)/$(b)$(SAN_SUFFIX)/test-results) \
 		$(TEST_TIER_RESULTS) $(BUILD_ROOT)/guards$(SAN_SUFFIX)
 
@@ -523,6 +557,14 @@ DEPS_VMTEST := qemu-system-arm cpio kmod ?libgpiod-dev:arm64
 TEST_TIERS += vmtest-tier
 TEST_TIER_RESULTS += $(VM_RESULTS)
 VM_DEVICE_TEST := $(O)/test/vm/test_vm_devices
+# Variables the unit tests read (as exported to them on the host); directories among their values are shared
+# into the guest read-only at the same paths.
+VM_TEST_ENV := HZ_SCENES_DIR HZ_SCENES_UNPACK
+# In the VM (software-emulated CPU, ~10x slower than qemu user mode) run the unit tests that need no scene files
+# and take seconds; the heavy ones (BVH builds over 10^5..10^6 triangles, whole-image corruption sweeps,
+# rendered sequences) already run on the same AArch64 binaries under qemu-aarch64 in the board stage.
+VM_HEAVY_TESTS := scene_corrupt accel_build accel_trav accel_water zero_alloc render errtime et_render
+VM_TEST_BINS := $(filter-out $(VM_HEAVY_TESTS:%=$(O)/test/unit/test_%),$(TEST_BINS))
 
 vmtest: deps ## boot Debian's arm64 kernel in qemu-system-aarch64: AArch64 unit tests, V4L2 loop-back, GPIO capture
 	$(Q)$(MAKE) --no-print-directory vmtest-tier
@@ -534,8 +576,8 @@ vmtest-tier:
 # Runs with BOARD=aarch64-generic (see vmtest-tier): its test binaries, plus a static hzrt and init.
 vmtest-board: tests $(VM_DEVICE_TEST) $(VM_ROOT)/init
 	$(Q)$(MAKE) --no-print-directory BOARD=aarch64-generic O=$(VM_ROOT)/static BOARD_LDFLAGS=-static SAN= all
-	$(Q)sh test/vm/run.sh $(VM_RESULTS) $(VM_ROOT)/kernel $(VM_ROOT)/init $(VM_ROOT)/static/bin/hzrt \
-		$(VM_DEVICE_TEST) $(TEST_BINS)
+	$(Q)VM_ENV="$(foreach v,$(VM_TEST_ENV),$(v)=$($(v)))" sh test/vm/run.sh $(VM_RESULTS) $(VM_ROOT)/kernel \
+		$(VM_ROOT)/init $(VM_ROOT)/static/bin/hzrt $(VM_DEVICE_TEST) $(VM_TEST_BINS)
 
 $(VM_DEVICE_TEST): test/vm/test_vm_devices.c $(PORT_LIB) $(LIB)
 	@mkdir -p $(dir $@)
@@ -565,5 +607,5 @@ help: ## list the targets
 		awk -F'|' '{ printf "  %-20s %s\n", $$1, $$2 }'
 
 .PHONY: all deps run bench size tests test-board test check-freestanding check-integer clean help gen-srgb errtime \
-        bake scenes fuzz test-host
+        bake scenes fuzz test-host report
 .PHONY: vmtest vmtest-tier vmtest-board latency-sim

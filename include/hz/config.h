@@ -98,6 +98,12 @@
 #ifndef HZ_VSYNC_GPIO_ACTIVE_LOW
 #define HZ_VSYNC_GPIO_ACTIVE_LOW 0
 #endif
+#ifndef HZ_VSYNC_GPIO_EDGE
+#define HZ_VSYNC_GPIO_EDGE 0 /* the edge that marks a refresh: 0 rising, 1 falling, 2 any (photodiode on the marker) */
+#endif
+#if HZ_VSYNC_GPIO_EDGE < 0 || HZ_VSYNC_GPIO_EDGE > 2
+#error "HZ_VSYNC_GPIO_EDGE must be 0 (rising), 1 (falling) or 2 (any)"
+#endif
 
 /* ---- SIMD: derived from the compiler's ISA macros, which the board's flags set ---- */
 #if defined(__AVX2__) && defined(__FMA__)

@@ -7,8 +7,8 @@
  * is the display period. render() fills every pixel and returns HZ_OK, or an error in err (the loop stops and
  * reports it). It must not allocate: steady-state frames allocate nothing anywhere.
  *
- * Until the renderer lands the loop uses hz_framesrc_testpattern(): a deterministic moving test pattern (the
- * built-in scene plugs in here: a hz_framesrc_t whose render() renders the scene into out->rgb).
+ * Two sources exist: hz_framesrc_testpattern() below (deterministic, cheap: tests and wiring checks) and the
+ * built-in scene through the renderer (port/linux/scenesrc.h: `hzrt latency --render scene`).
  */
 #ifndef HZ_FRAMESRC_H
 #define HZ_FRAMESRC_H

@@ -9,8 +9,8 @@
  *   bytes (polynomial 0x07, initial 0, MSB first) | 0 1.
  * hz_marker_layout picks the largest C in {8, 4, 2, 1} whose code fits the width (F + C + 44C <= w, F <= h).
  * Decoding samples each cell's centre through any 8-bit channel view (RGB24: green; XRGB32: byte 2; YUYV: Y;
- * RGB565 little-endian: the high byte), thresholds at 128 and checks the sync bits, the CRC and the flash parity, so a torn,
- * blended or missing marker is reported as HZ_E_CORRUPT instead of a wrong id.
+ * RGB565 little-endian: the high byte), thresholds at 128 and checks the sync bits, the CRC and the flash
+ * parity, so a torn, blended or missing marker is reported as HZ_E_CORRUPT instead of a wrong id.
  */
 #ifndef HZ_MARKER_H
 #define HZ_MARKER_H

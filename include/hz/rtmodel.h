@@ -19,7 +19,13 @@
 #include "hz/hash.h"
 #include "hz/status.h"
 
-typedef enum hz_rtm_kind { HZ_RTM_CONST = 1, HZ_RTM_UNIFORM, HZ_RTM_SPIKES, HZ_RTM_TRIANGLE, HZ_RTM_STEP } hz_rtm_kind_t;
+typedef enum hz_rtm_kind {
+    HZ_RTM_CONST = 1,
+    HZ_RTM_UNIFORM,
+    HZ_RTM_SPIKES,
+    HZ_RTM_TRIANGLE,
+    HZ_RTM_STEP
+} hz_rtm_kind_t;
 
 typedef struct hz_rtm_cfg {
     hz_rtm_kind_t kind;

@@ -14,7 +14,7 @@
  *    device does not offer is HZ_E_UNSUPPORTED listing the ones it offers. Its v-sync source is the dequeue
  *    timestamps of the buffers, each naming the frame it carried (exact scan-out resolution).
  *  - V4L2 capture: mmap streaming in one of the same formats, for loop-back tests and HDMI grabbers.
- *  - GPIO: edge events (both edges requested; the loop picks the v-sync polarity) on chip/line with consumer
+ *  - GPIO: edge events (both edges, or one polarity to halve the event load) on chip/line with consumer
  *    "hzrt-vsync" through libgpiod (v1 API, or v2 when built against libgpiod 2.x); a busy line is
  *    HZ_E_DEVICE naming its holder; kernel sequence numbers (v2) count lost events.
  */
@@ -61,6 +61,7 @@ typedef struct hz_gpio_cfg {
     int line;
     int active_low;
     const char *consumer; /* NULL: "hzrt-vsync" */
+    int one_edge;         /* 0: both edges (pulse widths in the report); 1: rising only; -1: falling only */
 } hz_gpio_cfg_t;
 
 hz_status_t hz_gpio_vsource_open(hz_vsource_t *s, const hz_gpio_cfg_t *cfg, hz_error_t *err);

@@ -5,7 +5,7 @@
  *  - hz_loop_run() locks the v-sync model on the source (HZ_E_TIMEOUT naming the source if it does not lock
  *    within lock time-out), then per frame: takes in the edges that arrived, plans the frame (hz/pace.h),
  *    waits until its start while taking in edges, renders it through the hz_framesrc_t hook (the only place
- *    pixels come from: the test pattern today, the built-in scene once the renderer lands), draws the frame-id
+ *    pixels come from: the built-in scene through the renderer, or the test pattern), draws the frame-id
  *    marker when asked, holds the frame until the edge before its target has passed, presents it to the sink
  *    and records it. Afterwards it waits (bounded) for the edges that show the last frames and settles the
  *    model. In edges-only mode (frames_mode 0) it only captures and classifies edges.

@@ -137,7 +137,9 @@ hz_status_t hz_gpio_vsource_open(hz_vsource_t *s, const hz_gpio_cfg_t *cfg, hz_e
     }
     struct gpiod_line_request_config rc;
     rc.consumer = cfg->consumer ? cfg->consumer : CONSUMER;
-    rc.request_type = GPIOD_LINE_REQUEST_EVENT_BOTH_EDGES;
+    rc.request_type = cfg->one_edge > 0   ? GPIOD_LINE_REQUEST_EVENT_RISING_EDGE
+                      : cfg->one_edge < 0 ? GPIOD_LINE_REQUEST_EVENT_FALLING_EDGE
+                                          : GPIOD_LINE_REQUEST_EVENT_BOTH_EDGES;
     rc.flags = cfg->active_low ? GPIOD_LINE_REQUEST_FLAG_ACTIVE_LOW : 0;
     if (gpiod_line_request(im->line, &rc, 0) < 0) {
         int e = errno;
@@ -155,9 +157,10 @@ hz_status_t hz_gpio_vsource_open(hz_vsource_t *s, const hz_gpio_cfg_t *cfg, hz_e
         return st;
     }
     s->live = 1;
-    s->both_levels = 1;
+    s->both_levels = !cfg->one_edge;
     s->next = gpio_next;
-    snprintf(s->name, sizeof s->name, "%s%s, both edges, %s", im->desc, cfg->active_low ? " active-low" : "",
+    snprintf(s->name, sizeof s->name, "%s%s, %s, %s", im->desc, cfg->active_low ? " active-low" : "",
+             cfg->one_edge > 0 ? "rising edges" : cfg->one_edge < 0 ? "falling edges" : "both edges",
              hz_gpio_backend());
     return HZ_OK;
 }
@@ -309,7 +312,9 @@ hz_status_t hz_gpio_vsource_open(hz_vsource_t *s, const hz_gpio_cfg_t *cfg, hz_e
         st = hz_error_set(err, HZ_E_NO_MEMORY, "%s: libgpiod could not allocate its request", im->desc);
     } else {
         gpiod_line_settings_set_direction(ls, GPIOD_LINE_DIRECTION_INPUT);
-        gpiod_line_settings_set_edge_detection(ls, GPIOD_LINE_EDGE_BOTH);
+        gpiod_line_settings_set_edge_detection(ls, cfg->one_edge > 0   ? GPIOD_LINE_EDGE_RISING
+                                                   : cfg->one_edge < 0 ? GPIOD_LINE_EDGE_FALLING
+                                                                       : GPIOD_LINE_EDGE_BOTH);
         gpiod_line_settings_set_active_low(ls, cfg->active_low ? true : false);
         gpiod_line_settings_set_event_clock(ls, GPIOD_LINE_CLOCK_MONOTONIC);
         gpiod_request_config_set_consumer(rc, cfg->consumer ? cfg->consumer : CONSUMER);
@@ -346,9 +351,10 @@ hz_status_t hz_gpio_vsource_open(hz_vsource_t *s, const hz_gpio_cfg_t *cfg, hz_e
         return st;
     }
     s->live = 1;
-    s->both_levels = 1;
+    s->both_levels = !cfg->one_edge;
     s->next = gpio_next;
-    snprintf(s->name, sizeof s->name, "%s%s, both edges, %s", im->desc, cfg->active_low ? " active-low" : "",
+    snprintf(s->name, sizeof s->name, "%s%s, %s, %s", im->desc, cfg->active_low ? " active-low" : "",
+             cfg->one_edge > 0 ? "rising edges" : cfg->one_edge < 0 ? "falling edges" : "both edges",
              hz_gpio_backend());
     return HZ_OK;
 }

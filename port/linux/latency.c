@@ -39,6 +39,7 @@ static void usage(FILE *f)
             "  csv:FILE              replay edge timestamps (t_ns[,level], or hzrt's edges.csv)\n"
             "  --edge rising|falling|any   v-sync polarity (any: every edge, e.g. a photodiode on the marker)\n"
             "  --active-low          (gpio) the line is active low\n"
+            "  --gpio-one-edge       (gpio) request only the v-sync polarity's edges (default both: pulse widths)\n"
             "  --hz HZ               nominal refresh rate, may have decimals (default %d; 0: learn it)\n"
             "  --timeout-ms MS       give up after this long without an edge (default max(500, 10 periods))\n"
             "display sink (--sink; default none):\n"
@@ -46,7 +47,9 @@ static void usage(FILE *f)
             "frames:\n"
             "  --frames N | --seconds S    run length (default 10 s)\n"
             "  --size WxH            frame size (default: the sink's mode, else 320x180)\n"
-            "  --render pattern|scene     what to draw (scene: the built-in scene, once the renderer is in)\n"
+            "  --render pattern|scene     what to draw: the test pattern, or the built-in scene (the renderer)\n"
+            "  --render-scale N      (scene) render 1/N of the width and height (multiples of N), each pixel\n"
+            "                        shown N x N\n"
             "  --marker, --no-marker      frame-id marker in the top-left corner (default: on with a sink)\n"
             "  --virtual             simulated clock (sim, vcd, csv sources): no sleeping, render times from\n"
             "                        --render-model const:T | uniform:A:B | spikes:A:B:PCT | triangle:A:B:N |\n"
@@ -163,7 +166,8 @@ static void hz_rt_setup(char *out, size_t cap)
     int locked = mlockall(MCL_CURRENT | MCL_FUTURE) == 0;
 #endif
     int e2 = errno;
-    snprintf(out, cap, "%s, %s", fifo ? "SCHED_FIFO 50" : (e1 == EPERM ? "SCHED_FIFO refused (EPERM)" : "SCHED_FIFO failed"),
+    snprintf(out, cap, "%s, %s",
+             fifo ? "SCHED_FIFO 50" : (e1 == EPERM ? "SCHED_FIFO refused (EPERM)" : "SCHED_FIFO failed"),
              locked ? "memory locked" : (e2 == EPERM || e2 == ENOMEM ? "mlockall refused" : "mlockall failed"));
     if (!fifo || !locked)
         hz_cli_error("warning: --rt: %s", out);
@@ -182,7 +186,8 @@ typedef struct opts {
     double percentile;
     long window, lookahead, timeout_ms;
     const char *guard, *latch, *wake;
-    int rt;
+    int rt, one_edge;
+    long render_scale;
 } opts_t;
 
 #define NEXT_ARG()                                                                                   \
@@ -203,8 +208,10 @@ static int parse_opts(int argc, char **argv, opts_t *o, int *help)
     o->render = "pattern";
     o->signal = "";
     o->marker = -1;
+    o->edge_mode = HZ_VSYNC_GPIO_EDGE; /* HZ_EDGE_RISING, _FALLING, _ANY: the board's default */
     o->hz = HZ_DISPLAY_HZ;
     o->seed = 1;
+    o->render_scale = 1;
     o->percentile = 100;
     o->lookahead = 1;
     for (int i = 1; i < argc; i++) {
@@ -324,6 +331,12 @@ static int parse_opts(int argc, char **argv, opts_t *o, int *help)
             o->quiet = 1;
         } else if (!strcmp(a, "--rt")) {
             o->rt = 1;
+        } else if (!strcmp(a, "--gpio-one-edge")) {
+            o->one_edge = 1;
+        } else if (!strcmp(a, "--render-scale")) {
+            NEXT_ARG();
+            if (!hz_cli_parse_long(a, v, 1, 64, &o->render_scale))
+                return 0;
         } else {
             hz_cli_error("latency: unknown option '%s' (try hzrt latency --help)", a);
             return 0;
@@ -403,6 +416,11 @@ int hz_cmd_latency(int argc, char **argv)
     cfg.edge_timeout_ns = o.timeout_ms * 1000000LL;
     cfg.rtm = o.model ? &model : NULL;
 
+    /* Real-time scheduling first: threads started later (the renderer's workers) inherit it. */
+    char sched[128] = "";
+    if (o.rt && !o.virt)
+        hz_rt_setup(sched, sizeof sched);
+
     /* ---- open the sink first: its mode sets the frame size, and V4L2 output is also a source ---- */
     hz_sink_t sink;
     hz_vsource_t src;
@@ -480,7 +498,9 @@ int hz_cmd_latency(int argc, char **argv)
                 hz_sink_close(&sink);
                 return HZ_EXIT_USAGE;
             }
-            hz_gpio_cfg_t gc = { chip, (int)line, o.active_low || HZ_VSYNC_GPIO_ACTIVE_LOW, NULL };
+            hz_gpio_cfg_t gc = { chip, (int)line, o.active_low || HZ_VSYNC_GPIO_ACTIVE_LOW, NULL, 0 };
+            if (o.one_edge)
+                gc.one_edge = o.edge_mode == HZ_EDGE_FALLING ? -1 : 1;
             s = hz_gpio_vsource_open(&src, &gc, &err);
         }
     } else if (!strcmp(kind, "fbdev")) {
@@ -512,7 +532,7 @@ int hz_cmd_latency(int argc, char **argv)
         s = err.code;
     }
     if (s == HZ_OK && cfg.frames_mode && !strcmp(o.render, "scene"))
-        s = hz_scene_framesrc(&frames, cfg.w, cfg.h, &err);
+        s = hz_scene_framesrc(&frames, cfg.w, cfg.h, (int)o.render_scale, &err);
     cfg.marker = o.marker < 0 ? strcmp(skind, "none") != 0 : o.marker;
     /* ---- run length and record capacity ---- */
     double hz_cap = o.hz > 0 ? o.hz : 1000;
@@ -541,9 +561,6 @@ int hz_cmd_latency(int argc, char **argv)
         if (!cfg.frames_mode)
             cfg.max_frames = 0;
     }
-    char sched[128] = "";
-    if (o.rt && s == HZ_OK && !o.virt)
-        hz_rt_setup(sched, sizeof sched);
     hz_loop_result_t res;
     memset(&res, 0, sizeof res);
     hz_timebase_t tb;
@@ -563,8 +580,8 @@ int hz_cmd_latency(int argc, char **argv)
     }
     char clock[160];
     if (o.virt && cfg.frames_mode)
-        snprintf(clock, sizeof clock, "simulated clock, render-time model %s%s%s", o.model, o.wake ? ", wake-up up to " : "",
-                 o.wake ? o.wake : "");
+        snprintf(clock, sizeof clock, "simulated clock, render-time model %s%s%s", o.model,
+                 o.wake ? ", wake-up up to " : "", o.wake ? o.wake : "");
     else if (tb.virtual_time)
         snprintf(clock, sizeof clock, "trace time (analysed as fast as it reads)");
     else

@@ -190,7 +190,8 @@ void hz_report_print(FILE *f, hz_report_t *r)
         fprintf(f, "          no lock: no period estimate\n");
     }
     if (r->pulses)
-        fprintf(f, "          pulse width (v-sync edge to the opposite edge): p50 %s, min %s, max %s over %llu pulses\n",
+        fprintf(f,
+                "          pulse width (v-sync edge to the opposite edge): p50 %s, min %s, max %s over %llu pulses\n",
                 hz_report_dur(a, 24, r->pulse.p50), hz_report_dur(b, 24, r->pulse.min),
                 hz_report_dur(d, 24, r->pulse.max), (unsigned long long)r->pulses);
     if (cfg->frames_mode) {
@@ -202,9 +203,9 @@ void hz_report_print(FILE *f, hz_report_t *r)
                 (cfg->pace.percentile ? cfg->pace.percentile : 1000) % 10,
                 cfg->pace.window ? cfg->pace.window : HZ_PACE_WINDOW_MAX, hz_report_dur(b, 24, guard),
                 cfg->pace.lookahead ? cfg->pace.lookahead : 1);
-        fprintf(f, "frames    %llu rendered; %llu shown: %llu on time, %llu late (by 1: %llu, 2: %llu, 3: %llu, 4+: %llu), "
-                   "%llu early; %llu dropped; %llu repeated refreshes; %llu unresolved; %llu resolved against an "
-                   "inferred (missed) edge\n",
+        fprintf(f, "frames    %llu rendered; %llu shown: %llu on time, %llu late (by 1: %llu, 2: %llu, 3: %llu, "
+                   "4+: %llu), %llu early; %llu dropped; %llu repeated refreshes; %llu unresolved; %llu resolved "
+                   "against an inferred (missed) edge\n",
                 (unsigned long long)s->frames, (unsigned long long)s->resolved, (unsigned long long)s->on_time,
                 (unsigned long long)s->late, (unsigned long long)s->late_by[0], (unsigned long long)s->late_by[1],
                 (unsigned long long)s->late_by[2], (unsigned long long)s->late_by[3], (unsigned long long)s->early,
@@ -409,10 +410,12 @@ static hz_status_t write_svg(const char *path, const hz_report_t *r, hz_error_t 
     fprintf(f, "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"%d\" height=\"%d\" font-family=\"sans-serif\" "
                "font-size=\"12\">\n<rect width=\"100%%\" height=\"100%%\" fill=\"white\"/>\n", W, H);
     fprintf(f, "<text x=\"%d\" y=\"20\" font-size=\"14\">%s, n = %llu, bin %s%s</text>\n", L,
-            r->hist_is_latency ? "Latency per frame (scan-out edge - render start)" : "V-sync residuals (edge - prediction)",
+            r->hist_is_latency ? "Latency per frame (scan-out edge - render start)"
+                               : "V-sync residuals (edge - prediction)",
             (unsigned long long)h->n, hz_report_dur(a, 24, h->bin_ns), r->hist_is_latency ? " = P/32" : "");
-    fprintf(f, "<text x=\"%d\" y=\"38\" fill=\"#555\">%llu below and %llu above the plotted range (not drawn)</text>\n", L,
-            (unsigned long long)h->below, (unsigned long long)h->above + (r->hist_is_latency ? 0 : 0));
+    fprintf(f, "<text x=\"%d\" y=\"38\" fill=\"#555\">%llu below and %llu above the plotted range (not drawn)"
+               "</text>\n",
+            L, (unsigned long long)h->below, (unsigned long long)h->above);
     for (uint32_t i = lo; i <= hi; i++) {
         if (!h->count[i])
             continue;
@@ -422,7 +425,8 @@ static hz_status_t write_svg(const char *path, const hz_report_t *r, hz_error_t 
         fprintf(f, "<rect x=\"%.2f\" y=\"%.2f\" width=\"%.2f\" height=\"%.2f\" fill=\"#3b6ea8\"/>\n", L + (i - lo) * pw,
                 T + ph - bh, pw > 1.5 ? pw - 0.5 : pw, bh);
     }
-    fprintf(f, "<line x1=\"%d\" y1=\"%d\" x2=\"%d\" y2=\"%d\" stroke=\"black\"/>\n", L, T + (int)ph, W - R, T + (int)ph);
+    fprintf(f, "<line x1=\"%d\" y1=\"%d\" x2=\"%d\" y2=\"%d\" stroke=\"black\"/>\n", L, T + (int)ph, W - R,
+            T + (int)ph);
     fprintf(f, "<line x1=\"%d\" y1=\"%d\" x2=\"%d\" y2=\"%d\" stroke=\"black\"/>\n", L, T, L, T + (int)ph);
     /* x ticks: period boundaries for latency, 8 ticks for residuals */
     uint32_t step = r->hist_is_latency ? 32 : (hi - lo + 1) / 8;
@@ -437,20 +441,25 @@ static hz_status_t write_svg(const char *path, const hz_report_t *r, hz_error_t 
     }
     fprintf(f, "<text x=\"%d\" y=\"%d\" text-anchor=\"middle\">%s</text>\n", (L + W - R) / 2, H - 15,
             r->hist_is_latency ? "latency (ticks at whole display periods)" : "residual");
-    fprintf(f, "<text x=\"15\" y=\"%d\" transform=\"rotate(-90 15 %d)\" text-anchor=\"middle\">frames per bin (max %llu)</text>\n",
+    fprintf(f, "<text x=\"15\" y=\"%d\" transform=\"rotate(-90 15 %d)\" text-anchor=\"middle\">"
+               "frames per bin (max %llu)</text>\n",
             T + (int)ph / 2, T + (int)ph / 2, (unsigned long long)peak);
     if (r->hist_is_latency) {
         const hz_dist_t *d = &r->frames.latency;
-        struct { const char *n; int64_t v; const char *col; } marks[] = { { "p50", d->p50, "#2a2" }, { "p99", d->p99, "#d80" },
-                                                                          { "p99.9", d->p999, "#c22" } };
+        struct {
+            const char *n;
+            int64_t v;
+            const char *col;
+        } marks[] = { { "p50", d->p50, "#2a2" }, { "p99", d->p99, "#d80" }, { "p99.9", d->p999, "#c22" } };
         for (int k = 0; k < 3 && d->n; k++) {
             double x = L + ((double)(marks[k].v - h->lo_ns) / (double)h->bin_ns - lo) * pw;
             if (x < L || x > W - R)
                 continue;
-            fprintf(f, "<line x1=\"%.2f\" y1=\"%d\" x2=\"%.2f\" y2=\"%d\" stroke=\"%s\" stroke-dasharray=\"4 3\"/>\n", x, T, x,
-                    T + (int)ph, marks[k].col);
-            fprintf(f, "<text x=\"%.2f\" y=\"%d\" fill=\"%s\">%s %s</text>\n", x + 3, T + 12 + 14 * k, marks[k].col, marks[k].n,
-                    hz_report_dur(b, 24, marks[k].v));
+            fprintf(f, "<line x1=\"%.2f\" y1=\"%d\" x2=\"%.2f\" y2=\"%d\" stroke=\"%s\" "
+                       "stroke-dasharray=\"4 3\"/>\n",
+                    x, T, x, T + (int)ph, marks[k].col);
+            fprintf(f, "<text x=\"%.2f\" y=\"%d\" fill=\"%s\">%s %s</text>\n", x + 3, T + 12 + 14 * k,
+                    marks[k].col, marks[k].n, hz_report_dur(b, 24, marks[k].v));
         }
     }
     fprintf(f, "</svg>\n");

@@ -6,7 +6,9 @@
 #include "cli.h"
 #include "hz/hz.h"
 #include "latency.h"
+#include "hz/render.h"
 #include "pools.h"
+#include "render_cmd.h"
 #include "scenefile.h"
 
 static void usage(FILE *f)
@@ -15,6 +17,7 @@ static void usage(FILE *f)
             "usage: hzrt <command> [options]\n"
             "\n"
             "commands:\n"
+            "  render SCENE render a scene (.hzb file or `builtin`) to files: video, last frame, summary\n"
             "  info SCENE   validate a scene (.hzb file or `builtin`) and print its header, counts, features\n"
             "               and memory plan\n"
             "  board        print this build's board settings: display, arenas, features, v-sync source\n"
@@ -67,7 +70,8 @@ static int cmd_board(int argc, char **argv)
            HZ_SIMD_LANES);
     printf("vsync      %s", vsync_name(HZ_VSYNC_SOURCE));
     if (HZ_VSYNC_SOURCE == HZ_VSYNC_GPIO)
-        printf(" (chip %s, line %d%s)", HZ_VSYNC_GPIO_CHIP, HZ_VSYNC_GPIO_LINE,
+        printf(" (chip %s, line %d, %s edges%s)", HZ_VSYNC_GPIO_CHIP, HZ_VSYNC_GPIO_LINE,
+               HZ_VSYNC_GPIO_EDGE == 0 ? "rising" : HZ_VSYNC_GPIO_EDGE == 1 ? "falling" : "all",
                HZ_VSYNC_GPIO_ACTIVE_LOW ? ", active low" : "");
     printf("\n");
     printf("features   textures=%d mirrors=%d transparency=%d motion=%d stats=%d\n", HZ_FEATURE_TEXTURES,
@@ -134,11 +138,32 @@ static int cmd_info(int argc, char **argv)
         printf("  object %-3u %-24s %8u tris %8u verts  %s\n", i, (const char *)o->name, o->triangle_count,
                o->vertex_count, kinds[o->motion]);
     }
-    printf("memory plan (board %s)\n", HZ_BOARD_NAME);
+    /* The whole plan against this board's arenas: what a render at the display's size needs. */
+    printf("memory plan (board %s, render at the display's %dx%d)\n", HZ_BOARD_NAME, HZ_DISPLAY_WIDTH,
+           HZ_DISPLAY_HEIGHT);
     print_mib("scene image", scene.plan.file_bytes);
     print_mib("animation state", scene.plan.arena_bytes);
     print_mib("scene arena used", pools->scene.used);
     print_mib("scene arena size", pools->scene.cap);
+    hz_accel_config_t acfg;
+    hz_accel_config_default(&acfg);
+    hz_accel_bytes_t ab = hz_accel_bytes_bound(scene.triangle_count, &acfg);
+    print_mib("accel build, at most", ab.peak);
+    print_mib("accel kept, at most", ab.kept);
+    print_mib("accel arena size", pools->accel.cap);
+    hz_render_opts_t ro;
+    hz_render_opts_default(&ro);
+    ro.width = HZ_DISPLAY_WIDTH, ro.height = HZ_DISPLAY_HEIGHT;
+    hz_render_plan_t rp;
+    int fits = ab.peak <= pools->accel.cap;
+    if (hz_render_plan(&scene, &ro, &rp, &err) == HZ_OK) {
+        print_mib("frame (1 spp)", rp.frame_bytes);
+        print_mib("frame arena size", pools->frame.cap);
+        print_mib("per thread", rp.thread_bytes);
+        print_mib("thread arena size", pools->thread[0].cap);
+        fits = fits && rp.frame_bytes <= pools->frame.cap && rp.thread_bytes <= pools->thread[0].cap;
+    }
+    printf("verdict      %s\n", fits ? "fits this board" : "does NOT fit this board (see the sizes above)");
     return 0;
 }
 
@@ -159,6 +184,8 @@ int main(int argc, char **argv)
     }
     if (!strcmp(cmd, "board"))
         return cmd_board(argc - 1, argv + 1);
+    if (!strcmp(cmd, "render"))
+        return hz_cmd_render(argc - 1, argv + 1);
     if (!strcmp(cmd, "accel"))
         return hz_cmd_accel(argc - 1, argv + 1);
     if (!strcmp(cmd, "info"))

@@ -1,17 +1,113 @@
 /*
- * The built-in scene as a frame source (see scenesrc.h).
- *
- * PLUG-IN POINT for the renderer: replace the body of hz_scene_framesrc() with "build the built-in scene once
- * (pools: scene/accel/frame arenas), then set src->render to a function that renders it at req->display_ns into
- * out->rgb (RGB24, out->stride bytes per row)". Nothing else in the timing path changes: the frame loop, the
- * marker, the sinks and the VM loop-back test all take whatever hz_framesrc_t this returns.
+ * The built-in scene as a frame source (see scenesrc.h): the scene, its native BVH and a renderer are set up
+ * once in the board pools; each frame animates to the frame's display time (relative to the first frame),
+ * renders on the static thread pool and encodes to the loop's RGB24 buffer (exact sRGB, hz_srgb8_encode_n).
  */
 #include "scenesrc.h"
 
-hz_status_t hz_scene_framesrc(hz_framesrc_t *src, int w, int h, hz_error_t *err)
+#include <unistd.h>
+
+#include "accel_backend.h"
+#include "hz/image.h"
+#include "hz/render.h"
+#include "pools.h"
+#include "scenefile.h"
+#include "threads.h"
+
+typedef struct scenesrc {
+    hz_scene_t scene;
+    hz_accel_t *accel;
+    hz_renderer_t *r;
+    int64_t t0_ns;
+    bool have_t0;
+    int scale;
+    uint8_t *row;       /* one encoded rendered row (scaled mode) */
+} scenesrc_t;
+
+static scenesrc_t state;
+
+typedef struct pass_job {
+    hz_renderer_t *r;
+    uint32_t pass;
+} pass_job_t;
+
+static void run_item(void *user, uint32_t item, int thread)
 {
-    (void)src;
-    return hz_error_set(err, HZ_E_UNSUPPORTED,
-                        "--render scene: the renderer is not in this build yet (issue 5); the built-in scene "
-                        "plugs in at port/linux/scenesrc.c (%dx%d requested); use --render pattern", w, h);
+    pass_job_t *j = (pass_job_t *)user;
+    hz_render_pass_run(j->r, j->pass, item, (uint32_t)thread);
+}
+
+static hz_status_t render(void *ctx, const hz_frame_req_t *req, hz_rgb8_image_t *out, hz_error_t *err)
+{
+    scenesrc_t *s = (scenesrc_t *)ctx;
+    if (!s->have_t0) {
+        s->t0_ns = req->display_ns;
+        s->have_t0 = true;
+    }
+    float t = (float)((double)(req->display_ns - s->t0_ns) * 1e-9);
+    hz_status_t st = hz_render_begin_frame(s->r, req->id, t, err);
+    if (st != HZ_OK)
+        return st;
+    for (uint32_t p = 0; p < hz_render_pass_count(s->r); p++) {
+        pass_job_t j = { s->r, p };
+        hz_threads_run(run_item, &j, hz_render_pass_items(s->r, p));
+    }
+    hz_render_end_frame(s->r);
+    const hz_image_t *img = hz_render_output(s->r);
+    int k = s->scale;
+    if (k == 1) {
+        for (int y = 0; y < out->h; y++)
+            hz_srgb8_encode_n(img->rgb + (size_t)y * img->width * 3, out->rgb + (size_t)y * out->stride,
+                              (size_t)out->w * 3);
+        return HZ_OK;
+    }
+    for (uint32_t y = 0; y < img->height; y++) {
+        hz_srgb8_encode_n(img->rgb + (size_t)y * img->width * 3, s->row, (size_t)img->width * 3);
+        uint8_t *dst = out->rgb + (size_t)y * (size_t)k * out->stride;
+        for (uint32_t x = 0; x < img->width; x++)
+            for (int i = 0; i < k; i++)
+                hz_memcpy(dst + ((size_t)x * (size_t)k + (size_t)i) * 3, s->row + (size_t)x * 3, 3);
+        for (int j = 1; j < k; j++)
+            hz_memcpy(dst + (size_t)j * out->stride, dst, (size_t)out->w * 3);
+    }
+    return HZ_OK;
+}
+
+hz_status_t hz_scene_framesrc(hz_framesrc_t *src, int w, int h, int scale, hz_error_t *err)
+{
+    scenesrc_t *s = &state;
+    hz_pools_t *pools = hz_pools_get();
+    if (!pools)
+        return hz_error_set(err, HZ_E_INTERNAL, "built-in scene: no static arenas");
+    if (w < 1 || h < 1 || w > (int)HZ_IMAGE_MAX_DIM || h > (int)HZ_IMAGE_MAX_DIM)
+        return hz_error_set(err, HZ_E_INVALID_ARG, "built-in scene: size %dx%d", w, h);
+    if (scale < 1 || w % scale || h % scale)
+        return hz_error_set(err, HZ_E_INVALID_ARG, "built-in scene: %dx%d is not a multiple of the render scale %d",
+                            w, h, scale);
+    s->scale = scale;
+    s->row = hz_arena_alloc(&pools->frame, (size_t)(w / scale) * 3, 64);
+    if (!s->row)
+        return hz_arena_error(&pools->frame, err);
+    hz_status_t st = hz_scenefile_open("builtin", pools, &s->scene, err);
+    hz_accel_geom_t g;
+    if (st == HZ_OK)
+        st = hz_render_accel_geom(&s->scene, &pools->accel, &g, err);
+    if (st == HZ_OK)
+        st = hz_accel_backend_build(HZ_ACCEL_NATIVE, &s->accel, &g, &pools->accel, err);
+    long cores = sysconf(_SC_NPROCESSORS_ONLN);
+    int threads = cores < 1 ? 1 : cores > HZ_MAX_THREADS ? HZ_MAX_THREADS : (int)cores;
+    if (st == HZ_OK)
+        st = hz_threads_start(threads, err);
+    hz_render_opts_t o;
+    hz_render_opts_default(&o);
+    o.width = (uint32_t)(w / scale), o.height = (uint32_t)(h / scale);
+    if (st == HZ_OK)
+        st = hz_render_create(&s->r, &s->scene, s->accel, &o, &pools->frame, pools->thread, (uint32_t)threads, err);
+    if (st != HZ_OK)
+        return st;
+    s->have_t0 = false;
+    src->name = "built-in scene";
+    src->ctx = s;
+    src->render = render;
+    return HZ_OK;
 }

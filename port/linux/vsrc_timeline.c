@@ -178,7 +178,7 @@ static hz_status_t trace_open(hz_vsource_t *s, const char *path, const char *sig
         return hz_error_set(err, HZ_E_NO_MEMORY, "trace replay: more than %d open at once", POOL);
     int fd = open(path, O_RDONLY | O_CLOEXEC);
     if (fd < 0)
-        return hz_error_set(err, errno == ENOENT ? HZ_E_IO : HZ_E_IO, "%s: cannot open the trace: %s", path,
+        return hz_error_set(err, HZ_E_IO, "%s: cannot open the trace: %s", path,
                             strerror(errno));
     memset(im, 0, sizeof *im);
     im->fd = fd;

@@ -168,6 +168,7 @@ HZ_INLINE void order_children(const hz_bvh_node_t *n, unsigned m, float32x4_t tm
 static void closest_from(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, hz_bvh_ray_t *r, const sray_t *s, uint32_t start,
                          hz_bvh_best_t *best, uint32_t ray_id, int lane, counters_t *k)
 {
+    (void)k; /* counters exist only with HZ_FEATURE_STATS */
     uint32_t st_c[HZ_BVH_STACK + W];
     float st_d[HZ_BVH_STACK + W];
     int sp = 0;
@@ -234,6 +235,7 @@ void hz_bvh_simd_closest(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, hz_bvh_ray_t 
 static bool any_from_node(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const hz_bvh_ray_t *r, const sray_t *s,
                           uint32_t start, uint32_t ray_id, int lane, counters_t *k)
 {
+    (void)k; /* counters exist only with HZ_FEATURE_STATS */
     uint32_t stack[HZ_BVH_STACK + W];
     int sp = 0;
     uint32_t cur = start;
@@ -437,6 +439,7 @@ static void lanes_tfar(const packet_t *p, float *tf)
 static void frustum_closest(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, packet_t *p, const frustum_t *f,
                             counters_t *k)
 {
+    (void)k; /* counters exist only with HZ_FEATURE_STATS */
     uint32_t st_c[HZ_BVH_STACK + W];
     float st_d[HZ_BVH_STACK + W];
     int sp = 0;

@@ -19,8 +19,8 @@ hz_status_t hz_pix_parse(const char *name, hz_pix_fmt_t *fmt, hz_error_t *err)
     else if (same(name, "yuyv"))
         *fmt = HZ_PIX_YUYV;
     else
-        return hz_error_set(err, HZ_E_UNSUPPORTED, "pixel format '%s' is not supported (supported: rgb24, xrgb32, yuyv)",
-                            name);
+        return hz_error_set(err, HZ_E_UNSUPPORTED,
+                            "pixel format '%s' is not supported (supported: rgb24, xrgb32, yuyv)", name);
     return HZ_OK;
 }
 

@@ -356,7 +356,8 @@ static int v_ioctl(int fd, unsigned long req, void *arg)
         f->fmt.pix.width = W;
         f->fmt.pix.height = H;
         f->fmt.pix.field = V4L2_FIELD_NONE;
-        int bpp = f->fmt.pix.pixelformat == V4L2_PIX_FMT_YUYV ? 2 : f->fmt.pix.pixelformat == V4L2_PIX_FMT_RGB24 ? 3 : 4;
+        uint32_t pf = f->fmt.pix.pixelformat;
+        int bpp = pf == V4L2_PIX_FMT_YUYV ? 2 : pf == V4L2_PIX_FMT_RGB24 ? 3 : 4;
         f->fmt.pix.bytesperline = (uint32_t)(W * bpp);
         f->fmt.pix.sizeimage = f->fmt.pix.bytesperline * H;
         vd.pix = f->fmt.pix;
@@ -495,7 +496,7 @@ static void test_gpio_missing_chip(void **state)
     (void)state;
     hz_error_t err;
     hz_vsource_t v;
-    hz_gpio_cfg_t c = { "hz-no-such-chip", 3, 0, NULL };
+    hz_gpio_cfg_t c = { "hz-no-such-chip", 3, 0, NULL, 0 };
     hz_status_t s = hz_gpio_vsource_open(&v, &c, &err);
 #if defined(HZ_PORT_GPIO)
     assert_int_equal(s, HZ_E_DEVICE);

@@ -332,6 +332,67 @@ static void test_videos_of_displayed_frames(void **state)
     assert_string_equal(line, hdr);
 }
 
+/* A held method: which frames it was asked to render. */
+static uint32_t held_calls[64], held_count;
+
+static hz_status_t recording_render(void *state, uint32_t frame, hz_image_t *out, uint64_t *rays, hz_error_t *err)
+{
+    if (held_count < 64)
+        held_calls[held_count++] = frame;
+    return hz_synth_methods[0].render(state, frame, out, rays, err);
+}
+
+static void test_held_method_renders_every_nth_frame(void **state)
+{
+    (void)state;
+    /* supersample spp 1 at 60 Hz on a 240 Hz display: rendered at frames 0, 4, 8, 12 and shown 4 times each;
+     * costs and rays are per displayed frame. */
+    hz_et_sequence_t seq = sequence("e2e");
+    hz_et_config_t cfg = config();
+    hz_et_method_t ms[2] = { hz_synth_methods[0], hz_synth_methods[7] };
+    assert_string_equal(ms[1].name, "supersample@60Hz");
+    assert_int_equal(ms[1].hold, 4);
+    ms[1].render = recording_render;
+    held_count = 0;
+    hz_et_row_t rows[2];
+    hz_error_t err;
+    if (hz_et_run(&seq, &hz_synth_reference, ms, 2, &cfg, rows, &err) != HZ_OK)
+        fail_msg("%s", err.msg);
+    assert_int_equal(held_count, 4);
+    for (uint32_t i = 0; i < held_count; i++)
+        assert_int_equal(held_calls[i], 4 * i);
+    assert_true(rows[1].rays_per_frame == 32.0 * 24.0 / 4.0);
+    assert_true(rows[1].ms_median > 0.0);
+    /* Showing stale frames costs accuracy against the moving reference. */
+    assert_true(rows[1].flip > rows[0].flip);
+    /* A hold longer than the measured frames is refused, naming the method. */
+    ms[1].hold = 13;
+    assert_int_equal(hz_et_run(&seq, &hz_synth_reference, ms, 2, &cfg, rows, &err), HZ_E_INVALID_ARG);
+    assert_non_null(strstr(err.msg, "supersample@60Hz"));
+}
+
+static void test_tdense_method(void **state)
+{
+    (void)state;
+    /* Temporally dense on the synthetic scene: one ray per 2x2 tile per frame, a sane image. */
+    hz_et_sequence_t seq = sequence("e2e");
+    hz_et_config_t cfg = config();
+    const hz_et_method_t *m = &hz_synth_methods[9];
+    assert_string_equal(m->name, "tdense");
+    hz_et_row_t row;
+    hz_error_t err;
+    hz_arena_mark_t mark = hz_arena_mark(&arena);
+    if (hz_et_run(&seq, &hz_synth_reference, m, 1, &cfg, &row, &err) != HZ_OK)
+        fail_msg("%s", err.msg);
+    assert_int_equal(hz_arena_mark(&arena), mark);
+    assert_true(row.rays_per_frame == 32.0 * 24.0 / 4.0);
+    print_message("tdense flip %.4f psnr %.2f ssim %.4f di_flip %.4f\n", row.flip, row.psnr_srgb8, row.ssim, row.di_flip);
+    /* At 32x24 the checkerboard's squares are 3.4 px wide, so a quarter of the samples per frame shows; the eye's
+     * integration over 4 frames is what recovers it (the technique's premise). */
+    assert_true(row.flip > 0.0 && row.flip < 0.3 && row.ssim > 0.75 && row.psnr_srgb8 > 15.0);
+    assert_true(row.di_flip < row.flip);
+}
+
 static void test_argument_errors(void **state)
 {
     (void)state;
@@ -401,6 +462,8 @@ int main(void)
         cmocka_unit_test(test_failed_reference_leaves_nothing),
         cmocka_unit_test(test_failed_method_is_named),
         cmocka_unit_test(test_videos_of_displayed_frames),
+        cmocka_unit_test(test_held_method_renders_every_nth_frame),
+        cmocka_unit_test(test_tdense_method),
         cmocka_unit_test(test_argument_errors),
         cmocka_unit_test(test_window_and_time_stats),
     };

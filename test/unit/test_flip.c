@@ -1,24 +1,44 @@
 /*
  * LDR-FLIP: identical images give 0; constant images give the closed-form colour term (computed here
  * independently, in double); symmetry, range, the observer distance; argument errors; and the mean against
- * NVIDIA's reference implementation on image pairs made from real textures.
+ * NVIDIA's reference implementation on image pairs from real renders and on pairs made from real textures.
  *
  * Reference values: NVIDIA FLIP v1.6 (github.com/NVlabs/flip, commit 1eb247c), its C++ CPU tool built outside
  * this repository (never committed) with
  *     g++ -O2 -std=c++17 -I src/cpp src/cpp/tool/FLIP-tool.cpp -o flip
- * The pairs are crops of two shared-scene textures (LushPine.png from pine.zip, lost_empire-RGB.png from
- * lost-empire.zip; `make tests` unpacks them into build/scenes-src/) with integer distortions, so
- * they are bit-identical on every platform. The values below were produced by:
- *     build/host-sim/test/unit/test_flip --write-pairs /tmp/flip-pairs
- *     for p in pine-noise pine-noise-low pine-blur atlas-shift atlas-banding pine-fireflies atlas-tint; do
- *         ./flip -r /tmp/flip-pairs/$p-ref.png -t /tmp/flip-pairs/$p-test.png -v 1 -nerm
- *     done
  * (default observer: 0.7 m from a 0.7 m wide 3840-pixel display, 67 ppd; -v 1 prints "Mean: x", -nerm skips
  * the error map).
+ *
+ * 1. Renders (test/golden/flip/, 160x90 8-bit sRGB PNGs written by `hzrt render`): 1, 4 and 16 spp and TAA
+ *    against 256 spp on CornellBox-Mirror, Sponza, Lost Empire and the built-in scene. Made from the repository
+ *    root after `make scenes all` with
+ *        R=build/host-sim/bin/hzrt; D=test/golden/flip; S=build/scenes; T=$(mktemp -d)
+ *        shot() { n=$1; s=$2; shift 2; f=$S/$s.hzb; [ $s = builtin ] && f=builtin
+ *                 $R render $f --size 160x90 --no-y4m --quiet --out $T "$@" && cp $T/last.png $D/$n.png; }
+ *        for s in CornellBox-Mirror sponza lost-empire builtin; do
+ *            shot $s-1spp $s --spp 1; shot $s-256spp $s --spp 256; done
+ *        shot lost-empire-16spp lost-empire --spp 16
+ *        shot builtin-4spp builtin --spp 4
+ *        for s in CornellBox-Mirror sponza; do   # TAA's frame 23 (t = 23/240 s) and 256 spp at that time
+ *            shot $s-taa-f23 $s --mode taa --frames 24; shot $s-256spp-f23 $s --spp 256 --start 0.0958333333; done
+ *    and the values below by
+ *        ./flip -r $D/<ref>.png -t $D/<test>.png -v 1 -nerm
+ *    for each pair of render_pairs[]. The PNGs are the test's input (not re-rendered), so the check holds
+ *    whatever the renderer does later.
+ * 2. Texture crops of two shared-scene textures (LushPine.png from pine.zip, lost_empire-RGB.png from
+ *    lost-empire.zip; `make tests` unpacks them into build/scenes-src/) with integer distortions, so they are
+ *    bit-identical on every platform. The values were produced by:
+ *        build/host-sim/test/unit/test_flip --write-pairs /tmp/flip-pairs
+ *        for p in pine-noise pine-noise-low pine-blur atlas-shift atlas-banding pine-fireflies atlas-tint; do
+ *            ./flip -r /tmp/flip-pairs/$p-ref.png -t /tmp/flip-pairs/$p-test.png -v 1 -nerm
+ *        done
  * The tool sums its error map in single precision, which moves its printed mean by up to ~2e-5 on these sizes;
  * summed in double, its map's mean matches ours to ~1e-7 and no pixel differs by more than 1e-5 (checked with
- * a local harness around FLIP.h, not part of this repository). The test therefore holds the means to 1e-4,
- * ten times tighter than the 1e-3 the issue asks for.
+ * a local harness around FLIP.h, not part of this repository). The test therefore holds the texture pairs' means
+ * to 1e-4 and the small rendered pairs' to 1e-5 (measured: at most 4.9e-7, the tool's printed rounding), 10 and
+ * 100 times tighter than the 1e-3 the issue asks for.
+ * Builds without libpng (the AArch64 cross build) cannot read the PNGs and skip the two NVIDIA checks; the FLIP
+ * code is the same C the host build checks.
  */
 #include "hz_test.h"
 
@@ -219,6 +239,66 @@ static void test_matches_nvidia_reference(void **state)
     print_message("largest difference %.1e over %zu pairs\n", worst, HZ_ARRAY_LEN(pairs));
 }
 
+/* ---- pairs from real renders ---- */
+
+typedef struct render_pair {
+    const char *ref, *test; /* test/golden/flip/<name>.png */
+    double nvidia_mean;     /* NVIDIA FLIP v1.6 "Mean:" (6 decimals) */
+} render_pair_t;
+
+static const render_pair_t render_pairs[] = {
+    { "CornellBox-Mirror-256spp", "CornellBox-Mirror-1spp", 0.056385 },
+    { "sponza-256spp", "sponza-1spp", 0.030545 },
+    { "lost-empire-256spp", "lost-empire-1spp", 0.030358 },
+    { "builtin-256spp", "builtin-1spp", 0.028919 },
+    { "CornellBox-Mirror-256spp-f23", "CornellBox-Mirror-taa-f23", 0.067314 },
+    { "sponza-256spp-f23", "sponza-taa-f23", 0.039940 },
+    { "lost-empire-256spp", "lost-empire-16spp", 0.009258 },
+    { "builtin-256spp", "builtin-4spp", 0.020267 },
+};
+
+static void golden_path(char *buf, size_t size, const char *name)
+{
+    const char *root = getenv("HZ_TEST_DIR");
+    snprintf(buf, size, "%s/golden/flip/%s.png", root && *root ? root : "test", name);
+}
+
+static void test_matches_nvidia_on_renders(void **state)
+{
+    (void)state;
+    if (!hz_png_supported()) {
+        print_message("no PNG support on this target: the rendered pairs cannot be read here "
+                      "(the algorithm is the same C code the host build checks)\n");
+        skip();
+    }
+    double worst = 0.0;
+    for (size_t i = 0; i < HZ_ARRAY_LEN(render_pairs); i++) {
+        const render_pair_t *p = &render_pairs[i];
+        hz_arena_mark_t m = hz_arena_mark(&arena);
+        char pa[512], pb[512];
+        golden_path(pa, sizeof pa, p->ref);
+        golden_path(pb, sizeof pb, p->test);
+        hz_image_t a, b;
+        hz_error_t err;
+        if (hz_image_read(pa, &arena, &a, &err) != HZ_OK || hz_image_read(pb, &arena, &b, &err) != HZ_OK)
+            fail_msg("%s", err.msg);
+        assert_int_equal(a.width, 160);
+        assert_int_equal(a.height, 90);
+        double mean;
+        assert_int_equal(hz_flip(&a, &b, HZ_FLIP_DEFAULT_PPD, &arena, NULL, &mean, &err), HZ_OK);
+        double diff = fabs(mean - p->nvidia_mean);
+        print_message("%-26s hz %.6f  nvidia %.6f  diff %.1e\n", p->test, mean, p->nvidia_mean, diff);
+        if (diff > worst)
+            worst = diff;
+        /* 14400 pixels: NVIDIA's float sum is good to ~1e-7 here, so the bound is the 6 printed decimals plus
+         * margin for other compilers and ISAs. */
+        if (diff > 1e-5)
+            fail_msg("%s vs %s: mean FLIP %.6f, NVIDIA's %.6f", p->test, p->ref, mean, p->nvidia_mean);
+        hz_arena_reset(&arena, m);
+    }
+    print_message("largest difference %.1e over %zu rendered pairs\n", worst, HZ_ARRAY_LEN(render_pairs));
+}
+
 /* ---- analytic and property tests ---- */
 
 /* Independent double-precision colour term for constant images (filters of constant images are identities). */
@@ -391,6 +471,7 @@ int main(int argc, char **argv)
         cmocka_unit_test(test_symmetry_range_and_observer),
         cmocka_unit_test(test_argument_errors),
         cmocka_unit_test(test_matches_nvidia_reference),
+        cmocka_unit_test(test_matches_nvidia_on_renders),
     };
     return cmocka_run_group_tests(tests, setup, NULL);
 }

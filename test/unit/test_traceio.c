@@ -158,8 +158,8 @@ static void test_vcd_errors(void **state)
     longtok[300] = '\0';
     snprintf(buf, sizeof buf, "%s#1 %s", head, longtok);
     expect_vcd_error(buf, "a", "token longer than 255 characters");
-    snprintf(buf, sizeof buf, "$comment %s \xc3\xa9 $end $timescale 1 ns $end $var wire 1 ! a $end $enddefinitions $end",
-             longtok);
+    snprintf(buf, sizeof buf,
+             "$comment %s \xc3\xa9 $end $timescale 1 ns $end $var wire 1 ! a $end $enddefinitions $end", longtok);
     edges_t e;
     hz_error_t err;
     assert_int_equal(parse_vcd(buf, strlen(buf), "", 16, &e, &err), HZ_OK);

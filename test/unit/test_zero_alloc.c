@@ -4,8 +4,9 @@
  * variants) for the whole process, forwards them to the next definition (libc's, or the sanitizer's under
  * SAN=1), and counts the calls made while "armed".
  *
- * The frame loop below drives everything that exists per frame today (static arenas, per-frame buffers,
- * hashing, message formatting, the clock); as the renderer grows, its frame loop is driven here instead.
+ * Two frame loops run armed: a synthetic one (arenas, hashing, formatting, the clock) and the real one — the
+ * built-in scene (every feature: animation + refit, textures, cutouts, blending, mirrors, motion vectors)
+ * rendered in TAA, full-frame and temporally dense modes on two threads.
  */
 #define _GNU_SOURCE
 #include "hz_test.h"
@@ -18,6 +19,7 @@
 #include "frameloop.h"
 #include "hz/hz.h"
 #include "pools.h"
+#include "render_fixture.h"
 
 static volatile int armed;
 static volatile unsigned long armed_calls;
@@ -234,12 +236,42 @@ static void test_frame_loop_allocates_nothing(void **state)
     assert_int_equal(sum.frames, 1500);
 }
 
+static void render_armed(hz_render_mode_t mode, uint32_t spp)
+{
+    rfix_t f;
+    hz_error_t err;
+    assert_int_equal(rfix_open(&f, "builtin", HZ_ACCEL_NATIVE, &err), HZ_OK);
+    hz_render_opts_t o;
+    hz_render_opts_default(&o);
+    o.width = 96, o.height = 64, o.mode = mode, o.spp = spp;
+    assert_int_equal(rfix_renderer(&f, &o, 2, &err), HZ_OK); /* initialisation: threads, buffers */
+    assert_int_equal(rfix_frame(&f, 0, 0.0f, &err), HZ_OK);
+    armed_calls = 0;
+    armed = 1;
+    hz_status_t s = HZ_OK;
+    for (uint32_t i = 1; i <= 24 && s == HZ_OK; i++)
+        s = rfix_frame(&f, i, (float)i / 240.0f, &err);
+    armed = 0;
+    assert_int_equal(s, HZ_OK);
+    assert_int_equal(armed_calls, 0);
+    rfix_close(&f);
+}
+
+static void test_rendering_allocates_nothing(void **state)
+{
+    (void)state;
+    render_armed(HZ_MODE_TAA, 1);
+    render_armed(HZ_MODE_FULL, 4);
+    render_armed(HZ_MODE_TDENSE, 1);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_interposer_sees_allocations),
         cmocka_unit_test(test_frames_allocate_nothing),
         cmocka_unit_test(test_frame_loop_allocates_nothing),
+        cmocka_unit_test(test_rendering_allocates_nothing),
     };
     return HZ_RUN(tests);
 }

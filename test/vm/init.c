@@ -2,9 +2,11 @@
  * init — PID 1 of the VM test tier (make vmtest): a static AArch64 program, so the initramfs needs no shell.
  *
  * It mounts /dev, /proc, /sys and /tmp, loads the kernel modules listed in /modules/order ("file.ko [params]"
- * per line, dependencies first), runs every program listed in /tests/list (one per line: name, then optional
- * arguments) with a time limit, and powers the machine off. The host reads the console: each program's
- * output is framed by "HZVM-BEGIN <name>" and "HZVM-END <name> <exit status>", and "HZVM-DONE" ends the run.
+ * per line, dependencies first), sets the variables of /vm-env ("NAME=VALUE" per line), mounts the host
+ * directories of /vm-mounts ("tag path": virtio-9p, read-only, at the host's path), runs every program listed
+ * in /tests/list (one per line: name, then optional arguments) with a time limit, and powers the machine off.
+ * The host reads the console: each program's output is framed by "HZVM-BEGIN <name>" and
+ * "HZVM-END <name> <exit status> <seconds>", and "HZVM-DONE" ends the run.
  * Module failures are printed as "HZVM-MODULE-FAIL <file> <errno text>" (the device tests then fail with a
  * clear message rather than hang).
  */
@@ -17,6 +19,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/mount.h>
+#include <sys/types.h>
 #include <sys/reboot.h>
 #include <sys/stat.h>
 #include <sys/syscall.h>
@@ -130,6 +133,48 @@ static void unbind_fbcon(void)
     }
 }
 
+static void mkdirs(const char *path)
+{
+    char p[512];
+    snprintf(p, sizeof p, "%s", path);
+    for (char *c = p + 1; *c; c++)
+        if (*c == '/') {
+            *c = '\0';
+            mkdir(p, 0755);
+            *c = '/';
+        }
+    mkdir(p, 0755);
+}
+
+static void environment_and_shares(void)
+{
+    char line[1024];
+    FILE *f = fopen("/vm-env", "r");
+    while (f && fgets(line, sizeof line, f)) {
+        line[strcspn(line, "\n")] = '\0';
+        char *eq = strchr(line, '=');
+        if (eq) {
+            *eq = '\0';
+            setenv(line, eq + 1, 1);
+        }
+    }
+    if (f)
+        fclose(f);
+    f = fopen("/vm-mounts", "r");
+    while (f && fgets(line, sizeof line, f)) {
+        line[strcspn(line, "\n")] = '\0';
+        char *path = strchr(line, ' ');
+        if (!path)
+            continue;
+        *path++ = '\0';
+        mkdirs(path);
+        if (mount(line, path, "9p", MS_RDONLY, "trans=virtio,version=9p2000.L") != 0)
+            say("HZVM-MOUNT-FAIL %s %s %s\n", line, path, strerror(errno));
+    }
+    if (f)
+        fclose(f);
+}
+
 int main(void)
 {
     mount("devtmpfs", "/dev", "devtmpfs", 0, NULL);
@@ -145,6 +190,7 @@ int main(void)
     say("HZVM-BOOT %s %s %s\n", u.sysname, u.release, u.machine);
     load_modules();
     unbind_fbcon();
+    environment_and_shares();
     FILE *f = fopen("/tests/list", "r");
     char line[512];
     while (f && fgets(line, sizeof line, f)) {

@@ -13,6 +13,9 @@
 # DEVICE_TEST  test_vm_devices (dynamic AArch64, cmocka)
 # UNIT_TEST    the AArch64 unit test binaries of `make test` (dynamic; their libraries are copied in)
 #
+# VM_ENV (optional): NAME=VALUE words the tests get in the guest, as `make test` exports them on the host
+# (HZ_SCENES_DIR=...). A VALUE that is a host directory is shared into the guest read-only (virtio-9p) at
+# the same path, so tests that read data files find them where the host tests do.
 # A guest that does not finish within VM_LIMIT_S (default 170 s) is killed and counted as a failure.
 set -u
 results=$1 cache=$2 init=$3 hzrt=$4 devtest=$5
@@ -35,7 +38,8 @@ for tool in qemu-system-aarch64 cpio gzip dpkg-deb modinfo; do
 done
 
 # ---- kernel: Debian's current arm64 image, downloaded once into the cache ----
-pkg=$(apt-cache depends linux-image-arm64:arm64 2>/dev/null | sed -n 's/.*Depends: \(linux-image-[0-9][^ :]*\).*/\1/p' | head -n 1)
+pkg=$(apt-cache depends linux-image-arm64:arm64 2>/dev/null |
+    sed -n 's/.*Depends: \(linux-image-[0-9][^ :]*\).*/\1/p' | head -n 1)
 deb=""
 if [ -n "$pkg" ]; then
     deb=$(ls "$cache"/"$pkg"_*_arm64.deb 2>/dev/null | head -n 1)
@@ -48,8 +52,9 @@ fi
 if [ -z "$deb" ]; then
     # No package lists for arm64, or no network: any kernel cached earlier will do.
     deb=$(ls -t "$cache"/linux-image-*_arm64.deb 2>/dev/null | head -n 1)
-    [ -n "$deb" ] || fail_tier "no arm64 kernel: 'apt-cache depends linux-image-arm64:arm64' found '${pkg:-nothing}' and \
-apt-get download failed ($(tail -n 1 "$results/apt-download.log" 2>/dev/null)); dpkg --add-architecture arm64 && apt-get update"
+    why=$(tail -n 1 "$results/apt-download.log" 2>/dev/null)
+    [ -n "$deb" ] || fail_tier "no arm64 kernel: linux-image-arm64:arm64 depends on '${pkg:-nothing}' and apt-get \
+download failed ($why); try: dpkg --add-architecture arm64 && apt-get update"
 fi
 tree="$cache/$(basename "$deb" .deb)"
 if [ ! -d "$tree/boot" ]; then
@@ -85,6 +90,28 @@ add_module() { # NAME [PARAMS]; `local` is not POSIX but dash, bash and busybox 
 # vivid: one instance with an HDMI capture (video0), an HDMI output (video1) and a framebuffer (fb0).
 add_module vivid "n_devs=1 node_types=0x10101 num_inputs=1 input_types=0x3 num_outputs=1 output_types=0x1" ||
     fail_tier "cannot collect vivid's modules from $deb (see $results/initramfs.log)"
+
+# The tests' environment, and their data directories over virtio-9p (read-only, same paths as on the host).
+: >"$stage/vm-env"
+: >"$stage/vm-mounts"
+share_args=""
+nshare=0
+for kv in ${VM_ENV:-}; do
+    case $kv in *=*) ;; *) continue ;; esac
+    echo "$kv" >>"$stage/vm-env"
+    dir=${kv#*=}
+    if [ -d "$dir" ]; then
+        nshare=$((nshare + 1))
+        share_args="$share_args -fsdev local,id=fs$nshare,path=$dir,security_model=none,readonly=on"
+        share_args="$share_args -device virtio-9p-device,fsdev=fs$nshare,mount_tag=hz$nshare"
+        echo "hz$nshare $dir" >>"$stage/vm-mounts"
+    fi
+done
+if [ $nshare -gt 0 ]; then
+    for m in virtio_mmio 9pnet_virtio 9p; do
+        add_module $m || fail_tier "cannot collect the 9p modules from $deb (see $results/initramfs.log)"
+    done
+fi
 
 # Programs, and the shared libraries they need (the multiarch arm64 ones the host ran them with).
 : >"$stage/tests/list"
@@ -124,7 +151,8 @@ log="$results/console.log"
 mon="$results/monitor"
 rm -f "$log" "$mon.in" "$mon.out"
 mkfifo "$mon.in" "$mon.out" || fail_tier "mkfifo failed"
-qemu-system-aarch64 -M virt -cpu cortex-a72 -smp 2 -m 1024 -display none -nic none -no-reboot \
+# shellcheck disable=SC2086 # share_args is a list of arguments
+qemu-system-aarch64 -M virt -cpu cortex-a72 -smp 2 -m 1024 -display none -nic none -no-reboot $share_args \
     -kernel "$vmlinuz" -initrd "$initrd" -append "console=ttyAMA0 panic=-1 quiet" \
     -serial "file:$log" -monitor "pipe:$mon" >"$results/qemu.log" 2>&1 &
 qpid=$!
@@ -133,10 +161,13 @@ cat "$mon.out" >"$results/monitor.log" &
 catpid=$!
 exec 7>"$mon.in"
 start=$(date +%s)
-pulsed=0
+served=0
 while kill -0 "$qpid" 2>/dev/null; do
-    if [ $pulsed = 0 ] && grep -q '^HZVM-GPIO-READY' "$log" 2>/dev/null; then
-        n=$(sed -n 's/^HZVM-GPIO-READY \([0-9]*\).*/\1/p' "$log" | head -n 1)
+    # Each "HZVM-GPIO-READY n" the guest prints asks for n pulses on line 3.
+    asked=$(grep -c '^HZVM-GPIO-READY' "$log" 2>/dev/null)
+    if [ "${asked:-0}" -gt $served ]; then
+        served=$((served + 1))
+        n=$(sed -n 's/^HZVM-GPIO-READY \([0-9]*\).*/\1/p' "$log" | sed -n "${served}p")
         sleep 0.3
         i=0
         while [ $i -lt "${n:-4}" ]; do
@@ -144,7 +175,6 @@ while kill -0 "$qpid" 2>/dev/null; do
             sleep "$pulses_gap"
             i=$((i + 1))
         done
-        pulsed=1
     fi
     if [ $(($(date +%s) - start)) -ge "$limit" ]; then
         kill "$qpid" 2>/dev/null
@@ -161,7 +191,8 @@ exec 7>&-
 kill "$catpid" 2>/dev/null
 qpid=""
 elapsed=$(($(date +%s) - start))
-grep -q '^HZVM-BOOT' "$log" 2>/dev/null || fail_tier "the kernel did not start init (qemu exit $qrc; see $results/qemu.log, $log)"
+grep -q '^HZVM-BOOT' "$log" 2>/dev/null ||
+    fail_tier "the kernel did not start init (qemu exit $qrc; see $results/qemu.log, $log)"
 echo "  vm: $(sed -n 's/^HZVM-BOOT //p' "$log" | tr -d '\r') ($deb), ${elapsed} s"
 grep '^HZVM-MODULE-FAIL' "$log" | tr -d '\r' | sed 's/^/  vm: /'
 
@@ -170,7 +201,8 @@ status=0
 for t in "$@" "$devtest"; do
     name=$(basename "$t")
     out="$results/$name.log"
-    awk -v n="$name" '$0 ~ "^HZVM-BEGIN "n"\r?$" {on=1; next} $0 ~ "^HZVM-END "n" " {on=0} on' "$log" | tr -d '\r' >"$out"
+    awk -v n="$name" '$0 ~ "^HZVM-BEGIN "n"\r?$" {on=1; next} $0 ~ "^HZVM-END "n" " {on=0} on' "$log" |
+        tr -d '\r' >"$out"
     rc=$(sed -n "s/^HZVM-END $name \([0-9-]*\).*/\1/p" "$log" | tr -d '\r' | head -n 1)
     passed=$(sed -n 's/^\[  PASSED  \] \([0-9][0-9]*\) test.*/\1/p' "$out" | awk '{s+=$1} END {print s+0}')
     failed=$(sed -n 's/^\[  FAILED  \] \([0-9][0-9]*\) test.*/\1/p' "$out" | awk '{s+=$1} END {print s+0}')
@@ -195,5 +227,6 @@ for t in "$@" "$devtest"; do
 done
 # The device checks' figures, for the log of make test.
 grep '^  ' "$results/$(basename "$devtest").log" | sed 's/^/  vm:/'
-grep -q '^HZVM-GPIO-SKIP' "$log" && echo "  vm: GPIO checks SKIPPED: $(sed -n 's/^HZVM-GPIO-SKIP //p' "$log" | head -n 1)"
+grep -q '^HZVM-GPIO-SKIP' "$log" &&
+    echo "  vm: GPIO checks SKIPPED: $(sed -n 's/^HZVM-GPIO-SKIP //p' "$log" | head -n 1)"
 exit 0

@@ -9,7 +9,9 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
+#include "bench_tdense.h"
 #include "cli.h"
 #include "clock.h"
 #include "fileio.h"
@@ -129,21 +131,33 @@ int main(int argc, char **argv)
 {
     hz_cli_prog = "hzbench";
     const char *csv_path = NULL;
-    bool core = true, accel = true;
+    bool core = true, accel = true, tdense = true, only_given = false;
     hz_bench_accel_opts_t ao;
     memset(&ao, 0, sizeof ao);
+    hz_bench_tdense_opts_t td = { NULL, 640, 360, 0, 5, 4, 12, 1.0f, 240, false };
     for (int i = 1; i < argc; i++) {
         long v;
         if (!strcmp(argv[i], "--csv") && i + 1 < argc) {
             csv_path = argv[++i];
         } else if (!strcmp(argv[i], "--accel-csv") && i + 1 < argc) {
             ao.csv_path = argv[++i];
-        } else if (!strcmp(argv[i], "--accel-only")) {
-            core = false;
-        } else if (!strcmp(argv[i], "--no-accel")) {
-            accel = false;
+        } else if (!strcmp(argv[i], "--only") && i + 1 < argc) {
+            const char *what = argv[++i];
+            if (!only_given)
+                core = accel = tdense = false;
+            only_given = true;
+            if (!strcmp(what, "kernels"))
+                core = true;
+            else if (!strcmp(what, "accel"))
+                accel = true;
+            else if (!strcmp(what, "tdense"))
+                tdense = true;
+            else {
+                hz_cli_error("--only: '%s' is not kernels, accel or tdense", what);
+                return HZ_EXIT_USAGE;
+            }
         } else if (!strcmp(argv[i], "--scenes") && i + 1 < argc) {
-            ao.scenes_dir = argv[++i];
+            ao.scenes_dir = td.scenes_dir = argv[++i];
         } else if (!strcmp(argv[i], "--scene") && i + 1 < argc) {
             if (ao.scene_count == HZ_BENCH_MAX_SCENES) {
                 hz_cli_error("--scene: at most %d scenes", HZ_BENCH_MAX_SCENES);
@@ -151,37 +165,50 @@ int main(int argc, char **argv)
             }
             ao.scenes[ao.scene_count++] = argv[++i];
         } else if (!strcmp(argv[i], "--rounds") && i + 1 < argc) {
-            if (!hz_cli_parse_long("--rounds", argv[++i], 1, 15, &v))
+            if (!hz_cli_parse_long("--rounds", argv[++i], 1, HZ_BENCH_TDENSE_MAX_ROUNDS < 15 ? HZ_BENCH_TDENSE_MAX_ROUNDS : 15, &v))
                 return HZ_EXIT_USAGE;
-            ao.rounds = (int)v;
+            ao.rounds = td.rounds = (int)v;
         } else if (!strcmp(argv[i], "--threads") && i + 1 < argc) {
             if (!hz_cli_parse_long("--threads", argv[++i], 0, HZ_MAX_THREADS, &v))
                 return HZ_EXIT_USAGE;
-            ao.threads = (int)v;
+            ao.threads = td.threads = (int)v;
         } else if (!strcmp(argv[i], "--size") && i + 1 < argc) {
             int w, h;
             if (!hz_cli_parse_size("--size", argv[++i], 8, 8192, &w, &h))
                 return HZ_EXIT_USAGE;
             ao.width = (uint32_t)w, ao.height = (uint32_t)h;
+        } else if (!strcmp(argv[i], "--tdense-size") && i + 1 < argc) {
+            int w, h;
+            if (!hz_cli_parse_size("--tdense-size", argv[++i], 16, 8192, &w, &h))
+                return HZ_EXIT_USAGE;
+            td.width = (uint32_t)w, td.height = (uint32_t)h;
+        } else if (!strcmp(argv[i], "--frames") && i + 1 < argc) {
+            if (!hz_cli_parse_long("--frames", argv[++i], 1, 1000, &v))
+                return HZ_EXIT_USAGE;
+            td.frames = (uint32_t)v;
         } else if (!strcmp(argv[i], "--embree-config") && i + 1 < argc) {
             ao.embree_config = argv[++i];
         } else if (!strcmp(argv[i], "-h") || !strcmp(argv[i], "--help")) {
-            printf("usage: hzbench [--csv FILE] [--accel-csv FILE] [--accel-only | --no-accel] [--scenes DIR]\n"
-                   "               [--scene NAME]... [--rounds N] [--threads N] [--size WxH] [--embree-config S]\n"
-                   "\nMeasures hzrt's kernels side by side and prints medians of interleaved rounds: core kernels\n"
-                   "(%d rounds), then the accel comparison, native against Embree, on the baked scenes of --scenes\n"
-                   "(default $HZ_SCENES_DIR or build/scenes; `make scenes` bakes them). --scene picks scenes\n"
-                   "(default: conference sponza lost-empire furball dragon-res4 dragon-res3 dragon-res2 dragon),\n"
-                   "--rounds the accel rounds (5), --threads the pool size (0: every CPU), --size the primary\n"
-                   "rays (1024x1024), --embree-config Embree's device config string.\n", ROUNDS);
+            printf("usage: hzbench [--only kernels|accel|tdense]... [--csv FILE] [--accel-csv FILE] [--scenes DIR]\n"
+                   "               [--scene NAME]... [--rounds N] [--threads N] [--size WxH] [--tdense-size WxH]\n"
+                   "               [--frames N] [--embree-config S]\n"
+                   "\nMeasures hzrt's kernels side by side and prints medians of interleaved rounds, in three parts\n"
+                   "(all by default, or those --only names):\n"
+                   "  kernels  core kernels (%d rounds)\n"
+                   "  tdense   displayed-frame time of tdense against full-frame 1 spp + TAA on the built-in scene\n"
+                   "           and sponza/conference (--tdense-size, default 640x360; --frames timed frames, 12)\n"
+                   "  accel    native BVH against Embree on the baked scenes (--scene picks them, default\n"
+                   "           conference sponza lost-empire furball dragon-res4 dragon-res3 dragon-res2 dragon;\n"
+                   "           --size the primary rays, default 1024x1024; --embree-config Embree's device config)\n"
+                   "--scenes: the baked scenes (default $HZ_SCENES_DIR or build/scenes; `make scenes` bakes them),\n"
+                   "--rounds: rounds of the accel and tdense parts (5), --threads: pool size (0: every CPU).\n",
+                   ROUNDS);
             return 0;
         } else {
             hz_cli_error("unknown option '%s' (try --help)", argv[i]);
             return HZ_EXIT_USAGE;
         }
     }
-    if (!core)
-        return accel ? hz_bench_accel(&ao) : 0;
     row_t rows[] = {
         { "core", "hash32 (murmur3 fmix)", "Mops/s", { 0 }, 0 },
         { "core", "hash_pcg", "Mops/s", { 0 }, 0 },
@@ -192,15 +219,41 @@ int main(int argc, char **argv)
     };
     double (*fns[])(uint32_t) = { bench_hash, bench_hash_pcg, bench_rng, bench_arena, bench_srgb8_table,
                                   bench_srgb8_powf };
+    size_t nrows = core ? HZ_ARRAY_LEN(rows) : 0;
     const uint32_t n = 1u << 24;
     for (int r = 0; r < ROUNDS; r++)
-        for (size_t k = 0; k < HZ_ARRAY_LEN(rows); k++)
+        for (size_t k = 0; k < nrows; k++)
             rows[k].per_sec[r] = fns[k](n) * 1e-6;
-    printf("%-8s %-28s %12s %s\n", "group", "kernel", "median", "unit");
-    for (size_t k = 0; k < HZ_ARRAY_LEN(rows); k++) {
+    if (nrows)
+        printf("%-8s %-28s %12s %s\n", "group", "kernel", "median", "unit");
+    for (size_t k = 0; k < nrows; k++) {
         qsort(rows[k].per_sec, ROUNDS, sizeof(double), cmp_double);
         rows[k].median = rows[k].per_sec[ROUNDS / 2];
         printf("%-8s %-28s %12.1f %s\n", rows[k].group, rows[k].name, rows[k].median, rows[k].unit);
+    }
+
+    hz_bench_tdense_row_t trows[8];
+    int nt = 0;
+    if (tdense) {
+        hz_error_t err;
+        td.progress = hz_cli_stderr_is_tty();
+        if (td.threads == 0) {
+            long c = sysconf(_SC_NPROCESSORS_ONLN);
+            td.threads = c < 1 ? 1 : c > HZ_MAX_THREADS ? HZ_MAX_THREADS : (int)c;
+        }
+        printf("\ntdense vs full-frame 1 spp + TAA: %ux%u, %d threads, %u frames after %u from t = %.1f s at %u Hz, "
+               "median of %d rounds\n", td.width, td.height, td.threads, td.frames, td.warm, td.start, td.hz,
+               td.rounds);
+        nt = hz_bench_tdense(&td, trows, 8, &err);
+        if (nt < 0)
+            return hz_cli_report(&err);
+        printf("%-12s %12s %12s %8s %15s %14s %14s\n", "scene", "tdense ms", "taa ms", "ratio", "ratio min..max",
+               "tdense rays", "taa rays");
+        for (int k = 0; k < nt; k++)
+            printf("%-12s %12.2f %12.2f %7.2fx %7.2f..%-7.2f %14.0f %14.0f\n", trows[k].scene, trows[k].tdense_ms,
+                   trows[k].taa_ms, trows[k].ratio, trows[k].ratio_min, trows[k].ratio_max, trows[k].tdense_rays,
+                   trows[k].taa_rays);
+        printf("(seed 001 reports about 3.5x at 1920x1080 on an RTX 2080 Ti)\n");
     }
     if (csv_path) {
         hz_out_t out;
@@ -208,9 +261,17 @@ int main(int argc, char **argv)
         if (hz_out_open(&out, csv_path, &err) != HZ_OK)
             return hz_cli_report(&err);
         fprintf(out.f, "group,kernel,median,min,max,unit\n");
-        for (size_t k = 0; k < HZ_ARRAY_LEN(rows); k++)
+        for (size_t k = 0; k < nrows; k++)
             fprintf(out.f, "%s,%s,%.3f,%.3f,%.3f,%s\n", rows[k].group, rows[k].name, rows[k].median,
                     rows[k].per_sec[0], rows[k].per_sec[ROUNDS - 1], rows[k].unit);
+        for (int k = 0; k < nt; k++) {
+            fprintf(out.f, "tdense,%s %ux%u tdense,%.3f,,,ms/frame\n", trows[k].scene, td.width, td.height,
+                    trows[k].tdense_ms);
+            fprintf(out.f, "tdense,%s %ux%u full 1 spp + taa,%.3f,,,ms/frame\n", trows[k].scene, td.width,
+                    td.height, trows[k].taa_ms);
+            fprintf(out.f, "tdense,%s %ux%u taa/tdense,%.3f,%.3f,%.3f,ratio\n", trows[k].scene, td.width, td.height,
+                    trows[k].ratio, trows[k].ratio_min, trows[k].ratio_max);
+        }
         if (hz_out_commit(&out, &err) != HZ_OK)
             return hz_cli_report(&err);
         printf("wrote %s\n", csv_path);

@@ -343,14 +343,19 @@ static hz_status_t run_method(const hz_et_sequence_t *seq, const hz_et_method_t 
         dp[j] = &disp[j];
         rp[j] = &ref[j];
     }
+    const uint32_t hold = m->hold > 1 ? m->hold : 1;
+    uint32_t timed = 0;
     for (uint32_t i = 0; i < seq->frames; i++) {
         uint64_t rays = 0;
-        int64_t t0 = hz_clock_ns();
-        s = m->render(state, i, &out, &rays, err);
-        int64_t t1 = hz_clock_ns();
-        if (s != HZ_OK) {
-            method_error(err, m, "render", i);
-            break;
+        int64_t t0 = 0, t1 = 0;
+        if (i % hold == 0) { /* otherwise the display repeats the last rendered frame */
+            t0 = hz_clock_ns();
+            s = m->render(state, i, &out, &rays, err);
+            t1 = hz_clock_ns();
+            if (s != HZ_OK) {
+                method_error(err, m, "render", i);
+                break;
+            }
         }
         hz_image_t *d = &disp[i % k], *r = &ref[i % k];
         hz_image_copy(d, &out, NULL);
@@ -362,7 +367,8 @@ static hz_status_t run_method(const hz_et_sequence_t *seq, const hz_et_method_t 
             (ref_open && (s = hz_y4m_write(&ref_stream, r, err)) != HZ_OK))
             break;
         if (i >= seq->warmup) {
-            ns[i - seq->warmup] = t1 - t0;
+            if (i % hold == 0)
+                ns[timed++] = t1 - t0;
             acc.rays += rays;
             hz_mse_t mse;
             double ssim, flip;
@@ -421,7 +427,9 @@ static hz_status_t run_method(const hz_et_sequence_t *seq, const hz_et_method_t 
     row->measured = measured;
     row->refresh_hz = seq->refresh_hz;
     row->di_k = k;
-    hz_et_time_stats(ns, measured, &row->ms_median, &row->ms_p99);
+    hz_et_time_stats(ns, timed, &row->ms_median, &row->ms_p99);
+    row->ms_median /= hold;
+    row->ms_p99 /= hold;
     row->rays_per_frame = (double)acc.rays / acc.frames;
     row->psnr_srgb8 = hz_psnr(acc.mse8 / acc.frames, 255.0);
     row->psnr_linear = hz_psnr(acc.mse_lin / acc.frames, 1.0);
@@ -455,6 +463,10 @@ hz_status_t hz_et_run(const hz_et_sequence_t *seq, const hz_et_method_t *referen
     for (size_t j = 0; j < count; j++)
         if (!methods[j].render || !methods[j].name || !methods[j].knob)
             return hz_error_set(err, HZ_E_INVALID_ARG, "errtime: method %zu has no name, knob or render callback", j);
+        else if (methods[j].hold > seq->frames - seq->warmup)
+            return hz_error_set(err, HZ_E_INVALID_ARG, "errtime: method '%s' renders every %u frames, more than the "
+                                "%u measured frames", methods[j].name, (unsigned)methods[j].hold,
+                                (unsigned)(seq->frames - seq->warmup));
     bool rendered;
     if ((s = hz_et_reference(seq, reference, cfg, &rendered, err)) != HZ_OK)
         return s;

@@ -11,11 +11,12 @@
  *  - A method is a name (one polyline in the chart), a knob label and value (one point), and callbacks:
  *      begin(method, seq, arena, &state, err)  once per run: allocate everything from `arena` (released after
  *                                              end), reset history. May be NULL (state = NULL).
- *      render(state, i, out, &rays, err)       draw displayed frame i (called for i = 0, 1, ... in order) into
- *                                              out (linear RGB, seq size) and report the rays traced. Timed
- *                                              (wall clock, CLOCK_MONOTONIC) around this call only; it should
- *                                              allocate nothing. out is the same image for every frame of a
- *                                              run and the driver only reads it, so it may carry history.
+ *      render(state, i, out, &rays, err)       draw displayed frame i (called for i = 0, 1, ... in order; with
+ *                                              hold n only for i = 0, n, 2n, ...) into out (linear RGB, seq
+ *                                              size) and report the rays traced. Timed (wall clock,
+ *                                              CLOCK_MONOTONIC) around this call only; it should allocate
+ *                                              nothing. out is the same image for every frame of a run and the
+ *                                              driver only reads it, so it may carry history.
  *      end(state)                              may be NULL.
  *  - The reference method (e.g. full-frame 256 spp) renders every frame once into the cache:
  *      <cache_dir>/<scene>-<16 hex digits>/ref-<i>.pfm plus key.txt, where the hex digits are the FNV-1a 64
@@ -31,6 +32,9 @@
  *    against the mean of the k reference frames at the same instants (averaged in linear light).
  *    A row reports PSNR from the mean MSE over frames (so one identical frame does not make it infinite), the
  *    mean SSIM and mean FLIP over frames, and the median and p99 (nearest rank) of the render times in ms.
+ *    With hold n, every displayed frame is scored (repeats included) and the times are those of the rendered
+ *    frames divided by n (cost per displayed frame, comparable with methods that render every frame); rays
+ *    per frame are per displayed frame too. Requires frames - warmup >= n.
  *  - Videos (video_dir set): <video_dir>/<scene>-<method>-<knob><value>.y4m and <scene>-reference.y4m, the
  *    quantised frames as displayed (warm-up included), 8-bit 4:4:4, BT.709 full range, at refresh_hz (play or
  *    convert with ffmpeg -colorspace bt709 -i file.y4m ...). Written outside the timed call.
@@ -73,6 +77,9 @@ struct hz_et_method {
     hz_status_t (*render)(void *state, uint32_t frame, hz_image_t *out, uint64_t *rays, hz_error_t *err);
     void (*end)(void *state);
     const void *params; /* the method's own parameters (e.g. the spp as an integer) */
+    uint32_t hold;      /* 0 or 1: renders every displayed frame; n > 1: renders frames 0, n, 2n, ... (at
+                         * refresh_hz / n, e.g. "@60Hz" on a 240 Hz display) and the display repeats each for n
+                         * frames, the way a slower renderer's output looks on a fast display */
 };
 
 typedef struct hz_et_config {

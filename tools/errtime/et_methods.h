@@ -1,28 +1,45 @@
 /*
  * et_methods.h — what errtime can run: scenes, and per scene the methods and the reference. This table is the
- * one place later issues extend (a renderer method is a row in a method array; a scene is a row here).
+ * one place later issues extend (a renderer method is a row in hz_et_render_methods, et_render.c; a scene is a
+ * row here).
  *
  * Contract: `open` fills in the sequence's scene_data, scene_hash, camera and settings (size, frame count,
- * warm-up and refresh rate are already set from the command line) and may allocate from the arena, which lives
- * until errtime exits. `methods` run in table order; `reference` renders the cached reference sequence.
+ * warm-up and refresh rate are already set from the command line or the entry's defaults) from the entry's
+ * `file` and the environment (scene folder, threads); it may allocate from the arena, which lives until the
+ * scene's run is over. `close` (may be NULL) gives back what open took, after the scene's run; errtime opens
+ * one scene at a time. `methods` run in table order; `reference` renders the cached reference sequence.
+ * width/height/frames/warmup/refresh_hz are the scene's defaults for the report (`make report` runs every scene
+ * at these); 0 means the command line's value. The `@240` entries run the display-rate comparison of temporally
+ * dense rendering (seed 001) on a 240 Hz display.
  */
 #ifndef HZ_ERRTIME_METHODS_H
 #define HZ_ERRTIME_METHODS_H
 
 #include <stddef.h>
+#include <stdint.h>
 
 #include "errtime.h"
+#include "et_render.h"
 
-typedef struct hz_et_scene {
+typedef struct hz_et_scene hz_et_scene_t;
+struct hz_et_scene {
     const char *name;  /* --scene value */
     const char *about; /* one line for --list */
-    hz_status_t (*open)(hz_et_sequence_t *seq, hz_arena_t *arena, hz_error_t *err);
+    const char *file;  /* what open loads: a .hzb file name in the scene folder, "builtin", or NULL */
+    hz_status_t (*open)(const hz_et_scene_t *scene, const hz_et_env_t *env, hz_et_sequence_t *seq,
+                        hz_arena_t *arena, hz_error_t *err);
+    void (*close)(void);
     const hz_et_method_t *methods;
     size_t method_count;
     const hz_et_method_t *reference;
-} hz_et_scene_t;
+    uint32_t width, height, frames, warmup; /* report defaults; --size/--frames/--warmup win */
+    uint32_t refresh_hz;                    /* display refresh of the sequence; 0: --refresh (default 60) */
+};
 
 extern const hz_et_scene_t hz_et_scenes[];
 extern const size_t hz_et_scene_count;
+
+/* The entry named `name`, or NULL. */
+const hz_et_scene_t *hz_et_scene_find(const char *name);
 
 #endif

@@ -27,7 +27,11 @@ while [ $# -gt 0 ]; do
     esac
 done
 if [ -z "$hzrt" ]; then
-    if [ -x ./hzrt ]; then hzrt=./hzrt; else hzrt=$(command -v hzrt) || { echo "capture.sh: no hzrt (give -b)" >&2; exit 2; }; fi
+    if [ -x ./hzrt ]; then
+        hzrt=./hzrt
+    else
+        hzrt=$(command -v hzrt) || { echo "capture.sh: no hzrt (give -b)" >&2; exit 2; }
+    fi
 fi
 board=$("$hzrt" board | sed -n 's/^board *//p')
 [ -n "$board" ] || { echo "capture.sh: $hzrt does not run here (wrong architecture?)" >&2; exit 2; }

@@ -29,10 +29,12 @@ for r in $reports; do
         END {
             section = "\"frames\":";   shown = num("shown"); late = num("late"); drop = num("dropped");
                                       rep = num("repeated"); ppm = num("miss_rate_ppm")
-            section = "\"latency\":";  p50 = num("p50_ns"); p99 = num("p99_ns"); p999 = num("p99_9_ns"); mx = num("max_ns")
+            section = "\"latency\":";  p50 = num("p50_ns"); p99 = num("p99_ns"); p999 = num("p99_9_ns")
+                                      mx = num("max_ns")
             section = "\"vsync\":";    per = num("period_ns"); mis = num("missed"); spu = num("spurious")
             ms = "%8.3f"
-            printf "%-40s %7s %8s %5s %5s %6s ", run, shown, (ppm == "-" ? "-" : sprintf("%.3f", ppm / 1e4)), late, drop, rep
+            miss = ppm == "-" ? "-" : sprintf("%.3f", ppm / 1e4)
+            printf "%-40s %7s %8s %5s %5s %6s ", run, shown, miss, late, drop, rep
             if (p50 == "-") printf "%8s %8s %8s %8s ", "-", "-", "-", "-"
             else printf ms " " ms " " ms " " ms " ", p50 / 1e6, p99 / 1e6, p999 / 1e6, mx / 1e6
             printf "%10.3f %6s %6s\n", per / 1e3, mis, spu

@@ -1,0 +1,146 @@
+/*
+ * hz/render.h — the Whitted renderer every technique plugs into: camera rays in packets, shading with textures,
+ * point lights and shadow rays, mirrors, alpha cutouts and exactly composited blended surfaces, a G-buffer with
+ * motion vectors, and the full-frame (N spp) and TAA modes.
+ *
+ * Contract:
+ *  - hz_render_create() takes everything it will ever need from `frame_arena` (images, G-buffer, history) and
+ *    from one arena per worker thread (ray queues), sized by hz_render_plan(); nothing is allocated per frame.
+ *    It leaves out what the scene does not need: no motion vectors for a static scene under a still camera, no
+ *    secondary G-buffer without mirrors, no history outside TAA, no continuation or any-hit work without
+ *    transparency.
+ *  - A frame is: hz_render_begin_frame (animates the scene to `time`, refits the accel, sets the camera and
+ *    this frame's jitter), then for each pass p < hz_render_pass_count(), every item i <
+ *    hz_render_pass_items(p) run once through hz_render_pass_run(r, p, i, thread) — in any order, on any
+ *    threads, with `thread` < thread_count unique among concurrently running calls — and then
+ *    hz_render_end_frame. Items of one pass write disjoint pixels, so the image is bit-identical for every
+ *    thread count and schedule. The port supplies the threads (src/ has none).
+ *  - Radiance is linear RGB float; every value written to the output is finite and >= 0 (a NaN or Inf from
+ *    any stage is replaced by 0 and counted in stats.nonfinite).
+ *  - Transparency: alpha-tested (MASK) triangles are decided by the accel's any-hit callback; blended (BLEND)
+ *    surfaces are composited front to back with continuation rays, also along shadow rays, until the remaining
+ *    visibility drops below opts.min_visibility (at most HZ_RENDER_MAX_LAYERS layers per path, after which the
+ *    path ends as if opaque: counted in stats.layer_cap).
+ *  - Mirrors reflect up to opts.max_bounces times (0..3).
+ *  - Motion vectors (G-buffer mv): for each pixel, its primary hit's position at the previous frame (object
+ *    motion through the previous vertex positions, camera motion through the previous camera) minus its
+ *    position now, in pixels. mv_reflect: the same for the reflected hit seen in a mirror (the motion of its
+ *    virtual image behind the mirror plane), or the primary value where there is no mirror (seed 001 Fig. 5).
+ */
+#ifndef HZ_RENDER_H
+#define HZ_RENDER_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "hz/accel.h"
+#include "hz/arena.h"
+#include "hz/image.h"
+#include "hz/scene.h"
+#include "hz/status.h"
+#include "hz/tileorder.h"
+
+#define HZ_RENDER_MAX_LAYERS 128
+#define HZ_RENDER_TILE 8 /* tiles are 8 x 8 pixels */
+
+typedef enum hz_render_mode {
+    HZ_MODE_FULL = 0, /* every pixel, opts.spp stratified samples */
+    HZ_MODE_TAA = 1,  /* every pixel, 1 jittered sample, temporal anti-aliasing resolve */
+    HZ_MODE_TDENSE = 2, /* one sample per 2x2 tile per frame, temporally dense composite (seed 001, hz/tdense.h) */
+    HZ_MODE_COUNT
+} hz_render_mode_t;
+
+typedef struct hz_render_opts {
+    uint32_t width, height;
+    hz_render_mode_t mode;
+    uint32_t spp;          /* full mode: a square (1, 4, 9, ... 256); 1 = pixel centres */
+    bool msaa4;            /* full mode, spp 4: the fixed 4x MSAA positions (hz_msaa4_jitter16, the static
+                            * pattern of tdense) in that order, instead of stratified random positions */
+    uint32_t max_bounces;  /* mirror reflections per path, 0..3 (default 3) */
+    float min_visibility;  /* transparency: stop when less is left (default 0.001) */
+    /* TAA */
+    float taa_gamma;       /* variance box: mean +- gamma * sigma (default 1) */
+    float taa_alpha;       /* weight of the new sample (default 0.1) */
+    bool taa_clip;         /* clip towards the box centre instead of clamping per channel */
+    bool taa_catmull_rom;  /* history fetched with Catmull-Rom instead of bilinear */
+    /* tdense */
+    hz_ghat_rule_t tdense_rule; /* per-tile ordering rule (default HZ_GHAT_FULL, the paper's ĝ) */
+    bool tdense_reflect_mv;     /* mirrors use the reflected hit's motion (default true) */
+    float tdense_gamma;         /* variance box of old dynamic pixels: mean +- gamma * sigma (default 1) */
+    uint32_t seed;         /* decorrelates sample patterns between runs that want it */
+} hz_render_opts_t;
+
+void hz_render_opts_default(hz_render_opts_t *o);
+/* Checks sizes, spp, bounces, ranges; HZ_E_INVALID_ARG naming the option. */
+hz_status_t hz_render_opts_check(const hz_render_opts_t *o, hz_error_t *err);
+const char *hz_render_mode_name(hz_render_mode_t m);
+
+/* G-buffer flags (per hit). */
+enum {
+    HZ_GB_HIT = 1u << 0,       /* the ray hit something (else background) */
+    HZ_GB_TEXTURED = 1u << 1,  /* the material samples a texture */
+    HZ_GB_ALPHA = 1u << 2,     /* alpha affected this pixel (a cutout was tested or a blended layer crossed) */
+    HZ_GB_MIRROR = 1u << 3,    /* the surface reflects (mirror > 0) */
+};
+#define HZ_GB_NO_OBJECT 0xffffu
+
+/* Per-pixel attributes (arrays of width * height; NULL where the scene leaves them out). Index y * width + x. */
+typedef struct hz_gbuffer {
+    uint32_t width, height;
+    float *depth;          /* primary hit distance along the ray (camera to hit), +inf on a miss */
+    uint16_t *object;      /* primary hit object, HZ_GB_NO_OBJECT on a miss */
+    float *normal;         /* 3 floats: primary shading normal facing the camera, 0 on a miss */
+    uint8_t *shadow;       /* lights not visible from the primary hit */
+    uint8_t *flags;        /* HZ_GB_* of the primary hit */
+    uint16_t *object2;     /* first secondary (reflected) hit: object; NULL without mirrors */
+    float *normal2;
+    uint8_t *shadow2;
+    uint8_t *flags2;
+    float *mv;             /* 2 floats: previous minus current position, pixels; NULL when nothing moves */
+    float *mv_reflect;     /* 2 floats, mirrors: motion of the reflected image; NULL without mirrors+motion */
+} hz_gbuffer_t;
+
+typedef struct hz_render_stats {
+    uint64_t primary_rays, shadow_rays, secondary_rays; /* secondary: reflections and continuations */
+    uint64_t nonfinite;    /* NaN/Inf values replaced by 0 (should stay 0) */
+    uint64_t layer_cap;    /* paths cut at HZ_RENDER_MAX_LAYERS */
+    uint64_t queue_full;   /* rays dropped because a ray queue was full (should stay 0) */
+} hz_render_stats_t;
+
+/* Memory a renderer needs: frame_bytes from the frame arena, thread_bytes from each thread arena. */
+typedef struct hz_render_plan {
+    size_t frame_bytes;
+    size_t thread_bytes;
+} hz_render_plan_t;
+
+hz_status_t hz_render_plan(const hz_scene_t *scene, const hz_render_opts_t *opts, hz_render_plan_t *plan,
+                           hz_error_t *err);
+
+typedef struct hz_renderer hz_renderer_t;
+
+/* The accel's view of a loaded scene: its (animated) positions and triangles, and the any-hit flag on
+ * alpha-tested triangles (tri_flags taken from `arena` only when the scene has cutouts). */
+hz_status_t hz_render_accel_geom(const hz_scene_t *scene, hz_arena_t *arena, hz_accel_geom_t *geom, hz_error_t *err);
+
+hz_status_t hz_render_create(hz_renderer_t **out, hz_scene_t *scene, hz_accel_t *accel,
+                             const hz_render_opts_t *opts, hz_arena_t *frame_arena, hz_arena_t *thread_arenas,
+                             uint32_t thread_count, hz_error_t *err);
+
+hz_status_t hz_render_begin_frame(hz_renderer_t *r, uint64_t frame_index, float time, hz_error_t *err);
+uint32_t hz_render_pass_count(const hz_renderer_t *r);
+uint32_t hz_render_pass_items(const hz_renderer_t *r, uint32_t pass);
+void hz_render_pass_run(hz_renderer_t *r, uint32_t pass, uint32_t item, uint32_t thread);
+void hz_render_end_frame(hz_renderer_t *r);
+
+/* The displayed frame (linear RGB), valid after hz_render_end_frame until the next begin. */
+const hz_image_t *hz_render_output(const hz_renderer_t *r);
+const hz_gbuffer_t *hz_render_gbuffer(const hz_renderer_t *r);
+/* Counters of the last frame (summed over threads at end_frame) and since create. */
+void hz_render_frame_stats(const hz_renderer_t *r, hz_render_stats_t *last, hz_render_stats_t *total);
+/* tdense mode: the compositor's state (tile orderings, per-pixel flags: hz/tdense.h), for tests and tools that
+ * show it; NULL in the other modes. */
+const struct hz_tdense *hz_render_tdense(const hz_renderer_t *r);
+/* Forget history (TAA) and previous-frame state, e.g. after a cut. */
+void hz_render_reset_history(hz_renderer_t *r);
+
+#endif /* HZ_RENDER_H */

@@ -1,0 +1,90 @@
+/* Run summary: text and JSON (see summary.h). */
+#include "summary.h"
+
+#include "fileio.h"
+
+static size_t thread_high_water(const hz_pools_t *p, int threads)
+{
+    size_t m = 0;
+    for (int i = 0; i < threads; i++)
+        if (p->thread[i].high_water > m)
+            m = p->thread[i].high_water;
+    return m;
+}
+
+void hz_summary_print(const hz_summary_t *s, FILE *f)
+{
+    const hz_pools_t *p = s->pools;
+    fprintf(f, "scene        %s  [%s]\n", s->scene, s->features);
+    fprintf(f, "render       %ux%u, mode %s, %u spp, %d threads, backend %s (built in %.1f ms)\n", s->width,
+            s->height, s->mode, s->spp, s->threads, s->backend, s->build_ms);
+    fprintf(f, "frames       %u at a simulated %u Hz (%.3f s of scene time)\n", s->frames, s->hz,
+            (double)s->frames / s->hz);
+    fprintf(f, "frame time   p50 %.3f ms, p99 %.3f ms, mean %.3f ms, max %.3f ms (%u frames timed)\n", s->ms_p50,
+            s->ms_p99, s->ms_mean, s->ms_max, s->frames_timed);
+    fprintf(f, "rays         %.0f per frame (primary %llu, shadow %llu, secondary %llu in total), %.2f Mrays/s\n",
+            s->rays_per_frame, (unsigned long long)s->stats.primary_rays, (unsigned long long)s->stats.shadow_rays,
+            (unsigned long long)s->stats.secondary_rays, s->mrays_per_s);
+    fprintf(f, "memory       scene %.1f / %.0f MiB, accel %.1f / %.0f MiB, frame %.1f / %.0f MiB, thread %.2f / %.0f MiB\n",
+            p->scene.high_water / 1048576.0, p->scene.cap / 1048576.0, p->accel.high_water / 1048576.0,
+            p->accel.cap / 1048576.0, p->frame.high_water / 1048576.0, p->frame.cap / 1048576.0,
+            thread_high_water(p, s->threads) / 1048576.0, p->thread[0].cap / 1048576.0);
+    if (s->stats.nonfinite || s->stats.layer_cap || s->stats.queue_full)
+        fprintf(f, "warnings     %llu non-finite values zeroed, %llu paths cut at the layer cap, %llu rays dropped\n",
+                (unsigned long long)s->stats.nonfinite, (unsigned long long)s->stats.layer_cap,
+                (unsigned long long)s->stats.queue_full);
+}
+
+/* JSON string with the characters JSON requires escaped. */
+static void json_str(FILE *f, const char *s)
+{
+    fputc('"', f);
+    for (; *s; s++) {
+        unsigned char c = (unsigned char)*s;
+        if (c == '"' || c == '\\')
+            fprintf(f, "\\%c", c);
+        else if (c < 0x20)
+            fprintf(f, "\\u%04x", c);
+        else
+            fputc(c, f);
+    }
+    fputc('"', f);
+}
+
+hz_status_t hz_summary_write_json(const hz_summary_t *s, const char *path, hz_error_t *err)
+{
+    hz_out_t out;
+    hz_status_t st = hz_out_open(&out, path, err);
+    if (st != HZ_OK)
+        return st;
+    FILE *f = out.f;
+    const hz_pools_t *p = s->pools;
+    fprintf(f, "{\n  \"scene\": ");
+    json_str(f, s->scene);
+    fprintf(f, ",\n  \"features\": ");
+    json_str(f, s->features);
+    fprintf(f, ",\n  \"mode\": ");
+    json_str(f, s->mode);
+    fprintf(f, ",\n  \"backend\": ");
+    json_str(f, s->backend);
+    fprintf(f, ",\n  \"board\": ");
+    json_str(f, HZ_BOARD_NAME);
+    fprintf(f, ",\n  \"width\": %u, \"height\": %u, \"spp\": %u, \"hz\": %u, \"threads\": %d,\n", s->width,
+            s->height, s->spp, s->hz, s->threads);
+    fprintf(f, "  \"frames\": %u, \"frames_timed\": %u, \"run_s\": %.6f, \"accel_build_ms\": %.3f,\n", s->frames,
+            s->frames_timed, s->run_s, s->build_ms);
+    fprintf(f, "  \"frame_ms\": {\"p50\": %.4f, \"p99\": %.4f, \"mean\": %.4f, \"max\": %.4f},\n", s->ms_p50,
+            s->ms_p99, s->ms_mean, s->ms_max);
+    fprintf(f, "  \"rays\": {\"total\": %llu, \"per_frame\": %.1f, \"primary\": %llu, \"shadow\": %llu, "
+               "\"secondary\": %llu, \"mrays_per_s\": %.3f},\n",
+            (unsigned long long)s->rays, s->rays_per_frame, (unsigned long long)s->stats.primary_rays,
+            (unsigned long long)s->stats.shadow_rays, (unsigned long long)s->stats.secondary_rays, s->mrays_per_s);
+    fprintf(f, "  \"arenas\": {\"scene\": [%zu, %zu], \"accel\": [%zu, %zu], \"frame\": [%zu, %zu], "
+               "\"thread\": [%zu, %zu]},\n",
+            p->scene.high_water, p->scene.cap, p->accel.high_water, p->accel.cap, p->frame.high_water, p->frame.cap,
+            thread_high_water(p, s->threads), p->thread[0].cap);
+    fprintf(f, "  \"warnings\": {\"nonfinite\": %llu, \"layer_cap\": %llu, \"queue_full\": %llu}\n}\n",
+            (unsigned long long)s->stats.nonfinite, (unsigned long long)s->stats.layer_cap,
+            (unsigned long long)s->stats.queue_full);
+    return hz_out_commit(&out, err);
+}

@@ -1,0 +1,31 @@
+/*
+ * summary.h — the end-of-run summary of `hzrt render`: printed for people and written as JSON for tools.
+ *
+ * Contract: frame times are wall-clock milliseconds per displayed frame (begin of the frame to end of its last
+ * pass, sinks excluded); percentiles are over the timed frames (the first frame of a multi-frame run is left
+ * out and frames_timed says how many remain). The JSON is one object, written via temp file + rename.
+ */
+#ifndef HZ_PORT_SUMMARY_H
+#define HZ_PORT_SUMMARY_H
+
+#include <stdint.h>
+#include <stdio.h>
+
+#include "hz/render.h"
+#include "pools.h"
+
+typedef struct hz_summary {
+    const char *scene, *mode, *backend, *features;
+    uint32_t spp, width, height, hz, frames, frames_timed;
+    int threads;
+    double build_ms, ms_p50, ms_p99, ms_mean, ms_max, run_s;
+    uint64_t rays;
+    double rays_per_frame, mrays_per_s;
+    hz_render_stats_t stats;
+    const hz_pools_t *pools;
+} hz_summary_t;
+
+void hz_summary_print(const hz_summary_t *s, FILE *f);
+hz_status_t hz_summary_write_json(const hz_summary_t *s, const char *path, hz_error_t *err);
+
+#endif

@@ -1,0 +1,245 @@
+/* 2x2 tile orderings, their cycle classes and the ĝ(ℓf, α) choice (see hz/tileorder.h).
+ * Integer-only: built with -mgeneral-regs-only and checked by check-integer on x86-64 and AArch64. */
+#include "hz/tileorder.h"
+
+#include "hz/hash.h"
+
+const int8_t hz_msaa4_jitter16[4][2] = { { -2, -6 }, { 6, -2 }, { -6, 2 }, { 2, 6 } };
+
+/* The 24 permutations of {0,1,2,3} in lexicographic order, packed two bits per subframe (subframe s in bits
+ * 2s..2s+1). Built by hand in order; test_tileorder checks the table against its own enumeration. */
+#define PACK(a, b, c, d) (uint8_t)((a) | ((b) << 2) | ((c) << 4) | ((d) << 6))
+const uint8_t hz_tileorder_packed[HZ_TILEORDER_COUNT] = {
+    PACK(0, 1, 2, 3), PACK(0, 1, 3, 2), PACK(0, 2, 1, 3), PACK(0, 2, 3, 1), PACK(0, 3, 1, 2), PACK(0, 3, 2, 1),
+    PACK(1, 0, 2, 3), PACK(1, 0, 3, 2), PACK(1, 2, 0, 3), PACK(1, 2, 3, 0), PACK(1, 3, 0, 2), PACK(1, 3, 2, 0),
+    PACK(2, 0, 1, 3), PACK(2, 0, 3, 1), PACK(2, 1, 0, 3), PACK(2, 1, 3, 0), PACK(2, 3, 0, 1), PACK(2, 3, 1, 0),
+    PACK(3, 0, 1, 2), PACK(3, 0, 2, 1), PACK(3, 1, 0, 2), PACK(3, 1, 2, 0), PACK(3, 2, 0, 1), PACK(3, 2, 1, 0),
+};
+#undef PACK
+
+unsigned hz_tileorder_subframe(unsigned order, unsigned pixel)
+{
+    for (unsigned s = 0; s < 4; s++)
+        if (hz_tileorder_pixel(order, s) == (pixel & 3u))
+            return s;
+    return 0; /* unreachable: every ordering is a permutation */
+}
+
+int hz_tileorder_index(const uint8_t seq[4])
+{
+    unsigned packed = 0, seen = 0;
+    for (unsigned s = 0; s < 4; s++) {
+        if (seq[s] > 3 || (seen & (1u << seq[s])))
+            return -1;
+        seen |= 1u << seq[s];
+        packed |= (unsigned)seq[s] << (2u * s);
+    }
+    for (unsigned o = 0; o < HZ_TILEORDER_COUNT; o++)
+        if (hz_tileorder_packed[o] == packed)
+            return (int)o;
+    return -1;
+}
+
+hz_tilecycle_t hz_tileorder_cycle(unsigned order)
+{
+    /* Classify the closed path by its steps: a step between pixels p and q is horizontal when p ^ q == 1
+     * (same row), vertical when p ^ q == 2 (same column), diagonal when p ^ q == 3. A Hamiltonian cycle of the
+     * 2x2 grid without a diagonal step is the square; one with diagonals has exactly two, plus two parallel
+     * edges whose direction names the class. */
+    unsigned horizontal = 0, diagonal = 0;
+    for (unsigned s = 0; s < 4; s++) {
+        unsigned step = hz_tileorder_pixel(order, s) ^ hz_tileorder_pixel(order, s + 1);
+        horizontal += step == 1;
+        diagonal += step == 3;
+    }
+    if (diagonal == 0)
+        return HZ_TILECYCLE_SQUARE;
+    return horizontal ? HZ_TILECYCLE_HOURGLASS : HZ_TILECYCLE_BOWTIE;
+}
+
+unsigned hz_tileorder_of_cycle(hz_tilecycle_t cycle)
+{
+    switch (cycle) {
+    case HZ_TILECYCLE_HOURGLASS:
+        return HZ_TILEORDER_HOURGLASS;
+    case HZ_TILECYCLE_BOWTIE:
+        return HZ_TILEORDER_BOWTIE;
+    case HZ_TILECYCLE_SQUARE:
+    default:
+        return HZ_TILEORDER_SQUARE;
+    }
+}
+
+const char *hz_tilecycle_name(hz_tilecycle_t cycle)
+{
+    switch (cycle) {
+    case HZ_TILECYCLE_HOURGLASS:
+        return "hourglass";
+    case HZ_TILECYCLE_BOWTIE:
+        return "bowtie";
+    case HZ_TILECYCLE_SQUARE:
+    default:
+        return "square";
+    }
+}
+
+const char *hz_ghat_rule_name(hz_ghat_rule_t rule)
+{
+    static const char *const names[HZ_GHAT_RULE_COUNT] = { "full", "dominant", "shear-up", "shear-down",
+                                                           "hourglass", "bowtie" };
+    return (unsigned)rule < HZ_GHAT_RULE_COUNT ? names[rule] : NULL;
+}
+
+/* |v| as an unsigned value; exact for INT32_MIN (2^31). */
+static uint32_t uabs32(int32_t v)
+{
+    return v < 0 ? 0u - (uint32_t)v : (uint32_t)v;
+}
+
+/* floor(v / 2^s) for signed v without relying on the implementation-defined shift of negative values. */
+static int64_t floor_shift(int64_t v, unsigned s)
+{
+    return v >= 0 ? (int64_t)((uint64_t)v >> s) : -(int64_t)((uint64_t)(-(v + 1)) >> s) - 1;
+}
+
+/* round(atan(2^-i) / (π/2) * 2^38): CORDIC micro-rotation angles in 2^-8 HZ_QANGLE units (8 guard bits keep
+ * the 34 rounded entries from adding up to more than a fraction of a unit). tools/gen/tileorder_golden.py
+ * recomputes them from libm for the golden hash that test_tileorder checks. */
+#define CORDIC_STEPS 34
+#define CORDIC_GUARD 8
+static const uint64_t cordic_atan[CORDIC_STEPS] = {
+    137438953472u, 81134951838u, 42869480287u, 21761217566u, 10922836750u,
+    5466743129u, 2734038620u, 1367102738u, 683561799u, 341782203u,
+    170891265u, 85445653u, 42722829u, 21361415u, 10680707u,
+    5340354u, 2670177u, 1335088u, 667544u, 333772u,
+    166886u, 83443u, 41722u, 20861u, 10430u,
+    5215u, 2608u, 1304u, 652u, 326u,
+    163u, 81u, 41u, 20u,
+};
+
+hz_qangle_t hz_tileorder_angle(hz_q16_t mx, hz_q16_t my)
+{
+    uint32_t ax = uabs32(mx), ay = uabs32(my);
+    if (ay == 0)
+        return 0;
+    if (ax == 0)
+        return HZ_QANGLE_RIGHT;
+    if (ax == ay)
+        return HZ_QANGLE_DIAG;
+    /* Vectoring CORDIC: rotate (x, y) onto the x axis by ±atan(2^-i), summing the rotations. The larger input
+     * is scaled up to bit 60: the gain (about 1.65) keeps x below 2^62, and 34 steps leave a residual below a
+     * tenth of a unit. */
+    uint32_t big = ax > ay ? ax : ay;
+    unsigned shift = 60u - (31u - (unsigned)hz_clz32(big));
+    int64_t x = (int64_t)((uint64_t)ax << shift);
+    int64_t y = (int64_t)((uint64_t)ay << shift);
+    int64_t z = 0;
+    for (unsigned i = 0; i < CORDIC_STEPS; i++) {
+        int64_t dx = floor_shift(y, i), dy = floor_shift(x, i);
+        if (y >= 0) {
+            x += dx;
+            y -= dy;
+            z += (int64_t)cordic_atan[i];
+        } else {
+            x -= dx;
+            y += dy;
+            z -= (int64_t)cordic_atan[i];
+        }
+    }
+    const int64_t right = (int64_t)HZ_QANGLE_RIGHT << CORDIC_GUARD;
+    z = z < 0 ? 0 : z > right ? right : z;
+    return (hz_qangle_t)((z + (1 << (CORDIC_GUARD - 1))) >> CORDIC_GUARD);
+}
+
+hz_q16_t hz_tileorder_length_frac(hz_q16_t mx, hz_q16_t my)
+{
+    /* |m|^2 in Q32.32: each square is at most 2^62, so the sum fits in 64 bits; its integer square root is
+     * |m| in Q16.16 rounded down (up to 2^31.5, so only the fraction is returned). */
+    uint64_t ax = uabs32(mx), ay = uabs32(my);
+    if (ax == 0 || ay == 0) /* on an axis the length is exact without a root (and static tiles are common) */
+        return (hz_q16_t)((ax | ay) & (uint32_t)(HZ_Q16_ONE - 1));
+    uint32_t len = hz_isqrt_u64(ax * ax + ay * ay);
+    return (hz_q16_t)(len & (uint32_t)(HZ_Q16_ONE - 1));
+}
+
+#define Q_QUARTER (HZ_Q16_ONE / 4)
+#define Q_THREE_QUARTERS (3 * HZ_Q16_ONE / 4)
+
+/* Eq. 4: horizontal motion. */
+static hz_tilecycle_t rule_horizontal(hz_q16_t lf)
+{
+    return lf > Q_QUARTER && lf < Q_THREE_QUARTERS ? HZ_TILECYCLE_HOURGLASS : HZ_TILECYCLE_BOWTIE;
+}
+
+/* Eq. 5: vertical motion (the complement of Eq. 4). */
+static hz_tilecycle_t rule_vertical(hz_q16_t lf)
+{
+    return lf > Q_QUARTER && lf < Q_THREE_QUARTERS ? HZ_TILECYCLE_BOWTIE : HZ_TILECYCLE_HOURGLASS;
+}
+
+/* The continuous transitions of Fig. 10 (middle): the hourglass band (0.25, 0.75) of Eq. 4 slides by
+ * t/2 = α / π, up (up != 0) or down, reaching Eq. 5's band at α = π/2. */
+static hz_tilecycle_t rule_shear(hz_q16_t lf, hz_qangle_t a, int up)
+{
+    uint32_t half_t = a >> 15; /* (α / 2^30) / 2 in Q16.16: at most 0.5 */
+    uint32_t u = (up ? (uint32_t)lf - half_t : (uint32_t)lf + half_t) & (uint32_t)(HZ_Q16_ONE - 1);
+    return u > (uint32_t)Q_QUARTER && u < (uint32_t)Q_THREE_QUARTERS ? HZ_TILECYCLE_HOURGLASS
+                                                                    : HZ_TILECYCLE_BOWTIE;
+}
+
+hz_tilecycle_t hz_tileorder_ghat_polar(hz_q16_t lf, hz_qangle_t a, uint32_t rnd, hz_ghat_rule_t rule)
+{
+    switch (rule) {
+    case HZ_GHAT_HOURGLASS:
+        return HZ_TILECYCLE_HOURGLASS;
+    case HZ_GHAT_BOWTIE:
+        return HZ_TILECYCLE_BOWTIE;
+    case HZ_GHAT_DOMINANT:
+        return a <= HZ_QANGLE_DIAG ? rule_horizontal(lf) : rule_vertical(lf);
+    case HZ_GHAT_SHEAR_UP:
+        return rule_shear(lf, a, 1);
+    case HZ_GHAT_SHEAR_DOWN:
+        return rule_shear(lf, a, 0);
+    case HZ_GHAT_FULL:
+    default:
+        if (a <= HZ_QANGLE_DIAG - HZ_QANGLE_GAMMA)
+            return rule_shear(lf, a, 1);
+        if (a >= HZ_QANGLE_DIAG + HZ_QANGLE_GAMMA)
+            return rule_shear(lf, a, 0);
+        return (rnd >> 31) ? HZ_TILECYCLE_HOURGLASS : HZ_TILECYCLE_BOWTIE;
+    }
+}
+
+hz_tilecycle_t hz_tileorder_ghat(hz_q16_t mx, hz_q16_t my, uint32_t rnd, hz_ghat_rule_t rule)
+{
+    if (rule == HZ_GHAT_HOURGLASS)
+        return HZ_TILECYCLE_HOURGLASS;
+    if (rule == HZ_GHAT_BOWTIE)
+        return HZ_TILECYCLE_BOWTIE;
+    hz_q16_t lf = hz_tileorder_length_frac(mx, my);
+    if (my == 0)
+        return rule_horizontal(lf);
+    if (mx == 0)
+        return rule_vertical(lf);
+    if (rule == HZ_GHAT_DOMINANT) /* exact comparison rather than the rounded angle */
+        return uabs32(mx) >= uabs32(my) ? rule_horizontal(lf) : rule_vertical(lf);
+    return hz_tileorder_ghat_polar(lf, hz_tileorder_angle(mx, my), rnd, rule);
+}
+
+uint32_t hz_tileorder_tile_random(uint32_t tx, uint32_t ty, uint32_t cycle, uint32_t seed)
+{
+    return hz_hash3(tx, ty, hz_hash2(cycle, seed));
+}
+
+void hz_tileorder_choose(const hz_q16_t *motion, size_t tiles_x, size_t ty0, size_t ty1, uint32_t cycle,
+                         uint32_t seed, hz_ghat_rule_t rule, uint8_t *orders)
+{
+    for (size_t ty = ty0; ty < ty1; ty++) {
+        for (size_t tx = 0; tx < tiles_x; tx++) {
+            size_t i = ty * tiles_x + tx;
+            uint32_t rnd = hz_tileorder_tile_random((uint32_t)tx, (uint32_t)ty, cycle, seed);
+            hz_tilecycle_t c = hz_tileorder_ghat(motion[2 * i], motion[2 * i + 1], rnd, rule);
+            orders[i] = (uint8_t)hz_tileorder_of_cycle(c);
+        }
+    }
+}

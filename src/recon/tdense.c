@@ -1,0 +1,424 @@
+/* Temporally dense reconstruction (see hz/tdense.h): per-tile sample placement, the static moving window, the
+ * dynamic reproject-and-clamp path, and the once-per-cycle choice of tile orderings. */
+#include "hz/tdense.h"
+
+#include "hz/vmath.h"
+
+#define ALIGN 64u
+/* Window floats per pixel: 4 slots of (r, g, b, unused), so a pixel's window is one aligned 64-byte cache line
+ * (the window is the largest array, and the one pixel per tile that gets a sample touches one line). */
+#define WIN 16u
+
+hz_tdense_config_t hz_tdense_config_default(uint32_t width, uint32_t height)
+{
+    hz_tdense_config_t c;
+    c.width = width;
+    c.height = height;
+    c.rule = HZ_GHAT_FULL;
+    c.seed = 0;
+    c.reflect_mv = true;
+    c.gamma = 1.0f;
+    return c;
+}
+
+/* The arrays hz_tdense_init takes, in order, each rounded up to ALIGN: once the first is aligned, none of the
+ * others needs padding, so an arena with this many bytes available at ALIGN holds them all. */
+static size_t plan_bytes(uint32_t width, uint32_t height)
+{
+    size_t px = (size_t)width * height;
+    size_t tiles = (size_t)((width + 1) / 2) * ((height + 1) / 2);
+    const size_t sizes[] = {
+        tiles,                          /* orders */
+        tiles,                          /* next_orders */
+        tiles * 3 * sizeof(float),      /* sub_rgb */
+        tiles * 2 * sizeof(hz_q16_t),   /* tile_motion */
+        tiles,                          /* sub_jitter */
+        px * 2 * sizeof(float),         /* mv */
+        px * WIN * sizeof(float),       /* window */
+        px,                             /* flags */
+        px * 3 * sizeof(float),         /* frames[0] */
+        px * 3 * sizeof(float),         /* frames[1] */
+    };
+    size_t total = 0;
+    for (size_t i = 0; i < HZ_ARRAY_LEN(sizes); i++)
+        total += hz_align_up(sizes[i], ALIGN);
+    return total;
+}
+
+size_t hz_tdense_bytes(uint32_t width, uint32_t height)
+{
+    size_t dummy;
+    if (hz_image_check_size(width, height, &dummy, NULL) != HZ_OK)
+        return 0;
+    return plan_bytes(width, height) + ALIGN - 1; /* plus the worst padding before the first array */
+}
+
+hz_status_t hz_tdense_init(hz_tdense_t *td, const hz_tdense_config_t *cfg, hz_arena_t *arena, hz_error_t *err)
+{
+    hz_memset(td, 0, sizeof *td);
+    size_t bytes;
+    hz_status_t st = hz_image_check_size(cfg->width, cfg->height, &bytes, err);
+    if (st != HZ_OK)
+        return st;
+    if ((unsigned)cfg->rule >= HZ_GHAT_RULE_COUNT)
+        return hz_error_set(err, HZ_E_INVALID_ARG, "tdense: unknown ordering rule %d", (int)cfg->rule);
+    if (!(cfg->gamma >= 0.0f && cfg->gamma <= 100.0f))
+        return hz_error_set(err, HZ_E_INVALID_ARG, "tdense: variance box gamma must lie in [0, 100]");
+    size_t need = plan_bytes(cfg->width, cfg->height), have = hz_arena_available(arena, ALIGN);
+    if (need > have)
+        return hz_error_set(err, HZ_E_NO_MEMORY,
+                            "tdense %ux%u: arena '%s' needs %zu bytes, has %zu", (unsigned)cfg->width,
+                            (unsigned)cfg->height, arena->name ? arena->name : "?", need, have);
+    hz_arena_mark_t mark = hz_arena_mark(arena);
+    size_t px = (size_t)cfg->width * cfg->height;
+    uint32_t tx = (cfg->width + 1) / 2, ty = (cfg->height + 1) / 2;
+    size_t tiles = (size_t)tx * ty;
+    td->orders = hz_arena_alloc(arena, tiles, ALIGN);
+    td->next_orders = hz_arena_alloc(arena, tiles, ALIGN);
+    td->sub_rgb = hz_arena_alloc_array(arena, tiles * 3, sizeof(float), ALIGN);
+    td->tile_motion = hz_arena_alloc_array(arena, tiles * 2, sizeof(hz_q16_t), ALIGN);
+    td->sub_jitter = hz_arena_alloc(arena, tiles, ALIGN);
+    td->mv = hz_arena_alloc_array(arena, px * 2, sizeof(float), ALIGN);
+    td->window = hz_arena_alloc_array(arena, px * WIN, sizeof(float), ALIGN);
+    td->flags = hz_arena_alloc(arena, px, ALIGN);
+    float *f0 = hz_arena_alloc_array(arena, px * 3, sizeof(float), ALIGN);
+    float *f1 = hz_arena_alloc_array(arena, px * 3, sizeof(float), ALIGN);
+    if (!td->orders || !td->next_orders || !td->sub_rgb || !td->tile_motion || !td->sub_jitter || !td->mv ||
+        !td->window || !td->flags || !f0 || !f1) {
+        /* The plan above is an upper bound, so this is a bug in plan_bytes. */
+        hz_arena_reset(arena, mark);
+        hz_memset(td, 0, sizeof *td);
+        return hz_error_set(err, HZ_E_INTERNAL, "tdense: arena '%s' refused memory its plan said was there",
+                            arena->name ? arena->name : "?");
+    }
+    td->cfg = *cfg;
+    td->tiles_x = tx;
+    td->tiles_y = ty;
+    td->frames[0].width = td->frames[1].width = cfg->width;
+    td->frames[0].height = td->frames[1].height = cfg->height;
+    td->frames[0].rgb = f0;
+    td->frames[1].rgb = f1;
+    hz_tdense_reset(td);
+    return HZ_OK;
+}
+
+void hz_tdense_reset(hz_tdense_t *td)
+{
+    size_t px = (size_t)td->cfg.width * td->cfg.height, tiles = (size_t)td->tiles_x * td->tiles_y;
+    unsigned first = hz_tileorder_of_cycle(hz_tileorder_ghat(0, 0, 0, td->cfg.rule));
+    hz_memset(td->orders, (int)first, tiles);
+    hz_memset(td->next_orders, (int)first, tiles);
+    hz_memset(td->sub_rgb, 0, tiles * 3 * sizeof(float));
+    hz_memset(td->tile_motion, 0, tiles * 2 * sizeof(hz_q16_t));
+    hz_memset(td->sub_jitter, -1, tiles);
+    hz_memset(td->mv, 0, px * 2 * sizeof(float));
+    hz_memset(td->window, 0, px * WIN * sizeof(float));
+    hz_memset(td->flags, 0, px);
+    hz_memset(td->frames[0].rgb, 0, px * 3 * sizeof(float));
+    hz_memset(td->frames[1].rgb, 0, px * 3 * sizeof(float));
+    td->frame = 0;
+    td->camera_moved = false;
+    td->in_frame = false;
+}
+
+void hz_tdense_begin_frame(hz_tdense_t *td, bool camera_moved)
+{
+    td->camera_moved = camera_moved;
+    td->in_frame = true;
+}
+
+/* Pixel of tile (tx, ty) traced this frame, as image coordinates; false when outside the image. */
+static bool tile_pixel(const hz_tdense_t *td, uint32_t tx, uint32_t ty, uint32_t *px, uint32_t *py)
+{
+    unsigned p = hz_tileorder_pixel(hz_tdense_tile_order(td, tx, ty), hz_tdense_subframe(td->frame));
+    *px = 2 * tx + (p & 1u);
+    *py = 2 * ty + (p >> 1);
+    return *px < td->cfg.width && *py < td->cfg.height;
+}
+
+/* MSAA index a pixel is traced at: the cycle's position when static, -1 (centre) when dynamic or when the
+ * camera moved (every pixel is dynamic then). */
+static int trace_msaa(const hz_tdense_t *td, size_t pixel)
+{
+    if (td->camera_moved || (td->flags[pixel] & HZ_TDENSE_DYNAMIC))
+        return -1;
+    return (int)hz_tdense_jitter_index(td->frame);
+}
+
+bool hz_tdense_tile_sample(const hz_tdense_t *td, uint32_t tx, uint32_t ty, uint32_t *px, uint32_t *py,
+                           float jitter[2], int *msaa)
+{
+    jitter[0] = jitter[1] = 0.0f;
+    *msaa = -1;
+    if (!tile_pixel(td, tx, ty, px, py))
+        return false;
+    int j = trace_msaa(td, (size_t)*py * td->cfg.width + *px);
+    if (j >= 0) {
+        jitter[0] = (float)hz_msaa4_jitter16[j][0] * (1.0f / 16.0f);
+        jitter[1] = (float)hz_msaa4_jitter16[j][1] * (1.0f / 16.0f);
+    }
+    *msaa = j;
+    return true;
+}
+
+static float sanitise_motion(float v)
+{
+    if (hz_isnanf(v))
+        return 0.0f;
+    return hz_clampf(v, -HZ_TDENSE_MAX_MOTION, HZ_TDENSE_MAX_MOTION);
+}
+
+void hz_tdense_put(hz_tdense_t *td, uint32_t tx, uint32_t ty, const float rgb[3], const float mv[2],
+                   const float *mv_reflect)
+{
+    uint32_t px, py;
+    if (!tile_pixel(td, tx, ty, &px, &py))
+        return;
+    size_t t = (size_t)ty * td->tiles_x + tx, p = (size_t)py * td->cfg.width + px;
+    td->sub_rgb[3 * t + 0] = rgb[0];
+    td->sub_rgb[3 * t + 1] = rgb[1];
+    td->sub_rgb[3 * t + 2] = rgb[2];
+    td->sub_jitter[t] = (int8_t)trace_msaa(td, p);
+    const float *m = (mv_reflect && td->cfg.reflect_mv) ? mv_reflect : mv;
+    td->mv[2 * p + 0] = sanitise_motion(m[0]);
+    td->mv[2 * p + 1] = sanitise_motion(m[1]);
+}
+
+/* Whether pixel (x, y) is the one its tile traced this frame (then *tile is its tile index). */
+HZ_INLINE bool is_new(const hz_tdense_t *td, uint32_t x, uint32_t y, unsigned subframe, size_t *tile)
+{
+    size_t t = (size_t)(y >> 1) * td->tiles_x + (x >> 1);
+    *tile = t;
+    return hz_tileorder_pixel(td->orders[t], subframe) == (((y & 1u) << 1) | (x & 1u));
+}
+
+/* A motion vector and its squared length. */
+typedef struct motion {
+    float x, y, l2;
+} motion_t;
+
+/* The longer of a and b; a wins ties, so the scan order decides (and no split of the work can change it). */
+HZ_INLINE motion_t longer(motion_t a, motion_t b)
+{
+    return b.l2 > a.l2 ? b : a;
+}
+
+HZ_INLINE motion_t motion_at(const float *mv, size_t p)
+{
+    motion_t m = { mv[2 * p], mv[2 * p + 1], 0.0f };
+    m.l2 = m.x * m.x + m.y * m.y;
+    return m;
+}
+
+/* Longest motion vector among the pixels [x0, x1] x [y0, y1] (clamped to the image), scanned row by row. */
+static motion_t longest_in(const hz_tdense_t *td, int x0, int y0, int x1, int y1)
+{
+    int w = (int)td->cfg.width, h = (int)td->cfg.height;
+    x0 = x0 < 0 ? 0 : x0;
+    y0 = y0 < 0 ? 0 : y0;
+    x1 = x1 >= w ? w - 1 : x1;
+    y1 = y1 >= h ? h - 1 : y1;
+    motion_t best = { 0.0f, 0.0f, 0.0f };
+    for (int y = y0; y <= y1; y++)
+        for (int x = x0; x <= x1; x++)
+            best = longer(best, motion_at(td->mv, (size_t)y * (size_t)w + (size_t)x));
+    return best;
+}
+
+/* Bilinear fetch of the previous frame at continuous pixel coordinates (pixel centres on integers), clamped
+ * to the image edge (so the coordinates are non-negative and truncation is the floor). */
+static void fetch_bilinear(const hz_image_t *img, float sx, float sy, float out[3])
+{
+    sx = hz_clampf(sx, 0.0f, (float)img->width - 1.0f);
+    sy = hz_clampf(sy, 0.0f, (float)img->height - 1.0f);
+    uint32_t x0 = (uint32_t)sx, y0 = (uint32_t)sy;
+    float fx = sx - (float)x0, fy = sy - (float)y0;
+    uint32_t x1 = x0 + 1 < img->width ? x0 + 1 : x0, y1 = y0 + 1 < img->height ? y0 + 1 : y0;
+    const float *a = hz_image_at(img, x0, y0), *b = hz_image_at(img, x1, y0);
+    const float *c = hz_image_at(img, x0, y1), *d = hz_image_at(img, x1, y1);
+    for (int k = 0; k < 3; k++) {
+        float top = a[k] + (b[k] - a[k]) * fx;
+        float bot = c[k] + (d[k] - c[k]) * fx;
+        out[k] = top + (bot - top) * fy;
+    }
+}
+
+/* Mean and variance of the immediate neighbours of (x, y) that belong to this frame's subframe. Returns how
+ * many there were. The 3x3 window around a pixel meets its own tile and, towards the side its
+ * position in the tile faces, one tile across, one tile down or up, and one diagonally; each of those traced
+ * exactly one pixel, so at most four candidates need checking (in a fixed order: the sums do not depend on
+ * how the work is split). */
+static int newest_box(const hz_tdense_t *td, uint32_t x, uint32_t y, unsigned subframe, float mean[3],
+                      float var[3])
+{
+    float sum[3] = { 0, 0, 0 }, sq[3] = { 0, 0, 0 };
+    int n = 0;
+    int tx = (int)(x >> 1), ty = (int)(y >> 1);
+    int sx = (x & 1u) ? 1 : -1, sy = (y & 1u) ? 1 : -1;
+    const int cand[4][2] = { { tx, ty }, { tx + sx, ty }, { tx, ty + sy }, { tx + sx, ty + sy } };
+    for (int i = 0; i < 4; i++) {
+        int cx = cand[i][0], cy = cand[i][1];
+        if (cx < 0 || cy < 0 || cx >= (int)td->tiles_x || cy >= (int)td->tiles_y)
+            continue;
+        size_t t = (size_t)cy * td->tiles_x + (size_t)cx;
+        unsigned pix = hz_tileorder_pixel(td->orders[t], subframe);
+        int nx = 2 * cx + (int)(pix & 1u), ny = 2 * cy + (int)(pix >> 1);
+        int dx = nx - (int)x, dy = ny - (int)y;
+        if ((dx == 0 && dy == 0) || dx < -1 || dx > 1 || dy < -1 || dy > 1 || nx >= (int)td->cfg.width ||
+            ny >= (int)td->cfg.height)
+            continue;
+        const float *c = td->sub_rgb + 3 * t;
+        for (int k = 0; k < 3; k++) {
+            sum[k] += c[k];
+            sq[k] += c[k] * c[k];
+        }
+        n++;
+    }
+    float inv = n ? 1.0f / (float)n : 0.0f;
+    for (int k = 0; k < 3; k++) {
+        mean[k] = sum[k] * inv;
+        float v = sq[k] * inv - mean[k] * mean[k];
+        var[k] = v > 0.0f ? v : 0.0f;
+    }
+    return n;
+}
+
+/* Average of the window's samples in MSAA order (the order the 4-spp full-frame mode sums them in). */
+static void window_average(const float *win, unsigned mask, float out[3])
+{
+    float s[3] = { 0.0f, 0.0f, 0.0f };
+    unsigned n = 0;
+    for (unsigned j = 0; j < 4; j++) {
+        if (!(mask & (1u << j)))
+            continue;
+        for (int k = 0; k < 3; k++)
+            s[k] += win[4 * j + k];
+        n++;
+    }
+    for (int k = 0; k < 3; k++)
+        out[k] = n == 4 ? s[k] * 0.25f : s[k] / (float)n;
+}
+
+HZ_INLINE void copy3(float *dst, const float *src)
+{
+    dst[0] = src[0];
+    dst[1] = src[1];
+    dst[2] = src[2];
+}
+
+/* One pixel of Fig. 3; m is the longest motion in its 3x3 neighbourhood. */
+static void resolve_pixel(hz_tdense_t *td, uint32_t x, uint32_t y, unsigned subframe, motion_t m,
+                          const hz_image_t *prev, float *out)
+{
+    size_t p = (size_t)y * td->cfg.width + x, t;
+    bool fresh = is_new(td, x, y, subframe, &t);
+    unsigned f = td->flags[p];
+    const float *sample = td->sub_rgb + 3 * t;
+    float mean[3], var[3];
+    if (!td->camera_moved && m.l2 == 0.0f) {
+        /* Static. An old pixel's window has not changed since the previous frame, where the pixel was static
+         * too (turning static empties nothing, and a dynamic pixel's window is empty): its output then was the
+         * same average, or the previous output it kept, so it is copied. */
+        f &= ~HZ_TDENSE_DYNAMIC;
+        if (fresh) {
+            int j = td->sub_jitter[t];
+            if (j >= 0) {
+                copy3(td->window + WIN * p + 4 * (unsigned)j, sample);
+                f |= 1u << j;
+                window_average(td->window + WIN * p, f & HZ_TDENSE_SAMPLES, out);
+            } else {
+                f &= ~HZ_TDENSE_SAMPLES; /* a centre sample starts no window: wait for a jittered one */
+                copy3(out, sample);
+            }
+        } else if (f & HZ_TDENSE_SEEN) {
+            /* The frame being written is the one before the previous (ping-pong): if the previous frame kept
+             * the value too, it is already there. */
+            if (!(f & HZ_TDENSE_KEPT))
+                copy3(out, hz_image_at(prev, x, y));
+            td->flags[p] = (uint8_t)(f | HZ_TDENSE_KEPT);
+            return;
+        } else {
+            newest_box(td, x, y, subframe, mean, var);
+            copy3(out, mean);
+        }
+    } else {
+        f = (f & ~HZ_TDENSE_SAMPLES) | HZ_TDENSE_DYNAMIC;
+        if (fresh) {
+            copy3(out, sample);
+        } else {
+            int n = newest_box(td, x, y, subframe, mean, var);
+            if (!(f & HZ_TDENSE_SEEN)) {
+                copy3(out, mean);
+            } else {
+                fetch_bilinear(prev, (float)x + m.x, (float)y + m.y, out);
+                for (int k = 0; n && k < 3; k++) { /* clamp to mean ± γσ (branch-free: min/max) */
+                    float half = td->cfg.gamma * hz_sqrtf(var[k]);
+                    out[k] = hz_clampf(out[k], mean[k] - half, mean[k] + half);
+                }
+            }
+        }
+    }
+    td->flags[p] = (uint8_t)((f | HZ_TDENSE_SEEN) & ~HZ_TDENSE_KEPT);
+}
+
+/* Pixel row y: the 3x3 longest motion slides along the row as three column maxima. */
+static void resolve_row(hz_tdense_t *td, uint32_t y, unsigned subframe, const hz_image_t *prev, hz_image_t *cur)
+{
+    uint32_t w = td->cfg.width, h = td->cfg.height;
+    const float *r0 = td->mv + 2 * (size_t)(y ? y - 1 : 0) * w;
+    const float *r1 = td->mv + 2 * (size_t)y * w;
+    const float *r2 = td->mv + 2 * (size_t)(y + 1 < h ? y + 1 : y) * w;
+    motion_t col_prev, col_cur, col_next;
+    col_cur = longer(longer(motion_at(r0, 0), motion_at(r1, 0)), motion_at(r2, 0));
+    col_prev = col_cur;
+    for (uint32_t x = 0; x < w; x++) {
+        uint32_t xn = x + 1 < w ? x + 1 : x;
+        col_next = longer(longer(motion_at(r0, xn), motion_at(r1, xn)), motion_at(r2, xn));
+        motion_t m = longer(longer(col_prev, col_cur), col_next);
+        resolve_pixel(td, x, y, subframe, m, prev, hz_image_at(cur, x, y));
+        col_prev = col_cur;
+        col_cur = col_next;
+    }
+}
+
+void hz_tdense_resolve_rows(hz_tdense_t *td, uint32_t ty0, uint32_t ty1)
+{
+    unsigned subframe = hz_tdense_subframe(td->frame);
+    hz_image_t *cur = &td->frames[td->frame & 1u];
+    const hz_image_t *prev = &td->frames[(td->frame + 1u) & 1u];
+    uint32_t h = td->cfg.height;
+    if (ty1 > td->tiles_y)
+        ty1 = td->tiles_y;
+    for (uint32_t ty = ty0; ty < ty1; ty++) {
+        for (uint32_t y = 2 * ty; y < 2 * ty + 2 && y < h; y++)
+            resolve_row(td, y, subframe, prev, cur);
+        if (subframe == 3) {
+            /* Last frame of the cycle: each tile's motion is the longest over the 3x3 neighbourhoods of its
+             * pixels, i.e. the 4x4 block around it; ĝ picks the next cycle's ordering. */
+            for (uint32_t tx = 0; tx < td->tiles_x; tx++) {
+                motion_t m = longest_in(td, 2 * (int)tx - 1, 2 * (int)ty - 1, 2 * (int)tx + 2, 2 * (int)ty + 2);
+                size_t t = (size_t)ty * td->tiles_x + tx;
+                td->tile_motion[2 * t] = hz_q16_from_float(m.x);
+                td->tile_motion[2 * t + 1] = hz_q16_from_float(m.y);
+            }
+            hz_tileorder_choose(td->tile_motion, td->tiles_x, ty, ty + 1, hz_tdense_cycle(td->frame) + 1u,
+                                td->cfg.seed, td->cfg.rule, td->next_orders);
+        }
+    }
+}
+
+void hz_tdense_end_frame(hz_tdense_t *td)
+{
+    if (hz_tdense_subframe(td->frame) == 3) {
+        uint8_t *o = td->orders;
+        td->orders = td->next_orders;
+        td->next_orders = o;
+    }
+    td->frame++;
+    td->in_frame = false;
+}
+
+const hz_image_t *hz_tdense_output(const hz_tdense_t *td)
+{
+    return &td->frames[(td->in_frame ? td->frame : td->frame + 1u) & 1u];
+}

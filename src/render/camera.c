@@ -1,0 +1,40 @@
+/* Pinhole camera: basis, ray directions and the matching projection for motion vectors. Ray generation and
+ * projection use the same basis, so a point on a pixel's ray projects back to that pixel: static content
+ * under a still camera gets motion vectors of exactly zero. */
+#include "render_internal.h"
+
+void hz_view_setup(hz_view_t *v, const hz_camera_t *cam, uint32_t width, uint32_t height)
+{
+    float aspect = (float)width / (float)height;
+    float th = hz_tanf(0.5f * cam->fov_y);
+    hz_mat4_t cam_to_world = hz_mat4_look_at(cam->eye, cam->target, cam->up);
+    v->eye = cam->eye;
+    v->right = hz_v3_scale(hz_v3(cam_to_world.m[0], cam_to_world.m[1], cam_to_world.m[2]), th * aspect);
+    v->up = hz_v3_scale(hz_v3(cam_to_world.m[4], cam_to_world.m[5], cam_to_world.m[6]), th);
+    v->fwd = hz_v3(-cam_to_world.m[8], -cam_to_world.m[9], -cam_to_world.m[10]);
+    v->width = width;
+    v->height = height;
+    v->spread = 2.0f * th / (float)height;
+}
+
+hz_vec3_t hz_view_ray_dir(const hz_view_t *v, float px, float py)
+{
+    float sx = 2.0f * px / (float)v->width - 1.0f;
+    float sy = 1.0f - 2.0f * py / (float)v->height;
+    hz_vec3_t d = hz_v3_add(v->fwd, hz_v3_add(hz_v3_scale(v->right, sx), hz_v3_scale(v->up, sy)));
+    return hz_v3_normalize(d);
+}
+
+bool hz_view_project(const hz_view_t *v, hz_vec3_t p, float *px, float *py)
+{
+    /* Straight from the basis, so it inverts hz_view_ray_dir: sx = dot(p - eye, right) / |right|^2 / depth. */
+    hz_vec3_t q = hz_v3_sub(p, v->eye);
+    float z = hz_v3_dot(q, v->fwd);
+    if (!(z > 0.0f))
+        return false;
+    float sx = hz_v3_dot(q, v->right) / hz_v3_dot(v->right, v->right) / z;
+    float sy = hz_v3_dot(q, v->up) / hz_v3_dot(v->up, v->up) / z;
+    *px = (sx + 1.0f) * 0.5f * (float)v->width;
+    *py = (1.0f - sy) * 0.5f * (float)v->height;
+    return hz_isfinitef(*px) && hz_isfinitef(*py);
+}

@@ -1,0 +1,491 @@
+/* Renderer set-up, frame sequencing and the full-frame mode (see hz/render.h). */
+#include "hz/fixed.h"
+#include "hz/hash.h"
+#include "render_internal.h"
+
+#define STACK_JOBS 4096u   /* depth-first ray queue per worker (bounded growth: see render_internal.h) */
+#define SHADOW_JOBS 256u   /* shadow queue per worker; flushed in packets when full */
+
+void hz_render_opts_default(hz_render_opts_t *o)
+{
+    hz_memset(o, 0, sizeof *o);
+    o->width = 640;
+    o->height = 360;
+    o->mode = HZ_MODE_FULL;
+    o->spp = 1;
+    o->max_bounces = 3;
+    o->min_visibility = 0.001f;
+    o->taa_gamma = 1.0f;
+    o->taa_alpha = 0.1f;
+    o->taa_clip = false;
+    o->taa_catmull_rom = false;
+    o->msaa4 = false;
+    o->tdense_rule = HZ_GHAT_FULL;
+    o->tdense_reflect_mv = true;
+    o->tdense_gamma = 1.0f;
+    o->seed = 0;
+}
+
+const char *hz_render_mode_name(hz_render_mode_t m)
+{
+    static const char *const names[HZ_MODE_COUNT] = { "full", "taa", "tdense" };
+    return (unsigned)m < HZ_MODE_COUNT ? names[m] : "unknown";
+}
+
+hz_status_t hz_render_opts_check(const hz_render_opts_t *o, hz_error_t *err)
+{
+    if (o->width < 1 || o->height < 1 || o->width > HZ_IMAGE_MAX_DIM || o->height > HZ_IMAGE_MAX_DIM)
+        return hz_error_set(err, HZ_E_INVALID_ARG, "size %ux%u outside 1..%u", o->width, o->height,
+                            HZ_IMAGE_MAX_DIM);
+    if ((unsigned)o->mode >= HZ_MODE_COUNT)
+        return hz_error_set(err, HZ_E_INVALID_ARG, "unknown mode %d", (int)o->mode);
+    uint32_t s = hz_isqrt_u64(o->spp);
+    if (o->spp < 1 || o->spp > 1024 || s * s != o->spp)
+        return hz_error_set(err, HZ_E_INVALID_ARG, "spp %u: must be a square number in 1..1024", o->spp);
+    if (o->max_bounces > 3)
+        return hz_error_set(err, HZ_E_INVALID_ARG, "max bounces %u: at most 3", o->max_bounces);
+    if (!(o->min_visibility >= 0.0f && o->min_visibility < 1.0f))
+        return hz_error_set(err, HZ_E_INVALID_ARG, "min visibility must lie in [0, 1)");
+    if (!(o->taa_gamma > 0.0f && o->taa_gamma <= 16.0f) || !(o->taa_alpha > 0.0f && o->taa_alpha <= 1.0f))
+        return hz_error_set(err, HZ_E_INVALID_ARG, "TAA gamma must lie in (0, 16], alpha in (0, 1]");
+    if (o->msaa4 && (o->mode != HZ_MODE_FULL || o->spp != 4))
+        return hz_error_set(err, HZ_E_INVALID_ARG, "the 4x MSAA positions need full mode with 4 spp");
+    if ((unsigned)o->tdense_rule >= HZ_GHAT_RULE_COUNT)
+        return hz_error_set(err, HZ_E_INVALID_ARG, "unknown tdense ordering rule %d", (int)o->tdense_rule);
+    if (!(o->tdense_gamma > 0.0f && o->tdense_gamma <= 16.0f))
+        return hz_error_set(err, HZ_E_INVALID_ARG, "tdense gamma must lie in (0, 16]");
+    return HZ_OK;
+}
+
+typedef struct needs {
+    bool blend, mask, textures, mirrors, motion, camera_moves, mv;
+} needs_t;
+
+static needs_t scene_needs(const hz_scene_t *s)
+{
+    needs_t n;
+    n.blend = HZ_FEATURE_TRANSPARENCY && (s->features & HZ_FEAT_BLEND);
+    n.mask = HZ_FEATURE_TRANSPARENCY && (s->features & HZ_FEAT_CUTOUT);
+    n.textures = HZ_FEATURE_TEXTURES && (s->features & HZ_FEAT_TEXTURES) && s->uv;
+    n.mirrors = HZ_FEATURE_MIRRORS && (s->features & HZ_FEAT_MIRROR);
+    n.motion = HZ_FEATURE_MOTION && (s->features & HZ_FEAT_MOTION) && s->prev_pos;
+    n.camera_moves = (s->features & HZ_FEAT_CAMERA_PATH) != 0;
+    n.mv = n.motion || n.camera_moves;
+    return n;
+}
+
+/* Sizes of every frame-arena allocation, in the order create makes them (64-byte alignment each). */
+static size_t frame_bytes(const hz_render_opts_t *o, const needs_t *n)
+{
+    size_t px = (size_t)o->width * o->height, a = 64, total = 0;
+#define ADD(bytes) total += hz_align_up((bytes), a) + a
+    ADD(sizeof(struct hz_renderer));
+    if (o->mode != HZ_MODE_TDENSE)
+        ADD(px * 12); /* out (tdense displays its own frames) */
+    ADD(px * 4);  /* depth */
+    ADD(px * 2);  /* object */
+    ADD(px * 12); /* normal */
+    ADD(px);      /* shadow */
+    ADD(px);      /* flags */
+    if (n->mirrors) {
+        ADD(px * 2);
+        ADD(px * 12);
+        ADD(px);
+        ADD(px);
+    }
+    if (n->mv)
+        ADD(px * 8);
+    if (n->mv && n->mirrors)
+        ADD(px * 8);
+    if (o->mode == HZ_MODE_TAA) {
+        ADD(px * 12); /* cur */
+        ADD(px * 12); /* hist[0] */
+        ADD(px * 12); /* hist[1] */
+        ADD(px * 2);  /* prev_object */
+    }
+#undef ADD
+    if (o->mode == HZ_MODE_TDENSE)
+        total += hz_tdense_bytes(o->width, o->height);
+    return total;
+}
+
+static size_t thread_bytes(void)
+{
+    return hz_align_up(sizeof(hz_worker_t), 64) + 64 + STACK_JOBS * sizeof(ray_job_t) + 64 +
+           SHADOW_JOBS * sizeof(shadow_job_t) + 64;
+}
+
+hz_status_t hz_render_plan(const hz_scene_t *scene, const hz_render_opts_t *opts, hz_render_plan_t *plan,
+                           hz_error_t *err)
+{
+    hz_status_t s = hz_render_opts_check(opts, err);
+    if (s != HZ_OK)
+        return s;
+    needs_t n = scene_needs(scene);
+    plan->frame_bytes = frame_bytes(opts, &n);
+    plan->thread_bytes = thread_bytes();
+    return HZ_OK;
+}
+
+hz_status_t hz_render_accel_geom(const hz_scene_t *scene, hz_arena_t *arena, hz_accel_geom_t *geom, hz_error_t *err)
+{
+    geom->pos = scene->pos;
+    geom->vertex_count = scene->vertex_count;
+    geom->tri = scene->tri;
+    geom->tri_count = scene->triangle_count;
+    geom->tri_flags = NULL;
+    /* Cutouts are decided in the any-hit callback; blended surfaces go through it too, so that a shadow ray's
+     * first, opaque-only pass (occlusion with early exit) can step through them. */
+    if (!(HZ_FEATURE_TRANSPARENCY && (scene->features & (HZ_FEAT_CUTOUT | HZ_FEAT_BLEND))))
+        return HZ_OK; /* no transparency: no any-hit work at all */
+    uint8_t *flags = hz_arena_alloc(arena, scene->triangle_count, 64);
+    if (!flags)
+        return hz_arena_error(arena, err);
+    for (uint32_t t = 0; t < scene->triangle_count; t++)
+        flags[t] = scene->materials[scene->tri_info[t] & 0xffffu].alpha_mode != HZ_ALPHA_OPAQUE ? HZ_ACCEL_TRI_ANYHIT
+                                                                                                : 0;
+    geom->tri_flags = flags;
+    return HZ_OK;
+}
+
+static void *take(hz_arena_t *a, size_t bytes, bool *ok)
+{
+    void *p = hz_arena_alloc(a, bytes, 64);
+    if (!p)
+        *ok = false;
+    return p;
+}
+
+hz_status_t hz_render_create(hz_renderer_t **out, hz_scene_t *scene, hz_accel_t *accel,
+                             const hz_render_opts_t *opts, hz_arena_t *frame_arena, hz_arena_t *thread_arenas,
+                             uint32_t thread_count, hz_error_t *err)
+{
+    *out = NULL;
+    hz_status_t s = hz_render_opts_check(opts, err);
+    if (s != HZ_OK)
+        return s;
+    if (thread_count < 1 || thread_count > HZ_MAX_THREADS)
+        return hz_error_set(err, HZ_E_INVALID_ARG, "thread count %u outside 1..%d", thread_count, HZ_MAX_THREADS);
+    needs_t n = scene_needs(scene);
+    /* Refuse up front, naming the arena and both counts, rather than half-way through. */
+    size_t need = frame_bytes(opts, &n), have = hz_arena_available(frame_arena, 64);
+    if (need > have)
+        return hz_error_set(err, HZ_E_NO_MEMORY, "arena '%s': a %ux%u %s renderer needs %zu bytes, has %zu",
+                            frame_arena->name, opts->width, opts->height, hz_render_mode_name(opts->mode), need,
+                            have);
+    for (uint32_t t = 0; t < thread_count; t++) {
+        size_t tn = thread_bytes(), th = hz_arena_available(&thread_arenas[t], 64);
+        if (tn > th)
+            return hz_error_set(err, HZ_E_NO_MEMORY, "arena '%s' %u: needs %zu bytes, has %zu",
+                                thread_arenas[t].name, t, tn, th);
+    }
+    hz_arena_mark_t mark = hz_arena_mark(frame_arena);
+    bool ok = true;
+    size_t px = (size_t)opts->width * opts->height;
+    struct hz_renderer *r = take(frame_arena, sizeof *r, &ok);
+    if (!ok)
+        return hz_arena_error(frame_arena, err);
+    hz_memset(r, 0, sizeof *r);
+    r->opts = *opts;
+    r->scene = scene;
+    r->accel = accel;
+    r->has_blend = n.blend, r->has_mask = n.mask, r->has_textures = n.textures, r->has_mirrors = n.mirrors;
+    r->has_motion = n.motion, r->camera_moves = n.camera_moves, r->need_mv = n.mv;
+    const hz_hzb_header_t *hb = scene->header;
+    r->offset_scale = 0.0f;
+    for (int c = 0; c < 3; c++)
+        r->offset_scale = hz_maxf(r->offset_scale, hz_maxf(hz_absf(hb->bounds_min[c]), hz_absf(hb->bounds_max[c])));
+    r->tiles_x = (opts->width + HZ_RENDER_TILE - 1) / HZ_RENDER_TILE;
+    r->tiles_y = (opts->height + HZ_RENDER_TILE - 1) / HZ_RENDER_TILE;
+    r->out.width = opts->width, r->out.height = opts->height;
+    if (opts->mode != HZ_MODE_TDENSE)
+        r->out.rgb = take(frame_arena, px * 12, &ok);
+    hz_gbuffer_t *gb = &r->gb;
+    gb->width = opts->width, gb->height = opts->height;
+    gb->depth = take(frame_arena, px * 4, &ok);
+    gb->object = take(frame_arena, px * 2, &ok);
+    gb->normal = take(frame_arena, px * 12, &ok);
+    gb->shadow = take(frame_arena, px, &ok);
+    gb->flags = take(frame_arena, px, &ok);
+    if (n.mirrors) {
+        gb->object2 = take(frame_arena, px * 2, &ok);
+        gb->normal2 = take(frame_arena, px * 12, &ok);
+        gb->shadow2 = take(frame_arena, px, &ok);
+        gb->flags2 = take(frame_arena, px, &ok);
+    }
+    if (n.mv)
+        gb->mv = take(frame_arena, px * 8, &ok);
+    if (n.mv && n.mirrors)
+        gb->mv_reflect = take(frame_arena, px * 8, &ok);
+    if (opts->mode == HZ_MODE_TAA) {
+        r->cur = r->out;
+        r->cur.rgb = take(frame_arena, px * 12, &ok);
+        r->hist[0] = r->hist[1] = r->out;
+        r->hist[0].rgb = take(frame_arena, px * 12, &ok);
+        r->hist[1].rgb = take(frame_arena, px * 12, &ok);
+        r->prev_object = take(frame_arena, px * 2, &ok);
+    }
+    if (!ok) {
+        s = hz_arena_error(frame_arena, err);
+        hz_arena_reset(frame_arena, mark);
+        return s;
+    }
+    if (opts->mode == HZ_MODE_TDENSE) {
+        hz_tdense_config_t tc = hz_tdense_config_default(opts->width, opts->height);
+        tc.rule = opts->tdense_rule;
+        tc.seed = opts->seed;
+        tc.reflect_mv = opts->tdense_reflect_mv;
+        tc.gamma = opts->tdense_gamma;
+        if ((s = hz_tdense_init(&r->td, &tc, frame_arena, err)) != HZ_OK) {
+            hz_arena_reset(frame_arena, mark);
+            return s;
+        }
+    } else {
+        hz_memset(r->out.rgb, 0, px * 12);
+    }
+    if (gb->mv)
+        hz_memset(gb->mv, 0, px * 8);
+    if (gb->mv_reflect)
+        hz_memset(gb->mv_reflect, 0, px * 8);
+    r->thread_count = thread_count;
+    for (uint32_t t = 0; t < thread_count; t++) {
+        hz_arena_t *ta = &thread_arenas[t];
+        hz_worker_t *w = hz_arena_alloc(ta, sizeof *w, 64);
+        ray_job_t *stack = hz_arena_alloc_array(ta, STACK_JOBS, sizeof(ray_job_t), 64);
+        shadow_job_t *shadows = hz_arena_alloc_array(ta, SHADOW_JOBS, sizeof(shadow_job_t), 64);
+        if (!w || !stack || !shadows) {
+            hz_arena_reset(frame_arena, mark);
+            return hz_arena_error(ta, err);
+        }
+        hz_memset(w, 0, sizeof *w);
+        w->stack = stack, w->stack_cap = STACK_JOBS;
+        w->shadows = shadows, w->shadow_cap = SHADOW_JOBS;
+        w->r = r;
+        hz_accel_ctx_init(&w->ctx);
+        if (n.mask || n.blend) {
+            w->ctx.anyhit = hz_render_anyhit;
+            w->ctx.user = w;
+        }
+        r->workers_by_thread[t] = w;
+    }
+    *out = r;
+    return HZ_OK;
+}
+
+static float halton(uint32_t i, uint32_t base)
+{
+    float f = 1.0f, v = 0.0f;
+    while (i > 0) {
+        f /= (float)base;
+        v += f * (float)(i % base);
+        i /= base;
+    }
+    return v;
+}
+
+hz_status_t hz_render_begin_frame(hz_renderer_t *r, uint64_t frame_index, float time, hz_error_t *err)
+{
+    if (!hz_isfinitef(time))
+        return hz_error_set(err, HZ_E_INVALID_ARG, "frame time is not finite");
+    if (r->has_motion) {
+        hz_scene_animate(r->scene, time);
+        if (!r->have_prev)
+            hz_scene_animate(r->scene, time); /* no history yet: previous = current, zero object motion */
+        hz_status_t s = hz_accel_refit(r->accel, err);
+        if (s != HZ_OK)
+            return s;
+    }
+    if (r->have_prev)
+        r->prev_view = r->view;
+    hz_camera_t cam = hz_scene_camera(r->scene, time);
+    hz_view_setup(&r->view, &cam, r->opts.width, r->opts.height);
+    if (!r->have_prev)
+        r->prev_view = r->view;
+    r->frame = frame_index;
+    r->time = time;
+    if (r->opts.mode == HZ_MODE_TDENSE) {
+        /* Any change of the camera restarts every static window (seed 001, 3.2.2). */
+        const hz_view_t *a = &r->view, *b = &r->prev_view;
+        bool same = a->eye.x == b->eye.x && a->eye.y == b->eye.y && a->eye.z == b->eye.z && a->fwd.x == b->fwd.x &&
+                    a->fwd.y == b->fwd.y && a->fwd.z == b->fwd.z && a->right.x == b->right.x &&
+                    a->right.y == b->right.y && a->right.z == b->right.z && a->up.x == b->up.x &&
+                    a->up.y == b->up.y && a->up.z == b->up.z;
+        hz_tdense_begin_frame(&r->td, r->have_prev && !same);
+    }
+    /* TAA jitter: Halton (2, 3), 16 phases, centred on the pixel. */
+    uint32_t phase = (uint32_t)(frame_index % 16u) + 1u;
+    r->jitter[0] = halton(phase, 2) - 0.5f;
+    r->jitter[1] = halton(phase, 3) - 0.5f;
+    for (uint32_t t = 0; t < r->thread_count; t++)
+        hz_memset(&r->workers_by_thread[t]->stats, 0, sizeof(hz_render_stats_t));
+    return HZ_OK;
+}
+
+uint32_t hz_render_pass_count(const hz_renderer_t *r)
+{
+    return r->opts.mode == HZ_MODE_FULL ? 1u : 2u;
+}
+
+uint32_t hz_render_pass_items(const hz_renderer_t *r, uint32_t pass)
+{
+    if (pass >= hz_render_pass_count(r))
+        return 0u;
+    /* tdense resolves whole rows (its 3x3 neighbourhoods span tiles): one item per row of tiles. */
+    return r->opts.mode == HZ_MODE_TDENSE && pass == 1 ? r->tiles_y : r->tiles_x * r->tiles_y;
+}
+
+/* Radiance -> image, replacing anything non-finite or negative (a bug upstream) by 0, counted. */
+static void store(hz_worker_t *w, float *dst, const float *src, float scale)
+{
+    for (int c = 0; c < 3; c++) {
+        float v = src[c] * scale;
+        if (!hz_isfinitef(v)) {
+            w->stats.nonfinite++;
+            v = 0.0f;
+        }
+        dst[c] = v > 0.0f ? v : 0.0f;
+    }
+}
+
+static void trace_tile(hz_renderer_t *r, uint32_t tile, hz_worker_t *w, hz_image_t *dst)
+{
+    float jitter[HZ_TILE_PIXELS][2];
+    hz_tile_slots(r, tile, w->pixel);
+    hz_memset(w->radiance, 0, sizeof w->radiance);
+    uint32_t spp = r->opts.mode == HZ_MODE_FULL ? r->opts.spp : 1u;
+    uint32_t side = hz_isqrt_u64(spp);
+    for (uint32_t k = 0; k < spp; k++) {
+        for (uint32_t slot = 0; slot < HZ_TILE_PIXELS; slot++) {
+            if (r->opts.mode == HZ_MODE_TAA) {
+                jitter[slot][0] = r->jitter[0], jitter[slot][1] = r->jitter[1];
+            } else if (r->opts.msaa4) {
+                jitter[slot][0] = (float)hz_msaa4_jitter16[k][0] * (1.0f / 16.0f);
+                jitter[slot][1] = (float)hz_msaa4_jitter16[k][1] * (1.0f / 16.0f);
+            } else if (spp == 1) {
+                jitter[slot][0] = jitter[slot][1] = 0.0f;
+            } else {
+                /* Stratified: one sample in each cell of a side x side grid, placed by a per-pixel hash. */
+                uint32_t h = hz_hash3(w->pixel[slot], k, r->opts.seed);
+                float cx = (float)(k % side), cy = (float)(k / side);
+                jitter[slot][0] = (cx + hz_u32_to_unit(h)) / (float)side - 0.5f;
+                jitter[slot][1] = (cy + hz_u32_to_unit(hz_hash32(h))) / (float)side - 0.5f;
+            }
+        }
+        hz_trace_batch(w, (const float(*)[2])jitter, k == 0);
+    }
+    float scale = 1.0f / (float)spp;
+    for (uint32_t slot = 0; slot < HZ_TILE_PIXELS; slot++) {
+        uint32_t px = w->pixel[slot];
+        if (px != UINT32_MAX)
+            store(w, dst->rgb + (size_t)px * 3, &w->radiance[slot * 3], scale);
+    }
+}
+
+/* tdense: the tile traces one pixel of each of its 2x2 tdense tiles, the one the tile's ordering names for this
+ * subframe (jittered where static). The chosen pixels take the first slots, in rows of tdense tiles, so they
+ * form full packets; the other slots stay empty (UINT32_MAX), which hz_trace_batch skips. */
+static void trace_tile_tdense(hz_renderer_t *r, uint32_t tile, hz_worker_t *w)
+{
+    enum { PER = HZ_RENDER_TILE / 2 };
+    float jitter[HZ_TILE_PIXELS][2];
+    uint16_t where[HZ_TILE_PIXELS][2];
+    hz_tdense_t *td = &r->td;
+    uint32_t tx0 = (tile % r->tiles_x) * PER, ty0 = (tile / r->tiles_x) * PER, n = 0;
+    for (uint32_t slot = 0; slot < HZ_TILE_PIXELS; slot++)
+        w->pixel[slot] = UINT32_MAX;
+    for (uint32_t k = 0; k < PER * PER; k++) {
+        uint32_t tx = tx0 + k % PER, ty = ty0 + k / PER, px, py;
+        int msaa;
+        if (tx >= td->tiles_x || ty >= td->tiles_y || !hz_tdense_tile_sample(td, tx, ty, &px, &py, jitter[n], &msaa))
+            continue;
+        w->pixel[n] = py * r->opts.width + px;
+        where[n][0] = (uint16_t)tx, where[n][1] = (uint16_t)ty;
+        n++;
+    }
+    hz_memset(w->radiance, 0, sizeof w->radiance);
+    hz_trace_batch(w, (const float(*)[2])jitter, true);
+    const hz_gbuffer_t *gb = &r->gb;
+    static const float still[2] = { 0.0f, 0.0f };
+    for (uint32_t slot = 0; slot < n; slot++) {
+        uint32_t px = w->pixel[slot];
+        float c[3];
+        store(w, c, &w->radiance[slot * 3], 1.0f);
+        const float *mv = gb->mv ? gb->mv + (size_t)px * 2 : still;
+        const float *mvr = gb->mv_reflect && (gb->flags[px] & HZ_GB_MIRROR) ? gb->mv_reflect + (size_t)px * 2 : NULL;
+        hz_tdense_put(td, where[slot][0], where[slot][1], c, mv, mvr);
+    }
+}
+
+void hz_render_pass_run(hz_renderer_t *r, uint32_t pass, uint32_t item, uint32_t thread)
+{
+    if (thread >= r->thread_count || item >= hz_render_pass_items(r, pass))
+        return;
+    hz_worker_t *w = r->workers_by_thread[thread];
+    if (r->opts.mode == HZ_MODE_TDENSE) {
+        if (pass == 0)
+            trace_tile_tdense(r, item, w);
+        else
+            hz_tdense_resolve_rows(&r->td, item * (HZ_RENDER_TILE / 2), (item + 1) * (HZ_RENDER_TILE / 2));
+    } else if (pass == 0) {
+        trace_tile(r, item, w, r->opts.mode == HZ_MODE_TAA ? &r->cur : &r->out);
+    } else if (pass == 1 && r->opts.mode == HZ_MODE_TAA) {
+        hz_taa_resolve_tile(r, item);
+    }
+}
+
+static void add_stats(hz_render_stats_t *a, const hz_render_stats_t *b)
+{
+    a->primary_rays += b->primary_rays;
+    a->shadow_rays += b->shadow_rays;
+    a->secondary_rays += b->secondary_rays;
+    a->nonfinite += b->nonfinite;
+    a->layer_cap += b->layer_cap;
+    a->queue_full += b->queue_full;
+}
+
+void hz_render_end_frame(hz_renderer_t *r)
+{
+    hz_memset(&r->last, 0, sizeof r->last);
+    for (uint32_t t = 0; t < r->thread_count; t++)
+        add_stats(&r->last, &r->workers_by_thread[t]->stats);
+    add_stats(&r->total, &r->last);
+    if (r->opts.mode == HZ_MODE_TAA) {
+        r->hist_index ^= 1u; /* the history just written becomes the previous frame's */
+        r->hist_valid = true;
+        hz_memcpy(r->prev_object, r->gb.object, (size_t)r->opts.width * r->opts.height * 2);
+    }
+    if (r->opts.mode == HZ_MODE_TDENSE)
+        hz_tdense_end_frame(&r->td);
+    r->have_prev = true;
+}
+
+const hz_image_t *hz_render_output(const hz_renderer_t *r)
+{
+    return r->opts.mode == HZ_MODE_TDENSE ? hz_tdense_output(&r->td) : &r->out;
+}
+
+const hz_gbuffer_t *hz_render_gbuffer(const hz_renderer_t *r)
+{
+    return &r->gb;
+}
+
+void hz_render_frame_stats(const hz_renderer_t *r, hz_render_stats_t *last, hz_render_stats_t *total)
+{
+    if (last)
+        *last = r->last;
+    if (total)
+        *total = r->total;
+}
+
+const struct hz_tdense *hz_render_tdense(const hz_renderer_t *r)
+{
+    return r->opts.mode == HZ_MODE_TDENSE ? &r->td : NULL;
+}
+
+void hz_render_reset_history(hz_renderer_t *r)
+{
+    r->hist_valid = false;
+    r->have_prev = false;
+    if (r->opts.mode == HZ_MODE_TDENSE)
+        hz_tdense_reset(&r->td);
+}

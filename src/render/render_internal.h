@@ -1,0 +1,140 @@
+/*
+ * render_internal.h — state shared by the renderer's files (src/render, src/recon). Not a public API.
+ *
+ * Work is organised per tile (HZ_RENDER_TILE^2 pixels) and per "batch": one sample of every pixel of the
+ * tile. A batch's camera rays are traced as coherent packets; everything they spawn (shadow rays,
+ * reflections, continuation rays through blended layers) goes through two per-worker queues traced in packets
+ * of HZ_RENDER_LANES, depth first, until both are empty. Each ray carries the batch slot it contributes to.
+ */
+#ifndef HZ_RENDER_INTERNAL_H
+#define HZ_RENDER_INTERNAL_H
+
+#include "hz/config.h"
+#include "hz/render.h"
+#include "hz/tdense.h"
+
+#if HZ_SIMD_LANES >= 8
+#define HZ_RENDER_LANES 8
+#else
+#define HZ_RENDER_LANES 4
+#endif
+
+#define HZ_TILE_PIXELS (HZ_RENDER_TILE * HZ_RENDER_TILE)
+/* Blended triangles one shadow ray can composite in its single occlusion pass; rays crossing more take the
+ * exact layer-by-layer path. */
+#define HZ_SHADOW_LAYERS 32
+
+/* Which G-buffer record a ray's first hit fills. */
+enum { GSLOT_NONE = 0, GSLOT_PRIMARY = 1, GSLOT_SECONDARY = 2 };
+
+typedef struct hz_view {
+    hz_vec3_t eye;
+    hz_vec3_t fwd, right, up;  /* right and up scaled so that pixel (x, y) maps to fwd + sx right + sy up */
+    float spread;              /* ray-cone spread angle of one pixel (radians) */
+    uint32_t width, height;
+} hz_view_t;
+
+typedef struct ray_job {
+    float o[3], d[3];          /* d is unit length */
+    float w[3];                /* throughput: what one unit of radiance along the ray adds to the slot */
+    float cone_w, cone_s;      /* ray cone: width at o, spread angle */
+    float travelled;           /* distance from the camera to o along the path */
+    float vis;                 /* visibility left after the blended layers of this segment */
+    uint16_t slot;             /* batch slot (pixel of the tile) */
+    uint8_t gslot;             /* GSLOT_* */
+    uint8_t bounces;           /* mirror reflections so far */
+    uint16_t layers;           /* blended layers crossed so far */
+    uint16_t pad;
+} ray_job_t;
+
+typedef struct shadow_job {
+    float o[3], d[3];          /* d unit length, towards the light */
+    float tmax;                /* distance to the light, shortened a little */
+    float w[3];                /* radiance added to the slot if the light is visible */
+    float vis;                 /* transmittance of the blended layers crossed so far */
+    uint16_t slot;
+    uint8_t gslot;             /* counts into shadow / shadow2 of the slot's pixel when blocked */
+    uint8_t pad;
+    uint16_t layers;
+} shadow_job_t;
+
+/* Mirror data of a primary hit, for the reflected hit's motion vector. */
+typedef struct mirror_rec {
+    float p[3], n[3];          /* hit point and normal now */
+    float pp[3], np[3];        /* the same at the previous frame */
+} mirror_rec_t;
+
+typedef struct hz_worker {
+    ray_job_t *stack;
+    uint32_t stack_n, stack_cap;
+    shadow_job_t *shadows;
+    uint32_t shadow_n, shadow_cap;
+    float radiance[HZ_TILE_PIXELS * 3];
+    uint32_t pixel[HZ_TILE_PIXELS];          /* slot -> pixel index; UINT32_MAX for slots outside the image */
+    uint8_t alpha_touched[HZ_TILE_PIXELS];   /* a cutout was tested on the slot's primary path */
+    mirror_rec_t mirror[HZ_TILE_PIXELS];
+    /* Shadow packet in flight (scenes with blended surfaces): per lane the transmittance of the blended
+     * triangles met so far and which ones (the any-hit callback may see a triangle more than once). */
+    float shadow_vis[HZ_RENDER_LANES];
+    uint32_t shadow_prims[HZ_RENDER_LANES][HZ_SHADOW_LAYERS];
+    uint8_t shadow_nprims[HZ_RENDER_LANES];
+    uint8_t shadow_overflow[HZ_RENDER_LANES];
+    hz_accel_ctx_t ctx;
+    hz_render_stats_t stats;
+    struct hz_renderer *r;
+} hz_worker_t;
+
+struct hz_renderer {
+    hz_render_opts_t opts;
+    hz_scene_t *scene;
+    hz_accel_t *accel;
+    /* What this scene needs (features leave stages out). */
+    bool has_blend, has_mask, has_textures, has_mirrors, has_motion, camera_moves, need_mv;
+    float offset_scale;        /* scene size for secondary-ray origin offsets (hz_accel_offset_origin) */
+    hz_view_t view, prev_view;
+    bool have_prev;
+    uint64_t frame;
+    float time;
+    float jitter[2];           /* this frame's sub-pixel offset (TAA), in pixels */
+    uint32_t tiles_x, tiles_y;
+    hz_image_t out;            /* displayed frame */
+    hz_image_t cur;            /* TAA: this frame's raw samples */
+    hz_image_t hist[2];        /* TAA: resolved history, ping-pong */
+    uint32_t hist_index;       /* hist[hist_index] is the previous frame's */
+    bool hist_valid;
+    uint16_t *prev_object;     /* TAA: previous frame's primary object ids */
+    hz_tdense_t td;            /* tdense: subframe placement and composite (its frames are the output) */
+    hz_gbuffer_t gb;
+    hz_worker_t *workers_by_thread[HZ_MAX_THREADS]; /* each from its thread's arena */
+    uint32_t thread_count;
+    hz_render_stats_t last, total;
+};
+
+/* camera.c */
+void hz_view_setup(hz_view_t *v, const hz_camera_t *cam, uint32_t width, uint32_t height);
+/* Unit direction through pixel (x + 0.5 + jx, y + 0.5 + jy). */
+hz_vec3_t hz_view_ray_dir(const hz_view_t *v, float px, float py);
+/* Pixel coordinates (continuous, pixel centres at +0.5) of a world point; false if behind the camera. */
+bool hz_view_project(const hz_view_t *v, hz_vec3_t p, float *px, float *py);
+
+/* texture.c */
+/* Base colour (linear RGB) and alpha of texture t at uv, mip level from the ray-cone footprint lod. */
+void hz_texture_sample(const hz_scene_t *s, int32_t tex, float u, float v, float lod, float rgba[4]);
+/* Alpha only, finest level (cutout decisions must not depend on distance). */
+float hz_texture_alpha(const hz_scene_t *s, int32_t tex, float u, float v);
+float hz_log2_approx(float x);
+
+/* trace.c */
+/* Traces one sample of every slot of the worker's tile (w->pixel set by the caller; jitter[slot] in pixels,
+ * each in [-0.5, 0.5]) and adds its radiance to w->radiance[slot]; fills the G-buffer when asked. Slots whose
+ * pixel is UINT32_MAX are skipped: to trace a subset of pixels, put them in the first slots (consecutive
+ * HZ_RENDER_LANES slots form a packet) and mark the rest UINT32_MAX, as tdense does. */
+void hz_trace_batch(hz_worker_t *w, const float (*jitter)[2], bool write_gbuffer);
+/* Slot -> pixel of tile `tile`, ordered so that consecutive HZ_RENDER_LANES slots form compact packets. */
+void hz_tile_slots(const struct hz_renderer *r, uint32_t tile, uint32_t pixel[HZ_TILE_PIXELS]);
+bool hz_render_anyhit(void *user, uint32_t prim, float u, float v, float t, uint32_t ray_id, int lane);
+
+/* taa.c (src/recon) */
+void hz_taa_resolve_tile(struct hz_renderer *r, uint32_t tile);
+
+#endif

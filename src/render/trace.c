@@ -1,0 +1,652 @@
+/* Tracing and Whitted shading of one tile batch (see render_internal.h for the work organisation). */
+#include "hz/image.h"
+#include "render_internal.h"
+
+#define INV_PI 0.31830988618379067f
+#define MV_FAR 65536.0f /* motion vector of a point the previous camera did not see: far off-screen */
+
+typedef struct hitrec {
+    float t, u, v;
+    uint32_t prim; /* HZ_ACCEL_INVALID_ID on a miss */
+} hitrec_t;
+
+/* ray id seen by the any-hit callback: the slot and whether the ray is a primary one (marks alpha_touched), or
+ * for shadow rays the lane and ID_SHADOW (blended surfaces then composite into the lane's transmittance). */
+#define ID_PRIMARY 0x10000u
+#define ID_SHADOW 0x20000u /* shadow ray; the low bits are its packet lane */
+
+/* ---- packets ---- */
+
+#if HZ_RENDER_LANES == 8
+typedef hz_rayhit8_t packet_t;
+typedef hz_ray8_t shadow_packet_t;
+#define INTERSECT hz_accel_intersect8
+#define OCCLUDED hz_accel_occluded8
+#else
+typedef hz_rayhit4_t packet_t;
+typedef hz_ray4_t shadow_packet_t;
+#define INTERSECT hz_accel_intersect4
+#define OCCLUDED hz_accel_occluded4
+#endif
+
+/* Closest hits of up to HZ_RENDER_LANES jobs; tmax may be NULL (unbounded rays). */
+static void intersect_jobs(hz_worker_t *w, const ray_job_t *jobs, uint32_t n, hitrec_t *out, bool coherent,
+                           const float *tmax)
+{
+    packet_t p;
+    int32_t valid[HZ_RENDER_LANES] HZ_ALIGNED(32);
+    float time = w->r->time;
+    for (uint32_t i = 0; i < HZ_RENDER_LANES; i++) {
+        const ray_job_t *j = &jobs[i < n ? i : 0];
+        valid[i] = i < n ? -1 : 0;
+        p.ray.org_x[i] = j->o[0], p.ray.org_y[i] = j->o[1], p.ray.org_z[i] = j->o[2];
+        p.ray.dir_x[i] = j->d[0], p.ray.dir_y[i] = j->d[1], p.ray.dir_z[i] = j->d[2];
+        p.ray.tnear[i] = 0.0f;
+        p.ray.tfar[i] = tmax && i < n ? tmax[i] : __builtin_inff();
+        p.ray.time[i] = time;
+        p.ray.mask[i] = 0xffffffffu;
+        p.ray.id[i] = j->slot | (j->gslot == GSLOT_PRIMARY ? ID_PRIMARY : 0u);
+        p.ray.flags[i] = 0;
+        p.hit.geom_id[i] = HZ_ACCEL_INVALID_ID;
+        p.hit.prim_id[i] = HZ_ACCEL_INVALID_ID;
+    }
+    w->ctx.flags = coherent ? HZ_ACCEL_COHERENT : 0u;
+    INTERSECT(valid, w->r->accel, &w->ctx, &p);
+    for (uint32_t i = 0; i < n; i++) {
+        out[i].prim = p.hit.geom_id[i] == HZ_ACCEL_INVALID_ID ? HZ_ACCEL_INVALID_ID : p.hit.prim_id[i];
+        out[i].t = p.ray.tfar[i];
+        out[i].u = p.hit.u[i];
+        out[i].v = p.hit.v[i];
+    }
+}
+
+/* ---- surfaces ---- */
+
+typedef struct surface {
+    hz_vec3_t p, ng, ns;    /* ng and ns face the side the ray came from; unit length */
+    float tu, tv;           /* texture coordinates */
+    uint32_t prim;
+    const hz_material_t *m;
+    uint16_t object;
+    float albedo[3];
+    float alpha;            /* opacity of a blended surface, 1 otherwise */
+    bool textured;
+} surface_t;
+
+static hz_vec3_t vtx(const float *arr, uint32_t i)
+{
+    return hz_v3(arr[(size_t)i * 4], arr[(size_t)i * 4 + 1], arr[(size_t)i * 4 + 2]);
+}
+
+static hz_vec3_t bary(hz_vec3_t a, hz_vec3_t b, hz_vec3_t c, float u, float v)
+{
+    float w = 1.0f - u - v;
+    return hz_v3(w * a.x + u * b.x + v * c.x, w * a.y + u * b.y + v * c.y, w * a.z + u * b.z + v * c.z);
+}
+
+/* Texture coordinates of a hit and the triangle's texel-to-world area ratio for the cone footprint. */
+static void hit_uv(const hz_scene_t *s, uint32_t prim, float u, float v, float *tu, float *tv, float *uv_area2)
+{
+    const uint32_t *t = s->tri + (size_t)prim * 3;
+    const float *a = s->uv + (size_t)t[0] * 2, *b = s->uv + (size_t)t[1] * 2, *c = s->uv + (size_t)t[2] * 2;
+    float w = 1.0f - u - v;
+    *tu = w * a[0] + u * b[0] + v * c[0];
+    *tv = w * a[1] + u * b[1] + v * c[1];
+    float cr = (b[0] - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (b[1] - a[1]);
+    *uv_area2 = hz_absf(cr);
+}
+
+static void surface_at(const struct hz_renderer *r, const ray_job_t *j, const hitrec_t *h, surface_t *sf)
+{
+    const hz_scene_t *s = r->scene;
+    const uint32_t *t = s->tri + (size_t)h->prim * 3;
+    hz_vec3_t p0 = vtx(s->pos, t[0]), p1 = vtx(s->pos, t[1]), p2 = vtx(s->pos, t[2]);
+    hz_vec3_t d = hz_v3(j->d[0], j->d[1], j->d[2]);
+    sf->prim = h->prim;
+    sf->p = bary(p0, p1, p2, h->u, h->v);
+    hz_vec3_t ng = hz_v3_cross(hz_v3_sub(p1, p0), hz_v3_sub(p2, p0));
+    float area2 = hz_v3_len(ng);
+    ng = hz_v3_normalize(ng);
+    float flip = hz_v3_dot(ng, d) > 0.0f ? -1.0f : 1.0f;
+    sf->ng = hz_v3_scale(ng, flip);
+    sf->ns = sf->ng;
+    if (s->nrm) {
+        hz_vec3_t ns = hz_v3_normalize(bary(vtx(s->nrm, t[0]), vtx(s->nrm, t[1]), vtx(s->nrm, t[2]), h->u, h->v));
+        ns = hz_v3_scale(ns, flip);
+        /* Interpolated normals can point below the surface at grazing angles: keep the geometric one then. */
+        if (hz_v3_dot(ns, sf->ng) > 0.0f)
+            sf->ns = ns;
+    }
+    uint32_t mat = s->tri_info[h->prim] & 0xffffu;
+    const hz_material_t *m = &s->materials[mat];
+    sf->m = m;
+    sf->object = (uint16_t)(s->tri_info[h->prim] >> 16);
+    sf->albedo[0] = m->base_color[0], sf->albedo[1] = m->base_color[1], sf->albedo[2] = m->base_color[2];
+    sf->alpha = 1.0f;
+    sf->textured = false;
+    sf->tu = sf->tv = 0.0f;
+    bool blend = m->alpha_mode == HZ_ALPHA_BLEND;
+    if (blend)
+        sf->alpha = m->alpha;
+    if (r->has_textures && (m->base_texture >= 0 || (blend && m->alpha_texture >= 0))) {
+        float uv_area2;
+        hit_uv(s, h->prim, h->u, h->v, &sf->tu, &sf->tv, &uv_area2);
+        float cos = hz_absf(hz_v3_dot(ng, d));
+        float width = j->cone_w + j->cone_s * h->t;
+        float lod_base = 0.5f * hz_log2_approx(uv_area2 / area2) + hz_log2_approx(width) - hz_log2_approx(cos);
+        float rgba[4];
+        if (m->base_texture >= 0) {
+            const hz_texture_t *tx = &s->textures[m->base_texture];
+            float lod = lod_base + 0.5f * hz_log2_approx((float)tx->width * (float)tx->height);
+            hz_texture_sample(s, m->base_texture, sf->tu, sf->tv, lod, rgba);
+            sf->albedo[0] *= rgba[0], sf->albedo[1] *= rgba[1], sf->albedo[2] *= rgba[2];
+            sf->textured = true;
+            if (blend && m->alpha_texture == m->base_texture)
+                sf->alpha *= rgba[3];
+        }
+        if (blend && m->alpha_texture >= 0 && m->alpha_texture != m->base_texture) {
+            const hz_texture_t *tx = &s->textures[m->alpha_texture];
+            float lod = lod_base + 0.5f * hz_log2_approx((float)tx->width * (float)tx->height);
+            hz_texture_sample(s, m->alpha_texture, sf->tu, sf->tv, lod, rgba);
+            sf->alpha *= rgba[3];
+            sf->textured = true;
+        }
+    }
+}
+
+/* Alpha of a blended surface hit by a shadow ray (colour not needed). */
+static float blend_alpha(const struct hz_renderer *r, uint32_t prim, float u, float v)
+{
+    const hz_scene_t *s = r->scene;
+    const hz_material_t *m = &s->materials[s->tri_info[prim] & 0xffffu];
+    if (m->alpha_mode != HZ_ALPHA_BLEND)
+        return 1.0f;
+    float a = m->alpha;
+    if (m->alpha_texture >= 0 && r->has_textures) {
+        float tu, tv, area;
+        hit_uv(s, prim, u, v, &tu, &tv, &area);
+        a *= hz_texture_alpha(s, m->alpha_texture, tu, tv);
+    }
+    return a;
+}
+
+bool hz_render_anyhit(void *user, uint32_t prim, float u, float v, float t, uint32_t ray_id, int lane)
+{
+    (void)t;
+    (void)lane;
+    hz_worker_t *w = (hz_worker_t *)user;
+    const hz_scene_t *s = w->r->scene;
+    const hz_material_t *m = &s->materials[s->tri_info[prim] & 0xffffu];
+    if (m->alpha_mode == HZ_ALPHA_BLEND) {
+        if (!(ray_id & ID_SHADOW))
+            return true; /* camera and secondary rays stop at a blended surface and continue behind it */
+        /* A shadow ray lets the layer's opacity through and goes on, counting each triangle once. */
+        uint32_t ln = (ray_id & 0xffu) % HZ_RENDER_LANES;
+        for (uint32_t i = 0; i < w->shadow_nprims[ln]; i++)
+            if (w->shadow_prims[ln][i] == prim)
+                return false;
+        if (w->shadow_nprims[ln] == HZ_SHADOW_LAYERS) {
+            w->shadow_overflow[ln] = 1; /* the exact path takes over */
+            return false;
+        }
+        w->shadow_prims[ln][w->shadow_nprims[ln]++] = prim;
+        w->shadow_vis[ln] *= 1.0f - blend_alpha(w->r, prim, u, v);
+        return !(w->shadow_vis[ln] >= w->r->opts.min_visibility); /* nothing left: as good as blocked */
+    }
+    if (m->alpha_mode != HZ_ALPHA_MASK)
+        return true;
+    if (ray_id & ID_PRIMARY)
+        w->alpha_touched[(ray_id & 0xffffu) % HZ_TILE_PIXELS] = 1;
+    float a = m->alpha;
+    if (m->alpha_texture >= 0) {
+        float tu, tv, area;
+        hit_uv(s, prim, u, v, &tu, &tv, &area);
+        a *= hz_texture_alpha(s, m->alpha_texture, tu, tv);
+    }
+    return a >= m->alpha_cutoff;
+}
+
+/* ---- queues ---- */
+
+static void add_radiance(hz_worker_t *w, uint32_t slot, const float wt[3], const float L[3])
+{
+    float *dst = &w->radiance[slot * 3];
+    dst[0] += wt[0] * L[0];
+    dst[1] += wt[1] * L[1];
+    dst[2] += wt[2] * L[2];
+}
+
+static void push_ray(hz_worker_t *w, const ray_job_t *j)
+{
+    if (w->stack_n >= w->stack_cap) {
+        w->stats.queue_full++;
+        return;
+    }
+    w->stack[w->stack_n++] = *j;
+}
+
+static void process_shadows(hz_worker_t *w);
+
+static void push_shadow(hz_worker_t *w, const shadow_job_t *j)
+{
+    while (w->shadow_n >= w->shadow_cap)
+        process_shadows(w); /* takes a packet off and pushes at most as many back */
+    w->shadows[w->shadow_n++] = *j;
+}
+
+static void count_blocked(hz_worker_t *w, uint32_t slot, uint8_t gslot)
+{
+    uint32_t px = w->pixel[slot];
+    const hz_gbuffer_t *gb = &w->r->gb;
+    uint8_t *c = gslot == GSLOT_PRIMARY ? gb->shadow : gslot == GSLOT_SECONDARY ? gb->shadow2 : NULL;
+    if (c && c[px] < 255)
+        c[px]++;
+}
+
+static void process_shadows(hz_worker_t *w)
+{
+    struct hz_renderer *r = w->r;
+    uint32_t n = w->shadow_n < HZ_RENDER_LANES ? w->shadow_n : HZ_RENDER_LANES;
+    if (n == 0)
+        return;
+    w->shadow_n -= n;
+    shadow_job_t jobs[HZ_RENDER_LANES];
+    for (uint32_t i = 0; i < n; i++)
+        jobs[i] = w->shadows[w->shadow_n + i];
+    w->stats.shadow_rays += n;
+    w->ctx.flags = 0;
+    /* One occlusion pass with early exit; blended surfaces composite into the lane's transmittance in the
+     * any-hit callback. Rays that met more layers than it tracks, and continuations of the exact path below
+     * (layers > 0), go the exact way. */
+    shadow_packet_t p;
+    int32_t valid[HZ_RENDER_LANES] HZ_ALIGNED(32);
+    for (uint32_t i = 0; i < HZ_RENDER_LANES; i++) {
+        const shadow_job_t *j = &jobs[i < n ? i : 0];
+        valid[i] = i < n && j->layers == 0 ? -1 : 0;
+        p.org_x[i] = j->o[0], p.org_y[i] = j->o[1], p.org_z[i] = j->o[2];
+        p.dir_x[i] = j->d[0], p.dir_y[i] = j->d[1], p.dir_z[i] = j->d[2];
+        p.tnear[i] = 0.0f;
+        p.tfar[i] = j->tmax;
+        p.time[i] = r->time;
+        p.mask[i] = 0xffffffffu;
+        p.id[i] = i | ID_SHADOW;
+        p.flags[i] = 0;
+        w->shadow_vis[i] = 1.0f;
+        w->shadow_nprims[i] = 0;
+        w->shadow_overflow[i] = 0;
+    }
+    OCCLUDED(valid, r->accel, &w->ctx, &p);
+    uint32_t m = 0;
+    for (uint32_t i = 0; i < n; i++) {
+        if (valid[i] && p.tfar[i] < 0.0f) { /* -inf: blocked (or nothing left after the layers) */
+            count_blocked(w, jobs[i].slot, jobs[i].gslot);
+        } else if (valid[i] && !w->shadow_overflow[i]) {
+            float v = w->shadow_vis[i];
+            add_radiance(w, jobs[i].slot, jobs[i].w, (const float[3]){ v, v, v });
+        } else {
+            jobs[m++] = jobs[i];
+        }
+    }
+    n = m;
+    if (n == 0)
+        return;
+    /* The exact deep shadow ray through the blended layers: find the nearest, let its opacity through,
+     * continue behind it until the light. */
+    ray_job_t rj[HZ_RENDER_LANES];
+    hitrec_t h[HZ_RENDER_LANES];
+    float tmax[HZ_RENDER_LANES];
+    for (uint32_t i = 0; i < n; i++) {
+        for (int c = 0; c < 3; c++)
+            rj[i].o[c] = jobs[i].o[c], rj[i].d[c] = jobs[i].d[c];
+        rj[i].slot = jobs[i].slot;
+        rj[i].gslot = GSLOT_NONE;
+        tmax[i] = jobs[i].tmax;
+    }
+    intersect_jobs(w, rj, n, h, false, tmax);
+    for (uint32_t i = 0; i < n; i++) {
+        shadow_job_t *j = &jobs[i];
+        if (h[i].prim == HZ_ACCEL_INVALID_ID) {
+            add_radiance(w, j->slot, j->w, (const float[3]){ j->vis, j->vis, j->vis });
+            continue;
+        }
+        float a = blend_alpha(r, h[i].prim, h[i].u, h[i].v);
+        float vis = j->vis * (1.0f - a);
+        if (!(vis >= r->opts.min_visibility)) {
+            count_blocked(w, j->slot, j->gslot);
+            continue;
+        }
+        if (j->layers + 1u >= HZ_RENDER_MAX_LAYERS) {
+            w->stats.layer_cap++;
+            count_blocked(w, j->slot, j->gslot);
+            continue;
+        }
+        /* Continue from just behind the layer. */
+        const hz_scene_t *s = r->scene;
+        const uint32_t *t = s->tri + (size_t)h[i].prim * 3;
+        hz_vec3_t p0 = vtx(s->pos, t[0]), p1 = vtx(s->pos, t[1]), p2 = vtx(s->pos, t[2]);
+        hz_vec3_t ph = bary(p0, p1, p2, h[i].u, h[i].v);
+        hz_vec3_t ng = hz_v3_cross(hz_v3_sub(p1, p0), hz_v3_sub(p2, p0));
+        hz_vec3_t d = hz_v3(j->d[0], j->d[1], j->d[2]);
+        if (hz_v3_dot(ng, d) < 0.0f)
+            ng = hz_v3_neg(ng);
+        hz_vec3_t o = hz_accel_offset_origin(ph, ng, r->offset_scale);
+        shadow_job_t nj = *j;
+        nj.o[0] = o.x, nj.o[1] = o.y, nj.o[2] = o.z;
+        nj.tmax = j->tmax - h[i].t;
+        nj.vis = vis;
+        nj.layers = (uint16_t)(j->layers + 1u);
+        if (nj.tmax > 0.0f)
+            push_shadow(w, &nj);
+        else
+            add_radiance(w, j->slot, j->w, (const float[3]){ vis, vis, vis });
+    }
+}
+
+/* ---- shading ---- */
+
+static void write_mv(float *mv, size_t px, float dx, float dy)
+{
+    mv[px * 2] = dx;
+    mv[px * 2 + 1] = dy;
+}
+
+/* Motion of a world point that is at p now and was at pp one frame ago. */
+static void point_motion(const struct hz_renderer *r, hz_vec3_t p, hz_vec3_t pp, float out[2])
+{
+    float cx, cy, px, py;
+    if (hz_view_project(&r->view, p, &cx, &cy) && hz_view_project(&r->prev_view, pp, &px, &py)) {
+        out[0] = px - cx;
+        out[1] = py - cy;
+    } else {
+        out[0] = out[1] = MV_FAR;
+    }
+}
+
+/* Motion of what lies infinitely far along direction d (the background). */
+static void direction_motion(const struct hz_renderer *r, hz_vec3_t d, float out[2])
+{
+    point_motion(r, hz_v3_add(r->view.eye, d), hz_v3_add(r->prev_view.eye, d), out);
+    /* Translation does not move the background: the two points differ only by the eye offset. */
+}
+
+static hz_vec3_t prev_point(const struct hz_renderer *r, uint32_t prim, float u, float v, hz_vec3_t now)
+{
+    const hz_scene_t *s = r->scene;
+    if (!s->prev_pos)
+        return now;
+    const uint32_t *t = s->tri + (size_t)prim * 3;
+    return bary(vtx(s->prev_pos, t[0]), vtx(s->prev_pos, t[1]), vtx(s->prev_pos, t[2]), u, v);
+}
+
+static hz_vec3_t prev_normal(const struct hz_renderer *r, uint32_t prim)
+{
+    const hz_scene_t *s = r->scene;
+    const float *pos = s->prev_pos ? s->prev_pos : s->pos;
+    const uint32_t *t = s->tri + (size_t)prim * 3;
+    hz_vec3_t p0 = vtx(pos, t[0]);
+    return hz_v3_normalize(hz_v3_cross(hz_v3_sub(vtx(pos, t[1]), p0), hz_v3_sub(vtx(pos, t[2]), p0)));
+}
+
+static hz_vec3_t mirror_point(hz_vec3_t x, hz_vec3_t m, hz_vec3_t n)
+{
+    return hz_v3_sub(x, hz_v3_scale(n, 2.0f * hz_v3_dot(hz_v3_sub(x, m), n)));
+}
+
+static void shade_miss(hz_worker_t *w, const ray_job_t *j)
+{
+    struct hz_renderer *r = w->r;
+    const float *bg = r->scene->header->background;
+    const float vis[3] = { bg[0] * j->vis, bg[1] * j->vis, bg[2] * j->vis };
+    add_radiance(w, j->slot, j->w, vis);
+    uint32_t px = w->pixel[j->slot];
+    hz_gbuffer_t *gb = &r->gb;
+    hz_vec3_t d = hz_v3(j->d[0], j->d[1], j->d[2]);
+    if (j->gslot == GSLOT_PRIMARY) {
+        gb->depth[px] = __builtin_inff();
+        gb->object[px] = HZ_GB_NO_OBJECT;
+        gb->normal[px * 3] = gb->normal[px * 3 + 1] = gb->normal[px * 3 + 2] = 0.0f;
+        gb->shadow[px] = 0;
+        gb->flags[px] = w->alpha_touched[j->slot] ? HZ_GB_ALPHA : 0;
+        if (gb->mv) {
+            float mv[2];
+            direction_motion(r, d, mv);
+            write_mv(gb->mv, px, mv[0], mv[1]);
+            if (gb->mv_reflect)
+                write_mv(gb->mv_reflect, px, mv[0], mv[1]);
+        }
+    } else if (j->gslot == GSLOT_SECONDARY) {
+        gb->object2[px] = HZ_GB_NO_OBJECT;
+        gb->normal2[px * 3] = gb->normal2[px * 3 + 1] = gb->normal2[px * 3 + 2] = 0.0f;
+        gb->shadow2[px] = 0;
+        gb->flags2[px] = 0;
+        /* The virtual image of a ray leaving the scene lies along the primary ray's line: the mirror's
+         * reflected background moves like the background. */
+        if (gb->mv_reflect) {
+            gb->mv_reflect[px * 2] = gb->mv[px * 2];
+            gb->mv_reflect[px * 2 + 1] = gb->mv[px * 2 + 1];
+        }
+    }
+}
+
+static void shade_hit(hz_worker_t *w, const ray_job_t *j, const hitrec_t *h)
+{
+    struct hz_renderer *r = w->r;
+    const hz_scene_t *s = r->scene;
+    surface_t sf;
+    surface_at(r, j, h, &sf);
+    const hz_material_t *m = sf.m;
+    uint32_t px = w->pixel[j->slot];
+    hz_gbuffer_t *gb = &r->gb;
+    float mirror = r->has_mirrors ? m->mirror : 0.0f;
+
+    if (j->gslot == GSLOT_PRIMARY) {
+        gb->depth[px] = j->travelled + h->t;
+        gb->object[px] = sf.object;
+        gb->normal[px * 3] = sf.ns.x, gb->normal[px * 3 + 1] = sf.ns.y, gb->normal[px * 3 + 2] = sf.ns.z;
+        gb->shadow[px] = 0;
+        gb->flags[px] = (uint8_t)(HZ_GB_HIT | (sf.textured ? HZ_GB_TEXTURED : 0) | (mirror > 0.0f ? HZ_GB_MIRROR : 0) |
+                                  (w->alpha_touched[j->slot] || m->alpha_mode != HZ_ALPHA_OPAQUE ? HZ_GB_ALPHA : 0));
+        if (gb->mv) {
+            float mv[2];
+            hz_vec3_t pp = prev_point(r, h->prim, h->u, h->v, sf.p);
+            point_motion(r, sf.p, pp, mv);
+            write_mv(gb->mv, px, mv[0], mv[1]);
+            if (gb->mv_reflect)
+                write_mv(gb->mv_reflect, px, mv[0], mv[1]); /* replaced by the reflected hit's, if any */
+            if (mirror > 0.0f) {
+                mirror_rec_t *mr = &w->mirror[j->slot];
+                hz_vec3_t n = hz_v3_normalize(hz_v3_cross(hz_v3_sub(vtx(s->pos, s->tri[h->prim * 3 + 1]),
+                                                                    vtx(s->pos, s->tri[h->prim * 3])),
+                                                          hz_v3_sub(vtx(s->pos, s->tri[h->prim * 3 + 2]),
+                                                                    vtx(s->pos, s->tri[h->prim * 3]))));
+                hz_vec3_t np = prev_normal(r, h->prim);
+                mr->p[0] = sf.p.x, mr->p[1] = sf.p.y, mr->p[2] = sf.p.z;
+                mr->n[0] = n.x, mr->n[1] = n.y, mr->n[2] = n.z;
+                mr->pp[0] = pp.x, mr->pp[1] = pp.y, mr->pp[2] = pp.z;
+                mr->np[0] = np.x, mr->np[1] = np.y, mr->np[2] = np.z;
+            }
+        }
+    } else if (j->gslot == GSLOT_SECONDARY) {
+        gb->object2[px] = sf.object;
+        gb->normal2[px * 3] = sf.ns.x, gb->normal2[px * 3 + 1] = sf.ns.y, gb->normal2[px * 3 + 2] = sf.ns.z;
+        gb->shadow2[px] = 0;
+        gb->flags2[px] = (uint8_t)(HZ_GB_HIT | (sf.textured ? HZ_GB_TEXTURED : 0) | (mirror > 0.0f ? HZ_GB_MIRROR : 0) |
+                                   (m->alpha_mode != HZ_ALPHA_OPAQUE ? HZ_GB_ALPHA : 0));
+        if (gb->mv_reflect) {
+            const mirror_rec_t *mr = &w->mirror[j->slot];
+            hz_vec3_t pp = prev_point(r, h->prim, h->u, h->v, sf.p);
+            hz_vec3_t v = mirror_point(sf.p, hz_v3(mr->p[0], mr->p[1], mr->p[2]), hz_v3(mr->n[0], mr->n[1], mr->n[2]));
+            hz_vec3_t vp = mirror_point(pp, hz_v3(mr->pp[0], mr->pp[1], mr->pp[2]),
+                                        hz_v3(mr->np[0], mr->np[1], mr->np[2]));
+            float mv[2];
+            point_motion(r, v, vp, mv);
+            write_mv(gb->mv_reflect, px, mv[0], mv[1]);
+        }
+    }
+
+    /* Blended surface: it takes alpha of what reaches it; the rest continues behind it. */
+    float a = sf.alpha;
+    float wc[3] = { j->w[0] * j->vis * a, j->w[1] * j->vis * a, j->w[2] * j->vis * a };
+    if (a < 1.0f) {
+        float vis = j->vis * (1.0f - a);
+        if (!(vis >= r->opts.min_visibility)) {
+            /* What is left is below the threshold: dropped, as the exact method prescribes. */
+        } else if (j->layers + 1u >= HZ_RENDER_MAX_LAYERS) {
+            w->stats.layer_cap++;
+        } else {
+            ray_job_t c = *j;
+            hz_vec3_t o = hz_accel_offset_origin(sf.p, hz_v3_neg(sf.ng), r->offset_scale);
+            c.o[0] = o.x, c.o[1] = o.y, c.o[2] = o.z;
+            c.travelled = j->travelled + h->t;
+            c.cone_w = j->cone_w + j->cone_s * h->t;
+            c.vis = vis;
+            c.layers = (uint16_t)(j->layers + 1u);
+            c.gslot = GSLOT_NONE;
+            push_ray(w, &c);
+        }
+    }
+    if (!(wc[0] > 0.0f || wc[1] > 0.0f || wc[2] > 0.0f) && j->gslot == GSLOT_NONE)
+        return;
+
+    /* Direct light from every point light, through one shadow ray each. */
+    float diffuse = 1.0f - mirror;
+    float kd[3] = { wc[0] * diffuse * sf.albedo[0], wc[1] * diffuse * sf.albedo[1], wc[2] * diffuse * sf.albedo[2] };
+    hz_vec3_t o_light = hz_accel_offset_origin(sf.p, sf.ng, r->offset_scale);
+    for (uint32_t l = 0; l < s->light_count; l++) {
+        const hz_light_t *lt = &s->lights[l];
+        hz_vec3_t L = hz_v3_sub(hz_v3(lt->position[0], lt->position[1], lt->position[2]), o_light);
+        float dist2 = hz_v3_dot(L, L);
+        float dist = hz_sqrtf(dist2);
+        hz_vec3_t ld = dist > 0.0f ? hz_v3_scale(L, 1.0f / dist) : sf.ns;
+        float cs = hz_v3_dot(sf.ns, ld);
+        if (!(cs > 0.0f) || !(hz_v3_dot(sf.ng, ld) > 0.0f) || !(dist > 0.0f)) {
+            if (j->gslot != GSLOT_NONE)
+                count_blocked(w, j->slot, j->gslot);
+            continue;
+        }
+        float k = cs * INV_PI * (lt->falloff == HZ_FALLOFF_INV_SQUARE ? 1.0f / dist2 : 1.0f);
+        shadow_job_t sj;
+        sj.o[0] = o_light.x, sj.o[1] = o_light.y, sj.o[2] = o_light.z;
+        sj.d[0] = ld.x, sj.d[1] = ld.y, sj.d[2] = ld.z;
+        sj.tmax = dist * (1.0f - 1e-4f);
+        sj.w[0] = kd[0] * lt->color[0] * k, sj.w[1] = kd[1] * lt->color[1] * k, sj.w[2] = kd[2] * lt->color[2] * k;
+        sj.vis = 1.0f;
+        sj.slot = j->slot;
+        sj.gslot = j->gslot;
+        sj.layers = 0;
+        sj.pad = 0;
+        push_shadow(w, &sj);
+    }
+    const float *amb = s->header->ambient;
+    float ka[3] = { kd[0] * amb[0], kd[1] * amb[1], kd[2] * amb[2] };
+    add_radiance(w, j->slot, (const float[3]){ 1.0f, 1.0f, 1.0f }, ka);
+
+    /* Mirror reflection. */
+    if (mirror > 0.0f && j->bounces < r->opts.max_bounces) {
+        hz_vec3_t d = hz_v3(j->d[0], j->d[1], j->d[2]);
+        hz_vec3_t rd = hz_v3_sub(d, hz_v3_scale(sf.ns, 2.0f * hz_v3_dot(d, sf.ns)));
+        if (!(hz_v3_dot(rd, sf.ng) > 0.0f))
+            rd = hz_v3_sub(d, hz_v3_scale(sf.ng, 2.0f * hz_v3_dot(d, sf.ng)));
+        rd = hz_v3_normalize(rd);
+        ray_job_t c = *j;
+        hz_vec3_t o = o_light;
+        c.o[0] = o.x, c.o[1] = o.y, c.o[2] = o.z;
+        c.d[0] = rd.x, c.d[1] = rd.y, c.d[2] = rd.z;
+        c.w[0] = wc[0] * mirror, c.w[1] = wc[1] * mirror, c.w[2] = wc[2] * mirror;
+        c.vis = 1.0f;
+        c.travelled = j->travelled + h->t;
+        c.cone_w = j->cone_w + j->cone_s * h->t;
+        c.bounces = (uint8_t)(j->bounces + 1u);
+        c.gslot = j->gslot == GSLOT_PRIMARY ? GSLOT_SECONDARY : GSLOT_NONE;
+        push_ray(w, &c);
+    } else if (j->gslot == GSLOT_PRIMARY && r->gb.object2) {
+        /* No reflected hit: the secondary record says so. */
+        gb->object2[px] = HZ_GB_NO_OBJECT;
+        gb->normal2[px * 3] = gb->normal2[px * 3 + 1] = gb->normal2[px * 3 + 2] = 0.0f;
+        gb->shadow2[px] = 0;
+        gb->flags2[px] = 0;
+    }
+}
+
+static void shade(hz_worker_t *w, const ray_job_t *j, const hitrec_t *h)
+{
+    if (h->prim == HZ_ACCEL_INVALID_ID)
+        shade_miss(w, j);
+    else
+        shade_hit(w, j, h);
+}
+
+/* Everything queued: rays depth first in packets, shadow rays whenever a packet's worth is waiting. */
+static void drain(hz_worker_t *w)
+{
+    ray_job_t jobs[HZ_RENDER_LANES];
+    hitrec_t hits[HZ_RENDER_LANES];
+    while (w->stack_n || w->shadow_n) {
+        if (w->shadow_n >= HZ_RENDER_LANES || w->stack_n == 0) {
+            process_shadows(w);
+            continue;
+        }
+        uint32_t n = w->stack_n < HZ_RENDER_LANES ? w->stack_n : HZ_RENDER_LANES;
+        w->stack_n -= n;
+        for (uint32_t i = 0; i < n; i++)
+            jobs[i] = w->stack[w->stack_n + i];
+        w->stats.secondary_rays += n;
+        intersect_jobs(w, jobs, n, hits, false, NULL);
+        for (uint32_t i = 0; i < n; i++)
+            shade(w, &jobs[i], &hits[i]);
+    }
+}
+
+void hz_trace_batch(hz_worker_t *w, const float (*jitter)[2], bool write_gbuffer)
+{
+    struct hz_renderer *r = w->r;
+    const hz_view_t *v = &r->view;
+    ray_job_t jobs[HZ_RENDER_LANES];
+    hitrec_t hits[HZ_RENDER_LANES];
+    hz_memset(w->alpha_touched, 0, sizeof w->alpha_touched);
+    for (uint32_t base = 0; base < HZ_TILE_PIXELS; base += HZ_RENDER_LANES) {
+        uint32_t n = 0;
+        for (uint32_t i = 0; i < HZ_RENDER_LANES; i++) {
+            uint32_t slot = base + i, px = w->pixel[slot];
+            if (px == UINT32_MAX)
+                continue;
+            ray_job_t *j = &jobs[n++];
+            float x = (float)(px % v->width) + 0.5f + jitter[slot][0];
+            float y = (float)(px / v->width) + 0.5f + jitter[slot][1];
+            hz_vec3_t d = hz_view_ray_dir(v, x, y);
+            j->o[0] = v->eye.x, j->o[1] = v->eye.y, j->o[2] = v->eye.z;
+            j->d[0] = d.x, j->d[1] = d.y, j->d[2] = d.z;
+            j->w[0] = j->w[1] = j->w[2] = 1.0f;
+            j->cone_w = 0.0f;
+            j->cone_s = v->spread;
+            j->travelled = 0.0f;
+            j->vis = 1.0f;
+            j->slot = (uint16_t)slot;
+            j->gslot = write_gbuffer ? GSLOT_PRIMARY : GSLOT_NONE;
+            j->bounces = 0;
+            j->layers = 0;
+            j->pad = 0;
+        }
+        if (n == 0)
+            continue;
+        w->stats.primary_rays += n;
+        intersect_jobs(w, jobs, n, hits, true, NULL);
+        for (uint32_t i = 0; i < n; i++)
+            shade(w, &jobs[i], &hits[i]);
+        drain(w);
+    }
+}
+
+void hz_tile_slots(const struct hz_renderer *r, uint32_t tile, uint32_t pixel[HZ_TILE_PIXELS])
+{
+    uint32_t tx = tile % r->tiles_x, ty = tile / r->tiles_x;
+    /* Packets of 4x2 pixels (8 lanes) or 2x2 (4 lanes), row by row inside the tile. */
+    const uint32_t pw = HZ_RENDER_LANES == 8 ? 4 : 2, ph = 2;
+    const uint32_t per_row = HZ_RENDER_TILE / pw;
+    for (uint32_t slot = 0; slot < HZ_TILE_PIXELS; slot++) {
+        uint32_t packet = slot / HZ_RENDER_LANES, lane = slot % HZ_RENDER_LANES;
+        uint32_t x = tx * HZ_RENDER_TILE + (packet % per_row) * pw + lane % pw;
+        uint32_t y = ty * HZ_RENDER_TILE + (packet / per_row) * ph + lane / pw;
+        pixel[slot] = x < r->opts.width && y < r->opts.height ? y * r->opts.width + x : UINT32_MAX;
+    }
+}

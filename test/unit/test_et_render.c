@@ -1,0 +1,250 @@
+/*
+ * errtime through the renderer (et_render.h) on the baked CornellBox-Mirror at a small size: full-frame error
+ * falls monotonically 1 -> 4 -> 9 -> 16 spp (PSNR and SSIM up, mean FLIP down) while the work grows. The work is
+ * asserted as rays per frame from the renderer's stats (at least width * height * spp primary rays, strictly
+ * rising), not as time: the house rules forbid timed assertions, so the driver's median times are printed only.
+ * Also: TAA runs and traces one primary ray per pixel; the scene's cache key (content hash and renderer
+ * fingerprint) is the same for every thread count and differs between scenes; the pools are given back by close
+ * and by a failed open; a missing scene file is refused with its path; the tables are well formed.
+ *
+ * Needs the baked scenes ($HZ_SCENES_DIR, exported by make; `make scenes`); skipped with a message without them.
+ */
+#include "hz_test.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "errtime.h"
+#include "et_flip.h"
+#include "et_methods.h"
+#include "et_render.h"
+#include "pools.h"
+
+static char cache[64];
+static uint8_t mem[96 << 20] HZ_ALIGNED(64);
+static hz_arena_t arena;
+
+static int setup(void **state)
+{
+    (void)state;
+    strcpy(cache, "/tmp/hz-et-render-XXXXXX");
+    hz_arena_init(&arena, "errtime", mem, sizeof mem);
+    return mkdtemp(cache) ? 0 : -1;
+}
+
+static int teardown(void **state)
+{
+    (void)state;
+    char cmd[128];
+    snprintf(cmd, sizeof cmd, "rm -rf '%s'", cache);
+    return system(cmd) == 0 ? 0 : -1;
+}
+
+static const char *scene_dir(void)
+{
+    const char *d = getenv("HZ_SCENES_DIR");
+    if (!d || !*d) {
+        print_message("HZ_SCENES_DIR is not set (make exports it; `make scenes` bakes the scenes)\n");
+        return NULL;
+    }
+    return d;
+}
+
+/* Sum of the pools' used bytes: what open must give back. */
+static size_t pools_used(void)
+{
+    hz_pools_t *p = hz_pools_get();
+    size_t n = hz_arena_mark(&p->scene) + hz_arena_mark(&p->accel) + hz_arena_mark(&p->frame);
+    for (int t = 0; t < HZ_MAX_THREADS; t++)
+        n += hz_arena_mark(&p->thread[t]);
+    return n;
+}
+
+static void test_tables_are_well_formed(void **state)
+{
+    (void)state;
+    for (size_t i = 0; i < HZ_ET_RENDER_METHOD_COUNT; i++) {
+        const hz_et_method_t *m = &hz_et_render_methods[i];
+        assert_non_null(m->name);
+        assert_non_null(m->knob);
+        assert_non_null(m->begin);
+        assert_non_null(m->render);
+        assert_non_null(m->params);
+    }
+    for (size_t i = 0; i < hz_et_scene_count; i++) {
+        const hz_et_scene_t *s = &hz_et_scenes[i];
+        assert_non_null(s->open);
+        assert_non_null(s->reference);
+        assert_true(s->method_count > 0);
+        assert_true(hz_et_scene_find(s->name) == s);
+        if (s->width) /* report defaults: SSIM's window fits, and at least one display-integration window */
+            assert_true(s->width >= 11 && s->height >= 11 && s->frames >= s->warmup + hz_et_window(240));
+    }
+    assert_null(hz_et_scene_find("no-such-scene"));
+    const hz_et_scene_t *c = hz_et_scene_find("CornellBox-Mirror");
+    assert_non_null(c);
+    assert_true(c->reference == &hz_et_render_reference);
+    assert_true(hz_et_render_reference.value == 256.0);
+}
+
+static void test_full_frame_error_falls_as_rays_grow(void **state)
+{
+    (void)state;
+    const char *dir = scene_dir();
+    if (!dir)
+        skip();
+    const hz_et_scene_t *sc = hz_et_scene_find("CornellBox-Mirror");
+    hz_et_env_t env = { dir, 2 };
+    hz_et_sequence_t seq = { sc->name, 0, NULL, NULL, 40, 24, 8, 0, 240, NULL };
+    hz_error_t err;
+    size_t used = pools_used();
+    if (sc->open(sc, &env, &seq, &arena, &err) != HZ_OK)
+        fail_msg("%s", err.msg);
+    /* The full-frame rows of the scene's table, in table order. */
+    hz_et_method_t m[4];
+    size_t n = 0;
+    for (size_t i = 0; i < sc->method_count && n < 4; i++)
+        if (!strcmp(sc->methods[i].name, "full-frame"))
+            m[n++] = sc->methods[i];
+    assert_int_equal(n, 4);
+    hz_et_config_t cfg = { cache, HZ_FLIP_DEFAULT_PPD, &arena, NULL, false, NULL };
+    hz_et_row_t rows[4];
+    hz_arena_mark_t mark = hz_arena_mark(&arena);
+    hz_status_t s = hz_et_run(&seq, sc->reference, m, n, &cfg, rows, &err);
+    sc->close();
+    if (s != HZ_OK)
+        fail_msg("%s", err.msg);
+    assert_int_equal(hz_arena_mark(&arena), mark);
+    assert_int_equal(pools_used(), used);
+    const double spp[4] = { 1, 4, 9, 16 };
+    for (size_t i = 0; i < 4; i++) {
+        const hz_et_row_t *r = &rows[i];
+        print_message("full-frame %2g spp: FLIP %.4f  PSNR %.2f dB  SSIM %.4f  %.0f rays/frame  %.3f ms (not "
+                      "asserted)\n", r->value, r->flip, r->psnr_srgb8, r->ssim, r->rays_per_frame, r->ms_median);
+        assert_true(r->value == spp[i]);
+        assert_int_equal(r->measured, 8);
+        assert_true(r->rays_per_frame >= 40.0 * 24.0 * spp[i]); /* the primary rays alone */
+        assert_true(r->flip > 0.0 && r->flip < 1.0 && isfinite(r->psnr_srgb8));
+        if (i > 0) {
+            assert_true(r->flip < rows[i - 1].flip);
+            assert_true(r->psnr_srgb8 > rows[i - 1].psnr_srgb8);
+            assert_true(r->ssim > rows[i - 1].ssim);
+            assert_true(r->rays_per_frame > rows[i - 1].rays_per_frame);
+        }
+    }
+}
+
+static void test_taa_runs_one_ray_per_pixel(void **state)
+{
+    (void)state;
+    const char *dir = scene_dir();
+    if (!dir)
+        skip();
+    const hz_et_scene_t *sc = hz_et_scene_find("CornellBox-Mirror");
+    hz_et_env_t env = { dir, 2 };
+    hz_et_sequence_t seq = { sc->name, 0, NULL, NULL, 40, 24, 8, 0, 240, NULL };
+    hz_error_t err;
+    if (sc->open(sc, &env, &seq, &arena, &err) != HZ_OK)
+        fail_msg("%s", err.msg);
+    hz_et_method_t m[HZ_ET_RENDER_METHOD_COUNT];
+    size_t n = 0;
+    for (size_t i = 0; i < sc->method_count; i++)
+        if (!strncmp(sc->methods[i].name, "taa", 3) || (sc->methods[i].value == 1.0 && !strcmp(sc->methods[i].name,
+                                                                                                "full-frame")))
+            m[n++] = sc->methods[i];
+    assert_true(n >= 2);
+    hz_et_config_t cfg = { cache, HZ_FLIP_DEFAULT_PPD, &arena, NULL, false, NULL };
+    hz_et_row_t rows[HZ_ET_RENDER_METHOD_COUNT];
+    hz_status_t s = hz_et_run(&seq, sc->reference, m, n, &cfg, rows, &err);
+    sc->close();
+    if (s != HZ_OK)
+        fail_msg("%s", err.msg);
+    for (size_t i = 0; i < n; i++) {
+        const hz_et_row_t *r = &rows[i];
+        print_message("%-16s FLIP %.4f  PSNR %.2f dB  DI FLIP %.4f  %.0f rays/frame\n", r->method, r->flip,
+                      r->psnr_srgb8, r->di_flip, r->rays_per_frame);
+        assert_true(r->flip > 0.0 && r->flip < 1.0);
+        assert_true(r->rays_per_frame >= 40.0 * 24.0);
+        /* One camera ray per pixel, as full-frame 1 spp: shadow and mirror rays may differ, by less than 2x. */
+        assert_true(r->rays_per_frame < 2.0 * rows[0].rays_per_frame);
+    }
+}
+
+static void test_cache_key_is_content_and_renderer(void **state)
+{
+    (void)state;
+    const char *dir = scene_dir();
+    if (!dir)
+        skip();
+    hz_error_t err;
+    char settings[2][256];
+    uint64_t hash[3];
+    const hz_et_scene_t *sc = hz_et_scene_find("CornellBox-Mirror");
+    for (int k = 0; k < 2; k++) { /* 1 and 3 threads: the renderer's images, hence the key, are the same */
+        hz_et_env_t env = { dir, k ? 3u : 1u };
+        hz_et_sequence_t seq = { sc->name, 0, NULL, NULL, 40, 24, 8, 0, 240, NULL };
+        if (sc->open(sc, &env, &seq, &arena, &err) != HZ_OK)
+            fail_msg("%s", err.msg);
+        snprintf(settings[k], sizeof settings[k], "%s", seq.settings);
+        hash[k] = seq.scene_hash;
+        assert_non_null(strstr(seq.settings, "probe "));
+        assert_non_null(seq.scene_data);
+        sc->close();
+    }
+    assert_string_equal(settings[0], settings[1]);
+    assert_true(hash[0] == hash[1]);
+    const hz_et_scene_t *other = hz_et_scene_find("builtin");
+    hz_et_env_t env = { dir, 2 };
+    hz_et_sequence_t seq = { other->name, 0, NULL, NULL, 40, 24, 8, 0, 240, NULL };
+    if (other->open(other, &env, &seq, &arena, &err) != HZ_OK)
+        fail_msg("%s", err.msg);
+    hash[2] = seq.scene_hash;
+    assert_true(hash[2] != hash[0]);
+    assert_string_not_equal(seq.settings, settings[0]); /* another scene renders another probe */
+    /* One scene at a time: a second open is refused and leaves the first one open. */
+    hz_et_sequence_t again = seq;
+    assert_int_equal(sc->open(sc, &env, &again, &arena, &err), HZ_E_INVALID_ARG);
+    assert_non_null(strstr(err.msg, "already open"));
+    other->close();
+    other->close(); /* closing twice is harmless */
+}
+
+static void test_missing_scene_is_refused_and_pools_given_back(void **state)
+{
+    (void)state;
+    hz_error_t err;
+    size_t used = pools_used();
+    hz_et_env_t env = { "/nonexistent-hz-scenes", 2 };
+    const hz_et_scene_t *sc = hz_et_scene_find("sponza");
+    hz_et_sequence_t seq = { sc->name, 0, NULL, NULL, 40, 24, 8, 0, 240, NULL };
+    assert_int_equal(sc->open(sc, &env, &seq, &arena, &err), HZ_E_IO);
+    print_message("%s\n", err.msg);
+    assert_non_null(strstr(err.msg, "/nonexistent-hz-scenes/sponza.hzb"));
+    assert_non_null(strstr(err.msg, "make scenes"));
+    assert_int_equal(pools_used(), used);
+    /* Nothing is left open: the synthetic scene's methods need none, a rendered scene opens again. */
+    const char *dir = scene_dir();
+    if (!dir)
+        return;
+    env.scene_dir = dir;
+    const hz_et_scene_t *c = hz_et_scene_find("CornellBox-Mirror");
+    if (c->open(c, &env, &seq, &arena, &err) != HZ_OK)
+        fail_msg("%s", err.msg);
+    c->close();
+    assert_int_equal(pools_used(), used);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_tables_are_well_formed),
+        cmocka_unit_test(test_full_frame_error_falls_as_rays_grow),
+        cmocka_unit_test(test_taa_runs_one_ray_per_pixel),
+        cmocka_unit_test(test_cache_key_is_content_and_renderer),
+        cmocka_unit_test(test_missing_scene_is_refused_and_pools_given_back),
+    };
+    return cmocka_run_group_tests(tests, setup, teardown);
+}

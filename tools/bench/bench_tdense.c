@@ -1,0 +1,151 @@
+/* hzbench's temporally dense group (see bench_tdense.h). */
+#include "bench_tdense.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "accel_backend.h"
+#include "clock.h"
+#include "hz/render.h"
+#include "pools.h"
+#include "scenefile.h"
+#include "threads.h"
+
+typedef struct job {
+    hz_renderer_t *r;
+    uint32_t pass;
+} job_t;
+
+static void run_item(void *user, uint32_t item, int thread)
+{
+    job_t *j = user;
+    hz_render_pass_run(j->r, j->pass, item, (uint32_t)thread);
+}
+
+/* Mean displayed-frame time (ms, begin_frame to end_frame) of `frames` frames from scene time t0 at `hz`, after
+ * `warm` untimed frames; history restarts first, so every round sees the same sequence. */
+static hz_status_t run_frames(hz_renderer_t *r, uint32_t warm, uint32_t frames, float t0, uint32_t hz, double *ms,
+                              hz_error_t *err)
+{
+    hz_render_reset_history(r);
+    int64_t sum = 0;
+    for (uint32_t i = 0; i < warm + frames; i++) {
+        int64_t a = hz_clock_ns();
+        hz_status_t s = hz_render_begin_frame(r, i, t0 + (float)i / (float)hz, err);
+        if (s != HZ_OK)
+            return s;
+        for (uint32_t p = 0; p < hz_render_pass_count(r); p++) {
+            job_t j = { r, p };
+            hz_threads_run(run_item, &j, hz_render_pass_items(r, p));
+        }
+        hz_render_end_frame(r);
+        if (i >= warm)
+            sum += hz_clock_ns() - a;
+    }
+    *ms = (double)sum / frames * 1e-6;
+    return HZ_OK;
+}
+
+static int cmp_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return x < y ? -1 : x > y;
+}
+
+static double median(double *v, int n)
+{
+    qsort(v, (size_t)n, sizeof *v, cmp_double);
+    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+/* One scene: both renderers from the same pools, rounds alternating which mode goes first. */
+static hz_status_t bench_scene(const char *label, const char *path, const hz_bench_tdense_opts_t *o,
+                               hz_bench_tdense_row_t *row, hz_error_t *err)
+{
+    hz_pools_t *pools = hz_pools_get();
+    hz_arena_mark_t ms = hz_arena_mark(&pools->scene), ma = hz_arena_mark(&pools->accel),
+                    mf = hz_arena_mark(&pools->frame), mt[HZ_MAX_THREADS];
+    for (int t = 0; t < HZ_MAX_THREADS; t++)
+        mt[t] = hz_arena_mark(&pools->thread[t]);
+    hz_scene_t scene;
+    hz_accel_t *accel = NULL;
+    hz_accel_geom_t geom;
+    hz_status_t s = hz_scenefile_open(path, pools, &scene, err);
+    if (s == HZ_OK)
+        s = hz_render_accel_geom(&scene, &pools->accel, &geom, err);
+    if (s == HZ_OK)
+        s = hz_accel_backend_build(HZ_ACCEL_NATIVE, &accel, &geom, &pools->accel, err);
+    hz_renderer_t *r[2] = { NULL, NULL };
+    for (int m = 0; m < 2 && s == HZ_OK; m++) {
+        hz_render_opts_t ro;
+        hz_render_opts_default(&ro);
+        ro.width = o->width, ro.height = o->height;
+        ro.mode = m == 0 ? HZ_MODE_TDENSE : HZ_MODE_TAA;
+        s = hz_render_create(&r[m], &scene, accel, &ro, &pools->frame, pools->thread, (uint32_t)o->threads, err);
+    }
+    double ms_mode[2][HZ_BENCH_TDENSE_MAX_ROUNDS], ratio[HZ_BENCH_TDENSE_MAX_ROUNDS];
+    for (int round = 0; round < o->rounds && s == HZ_OK; round++) {
+        for (int k = 0; k < 2 && s == HZ_OK; k++) {
+            int m = (round + k) & 1;
+            s = run_frames(r[m], o->warm, o->frames, o->start, o->hz, &ms_mode[m][round], err);
+        }
+        ratio[round] = ms_mode[1][round] / ms_mode[0][round];
+        if (o->progress) {
+            fprintf(stderr, "\r  tdense %-12s round %d/%d", label, round + 1, o->rounds);
+            fflush(stderr);
+        }
+    }
+    if (o->progress)
+        fprintf(stderr, "\r%60s\r", "");
+    if (s == HZ_OK) {
+        memset(row, 0, sizeof *row);
+        snprintf(row->scene, sizeof row->scene, "%s", label);
+        row->tdense_ms = median(ms_mode[0], o->rounds);
+        row->taa_ms = median(ms_mode[1], o->rounds);
+        row->ratio = median(ratio, o->rounds);
+        row->ratio_min = ratio[0], row->ratio_max = ratio[o->rounds - 1]; /* sorted by median() */
+        hz_render_stats_t last;
+        hz_render_frame_stats(r[0], &last, NULL);
+        row->tdense_rays = (double)(last.primary_rays + last.shadow_rays + last.secondary_rays);
+        hz_render_frame_stats(r[1], &last, NULL);
+        row->taa_rays = (double)(last.primary_rays + last.shadow_rays + last.secondary_rays);
+    }
+    hz_accel_release(accel);
+    hz_arena_reset(&pools->frame, mf);
+    hz_arena_reset(&pools->accel, ma);
+    hz_arena_reset(&pools->scene, ms);
+    for (int t = 0; t < HZ_MAX_THREADS; t++)
+        hz_arena_reset(&pools->thread[t], mt[t]);
+    return s;
+}
+
+int hz_bench_tdense(const hz_bench_tdense_opts_t *o, hz_bench_tdense_row_t *rows, int max_rows, hz_error_t *err)
+{
+    static const char *const scenes[][2] = { { "builtin", NULL }, { "sponza", "sponza.hzb" },
+                                             { "conference", "conference.hzb" } };
+    int n = 0;
+    if (hz_threads_start(o->threads, err) != HZ_OK)
+        return -1;
+    for (size_t i = 0; i < sizeof scenes / sizeof scenes[0] && n < max_rows; i++) {
+        char path[4096];
+        if (scenes[i][1]) {
+            snprintf(path, sizeof path, "%s/%s", o->scenes_dir ? o->scenes_dir : ".", scenes[i][1]);
+            if (access(path, R_OK) != 0) {
+                printf("tdense   %-12s skipped: %s missing (make scenes)\n", scenes[i][0], path);
+                continue;
+            }
+        } else {
+            snprintf(path, sizeof path, "builtin");
+        }
+        if (bench_scene(scenes[i][0], path, o, &rows[n], err) != HZ_OK) {
+            hz_threads_stop();
+            return -1;
+        }
+        n++;
+    }
+    hz_threads_stop();
+    return n;
+}

@@ -1,0 +1,291 @@
+/* errtime methods through hzrt's renderer (see et_render.h). */
+#include "et_render.h"
+
+#include <stdio.h>
+#include <string.h>
+
+#include "accel_backend.h"
+#include "hz/config.h"
+#include "pools.h"
+#include "scenefile.h"
+#include "threads.h"
+
+/* The open scene: the pools are process-wide, so there is one. */
+typedef struct et_scene {
+    bool open;
+    hz_pools_t *pools;
+    hz_scene_t scene;
+    hz_accel_t *accel;
+    uint32_t threads;
+    hz_arena_mark_t scene_mark, accel_mark, frame_mark, thread_marks[HZ_MAX_THREADS];
+    char settings[192];
+} et_scene_t;
+
+static et_scene_t g_scene;
+
+typedef struct et_state {
+    et_scene_t *sc;
+    hz_renderer_t *r;
+    float refresh_hz;
+    uint64_t rendered; /* frames this renderer drew: its own frame index (TAA's jitter phase, tdense's subframe),
+                        * which differs from the displayed frame's for held methods */
+} et_state_t;
+
+typedef struct et_job {
+    hz_renderer_t *r;
+    uint32_t pass;
+} et_job_t;
+
+static void run_item(void *user, uint32_t item, int thread)
+{
+    et_job_t *j = user;
+    hz_render_pass_run(j->r, j->pass, item, (uint32_t)thread);
+}
+
+static hz_status_t render_frame(hz_renderer_t *r, uint64_t index, float t, hz_error_t *err)
+{
+    hz_status_t s = hz_render_begin_frame(r, index, t, err);
+    if (s != HZ_OK)
+        return s;
+    for (uint32_t p = 0; p < hz_render_pass_count(r); p++) {
+        et_job_t j = { r, p };
+        hz_threads_run(run_item, &j, hz_render_pass_items(r, p));
+    }
+    hz_render_end_frame(r);
+    return HZ_OK;
+}
+
+static void give_back_threads(et_scene_t *sc)
+{
+    for (uint32_t t = 0; t < sc->threads; t++)
+        hz_arena_reset(&sc->pools->thread[t], sc->thread_marks[t]);
+}
+
+static void opts_for(const hz_et_render_params_t *p, uint32_t w, uint32_t h, hz_render_opts_t *o)
+{
+    hz_render_opts_default(o);
+    o->width = w;
+    o->height = h;
+    o->mode = p->mode;
+    o->spp = p->spp ? p->spp : 1;
+    o->taa_clip = p->taa_clip;
+    o->taa_catmull_rom = p->taa_catmull_rom;
+    o->seed = p->seed;
+}
+
+static hz_status_t rbegin(const hz_et_method_t *m, const hz_et_sequence_t *seq, hz_arena_t *arena, void **state,
+                          hz_error_t *err)
+{
+    et_scene_t *sc = (et_scene_t *)seq->scene_data;
+    if (!sc || sc != &g_scene || !sc->open)
+        return hz_error_set(err, HZ_E_INVALID_ARG, "no renderer scene is open (hz_et_render_open)");
+    et_state_t *st = hz_arena_alloc(arena, sizeof *st, 64);
+    if (!st)
+        return hz_arena_error(arena, err);
+    hz_render_opts_t o;
+    opts_for(m->params, seq->width, seq->height, &o);
+    st->sc = sc;
+    st->rendered = 0;
+    st->refresh_hz = (float)seq->refresh_hz;
+    hz_status_t s = hz_render_create(&st->r, &sc->scene, sc->accel, &o, arena, sc->pools->thread, sc->threads, err);
+    if (s != HZ_OK) {
+        give_back_threads(sc);
+        return s;
+    }
+    *state = st;
+    return HZ_OK;
+}
+
+static hz_status_t rrender(void *state, uint32_t frame, hz_image_t *out, uint64_t *rays, hz_error_t *err)
+{
+    et_state_t *st = state;
+    hz_status_t s = render_frame(st->r, st->rendered++, (float)frame / st->refresh_hz, err);
+    if (s != HZ_OK)
+        return s;
+    if ((s = hz_image_copy(out, hz_render_output(st->r), err)) != HZ_OK)
+        return s;
+    hz_render_stats_t last;
+    hz_render_frame_stats(st->r, &last, NULL);
+    *rays = last.primary_rays + last.shadow_rays + last.secondary_rays;
+    if (last.queue_full || last.nonfinite)
+        return hz_error_set(err, HZ_E_INTERNAL, "the renderer dropped %llu rays (full queue) and replaced %llu "
+                            "non-finite values", (unsigned long long)last.queue_full,
+                            (unsigned long long)last.nonfinite);
+    return HZ_OK;
+}
+
+static void rend(void *state)
+{
+    et_state_t *st = state;
+    give_back_threads(st->sc);
+}
+
+/* ---- the table ---- */
+
+#define FULL(n) { HZ_MODE_FULL, n, false, false, 0 }
+static const hz_et_render_params_t p_full1 = FULL(1), p_full4 = FULL(4), p_full9 = FULL(9), p_full16 = FULL(16);
+static const hz_et_render_params_t p_taa = { HZ_MODE_TAA, 1, false, false, 0 };
+static const hz_et_render_params_t p_taa_clip = { HZ_MODE_TAA, 1, true, false, 0 };
+static const hz_et_render_params_t p_taa_cr = { HZ_MODE_TAA, 1, false, true, 0 };
+static const hz_et_render_params_t p_taa_clip_cr = { HZ_MODE_TAA, 1, true, true, 0 };
+/* The reference: 256 stratified samples with a seed no method uses. */
+static const hz_et_render_params_t p_ref = { HZ_MODE_FULL, 256, false, false, 0x5eed };
+
+#define METHOD(name, knob, value, params) { name, knob, value, rbegin, rrender, rend, params, 0 }
+#define HELD(name, knob, value, params, hold) { name, knob, value, rbegin, rrender, rend, params, hold }
+
+const hz_et_method_t hz_et_render_reference = METHOD("full-frame", "spp", 256, &p_ref);
+
+/* Every method the renderer offers, in chart order. Later render modes add their rows here (one polyline per
+ * name, one point per knob value), e.g. adaptive supersampling (seed 003) with its threshold as the knob. */
+const hz_et_method_t hz_et_render_methods[HZ_ET_RENDER_METHOD_COUNT] = {
+    METHOD("full-frame", "spp", 1, &p_full1),
+    METHOD("full-frame", "spp", 4, &p_full4),
+    METHOD("full-frame", "spp", 9, &p_full9),
+    METHOD("full-frame", "spp", 16, &p_full16),
+    METHOD("taa", "spp", 1, &p_taa),                   /* clamp per channel, bilinear history (the defaults) */
+    METHOD("taa-clip", "spp", 1, &p_taa_clip),         /* clip towards the box centre */
+    METHOD("taa-catmull-rom", "spp", 1, &p_taa_cr),    /* Catmull-Rom history fetch */
+    METHOD("taa-clip-cr", "spp", 1, &p_taa_clip_cr),   /* both */
+};
+
+static const hz_et_render_params_t p_tdense = { HZ_MODE_TDENSE, 1, false, false, 0 };
+static const hz_et_render_params_t p_ref64 = { HZ_MODE_FULL, 64, false, false, 0x5eed };
+
+const hz_et_method_t hz_et_display_reference = METHOD("full-frame", "spp", 64, &p_ref64);
+
+const hz_et_method_t hz_et_display_methods[HZ_ET_DISPLAY_METHOD_COUNT] = {
+    METHOD("tdense", "hz", 240, &p_tdense),
+    HELD("full-1spp", "hz", 60, &p_full1, 4),
+    METHOD("full-1spp", "hz", 240, &p_full1),
+    HELD("taa", "hz", 60, &p_taa, 4),
+    METHOD("taa", "hz", 240, &p_taa),
+};
+
+/* ---- scenes ---- */
+
+static uint64_t fnv1a64(uint64_t h, const void *data, size_t n)
+{
+    const uint8_t *p = data;
+    for (size_t i = 0; i < n; i++) {
+        h ^= p[i];
+        h *= 0x100000001b3ull;
+    }
+    return h;
+}
+
+/* Two small full-frame renders (1 and 16 spp, at t = 0 and 0.5 s) hashed: a fingerprint of what the renderer
+ * makes of this scene. Uses the frame pool as scratch and gives it back. */
+static hz_status_t fingerprint(et_scene_t *sc, uint64_t *out, hz_error_t *err)
+{
+    static const uint32_t spp[2] = { 1, 16 };
+    static const float when[2] = { 0.0f, 0.5f };
+    uint64_t h = 0xcbf29ce484222325ull;
+    for (int k = 0; k < 2; k++) {
+        hz_et_render_params_t p = FULL(spp[k]);
+        hz_render_opts_t o;
+        opts_for(&p, 40, 24, &o);
+        hz_renderer_t *r = NULL;
+        hz_status_t s = hz_render_create(&r, &sc->scene, sc->accel, &o, &sc->pools->frame, sc->pools->thread,
+                                         sc->threads, err);
+        if (s == HZ_OK)
+            s = render_frame(r, 0, when[k], err);
+        if (s == HZ_OK) {
+            const hz_image_t *img = hz_render_output(r);
+            h = fnv1a64(h, img->rgb, hz_image_pixels(img) * 3 * sizeof(float));
+        }
+        hz_arena_reset(&sc->pools->frame, sc->frame_mark);
+        give_back_threads(sc);
+        if (s != HZ_OK)
+            return s;
+    }
+    *out = h;
+    return HZ_OK;
+}
+
+static void unwind(et_scene_t *sc)
+{
+    hz_threads_stop();
+    if (sc->accel)
+        hz_accel_release(sc->accel);
+    sc->accel = NULL;
+    hz_arena_reset(&sc->pools->frame, sc->frame_mark);
+    hz_arena_reset(&sc->pools->accel, sc->accel_mark);
+    hz_arena_reset(&sc->pools->scene, sc->scene_mark);
+    for (int t = 0; t < HZ_MAX_THREADS; t++)
+        hz_arena_reset(&sc->pools->thread[t], sc->thread_marks[t]);
+    sc->open = false;
+}
+
+hz_status_t hz_et_render_open(const char *file, const hz_et_env_t *env, hz_et_sequence_t *seq, hz_error_t *err)
+{
+    et_scene_t *sc = &g_scene;
+    if (sc->open)
+        return hz_error_set(err, HZ_E_INVALID_ARG, "errtime: a renderer scene is already open; close it first");
+    char path[4096];
+    if (strcmp(file, "builtin") != 0) {
+        if (!env->scene_dir || !*env->scene_dir)
+            return hz_error_set(err, HZ_E_INVALID_ARG, "errtime: no scene directory for %s", file);
+        if (snprintf(path, sizeof path, "%s/%s", env->scene_dir, file) >= (int)sizeof path)
+            return hz_error_set(err, HZ_E_RANGE, "%s: scene path too long", env->scene_dir);
+    } else {
+        snprintf(path, sizeof path, "builtin");
+    }
+    memset(sc, 0, sizeof *sc);
+    sc->pools = hz_pools_get();
+    if (!sc->pools)
+        return hz_error_set(err, HZ_E_INTERNAL, "errtime: could not set up the static arenas");
+    sc->scene_mark = hz_arena_mark(&sc->pools->scene);
+    sc->accel_mark = hz_arena_mark(&sc->pools->accel);
+    sc->frame_mark = hz_arena_mark(&sc->pools->frame);
+    for (int t = 0; t < HZ_MAX_THREADS; t++)
+        sc->thread_marks[t] = hz_arena_mark(&sc->pools->thread[t]);
+    sc->open = true;
+    /* The pool first: the accel build may use it. */
+    hz_status_t s = hz_threads_start((int)env->threads, err);
+    if (s != HZ_OK) {
+        unwind(sc);
+        return s;
+    }
+    sc->threads = (uint32_t)hz_threads_count();
+    s = hz_scenefile_open(path, sc->pools, &sc->scene, err);
+    if (s != HZ_OK) {
+        if (s == HZ_E_IO && strcmp(file, "builtin") != 0 && err) {
+            size_t n = strlen(err->msg);
+            snprintf(err->msg + n, sizeof err->msg - n, " (bake it with `make scenes`, or give --scenes DIR)");
+        }
+        unwind(sc);
+        return s;
+    }
+    hz_accel_geom_t g;
+    s = hz_render_accel_geom(&sc->scene, &sc->pools->accel, &g, err);
+    if (s == HZ_OK)
+        s = hz_accel_backend_build(HZ_ACCEL_NATIVE, &sc->accel, &g, &sc->pools->accel, err);
+    if (s != HZ_OK) {
+        hz_error_prefix(err, path);
+        unwind(sc);
+        return s;
+    }
+    uint64_t probe = 0;
+    if ((s = fingerprint(sc, &probe, err)) != HZ_OK) {
+        hz_error_prefix(err, path);
+        unwind(sc);
+        return s;
+    }
+    hz_render_opts_t o;
+    hz_render_opts_default(&o);
+    snprintf(sc->settings, sizeof sc->settings,
+             "hzrt renderer, native accel, max_bounces %u, min_visibility %.9g, probe %016llx", o.max_bounces,
+             (double)o.min_visibility, (unsigned long long)probe);
+    seq->scene_data = sc;
+    seq->scene_hash = fnv1a64(0xcbf29ce484222325ull, sc->scene.header, (size_t)sc->scene.header->file_bytes);
+    seq->camera = "baked path from t = 0";
+    seq->settings = sc->settings;
+    return HZ_OK;
+}
+
+void hz_et_render_close(void)
+{
+    if (g_scene.open)
+        unwind(&g_scene);
+}

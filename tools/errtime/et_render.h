@@ -1,0 +1,72 @@
+/*
+ * et_render.h — errtime methods and scenes that go through hzrt's renderer (hz/render.h): the scene is loaded
+ * into the board pools, the accel built once, and every method renders the sequence with the static thread pool
+ * exactly as `hzrt render` does (hz_render_begin_frame, each pass's items through hz_threads_run,
+ * hz_render_end_frame).
+ *
+ * Contract:
+ *  - hz_et_render_open(file, env, seq, err) loads `file` ("builtin" or a .hzb name inside env->scene_dir) with
+ *    hz_scenefile_open into hz_pools_get()'s scene arena, builds the native accel into its accel arena, starts
+ *    the thread pool (env->threads, 0 = one per online CPU) and fills the sequence: scene_data (the loaded
+ *    scene), scene_hash (FNV-1a 64 of the scene image's bytes: the .hzb file, or the built-in scene as
+ *    generated), camera ("baked path from t = 0") and settings. The settings hold what the reference depends on
+ *    besides the scene: the backend, max bounces, min visibility, and a fingerprint of the renderer itself (the
+ *    FNV-1a 64 of the float bits of two small full-frame probe renders of this scene, 1 and 16 spp), so a
+ *    change to the renderer's output makes a new cache entry instead of reusing a stale reference.
+ *    One scene is open at a time (the pools are process-wide); hz_et_render_close() stops the pool, releases
+ *    the accel and gives the pools back as they were before open. Closing with nothing open does nothing.
+ *  - A method's params are an hz_et_render_params_t. begin creates a renderer whose frame memory (images,
+ *    G-buffer, TAA history) comes from the arena errtime hands over and whose per-thread ray queues come from
+ *    the pools' thread arenas (given back in end or when begin fails); render(i) renders frame i at scene time
+ *    i / refresh_hz, copies the output into the driver's image (a memcpy, inside the timed call) and reports
+ *    rays = primary + shadow + secondary rays from the renderer's frame stats. A frame that dropped rays (full
+ *    ray queue) or replaced non-finite values fails with HZ_E_INTERNAL: its image would not be the renderer's
+ *    answer. Nothing is allocated in render.
+ *  - Method seeds: every method uses seed 0, the reference hz_et_render_reference uses its own seed so its
+ *    sample positions are not those of the method being scored.
+ */
+#ifndef HZ_ERRTIME_RENDER_H
+#define HZ_ERRTIME_RENDER_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include "errtime.h"
+#include "hz/render.h"
+
+typedef struct hz_et_env {
+    const char *scene_dir; /* where <name>.hzb files are (make scenes: build/scenes) */
+    uint32_t threads;      /* render threads; 0 = one per online CPU (capped at HZ_MAX_THREADS) */
+} hz_et_env_t;
+
+typedef struct hz_et_render_params {
+    hz_render_mode_t mode; /* full, taa, tdense */
+    uint32_t spp;         /* full mode */
+    bool taa_clip;        /* TAA: clip towards the box centre instead of clamping per channel */
+    bool taa_catmull_rom; /* TAA: history fetched with Catmull-Rom instead of bilinear */
+    uint32_t seed;
+} hz_et_render_params_t;
+
+/* The renderer's methods (full-frame, TAA; later modes add rows here) and the 256-spp reference. */
+#define HZ_ET_RENDER_METHOD_COUNT 8
+extern const hz_et_method_t hz_et_render_methods[HZ_ET_RENDER_METHOD_COUNT];
+extern const hz_et_method_t hz_et_render_reference;
+
+/* Display-rate comparison (issue 8, seed 001) for sequences shown on a 240 Hz display (refresh_hz 240):
+ *   tdense     hz=240  one sample per 2x2 tile per displayed frame (HZ_MODE_TDENSE)
+ *   full-1spp  hz=60   1 spp at pixel centres, rendered every 4th displayed frame and held (hold 4)
+ *   full-1spp  hz=240  1 spp every displayed frame
+ *   taa        hz=60   1 jittered spp + TAA resolve, every 4th displayed frame, held
+ *   taa        hz=240  the same every displayed frame
+ * "hz" is the rate a method renders at. The reference is the full-frame renderer at 64 stratified spp (these
+ * sequences are long: 64 spp keeps a cold report within its time budget; its own error is far below the
+ * methods'). */
+#define HZ_ET_DISPLAY_METHOD_COUNT 5
+extern const hz_et_method_t hz_et_display_methods[HZ_ET_DISPLAY_METHOD_COUNT];
+extern const hz_et_method_t hz_et_display_reference;
+
+hz_status_t hz_et_render_open(const char *file, const hz_et_env_t *env, hz_et_sequence_t *seq, hz_error_t *err);
+void hz_et_render_close(void);
+
+#endif
