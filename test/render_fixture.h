@@ -55,7 +55,7 @@ static hz_status_t rfix_open(rfix_t *f, const char *scene, hz_accel_backend_t ba
     if (s != HZ_OK)
         return s;
     hz_accel_geom_t g;
-    s = hz_render_accel_geom(&f->scene, &f->pools->accel, &g, err);
+    s = hz_accel_geom_from_scene(&g, &f->scene, &f->pools->accel, err);
     if (s == HZ_OK)
         s = hz_accel_backend_build(backend, &f->accel, &g, &f->pools->accel, err);
     return s;

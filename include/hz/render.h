@@ -118,9 +118,6 @@ hz_status_t hz_render_plan(const hz_scene_t *scene, const hz_render_opts_t *opts
 
 typedef struct hz_renderer hz_renderer_t;
 
-/* The accel's view of a loaded scene: its (animated) positions and triangles, and the any-hit flag on
- * alpha-tested triangles (tri_flags taken from `arena` only when the scene has cutouts). */
-hz_status_t hz_render_accel_geom(const hz_scene_t *scene, hz_arena_t *arena, hz_accel_geom_t *geom, hz_error_t *err);
 
 hz_status_t hz_render_create(hz_renderer_t **out, hz_scene_t *scene, hz_accel_t *accel,
                              const hz_render_opts_t *opts, hz_arena_t *frame_arena, hz_arena_t *thread_arenas,

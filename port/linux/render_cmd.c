@@ -275,7 +275,7 @@ int hz_cmd_render(int argc, char **argv)
     if (hz_scenefile_open(a.scene, pools, &scene, &err) != HZ_OK)
         return hz_cli_report(&err);
     hz_accel_geom_t geom;
-    if (hz_render_accel_geom(&scene, &pools->accel, &geom, &err) != HZ_OK)
+    if (hz_accel_geom_from_scene(&geom, &scene, &pools->accel, &err) != HZ_OK)
         return hz_cli_report(&err);
     int64_t t0 = hz_clock_ns();
     hz_accel_t *accel = NULL;

@@ -77,7 +77,7 @@ hz_status_t hz_scene_framesrc(hz_framesrc_t *src, int w, int h, int scale, hz_er
     hz_status_t st = hz_scenefile_open("builtin", pools, &s->scene, err);
     hz_accel_geom_t g;
     if (st == HZ_OK)
-        st = hz_render_accel_geom(&s->scene, &pools->accel, &g, err);
+        st = hz_accel_geom_from_scene(&g, &s->scene, &pools->accel, err);
     if (st == HZ_OK)
         st = hz_accel_backend_build(HZ_ACCEL_NATIVE, &s->accel, &g, &pools->accel, err);
     long cores = sysconf(_SC_NPROCESSORS_ONLN);

@@ -173,24 +173,24 @@ HZ_INLINE unsigned slot_mask(uint32_t slot, uint32_t n)
  * are stored with one vector store each (the stack keeps children and distances in separate arrays). Stored
  * distances lose their low 3 bits: they round down, so culling by them stays conservative. */
 #if W == 8
-static const int32_t sort_perm[6][8] = {
-    { 1, 0, 3, 2, 5, 4, 7, 6 }, { 2, 3, 0, 1, 6, 7, 4, 5 }, { 1, 0, 3, 2, 5, 4, 7, 6 },
-    { 4, 5, 6, 7, 0, 1, 2, 3 }, { 2, 3, 0, 1, 6, 7, 4, 5 }, { 1, 0, 3, 2, 5, 4, 7, 6 },
-};
-/* lane takes the larger key: (lane & j) != 0 differs from (lane & k) != 0, stages (k, j) = (2,1) (4,2) (4,1)
- * (8,4) (8,2) (8,1) */
-static const int32_t sort_max[6][8] = {
-    { 0, -1, -1, 0, 0, -1, -1, 0 },  { 0, 0, -1, -1, -1, -1, 0, 0 }, { 0, -1, 0, -1, -1, 0, -1, 0 },
-    { 0, 0, 0, 0, -1, -1, -1, -1 },  { 0, 0, -1, -1, 0, 0, -1, -1 }, { 0, -1, 0, -1, 0, -1, 0, -1 },
-};
+/* One compare-exchange stage: lane i meets lane i ^ j; lanes in `hi` take the larger key. */
+#define SORT_STAGE(v, p0, p1, p2, p3, p4, p5, p6, p7, h0, h1, h2, h3, h4, h5, h6, h7)                              \
+    do {                                                                                                           \
+        const __m256i p_ = _mm256_permutevar8x32_epi32(v, _mm256_setr_epi32(p0, p1, p2, p3, p4, p5, p6, p7));       \
+        v = _mm256_blendv_epi8(_mm256_min_epu32(v, p_), _mm256_max_epu32(v, p_),                                   \
+                               _mm256_setr_epi32(h0, h1, h2, h3, h4, h5, h6, h7));                                 \
+    } while (0)
 
+/* Bitonic network, ascending; stages (k, j) = (2,1) (4,2) (4,1) (8,4) (8,2) (8,1): a lane takes the larger key
+ * when (lane & j) != 0 differs from (lane & k) != 0. */
 HZ_INLINE __m256i sort8(__m256i v)
 {
-    for (int i = 0; i < 6; i++) {
-        const __m256i p = _mm256_permutevar8x32_epi32(v, _mm256_loadu_si256((const __m256i *)(const void *)sort_perm[i]));
-        const __m256i lo = _mm256_min_epu32(v, p), hi = _mm256_max_epu32(v, p);
-        v = _mm256_blendv_epi8(lo, hi, _mm256_loadu_si256((const __m256i *)(const void *)sort_max[i]));
-    }
+    SORT_STAGE(v, 1, 0, 3, 2, 5, 4, 7, 6, 0, -1, -1, 0, 0, -1, -1, 0);
+    SORT_STAGE(v, 2, 3, 0, 1, 6, 7, 4, 5, 0, 0, -1, -1, -1, -1, 0, 0);
+    SORT_STAGE(v, 1, 0, 3, 2, 5, 4, 7, 6, 0, -1, 0, -1, -1, 0, -1, 0);
+    SORT_STAGE(v, 4, 5, 6, 7, 0, 1, 2, 3, 0, 0, 0, 0, -1, -1, -1, -1);
+    SORT_STAGE(v, 2, 3, 0, 1, 6, 7, 4, 5, 0, 0, -1, -1, 0, 0, -1, -1);
+    SORT_STAGE(v, 1, 0, 3, 2, 5, 4, 7, 6, 0, -1, 0, -1, 0, -1, 0, -1);
     return v;
 }
 #endif

@@ -127,27 +127,6 @@ hz_status_t hz_render_plan(const hz_scene_t *scene, const hz_render_opts_t *opts
     return HZ_OK;
 }
 
-hz_status_t hz_render_accel_geom(const hz_scene_t *scene, hz_arena_t *arena, hz_accel_geom_t *geom, hz_error_t *err)
-{
-    geom->pos = scene->pos;
-    geom->vertex_count = scene->vertex_count;
-    geom->tri = scene->tri;
-    geom->tri_count = scene->triangle_count;
-    geom->tri_flags = NULL;
-    /* Cutouts are decided in the any-hit callback; blended surfaces go through it too, so that a shadow ray's
-     * first, opaque-only pass (occlusion with early exit) can step through them. */
-    if (!(HZ_FEATURE_TRANSPARENCY && (scene->features & (HZ_FEAT_CUTOUT | HZ_FEAT_BLEND))))
-        return HZ_OK; /* no transparency: no any-hit work at all */
-    uint8_t *flags = hz_arena_alloc(arena, scene->triangle_count, 64);
-    if (!flags)
-        return hz_arena_error(arena, err);
-    for (uint32_t t = 0; t < scene->triangle_count; t++)
-        flags[t] = scene->materials[scene->tri_info[t] & 0xffffu].alpha_mode != HZ_ALPHA_OPAQUE ? HZ_ACCEL_TRI_ANYHIT
-                                                                                                : 0;
-    geom->tri_flags = flags;
-    return HZ_OK;
-}
-
 static void *take(hz_arena_t *a, size_t bytes, bool *ok)
 {
     void *p = hz_arena_alloc(a, bytes, 64);

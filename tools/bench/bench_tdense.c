@@ -68,7 +68,7 @@ static hz_status_t bench_scene(const char *label, const char *path, const hz_ben
     hz_accel_geom_t geom;
     hz_status_t s = hz_scenefile_open(path, pools, &scene, err);
     if (s == HZ_OK)
-        s = hz_render_accel_geom(&scene, &pools->accel, &geom, err);
+        s = hz_accel_geom_from_scene(&geom, &scene, &pools->accel, err);
     if (s == HZ_OK)
         s = hz_accel_backend_build(HZ_ACCEL_NATIVE, &accel, &geom, &pools->accel, err);
     hz_renderer_t *r[2] = { NULL, NULL };

@@ -235,7 +235,7 @@ hz_status_t hz_et_render_open(const char *file, const hz_et_env_t *env, hz_et_se
         return s;
     }
     hz_accel_geom_t g;
-    s = hz_render_accel_geom(&sc->scene, &sc->pools->accel, &g, err);
+    s = hz_accel_geom_from_scene(&g, &sc->scene, &sc->pools->accel, err);
     if (s == HZ_OK)
         s = hz_accel_backend_build(HZ_ACCEL_NATIVE, &sc->accel, &g, &sc->pools->accel, err);
     if (s != HZ_OK) {
