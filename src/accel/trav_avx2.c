@@ -457,7 +457,38 @@ typedef struct frustum {
     __m256 o[3], r[3];
     __m256 okx, oky, okz, sx, sy, sz, ltnear, ltfar;
     int kx, ky, kz;
+    unsigned negs; /* bit k: the packet's direction is negative on axis k */
 } frustum_t;
+
+/* The packet's interval bounds over the lanes `lanes` (f->o, f->r and f->negs set; tn the lanes' tnear): minima
+ * of o, r and tnear, maxima (as minima of negatives) of o and r, eight horizontal minima at once. Lanes that
+ * drop out only shrink the bounds: signs and axes stay those of the whole packet. */
+static void frustum_bounds(frustum_t *f, __m256 lanes, __m256 tn)
+{
+    const __m256 inf = _mm256_set1_ps(__builtin_inff()), sign = _mm256_set1_ps(-0.0f);
+    __m256 mins[8], mins2[8];
+    for (int k = 0; k < 3; k++) {
+        mins[k] = _mm256_blendv_ps(inf, f->o[k], lanes);
+        mins[3 + k] = _mm256_blendv_ps(inf, f->r[k], lanes);
+        mins2[k] = _mm256_xor_ps(_mm256_blendv_ps(_mm256_xor_ps(inf, sign), f->o[k], lanes), sign);
+        mins2[3 + k] = _mm256_xor_ps(_mm256_blendv_ps(_mm256_xor_ps(inf, sign), f->r[k], lanes), sign);
+    }
+    mins[6] = _mm256_blendv_ps(inf, tn, lanes);
+    mins[7] = mins2[6] = mins2[7] = inf;
+    /* lo: minima of o (lanes 0-2), r (3-5), tnear (6); hi: maxima of o and r; selected and broadcast in
+     * registers (stores of scalars read back as vectors stalled store forwarding) */
+    const __m256 lo = hmin8x8(mins), hi = _mm256_xor_ps(hmin8x8(mins2), sign);
+    const __m256 neg = lanes_of(f->negs);
+    const __m256 on = _mm256_blendv_ps(hi, lo, neg), of = _mm256_blendv_ps(lo, hi, neg);
+    for (int k = 0; k < 3; k++) {
+        /* near plane: lower bound of (plane - o) * r over the packet; far plane: upper bound */
+        f->on[k] = _mm256_permutevar8x32_ps(on, _mm256_set1_epi32(k));
+        f->of[k] = _mm256_permutevar8x32_ps(of, _mm256_set1_epi32(k));
+        f->rmin[k] = _mm256_permutevar8x32_ps(lo, _mm256_set1_epi32(3 + k));
+        f->rmax[k] = _mm256_permutevar8x32_ps(hi, _mm256_set1_epi32(3 + k));
+    }
+    f->tnear = _mm256_permutevar8x32_ps(lo, _mm256_set1_epi32(6));
+}
 
 HZ_INLINE __m256 lane_abs(__m256 x)
 {
@@ -513,10 +544,6 @@ static bool frustum_init(frustum_t *f, const int32_t *valid, const hz_ray8_t *ra
         ky = t;
     }
     const __m256 lanes = lanes_of(act);
-    const size_t a = offsetof(hz_bvh_node_t, hi_x) - offsetof(hz_bvh_node_t, lo_x);
-    const size_t base[3] = { offsetof(hz_bvh_node_t, lo_x), offsetof(hz_bvh_node_t, lo_y),
-                             offsetof(hz_bvh_node_t, lo_z) };
-    size_t nn[3], ff[3];
     /* one sign per axis, finite reciprocals (a zero component makes 0 * inf in interval bounds) */
     unsigned negs = 0;
     for (int k = 0; k < 3; k++) {
@@ -526,40 +553,22 @@ static bool frustum_init(frustum_t *f, const int32_t *valid, const hz_ray8_t *ra
             return false;
         negs |= (neg != 0) << k;
     }
-    /* the packet's bounds: minima of o, r and tnear, maxima (as minima of negatives) of o and r, over the
-     * active lanes, eight horizontal minima at once */
-    const __m256 sign = _mm256_set1_ps(-0.0f);
-    __m256 mins[8], mins2[8];
-    for (int k = 0; k < 3; k++) {
-        mins[k] = _mm256_blendv_ps(inf, o[k], lanes);
-        mins[3 + k] = _mm256_blendv_ps(inf, r[k], lanes);
-        mins2[k] = _mm256_xor_ps(_mm256_blendv_ps(_mm256_xor_ps(inf, sign), o[k], lanes), sign);
-        mins2[3 + k] = _mm256_xor_ps(_mm256_blendv_ps(_mm256_xor_ps(inf, sign), r[k], lanes), sign);
-    }
-    mins[6] = _mm256_blendv_ps(inf, tn, lanes);
-    mins[7] = mins2[6] = mins2[7] = inf;
-    float lo8[8] HZ_ALIGNED(32), hi8[8] HZ_ALIGNED(32);
-    _mm256_store_ps(lo8, hmin8x8(mins));
-    _mm256_store_ps(hi8, hmin8x8(mins2));
-    for (int k = 0; k < 3; k++) {
-        const bool neg = (negs >> k) & 1u;
-        const float omin = lo8[k], omax = -hi8[k], rmn = lo8[3 + k], rmx = -hi8[3 + k];
-        nn[k] = base[k] + (neg ? a : 0);
-        ff[k] = base[k] + (neg ? 0 : a);
-        /* near plane: lower bound of (plane - o) * r over the packet; far plane: upper bound */
-        f->on[k] = _mm256_set1_ps(neg ? omin : omax);
-        f->of[k] = _mm256_set1_ps(neg ? omax : omin);
-        f->rmin[k] = _mm256_set1_ps(rmn);
-        f->rmax[k] = _mm256_set1_ps(rmx);
-    }
-    f->tnear = _mm256_set1_ps(lo8[6]);
-    f->nx = nn[0], f->ny = nn[1], f->nz = nn[2];
-    f->fx = ff[0], f->fy = ff[1], f->fz = ff[2];
+    f->negs = negs;
+    for (int k = 0; k < 3; k++)
+        f->o[k] = o[k], f->r[k] = r[k];
+    frustum_bounds(f, lanes, tn);
+    /* near and far planes of the boxes by the direction signs (one assignment each: the compiler's vector
+     * packing of an array of them cost a store-forwarding stall per packet) */
+    const size_t a = offsetof(hz_bvh_node_t, hi_x) - offsetof(hz_bvh_node_t, lo_x);
+    f->nx = offsetof(hz_bvh_node_t, lo_x) + ((negs & 1u) ? a : 0);
+    f->ny = offsetof(hz_bvh_node_t, lo_y) + ((negs & 2u) ? a : 0);
+    f->nz = offsetof(hz_bvh_node_t, lo_z) + ((negs & 4u) ? a : 0);
+    f->fx = offsetof(hz_bvh_node_t, lo_x) + ((negs & 1u) ? 0 : a);
+    f->fy = offsetof(hz_bvh_node_t, lo_y) + ((negs & 2u) ? 0 : a);
+    f->fz = offsetof(hz_bvh_node_t, lo_z) + ((negs & 4u) ? 0 : a);
     f->ltnear = _mm256_blendv_ps(inf, tn, lanes);
     f->ltfar = _mm256_blendv_ps(_mm256_sub_ps(zero, inf), tf, lanes);
     f->kx = kx, f->ky = ky, f->kz = kz;
-    for (int k = 0; k < 3; k++)
-        f->o[k] = o[k], f->r[k] = r[k];
     f->okx = o[kx], f->oky = o[ky], f->okz = o[kz];
     /* shear constants exactly as hz_bvh_ray_prep computes them */
     f->sx = _mm256_mul_ps(d[kx], r[kz]);
@@ -881,11 +890,12 @@ static unsigned frustum_any(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const frus
                         live = 0;
                 break;
             }
-            int32_t lv[W];
-            for (int q = 0; q < W; q++)
-                lv[q] = (live >> q) & 1u ? -1 : 0;
-            if (frustum_init(&fl, lv, ray))
+            if (f != &fl) {
+                fl = *f0;
                 f = &fl;
+            }
+            fl.active = live;
+            frustum_bounds(&fl, lanes_of(live), fl.ltnear);
             vtfar_max = _mm256_set1_ps(hmax8(tfar) * HZ_BVH_CULL);
         }
         if (sp == 0)

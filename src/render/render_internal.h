@@ -54,7 +54,7 @@ typedef struct shadow_job {
     float vis;                 /* transmittance of the blended layers crossed so far */
     uint16_t slot;
     uint8_t gslot;             /* counts into shadow / shadow2 of the slot's pixel when blocked */
-    uint8_t pad;
+    uint8_t light;             /* the light's index (mod 256): packets are gathered per light */
     uint16_t layers;
 } shadow_job_t;
 

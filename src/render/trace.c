@@ -14,6 +14,7 @@ typedef struct hitrec {
  * for shadow rays the lane and ID_SHADOW (blended surfaces then composite into the lane's transmittance). */
 #define ID_PRIMARY 0x10000u
 #define ID_SHADOW 0x20000u /* shadow ray; the low bits are its packet lane */
+#define SHADOW_GATHER (4u * HZ_RENDER_LANES) /* how deep take_shadows looks for a packet towards one light */
 
 /* ---- packets ---- */
 
@@ -243,18 +244,45 @@ static void count_blocked(hz_worker_t *w, uint32_t slot, uint8_t gslot)
         c[px]++;
 }
 
+/* Takes a packet of jobs off the shadow queue: the newest job and the newest others towards the same light among
+ * the SHADOW_GATHER newest (the rest keep their order), oldest first. A packet towards one light from the hits
+ * of one camera packet is coherent: its rays share direction signs and converge, so the traverser can take it as
+ * a frustum; jobs pushed hit by hit alternate between the lights. Returns how many; *coherent tells whether they
+ * all start at primary hits. */
+static uint32_t take_shadows(hz_worker_t *w, shadow_job_t *jobs, bool *coherent)
+{
+    const uint32_t top = w->shadow_n, lo = top > SHADOW_GATHER ? top - SHADOW_GATHER : 0;
+    const uint8_t light = w->shadows[top - 1].light;
+    uint32_t start = top, found = 0;
+    for (uint32_t i = top; i-- > lo && found < HZ_RENDER_LANES;)
+        if (w->shadows[i].light == light)
+            found++, start = i;
+    uint32_t n = 0, d = start;
+    bool primary = true;
+    for (uint32_t i = start; i < top; i++) {
+        if (w->shadows[i].light == light) {
+            jobs[n] = w->shadows[i];
+            primary = primary && jobs[n].gslot == GSLOT_PRIMARY;
+            n++;
+        } else {
+            w->shadows[d++] = w->shadows[i];
+        }
+    }
+    w->shadow_n = d;
+    *coherent = primary;
+    return n;
+}
+
 static void process_shadows(hz_worker_t *w)
 {
     struct hz_renderer *r = w->r;
-    uint32_t n = w->shadow_n < HZ_RENDER_LANES ? w->shadow_n : HZ_RENDER_LANES;
-    if (n == 0)
+    if (w->shadow_n == 0)
         return;
-    w->shadow_n -= n;
     shadow_job_t jobs[HZ_RENDER_LANES];
-    for (uint32_t i = 0; i < n; i++)
-        jobs[i] = w->shadows[w->shadow_n + i];
+    bool coherent;
+    uint32_t n = take_shadows(w, jobs, &coherent);
     w->stats.shadow_rays += n;
-    w->ctx.flags = 0;
+    w->ctx.flags = coherent ? HZ_ACCEL_COHERENT : 0u;
     /* One occlusion pass with early exit; blended surfaces composite into the lane's transmittance in the
      * any-hit callback. Rays that met more layers than it tracks, and continuations of the exact path below
      * (layers > 0), go the exact way. */
@@ -534,7 +562,7 @@ static void shade_hit(hz_worker_t *w, const ray_job_t *j, const hitrec_t *h)
         sj.slot = j->slot;
         sj.gslot = j->gslot;
         sj.layers = 0;
-        sj.pad = 0;
+        sj.light = (uint8_t)l;
         push_shadow(w, &sj);
     }
     const float *amb = s->header->ambient;
