@@ -96,10 +96,12 @@ static uint32_t uabs32(int32_t v)
     return v < 0 ? 0u - (uint32_t)v : (uint32_t)v;
 }
 
-/* floor(v / 2^s) for signed v without relying on the implementation-defined shift of negative values. */
+/* floor(v / 2^s) for signed v without relying on the implementation-defined shift of negative values, and
+ * without a branch: for v < 0 it is ~(~v >> s) (int64_t is two's complement by definition). */
 static int64_t floor_shift(int64_t v, unsigned s)
 {
-    return v >= 0 ? (int64_t)((uint64_t)v >> s) : -(int64_t)((uint64_t)(-(v + 1)) >> s) - 1;
+    const int64_t neg = -(int64_t)(v < 0);
+    return (int64_t)((uint64_t)(v ^ neg) >> s) ^ neg;
 }
 
 /* round(atan(2^-i) / (π/2) * 2^38): CORDIC micro-rotation angles in 2^-8 HZ_QANGLE units (8 guard bits keep
@@ -135,16 +137,13 @@ hz_qangle_t hz_tileorder_angle(hz_q16_t mx, hz_q16_t my)
     int64_t y = (int64_t)((uint64_t)ay << shift);
     int64_t z = 0;
     for (unsigned i = 0; i < CORDIC_STEPS; i++) {
-        int64_t dx = floor_shift(y, i), dy = floor_shift(x, i);
-        if (y >= 0) {
-            x += dx;
-            y -= dy;
-            z += (int64_t)cordic_atan[i];
-        } else {
-            x -= dx;
-            y += dy;
-            z -= (int64_t)cordic_atan[i];
-        }
+        /* the rotation's direction follows y's sign, which flips unpredictably: conditional negation by a mask
+         * (-1 below zero: (v ^ -1) - (-1) = -v) instead of a branch */
+        const int64_t neg = -(int64_t)(y < 0);
+        const int64_t dx = floor_shift(y, i), dy = floor_shift(x, i);
+        x += (dx ^ neg) - neg;
+        y -= (dy ^ neg) - neg;
+        z += ((int64_t)cordic_atan[i] ^ neg) - neg;
     }
     const int64_t right = (int64_t)HZ_QANGLE_RIGHT << CORDIC_GUARD;
     z = z < 0 ? 0 : z > right ? right : z;
@@ -158,13 +157,10 @@ static uint32_t isqrt_fast(uint64_t x)
     if (x == 0)
         return 0;
     uint64_t res = 0, bit = (uint64_t)1 << ((63u - (unsigned)__builtin_clzll(x)) & ~1u);
-    while (bit) {
-        if (x >= res + bit) {
-            x -= res + bit;
-            res = (res >> 1) + bit;
-        } else {
-            res >>= 1;
-        }
+    while (bit) { /* each digit's test is a coin toss for the branch predictor: masks instead */
+        const uint64_t t = res + bit, take = 0u - (uint64_t)(x >= t);
+        x -= t & take;
+        res = (res >> 1) + (bit & take);
         bit >>= 2;
     }
     return (uint32_t)res;

@@ -17,6 +17,7 @@
 #include "fileio.h"
 #include "hz/hz.h"
 #include "hz/image.h"
+#include "hz/tileorder.h"
 
 #include "bench_accel.h"
 
@@ -82,6 +83,24 @@ static double bench_arena(uint32_t n)
         }
         sink += (uint32_t)(uintptr_t)p;
     }
+    return n / ((hz_clock_ns() - t0) * 1e-9);
+}
+
+/* ĝ with the paper's full rule (length fraction, CORDIC angle, random band) on motions of up to 8 px in every
+ * direction: what each tile of a moving image costs once every four frames. */
+static double bench_ghat(uint32_t n)
+{
+    hz_rng_t r;
+    hz_rng_seed(&r, 9, 9);
+    enum { M = 4096 };
+    static hz_q16_t mv[2 * M];
+    for (uint32_t i = 0; i < 2 * M; i++)
+        mv[i] = (hz_q16_t)(hz_rng_u32(&r) & 0xfffffu) - (hz_q16_t)0x80000; /* [-8, 8) px in Q16.16 */
+    int64_t t0 = hz_clock_ns();
+    uint32_t acc = 0;
+    for (uint32_t i = 0; i < n; i++)
+        acc += (uint32_t)hz_tileorder_ghat(mv[2 * (i % M)], mv[2 * (i % M) + 1], hz_hash32(i), HZ_GHAT_FULL);
+    sink += acc;
     return n / ((hz_clock_ns() - t0) * 1e-9);
 }
 
@@ -216,9 +235,10 @@ int main(int argc, char **argv)
         { "core", "arena_alloc 48 B", "Mops/s", { 0 }, 0 },
         { "image", "srgb8 encode, exact table", "Mvalues/s", { 0 }, 0 },
         { "image", "srgb8 encode, powf formula", "Mvalues/s", { 0 }, 0 },
+        { "pattern", "tile ordering (full ghat)", "Mtiles/s", { 0 }, 0 },
     };
     double (*fns[])(uint32_t) = { bench_hash, bench_hash_pcg, bench_rng, bench_arena, bench_srgb8_table,
-                                  bench_srgb8_powf };
+                                  bench_srgb8_powf, bench_ghat };
     size_t nrows = core ? HZ_ARRAY_LEN(rows) : 0;
     const uint32_t n = 1u << 24;
     for (int r = 0; r < ROUNDS; r++)
