@@ -244,28 +244,31 @@ static void fetch_bilinear(const hz_image_t *img, float sx, float sy, float out[
 }
 
 /* Mean and variance of the immediate neighbours of (x, y) that belong to this frame's subframe. Returns how
- * many there were. The 3x3 window around a pixel meets its own tile and, towards the side its
- * position in the tile faces, one tile across, one tile down or up, and one diagonally; each of those traced
- * exactly one pixel, so at most four candidates need checking (in a fixed order: the sums do not depend on
- * how the work is split). */
+ * many there were. The 3x3 window around a pixel meets its own tile and, towards the side its position in the
+ * tile faces, one tile across, one tile down or up, and one diagonally; each of those traced exactly one pixel,
+ * so at most four candidates need checking, in a fixed order (the sums do not depend on how the work is split).
+ * The own tile's pixel is always adjacent; the tile across is when its pixel lies in the column next to x (its
+ * column parity differs from x's), the tile up or down when its row parity differs from y's, the diagonal when
+ * both do. A tile's pixel may lie outside an odd-sized image (it traced nothing). (x, y) itself is never a
+ * candidate: the caller asks only for pixels this subframe did not trace. */
 static int newest_box(const hz_tdense_t *td, uint32_t x, uint32_t y, unsigned subframe, float mean[3],
                       float var[3])
 {
+    const uint32_t w = td->cfg.width, h = td->cfg.height, tw = td->tiles_x;
+    const uint32_t tx = x >> 1, ty = y >> 1, px = x & 1u, py = y & 1u;
+    /* tiles across and up/down; UINT32_MAX (outside) when that side has none */
+    const uint32_t cx = px ? (tx + 1 < tw ? tx + 1 : UINT32_MAX) : (tx ? tx - 1 : UINT32_MAX);
+    const uint32_t cy = py ? (ty + 1 < td->tiles_y ? ty + 1 : UINT32_MAX) : (ty ? ty - 1 : UINT32_MAX);
+    const uint32_t ctx[4] = { tx, cx, tx, cx }, cty[4] = { ty, ty, cy, cy };
     float sum[3] = { 0, 0, 0 }, sq[3] = { 0, 0, 0 };
     int n = 0;
-    int tx = (int)(x >> 1), ty = (int)(y >> 1);
-    int sx = (x & 1u) ? 1 : -1, sy = (y & 1u) ? 1 : -1;
-    const int cand[4][2] = { { tx, ty }, { tx + sx, ty }, { tx, ty + sy }, { tx + sx, ty + sy } };
     for (int i = 0; i < 4; i++) {
-        int cx = cand[i][0], cy = cand[i][1];
-        if (cx < 0 || cy < 0 || cx >= (int)td->tiles_x || cy >= (int)td->tiles_y)
+        if (ctx[i] == UINT32_MAX || cty[i] == UINT32_MAX)
             continue;
-        size_t t = (size_t)cy * td->tiles_x + (size_t)cx;
-        unsigned pix = hz_tileorder_pixel(td->orders[t], subframe);
-        int nx = 2 * cx + (int)(pix & 1u), ny = 2 * cy + (int)(pix >> 1);
-        int dx = nx - (int)x, dy = ny - (int)y;
-        if ((dx == 0 && dy == 0) || dx < -1 || dx > 1 || dy < -1 || dy > 1 || nx >= (int)td->cfg.width ||
-            ny >= (int)td->cfg.height)
+        const size_t t = (size_t)cty[i] * tw + ctx[i];
+        const unsigned pix = hz_tileorder_pixel(td->orders[t], subframe);
+        const uint32_t nx = 2u * ctx[i] + (pix & 1u), ny = 2u * cty[i] + (pix >> 1);
+        if (((i & 1) && (pix & 1u) == px) || ((i & 2) && (pix >> 1) == py) || nx >= w || ny >= h)
             continue;
         const float *c = td->sub_rgb + 3 * t;
         for (int k = 0; k < 3; k++) {
