@@ -581,7 +581,12 @@ static float build_node(build_t *bd, uint32_t idx, uint32_t n, const box_t *b, u
         find_object_split(bd, base, n, &cb, &os);
         if (bd->spatial && budget > 0) {
             box_t ov = box_and(&os.lb, &os.rb);
-            if (os.axis < 0 || box_area(&ov) > bd->min_overlap)
+            /* Children that only touch (axis-aligned architecture: blocks side by side) overlap in a flat box
+             * whose area passes α, but no spatial split can remove such an overlap. Skipping the search there
+             * builds Lost Empire 3.7x faster (0 spatial splits either way) and Sponza 1.3x (807 instead of
+             * 1,036 splits, the same Mrays/s in make bench). */
+            const bool thick = ov.lo[0] < ov.hi[0] && ov.lo[1] < ov.hi[1] && ov.lo[2] < ov.hi[2];
+            if (os.axis < 0 || (thick && box_area(&ov) > bd->min_overlap))
                 find_spatial_split(bd, base, n, b, &ss);
         }
     } else {
