@@ -56,6 +56,7 @@ typedef struct shadow_job {
     uint8_t gslot;             /* counts into shadow / shadow2 of the slot's pixel when blocked */
     uint8_t light;             /* the light's index (mod 256): packets are gathered per light */
     uint16_t layers;
+    uint8_t camera;            /* 1: from a camera ray's hit (packets of these are coherent) */
 } shadow_job_t;
 
 /* Mirror data of a primary hit, for the reflected hit's motion vector. */

@@ -248,7 +248,7 @@ static void count_blocked(hz_worker_t *w, uint32_t slot, uint8_t gslot)
  * the SHADOW_GATHER newest (the rest keep their order), oldest first. A packet towards one light from the hits
  * of one camera packet is coherent: its rays share direction signs and converge, so the traverser can take it as
  * a frustum; jobs pushed hit by hit alternate between the lights. Returns how many; *coherent tells whether they
- * all start at primary hits. */
+ * all start at camera rays' hits (any sample, not only the one that writes the G-buffer). */
 static uint32_t take_shadows(hz_worker_t *w, shadow_job_t *jobs, bool *coherent)
 {
     const uint32_t top = w->shadow_n, lo = top > SHADOW_GATHER ? top - SHADOW_GATHER : 0;
@@ -262,7 +262,7 @@ static uint32_t take_shadows(hz_worker_t *w, shadow_job_t *jobs, bool *coherent)
     for (uint32_t i = start; i < top; i++) {
         if (w->shadows[i].light == light) {
             jobs[n] = w->shadows[i];
-            primary = primary && jobs[n].gslot == GSLOT_PRIMARY;
+            primary = primary && jobs[n].camera;
             n++;
         } else {
             w->shadows[d++] = w->shadows[i];
@@ -563,6 +563,7 @@ static void shade_hit(hz_worker_t *w, const ray_job_t *j, const hitrec_t *h)
         sj.gslot = j->gslot;
         sj.layers = 0;
         sj.light = (uint8_t)l;
+        sj.camera = j->bounces == 0 && j->layers == 0;
         push_shadow(w, &sj);
     }
     const float *amb = s->header->ambient;
