@@ -118,26 +118,21 @@ HZ_INLINE unsigned node_hit(const hz_bvh_node_t *n, const sray_t *s, __m256 tfar
     return (unsigned)_mm256_movemask_ps(_mm256_cmp_ps(tmin, tmax, _CMP_LE_OQ));
 }
 
-/* One ray against the slots `lm` of block b: lanes that pass the watertight test with t >= tnear and
- * t <= tfar; t and the edge weights V, W, det in the out vectors (written only when lanes pass). */
-HZ_INLINE unsigned leaf_hit(const hz_bvh_block_t *b, unsigned lm, const sray_t *s, float tfar, __m256 *t_out,
-                            __m256 *v_out, __m256 *w_out, __m256 *det_out)
+/* The watertight test with hz_bvh_tri_test's operations, lane by lane, on triangles whose vertices a, b, c are
+ * already relative to the ray origin in the ray's permuted axes (kx, ky, kz): lanes of lm that pass with
+ * t >= tnear and t <= tfar; t and the edge weights V, W, det in the out vectors (written only when lanes pass).
+ * The single-ray form (one ray, eight triangles) and the frustum packet's (eight rays, one triangle) differ only
+ * in how they load those vectors, so both call this: one definition keeps their results bit-identical. */
+HZ_INLINE unsigned woop8(__m256 akx, __m256 aky, __m256 akz, __m256 bkx, __m256 bky, __m256 bkz, __m256 ckx,
+                         __m256 cky, __m256 ckz, __m256 sx, __m256 sy, __m256 sz, __m256 tnear, __m256 tfar,
+                         unsigned lm, __m256 *t_out, __m256 *v_out, __m256 *w_out, __m256 *det_out)
 {
-    const __m256 akx = _mm256_sub_ps(_mm256_load_ps(b->v[0][s->kx]), s->okx);
-    const __m256 aky = _mm256_sub_ps(_mm256_load_ps(b->v[0][s->ky]), s->oky);
-    const __m256 akz = _mm256_sub_ps(_mm256_load_ps(b->v[0][s->kz]), s->okz);
-    const __m256 bkx = _mm256_sub_ps(_mm256_load_ps(b->v[1][s->kx]), s->okx);
-    const __m256 bky = _mm256_sub_ps(_mm256_load_ps(b->v[1][s->ky]), s->oky);
-    const __m256 bkz = _mm256_sub_ps(_mm256_load_ps(b->v[1][s->kz]), s->okz);
-    const __m256 ckx = _mm256_sub_ps(_mm256_load_ps(b->v[2][s->kx]), s->okx);
-    const __m256 cky = _mm256_sub_ps(_mm256_load_ps(b->v[2][s->ky]), s->oky);
-    const __m256 ckz = _mm256_sub_ps(_mm256_load_ps(b->v[2][s->kz]), s->okz);
-    const __m256 ax = _mm256_sub_ps(akx, _mm256_mul_ps(s->sx, akz));
-    const __m256 ay = _mm256_sub_ps(aky, _mm256_mul_ps(s->sy, akz));
-    const __m256 bx = _mm256_sub_ps(bkx, _mm256_mul_ps(s->sx, bkz));
-    const __m256 by = _mm256_sub_ps(bky, _mm256_mul_ps(s->sy, bkz));
-    const __m256 cx = _mm256_sub_ps(ckx, _mm256_mul_ps(s->sx, ckz));
-    const __m256 cy = _mm256_sub_ps(cky, _mm256_mul_ps(s->sy, ckz));
+    const __m256 ax = _mm256_sub_ps(akx, _mm256_mul_ps(sx, akz));
+    const __m256 ay = _mm256_sub_ps(aky, _mm256_mul_ps(sy, akz));
+    const __m256 bx = _mm256_sub_ps(bkx, _mm256_mul_ps(sx, bkz));
+    const __m256 by = _mm256_sub_ps(bky, _mm256_mul_ps(sy, bkz));
+    const __m256 cx = _mm256_sub_ps(ckx, _mm256_mul_ps(sx, ckz));
+    const __m256 cy = _mm256_sub_ps(cky, _mm256_mul_ps(sy, ckz));
     const __m256 U = _mm256_sub_ps(_mm256_mul_ps(cx, by), _mm256_mul_ps(cy, bx));
     const __m256 V = _mm256_sub_ps(_mm256_mul_ps(ax, cy), _mm256_mul_ps(ay, cx));
     const __m256 Wv = _mm256_sub_ps(_mm256_mul_ps(bx, ay), _mm256_mul_ps(by, ax));
@@ -151,14 +146,29 @@ HZ_INLINE unsigned leaf_hit(const hz_bvh_block_t *b, unsigned lm, const sray_t *
     unsigned m = (unsigned)_mm256_movemask_ps(ok) & lm;
     if (!m)
         return 0;
-    const __m256 az = _mm256_mul_ps(s->sz, akz), bz = _mm256_mul_ps(s->sz, bkz), cz = _mm256_mul_ps(s->sz, ckz);
+    const __m256 az = _mm256_mul_ps(sz, akz), bz = _mm256_mul_ps(sz, bkz), cz = _mm256_mul_ps(sz, ckz);
     const __m256 T =
         _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(U, az), _mm256_mul_ps(V, bz)), _mm256_mul_ps(Wv, cz));
     const __m256 t = _mm256_div_ps(T, det);
-    const __m256 in = _mm256_and_ps(_mm256_cmp_ps(t, s->tnear, _CMP_GE_OQ),
-                                    _mm256_cmp_ps(t, _mm256_set1_ps(tfar), _CMP_LE_OQ));
+    const __m256 in = _mm256_and_ps(_mm256_cmp_ps(t, tnear, _CMP_GE_OQ), _mm256_cmp_ps(t, tfar, _CMP_LE_OQ));
     *t_out = t, *v_out = V, *w_out = Wv, *det_out = det;
     return m & (unsigned)_mm256_movemask_ps(in);
+}
+
+/* One ray against the slots `lm` of block b (see woop8). */
+HZ_INLINE unsigned leaf_hit(const hz_bvh_block_t *b, unsigned lm, const sray_t *s, float tfar, __m256 *t_out,
+                            __m256 *v_out, __m256 *w_out, __m256 *det_out)
+{
+    return woop8(_mm256_sub_ps(_mm256_load_ps(b->v[0][s->kx]), s->okx),
+                 _mm256_sub_ps(_mm256_load_ps(b->v[0][s->ky]), s->oky),
+                 _mm256_sub_ps(_mm256_load_ps(b->v[0][s->kz]), s->okz),
+                 _mm256_sub_ps(_mm256_load_ps(b->v[1][s->kx]), s->okx),
+                 _mm256_sub_ps(_mm256_load_ps(b->v[1][s->ky]), s->oky),
+                 _mm256_sub_ps(_mm256_load_ps(b->v[1][s->kz]), s->okz),
+                 _mm256_sub_ps(_mm256_load_ps(b->v[2][s->kx]), s->okx),
+                 _mm256_sub_ps(_mm256_load_ps(b->v[2][s->ky]), s->oky),
+                 _mm256_sub_ps(_mm256_load_ps(b->v[2][s->kz]), s->okz), s->sx, s->sy, s->sz, s->tnear,
+                 _mm256_set1_ps(tfar), lm, t_out, v_out, w_out, det_out);
 }
 
 HZ_INLINE unsigned slot_mask(uint32_t slot, uint32_t n)
@@ -602,46 +612,21 @@ HZ_INLINE unsigned fr_node_hit(const hz_bvh_node_t *n, const frustum_t *f, __m25
     return (unsigned)_mm256_movemask_ps(_mm256_cmp_ps(tmin, tmax, _CMP_LE_OQ));
 }
 
-/* One triangle (block slot s) against the packet's lanes: lanes with a watertight hit at t in [tnear, tfar]. */
+/* One triangle (block slot s) against the packet's lanes: lanes with a watertight hit at t in [tnear, tfar]
+ * (see woop8). */
 HZ_INLINE unsigned fr_tri_hit(const hz_bvh_block_t *b, unsigned s, const frustum_t *f, __m256 tfar, __m256 *t_out,
                               __m256 *v_out, __m256 *w_out, __m256 *det_out)
 {
-    const __m256 akx = _mm256_sub_ps(_mm256_set1_ps(b->v[0][f->kx][s]), f->okx);
-    const __m256 aky = _mm256_sub_ps(_mm256_set1_ps(b->v[0][f->ky][s]), f->oky);
-    const __m256 akz = _mm256_sub_ps(_mm256_set1_ps(b->v[0][f->kz][s]), f->okz);
-    const __m256 bkx = _mm256_sub_ps(_mm256_set1_ps(b->v[1][f->kx][s]), f->okx);
-    const __m256 bky = _mm256_sub_ps(_mm256_set1_ps(b->v[1][f->ky][s]), f->oky);
-    const __m256 bkz = _mm256_sub_ps(_mm256_set1_ps(b->v[1][f->kz][s]), f->okz);
-    const __m256 ckx = _mm256_sub_ps(_mm256_set1_ps(b->v[2][f->kx][s]), f->okx);
-    const __m256 cky = _mm256_sub_ps(_mm256_set1_ps(b->v[2][f->ky][s]), f->oky);
-    const __m256 ckz = _mm256_sub_ps(_mm256_set1_ps(b->v[2][f->kz][s]), f->okz);
-    const __m256 ax = _mm256_sub_ps(akx, _mm256_mul_ps(f->sx, akz));
-    const __m256 ay = _mm256_sub_ps(aky, _mm256_mul_ps(f->sy, akz));
-    const __m256 bx = _mm256_sub_ps(bkx, _mm256_mul_ps(f->sx, bkz));
-    const __m256 by = _mm256_sub_ps(bky, _mm256_mul_ps(f->sy, bkz));
-    const __m256 cx = _mm256_sub_ps(ckx, _mm256_mul_ps(f->sx, ckz));
-    const __m256 cy = _mm256_sub_ps(cky, _mm256_mul_ps(f->sy, ckz));
-    const __m256 U = _mm256_sub_ps(_mm256_mul_ps(cx, by), _mm256_mul_ps(cy, bx));
-    const __m256 V = _mm256_sub_ps(_mm256_mul_ps(ax, cy), _mm256_mul_ps(ay, cx));
-    const __m256 Wv = _mm256_sub_ps(_mm256_mul_ps(bx, ay), _mm256_mul_ps(by, ax));
-    const __m256 z = _mm256_setzero_ps();
-    const __m256 neg = _mm256_or_ps(_mm256_or_ps(_mm256_cmp_ps(U, z, _CMP_LT_OQ), _mm256_cmp_ps(V, z, _CMP_LT_OQ)),
-                                    _mm256_cmp_ps(Wv, z, _CMP_LT_OQ));
-    const __m256 pos = _mm256_or_ps(_mm256_or_ps(_mm256_cmp_ps(U, z, _CMP_GT_OQ), _mm256_cmp_ps(V, z, _CMP_GT_OQ)),
-                                    _mm256_cmp_ps(Wv, z, _CMP_GT_OQ));
-    const __m256 det = _mm256_add_ps(_mm256_add_ps(U, V), Wv);
-    const __m256 ok = _mm256_andnot_ps(_mm256_and_ps(neg, pos), _mm256_cmp_ps(det, z, _CMP_NEQ_UQ));
-    unsigned m = (unsigned)_mm256_movemask_ps(ok);
-    if (!m)
-        return 0;
-    const __m256 az = _mm256_mul_ps(f->sz, akz), bz = _mm256_mul_ps(f->sz, bkz), cz = _mm256_mul_ps(f->sz, ckz);
-    const __m256 T =
-        _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(U, az), _mm256_mul_ps(V, bz)), _mm256_mul_ps(Wv, cz));
-    const __m256 t = _mm256_div_ps(T, det);
-    const __m256 in =
-        _mm256_and_ps(_mm256_cmp_ps(t, f->ltnear, _CMP_GE_OQ), _mm256_cmp_ps(t, tfar, _CMP_LE_OQ));
-    *t_out = t, *v_out = V, *w_out = Wv, *det_out = det;
-    return m & (unsigned)_mm256_movemask_ps(in);
+    return woop8(_mm256_sub_ps(_mm256_set1_ps(b->v[0][f->kx][s]), f->okx),
+                 _mm256_sub_ps(_mm256_set1_ps(b->v[0][f->ky][s]), f->oky),
+                 _mm256_sub_ps(_mm256_set1_ps(b->v[0][f->kz][s]), f->okz),
+                 _mm256_sub_ps(_mm256_set1_ps(b->v[1][f->kx][s]), f->okx),
+                 _mm256_sub_ps(_mm256_set1_ps(b->v[1][f->ky][s]), f->oky),
+                 _mm256_sub_ps(_mm256_set1_ps(b->v[1][f->kz][s]), f->okz),
+                 _mm256_sub_ps(_mm256_set1_ps(b->v[2][f->kx][s]), f->okx),
+                 _mm256_sub_ps(_mm256_set1_ps(b->v[2][f->ky][s]), f->oky),
+                 _mm256_sub_ps(_mm256_set1_ps(b->v[2][f->kz][s]), f->okz), f->sx, f->sy, f->sz, f->ltnear, tfar,
+                 0xffu, t_out, v_out, w_out, det_out);
 }
 
 /* Lanes whose own ray meets child j of node n within [tnear, cull[lane]] (the lane's slab test, the signs shared
