@@ -68,6 +68,31 @@ typedef struct hz_bvh {
     bool has_anyhit; /* some triangle carries HZ_ACCEL_TRI_ANYHIT */
 } hz_bvh_t;
 
+/* Per-query traversal counters of every kernel (nodes visited, triangles tested), added to ctx->stats when the
+ * query ends; with HZ_FEATURE_STATS 0 they compile to nothing. */
+typedef struct hz_bvh_counters {
+    uint64_t nodes, tris;
+} hz_bvh_counters_t;
+
+#if HZ_FEATURE_STATS
+#define HZ_BVH_COUNT(k, field, n) ((k)->field += (n))
+#else
+#define HZ_BVH_COUNT(k, field, n) ((void)0)
+#endif
+
+HZ_INLINE void hz_bvh_counters_flush(hz_accel_ctx_t *ctx, const hz_bvh_counters_t *k)
+{
+#if HZ_FEATURE_STATS
+    if (ctx && ctx->stats) {
+        ctx->stats->nodes += k->nodes;
+        ctx->stats->tris += k->tris;
+    }
+#else
+    (void)ctx;
+    (void)k;
+#endif
+}
+
 HZ_INLINE bool hz_bvh_is_leaf(uint32_t c) { return (c & HZ_BVH_LEAF) != 0; }
 HZ_INLINE uint32_t hz_bvh_leaf_count(uint32_t c) { return ((c >> 28) & 7u) + 1u; }
 HZ_INLINE uint32_t hz_bvh_leaf_slot(uint32_t c) { return c & HZ_BVH_SLOT_MASK; }

@@ -27,29 +27,6 @@ typedef struct mentry {
     float d;
 } mentry_t;
 
-typedef struct counters {
-    uint64_t nodes, tris;
-} counters_t;
-
-static void flush(hz_accel_ctx_t *ctx, const counters_t *k)
-{
-#if HZ_FEATURE_STATS
-    if (ctx && ctx->stats) {
-        ctx->stats->nodes += k->nodes;
-        ctx->stats->tris += k->tris;
-    }
-#else
-    (void)ctx;
-    (void)k;
-#endif
-}
-
-#if HZ_FEATURE_STATS
-#define COUNT(k, field, n) ((k)->field += (n))
-#else
-#define COUNT(k, field, n) ((void)0)
-#endif
-
 HZ_INLINE __m256 ld(const hz_bvh_node_t *n, size_t off)
 {
     return _mm256_load_ps((const float *)(const void *)((const char *)n + off));
@@ -266,7 +243,7 @@ HZ_INLINE void order_children(const hz_bvh_node_t *n, unsigned m, __m256 tmin, u
 
 /* Closest hit of one ray from node word `start` on, continuing a search with best (r->tfar, *best). */
 static void closest_from(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, hz_bvh_ray_t *r, const sray_t *s,
-                         uint32_t start, hz_bvh_best_t *best, uint32_t ray_id, int lane, counters_t *k)
+                         uint32_t start, hz_bvh_best_t *best, uint32_t ray_id, int lane, hz_bvh_counters_t *k)
 {
     (void)k; /* counters exist only with HZ_FEATURE_STATS */
     uint32_t st_c[HZ_BVH_STACK + W];
@@ -279,7 +256,7 @@ static void closest_from(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, hz_bvh_ray_t 
         if (!hz_bvh_is_leaf(cur)) {
             const hz_bvh_node_t *n = &bvh->nodes[cur];
             __m256 tmin;
-            COUNT(k, nodes, 1);
+            HZ_BVH_COUNT(k, nodes, 1);
             unsigned m = node_hit(n, s, tfar, &tmin);
             if (m) {
                 order_children(n, m, tmin, &cur, st_c, st_d, &sp);
@@ -289,7 +266,7 @@ static void closest_from(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, hz_bvh_ray_t 
             const uint32_t slot = hz_bvh_leaf_slot(cur), cnt = hz_bvh_leaf_count(cur);
             const hz_bvh_block_t *b = &bvh->blocks[slot / W];
             __m256 t, V, Wv, det;
-            COUNT(k, tris, cnt);
+            HZ_BVH_COUNT(k, tris, cnt);
             unsigned m = leaf_hit(b, slot_mask(slot, cnt), s, r->tfar, &t, &V, &Wv, &det);
             if (m) {
                 float tv[W] HZ_ALIGNED(32), vv[W] HZ_ALIGNED(32), wv[W] HZ_ALIGNED(32), dv[W] HZ_ALIGNED(32);
@@ -329,14 +306,14 @@ void hz_bvh_simd_closest(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, hz_bvh_ray_t 
                          uint32_t ray_id, int lane)
 {
     sray_t s;
-    counters_t k = { 0, 0 };
+    hz_bvh_counters_t k = { 0, 0 };
     sray_init(&s, r);
     closest_from(bvh, ctx, r, &s, 0, best, ray_id, lane, &k);
-    flush(ctx, &k);
+    hz_bvh_counters_flush(ctx, &k);
 }
 
 static bool any_from(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const hz_bvh_ray_t *r, const sray_t *s, uint32_t start,
-                     uint32_t ray_id, int lane, counters_t *k)
+                     uint32_t ray_id, int lane, hz_bvh_counters_t *k)
 {
     (void)k; /* counters exist only with HZ_FEATURE_STATS */
     entry_t stack[HZ_BVH_STACK];
@@ -348,7 +325,7 @@ static bool any_from(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const hz_bvh_ray_
         if (!hz_bvh_is_leaf(cur)) {
             const hz_bvh_node_t *n = &bvh->nodes[cur];
             __m256 tmin;
-            COUNT(k, nodes, 1);
+            HZ_BVH_COUNT(k, nodes, 1);
             unsigned m = node_hit(n, s, tfar, &tmin);
             if (m) {
                 cur = n->child[__builtin_ctz(m)];
@@ -363,7 +340,7 @@ static bool any_from(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const hz_bvh_ray_
             const uint32_t slot = hz_bvh_leaf_slot(cur), cnt = hz_bvh_leaf_count(cur);
             const hz_bvh_block_t *b = &bvh->blocks[slot / W];
             __m256 t, V, Wv, det;
-            COUNT(k, tris, cnt);
+            HZ_BVH_COUNT(k, tris, cnt);
             unsigned m = leaf_hit(b, slot_mask(slot, cnt), s, r->tfar, &t, &V, &Wv, &det);
             if (m) {
                 if (!anyhit)
@@ -388,10 +365,10 @@ static bool any_from(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const hz_bvh_ray_
 bool hz_bvh_simd_any(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const hz_bvh_ray_t *r, uint32_t ray_id, int lane)
 {
     sray_t s;
-    counters_t k = { 0, 0 };
+    hz_bvh_counters_t k = { 0, 0 };
     sray_init(&s, r);
     bool hit = any_from(bvh, ctx, r, &s, 0, ray_id, lane, &k);
-    flush(ctx, &k);
+    hz_bvh_counters_flush(ctx, &k);
     return hit;
 }
 
@@ -661,7 +638,7 @@ static bool fr_anyhit(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, uint32_t slot, c
  * the end the hit attributes are computed for all lanes at once (the same operations as hz_bvh_best_finish)
  * and stored into the lanes that hit. */
 static void frustum_closest(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const frustum_t *f, hz_rayhit8_t *rh,
-                            counters_t *k)
+                            hz_bvh_counters_t *k)
 {
     (void)k; /* counters exist only with HZ_FEATURE_STATS */
     uint32_t st_c[HZ_BVH_STACK + W];
@@ -679,7 +656,7 @@ static void frustum_closest(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const frus
          * (nearest first), inner children go through the ordered stack */
         const hz_bvh_node_t *n = &bvh->nodes[cur];
         __m256 tmin;
-        COUNT(k, nodes, 1);
+        HZ_BVH_COUNT(k, nodes, 1);
         unsigned m = fr_node_hit(n, f, vtfar_max, &tmin);
         const unsigned leafbits =
             (unsigned)_mm256_movemask_ps(_mm256_load_ps((const float *)(const void *)n->child)) & m;
@@ -706,7 +683,7 @@ static void frustum_closest(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const frus
                     continue;
                 const uint32_t cw = n->child[j], slot = hz_bvh_leaf_slot(cw), cnt = hz_bvh_leaf_count(cw);
                 const hz_bvh_block_t *b = &bvh->blocks[slot / W];
-                COUNT(k, tris, (uint64_t)cnt * (uint64_t)__builtin_popcount(lanes));
+                HZ_BVH_COUNT(k, tris, (uint64_t)cnt * (uint64_t)__builtin_popcount(lanes));
                 for (unsigned s = slot % W; s < slot % W + cnt; s++) {
                     __m256 t, V, Wv, det;
                     unsigned mm = fr_tri_hit(b, s, f, tfar, &t, &V, &Wv, &det) & lanes;
@@ -806,7 +783,7 @@ done:;
  * are those of its live lanes: when lanes drop out they are recomputed (shadow rays in architecture: the
  * lanes still unoccluded travel furthest), and a last live lane finishes as a single ray. */
 static unsigned frustum_any(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const frustum_t *f0, const hz_ray8_t *ray,
-                            counters_t *k)
+                            hz_bvh_counters_t *k)
 {
     uint32_t stack[HZ_BVH_STACK + W];
     int sp = 0;
@@ -821,7 +798,7 @@ static unsigned frustum_any(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const frus
         /* cur is an inner node: leaf children are tested at once against the live lanes that reach them */
         const hz_bvh_node_t *n = &bvh->nodes[cur];
         __m256 tmin;
-        COUNT(k, nodes, 1);
+        HZ_BVH_COUNT(k, nodes, 1);
         unsigned m = fr_node_hit(n, f, vtfar_max, &tmin);
         const unsigned leafbits =
             (unsigned)_mm256_movemask_ps(_mm256_load_ps((const float *)(const void *)n->child)) & m;
@@ -833,7 +810,7 @@ static unsigned frustum_any(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const frus
                 continue;
             const uint32_t cw = n->child[j], slot = hz_bvh_leaf_slot(cw), cnt = hz_bvh_leaf_count(cw);
             const hz_bvh_block_t *b = &bvh->blocks[slot / W];
-            COUNT(k, tris, (uint64_t)cnt * (uint64_t)__builtin_popcount(lanes));
+            HZ_BVH_COUNT(k, tris, (uint64_t)cnt * (uint64_t)__builtin_popcount(lanes));
             for (unsigned s = slot % W; s < slot % W + cnt && lanes; s++) {
                 __m256 t, V, Wv, det;
                 unsigned mm = fr_tri_hit(b, s, f, tfar, &t, &V, &Wv, &det) & lanes;
@@ -891,7 +868,7 @@ static unsigned frustum_any(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const frus
 }
 
 /* Masked packet, closest hit: per-lane box tests, lane masks on the stack, single rays once few lanes remain. */
-static void masked_closest(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, packet_t *p, counters_t *k)
+static void masked_closest(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, packet_t *p, hz_bvh_counters_t *k)
 {
     mentry_t stack[HZ_BVH_STACK];
     int sp = 0;
@@ -927,7 +904,7 @@ static void masked_closest(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, packet_t *p
             tfar = _mm256_load_ps(tfa);
         } else if (!hz_bvh_is_leaf(cur)) {
             const hz_bvh_node_t *n = &bvh->nodes[cur];
-            COUNT(k, nodes, 1);
+            HZ_BVH_COUNT(k, nodes, 1);
             mentry_t h[W];
             int c = 0;
             for (int j = 0; j < W; j++) {
@@ -970,7 +947,7 @@ static void masked_closest(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, packet_t *p
             const uint32_t slot = hz_bvh_leaf_slot(cur), cnt = hz_bvh_leaf_count(cur);
             const hz_bvh_block_t *b = &bvh->blocks[slot / W];
             const bool anyhit = bvh->has_anyhit && ctx && ctx->anyhit;
-            COUNT(k, tris, (uint64_t)cnt * (uint64_t)__builtin_popcount(lanes));
+            HZ_BVH_COUNT(k, tris, (uint64_t)cnt * (uint64_t)__builtin_popcount(lanes));
             for (unsigned lm = lanes; lm; lm &= lm - 1) {
                 unsigned i = (unsigned)__builtin_ctz(lm);
                 hz_bvh_ray_t *r = &p->r[i];
@@ -1033,11 +1010,11 @@ static void write_hits(const hz_bvh_t *bvh, const packet_t *p, hz_rayhit8_t *rh)
 void hz_bvh_simd_intersectw(const int32_t *valid, const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, hz_rayhit8_t *rh,
                             hz_accel_kernel_t kernel)
 {
-    counters_t k = { 0, 0 };
+    hz_bvh_counters_t k = { 0, 0 };
     frustum_t f;
     if (kernel == HZ_ACCEL_KERNEL_SIMD_PACKET && frustum_init(&f, valid, &rh->ray)) {
         frustum_closest(bvh, ctx, &f, rh, &k);
-        flush(ctx, &k);
+        hz_bvh_counters_flush(ctx, &k);
         return;
     }
     packet_t p;
@@ -1054,13 +1031,13 @@ void hz_bvh_simd_intersectw(const int32_t *valid, const hz_bvh_t *bvh, hz_accel_
         }
     }
     write_hits(bvh, &p, rh);
-    flush(ctx, &k);
+    hz_bvh_counters_flush(ctx, &k);
 }
 
 void hz_bvh_simd_occludedw(const int32_t *valid, const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, hz_ray8_t *ray,
                            hz_accel_kernel_t kernel)
 {
-    counters_t k = { 0, 0 };
+    hz_bvh_counters_t k = { 0, 0 };
     unsigned hit = 0;
     frustum_t f;
     if (kernel == HZ_ACCEL_KERNEL_SIMD_PACKET && frustum_init(&f, valid, ray)) {
@@ -1080,5 +1057,5 @@ void hz_bvh_simd_occludedw(const int32_t *valid, const hz_bvh_t *bvh, hz_accel_c
     }
     for (unsigned m = hit; m; m &= m - 1)
         ray->tfar[__builtin_ctz(m)] = -__builtin_inff();
-    flush(ctx, &k);
+    hz_bvh_counters_flush(ctx, &k);
 }

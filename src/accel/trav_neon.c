@@ -16,29 +16,6 @@
 
 #define W 4
 
-typedef struct counters {
-    uint64_t nodes, tris;
-} counters_t;
-
-static void flush(hz_accel_ctx_t *ctx, const counters_t *k)
-{
-#if HZ_FEATURE_STATS
-    if (ctx && ctx->stats) {
-        ctx->stats->nodes += k->nodes;
-        ctx->stats->tris += k->tris;
-    }
-#else
-    (void)ctx;
-    (void)k;
-#endif
-}
-
-#if HZ_FEATURE_STATS
-#define COUNT(k, field, n) ((k)->field += (n))
-#else
-#define COUNT(k, field, n) ((void)0)
-#endif
-
 HZ_INLINE unsigned movemask(uint32x4_t m)
 {
     static const uint32_t bits[4] = { 1, 2, 4, 8 };
@@ -166,7 +143,7 @@ HZ_INLINE void order_children(const hz_bvh_node_t *n, unsigned m, float32x4_t tm
 }
 
 static void closest_from(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, hz_bvh_ray_t *r, const sray_t *s, uint32_t start,
-                         hz_bvh_best_t *best, uint32_t ray_id, int lane, counters_t *k)
+                         hz_bvh_best_t *best, uint32_t ray_id, int lane, hz_bvh_counters_t *k)
 {
     (void)k; /* counters exist only with HZ_FEATURE_STATS */
     uint32_t st_c[HZ_BVH_STACK + W];
@@ -179,7 +156,7 @@ static void closest_from(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, hz_bvh_ray_t 
         if (!hz_bvh_is_leaf(cur)) {
             const hz_bvh_node_t *n = &bvh->nodes[cur];
             float32x4_t tmin;
-            COUNT(k, nodes, 1);
+            HZ_BVH_COUNT(k, nodes, 1);
             unsigned m = node_hit(n, s, cull, &tmin);
             if (m) {
                 order_children(n, m, tmin, &cur, st_c, st_d, &sp);
@@ -189,7 +166,7 @@ static void closest_from(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, hz_bvh_ray_t 
             const uint32_t slot = hz_bvh_leaf_slot(cur), cnt = hz_bvh_leaf_count(cur);
             const hz_bvh_block_t *b = &bvh->blocks[slot / W];
             float32x4_t t, V, Wv, det;
-            COUNT(k, tris, cnt);
+            HZ_BVH_COUNT(k, tris, cnt);
             unsigned m = leaf_hit(b, slot_mask(slot, cnt), s, r->tfar, &t, &V, &Wv, &det);
             if (m) {
                 float tv[W], vv[W], wv[W], dv[W];
@@ -226,14 +203,14 @@ void hz_bvh_simd_closest(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, hz_bvh_ray_t 
                          uint32_t ray_id, int lane)
 {
     sray_t s;
-    counters_t k = { 0, 0 };
+    hz_bvh_counters_t k = { 0, 0 };
     sray_init(&s, r);
     closest_from(bvh, ctx, r, &s, 0, best, ray_id, lane, &k);
-    flush(ctx, &k);
+    hz_bvh_counters_flush(ctx, &k);
 }
 
 static bool any_from_node(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const hz_bvh_ray_t *r, const sray_t *s,
-                          uint32_t start, uint32_t ray_id, int lane, counters_t *k)
+                          uint32_t start, uint32_t ray_id, int lane, hz_bvh_counters_t *k)
 {
     (void)k; /* counters exist only with HZ_FEATURE_STATS */
     uint32_t stack[HZ_BVH_STACK + W];
@@ -245,7 +222,7 @@ static bool any_from_node(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const hz_bvh
         if (!hz_bvh_is_leaf(cur)) {
             const hz_bvh_node_t *n = &bvh->nodes[cur];
             float32x4_t tmin;
-            COUNT(k, nodes, 1);
+            HZ_BVH_COUNT(k, nodes, 1);
             unsigned m = node_hit(n, s, cull, &tmin);
             if (m) {
                 cur = n->child[__builtin_ctz(m)];
@@ -257,7 +234,7 @@ static bool any_from_node(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const hz_bvh
             const uint32_t slot = hz_bvh_leaf_slot(cur), cnt = hz_bvh_leaf_count(cur);
             const hz_bvh_block_t *b = &bvh->blocks[slot / W];
             float32x4_t t, V, Wv, det;
-            COUNT(k, tris, cnt);
+            HZ_BVH_COUNT(k, tris, cnt);
             unsigned m = leaf_hit(b, slot_mask(slot, cnt), s, r->tfar, &t, &V, &Wv, &det);
             if (m) {
                 if (!anyhit)
@@ -282,10 +259,10 @@ static bool any_from_node(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const hz_bvh
 bool hz_bvh_simd_any(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const hz_bvh_ray_t *r, uint32_t ray_id, int lane)
 {
     sray_t s;
-    counters_t k = { 0, 0 };
+    hz_bvh_counters_t k = { 0, 0 };
     sray_init(&s, r);
     bool hit = any_from_node(bvh, ctx, r, &s, 0, ray_id, lane, &k);
-    flush(ctx, &k);
+    hz_bvh_counters_flush(ctx, &k);
     return hit;
 }
 
@@ -437,7 +414,7 @@ static void lanes_tfar(const packet_t *p, float *tf)
 }
 
 static void frustum_closest(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, packet_t *p, const frustum_t *f,
-                            counters_t *k)
+                            hz_bvh_counters_t *k)
 {
     (void)k; /* counters exist only with HZ_FEATURE_STATS */
     uint32_t st_c[HZ_BVH_STACK + W];
@@ -452,7 +429,7 @@ static void frustum_closest(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, packet_t *
     for (;;) {
         const hz_bvh_node_t *n = &bvh->nodes[cur]; /* always an inner node: leaves are tested from their parent */
         float32x4_t tmin;
-        COUNT(k, nodes, 1);
+        HZ_BVH_COUNT(k, nodes, 1);
         unsigned m = fr_node_hit(n, f, vdupq_n_f32(cull_max), &tmin);
         unsigned leafbits = 0;
         for (int j = 0; j < W; j++)
@@ -476,7 +453,7 @@ static void frustum_closest(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, packet_t *
                 continue;
             const uint32_t cw = n->child[j], slot = hz_bvh_leaf_slot(cw), cnt = hz_bvh_leaf_count(cw);
             const hz_bvh_block_t *b = &bvh->blocks[slot / W];
-            COUNT(k, tris, (uint64_t)cnt * (uint64_t)__builtin_popcount(lanes));
+            HZ_BVH_COUNT(k, tris, (uint64_t)cnt * (uint64_t)__builtin_popcount(lanes));
             for (unsigned s = slot % W; s < slot % W + cnt; s++) {
                 float32x4_t t, V, Wv, det;
                 unsigned mm = fr_tri_hit(b, s, f, tfar, &t, &V, &Wv, &det) & lanes;
@@ -521,7 +498,7 @@ static void frustum_closest(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, packet_t *
 
 /* Occlusion: lanes drop out as they find a hit; the bounds follow the live lanes (recomputed when lanes drop
  * out) and a last live lane finishes as a single ray. */
-static unsigned frustum_any(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, packet_t *p, const frustum_t *f0, counters_t *k)
+static unsigned frustum_any(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, packet_t *p, const frustum_t *f0, hz_bvh_counters_t *k)
 {
     uint32_t stack[HZ_BVH_STACK + W];
     int sp = 0;
@@ -536,7 +513,7 @@ static unsigned frustum_any(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, packet_t *
     for (;;) {
         const hz_bvh_node_t *n = &bvh->nodes[cur];
         float32x4_t tmin;
-        COUNT(k, nodes, 1);
+        HZ_BVH_COUNT(k, nodes, 1);
         unsigned m = fr_node_hit(n, f, vdupq_n_f32(vmaxvq_f32(tfar) * HZ_BVH_CULL), &tmin);
         bool changed = false;
         for (int j = 0; j < W && live; j++) {
@@ -546,7 +523,7 @@ static unsigned frustum_any(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, packet_t *
             unsigned lanes = fr_lanes_hit(n, (unsigned)j, f, vmulq_f32(tfar, vdupq_n_f32(HZ_BVH_CULL))) & live;
             const uint32_t cw = n->child[j], slot = hz_bvh_leaf_slot(cw), cnt = hz_bvh_leaf_count(cw);
             const hz_bvh_block_t *b = &bvh->blocks[slot / W];
-            COUNT(k, tris, (uint64_t)cnt * (uint64_t)__builtin_popcount(lanes));
+            HZ_BVH_COUNT(k, tris, (uint64_t)cnt * (uint64_t)__builtin_popcount(lanes));
             for (unsigned s = slot % W; s < slot % W + cnt && lanes; s++) {
                 float32x4_t t, V, Wv, det;
                 unsigned mm = fr_tri_hit(b, s, f, tfar, &t, &V, &Wv, &det) & lanes;
@@ -615,7 +592,7 @@ void hz_bvh_simd_intersectw(const int32_t *valid, const hz_bvh_t *bvh, hz_accel_
                             hz_accel_kernel_t kernel)
 {
     packet_t p;
-    counters_t k = { 0, 0 };
+    hz_bvh_counters_t k = { 0, 0 };
     if (!packet_init(&p, valid, &rh->ray))
         return;
     frustum_t f;
@@ -630,14 +607,14 @@ void hz_bvh_simd_intersectw(const int32_t *valid, const hz_bvh_t *bvh, hz_accel_
         }
     }
     write_hits(bvh, &p, rh);
-    flush(ctx, &k);
+    hz_bvh_counters_flush(ctx, &k);
 }
 
 void hz_bvh_simd_occludedw(const int32_t *valid, const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, hz_ray4_t *ray,
                            hz_accel_kernel_t kernel)
 {
     packet_t p;
-    counters_t k = { 0, 0 };
+    hz_bvh_counters_t k = { 0, 0 };
     if (!packet_init(&p, valid, ray))
         return;
     unsigned hit = 0;
@@ -655,5 +632,5 @@ void hz_bvh_simd_occludedw(const int32_t *valid, const hz_bvh_t *bvh, hz_accel_c
     }
     for (unsigned m = hit; m; m &= m - 1)
         ray->tfar[__builtin_ctz(m)] = -__builtin_inff();
-    flush(ctx, &k);
+    hz_bvh_counters_flush(ctx, &k);
 }

@@ -9,23 +9,6 @@ typedef struct entry {
     float d;
 } entry_t;
 
-typedef struct counters {
-    uint64_t nodes, tris;
-} counters_t;
-
-static void flush(hz_accel_ctx_t *ctx, const counters_t *k)
-{
-#if HZ_FEATURE_STATS
-    if (ctx && ctx->stats) {
-        ctx->stats->nodes += k->nodes;
-        ctx->stats->tris += k->tris;
-    }
-#else
-    (void)ctx;
-    (void)k;
-#endif
-}
-
 /* Children of node n the ray's [tnear, tfar] overlaps, nearest first, into out (entry distances). */
 static int node_hits(const hz_bvh_node_t *n, const hz_bvh_ray_t *r, entry_t *out)
 {
@@ -58,7 +41,7 @@ void hz_bvh_scalar_closest(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, hz_bvh_ray_
                            uint32_t ray_id, int lane)
 {
     entry_t stack[HZ_BVH_STACK];
-    counters_t k = { 0, 0 };
+    hz_bvh_counters_t k = { 0, 0 };
     int sp = 0;
     const bool anyhit = bvh->has_anyhit && ctx && ctx->anyhit;
     stack[sp].c = 0;
@@ -94,13 +77,13 @@ void hz_bvh_scalar_closest(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, hz_bvh_ray_
             best->v = V, best->w = W, best->det = det;
         }
     }
-    flush(ctx, &k);
+    hz_bvh_counters_flush(ctx, &k);
 }
 
 bool hz_bvh_scalar_any(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const hz_bvh_ray_t *r, uint32_t ray_id, int lane)
 {
     entry_t stack[HZ_BVH_STACK];
-    counters_t k = { 0, 0 };
+    hz_bvh_counters_t k = { 0, 0 };
     int sp = 0;
     bool hit = false;
     const bool anyhit = bvh->has_anyhit && ctx && ctx->anyhit;
@@ -131,6 +114,6 @@ bool hz_bvh_scalar_any(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const hz_bvh_ra
             hit = true;
         }
     }
-    flush(ctx, &k);
+    hz_bvh_counters_flush(ctx, &k);
     return hit;
 }
