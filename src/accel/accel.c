@@ -298,17 +298,24 @@ static void narrow(const float *src, int n, float *dst, int fields, int base)
             dst[f * n + base + i] = src[f * HZ_BVH_W + i];
 }
 
-static void simd_intersect(const int32_t *valid, const hz_accel_t *a, hz_accel_ctx_t *ctx, float *ray, float *hit,
-                           int n)
+/* A packet of n lanes through the SIMD kernels: closest hits when hit is non-NULL, occlusion otherwise. A packet of
+ * the kernels' width goes in place (ray and hit are one hz_rayhit*_t); other widths go through in slices. */
+static void simd_query(const int32_t *valid, const hz_accel_t *a, hz_accel_ctx_t *ctx, float *ray, float *hit, int n)
 {
     hz_accel_kernel_t k = packet_kernel(ctx, kernel_of(ctx));
     if (k == HZ_ACCEL_KERNEL_SIMD_SINGLE || k == HZ_ACCEL_KERNEL_SCALAR) {
-        loop_intersect(valid, a, ctx, ray, hit, n, k);
+        if (hit)
+            loop_intersect(valid, a, ctx, ray, hit, n, k);
+        else
+            loop_occluded(valid, a, ctx, ray, n, k);
         return;
     }
     count_rays(ctx, (uint32_t)count_valid(valid, n));
     if (n == HZ_BVH_W) {
-        hz_bvh_simd_intersectw(valid, a->impl, ctx, (hz_bvh_rayhitw_t *)(void *)ray, k);
+        if (hit)
+            hz_bvh_simd_intersectw(valid, a->impl, ctx, (hz_bvh_rayhitw_t *)(void *)ray, k);
+        else
+            hz_bvh_simd_occludedw(valid, a->impl, ctx, (hz_bvh_rayw_t *)(void *)ray, k);
         return;
     }
     for (int base = 0; base < n; base += HZ_BVH_W) {
@@ -318,35 +325,26 @@ static void simd_intersect(const int32_t *valid, const hz_accel_t *a, hz_accel_c
         for (int i = 0; i < HZ_BVH_W; i++)
             v[i] = base + i < n ? valid[base + i] : 0;
         widen(ray, n, (float *)(void *)&w.ray, 12, base);
-        widen(hit, n, (float *)(void *)&w.hit, 8, base);
-        hz_bvh_simd_intersectw(v, a->impl, ctx, &w, k);
+        if (hit) {
+            widen(hit, n, (float *)(void *)&w.hit, 8, base);
+            hz_bvh_simd_intersectw(v, a->impl, ctx, &w, k);
+            narrow((const float *)(const void *)&w.hit, n, hit, 8, base);
+        } else {
+            hz_bvh_simd_occludedw(v, a->impl, ctx, &w.ray, k);
+        }
         narrow((const float *)(const void *)&w.ray, n, ray, 12, base);
-        narrow((const float *)(const void *)&w.hit, n, hit, 8, base);
     }
+}
+
+static void simd_intersect(const int32_t *valid, const hz_accel_t *a, hz_accel_ctx_t *ctx, float *ray, float *hit,
+                           int n)
+{
+    simd_query(valid, a, ctx, ray, hit, n);
 }
 
 static void simd_occluded(const int32_t *valid, const hz_accel_t *a, hz_accel_ctx_t *ctx, float *ray, int n)
 {
-    hz_accel_kernel_t k = packet_kernel(ctx, kernel_of(ctx));
-    if (k == HZ_ACCEL_KERNEL_SIMD_SINGLE || k == HZ_ACCEL_KERNEL_SCALAR) {
-        loop_occluded(valid, a, ctx, ray, n, k);
-        return;
-    }
-    count_rays(ctx, (uint32_t)count_valid(valid, n));
-    if (n == HZ_BVH_W) {
-        hz_bvh_simd_occludedw(valid, a->impl, ctx, (hz_bvh_rayw_t *)(void *)ray, k);
-        return;
-    }
-    for (int base = 0; base < n; base += HZ_BVH_W) {
-        hz_bvh_rayw_t w;
-        int32_t v[HZ_BVH_W];
-        hz_memset(&w, 0, sizeof w);
-        for (int i = 0; i < HZ_BVH_W; i++)
-            v[i] = base + i < n ? valid[base + i] : 0;
-        widen(ray, n, (float *)(void *)&w, 12, base);
-        hz_bvh_simd_occludedw(v, a->impl, ctx, &w, k);
-        narrow((const float *)(const void *)&w, n, ray, 12, base);
-    }
+    simd_query(valid, a, ctx, ray, NULL, n);
 }
 #define PACKET_INTERSECT simd_intersect
 #define PACKET_OCCLUDED simd_occluded
