@@ -136,9 +136,9 @@ PATTERN_TESTS := tileorder
 # timing (src/timing): v-sync model, pacing, latency statistics; integer-only throughout
 TIMING_SRCS := src/timing/wide.c src/timing/tstat.c src/timing/vsync.c src/timing/vsynth.c src/timing/pace.c \
                src/timing/frames.c src/timing/marker.c src/timing/pixconv.c src/timing/testpattern.c \
-               src/timing/rtmodel.c src/timing/vcd.c src/timing/ecsv.c
+               src/timing/rtmodel.c src/timing/vcd.c src/timing/ecsv.c src/timing/lockv.c
 TIMING_INTEGER_SRCS = $(TIMING_SRCS)
-TIMING_TESTS := tstat vsync marker traceio
+TIMING_TESTS := tstat vsync marker traceio lockv
 TIMING_PORT_TESTS := frameloop latency_cli
 # Ports of the timing path (port/linux): `timing` (frame loop, report, `hzrt latency`, simulated display,
 # VCD/CSV replay) goes on every board; `fbdev`, `v4l2` and `gpio` where the hardware has them.
@@ -280,6 +280,14 @@ $(PORT_TEST_BINS): $(O)/test/unit/test_%: test/unit/test_%.c $(PORT_LIB) $(LIB)
 	@mkdir -p $(dir $@)
 	$(call msg,CCLD,$@)$(CC) $(TEST_CFLAGS) $(PORT_DEFS) -Iport/linux $(DEPFLAGS) $(LDFLAGS_ALL) -o $@ $< \
 		$(PORT_LIB) $(LIB) $(TEST_LIBS) $(PORT_LIBS) -ldl
+
+# The sigrok-cli demo traces (test/traces/README.md) as C arrays, for tests that also run in the VM.
+TRACE_HDR := $(O)/test/gen/hz_traces.h
+$(TRACE_HDR): test/traces/mkheader.sh test/traces/sigrok-demo-200k.vcd test/traces/sigrok-demo-1k.vcd
+	@mkdir -p $(dir $@)
+	$(call msg,GEN,$@)sh $< $(filter %.vcd,$^) >$@.tmp && mv $@.tmp $@
+$(O)/test/unit/test_traceio $(O)/test/unit/test_latency_cli: $(TRACE_HDR)
+$(O)/test/unit/test_traceio $(O)/test/unit/test_latency_cli: TEST_CFLAGS += -I$(O)/test/gen
 
 $(ERRTIME_LIB): $(ERRTIME_OBJS)
 	$(call msg,AR,$@)rm -f $@ && $(AR) rcs $@ $^

@@ -6,6 +6,12 @@
  * VCD (IEEE 1364, as sigrok-cli and PulseView export it: `sigrok-cli -i capture.sr -O vcd`):
  *  - Follows one 1-bit signal: the one named `signal` (its $var reference name, e.g. "D3" or "vsync"), or,
  *    with signal "" , the only 1-bit $var of the file. Other signals' changes are skipped.
+ *  - Identifier codes are any run of printable ASCII characters (33-126), '$' included, of 1 to 254
+ *    characters (a value change is one token: the value and the code). Shapes read: any number of $var lines
+ *    (wire/reg/..., 1-bit or wider; wider ones are skipped), $scope/$upscope nesting, $timescale as "1 us",
+ *    "1us" or spread over lines, $dumpvars/$dumpall/$dumpon/$dumpoff blocks, "#t" lines followed by any
+ *    number of changes on the same or following lines, scalar (0 1 x z), vector ("b1 id") and real
+ *    ("r1.5 id") values; a vector's last bit is a 1-bit signal's level.
  *  - Reports each transition of that signal as an edge: 0->1 rising (level 1), 1->0 falling (level 0), at the
  *    time of the last #timestamp converted to ns with $timescale (1/10/100 s, ms, us, ns, ps, fs; sub-ns
  *    times are rounded to the nearest ns). The first known value, and changes from or to x/z, are not edges.
@@ -37,15 +43,15 @@ typedef struct hz_vcd {
     int section;           /* which $keyword's body the tokens belong to (0: none) */
     int sec_arg;           /* tokens seen inside that section */
     char sec_kw[32];       /* its keyword, for messages */
-    char sec_tok[4][HZ_VCD_TOKEN_MAX / 4];
+    char sec_tok[4][HZ_VCD_TOKEN_MAX];
     int in_body;           /* after $enddefinitions */
     int64_t mul, div;      /* ns = ticks * mul / div */
     int have_timescale;
-    char id[32];           /* identifier code of the followed signal */
+    char id[HZ_VCD_TOKEN_MAX]; /* identifier code of the followed signal */
     int have_id;
     int one_bit_vars;      /* 1-bit $vars seen */
     char names[HZ_VCD_NAMES_MAX]; /* their names, for messages */
-    char first_id[32];
+    char first_id[HZ_VCD_TOKEN_MAX];
     int pending_vector;    /* a "b..." value waiting for its identifier */
     int vector_level;
     uint64_t ticks;

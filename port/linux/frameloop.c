@@ -37,6 +37,7 @@ typedef struct loop {
 static hz_vsync_t g_model;
 static hz_pace_t g_pacer;
 static hz_rtm_t g_rtm;
+static hz_lockv_t g_lock;
 
 static int is_vsync(const loop_t *L, int level)
 {
@@ -62,6 +63,7 @@ static void take_events(loop_t *L)
             r->relock = ev.relock;
         }
         hz_framelog_edge(&L->log, L->model, &ev);
+        hz_lockv_event(&g_lock, &ev);
     }
 }
 
@@ -273,6 +275,8 @@ static void finish(loop_t *L, const char *why)
     R->sigma_ns = hz_vsync_sigma_ns(L->model);
     R->tol_ns = hz_vsync_tolerance_ns(L->model);
     R->locked = hz_vsync_locked(L->model);
+    hz_lockv_result(&g_lock, &R->lock);
+    R->trace_offset_ns = L->offset;
     R->kernel_dropped = L->src->dropped;
     R->t_end = hz_tb_now(L->tb);
     snprintf(R->stop_reason, sizeof R->stop_reason, "%s", why);
@@ -327,6 +331,9 @@ hz_status_t hz_loop_run(const hz_loop_cfg_t *cfg, hz_timebase_t *tb, hz_vsource_
     vc.window = cfg->vsync_window;
     vc.tol_min_ns = cfg->tol_min_ns;
     hz_status_t s = hz_vsync_init(L.model, &vc, err);
+    hz_lockv_cfg_t lc = cfg->lock;
+    lc.nominal_period_ns = cfg->nominal_period_ns;
+    hz_lockv_init(&g_lock, &lc);
     if (s == HZ_OK && cfg->frames_mode)
         s = hz_pace_init(L.pacer, &cfg->pace, err);
     if (s == HZ_OK && cfg->frames_mode)

@@ -17,6 +17,10 @@
  *    a run that does not fit is refused up front with both byte counts. The steady state allocates nothing.
  *  - Every input edge is logged (edge log) with its classification, until the log is full; edges beyond it
  *    are still used and counted (edges_unlogged), never dropped silently.
+ *  - Every v-sync model event also feeds the lock verdict (hz/lockv.h): res->lock says whether the run held
+ *    a lock worth reporting and gives the period measured over its locked stretches.
+ *  - A timeline's edges are shifted onto the loop clock (it starts one nominal period after the loop does):
+ *    res->trace_offset_ns is that shift, so a report can give the trace's own times back.
  */
 #ifndef HZ_PORT_FRAMELOOP_H
 #define HZ_PORT_FRAMELOOP_H
@@ -26,6 +30,7 @@
 
 #include "hz/arena.h"
 #include "hz/frames.h"
+#include "hz/lockv.h"
 #include "hz/pace.h"
 #include "hz/rtmodel.h"
 #include "hz/vsync.h"
@@ -35,7 +40,7 @@ enum { HZ_EDGE_RISING = 0, HZ_EDGE_FALLING, HZ_EDGE_ANY };
 enum { HZ_ECLS_OTHER = 0, HZ_ECLS_VSYNC, HZ_ECLS_SPURIOUS, HZ_ECLS_PENDING };
 
 typedef struct hz_edge_rec {
-    int64_t t_ns; /* on the loop's clock */
+    int64_t t_ns; /* on the loop's clock (a timeline's own time is t_ns - hz_loop_result_t.trace_offset_ns) */
     int64_t slot;
     int64_t residual_ns;
     int64_t frame_id;
@@ -58,6 +63,7 @@ typedef struct hz_loop_cfg {
     int w, h;
     const hz_rtm_cfg_t *rtm;  /* virtual time: the render-time model */
     size_t max_frames, max_edges;
+    hz_lockv_cfg_t lock;      /* the lock verdict's limits (zeros: defaults; nominal period filled in) */
 } hz_loop_cfg_t;
 
 typedef struct hz_loop_result {
@@ -72,6 +78,8 @@ typedef struct hz_loop_result {
     int64_t t_origin, t_end;  /* loop clock at start and end */
     uint64_t kernel_dropped;
     int locked;
+    hz_lockv_result_t lock;   /* the verdict over the whole run, and the rate its locked stretches measured */
+    int64_t trace_offset_ns;  /* loop clock - trace time for a timeline source (0 for live sources) */
     int marker_cell;
     char stop_reason[96];
 } hz_loop_result_t;

@@ -42,6 +42,12 @@ static void usage(FILE *f)
             "  --gpio-one-edge       (gpio) request only the v-sync polarity's edges (default both: pulse widths)\n"
             "  --hz HZ               nominal refresh rate, may have decimals (default %d; 0: learn it)\n"
             "  --timeout-ms MS       give up after this long without an edge (default max(500, 10 periods))\n"
+            "lock verdict (a run that fails it exits 3, \"no lock\", and reports no period):\n"
+            "  --lock-min-run N      a locked stretch needs N accepted edges in a row, no relock (default %u)\n"
+            "  --lock-max-relock-pct X    relocks at most X%% of the accepted edges (default %g)\n"
+            "  --lock-max-spurious-pct X  spurious edges at most X%% of the v-sync edges (default %g)\n"
+            "  --lock-max-missed-pct X    missed pulses at most X%% of the refreshes (default %g)\n"
+            "  the period and ppm come from the locked stretches only; a rate more than %g%% off --hz is a warning\n"
             "display sink (--sink; default none):\n"
             "  none | fbdev[:DEV] | v4l2:DEV[:rgb24|xrgb32|yuyv]\n"
             "frames:\n"
@@ -63,9 +69,11 @@ static void usage(FILE *f)
             "  --out DIR             default out/latency\n"
             "  --quiet               no summary on stdout\n"
             "\n"
-            "exit status: 0 ok, 2 bad command line, 64+N failure with hz status N (75: no v-sync, time-out)\n",
+            "exit status: 0 ok, 2 bad command line, 3 no lock (files written), 64+N failure with hz status N\n"
+            "(75: no v-sync, time-out)\n",
             HZ_VSYNC_SOURCE == HZ_VSYNC_GPIO ? "gpio" : HZ_VSYNC_SOURCE == HZ_VSYNC_FBDEV ? "fbdev" : "sim",
-            HZ_VSYNC_GPIO_CHIP, HZ_VSYNC_GPIO_LINE, HZ_DISPLAY_DEVICE, HZ_DISPLAY_HZ);
+            HZ_VSYNC_GPIO_CHIP, HZ_VSYNC_GPIO_LINE, HZ_DISPLAY_DEVICE, HZ_DISPLAY_HZ, HZ_LOCK_MIN_RUN,
+            HZ_LOCK_RELOCK_PPM / 1e4, HZ_LOCK_SPURIOUS_PPM / 1e4, HZ_LOCK_MISSED_PPM / 1e4, HZ_LOCK_FAR_PPM / 1e4);
 }
 
 /* "3ms", "800us", "250ns", "1.5ms", "2s", "0.5P" (of period_ns). */
@@ -188,6 +196,7 @@ typedef struct opts {
     const char *guard, *latch, *wake;
     int rt, one_edge;
     long render_scale;
+    hz_lockv_cfg_t lock;
 } opts_t;
 
 #define NEXT_ARG()                                                                                   \
@@ -333,6 +342,26 @@ static int parse_opts(int argc, char **argv, opts_t *o, int *help)
             o->rt = 1;
         } else if (!strcmp(a, "--gpio-one-edge")) {
             o->one_edge = 1;
+        } else if (!strcmp(a, "--lock-min-run")) {
+            NEXT_ARG();
+            if (!hz_cli_parse_long(a, v, 2, 1000000L, &l))
+                return 0;
+            o->lock.min_run = (uint32_t)l;
+        } else if (!strcmp(a, "--lock-max-relock-pct") || !strcmp(a, "--lock-max-spurious-pct") ||
+                   !strcmp(a, "--lock-max-missed-pct")) {
+            double pct;
+            NEXT_ARG();
+            if (!parse_double(a, v, 0, 100, &pct))
+                return 0;
+            uint32_t ppm = pct >= 100 ? HZ_LOCK_ANY : (uint32_t)(pct * 1e4 + 0.5);
+            if (ppm == 0)
+                ppm = HZ_LOCK_NONE; /* 0 in the configuration means the default */
+            if (strstr(a, "relock"))
+                o->lock.max_relock_ppm = ppm;
+            else if (strstr(a, "spurious"))
+                o->lock.max_spurious_ppm = ppm;
+            else
+                o->lock.max_missed_ppm = ppm;
         } else if (!strcmp(a, "--render-scale")) {
             NEXT_ARG();
             if (!hz_cli_parse_long(a, v, 1, 64, &o->render_scale))
@@ -415,6 +444,7 @@ int hz_cmd_latency(int argc, char **argv)
         return HZ_EXIT_USAGE;
     cfg.edge_timeout_ns = o.timeout_ms * 1000000LL;
     cfg.rtm = o.model ? &model : NULL;
+    cfg.lock = o.lock;
 
     /* Real-time scheduling first: threads started later (the renderer's workers) inherit it. */
     char sched[128] = "";
@@ -578,6 +608,9 @@ int hz_cmd_latency(int argc, char **argv)
             hz_arena_reset(&pools->frame, mark);
         return hz_cli_report(&err);
     }
+    /* Recorded traces keep their own times in edges.csv; the simulated display has no clock but the loop's. */
+    if (!trace_file)
+        res.trace_offset_ns = 0;
     char clock[160];
     if (o.virt && cfg.frames_mode)
         snprintf(clock, sizeof clock, "simulated clock, render-time model %s%s%s", o.model,
@@ -597,5 +630,13 @@ int hz_cmd_latency(int argc, char **argv)
         return hz_cli_report(&err);
     if (!o.quiet)
         printf("wrote     %s/{%sedges.csv,report.json,histogram.svg}\n", o.out, cfg.frames_mode ? "frames.csv," : "");
+    if (res.lock.verdict != HZ_LOCK_OK) {
+        char why[256];
+        hz_cli_error("%s: no lock: %s", src.name, hz_report_lock_reasons(why, sizeof why, &res.lock));
+        return HZ_EXIT_NOLOCK;
+    }
+    if (res.lock.far && o.quiet)
+        hz_cli_error("warning: %s: the measured rate %.4f Hz is far from --hz %g", src.name,
+                     1e9 * 65536.0 / (double)res.lock.period_q16, o.hz);
     return 0;
 }

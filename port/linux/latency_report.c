@@ -43,6 +43,28 @@ static const char *cls_name(int cls)
     }
 }
 
+const char *hz_report_lock_reasons(char *buf, size_t cap, const hz_lockv_result_t *L)
+{
+    size_t n = 0;
+    buf[0] = '\0';
+    if (L->verdict & HZ_LOCK_NO_RUN)
+        n += (size_t)snprintf(buf + n, n < cap ? cap - n : 0, "%sno locked stretch of %u accepted edges (longest %llu)",
+                              n ? "; " : "", L->cfg.min_run, (unsigned long long)L->longest);
+    if ((L->verdict & HZ_LOCK_RELOCKS) && n < cap)
+        n += (size_t)snprintf(buf + n, cap - n, "%s%llu relocks in %llu accepted edges (limit %.2f%%)", n ? "; " : "",
+                              (unsigned long long)L->relocks, (unsigned long long)L->accepted,
+                              L->cfg.max_relock_ppm / 1e4);
+    if ((L->verdict & HZ_LOCK_SPURIOUS) && n < cap)
+        n += (size_t)snprintf(buf + n, cap - n, "%s%llu of %llu edges spurious (limit %.2f%%)", n ? "; " : "",
+                              (unsigned long long)L->spurious, (unsigned long long)L->inputs,
+                              L->cfg.max_spurious_ppm / 1e4);
+    if ((L->verdict & HZ_LOCK_MISSED) && n < cap)
+        snprintf(buf + n, cap - n, "%s%llu missed pulses against %llu accepted edges (limit %.2f%% of the slots)",
+                 n ? "; " : "", (unsigned long long)L->missed, (unsigned long long)L->accepted,
+                 L->cfg.max_missed_ppm / 1e4);
+    return buf;
+}
+
 void hz_report_compute(hz_report_t *r, const hz_loop_cfg_t *cfg, const hz_report_info_t *info, hz_loop_result_t *res)
 {
     memset(r, 0, sizeof *r);
@@ -176,18 +198,28 @@ void hz_report_print(FILE *f, hz_report_t *r)
     if (res->edges_unlogged)
         fprintf(f, "; %llu beyond the edge log (used, not in edges.csv)", (unsigned long long)res->edges_unlogged);
     fprintf(f, "\n");
-    if (res->period_q16 > 0) {
-        double hz = 1e9 * 65536.0 / (double)res->period_q16;
-        fprintf(f, "          period %.3f us = %.4f Hz", res->period_q16 / 65536.0 / 1e3, hz);
-        if (res->nominal_period_ns > 0)
-            fprintf(f, " (%+.2f ppm against the nominal %s)", res->offset_ppb / 1000.0,
+    const hz_lockv_result_t *L = &res->lock;
+    if (L->verdict == HZ_LOCK_OK) {
+        double hz = 1e9 * 65536.0 / (double)L->period_q16;
+        fprintf(f, "          lock: %llu of %llu accepted edges in %llu locked stretch%s of >= %u edges; period over "
+                   "them %.3f us = %.4f Hz",
+                (unsigned long long)L->qualifying_edges, (unsigned long long)L->accepted,
+                (unsigned long long)L->qualifying, L->qualifying == 1 ? "" : "es", L->cfg.min_run,
+                L->period_q16 / 65536.0 / 1e3, hz);
+        if (res->nominal_period_ns > 0 && !L->far)
+            fprintf(f, " (%+.2f ppm against the nominal %s)", L->offset_ppb / 1000.0,
                     hz_report_dur(a, 24, res->nominal_period_ns));
         fprintf(f, "; acceptance +-%s\n", hz_report_dur(b, 24, res->tol_ns));
         fprintf(f, "          residual jitter of accepted edges (time - prediction): SD %s, p99 |r| %s, max |r| %s\n",
                 hz_report_dur(a, 24, r->residual.sd), hz_report_dur(b, 24, r->abs_residual.p99),
                 hz_report_dur(d, 24, r->abs_residual.max));
+        if (L->far)
+            fprintf(f, "warning   the measured rate %.4f Hz is %+.1f%% off the nominal %.4f Hz (--hz): the display "
+                       "runs another mode, or --hz is wrong (--hz 0 learns the rate)\n",
+                    hz, (1.0 / (1.0 + L->offset_ppb / 1e9) - 1.0) * 100.0, 1e9 / (double)res->nominal_period_ns);
     } else {
-        fprintf(f, "          no lock: no period estimate\n");
+        char why[256];
+        fprintf(f, "          no lock: %s; no rate reported\n", hz_report_lock_reasons(why, sizeof why, L));
     }
     if (r->pulses)
         fprintf(f,
@@ -276,12 +308,15 @@ static hz_status_t write_edges_csv(const char *path, const hz_report_t *r, hz_er
     if (s != HZ_OK)
         return s;
     FILE *f = out.f;
-    fprintf(f, "# hzrt edges: one row per input edge, in order; readable by hzrt latency --source csv:FILE\n");
-    fprintf(f, "t_ns,level,class,slot,residual_ns,missed_before,reason,frame_id\n");
     const hz_loop_result_t *res = r->res;
+    fprintf(f, "# hzrt edges: one row per input edge, in order; readable by hzrt latency --source csv:FILE\n");
+    fprintf(f, "# t_ns: the source's own time (a trace's timestamps as recorded); loop_ns: the same edge on the frame "
+               "loop's clock (frames.csv), t_ns + %lld\n",
+            (long long)res->trace_offset_ns);
+    fprintf(f, "t_ns,level,class,slot,residual_ns,missed_before,reason,frame_id,loop_ns\n");
     for (size_t i = 0; i < res->n_edges; i++) {
         const hz_edge_rec_t *e = &res->edges[i];
-        fprintf(f, "%lld,%d,%s,", (long long)e->t_ns, e->level, cls_name(e->cls));
+        fprintf(f, "%lld,%d,%s,", (long long)(e->t_ns - res->trace_offset_ns), e->level, cls_name(e->cls));
         if (e->cls == HZ_ECLS_VSYNC || e->cls == HZ_ECLS_SPURIOUS)
             fprintf(f, "%lld,%lld,%u,%s%s,", (long long)e->slot, (long long)e->residual_ns, e->missed_before,
                     why_name(e->why), e->relock ? "relock" : "");
@@ -289,7 +324,7 @@ static hz_status_t write_edges_csv(const char *path, const hz_report_t *r, hz_er
             fprintf(f, ",,,,");
         if (e->frame_id >= 0)
             fprintf(f, "%lld", (long long)e->frame_id);
-        fprintf(f, "\n");
+        fprintf(f, ",%lld\n", (long long)e->t_ns);
     }
     return hz_out_commit(&out, err);
 }
@@ -326,6 +361,7 @@ static hz_status_t write_json(const char *path, const hz_report_t *r, hz_error_t
     FILE *f = out.f;
     const hz_loop_result_t *res = r->res;
     const hz_vsync_counts_t *c = &res->counts;
+    const hz_lockv_result_t *lk = &res->lock;
     fprintf(f, "{\n  \"source\": ");
     json_str(f, r->info.source);
     fprintf(f, ",\n  \"clock\": ");
@@ -340,8 +376,19 @@ static hz_status_t write_json(const char *path, const hz_report_t *r, hz_error_t
             (unsigned long long)c->accepted, (unsigned long long)c->spurious, (unsigned long long)c->offgrid,
             (unsigned long long)c->duplicate, (unsigned long long)c->backwards, (unsigned long long)c->nolock,
             (unsigned long long)c->missed, (unsigned long long)c->relocks, (unsigned long long)res->kernel_dropped,
-            (unsigned long long)res->edges_unlogged, res->period_q16 / 65536.0, (long long)res->nominal_period_ns,
-            res->offset_ppb / 1000.0, (long long)res->tol_ns, res->locked ? "true" : "false");
+            (unsigned long long)res->edges_unlogged, lk->verdict ? 0.0 : lk->period_q16 / 65536.0,
+            (long long)res->nominal_period_ns, lk->verdict ? 0.0 : lk->offset_ppb / 1000.0, (long long)res->tol_ns,
+            lk->verdict ? "false" : "true");
+    char why[256];
+    fprintf(f, "  \"lock\": {\"verdict\": \"%s\", \"reasons\": ", lk->verdict ? "no lock" : "locked");
+    json_str(f, lk->verdict ? hz_report_lock_reasons(why, sizeof why, lk) : "");
+    fprintf(f, ", \"stretches\": %llu, \"qualifying_stretches\": %llu, \"qualifying_edges\": %llu, "
+               "\"longest_stretch\": %llu, \"min_run\": %u, \"max_relock_pct\": %.4f, \"max_spurious_pct\": %.4f, "
+               "\"max_missed_pct\": %.4f, \"far_from_nominal\": %s, \"trace_offset_ns\": %lld},\n",
+            (unsigned long long)lk->stretches, (unsigned long long)lk->qualifying,
+            (unsigned long long)lk->qualifying_edges, (unsigned long long)lk->longest, lk->cfg.min_run,
+            lk->cfg.max_relock_ppm / 1e4, lk->cfg.max_spurious_ppm / 1e4, lk->cfg.max_missed_ppm / 1e4,
+            lk->far ? "true" : "false", (long long)res->trace_offset_ns);
     if (r->cfg->frames_mode) {
         const hz_frames_summary_t *x = &r->frames;
         fprintf(f, "  \"frames_source\": ");

@@ -43,6 +43,9 @@ void hz_report_compute(hz_report_t *r, const hz_loop_cfg_t *cfg, const hz_report
 void hz_report_print(FILE *f, hz_report_t *r);
 hz_status_t hz_report_write(const char *dir, hz_report_t *r, hz_error_t *err);
 
+/* Every reason of a no-lock verdict, in words with the counts and limits. */
+const char *hz_report_lock_reasons(char *buf, size_t cap, const hz_lockv_result_t *lock);
+
 /* "4.167 ms", "12.3 us", "850 ns": a duration for humans. */
 const char *hz_report_dur(char *buf, size_t cap, int64_t ns);
 

@@ -193,6 +193,19 @@ static hz_status_t token(hz_vcd_t *p, hz_edge_fn edge, void *ctx, hz_error_t *er
     }
     if (p->tok_long)
         return fail(p, err, HZ_E_FORMAT, "token longer than 255 characters", 0);
+    /* Identifier codes are any printable characters, '$' included (sigrok names its fourth channel "$"):
+     * the third and fourth fields of a $var (code, name) and the token after a vector or real value are identifiers, whatever they
+     * start with. Only a lone "$end" there is read as the end of the section. */
+    if (p->section == SEC_VAR && (p->sec_arg == 2 || p->sec_arg == 3) && !streq(t, "$end")) {
+        if (!scopy(p->sec_tok[p->sec_arg], sizeof p->sec_tok[0], t))
+            return fail(p, err, HZ_E_FORMAT, "identifier code or name longer than 255 characters", 0);
+        p->sec_arg++;
+        return HZ_OK;
+    }
+    if (p->pending_vector && p->in_body) {
+        p->pending_vector = 0;
+        return change(p, t, p->vector_level, edge, ctx, err);
+    }
     if (t[0] == '$') {
         if (streq(t, "$end")) {
             hz_status_t s = HZ_OK;
@@ -231,16 +244,12 @@ static hz_status_t token(hz_vcd_t *p, hz_edge_fn edge, void *ctx, hz_error_t *er
     }
     if (p->section != SEC_NONE && p->section != SEC_DUMP) {
         if (p->sec_arg < 4 && !scopy(p->sec_tok[p->sec_arg], sizeof p->sec_tok[0], t))
-            return fail(p, err, HZ_E_FORMAT, "declaration field longer than 63 characters", 0);
+            return fail(p, err, HZ_E_FORMAT, "declaration field longer than 255 characters", 0);
         p->sec_arg++;
         return HZ_OK;
     }
     if (!p->in_body)
         return fail(p, err, HZ_E_FORMAT, "value change before $enddefinitions:", t);
-    if (p->pending_vector) {
-        p->pending_vector = 0;
-        return change(p, t, p->vector_level, edge, ctx, err);
-    }
     switch (t[0]) {
     case '#': {
         uint64_t ticks;

@@ -12,6 +12,7 @@
 #include <unistd.h>
 
 #include "hz/status.h"
+#include "hz_traces.h" /* the VCDs of test/traces as string arrays */
 #include "latency.h"
 
 static char dir[64];
@@ -92,17 +93,24 @@ static void test_good_runs_write_their_files(void **state)
                          "96x54", "--marker", "--quiet", "--out", dir, NULL),
                      0);
     assert_true(exists("frames.csv") && exists("edges.csv") && exists("report.json") && exists("histogram.svg"));
-    /* The built-in scene through the renderer, small and scaled up. */
-    assert_int_equal(run("--virtual", "--source", "sim", "--hz", "60", "--render", "scene", "--render-scale", "4",
-                         "--size", "64x36", "--render-model", "const:5ms", "--frames", "8", "--quiet", "--out", dir,
-                         NULL),
-                     0);
     /* The edges it wrote are a trace: analyse them again. */
     char csv[96];
     snprintf(csv, sizeof csv, "csv:%s/edges.csv", dir);
     char again[96];
     snprintf(again, sizeof again, "%s/again", dir);
     assert_int_equal(run("--source", csv, "--hz", "240", "--quiet", "--out", again, NULL), 0);
+    /* Eight frames are too few edges for the default lock verdict (32 in a row): "no lock" (3), files still
+     * written; unless a shorter run is stated. */
+    unlink(csv + 4);
+    assert_int_equal(run("--virtual", "--source", "sim", "--hz", "60", "--render-model", "const:5ms", "--frames", "8",
+                         "--quiet", "--out", dir, NULL),
+                     HZ_EXIT_NOLOCK);
+    assert_true(exists("edges.csv"));
+    /* The built-in scene through the renderer, small and scaled up (once per process: the renderer's pool). */
+    assert_int_equal(run("--virtual", "--source", "sim", "--hz", "60", "--render", "scene", "--render-scale", "4",
+                         "--size", "64x36", "--render-model", "const:5ms", "--frames", "8", "--lock-min-run", "8",
+                         "--quiet", "--out", dir, NULL),
+                     0);
     /* A VCD trace, edges only. */
     char vcd[96];
     snprintf(vcd, sizeof vcd, "%s/ok.vcd", dir);
@@ -113,7 +121,131 @@ static void test_good_runs_write_their_files(void **state)
     fclose(f);
     char src[128];
     snprintf(src, sizeof src, "vcd:%s", vcd);
-    assert_int_equal(run("--source", src, "--quiet", "--out", again, NULL), 0);
+    assert_int_equal(run("--source", src, "--hz", "120", "--quiet", "--out", again, NULL), 0);
+    /* The same 120 Hz trace taken for the default 240 Hz locks on every other slot: half the refreshes
+     * "missed" is no lock, not a 240 Hz display. */
+    assert_int_equal(run("--source", src, "--hz", "240", "--quiet", "--out", again, NULL), HZ_EXIT_NOLOCK);
+}
+
+static void write_lines(const char *path, const char *const *lines, size_t n)
+{
+    FILE *f = fopen(path, "w");
+    assert_non_null(f);
+    for (size_t i = 0; i < n; i++)
+        fputs(lines[i], f);
+    fclose(f);
+}
+
+/* Reads a whole small file into buf (NUL-terminated). */
+static void slurp(const char *path, char *buf, size_t cap)
+{
+    FILE *f = fopen(path, "r");
+    assert_non_null(f);
+    size_t n = fread(buf, 1, cap - 1, f);
+    buf[n] = '\0';
+    fclose(f);
+}
+
+/* Runs with stdout into a file; returns the status and leaves the output in buf. */
+static int run_captured(char *buf, size_t cap, const char *a, ...)
+{
+    const char *argv[32];
+    int argc = 0;
+    argv[argc++] = "latency";
+    va_list ap;
+    va_start(ap, a);
+    for (const char *s = a; s && argc < 31; s = va_arg(ap, const char *))
+        argv[argc++] = s;
+    va_end(ap);
+    argv[argc] = NULL;
+    char path[96];
+    snprintf(path, sizeof path, "%s/stdout.txt", dir);
+    fflush(stdout);
+    int saved = dup(1);
+    FILE *f = fopen(path, "w");
+    assert_non_null(f);
+    dup2(fileno(f), 1);
+    int rc = hz_cmd_latency(argc, (char **)argv);
+    fflush(stdout);
+    dup2(saved, 1);
+    close(saved);
+    fclose(f);
+    slurp(path, buf, cap);
+    return rc;
+}
+
+static void test_sigrok_demo_is_no_lock(void **state)
+{
+    (void)state;
+    /* sigrok-cli's demo patterns (test/traces/README.md): eight channels parse; none is a v-sync, so every one
+     * is "no lock" with status 3 and no period, never the nominal rate echoed. */
+    char vcd[96], src[128], out[96];
+    static char text[65536];
+    snprintf(vcd, sizeof vcd, "%s/sigrok-demo-200k.vcd", dir);
+    write_lines(vcd, hz_trace_sigrok_demo_200k_vcd,
+                sizeof hz_trace_sigrok_demo_200k_vcd / sizeof hz_trace_sigrok_demo_200k_vcd[0]);
+    snprintf(src, sizeof src, "vcd:%s", vcd);
+    snprintf(out, sizeof out, "%s/demo", dir);
+    assert_int_equal(run_captured(text, sizeof text, "--source", src, "--signal", "D0", "--out", out, NULL),
+                     HZ_EXIT_NOLOCK);
+    assert_non_null(strstr(text, "no lock"));
+    assert_null(strstr(text, "period"));
+    assert_null(strstr(text, "240.0000 Hz"));
+    char path[128];
+    snprintf(path, sizeof path, "%s/report.json", out);
+    slurp(path, text, sizeof text);
+    assert_non_null(strstr(text, "\"locked\": false"));
+    assert_non_null(strstr(text, "\"verdict\": \"no lock\""));
+    /* edges.csv keeps the trace's own times: D0's first edge is the 1->0 at #5 (5 us). */
+    snprintf(path, sizeof path, "%s/edges.csv", out);
+    slurp(path, text, sizeof text);
+    assert_non_null(strstr(text, "t_ns,level,class,slot,residual_ns,missed_before,reason,frame_id,loop_ns\n5000,0,"));
+    snprintf(vcd, sizeof vcd, "%s/sigrok-demo-1k.vcd", dir);
+    write_lines(vcd, hz_trace_sigrok_demo_1k_vcd,
+                sizeof hz_trace_sigrok_demo_1k_vcd / sizeof hz_trace_sigrok_demo_1k_vcd[0]);
+    snprintf(src, sizeof src, "vcd:%s", vcd);
+    const char *ch[] = { "D0", "D1", "D2", "D3", "D4", "D5", "D6" };
+    for (int c = 0; c < 7; c++) {
+        int rc = run_captured(text, sizeof text, "--source", src, "--signal", ch[c], "--out", out, NULL);
+        if (rc != HZ_EXIT_NOLOCK || strstr(text, "period"))
+            fail_msg("1 kHz demo, %s: status %d, output:\n%s", ch[c], rc, text);
+    }
+    /* D7 never changes: a trace without edges is a format error, as before. */
+    assert_int_equal(run("--source", src, "--signal", "D7", "--quiet", "--out", out, NULL), 64 + HZ_E_FORMAT);
+}
+
+static void test_lock_verdict_and_rate_warning(void **state)
+{
+    (void)state;
+    /* A clean 240 Hz trace whose first edge is at 2,025,764 ns: locked, measured 240 Hz, times kept. */
+    char vcd[96], src[128], out[96], path[128];
+    static char text[65536];
+    snprintf(vcd, sizeof vcd, "%s/clean.vcd", dir);
+    FILE *f = fopen(vcd, "w");
+    assert_non_null(f);
+    fprintf(f, "$timescale 1 ns $end $var wire 1 ! v $end $enddefinitions $end\n#0 0!\n");
+    for (int64_t i = 0; i < 200; i++)
+        fprintf(f, "#%lld 1!\n#%lld 0!\n", (long long)(2025764 + i * 4166667), (long long)(2025764 + i * 4166667 + 1000));
+    fclose(f);
+    snprintf(src, sizeof src, "vcd:%s", vcd);
+    snprintf(out, sizeof out, "%s/clean", dir);
+    assert_int_equal(run_captured(text, sizeof text, "--source", src, "--hz", "240", "--out", out, NULL), 0);
+    assert_non_null(strstr(text, "240.0000 Hz"));
+    assert_null(strstr(text, "warning"));
+    snprintf(path, sizeof path, "%s/edges.csv", out);
+    slurp(path, text, sizeof text);
+    assert_non_null(strstr(text, "frame_id,loop_ns\n2025764,1,vsync,0,"));
+    assert_non_null(strstr(text, "\n2026764,0,other-edge,"));
+    /* Against --hz 60: still the measured 240 Hz, with a plain warning and no ppm against 60 Hz. */
+    assert_int_equal(run_captured(text, sizeof text, "--source", src, "--hz", "60", "--out", out, NULL), 0);
+    assert_non_null(strstr(text, "240.0000 Hz"));
+    assert_non_null(strstr(text, "warning"));
+    assert_null(strstr(text, "ppm"));
+    /* A stated minimum run longer than the trace: no lock. */
+    assert_int_equal(run("--source", src, "--lock-min-run", "500", "--quiet", "--out", out, NULL), HZ_EXIT_NOLOCK);
+    /* Bad limits are usage errors. */
+    assert_int_equal(run("--source", src, "--lock-max-spurious-pct", "101", "--out", out, NULL), 2);
+    assert_int_equal(run("--source", src, "--lock-min-run", "1", "--out", out, NULL), 2);
 }
 
 static int setup(void **state)
@@ -158,6 +290,8 @@ int main(void)
         cmocka_unit_test(test_usage_errors),
         cmocka_unit_test(test_bad_inputs_have_their_own_status),
         cmocka_unit_test(test_good_runs_write_their_files),
+        cmocka_unit_test(test_sigrok_demo_is_no_lock),
+        cmocka_unit_test(test_lock_verdict_and_rate_warning),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }

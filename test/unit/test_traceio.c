@@ -6,6 +6,7 @@
 
 #include "hz/hash.h"
 #include "hz/traceio.h"
+#include "hz_traces.h" /* the VCDs of test/traces as string arrays (test/traces/mkheader.sh) */
 
 typedef struct edges {
     int64_t t[64];
@@ -173,6 +174,130 @@ static void test_vcd_errors(void **state)
     assert_string_equal(err.msg, "edge buffer full");
 }
 
+/* A recorded sigrok-cli export (test/traces/README.md), fed line by line as read from the file. */
+static hz_status_t parse_lines(const char *const *lines, size_t n, const char *signal, edges_t *e, hz_error_t *err)
+{
+    static hz_vcd_t p;
+    memset(e, 0, sizeof *e);
+    hz_status_t s = hz_vcd_init(&p, signal, err);
+    for (size_t i = 0; s == HZ_OK && i < n; i++)
+        s = hz_vcd_feed(&p, lines[i], strlen(lines[i]), collect, e, err);
+    if (s == HZ_OK)
+        s = hz_vcd_finish(&p, collect, e, err);
+    return s;
+}
+
+static void test_vcd_sigrok_demo_exports(void **state)
+{
+    (void)state;
+    /* Edge counts and first/last edges per channel from an independent reader (a Python split-and-compare of
+     * the same files, written for this test). D3's identifier code is '$'. D7 never changes in the demo. */
+    typedef struct { const char *ch; int n; int64_t t0; int l0; } chan_t;
+    static const chan_t k200[] = {
+        { "D0", 500, 5000, 0 }, { "D1", 749, 5000, 1 }, { "D2", 623, 5000, 1 }, { "D3", 562, 5000, 0 },
+        { "D4", 686, 20000, 0 }, { "D5", 687, 5000, 1 }, { "D6", 562, 5000, 0 }, { "D7", 0, 0, 0 },
+    }, k1[] = {
+        { "D0", 1000, 1000000, 0 }, { "D1", 1501, 1000000, 1 }, { "D2", 1249, 1000000, 1 },
+        { "D3", 1126, 1000000, 0 }, { "D4", 1376, 4000000, 0 }, { "D5", 1377, 1000000, 1 },
+        { "D6", 1126, 1000000, 0 }, { "D7", 0, 0, 0 },
+    };
+    edges_t e;
+    hz_error_t err;
+    for (int f = 0; f < 2; f++)
+        for (int c = 0; c < 8; c++) {
+            const char *const *lines = f ? hz_trace_sigrok_demo_1k_vcd : hz_trace_sigrok_demo_200k_vcd;
+            size_t n = f ? sizeof hz_trace_sigrok_demo_1k_vcd / sizeof lines[0]
+                         : sizeof hz_trace_sigrok_demo_200k_vcd / sizeof lines[0];
+            const chan_t *k = f ? &k1[c] : &k200[c];
+            hz_status_t s = parse_lines(lines, n, k->ch, &e, &err);
+            if (s != HZ_OK)
+                fail_msg("%s channel %s: %s", f ? "1k" : "200k", k->ch, err.msg);
+            assert_int_equal(e.n, k->n);
+            if (k->n) {
+                assert_int_equal(e.t[0], k->t0);
+                assert_int_equal(e.level[0], k->l0);
+            }
+        }
+    /* Without --signal the file's eight 1-bit signals are listed. */
+    assert_int_equal(parse_lines(hz_trace_sigrok_demo_1k_vcd,
+                                 sizeof hz_trace_sigrok_demo_1k_vcd / sizeof hz_trace_sigrok_demo_1k_vcd[0], "",
+                                 &e, &err),
+                     HZ_E_FORMAT);
+    assert_non_null(strstr(err.msg, "8 1-bit signals (D0, D1, D2, D3, D4, D5, D6, D7): name the v-sync one"));
+}
+
+static hz_status_t keep_last(void *ctx, int64_t t, int level, hz_error_t *err)
+{
+    (void)level;
+    (void)err;
+    *(int64_t *)ctx = t;
+    return HZ_OK;
+}
+
+static void test_vcd_sigrok_last_edges(void **state)
+{
+    (void)state;
+    const char *ch[] = { "D0", "D3", "D6" };
+    int64_t want[] = { 3996000000ll, 3996000000ll, 3997000000ll };
+    static hz_vcd_t p;
+    hz_error_t err;
+    size_t n = sizeof hz_trace_sigrok_demo_1k_vcd / sizeof hz_trace_sigrok_demo_1k_vcd[0];
+    for (int c = 0; c < 3; c++) {
+        int64_t last = -1;
+        assert_int_equal(hz_vcd_init(&p, ch[c], &err), HZ_OK);
+        for (size_t i = 0; i < n; i++)
+            assert_int_equal(hz_vcd_feed(&p, hz_trace_sigrok_demo_1k_vcd[i], strlen(hz_trace_sigrok_demo_1k_vcd[i]),
+                                         keep_last, &last, &err),
+                             HZ_OK);
+        assert_int_equal(hz_vcd_finish(&p, keep_last, &last, &err), HZ_OK);
+        assert_int_equal(last, want[c]);
+    }
+}
+
+static void test_vcd_identifier_codes(void **state)
+{
+    (void)state;
+    /* Codes of any printable characters and length: '$', '$end'-like prefixes, multi-character codes (sigrok
+     * past 94 channels, GTKWave, Verilog simulators), a 200-character one; a vector value "b1 $"; $dumpvars
+     * with initial values; a timescale spread over lines; several changes per #time, on separate lines. */
+    char code[201];
+    for (int i = 0; i < 200; i++)
+        code[i] = (char)(33 + (i * 7) % 94);
+    code[200] = '\0';
+    for (int i = 0; i < 200; i++)
+        if (code[i] == '$' && i == 0)
+            code[i] = '%';
+    static char buf[4096];
+    snprintf(buf, sizeof buf,
+             "$version Icarus $end\n$timescale\n\t10\n\tns\n$end\n$scope module top $end\n"
+             "$var wire 1 $ D3 $end\n$var wire 1 $$ two $end\n$var reg 1 !! bang $end\n"
+             "$var wire 8 $x bus $end\n$var wire 1 %s long $end\n$var wire 1 $endx tricky $end\n"
+             "$scope module inner $end $var wire 1 a$b in [0] $end $upscope $end\n$upscope $end\n"
+             "$enddefinitions $end\n#0\n$dumpvars\n0$\nb0 $$\n0!!\nb00000000 $x\n0%s\n0$endx\n0a$b\n$end\n"
+             "#1 1$ 1$$\n1!!\nb10101010 $x\n#2\n0$\nb1 $$\n1%s\n1$endx\n1a$b\n#3 0!! 0%s 0$endx 0a$b\n",
+             code, code, code, code);
+    struct { const char *sig; int n; int64_t t0; } want[] = {
+        { "D3", 2, 10 }, { "two", 1, 10 }, { "bang", 2, 10 }, { "long", 2, 20 }, { "tricky", 2, 20 },
+        { "in", 2, 20 },
+    };
+    edges_t e;
+    hz_error_t err;
+    for (size_t i = 0; i < sizeof want / sizeof want[0]; i++)
+        for (size_t chunk = 1; chunk <= 64; chunk *= 4) {
+            hz_status_t s = parse_vcd(buf, strlen(buf), want[i].sig, chunk, &e, &err);
+            if (s != HZ_OK)
+                fail_msg("%s (chunks of %zu): %s", want[i].sig, chunk, err.msg);
+            assert_int_equal(e.n, want[i].n);
+            assert_int_equal(e.t[0], want[i].t0);
+        }
+    /* A code too long for a value-change token is refused with its reason, not truncated into a match. */
+    char huge[300];
+    memset(huge, 'q', 299);
+    huge[299] = '\0';
+    snprintf(buf, sizeof buf, "$timescale 1 ns $end $var wire 1 %s v $end $enddefinitions $end", huge);
+    expect_vcd_error(buf, "v", "longer than 255 characters");
+}
+
 static hz_status_t parse_csv(const char *text, size_t chunk, edges_t *e, hz_error_t *err)
 {
     static hz_ecsv_t p;
@@ -275,6 +400,9 @@ int main(void)
         cmocka_unit_test(test_vcd_sigrok_trace),
         cmocka_unit_test(test_vcd_timescales),
         cmocka_unit_test(test_vcd_errors),
+        cmocka_unit_test(test_vcd_sigrok_demo_exports),
+        cmocka_unit_test(test_vcd_sigrok_last_edges),
+        cmocka_unit_test(test_vcd_identifier_codes),
         cmocka_unit_test(test_csv_forms),
         cmocka_unit_test(test_csv_errors),
         cmocka_unit_test(test_fuzz_never_crashes),

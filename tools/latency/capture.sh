@@ -12,7 +12,7 @@
 # Defaults follow the board hzrt was built for (`hzrt board`): its GPIO chip and line, its framebuffer. Extra
 # options after -- go to `hzrt latency` (e.g. -- --source gpio:gpiochip0:17 --edge falling, or --sink v4l2:...).
 # Runs with --rt (SCHED_FIFO, locked memory); run it as root or grant CAP_SYS_NICE and CAP_IPC_LOCK.
-# Exit status: hzrt's (0 ok, 75 no v-sync within the time-out, see `hzrt latency --help`).
+# Exit status: hzrt's (0 ok, 3 no lock, 75 no v-sync within the time-out, see `hzrt latency --help`).
 set -u
 seconds=30 out="" hzrt="" edges_only=0
 while [ $# -gt 0 ]; do
