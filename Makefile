@@ -147,6 +147,19 @@ PORT_SRCS_timing := port/linux/timebase.c port/linux/vsrc_timeline.c port/linux/
 PORT_SRCS_fbdev := port/linux/fbdev.c
 PORT_SRCS_v4l2 := port/linux/v4l2.c
 PORT_SRCS_gpio := port/linux/gpio.c
+PORT_SRCS_drm := port/linux/drm.c
+# drm needs libdrm for the board's architecture (libdrm-dev, libdrm-dev:arm64); without it the port is left out,
+# loudly, and the VM's DRM check fails.
+LIBDRM_PC ?= /usr/lib/$(BOARD_ARCH)-linux-gnu/pkgconfig/libdrm.pc
+ifneq ($(filter drm,$(BOARD_PORTS)),)
+ifeq ($(wildcard $(LIBDRM_PC)),)
+$(warning BOARD=$(BOARD): the DRM/KMS sink is OFF: no libdrm for $(BOARD_ARCH) ($(LIBDRM_PC) missing); `make deps BOARD=$(BOARD)` installs it (libdrm-dev$(if $(filter aarch64,$(BOARD_ARCH)),:arm64)))
+BOARD_PORTS := $(filter-out drm,$(BOARD_PORTS))
+else
+$(O)/port/linux/drm.o: EXTRA_CFLAGS += -isystem /usr/include/libdrm
+PORT_LIBS_drm := -ldrm
+endif
+endif
 TIMING_PORT_TESTS += $(if $(filter fbdev,$(BOARD_PORTS))$(filter v4l2,$(BOARD_PORTS)),devices)
 # gpio needs libgpiod for the board's architecture (Debian multiarch: libgpiod-dev, libgpiod-dev:arm64). Its
 # pkg-config file gives the version (the v1 and v2 APIs differ); without it the port is left out, loudly.
@@ -175,7 +188,7 @@ INTEGER_SRCS := $(CORE_INTEGER_SRCS) $(PATTERN_SRCS)
 INTEGER_SRCS += $(TIMING_INTEGER_SRCS)
 
 # Ports: each board lists the ones it links (BOARD_PORTS); accel backends come from BOARD_ACCEL.
-KNOWN_PORTS := linux timing fbdev v4l2 gpio
+KNOWN_PORTS := linux timing fbdev v4l2 gpio drm
 PORT_SRCS_linux := port/linux/pools.c port/linux/cli.c port/linux/clock.c port/linux/fileio.c port/linux/scenefile.c \
                    port/linux/threads.c port/linux/render_cmd.c port/linux/summary.c port/linux/accel_backend.c \
                    port/linux/render_run.c
@@ -518,6 +531,7 @@ test-board: tests
 		$(CHECK_OBJS) || true
 	$(Q)sh test/guard/check-integer.sh --record $(O)/test-results "$(CC)" "$(BOARD_ARCH)" $(INTEGER_SRCS) || true
 	$(Q)$(if $(BOARD_TEST_LAUNCHER),true,sh test/cli/run.sh $(O)/test-results $(HZRT))
+	$(Q)$(MAKE) --no-print-directory test-gpiod2
 
 ifeq ($(SAN),1)
 # Sanitizer objects reference the sanitizer runtime: check a plain build of the core instead.
@@ -562,7 +576,7 @@ test: deps ## build and run every test: scenes, host tools, host-sim, AArch64 un
 # from the monitor). Results land next to the boards' for test/summary.sh.
 VM_ROOT := $(BUILD_ROOT)/vm
 VM_RESULTS := $(BUILD_ROOT)/vmtest$(SAN_SUFFIX)/test-results
-DEPS_VMTEST := qemu-system-arm cpio kmod ?libgpiod-dev:arm64
+DEPS_VMTEST := qemu-system-arm cpio kmod ?libgpiod-dev:arm64 ?libdrm-dev:arm64
 TEST_TIERS += vmtest-tier
 TEST_TIER_RESULTS += $(VM_RESULTS)
 VM_DEVICE_TEST := $(O)/test/vm/test_vm_devices
@@ -585,8 +599,15 @@ vmtest-tier:
 # Runs with BOARD=aarch64-generic (see vmtest-tier): its test binaries, plus a static hzrt and init.
 vmtest-board: tests $(VM_DEVICE_TEST) $(VM_ROOT)/init
 	$(Q)$(MAKE) --no-print-directory BOARD=aarch64-generic O=$(VM_ROOT)/static BOARD_LDFLAGS=-static SAN= all
+	$(Q)mkdir -p $(O)/test-results; $(MAKE) --no-print-directory $(VM_GPIOD2_TEST) >$(O)/test-results/gpiod2-vm-build.log 2>&1 || \
+		rm -f $(VM_GPIOD2_TEST)
 	$(Q)VM_ENV="$(foreach v,$(VM_TEST_ENV),$(v)=$($(v)))" sh test/vm/run.sh $(VM_RESULTS) $(VM_ROOT)/kernel \
-		$(VM_ROOT)/init $(VM_ROOT)/static/bin/hzrt $(VM_DEVICE_TEST) $(VM_TEST_BINS)
+		$(VM_ROOT)/init $(VM_ROOT)/static/bin/hzrt $(VM_DEVICE_TEST) $(VM_TEST_BINS) \
+		$$([ -x $(VM_GPIOD2_TEST) ] && echo $(VM_GPIOD2_TEST))
+	$(Q)[ -x $(VM_GPIOD2_TEST) ] || { echo "  FAIL  vm-aarch64 test_vm_gpiod2: libgpiod 2 could not be fetched or linked (see $(O)/test-results/gpiod2-vm-build.log)"; \
+		echo "vm-aarch64/test_vm_gpiod2 0 1 0" >$(VM_RESULTS)/test_vm_gpiod2.res; }
+
+include tools/gpiod2/gpiod2.mk
 
 $(VM_DEVICE_TEST): test/vm/test_vm_devices.c $(PORT_LIB) $(LIB)
 	@mkdir -p $(dir $@)

@@ -6,8 +6,8 @@ BOARD_CFLAGS := -march=armv8-a -mtune=cortex-a72
 BOARD_LDFLAGS :=
 BOARD_SIMD := neon
 BOARD_ACCEL := native
-BOARD_PORTS := linux timing fbdev v4l2 gpio
-BOARD_DEPS := gcc-aarch64-linux-gnu libc6-dev-arm64-cross binutils-aarch64-linux-gnu ?libgpiod-dev:arm64
+BOARD_PORTS := linux timing drm fbdev v4l2 gpio
+BOARD_DEPS := gcc-aarch64-linux-gnu libc6-dev-arm64-cross binutils-aarch64-linux-gnu ?libgpiod-dev:arm64 ?libdrm-dev:arm64
 # Tests of this board run under user-mode emulation on an x86-64 host.
 # ld.so and libc.so.6 must come from the same glibc build. With -L alone the cross ld.so (libc6-arm64-cross)
 # searched /lib/aarch64-linux-gnu first and found the multiarch libc.so.6 (libc6:arm64, a different 2.36

@@ -7,8 +7,8 @@ BOARD_CFLAGS := -march=x86-64-v3 -mtune=generic
 BOARD_LDFLAGS :=
 BOARD_SIMD := avx2
 BOARD_ACCEL := native embree
-BOARD_PORTS := linux timing
+BOARD_PORTS := linux timing drm
 # Debian packages needed to build this board (make deps).
-BOARD_DEPS := gcc make libc6-dev binutils libembree-dev libtbb-dev libpng-dev
+BOARD_DEPS := gcc make libc6-dev binutils libembree-dev libtbb-dev libpng-dev libdrm-dev
 BOARD_TEST_LAUNCHER :=
 BOARD_TEST_DEPS := libcmocka-dev

@@ -9,7 +9,8 @@
 #define HZ_DISPLAY_WIDTH 800
 #define HZ_DISPLAY_HEIGHT 480
 #define HZ_DISPLAY_HZ 60
-#define HZ_DISPLAY_DEVICE "/dev/fb0"
+#define HZ_DISPLAY_DEVICE "/dev/fb0" /* the fbdev fallback */
+#define HZ_DISPLAY_SINK "drm"        /* DRM/KMS first (legacy fbdev emulation is gone on current Pi OS) */
 
 #define HZ_ARENA_SCENE_BYTES (96ull << 20)
 #define HZ_ARENA_ACCEL_BYTES (160ull << 20)

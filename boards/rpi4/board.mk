@@ -6,8 +6,8 @@ BOARD_CFLAGS := -mcpu=cortex-a72
 BOARD_LDFLAGS :=
 BOARD_SIMD := neon
 BOARD_ACCEL := native
-BOARD_PORTS := linux timing fbdev gpio
-BOARD_DEPS := gcc-aarch64-linux-gnu libc6-dev-arm64-cross binutils-aarch64-linux-gnu ?libgpiod-dev:arm64
+BOARD_PORTS := linux timing drm fbdev gpio
+BOARD_DEPS := gcc-aarch64-linux-gnu libc6-dev-arm64-cross binutils-aarch64-linux-gnu ?libgpiod-dev:arm64 ?libdrm-dev:arm64
 # ld.so and libc.so.6 must come from the same glibc build. With -L alone the cross ld.so (libc6-arm64-cross)
 # searched /lib/aarch64-linux-gnu first and found the multiarch libc.so.6 (libc6:arm64, a different 2.36
 # build pulled in by libcmocka-dev:arm64): they disagree on ld.so's internal layout and pthread_create spins

@@ -6,7 +6,7 @@ BOARD_CFLAGS := -march=x86-64-v3 -mtune=generic
 BOARD_LDFLAGS :=
 BOARD_SIMD := avx2
 BOARD_ACCEL := native
-BOARD_PORTS := linux timing fbdev
-BOARD_DEPS := gcc make libc6-dev binutils
+BOARD_PORTS := linux timing drm fbdev
+BOARD_DEPS := gcc make libc6-dev binutils libdrm-dev
 BOARD_TEST_LAUNCHER :=
 BOARD_TEST_DEPS := libcmocka-dev

@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "devices.h"
+#include "drm_port.h"
 #include "hz/config.h"
 
 #define NO_FBDEV "this build has no fbdev port (board " HZ_BOARD_NAME " does not list 'fbdev' in BOARD_PORTS)"
@@ -14,8 +15,16 @@
     "this build has no GPIO port: board " HZ_BOARD_NAME " does not list 'gpio' in BOARD_PORTS, or libgpiod for " \
     "its architecture was missing when it was built (make deps installs it; the build warns when it is off)"
 
+#define NO_DRM                                                                                                  \
+    "this build has no DRM port: board " HZ_BOARD_NAME " does not list 'drm' in BOARD_PORTS, or libdrm for its " \
+    "architecture was missing when it was built (make deps installs libdrm-dev; the build warns when it is off)"
+
 const char *hz_devices_missing(const char *kind)
 {
+#if !defined(HZ_PORT_DRM)
+    if (!strcmp(kind, "drm"))
+        return NO_DRM;
+#endif
 #if !defined(HZ_PORT_FBDEV)
     if (!strcmp(kind, "fbdev"))
         return NO_FBDEV;
@@ -111,5 +120,31 @@ hz_status_t hz_gpio_vsource_open(hz_vsource_t *s, const hz_gpio_cfg_t *cfg, hz_e
 const char *hz_gpio_backend(void)
 {
     return "none (" NO_GPIO ")";
+}
+#endif
+
+#if !defined(HZ_PORT_DRM)
+hz_status_t hz_drm_parse_spec(const char *spec, hz_drm_cfg_t *cfg, char *buf, size_t cap, hz_error_t *err)
+{
+    (void)spec;
+    (void)buf;
+    (void)cap;
+    memset(cfg, 0, sizeof *cfg);
+    return hz_error_set(err, HZ_E_UNSUPPORTED, "%s", NO_DRM);
+}
+
+hz_status_t hz_drm_sink_open(hz_sink_t *sink, hz_vsource_t *vs, const hz_drm_cfg_t *cfg, hz_error_t *err)
+{
+    (void)cfg;
+    memset(sink, 0, sizeof *sink);
+    if (vs)
+        memset(vs, 0, sizeof *vs);
+    return hz_error_set(err, HZ_E_UNSUPPORTED, "%s", NO_DRM);
+}
+
+void hz_drm_stats(const hz_sink_t *sink, hz_drm_stats_t *st)
+{
+    (void)sink;
+    memset(st, 0, sizeof *st);
 }
 #endif

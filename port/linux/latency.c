@@ -10,6 +10,7 @@
 
 #include "cli.h"
 #include "devices.h"
+#include "drm_port.h"
 #include "frameloop.h"
 #include "hz/hz.h"
 #include "hz/pixconv.h"
@@ -35,6 +36,8 @@ static void usage(FILE *f)
             "  gpio[:CHIP[:LINE]]    GPIO edge events via libgpiod (default chip '%s', line %d)\n"
             "  fbdev[:DEV]           FBIO_WAITFORVSYNC on a framebuffer (default %s)\n"
             "  v4l2                  dequeue timestamps of the V4L2 output sink (needs --sink v4l2:...)\n"
+            "  drm                   the DRM sink's vblank events (drmCrtcQueueSequence) or page-flip events\n"
+            "                        (needs --sink drm[:...])\n"
             "  vcd:FILE              replay a logic-analyser trace (sigrok/PulseView VCD); --signal NAME\n"
             "  csv:FILE              replay edge timestamps (t_ns[,level], or hzrt's edges.csv)\n"
             "  --edge rising|falling|any   v-sync polarity (any: every edge, e.g. a photodiode on the marker)\n"
@@ -50,6 +53,9 @@ static void usage(FILE *f)
             "  the period and ppm come from the locked stretches only; a rate more than %g%% off --hz is a warning\n"
             "display sink (--sink; default none):\n"
             "  none | fbdev[:DEV] | v4l2:DEV[:rgb24|xrgb32|yuyv]\n"
+            "  drm[:CARD[:CONNECTOR[:WxH[@HZ]]]]   DRM/KMS page flips (default: the first card with a connected\n"
+            "                        display, its first connected connector, the preferred mode); --drm-buffers 2|3\n"
+            "  display               the board's display: %s\n"
             "frames:\n"
             "  --frames N | --seconds S    run length (default 10 s)\n"
             "  --size WxH            frame size (default: the sink's mode, else 320x180)\n"
@@ -73,7 +79,9 @@ static void usage(FILE *f)
             "(75: no v-sync, time-out)\n",
             HZ_VSYNC_SOURCE == HZ_VSYNC_GPIO ? "gpio" : HZ_VSYNC_SOURCE == HZ_VSYNC_FBDEV ? "fbdev" : "sim",
             HZ_VSYNC_GPIO_CHIP, HZ_VSYNC_GPIO_LINE, HZ_DISPLAY_DEVICE, HZ_DISPLAY_HZ, HZ_LOCK_MIN_RUN,
-            HZ_LOCK_RELOCK_PPM / 1e4, HZ_LOCK_SPURIOUS_PPM / 1e4, HZ_LOCK_MISSED_PPM / 1e4, HZ_LOCK_FAR_PPM / 1e4);
+            HZ_LOCK_RELOCK_PPM / 1e4, HZ_LOCK_SPURIOUS_PPM / 1e4, HZ_LOCK_MISSED_PPM / 1e4, HZ_LOCK_FAR_PPM / 1e4,
+            !strcmp(HZ_DISPLAY_SINK, "drm") ? "DRM, falling back to fbdev " HZ_DISPLAY_DEVICE " without a DRM card"
+                                            : "fbdev " HZ_DISPLAY_DEVICE);
 }
 
 /* "3ms", "800us", "250ns", "1.5ms", "2s", "0.5P" (of period_ns). */
@@ -197,6 +205,7 @@ typedef struct opts {
     int rt, one_edge;
     long render_scale;
     hz_lockv_cfg_t lock;
+    long drm_buffers;
 } opts_t;
 
 #define NEXT_ARG()                                                                                   \
@@ -362,6 +371,10 @@ static int parse_opts(int argc, char **argv, opts_t *o, int *help)
                 o->lock.max_spurious_ppm = ppm;
             else
                 o->lock.max_missed_ppm = ppm;
+        } else if (!strcmp(a, "--drm-buffers")) {
+            NEXT_ARG();
+            if (!hz_cli_parse_long(a, v, 2, 3, &o->drm_buffers))
+                return 0;
         } else if (!strcmp(a, "--render-scale")) {
             NEXT_ARG();
             if (!hz_cli_parse_long(a, v, 1, 64, &o->render_scale))
@@ -461,8 +474,34 @@ int hz_cmd_latency(int argc, char **argv)
     char skind[16];
     const char *srest;
     split_spec(o.sink, skind, sizeof skind, &srest);
+    int drm_fallback = 0;
+    if (!strcmp(skind, "display") && !edges_only) {
+        /* The board's display: DRM where the board says so, fbdev when no DRM card or display is there. */
+        snprintf(skind, sizeof skind, "%s", HZ_DISPLAY_SINK);
+        drm_fallback = !strcmp(skind, "drm");
+        srest = "";
+    }
     if (edges_only || !strcmp(skind, "none")) {
         hz_sink_null(&sink);
+    } else if (!strcmp(skind, "drm")) {
+        hz_drm_cfg_t dc;
+        char spec[256];
+        s = *hz_devices_missing("drm") ? hz_error_set(&err, HZ_E_UNSUPPORTED, "--sink drm: %s", hz_devices_missing("drm"))
+                                       : hz_drm_parse_spec(srest, &dc, spec, sizeof spec, &err);
+        if (s == HZ_E_INVALID_ARG) {
+            hz_cli_error("%s", err.msg);
+            return HZ_EXIT_USAGE;
+        }
+        if (s == HZ_OK) {
+            dc.buffers = (int)o.drm_buffers;
+            s = hz_drm_sink_open(&sink, !strcmp(kind, "drm") ? &src : NULL, &dc, &err);
+            src_open = s == HZ_OK && !strcmp(kind, "drm");
+        }
+        if (s != HZ_OK && drm_fallback && strcmp(kind, "drm")) {
+            hz_cli_error("note: %s; using fbdev %s", err.msg, HZ_DISPLAY_DEVICE);
+            hz_error_clear(&err);
+            s = hz_fbdev_sink_open(&sink, HZ_DISPLAY_DEVICE, NULL, &err);
+        }
     } else if (!strcmp(skind, "fbdev")) {
         s = hz_fbdev_sink_open(&sink, *srest ? srest : HZ_DISPLAY_DEVICE, NULL, &err);
     } else if (!strcmp(skind, "v4l2")) {
@@ -483,7 +522,8 @@ int hz_cmd_latency(int argc, char **argv)
             src_open = s == HZ_OK && !strcmp(kind, "v4l2");
         }
     } else {
-        hz_cli_error("--sink: '%s' is not none, fbdev[:DEV] or v4l2:DEV[:FORMAT]", o.sink);
+        hz_cli_error("--sink: '%s' is not none, display, drm[:CARD[:CONNECTOR[:WxH[@HZ]]]], fbdev[:DEV] or "
+                     "v4l2:DEV[:FORMAT]", o.sink);
         return HZ_EXIT_USAGE;
     }
     if (s != HZ_OK)
@@ -535,6 +575,12 @@ int hz_cmd_latency(int argc, char **argv)
         }
     } else if (!strcmp(kind, "fbdev")) {
         s = hz_fbdev_vsource_open(&src, *rest ? rest : HZ_DISPLAY_DEVICE, NULL, &err);
+    } else if (!strcmp(kind, "drm")) {
+        if (!src_open) {
+            hz_cli_error("--source drm takes the vblank or page-flip events of the DRM sink: add --sink drm[:...]");
+            hz_sink_close(&sink);
+            return HZ_EXIT_USAGE;
+        }
     } else if (!strcmp(kind, "v4l2")) {
         if (!src_open) {
             hz_cli_error("--source v4l2 takes the dequeue timestamps of a V4L2 output: add --sink v4l2:DEV");
@@ -542,7 +588,7 @@ int hz_cmd_latency(int argc, char **argv)
             return HZ_EXIT_USAGE;
         }
     } else {
-        hz_cli_error("--source: '%s' is not sim, gpio[:CHIP[:LINE]], fbdev[:DEV], v4l2, vcd:FILE or csv:FILE",
+        hz_cli_error("--source: '%s' is not sim, gpio[:CHIP[:LINE]], fbdev[:DEV], v4l2, drm, vcd:FILE or csv:FILE",
                      o.source);
         hz_sink_close(&sink);
         return HZ_EXIT_USAGE;
