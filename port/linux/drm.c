@@ -56,7 +56,13 @@ static drm_impl_t pool[1];
 
 static void push_edge(drm_impl_t *im, int64_t t, uint64_t seq, int64_t id)
 {
-    if (im->st.flip_events + im->st.vblank_events > 1 && (seq <= im->st.last_sequence || t <= im->st.last_t_ns))
+    /* Drivers without a vblank counter (virtio-gpu) send sequence 0 with every event: only a counting
+     * driver's sequence numbers must increase; timestamps always must. */
+    int counting = im->seq_api || seq != 0 || im->st.last_sequence != 0;
+    if (seq != 0)
+        im->st.sequenced++;
+    if (im->st.flip_events + im->st.vblank_events > 1 &&
+        ((counting && seq <= im->st.last_sequence) || t <= im->st.last_t_ns))
         im->st.out_of_order++;
     im->st.last_sequence = seq;
     im->st.last_t_ns = t;
@@ -381,9 +387,13 @@ static hz_status_t pick_output(drm_impl_t *im, const hz_drm_cfg_t *cfg, hz_error
     if (found < 0 && !cfg->w)
         found = 0;
     if (found < 0) {
-        hz_status_t st = hz_error_set(err, HZ_E_DEVICE, "%s: %s does not offer %dx%d%s%.3g (it offers: %s)", im->card,
-                                      im->conn_name, cfg->w, cfg->h, cfg->millihertz ? "@" : "",
-                                      cfg->millihertz ? cfg->millihertz / 1000.0 : 0.0, modes);
+        char want[48];
+        if (cfg->millihertz)
+            snprintf(want, sizeof want, "%dx%d@%.3f", cfg->w, cfg->h, cfg->millihertz / 1000.0);
+        else
+            snprintf(want, sizeof want, "%dx%d", cfg->w, cfg->h);
+        hz_status_t st = hz_error_set(err, HZ_E_DEVICE, "%s: %s does not offer %s (it offers: %s)", im->card,
+                                      im->conn_name, want, modes);
         drmModeFreeConnector(conn);
         drmModeFreeResources(res);
         return st;

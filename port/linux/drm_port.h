@@ -20,7 +20,8 @@
  *    (the message lists the connectors and their state), a mode not offered (lists the offered ones), the
  *    master held by another process; HZ_E_UNSUPPORTED when the driver has no dumb buffers.
  *  - hz_drm_stats() counts flips submitted, flip events received, and how many events came out of order
- *    (sequence or timestamp not increasing): a test's evidence that the events are in order and monotonic.
+ *    (timestamp not increasing, or, from a driver that counts vblanks, sequence not increasing; drivers
+ *    without a counter send sequence 0): a test's evidence that the events are in order and monotonic.
  */
 #ifndef HZ_PORT_DRM_H
 #define HZ_PORT_DRM_H
@@ -39,6 +40,7 @@ typedef struct hz_drm_cfg {
 
 typedef struct hz_drm_stats {
     uint64_t flips, flip_events, vblank_events, out_of_order;
+    uint64_t sequenced;   /* events with a nonzero sequence number (0 on drivers without a vblank counter) */
     uint64_t last_sequence;
     int64_t last_t_ns;
     int has_sequence_api; /* drmCrtcQueueSequence works on this CRTC */

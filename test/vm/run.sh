@@ -91,11 +91,20 @@ add_module() { # NAME [PARAMS]; `local` is not POSIX but dash, bash and busybox 
 add_module vivid "n_devs=1 node_types=0x10101 num_inputs=1 input_types=0x3 num_outputs=1 output_types=0x1" ||
     fail_tier "cannot collect vivid's modules from $deb (see $results/initramfs.log)"
 
+# DRM: QEMU's virtio-gpu (virtio_pci, virtio-gpu and their dependencies) for the DRM/KMS sink check.
+for m in virtio_pci virtio-gpu; do
+    add_module $m || fail_tier "cannot collect $m from $deb (see $results/initramfs.log)"
+done
+
 # The tests' environment, and their data directories over virtio-9p (read-only, same paths as on the host).
+# The screendump folder is one of them: the host writes QEMU's screendumps there for test_vm_drm to read.
 : >"$stage/vm-env"
 : >"$stage/vm-mounts"
 share_args=""
 nshare=0
+screen="$results/screen"
+rm -rf "$screen" && mkdir -p "$screen"
+VM_ENV="${VM_ENV:-} HZ_VM_SCREEN_DIR=$screen"
 for kv in ${VM_ENV:-}; do
     case $kv in *=*) ;; *) continue ;; esac
     echo "$kv" >>"$stage/vm-env"
@@ -153,6 +162,7 @@ rm -f "$log" "$mon.in" "$mon.out"
 mkfifo "$mon.in" "$mon.out" || fail_tier "mkfifo failed"
 # shellcheck disable=SC2086 # share_args is a list of arguments
 qemu-system-aarch64 -M virt -cpu cortex-a72 -smp 2 -m 1024 -display none -nic none -no-reboot $share_args \
+    -device virtio-gpu-pci,xres=${VM_DRM_XRES:-320},yres=${VM_DRM_YRES:-240} \
     -kernel "$vmlinuz" -initrd "$initrd" -append "console=ttyAMA0 panic=-1 quiet" \
     -serial "file:$log" -monitor "pipe:$mon" >"$results/qemu.log" 2>&1 &
 qpid=$!
@@ -162,7 +172,24 @@ catpid=$!
 exec 7>"$mon.in"
 start=$(date +%s)
 served=0
+dumps=0
 while kill -0 "$qpid" 2>/dev/null; do
+    # Each "HZVM-SCREENDUMP name" asks for the displayed surface in $screen/name.ppm, then name.done.
+    asked=$(grep -c '^HZVM-SCREENDUMP' "$log" 2>/dev/null)
+    if [ "${asked:-0}" -gt $dumps ]; then
+        dumps=$((dumps + 1))
+        name=$(sed -n 's/^HZVM-SCREENDUMP \([A-Za-z0-9_-]*\).*/\1/p' "$log" | sed -n "${dumps}p")
+        echo "screendump $screen/$name.ppm" >&7
+        # The monitor writes the file before it answers; wait until its size holds still.
+        prev=-1
+        for i in 1 2 3 4 5 6 7 8 9 10 11 12 13 14 15 16 17 18 19 20; do
+            sleep 0.3
+            size=$(stat -c %s "$screen/$name.ppm" 2>/dev/null || echo -1)
+            [ "$size" -gt 0 ] && [ "$size" = "$prev" ] && break
+            prev=$size
+        done
+        : >"$screen/$name.done"
+    fi
     # Each "HZVM-GPIO-READY n" the guest prints asks for n pulses on line 3.
     asked=$(grep -c '^HZVM-GPIO-READY' "$log" 2>/dev/null)
     if [ "${asked:-0}" -gt $served ]; then
@@ -230,6 +257,7 @@ grep '^  ' "$results/$(basename "$devtest").log" | sed 's/^/  vm:/'
 grep -q '^HZVM-GPIO-MISSING' "$log" &&
     echo "  vm: GPIO checks FAILED, the port is missing: $(sed -n 's/^HZVM-GPIO-MISSING //p' "$log" | head -n 1)"
 for t in "$@"; do
+    case $(basename "$t") in test_vm_drm) grep '^  DRM' "$results/test_vm_drm.log" | sed 's/^/  vm:/' ;; esac
     case $(basename "$t") in test_vm_gpiod2) grep '^  ' "$results/test_vm_gpiod2.log" | sed 's/^/  vm (libgpiod 2):/' ;; esac
 done
 exit 0
