@@ -130,8 +130,8 @@ RENDER_PORT_TESTS_embree := render_backends
 RENDER_PORT_TESTS_native := render_taa
 
 # pattern (src/pattern): integer-only tile orderings, dither maps, masks
-PATTERN_SRCS := src/pattern/tileorder.c
-PATTERN_TESTS := tileorder
+PATTERN_SRCS := src/pattern/tileorder.c src/pattern/adaptive_mask.c
+PATTERN_TESTS := tileorder adaptive_mask
 
 # timing (src/timing): v-sync model, pacing, latency statistics; integer-only throughout
 TIMING_SRCS := src/timing/wide.c src/timing/tstat.c src/timing/vsync.c src/timing/vsynth.c src/timing/pace.c \
