@@ -10,7 +10,7 @@
 /* hz_trace_batch's packet width (render_internal.h) */
 #define HZ_RENDER_LANES_TEST (HZ_SIMD_LANES >= 8 ? 8 : 4)
 
-enum { W = 64, H = 40 };
+enum { W = 32, H = 24 };
 
 static void open_scene(rfix_t *f, const char *scene, hz_accel_backend_t b)
 {
