@@ -122,16 +122,16 @@ ACCEL_PORT_TESTS_embree := accel_embree
 
 # render (src/render, src/recon): camera, shading, G-buffer, reconstruction
 RENDER_SRCS := src/render/camera.c src/render/texture.c src/render/trace.c src/render/render.c src/recon/taa.c \
-               src/recon/tdense.c
+               src/recon/tdense.c src/recon/adaptive.c
 RENDER_TESTS := tdense
-RENDER_PORT_TESTS := render render_tdense
+RENDER_PORT_TESTS := render render_tdense render_adaptive
 RENDER_PORT_TESTS_embree := render_backends
 # Heavy render tests for boards whose tests run natively (not under emulation).
 RENDER_PORT_TESTS_native := render_taa
 
 # pattern (src/pattern): integer-only tile orderings, dither maps, masks
-PATTERN_SRCS := src/pattern/tileorder.c
-PATTERN_TESTS := tileorder
+PATTERN_SRCS := src/pattern/tileorder.c src/pattern/adaptive_mask.c
+PATTERN_TESTS := tileorder adaptive_mask
 
 # timing (src/timing): v-sync model, pacing, latency statistics; integer-only throughout
 TIMING_SRCS := src/timing/wide.c src/timing/tstat.c src/timing/vsync.c src/timing/vsynth.c src/timing/pace.c \
@@ -191,7 +191,7 @@ INTEGER_SRCS += $(TIMING_INTEGER_SRCS)
 KNOWN_PORTS := linux timing fbdev v4l2 gpio drm
 PORT_SRCS_linux := port/linux/pools.c port/linux/cli.c port/linux/clock.c port/linux/fileio.c port/linux/scenefile.c \
                    port/linux/threads.c port/linux/render_cmd.c port/linux/summary.c port/linux/accel_backend.c \
-                   port/linux/render_run.c
+                   port/linux/render_run.c port/linux/adaptive_cli.c
 $(foreach p,$(BOARD_PORTS),$(if $(filter $(p),$(KNOWN_PORTS)),,$(error $(BOARD_DIR)/board.mk: unknown port '$(p)' (known: $(KNOWN_PORTS)))))
 # Image files (port/linux/imageio.c): PNG needs libpng for the target. It is on when the target's compiler links
 # -lpng (host builds: libpng-dev is in host-sim's BOARD_DEPS); elsewhere the PNG calls report "not built in".

@@ -34,6 +34,7 @@
 #include <stdint.h>
 
 #include "hz/accel.h"
+#include "hz/adaptive.h"
 #include "hz/arena.h"
 #include "hz/image.h"
 #include "hz/scene.h"
@@ -47,6 +48,7 @@ typedef enum hz_render_mode {
     HZ_MODE_FULL = 0, /* every pixel, opts.spp stratified samples */
     HZ_MODE_TAA = 1,  /* every pixel, 1 jittered sample, temporal anti-aliasing resolve */
     HZ_MODE_TDENSE = 2, /* one sample per 2x2 tile per frame, temporally dense composite (seed 001, hz/tdense.h) */
+    HZ_MODE_ADAPTIVE = 3, /* presample + activity mask + packed extra samples (seed 003, hz/adaptive.h) */
     HZ_MODE_COUNT
 } hz_render_mode_t;
 
@@ -67,6 +69,8 @@ typedef struct hz_render_opts {
     hz_ghat_rule_t tdense_rule; /* per-tile ordering rule (default HZ_GHAT_FULL, the paper's ĝ) */
     bool tdense_reflect_mv;     /* mirrors use the reflected hit's motion (default true) */
     float tdense_gamma;         /* variance box of old dynamic pixels: mean +- gamma * sigma (default 1) */
+    /* adaptive */
+    hz_adaptive_opts_t adaptive; /* thresholds, normal angle, focus objects (hz/adaptive.h) */
     uint32_t seed;         /* decorrelates sample patterns between runs that want it */
 } hz_render_opts_t;
 
@@ -105,6 +109,9 @@ typedef struct hz_render_stats {
     uint64_t nonfinite;    /* NaN/Inf values replaced by 0 (should stay 0) */
     uint64_t layer_cap;    /* paths cut at HZ_RENDER_MAX_LAYERS */
     uint64_t queue_full;   /* rays dropped because a ray queue was full (should stay 0) */
+    /* adaptive: active subpixels, their extra camera rays (4 each, also in primary_rays) and the packets
+     * those went out in (extra_rays / extra_packets = live lanes per packet) */
+    uint64_t active_subpixels, extra_rays, extra_packets;
 } hz_render_stats_t;
 
 /* Memory a renderer needs: frame_bytes from the frame arena, thread_bytes from each thread arena. */
@@ -137,6 +144,9 @@ void hz_render_frame_stats(const hz_renderer_t *r, hz_render_stats_t *last, hz_r
 /* tdense mode: the compositor's state (tile orderings, per-pixel flags: hz/tdense.h), for tests and tools that
  * show it; NULL in the other modes. */
 const struct hz_tdense *hz_render_tdense(const hz_renderer_t *r);
+/* adaptive mode: the last frame's activity mask (width * height bytes, bit q = subpixel q: 0 top-left, 1
+ * top-right, 2 bottom-left, 3 bottom-right); NULL in the other modes. */
+const uint8_t *hz_render_adaptive_mask(const hz_renderer_t *r);
 /* Forget history (TAA) and previous-frame state, e.g. after a cut. */
 void hz_render_reset_history(hz_renderer_t *r);
 

@@ -9,6 +9,7 @@
 #include <unistd.h>
 
 #include "accel_backend.h"
+#include "adaptive_cli.h"
 #include "cli.h"
 #include "clock.h"
 #include "fileio.h"
@@ -32,6 +33,7 @@ typedef struct args {
     float start;
     hz_accel_backend_t backend;
     bool write_y4m, write_png, write_pfm, quiet;
+    hz_adaptive_cli_t adaptive;
 } args_t;
 
 static int default_threads(void)
@@ -54,7 +56,8 @@ static void usage(FILE *f)
             "\n"
             "options:\n"
             "  --mode M          tdense (one sample per 2x2 tile per frame, temporally dense composite), full (N\n"
-            "                    samples per pixel) or taa (1 jittered sample + temporal resolve); default tdense\n"
+            "                    samples per pixel), taa (1 jittered sample + temporal resolve) or adaptive\n"
+            "                    (selective and adaptive supersampling, see below); default tdense\n"
             "                    (a tdense frame holds a quarter of fresh samples: run 4 frames or more; a still\n"
             "                    view reaches the 4x MSAA average after 16)\n"
             "  --spp N           samples per pixel in full mode: 1, 4, 9, ... 1024 (squares); default 1\n"
@@ -79,6 +82,7 @@ static void usage(FILE *f)
             "  --quiet           no progress bar and no printed summary (the JSON is still written)\n"
             "  -h, --help        this text\n",
             HZ_DISPLAY_WIDTH, HZ_DISPLAY_HEIGHT, HZ_DISPLAY_HZ, HZ_MAX_THREADS);
+    hz_adaptive_cli_usage(f);
 }
 
 static int parse(int argc, char **argv, args_t *a)
@@ -99,6 +103,13 @@ static int parse(int argc, char **argv, args_t *a)
         const char *o = argv[i];
         const char *v = i + 1 < argc ? argv[i + 1] : NULL;
         long n;
+        int used = hz_adaptive_cli_option(o, v, &a->opts.adaptive, &a->adaptive);
+        if (used < 0)
+            return -used;
+        if (used > 0) {
+            i += used - 1;
+            continue;
+        }
         if (!strcmp(o, "-h") || !strcmp(o, "--help")) {
             usage(stdout);
             return -1;
@@ -109,8 +120,10 @@ static int parse(int argc, char **argv, args_t *a)
                 a->opts.mode = HZ_MODE_TAA;
             else if (v && !strcmp(v, "tdense"))
                 a->opts.mode = HZ_MODE_TDENSE;
+            else if (v && !strcmp(v, "adaptive"))
+                a->opts.mode = HZ_MODE_ADAPTIVE;
             else {
-                hz_cli_error("render: --mode: '%s' is not tdense, full or taa", v ? v : "");
+                hz_cli_error("render: --mode: '%s' is not tdense, full, taa or adaptive", v ? v : "");
                 return HZ_EXIT_USAGE;
             }
             i++;
@@ -218,6 +231,8 @@ static int parse(int argc, char **argv, args_t *a)
         hz_cli_error("render: which scene? (a .hzb file or `builtin`; try hzrt render --help)");
         return HZ_EXIT_USAGE;
     }
+    if (hz_adaptive_cli_check(&a->adaptive, a->opts.mode))
+        return HZ_EXIT_USAGE;
     hz_error_t err;
     if (hz_render_opts_check(&a->opts, &err) != HZ_OK) {
         hz_cli_error("render: %s", err.msg);
@@ -273,6 +288,8 @@ int hz_cmd_render(int argc, char **argv)
 
     hz_scene_t scene;
     if (hz_scenefile_open(a.scene, pools, &scene, &err) != HZ_OK)
+        return hz_cli_report(&err);
+    if (hz_adaptive_cli_resolve(&a.adaptive, &scene, &a.opts.adaptive, &err) != HZ_OK)
         return hz_cli_report(&err);
     hz_accel_geom_t geom;
     if (hz_accel_geom_from_scene(&geom, &scene, &pools->accel, &err) != HZ_OK)
@@ -347,6 +364,10 @@ int hz_cmd_render(int argc, char **argv)
             goto done;
         }
     }
+    if (a.adaptive.map_path && hz_adaptive_map_write(a.adaptive.map_path, r, a.opts.width, a.opts.height, &err) != HZ_OK) {
+        rc = hz_cli_report(&err);
+        goto done;
+    }
     if (a.write_pfm) {
         snprintf(path, sizeof path, "%s/last.pfm", a.out_dir);
         if (hz_pfm_write(path, hz_render_output(r), &err) != HZ_OK) {
@@ -380,6 +401,11 @@ int hz_cmd_render(int argc, char **argv)
         .mrays_per_s = render_s > 0 ? rays / render_s * 1e-6 : 0, .run_s = run_s, .features = feats,
         .stats = total, .pools = pools,
     };
+    hz_summary_adaptive_t ads;
+    if (a.opts.mode == HZ_MODE_ADAPTIVE) {
+        hz_adaptive_summary(&total, a.frames, a.opts.width, a.opts.height, hz_render_gbuffer(r)->object2 != NULL, &ads);
+        sm.adaptive = &ads;
+    }
     snprintf(path, sizeof path, "%s/summary.json", a.out_dir);
     if (hz_summary_write_json(&sm, path, &err) != HZ_OK) {
         rc = hz_cli_report(&err);

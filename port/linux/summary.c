@@ -29,6 +29,11 @@ void hz_summary_print(const hz_summary_t *s, FILE *f)
             p->scene.high_water / 1048576.0, p->scene.cap / 1048576.0, p->accel.high_water / 1048576.0,
             p->accel.cap / 1048576.0, p->frame.high_water / 1048576.0, p->frame.cap / 1048576.0,
             thread_high_water(p, s->threads) / 1048576.0, p->thread[0].cap / 1048576.0);
+    if (s->adaptive)
+        fprintf(f, "adaptive     %.3f extra rays/px: %.3f camera rays/px = %.1f%% of fixed 9 spp; %.1f%% of subpixels "
+                   "active, %.2f live lanes per extra packet, attributes %u B/px\n",
+                s->adaptive->extra_rays_per_pixel, s->adaptive->rays_per_pixel, 100.0 * s->adaptive->sample_ratio_9spp,
+                100.0 * s->adaptive->active_fraction, s->adaptive->lanes_per_packet, s->adaptive->attr_bytes_per_pixel);
     if (s->stats.nonfinite || s->stats.layer_cap || s->stats.queue_full)
         fprintf(f, "warnings     %llu non-finite values zeroed, %llu paths cut at the layer cap, %llu rays dropped\n",
                 (unsigned long long)s->stats.nonfinite, (unsigned long long)s->stats.layer_cap,
@@ -83,6 +88,12 @@ hz_status_t hz_summary_write_json(const hz_summary_t *s, const char *path, hz_er
                "\"thread\": [%zu, %zu]},\n",
             p->scene.high_water, p->scene.cap, p->accel.high_water, p->accel.cap, p->frame.high_water, p->frame.cap,
             thread_high_water(p, s->threads), p->thread[0].cap);
+    if (s->adaptive)
+        fprintf(f, "  \"adaptive\": {\"extra_rays_per_pixel\": %.6f, \"rays_per_pixel\": %.6f, "
+                   "\"sample_ratio_9spp\": %.6f, \"active_subpixel_fraction\": %.6f, \"lanes_per_packet\": %.4f, "
+                   "\"attribute_bytes_per_pixel\": %u},\n",
+                s->adaptive->extra_rays_per_pixel, s->adaptive->rays_per_pixel, s->adaptive->sample_ratio_9spp,
+                s->adaptive->active_fraction, s->adaptive->lanes_per_packet, s->adaptive->attr_bytes_per_pixel);
     fprintf(f, "  \"warnings\": {\"nonfinite\": %llu, \"layer_cap\": %llu, \"queue_full\": %llu}\n}\n",
             (unsigned long long)s->stats.nonfinite, (unsigned long long)s->stats.layer_cap,
             (unsigned long long)s->stats.queue_full);

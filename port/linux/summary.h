@@ -14,6 +14,12 @@
 #include "hz/render.h"
 #include "pools.h"
 
+/* --mode adaptive: camera rays per pixel and what they bought (adaptive_cli.h fills it). */
+typedef struct hz_summary_adaptive {
+    double extra_rays_per_pixel, rays_per_pixel, sample_ratio_9spp, lanes_per_packet, active_fraction;
+    uint32_t attr_bytes_per_pixel;
+} hz_summary_adaptive_t;
+
 typedef struct hz_summary {
     const char *scene, *mode, *backend, *features;
     uint32_t spp, width, height, hz, frames, frames_timed;
@@ -23,6 +29,7 @@ typedef struct hz_summary {
     double rays_per_frame, mrays_per_s;
     hz_render_stats_t stats;
     const hz_pools_t *pools;
+    const hz_summary_adaptive_t *adaptive; /* NULL outside --mode adaptive */
 } hz_summary_t;
 
 void hz_summary_print(const hz_summary_t *s, FILE *f);

@@ -23,12 +23,13 @@ void hz_render_opts_default(hz_render_opts_t *o)
     o->tdense_rule = HZ_GHAT_FULL;
     o->tdense_reflect_mv = true;
     o->tdense_gamma = 1.0f;
+    hz_adaptive_opts_default(&o->adaptive);
     o->seed = 0;
 }
 
 const char *hz_render_mode_name(hz_render_mode_t m)
 {
-    static const char *const names[HZ_MODE_COUNT] = { "full", "taa", "tdense" };
+    static const char *const names[HZ_MODE_COUNT] = { "full", "taa", "tdense", "adaptive" };
     return (unsigned)m < HZ_MODE_COUNT ? names[m] : "unknown";
 }
 
@@ -54,6 +55,10 @@ hz_status_t hz_render_opts_check(const hz_render_opts_t *o, hz_error_t *err)
         return hz_error_set(err, HZ_E_INVALID_ARG, "unknown tdense ordering rule %d", (int)o->tdense_rule);
     if (!(o->tdense_gamma > 0.0f && o->tdense_gamma <= 16.0f))
         return hz_error_set(err, HZ_E_INVALID_ARG, "tdense gamma must lie in (0, 16]");
+    if (o->mode == HZ_MODE_ADAPTIVE) {
+        hz_amask_config_t c;
+        return hz_adaptive_config(&o->adaptive, &c, err);
+    }
     return HZ_OK;
 }
 
@@ -106,6 +111,8 @@ static size_t frame_bytes(const hz_render_opts_t *o, const needs_t *n)
 #undef ADD
     if (o->mode == HZ_MODE_TDENSE)
         total += hz_tdense_bytes(o->width, o->height);
+    if (o->mode == HZ_MODE_ADAPTIVE)
+        total += hz_adaptive_frame_bytes(o->width, o->height, n->mirrors);
     return total;
 }
 
@@ -222,6 +229,10 @@ hz_status_t hz_render_create(hz_renderer_t **out, hz_scene_t *scene, hz_accel_t 
     } else {
         hz_memset(r->out.rgb, 0, px * 12);
     }
+    if (opts->mode == HZ_MODE_ADAPTIVE && (s = hz_adaptive_init(r, frame_arena, err)) != HZ_OK) {
+        hz_arena_reset(frame_arena, mark);
+        return s;
+    }
     if (gb->mv)
         hz_memset(gb->mv, 0, px * 8);
     if (gb->mv_reflect)
@@ -302,7 +313,7 @@ hz_status_t hz_render_begin_frame(hz_renderer_t *r, uint64_t frame_index, float 
 
 uint32_t hz_render_pass_count(const hz_renderer_t *r)
 {
-    return r->opts.mode == HZ_MODE_FULL ? 1u : 2u;
+    return r->opts.mode == HZ_MODE_FULL ? 1u : r->opts.mode == HZ_MODE_ADAPTIVE ? 3u : 2u;
 }
 
 uint32_t hz_render_pass_items(const hz_renderer_t *r, uint32_t pass)
@@ -405,6 +416,15 @@ void hz_render_pass_run(hz_renderer_t *r, uint32_t pass, uint32_t item, uint32_t
             trace_tile_tdense(r, item, w);
         else
             hz_tdense_resolve_rows(&r->td, item * (HZ_RENDER_TILE / 2), (item + 1) * (HZ_RENDER_TILE / 2));
+    } else if (r->opts.mode == HZ_MODE_ADAPTIVE) {
+        if (pass == 0) {
+            trace_tile(r, item, w, &r->out); /* the presample: 1 spp at pixel centres */
+            hz_adaptive_keep_attrs(r, w);
+        } else if (pass == 1) {
+            hz_adaptive_test_tile(r, item);
+        } else {
+            hz_adaptive_extra_tile(r, item, w);
+        }
     } else if (pass == 0) {
         trace_tile(r, item, w, r->opts.mode == HZ_MODE_TAA ? &r->cur : &r->out);
     } else if (pass == 1 && r->opts.mode == HZ_MODE_TAA) {
@@ -420,6 +440,9 @@ static void add_stats(hz_render_stats_t *a, const hz_render_stats_t *b)
     a->nonfinite += b->nonfinite;
     a->layer_cap += b->layer_cap;
     a->queue_full += b->queue_full;
+    a->active_subpixels += b->active_subpixels;
+    a->extra_rays += b->extra_rays;
+    a->extra_packets += b->extra_packets;
 }
 
 void hz_render_end_frame(hz_renderer_t *r)
@@ -459,6 +482,11 @@ void hz_render_frame_stats(const hz_renderer_t *r, hz_render_stats_t *last, hz_r
 const struct hz_tdense *hz_render_tdense(const hz_renderer_t *r)
 {
     return r->opts.mode == HZ_MODE_TDENSE ? &r->td : NULL;
+}
+
+const uint8_t *hz_render_adaptive_mask(const hz_renderer_t *r)
+{
+    return r->opts.mode == HZ_MODE_ADAPTIVE ? r->ad.mask : NULL;
 }
 
 void hz_render_reset_history(hz_renderer_t *r)

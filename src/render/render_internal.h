@@ -9,6 +9,7 @@
 #ifndef HZ_RENDER_INTERNAL_H
 #define HZ_RENDER_INTERNAL_H
 
+#include "hz/adaptive.h"
 #include "hz/config.h"
 #include "hz/render.h"
 #include "hz/tdense.h"
@@ -85,6 +86,14 @@ typedef struct hz_worker {
     struct hz_renderer *r;
 } hz_worker_t;
 
+/* adaptive mode (src/recon/adaptive.c): the compact attribute map and the activity mask of this frame. */
+typedef struct hz_adaptive_state {
+    hz_amask_config_t cfg;
+    hz_amask_hit_t *attr;      /* levels hits per pixel (primary, then the mirror hit where the scene has mirrors) */
+    uint32_t levels;
+    uint8_t *mask;             /* bit q: subpixel q active */
+} hz_adaptive_state_t;
+
 struct hz_renderer {
     hz_render_opts_t opts;
     hz_scene_t *scene;
@@ -105,6 +114,7 @@ struct hz_renderer {
     bool hist_valid;
     uint16_t *prev_object;     /* TAA: previous frame's primary object ids */
     hz_tdense_t td;            /* tdense: subframe placement and composite (its frames are the output) */
+    hz_adaptive_state_t ad;    /* adaptive: attribute map and mask */
     hz_gbuffer_t gb;
     hz_worker_t *workers_by_thread[HZ_MAX_THREADS]; /* each from its thread's arena */
     uint32_t thread_count;
@@ -134,6 +144,13 @@ void hz_trace_batch(hz_worker_t *w, const float (*jitter)[2], bool write_gbuffer
 /* Slot -> pixel of tile `tile`, ordered so that consecutive HZ_RENDER_LANES slots form compact packets. */
 void hz_tile_slots(const struct hz_renderer *r, uint32_t tile, uint32_t pixel[HZ_TILE_PIXELS]);
 bool hz_render_anyhit(void *user, uint32_t prim, float u, float v, float t, uint32_t ray_id, int lane);
+
+/* adaptive.c (src/recon) */
+hz_status_t hz_adaptive_init(struct hz_renderer *r, hz_arena_t *frame_arena, hz_error_t *err);
+/* Pass 0, after the tile's 1-spp presample: packs the slots' G-buffer records into the attribute map. */
+void hz_adaptive_keep_attrs(struct hz_renderer *r, const hz_worker_t *w);
+void hz_adaptive_test_tile(struct hz_renderer *r, uint32_t tile);               /* pass 1 */
+void hz_adaptive_extra_tile(struct hz_renderer *r, uint32_t tile, hz_worker_t *w); /* pass 2 */
 
 /* taa.c (src/recon) */
 void hz_taa_resolve_tile(struct hz_renderer *r, uint32_t tile);

@@ -237,6 +237,56 @@ static void test_missing_scene_is_refused_and_pools_given_back(void **state)
     assert_int_equal(pools_used(), used);
 }
 
+/* Adaptive supersampling (seed 003) through errtime: camera rays per pixel reported (9 for 9 spp), fewer extra rays
+ * as tau_alpha grows, and the strictest setting beating 1 spp. Also a scene given as a file path. */
+static void test_adaptive_rows_and_scene_file(void **state)
+{
+    (void)state;
+    const char *dir = scene_dir();
+    if (!dir)
+        skip();
+    char path[4096];
+    snprintf(path, sizeof path, "%s/CornellBox-Mirror.hzb", dir);
+    hz_et_scene_t file;
+    char name[64];
+    hz_et_scene_from_file(path, name, sizeof name, &file);
+    assert_string_equal(file.name, "CornellBox-Mirror");
+    assert_true(file.methods == hz_et_render_methods && file.reference == &hz_et_render_reference);
+    assert_int_equal(file.width, 0);
+    assert_true(hz_et_scene_is_file("a/b.hzb", 7) && !hz_et_scene_is_file("sponza", 6));
+    hz_et_env_t env = { "/nonexistent", 2 }; /* a path does not go through the scene folder */
+    hz_et_sequence_t seq = { file.name, 0, NULL, NULL, 40, 24, 8, 0, 240, NULL };
+    hz_error_t err;
+    if (file.open(&file, &env, &seq, &arena, &err) != HZ_OK)
+        fail_msg("%s", err.msg);
+    hz_et_method_t m[HZ_ET_RENDER_METHOD_COUNT];
+    size_t n = 0;
+    for (size_t i = 0; i < file.method_count; i++)
+        if (!strcmp(file.methods[i].name, "adaptive") ||
+            (!strcmp(file.methods[i].name, "full-frame") && (file.methods[i].value == 1 || file.methods[i].value == 9)))
+            m[n++] = file.methods[i];
+    assert_int_equal(n, 6);
+    hz_et_config_t cfg = { cache, HZ_FLIP_DEFAULT_PPD, &arena, NULL, false, NULL };
+    hz_et_row_t rows[HZ_ET_RENDER_METHOD_COUNT];
+    hz_status_t s = hz_et_run(&seq, file.reference, m, n, &cfg, rows, &err);
+    file.close();
+    if (s != HZ_OK)
+        fail_msg("%s", err.msg);
+    assert_true(rows[0].camera_rays_per_pixel == 1.0);
+    assert_true(rows[1].camera_rays_per_pixel == 9.0);
+    double prev = 1e9;
+    for (size_t i = 2; i < n; i++) {
+        const hz_et_row_t *r = &rows[i];
+        print_message("adaptive tau %.1f: %.3f camera rays/px (%.1f%% of 9 spp), PSNR %.2f dB\n", r->value,
+                      r->camera_rays_per_pixel, 100.0 * r->camera_rays_per_pixel / 9.0, r->psnr_srgb8);
+        assert_true(r->camera_rays_per_pixel >= 1.0 && r->camera_rays_per_pixel <= 17.0);
+        assert_true(r->camera_rays_per_pixel <= prev); /* larger thresholds never add samples */
+        prev = r->camera_rays_per_pixel;
+    }
+    assert_true(rows[2].camera_rays_per_pixel > 1.0);
+    assert_true(rows[2].psnr_srgb8 > rows[0].psnr_srgb8);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -245,6 +295,7 @@ int main(void)
         cmocka_unit_test(test_taa_runs_one_ray_per_pixel),
         cmocka_unit_test(test_cache_key_is_content_and_renderer),
         cmocka_unit_test(test_missing_scene_is_refused_and_pools_given_back),
+        cmocka_unit_test(test_adaptive_rows_and_scene_file),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }

@@ -87,6 +87,7 @@ static hz_et_row_t row(const char *scene, const char *method, double value, doub
     r.ssim = 0.9;
     r.di_flip = flip / 2;
     r.di_psnr_srgb8 = psnr + 3;
+    r.camera_rays_per_pixel = value;
     return r;
 }
 
@@ -120,6 +121,7 @@ static void test_csv_text(void **state)
                          row("cornell", "taa, 8 frames", 1, 1.5, 0.0, INFINITY) };
     r[1].psnr_linear = INFINITY;
     r[1].di_psnr_srgb8 = INFINITY;
+    r[1].camera_rays_per_pixel = NAN; /* a method that does not say */
     hz_et_pareto(r, 2);
     hz_error_t err;
     assert_int_equal(hz_et_write_csv(path_of("a.csv"), r, 2, &err), HZ_OK);
@@ -127,9 +129,9 @@ static void test_csv_text(void **state)
     const char *want =
         HZ_ET_CSV_HEADER "\n"
         "cornell,full-frame,spp,4,64,48,20,16,240,3.2500,4.8750,12288,28.5000,29.5000,0.900000,0.125000,4,0.062500,"
-        "31.5000,0,0\n"
+        "31.5000,0,0,4.0000,0.4444\n"
         "cornell,\"taa, 8 frames\",spp,1,64,48,20,16,240,1.5000,2.2500,3072,inf,inf,0.900000,0.000000,4,0.000000,"
-        "inf,1,1\n";
+        "inf,1,1,nan,nan\n";
     assert_string_equal(s, want);
     free(s);
 }
@@ -148,9 +150,9 @@ static void test_markdown_table(void **state)
         strstr(s, "### cornell — 64x48, 20 frames at 240 Hz (4 warm-up), display-integrated over k = 4\n"));
     assert_int_equal(count(s, "| method | setting | ms/frame |"), 2);
     assert_non_null(strstr(s, "| full\\|frame | spp=4 | 3.250 | 4.875 | 0.012 | 0.1250 | 28.50 | 29.50 | 0.9000 | "
-                              "0.0625 | 31.50 |  |\n"));
+                              "0.0625 | 31.50 | 4.00 | 44.4% |  |\n"));
     assert_non_null(strstr(s, "| taa | spp=1 | 1.500 | 2.250 | 0.003 | 0.0500 | inf | inf | 0.9000 | 0.0250 | inf | "
-                              "FLIP, PSNR |\n"));
+                              "1.00 | 11.1% | FLIP, PSNR |\n"));
     /* the cornell rows sit under the cornell heading, before sponza's */
     assert_true(strstr(s, "| taa |") < strstr(s, "### sponza"));
     free(s);

@@ -255,7 +255,7 @@ typedef struct acc {
     uint32_t frames;
     double di_mse8, di_flip;
     uint32_t windows;
-    uint64_t rays;
+    uint64_t rays, camera_rays;
 } acc_t;
 
 static hz_status_t load_reference(const char *dir, uint32_t i, const hz_et_sequence_t *seq, hz_arena_t *a,
@@ -346,7 +346,7 @@ static hz_status_t run_method(const hz_et_sequence_t *seq, const hz_et_method_t 
     const uint32_t hold = m->hold > 1 ? m->hold : 1;
     uint32_t timed = 0;
     for (uint32_t i = 0; i < seq->frames; i++) {
-        uint64_t rays = 0;
+        uint64_t rays = 0, camera = 0;
         int64_t t0 = 0, t1 = 0;
         if (i % hold == 0) { /* otherwise the display repeats the last rendered frame */
             t0 = hz_clock_ns();
@@ -356,6 +356,7 @@ static hz_status_t run_method(const hz_et_sequence_t *seq, const hz_et_method_t 
                 method_error(err, m, "render", i);
                 break;
             }
+            camera = m->camera_rays ? m->camera_rays(state) : 0;
         }
         hz_image_t *d = &disp[i % k], *r = &ref[i % k];
         hz_image_copy(d, &out, NULL);
@@ -370,6 +371,7 @@ static hz_status_t run_method(const hz_et_sequence_t *seq, const hz_et_method_t 
             if (i % hold == 0)
                 ns[timed++] = t1 - t0;
             acc.rays += rays;
+            acc.camera_rays += camera;
             hz_mse_t mse;
             double ssim, flip;
             if ((s = hz_mse(r, d, &mse, err)) != HZ_OK || (s = hz_ssim(r, d, a, &ssim, err)) != HZ_OK ||
@@ -431,6 +433,9 @@ static hz_status_t run_method(const hz_et_sequence_t *seq, const hz_et_method_t 
     row->ms_median /= hold;
     row->ms_p99 /= hold;
     row->rays_per_frame = (double)acc.rays / acc.frames;
+    row->camera_rays_per_pixel = m->camera_rays ? (double)acc.camera_rays / acc.frames /
+                                                      ((double)seq->width * seq->height)
+                                                : NAN;
     row->psnr_srgb8 = hz_psnr(acc.mse8 / acc.frames, 255.0);
     row->psnr_linear = hz_psnr(acc.mse_lin / acc.frames, 1.0);
     row->ssim = acc.ssim / acc.frames;

@@ -80,6 +80,8 @@ struct hz_et_method {
     uint32_t hold;      /* 0 or 1: renders every displayed frame; n > 1: renders frames 0, n, 2n, ... (at
                          * refresh_hz / n, e.g. "@60Hz" on a 240 Hz display) and the display repeats each for n
                          * frames, the way a slower renderer's output looks on a fast display */
+    uint64_t (*camera_rays)(void *state); /* may be NULL: camera rays of the frame render just drew (the row's
+                                           * camera_rays_per_pixel; NaN without it) */
 };
 
 typedef struct hz_et_config {

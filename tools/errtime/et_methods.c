@@ -1,6 +1,7 @@
 /* errtime's scene and method tables (see et_methods.h). */
 #include "et_methods.h"
 
+#include <stdio.h>
 #include <string.h>
 
 #include "et_synthetic.h"
@@ -43,6 +44,8 @@ const hz_et_scene_t hz_et_scenes[] = {
              "sponza.hzb", 160, 90, 48, 16),
     RENDERED("lost-empire", "Lost Empire (lost-empire.hzb), Minecraft world with alpha cutouts, camera orbit",
              "lost-empire.hzb", 160, 90, 48, 16),
+    RENDERED("conference", "Conference room (conference.hzb), camera flying through (seed 003's Table 2 scene)",
+             "conference.hzb", 160, 90, 48, 16),
     RENDERED("builtin", "hzrt's built-in scene: motion, skinning, instancing, blended and cut-out surfaces, mirror",
              "builtin", 160, 90, 40, 16),
     AT240("builtin@240", "built-in scene on a 240 Hz display: tdense vs 1 spp and TAA at 60 and 240 Hz", "builtin",
@@ -55,6 +58,21 @@ const hz_et_scene_t hz_et_scenes[] = {
       synthetic_open, NULL, hz_synth_methods, HZ_SYNTH_METHOD_COUNT, &hz_synth_reference, 0, 0, 0, 0, 0 },
 };
 const size_t hz_et_scene_count = sizeof hz_et_scenes / sizeof hz_et_scenes[0];
+
+bool hz_et_scene_is_file(const char *item, size_t len)
+{
+    return len > 4 && !strncmp(item + len - 4, ".hzb", 4);
+}
+
+void hz_et_scene_from_file(const char *path, char *name, size_t size, hz_et_scene_t *out)
+{
+    const char *base = strrchr(path, '/');
+    base = base ? base + 1 : path;
+    size_t n = strlen(base) - (hz_et_scene_is_file(base, strlen(base)) ? 4 : 0);
+    snprintf(name, size, "%.*s", (int)n, base);
+    const hz_et_scene_t e = RENDERED(name, "a baked scene file given on the command line", path, 0, 0, 0, 0);
+    *out = e;
+}
 
 const hz_et_scene_t *hz_et_scene_find(const char *name)
 {

@@ -15,6 +15,7 @@
 #ifndef HZ_ERRTIME_METHODS_H
 #define HZ_ERRTIME_METHODS_H
 
+#include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
 
@@ -41,5 +42,12 @@ extern const size_t hz_et_scene_count;
 
 /* The entry named `name`, or NULL. */
 const hz_et_scene_t *hz_et_scene_find(const char *name);
+
+/* Any baked scene file (`hzerrtime --scene PATH.hzb`): whether a --scene item names one (it ends in .hzb), and
+ * its entry: the renderer's standard methods (full-frame 1/4/9/16 spp, TAA, adaptive) against the 256-spp
+ * reference, named after the file (folder and extension dropped, into name[size]), with the command line's size
+ * and length; open loads it from the path as given (relative to the working directory), not from --scenes. */
+bool hz_et_scene_is_file(const char *item, size_t len);
+void hz_et_scene_from_file(const char *path, char *name, size_t size, hz_et_scene_t *out);
 
 #endif

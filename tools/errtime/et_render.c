@@ -28,6 +28,7 @@ typedef struct et_state {
     et_scene_t *sc;
     hz_renderer_t *r;
     float refresh_hz;
+    uint64_t camera;   /* camera rays of the last frame */
     uint64_t rendered; /* frames this renderer drew: its own frame index (TAA's jitter phase, tdense's subframe),
                         * which differs from the displayed frame's for held methods */
 } et_state_t;
@@ -48,6 +49,8 @@ static void opts_for(const hz_et_render_params_t *p, uint32_t w, uint32_t h, hz_
     o->taa_clip = p->taa_clip;
     o->taa_catmull_rom = p->taa_catmull_rom;
     o->seed = p->seed;
+    if (p->mode == HZ_MODE_ADAPTIVE)
+        o->adaptive.tau[HZ_TAU_COL] = o->adaptive.tau[HZ_TAU_PTE] = o->adaptive.tau[HZ_TAU_STE] = p->adaptive_tau;
 }
 
 static hz_status_t rbegin(const hz_et_method_t *m, const hz_et_sequence_t *seq, hz_arena_t *arena, void **state,
@@ -84,11 +87,17 @@ static hz_status_t rrender(void *state, uint32_t frame, hz_image_t *out, uint64_
     hz_render_stats_t last;
     hz_render_frame_stats(st->r, &last, NULL);
     *rays = last.primary_rays + last.shadow_rays + last.secondary_rays;
+    st->camera = last.primary_rays;
     if (last.queue_full || last.nonfinite)
         return hz_error_set(err, HZ_E_INTERNAL, "the renderer dropped %llu rays (full queue) and replaced %llu "
                             "non-finite values", (unsigned long long)last.queue_full,
                             (unsigned long long)last.nonfinite);
     return HZ_OK;
+}
+
+static uint64_t rcamera(void *state)
+{
+    return ((et_state_t *)state)->camera;
 }
 
 static void rend(void *state)
@@ -99,17 +108,20 @@ static void rend(void *state)
 
 /* ---- the table ---- */
 
-#define FULL(n) { HZ_MODE_FULL, n, false, false, 0 }
+#define FULL(n) { HZ_MODE_FULL, n, false, false, 0, 0.0f }
 static const hz_et_render_params_t p_full1 = FULL(1), p_full4 = FULL(4), p_full9 = FULL(9), p_full16 = FULL(16);
-static const hz_et_render_params_t p_taa = { HZ_MODE_TAA, 1, false, false, 0 };
-static const hz_et_render_params_t p_taa_clip = { HZ_MODE_TAA, 1, true, false, 0 };
-static const hz_et_render_params_t p_taa_cr = { HZ_MODE_TAA, 1, false, true, 0 };
-static const hz_et_render_params_t p_taa_clip_cr = { HZ_MODE_TAA, 1, true, true, 0 };
+static const hz_et_render_params_t p_taa = { HZ_MODE_TAA, 1, false, false, 0, 0.0f };
+static const hz_et_render_params_t p_taa_clip = { HZ_MODE_TAA, 1, true, false, 0, 0.0f };
+static const hz_et_render_params_t p_taa_cr = { HZ_MODE_TAA, 1, false, true, 0, 0.0f };
+static const hz_et_render_params_t p_taa_clip_cr = { HZ_MODE_TAA, 1, true, true, 0, 0.0f };
+#define ADAPTIVE(t) { HZ_MODE_ADAPTIVE, 1, false, false, 0, t }
+static const hz_et_render_params_t p_ad01 = ADAPTIVE(0.1f), p_ad03 = ADAPTIVE(0.3f), p_ad06 = ADAPTIVE(0.6f),
+                                   p_ad10 = ADAPTIVE(1.0f);
 /* The reference: 256 stratified samples with a seed no method uses. */
-static const hz_et_render_params_t p_ref = { HZ_MODE_FULL, 256, false, false, 0x5eed };
+static const hz_et_render_params_t p_ref = { HZ_MODE_FULL, 256, false, false, 0x5eed, 0.0f };
 
-#define METHOD(name, knob, value, params) { name, knob, value, rbegin, rrender, rend, params, 0 }
-#define HELD(name, knob, value, params, hold) { name, knob, value, rbegin, rrender, rend, params, hold }
+#define METHOD(name, knob, value, params) { name, knob, value, rbegin, rrender, rend, params, 0, rcamera }
+#define HELD(name, knob, value, params, hold) { name, knob, value, rbegin, rrender, rend, params, hold, rcamera }
 
 const hz_et_method_t hz_et_render_reference = METHOD("full-frame", "spp", 256, &p_ref);
 
@@ -124,10 +136,14 @@ const hz_et_method_t hz_et_render_methods[HZ_ET_RENDER_METHOD_COUNT] = {
     METHOD("taa-clip", "spp", 1, &p_taa_clip),         /* clip towards the box centre */
     METHOD("taa-catmull-rom", "spp", 1, &p_taa_cr),    /* Catmull-Rom history fetch */
     METHOD("taa-clip-cr", "spp", 1, &p_taa_clip_cr),   /* both */
+    METHOD("adaptive", "tau", 0.1, &p_ad01),          /* seed 003, Table 2's defaults but tau_alpha */
+    METHOD("adaptive", "tau", 0.3, &p_ad03),
+    METHOD("adaptive", "tau", 0.6, &p_ad06),
+    METHOD("adaptive", "tau", 1.0, &p_ad10),
 };
 
-static const hz_et_render_params_t p_tdense = { HZ_MODE_TDENSE, 1, false, false, 0 };
-static const hz_et_render_params_t p_ref64 = { HZ_MODE_FULL, 64, false, false, 0x5eed };
+static const hz_et_render_params_t p_tdense = { HZ_MODE_TDENSE, 1, false, false, 0, 0.0f };
+static const hz_et_render_params_t p_ref64 = { HZ_MODE_FULL, 64, false, false, 0x5eed, 0.0f };
 
 const hz_et_method_t hz_et_display_reference = METHOD("full-frame", "spp", 64, &p_ref64);
 
@@ -200,7 +216,10 @@ hz_status_t hz_et_render_open(const char *file, const hz_et_env_t *env, hz_et_se
     if (sc->open)
         return hz_error_set(err, HZ_E_INVALID_ARG, "errtime: a renderer scene is already open; close it first");
     char path[4096];
-    if (strcmp(file, "builtin") != 0) {
+    if (strchr(file, '/')) { /* a path (hzerrtime --scene PATH.hzb) */
+        if (snprintf(path, sizeof path, "%s", file) >= (int)sizeof path)
+            return hz_error_set(err, HZ_E_RANGE, "%s: scene path too long", file);
+    } else if (strcmp(file, "builtin") != 0) {
         if (!env->scene_dir || !*env->scene_dir)
             return hz_error_set(err, HZ_E_INVALID_ARG, "errtime: no scene directory for %s", file);
         if (snprintf(path, sizeof path, "%s/%s", env->scene_dir, file) >= (int)sizeof path)

@@ -46,10 +46,12 @@ typedef struct hz_et_render_params {
     bool taa_clip;        /* TAA: clip towards the box centre instead of clamping per channel */
     bool taa_catmull_rom; /* TAA: history fetched with Catmull-Rom instead of bilinear */
     uint32_t seed;
+    float adaptive_tau;   /* adaptive: tau_col = tau_pte = tau_ste (the paper's tau_alpha); the rest Table 2's */
 } hz_et_render_params_t;
 
-/* The renderer's methods (full-frame, TAA; later modes add rows here) and the 256-spp reference. */
-#define HZ_ET_RENDER_METHOD_COUNT 8
+/* The renderer's methods (full-frame, TAA, adaptive supersampling at tau_alpha 0.1, 0.3, 0.6 and 1; later modes
+ * add rows here) and the 256-spp reference. */
+#define HZ_ET_RENDER_METHOD_COUNT 12
 extern const hz_et_method_t hz_et_render_methods[HZ_ET_RENDER_METHOD_COUNT];
 extern const hz_et_method_t hz_et_render_reference;
 

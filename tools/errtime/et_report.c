@@ -109,13 +109,15 @@ hz_status_t hz_et_write_csv(const char *path, const hz_et_row_t *rows, size_t n,
         csv_text(f, r->method);
         fputc(',', f);
         csv_text(f, r->knob);
-        fprintf(f, ",%s,%u,%u,%u,%u,%u,%s,%s,%s,%s,%s,%s,%s,%u,%s,%s,%d,%d\n", num(b[0], 48, "%g", r->value),
+        fprintf(f, ",%s,%u,%u,%u,%u,%u,%s,%s,%s,%s,%s,%s,%s,%u,%s,%s,%d,%d,", num(b[0], 48, "%g", r->value),
                 (unsigned)r->width, (unsigned)r->height, (unsigned)r->frames, (unsigned)r->measured,
                 (unsigned)r->refresh_hz, num(b[1], 48, "%.4f", r->ms_median), num(b[2], 48, "%.4f", r->ms_p99),
                 num(b[3], 48, "%.0f", r->rays_per_frame), num(b[4], 48, "%.4f", r->psnr_srgb8),
                 num(b[5], 48, "%.4f", r->psnr_linear), num(b[6], 48, "%.6f", r->ssim), num(b[7], 48, "%.6f", r->flip),
                 (unsigned)r->di_k, num(b[8], 48, "%.6f", r->di_flip), num(b[9], 48, "%.4f", r->di_psnr_srgb8),
                 r->pareto_flip, r->pareto_psnr);
+        fprintf(f, "%s,%s\n", num(b[0], 48, "%.4f", r->camera_rays_per_pixel),
+                num(b[1], 48, "%.4f", r->camera_rays_per_pixel / 9.0));
     }
     return finish(&out, err);
 }
@@ -138,8 +140,8 @@ void hz_et_print_markdown(FILE *f, const hz_et_row_t *rows, size_t n)
                 (unsigned)h->width, (unsigned)h->height, (unsigned)h->frames, (unsigned)h->refresh_hz,
                 (unsigned)(h->frames - h->measured), (unsigned)h->di_k);
         fprintf(f, "| method | setting | ms/frame | ms p99 | Mrays/frame | mean FLIP | PSNR sRGB8 dB | "
-                   "PSNR linear dB | SSIM | DI FLIP | DI PSNR dB | Pareto |\n");
-        fprintf(f, "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|\n");
+                   "PSNR linear dB | SSIM | DI FLIP | DI PSNR dB | camera rays/px | vs 9 spp | Pareto |\n");
+        fprintf(f, "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|\n");
         for (size_t j = i; j < n; j++) {
             const hz_et_row_t *r = &rows[j];
             if (strcmp(r->scene, h->scene) != 0)
@@ -149,12 +151,19 @@ void hz_et_print_markdown(FILE *f, const hz_et_row_t *rows, size_t n)
             md_text(f, r->method);
             fputs(" | ", f);
             md_text(f, r->knob);
-            fprintf(f, "=%s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s%s%s |\n", num(b[0], 48, "%g", r->value),
+            char rpp[2][48];
+            if (isnan(r->camera_rays_per_pixel))
+                snprintf(rpp[0], 48, "-"), snprintf(rpp[1], 48, "-");
+            else
+                snprintf(rpp[0], 48, "%.2f", r->camera_rays_per_pixel),
+                    snprintf(rpp[1], 48, "%.1f%%", 100.0 * r->camera_rays_per_pixel / 9.0);
+            fprintf(f, "=%s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s%s%s |\n",
+                    num(b[0], 48, "%g", r->value),
                     num(b[1], 48, "%.3f", r->ms_median), num(b[2], 48, "%.3f", r->ms_p99),
                     num(b[3], 48, "%.3f", r->rays_per_frame * 1e-6), num(b[4], 48, "%.4f", r->flip),
                     num(b[5], 48, "%.2f", r->psnr_srgb8), num(b[6], 48, "%.2f", r->psnr_linear),
                     num(b[7], 48, "%.4f", r->ssim), num(b[8], 48, "%.4f", r->di_flip),
-                    num(b[9], 48, "%.2f", r->di_psnr_srgb8), r->pareto_flip ? "FLIP" : "",
+                    num(b[9], 48, "%.2f", r->di_psnr_srgb8), rpp[0], rpp[1], r->pareto_flip ? "FLIP" : "",
                     r->pareto_flip && r->pareto_psnr ? ", " : "", r->pareto_psnr ? "PSNR" : "");
         }
     }

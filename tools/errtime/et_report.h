@@ -43,12 +43,15 @@ typedef struct hz_et_row {
     double flip;           /* mean FLIP, mean over measured frames */
     double di_flip;        /* display-integrated: mean over windows of k frames */
     double di_psnr_srgb8;
+    double camera_rays_per_pixel; /* camera rays per pixel and displayed frame (NaN: the method does not say);
+                                   * the CSV's sample_ratio_9spp is this / 9 */
     bool pareto_flip, pareto_psnr;
 } hz_et_row_t;
 
 #define HZ_ET_CSV_HEADER                                                                                         \
     "scene,method,knob,value,width,height,frames,measured,refresh_hz,ms_median,ms_p99,rays_per_frame,"           \
-    "psnr_srgb8_db,psnr_linear_db,ssim,flip_mean,di_k,di_flip_mean,di_psnr_srgb8_db,pareto_flip,pareto_psnr"
+    "psnr_srgb8_db,psnr_linear_db,ssim,flip_mean,di_k,di_flip_mean,di_psnr_srgb8_db,pareto_flip,pareto_psnr,"      \
+    "camera_rays_per_pixel,sample_ratio_9spp"
 
 void hz_et_pareto(hz_et_row_t *rows, size_t n);
 

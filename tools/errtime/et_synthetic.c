@@ -205,18 +205,18 @@ static const synth_params_t ss1 = { 1, 0.0f, 1 }, ss4 = { 4, 0.0f, 1 }, ss9 = { 
 static const synth_params_t acc50 = { 1, 0.5f, 2 }, acc20 = { 1, 0.2f, 2 }, acc10 = { 1, 0.1f, 2 };
 
 const hz_et_method_t hz_synth_reference = { "supersample", "spp", 256, synth_begin, synth_render, NULL, &ref_params,
-                                            0 };
+                                            0, NULL };
 
 const hz_et_method_t hz_synth_methods[HZ_SYNTH_METHOD_COUNT] = {
 
-    { "supersample", "spp", 1, synth_begin, synth_render, NULL, &ss1, 0 },
-    { "supersample", "spp", 4, synth_begin, synth_render, NULL, &ss4, 0 },
-    { "supersample", "spp", 9, synth_begin, synth_render, NULL, &ss9, 0 },
-    { "supersample", "spp", 16, synth_begin, synth_render, NULL, &ss16, 0 },
-    { "accumulate", "alpha", 0.5, synth_begin, synth_render, NULL, &acc50, 0 },
-    { "accumulate", "alpha", 0.2, synth_begin, synth_render, NULL, &acc20, 0 },
-    { "accumulate", "alpha", 0.1, synth_begin, synth_render, NULL, &acc10, 0 },
-    { "supersample@60Hz", "spp", 1, synth_begin, synth_render, NULL, &ss1, 4 },
-    { "accumulate@60Hz", "alpha", 0.1, synth_begin, synth_render, NULL, &acc10, 4 },
-    { "tdense", "hz", 240, tdense_begin, tdense_render, NULL, NULL, 0 },
+    { "supersample", "spp", 1, synth_begin, synth_render, NULL, &ss1, 0, NULL },
+    { "supersample", "spp", 4, synth_begin, synth_render, NULL, &ss4, 0, NULL },
+    { "supersample", "spp", 9, synth_begin, synth_render, NULL, &ss9, 0, NULL },
+    { "supersample", "spp", 16, synth_begin, synth_render, NULL, &ss16, 0, NULL },
+    { "accumulate", "alpha", 0.5, synth_begin, synth_render, NULL, &acc50, 0, NULL },
+    { "accumulate", "alpha", 0.2, synth_begin, synth_render, NULL, &acc20, 0, NULL },
+    { "accumulate", "alpha", 0.1, synth_begin, synth_render, NULL, &acc10, 0, NULL },
+    { "supersample@60Hz", "spp", 1, synth_begin, synth_render, NULL, &ss1, 4, NULL },
+    { "accumulate@60Hz", "alpha", 0.1, synth_begin, synth_render, NULL, &acc10, 4, NULL },
+    { "tdense", "hz", 240, tdense_begin, tdense_render, NULL, NULL, 0, NULL },
 };

@@ -1,0 +1,238 @@
+/* Selective and adaptive supersampling (seed 003): the presample's attribute map, the per-tile subpixel test
+ * and the packed extra samples with their accumulation (see hz/adaptive.h; the mask is hz/adaptive_mask.h). */
+#include "hz/hash.h"
+#include "hz/vmath.h"
+#include "../render/render_internal.h"
+
+void hz_adaptive_opts_default(hz_adaptive_opts_t *o)
+{
+    hz_memset(o, 0, sizeof *o);
+    /* Table 2's caption; tau_alpha = tau_col = tau_pte = tau_ste = 0.6 */
+    static const float tau[HZ_TAU_COUNT] = { 0.6f, 0.05f, 0.06f, 0.06f, 0.6f, 0.05f, 0.06f, 0.06f, 0.6f };
+    for (int k = 0; k < HZ_TAU_COUNT; k++)
+        o->tau[k] = tau[k];
+    o->normal_angle_deg = 15.0f;
+}
+
+const char *hz_tau_name(hz_tau_t k)
+{
+    static const char *const names[HZ_TAU_COUNT] = { "col", "poid", "psn", "psc", "pte", "soid", "ssn", "ssc",
+                                                     "ste" };
+    return (unsigned)k < HZ_TAU_COUNT ? names[k] : "unknown";
+}
+
+/* cos of an angle in degrees in [0, 90], by its Taylor series (no libm in src/): |error| < 1e-7. */
+static float cos_deg(float deg)
+{
+    float x = deg * 0.017453292519943295f, x2 = x * x, term = 1.0f, sum = 1.0f;
+    for (int k = 1; k < 12; k++) {
+        term *= -x2 / (float)((2 * k - 1) * (2 * k));
+        sum += term;
+    }
+    return sum;
+}
+
+hz_status_t hz_adaptive_config(const hz_adaptive_opts_t *o, hz_amask_config_t *c, hz_error_t *err)
+{
+    hz_amask_config_default(c);
+    for (int k = 0; k < HZ_TAU_COUNT; k++) {
+        float t = o->tau[k];
+        if (!(t >= 0.0f && t <= 1.0f))
+            return hz_error_set(err, HZ_E_INVALID_ARG, "adaptive threshold tau-%s must lie in [0, 1]",
+                                hz_tau_name((hz_tau_t)k));
+        c->tau[k] = (uint32_t)(t * 65536.0f + 0.5f);
+    }
+    if (!(o->normal_angle_deg >= 0.0f && o->normal_angle_deg <= 90.0f))
+        return hz_error_set(err, HZ_E_INVALID_ARG, "adaptive normal angle must lie in [0, 90] degrees");
+    c->normal_cos = (int32_t)(cos_deg(o->normal_angle_deg) * 32768.0f + 0.5f);
+    if (o->focus_count > HZ_AMASK_MAX_FOCUS)
+        return hz_error_set(err, HZ_E_INVALID_ARG, "adaptive focus list: %u objects, at most %u", o->focus_count,
+                            HZ_AMASK_MAX_FOCUS);
+    /* sorted, without duplicates (insertion sort: at most 64) */
+    c->focus_count = 0;
+    for (uint32_t i = 0; i < o->focus_count; i++) {
+        uint16_t v = o->focus[i];
+        uint32_t j = c->focus_count;
+        bool dup = false;
+        for (uint32_t k = 0; k < c->focus_count; k++)
+            dup = dup || c->focus[k] == v;
+        if (dup)
+            continue;
+        while (j > 0 && c->focus[j - 1] > v) {
+            c->focus[j] = c->focus[j - 1];
+            j--;
+        }
+        c->focus[j] = v;
+        c->focus_count++;
+    }
+    return HZ_OK;
+}
+
+void hz_adaptive_weights(uint32_t active, float *centre, float *sample)
+{
+    active = active > 4u ? 4u : active;
+    *centre = (float)(4u - active) * 0.25f;
+    *sample = 1.0f / 16.0f;
+}
+
+uint32_t hz_adaptive_attr_bytes_per_pixel(int mirrors)
+{
+    return (uint32_t)sizeof(hz_amask_hit_t) * (mirrors ? 2u : 1u);
+}
+
+size_t hz_adaptive_frame_bytes(uint32_t width, uint32_t height, int mirrors)
+{
+    size_t px = (size_t)width * height;
+    return hz_align_up(px * hz_adaptive_attr_bytes_per_pixel(mirrors), 64) + 64 + hz_align_up(px, 64) + 64;
+}
+
+hz_status_t hz_adaptive_init(struct hz_renderer *r, hz_arena_t *a, hz_error_t *err)
+{
+    hz_status_t s = hz_adaptive_config(&r->opts.adaptive, &r->ad.cfg, err);
+    if (s != HZ_OK)
+        return s;
+    size_t px = (size_t)r->opts.width * r->opts.height;
+    r->ad.levels = r->gb.object2 ? 2u : 1u;
+    r->ad.attr = hz_arena_alloc(a, px * r->ad.levels * sizeof(hz_amask_hit_t), 64);
+    r->ad.mask = hz_arena_alloc(a, px, 64);
+    if (!r->ad.attr || !r->ad.mask)
+        return hz_arena_error(a, err);
+    hz_memset(r->ad.mask, 0, px);
+    return HZ_OK;
+}
+
+/* ---- pass 0: the attribute map ---- */
+
+static int8_t snorm8(float v)
+{
+    if (!(v > -1.0f))
+        return v <= -1.0f ? -127 : 0; /* NaN: no direction */
+    if (v >= 1.0f)
+        return 127;
+    float s = v * 127.0f;
+    return (int8_t)(int32_t)(s >= 0.0f ? s + 0.5f : s - 0.5f);
+}
+
+static void pack_hit(hz_amask_hit_t *h, uint16_t object, const float *n, uint8_t shadow, uint8_t flags)
+{
+    h->object = object;
+    for (int c = 0; c < 3; c++)
+        h->n[c] = snorm8(n[c]);
+    h->shadow = shadow;
+    h->flags = (uint8_t)(((flags & HZ_GB_HIT) ? HZ_AMASK_HIT : 0u) | ((flags & HZ_GB_TEXTURED) ? HZ_AMASK_TEXTURED : 0u));
+    h->pad = 0;
+}
+
+void hz_adaptive_keep_attrs(struct hz_renderer *r, const hz_worker_t *w)
+{
+    const hz_gbuffer_t *gb = &r->gb;
+    for (uint32_t slot = 0; slot < HZ_TILE_PIXELS; slot++) {
+        uint32_t px = w->pixel[slot];
+        if (px == UINT32_MAX)
+            continue;
+        hz_amask_hit_t *h = &r->ad.attr[(size_t)px * r->ad.levels];
+        pack_hit(&h[0], gb->object[px], gb->normal + (size_t)px * 3, gb->shadow[px], gb->flags[px]);
+        if (r->ad.levels == 2)
+            pack_hit(&h[1], gb->object2[px], gb->normal2 + (size_t)px * 3, gb->shadow2[px], gb->flags2[px]);
+    }
+}
+
+/* ---- pass 1: the subpixel test ---- */
+
+static void tile_rect(const struct hz_renderer *r, uint32_t tile, uint32_t *x0, uint32_t *y0, uint32_t *tw,
+                      uint32_t *th)
+{
+    *x0 = (tile % r->tiles_x) * HZ_RENDER_TILE;
+    *y0 = (tile / r->tiles_x) * HZ_RENDER_TILE;
+    *tw = r->opts.width - *x0 < HZ_RENDER_TILE ? r->opts.width - *x0 : HZ_RENDER_TILE;
+    *th = r->opts.height - *y0 < HZ_RENDER_TILE ? r->opts.height - *y0 : HZ_RENDER_TILE;
+}
+
+void hz_adaptive_test_tile(struct hz_renderer *r, uint32_t tile)
+{
+    enum { S = HZ_RENDER_TILE + 2 };
+    hz_amask_px_t win[S * S];
+    uint32_t x0, y0, tw, th;
+    tile_rect(r, tile, &x0, &y0, &tw, &th);
+    const int32_t W = (int32_t)r->opts.width, H = (int32_t)r->opts.height;
+    for (uint32_t wy = 0; wy < th + 2; wy++)
+        for (uint32_t wx = 0; wx < tw + 2; wx++) {
+            int32_t x = (int32_t)(x0 + wx) - 1, y = (int32_t)(y0 + wy) - 1;
+            x = x < 0 ? 0 : x >= W ? W - 1 : x; /* the image edge replicates */
+            y = y < 0 ? 0 : y >= H ? H - 1 : y;
+            size_t px = (size_t)y * (size_t)W + (size_t)x;
+            hz_amask_px_t *p = &win[wy * S + wx];
+            hz_memcpy(p->rgb, r->out.rgb + px * 3, sizeof p->rgb); /* the bits of the colour reference */
+            hz_memcpy(&p->hit[0], &r->ad.attr[px * r->ad.levels], sizeof(hz_amask_hit_t));
+            if (r->ad.levels == 2) {
+                hz_memcpy(&p->hit[1], &r->ad.attr[px * 2 + 1], sizeof(hz_amask_hit_t));
+            } else {
+                hz_memset(&p->hit[1], 0, sizeof(hz_amask_hit_t));
+                p->hit[1].object = HZ_GB_NO_OBJECT;
+            }
+        }
+    hz_amask_block(&r->ad.cfg, win, S, tw, th, r->ad.mask + (size_t)y0 * r->opts.width + x0, r->opts.width);
+}
+
+/* ---- pass 2: extra samples ---- */
+
+void hz_adaptive_extra_tile(struct hz_renderer *r, uint32_t tile, hz_worker_t *w)
+{
+    uint16_t list[4 * HZ_TILE_PIXELS];
+    float acc[HZ_TILE_PIXELS * 3];
+    float jitter[HZ_TILE_PIXELS][2];
+    uint32_t x0, y0, tw, th;
+    tile_rect(r, tile, &x0, &y0, &tw, &th);
+    const uint32_t W = r->opts.width;
+    const uint8_t *mask = r->ad.mask + (size_t)y0 * W + x0;
+    uint32_t n = hz_amask_pack(mask, W, tw, th, list);
+    if (n == 0)
+        return; /* every pixel keeps its centre colour */
+    hz_memset(acc, 0, sizeof acc);
+    /* 4 rays per active subpixel, HZ_TILE_PIXELS rays per batch; hz_trace_batch traces consecutive slots in
+     * packets of HZ_RENDER_LANES, so only the tile's last packet can be partial. */
+    const uint32_t rays = 4u * n;
+    for (uint32_t first = 0; first < rays; first += HZ_TILE_PIXELS) {
+        uint32_t count = rays - first < HZ_TILE_PIXELS ? rays - first : HZ_TILE_PIXELS;
+        uint8_t owner[HZ_TILE_PIXELS];
+        for (uint32_t slot = 0; slot < HZ_TILE_PIXELS; slot++) {
+            if (slot >= count) {
+                w->pixel[slot] = UINT32_MAX;
+                continue;
+            }
+            uint32_t k = first + slot, e = list[k / 4u], s = k % 4u, q = e & 3u, p = e >> 2;
+            uint32_t px = (y0 + p / tw) * W + x0 + p % tw;
+            w->pixel[slot] = px;
+            owner[slot] = (uint8_t)p;
+            /* Stratum (cx, cy) of the pixel's 4x4 grid, jittered exactly as the full mode's 16 spp. */
+            uint32_t cx = 2u * (q & 1u) + (s & 1u), cy = 2u * (q >> 1) + (s >> 1);
+            uint32_t h = hz_hash3(px, cy * 4u + cx, r->opts.seed);
+            jitter[slot][0] = ((float)cx + hz_u32_to_unit(h)) / 4.0f - 0.5f;
+            jitter[slot][1] = ((float)cy + hz_u32_to_unit(hz_hash32(h))) / 4.0f - 0.5f;
+        }
+        hz_memset(w->radiance, 0, sizeof w->radiance);
+        hz_trace_batch(w, (const float(*)[2])jitter, false);
+        for (uint32_t slot = 0; slot < count; slot++)
+            for (int c = 0; c < 3; c++)
+                acc[owner[slot] * 3u + (uint32_t)c] += w->radiance[slot * 3 + (uint32_t)c];
+        w->stats.extra_packets += (count + HZ_RENDER_LANES - 1) / HZ_RENDER_LANES;
+    }
+    w->stats.extra_rays += rays;
+    w->stats.active_subpixels += n;
+    for (uint32_t p = 0; p < tw * th; p++) {
+        uint32_t m = hz_amask_count(mask[(p / tw) * W + p % tw]);
+        if (m == 0)
+            continue;
+        float cw, sw;
+        hz_adaptive_weights(m, &cw, &sw);
+        float *dst = r->out.rgb + ((size_t)(y0 + p / tw) * W + x0 + p % tw) * 3;
+        for (int c = 0; c < 3; c++) {
+            float v = dst[c] * cw + acc[p * 3 + (uint32_t)c] * sw;
+            if (!hz_isfinitef(v)) {
+                w->stats.nonfinite++;
+                v = 0.0f;
+            }
+            dst[c] = v > 0.0f ? v : 0.0f;
+        }
+    }
+}

@@ -1,0 +1,247 @@
+/* End-to-end tests of --mode adaptive (seed 003, hz/adaptive.h) on the built-in scene (mirrors, cut-outs,
+ * blended surfaces, motion) and, where baked, CornellBox-Mirror: the two limits (no subpixel active = the 1-spp
+ * image bit for bit; every subpixel active = the 16-spp image, since the 16 sample positions are the full mode's),
+ * weights summing to 1, packets full, thread counts agreeing, option checks and the memory plan. */
+#include "hz_test.h"
+
+#include "render_fixture.h"
+#include "hz/config.h"
+
+/* hz_trace_batch's packet width (render_internal.h) */
+#define HZ_RENDER_LANES_TEST (HZ_SIMD_LANES >= 8 ? 8 : 4)
+
+enum { W = 32, H = 24 };
+
+static void open_scene(rfix_t *f, const char *scene, hz_accel_backend_t b)
+{
+    hz_error_t err;
+    if (rfix_open(f, scene, b, &err) != HZ_OK)
+        fail_msg("open %s: %s", scene, err.msg);
+}
+
+static float *render_copy(rfix_t *f, const hz_render_opts_t *o, int threads, float t, hz_render_stats_t *last)
+{
+    hz_error_t err;
+    if (rfix_renderer(f, o, threads, &err) != HZ_OK)
+        fail_msg("renderer: %s", err.msg);
+    if (rfix_frame(f, 0, t, &err) != HZ_OK)
+        fail_msg("frame: %s", err.msg);
+    hz_render_frame_stats(f->r, last, NULL);
+    const hz_image_t *img = hz_render_output(f->r);
+    size_t n = hz_image_pixels(img) * 3 * sizeof(float);
+    float *c = malloc(n);
+    assert_non_null(c);
+    memcpy(c, img->rgb, n);
+    return c;
+}
+
+static void all_tau(hz_render_opts_t *o, float t)
+{
+    for (int k = 0; k < HZ_TAU_COUNT; k++)
+        o->adaptive.tau[k] = t;
+}
+
+static void test_weights_sum_to_one(void **state)
+{
+    (void)state;
+    for (uint32_t n = 0; n <= 4; n++) {
+        float c, s;
+        hz_adaptive_weights(n, &c, &s);
+        assert_true(fabsf(c + 4.0f * (float)n * s - 1.0f) < 1e-7f); /* centre + 4 samples per active subpixel */
+        assert_true(fabsf(s - 1.0f / 16.0f) < 1e-9f);
+    }
+}
+
+static void test_limits(void **state)
+{
+    (void)state;
+    rfix_t f;
+    open_scene(&f, "builtin", HZ_ACCEL_NATIVE);
+    hz_render_opts_t o;
+    hz_render_opts_default(&o);
+    o.width = W, o.height = H;
+    hz_render_stats_t st;
+    float *one = render_copy(&f, &o, 2, 0.5f, &st);
+    o.spp = 16;
+    float *sixteen = render_copy(&f, &o, 2, 0.5f, &st);
+
+    /* every threshold 1: nothing is active, the presample is the 1-spp image */
+    o.mode = HZ_MODE_ADAPTIVE, o.spp = 1;
+    all_tau(&o, 1.0f);
+    float *none = render_copy(&f, &o, 2, 0.5f, &st);
+    assert_int_equal(st.extra_rays, 0);
+    assert_int_equal(st.active_subpixels, 0);
+    assert_memory_equal(none, one, (size_t)W * H * 3 * sizeof(float));
+    const uint8_t *mask = hz_render_adaptive_mask(f.r);
+    assert_non_null(mask);
+    for (size_t i = 0; i < (size_t)W * H; i++)
+        assert_int_equal(mask[i], 0);
+
+    /* every threshold 0: every subpixel active, 16 extra rays per pixel in full packets, the 16-spp image (up to
+     * the order of the float sums) */
+    all_tau(&o, 0.0f);
+    float *all = render_copy(&f, &o, 2, 0.5f, &st);
+    assert_int_equal(st.active_subpixels, 4 * W * H);
+    assert_int_equal(st.extra_rays, 16 * W * H);
+    assert_int_equal(st.primary_rays, 17 * W * H);
+    assert_int_equal(st.extra_packets * HZ_RENDER_LANES_TEST, st.extra_rays);
+    double worst = 0;
+    for (size_t i = 0; i < (size_t)W * H * 3; i++) {
+        double d = fabs((double)all[i] - sixteen[i]) / (fabs((double)sixteen[i]) + 1e-3);
+        worst = d > worst ? d : worst;
+    }
+    assert_true(worst < 1e-4);
+    assert_int_equal(st.nonfinite, 0);
+    assert_int_equal(st.queue_full, 0);
+    free(one), free(sixteen), free(none), free(all);
+    rfix_close(&f);
+}
+
+static void test_defaults_threads_and_mask(void **state)
+{
+    (void)state;
+    rfix_t f;
+    open_scene(&f, "builtin", HZ_ACCEL_NATIVE);
+    hz_render_opts_t o;
+    hz_render_opts_default(&o);
+    o.width = W + 3, o.height = H + 5; /* partial tiles at the right and bottom edges */
+    o.mode = HZ_MODE_ADAPTIVE;
+    hz_render_stats_t s1, s2;
+    float *a = render_copy(&f, &o, 1, 0.75f, &s1);
+    size_t px = (size_t)o.width * o.height;
+    uint8_t *m1 = malloc(px);
+    memcpy(m1, hz_render_adaptive_mask(f.r), px);
+    float *b = render_copy(&f, &o, 2, 0.75f, &s2);
+    assert_memory_equal(a, b, px * 3 * sizeof(float));
+    assert_memory_equal(m1, hz_render_adaptive_mask(f.r), px);
+    assert_int_equal(s1.extra_rays, s2.extra_rays);
+    /* the counters agree with the mask */
+    uint64_t active = 0;
+    for (size_t i = 0; i < px; i++)
+        active += hz_amask_count(m1[i]);
+    assert_int_equal(s1.active_subpixels, active);
+    assert_int_equal(s1.extra_rays, 4 * active);
+    assert_int_equal(s1.primary_rays, px + 4 * active);
+    /* a real scene with edges: some subpixels, not all; packets nearly full (only a tile's last can be
+     * partial) */
+    assert_true(active > 0 && active < 4 * px);
+    assert_true(s1.extra_packets > 0);
+    assert_true(s1.extra_rays >= s1.extra_packets * (HZ_RENDER_LANES_TEST - 4));
+    assert_int_equal(s1.nonfinite, 0);
+    assert_int_equal(s1.queue_full, 0);
+    /* pixels with no active subpixel are the presample's: compare with 1 spp */
+    hz_render_opts_t f1 = o;
+    f1.mode = HZ_MODE_FULL;
+    hz_render_stats_t s0;
+    float *one = render_copy(&f, &f1, 2, 0.75f, &s0);
+    size_t same = 0;
+    for (size_t i = 0; i < px; i++)
+        if (m1[i] == 0) {
+            assert_memory_equal(a + i * 3, one + i * 3, 3 * sizeof(float));
+            same++;
+        }
+    assert_true(same > px / 4);
+    free(a), free(b), free(m1), free(one);
+    rfix_close(&f);
+}
+
+static void test_mirror_scene(void **state)
+{
+    (void)state;
+    char path[512];
+    if (!rfix_scene_path("CornellBox-Mirror.hzb", path, sizeof path)) {
+        skip();
+        return;
+    }
+    rfix_t f;
+    open_scene(&f, path, HZ_ACCEL_NATIVE);
+    hz_render_opts_t o;
+    hz_render_opts_default(&o);
+    o.width = W, o.height = H, o.mode = HZ_MODE_ADAPTIVE;
+    hz_render_stats_t st;
+    float *def = render_copy(&f, &o, 2, 0.0f, &st);
+    uint64_t base = st.extra_rays;
+    /* the mirror hit's attributes are compared: object ids of reflected hits at 0 add samples */
+    o.adaptive.tau[HZ_TAU_SOID] = 0.0f;
+    float *more = render_copy(&f, &o, 2, 0.0f, &st);
+    assert_true(st.extra_rays > base);
+    hz_render_plan_t plan, full;
+    hz_error_t err;
+    assert_int_equal(hz_render_plan(&f.scene, &o, &plan, &err), HZ_OK);
+    o.mode = HZ_MODE_FULL;
+    assert_int_equal(hz_render_plan(&f.scene, &o, &full, &err), HZ_OK);
+    assert_int_equal(plan.frame_bytes - full.frame_bytes, hz_adaptive_frame_bytes(W, H, 1));
+    assert_int_equal(hz_adaptive_attr_bytes_per_pixel(1), 16); /* half the paper's 32 B/px */
+    free(def), free(more);
+    rfix_close(&f);
+}
+
+#if HZ_HAVE_EMBREE
+static void test_embree_backend(void **state)
+{
+    (void)state;
+    float *img[2];
+    hz_render_stats_t st[2];
+    for (int b = 0; b < 2; b++) {
+        rfix_t f;
+        open_scene(&f, "builtin", b ? HZ_ACCEL_EMBREE : HZ_ACCEL_NATIVE);
+        hz_render_opts_t o;
+        hz_render_opts_default(&o);
+        o.width = W, o.height = H, o.mode = HZ_MODE_ADAPTIVE;
+        img[b] = render_copy(&f, &o, 2, 0.25f, &st[b]);
+        rfix_close(&f);
+    }
+    hz_image_t a = { W, H, img[0] }, e = { W, H, img[1] };
+    assert_true(rfix_psnr(&a, &e) > 35.0); /* the backends' hits differ in the last bits only */
+    assert_true(st[1].extra_rays > 0);
+    free(img[0]), free(img[1]);
+}
+#endif
+
+static void test_option_checks(void **state)
+{
+    (void)state;
+    hz_render_opts_t o;
+    hz_render_opts_default(&o);
+    o.mode = HZ_MODE_ADAPTIVE;
+    hz_error_t err;
+    assert_int_equal(hz_render_opts_check(&o, &err), HZ_OK);
+    o.adaptive.tau[HZ_TAU_PSN] = 1.5f;
+    assert_int_equal(hz_render_opts_check(&o, &err), HZ_E_INVALID_ARG);
+    assert_non_null(strstr(err.msg, "tau-psn"));
+    o.adaptive.tau[HZ_TAU_PSN] = NAN;
+    assert_int_equal(hz_render_opts_check(&o, &err), HZ_E_INVALID_ARG);
+    o.adaptive.tau[HZ_TAU_PSN] = 0.06f;
+    o.adaptive.focus_count = HZ_AMASK_MAX_FOCUS + 1;
+    assert_int_equal(hz_render_opts_check(&o, &err), HZ_E_INVALID_ARG);
+    /* the focus list is sorted and deduplicated for the mask */
+    hz_adaptive_opts_t ao;
+    hz_adaptive_opts_default(&ao);
+    ao.focus_count = 4;
+    ao.focus[0] = 9, ao.focus[1] = 2, ao.focus[2] = 9, ao.focus[3] = 5;
+    hz_amask_config_t c;
+    assert_int_equal(hz_adaptive_config(&ao, &c, &err), HZ_OK);
+    assert_int_equal(c.focus_count, 3);
+    assert_int_equal(c.focus[0], 2), assert_int_equal(c.focus[1], 5), assert_int_equal(c.focus[2], 9);
+    /* the float defaults become the mask's Table 2 defaults */
+    hz_amask_config_t d;
+    hz_amask_config_default(&d);
+    assert_memory_equal(c.tau, d.tau, sizeof c.tau);
+    assert_int_equal(c.normal_cos, d.normal_cos);
+    assert_string_equal(hz_render_mode_name(HZ_MODE_ADAPTIVE), "adaptive");
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_weights_sum_to_one),
+        cmocka_unit_test(test_limits),
+        cmocka_unit_test(test_defaults_threads_and_mask),
+        cmocka_unit_test(test_mirror_scene),
+#if HZ_HAVE_EMBREE
+        cmocka_unit_test(test_embree_backend),
+#endif
+        cmocka_unit_test(test_option_checks),
+    };
+    return HZ_RUN(tests);
+}
