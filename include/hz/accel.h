@@ -7,7 +7,10 @@
  *  aligned), u32 triangle indices, optional per-triangle flags. The view's arrays must stay alive and in place
  *  for the life of the accel: refit re-reads `pos` (animation writes new positions into the same array).
  *  Building validates the view (alignment, counts, every index < vertex_count; error names the triangle).
- *  Triangles with non-finite vertices are kept out of the structure (never hit) and counted in info.
+ *  Triangles with non-finite vertices, or with a coordinate beyond +-HZ_ACCEL_MAX_COORD, are kept out of the
+ *  structure (never hit) and counted in info.tri_skipped (refit treats a triangle moved there the same way):
+ *  beyond that range the watertight test's products (cubes of coordinate differences) would overflow to
+ *  infinite or NaN distances. Rays should start within the same range.
  *  Degenerate triangles (zero area) never report a hit.
  *
  *  Memory. The native build takes every byte from the arena passed in (the board's accel arena): the build's
@@ -73,6 +76,9 @@
 #define HZ_ACCEL_INVALID_ID 0xFFFFFFFFu
 /* tri_flags bit 0: the any-hit callback decides hits on this triangle (alpha cutouts, blended surfaces). */
 #define HZ_ACCEL_TRI_ANYHIT 0x01u
+/* Largest coordinate magnitude a triangle may have (2^36, about 6.9e10; see "Geometry" above). The scene
+ * loader refuses positions beyond it. */
+#define HZ_ACCEL_MAX_COORD 68719476736.0f
 /* Most triangles one accel takes (the native leaf encoding's limit). */
 #define HZ_ACCEL_MAX_TRIS (1u << 25)
 
