@@ -26,7 +26,8 @@
  *  prim_id = primID, geom_id = geomID, inst_id = instID), so the Embree backend passes them through without
  *  copying (port/embree checks the offsets at compile time). Packets: 16-byte (4) / 32-byte (8) aligned;
  *  `valid[i]` is -1 for an active lane and 0 for one left untouched. Rays must have finite origin and finite,
- *  non-zero direction (need not be normalised) and 0 <= tnear <= tfar; zero direction components are fine.
+ *  non-zero direction (need not be normalised) and 0 <= tnear <= tfar; zero direction components are fine
+ *  (a direction so short that a hit's t would not be a finite float, e.g. 1e-45, misses).
  *  Rays that break this never crash or loop: they miss.
  *  - intersect: finds the closest hit with t in [tnear, tfar] (both ends included). On a hit it writes
  *    ray.tfar = t, hit.u/v (barycentrics of vertices 1 and 2: P = (1-u-v) v0 + u v1 + v v2), hit.ng_* (the

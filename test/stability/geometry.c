@@ -16,80 +16,6 @@
             return;                                                                                               \
     } while (0)
 
-static double unit(hz_rng_t *g)
-{
-    return (double)hz_rng_u32(g) / 4294967296.0;
-}
-
-/* A random unit direction; every 8th has one zero component, every 16th two. */
-static void random_dir(hz_rng_t *g, uint32_t i, double d[3])
-{
-    double z = 2 * unit(g) - 1, ph = 6.283185307179586 * unit(g), s = sqrt(fmax(0, 1 - z * z));
-    d[0] = s * cos(ph), d[1] = s * sin(ph), d[2] = z;
-    if (i % 8 == 3)
-        d[i / 8 % 3] = 0;
-    if (i % 16 == 7)
-        d[i / 16 % 3] = 0, d[(i / 16 + 1) % 3] = 0, d[(i / 16 + 2) % 3] = i & 32 ? -1 : 1;
-    if (d[0] == 0 && d[1] == 0 && d[2] == 0)
-        d[2] = 1;
-}
-
-/* Checks rays against a mesh: kernels agree, no non-finite hit, `closed`: every ray hits (leaks counted and
- * required 0), and hits agree in t with the double-precision oracle where the oracle's decision is clear. Hits
- * on triangles at or after `first_bad` (degenerate or non-finite ones) fail. */
-static void check_mesh(stab_result_t *r, const float *pos, uint32_t nv, const uint32_t *tri, uint32_t nt,
-                       const hz_rayhit_t *rays, uint32_t n, bool closed, uint32_t first_bad, double t_bound)
-{
-    hz_error_t err;
-    hz_accel_t *a;
-    STAB_OK(r, su_accel(&a, pos, nv, tri, nt, &err), &err);
-    r->status = HZ_OK;
-    hz_rayhit_t *out = malloc(sizeof *out * n);
-    STAB_CHECK(r, out != NULL, "malloc");
-    su_check_kernels(r, a, rays, n, out);
-    BAIL(r);
-    uint32_t leaks = 0, compared = 0, disagree = 0;
-    for (uint32_t i = 0; i < n; i++) {
-        bool hit = out[i].hit.geom_id != HZ_ACCEL_INVALID_ID;
-        leaks += closed && !hit;
-        STAB_CHECK(r, !hit || out[i].hit.prim_id < first_bad, "ray %u hit excluded triangle %u", i,
-                   out[i].hit.prim_id);
-        su_ref_t ref = su_ref_intersect(pos, tri, first_bad < nt ? first_bad : nt, &rays[i]);
-        if (ref.prim < 0 || ref.edge_margin < 1e-4 || ref.t_gap < 1e-4)
-            continue;
-        compared++;
-        if (!hit || out[i].hit.prim_id != (uint32_t)ref.prim) {
-            disagree++;
-            continue;
-        }
-        stab_error(r, su_relerr(out[i].ray.tfar, ref.t, 1e-300));
-    }
-    stab_note(r, "%u rays; %u leaks; %u clear hits vs double oracle; %u disagree; triangles %u (%u skipped)", n,
-              leaks, compared, disagree, nt, a->info.tri_skipped);
-    STAB_CHECK(r, leaks == 0, "%u of %u rays leaked through the closed mesh", leaks, n);
-    STAB_CHECK(r, disagree == 0, "%u clear hits disagree with the oracle", disagree);
-    STAB_CHECK(r, isnan(r->max_error) || r->max_error <= t_bound, "t relative error %g > %g", r->max_error, t_bound);
-    free(out);
-}
-
-/* Rays from random points inside a sphere of radius `inner` around c. */
-static hz_rayhit_t *inside_rays(uint32_t n, const double c[3], double inner, uint64_t seed)
-{
-    hz_rayhit_t *rays = malloc(sizeof *rays * n);
-    hz_rng_t g;
-    hz_rng_seed(&g, seed, 7);
-    for (uint32_t i = 0; i < n; i++) {
-        double o[3], d[3];
-        random_dir(&g, i, d);
-        double rr = inner * cbrt(unit(&g)), od[3];
-        random_dir(&g, i + 1, od);
-        for (int k = 0; k < 3; k++)
-            o[k] = c[k] + rr * od[k];
-        su_ray(&rays[i], o[0], o[1], o[2], d[0], d[1], d[2]);
-    }
-    return rays;
-}
-
 static void sphere_case(stab_result_t *r, float radius, hz_vec3_t offset, uint32_t n, double t_bound)
 {
     hz_error_t err;
@@ -97,8 +23,8 @@ static void sphere_case(stab_result_t *r, float radius, hz_vec3_t offset, uint32
     STAB_OK(r, hz_meshgen_cube_sphere(&m, &hz_pools_get()->scene, 12, 1.0f, true, &err), &err);
     hz_meshgen_transform(&m, radius, offset);
     double c[3] = { offset.x, offset.y, offset.z };
-    hz_rayhit_t *rays = inside_rays(n, c, 0.5 * radius, 11);
-    check_mesh(r, m.pos, m.vertex_count, m.tri, m.tri_count, rays, n, true, m.tri_count, t_bound);
+    hz_rayhit_t *rays = su_inside_rays(n, c, 0.5 * radius, 11);
+    su_check_mesh(r, m.pos, m.vertex_count, m.tri, m.tri_count, rays, n, true, m.tri_count, t_bound);
     free(rays);
 }
 
@@ -145,7 +71,7 @@ static void c_near_float_max(stab_result_t *r)
     STAB_CHECK(r, a->info.tri_skipped == m.tri_count, "%u of %u out-of-range triangles kept", 
                m.tri_count - a->info.tri_skipped, m.tri_count);
     double c[3] = { 0, 0, 0 };
-    hz_rayhit_t *rays = inside_rays(2000, c, 1e10, 5);
+    hz_rayhit_t *rays = su_inside_rays(2000, c, 1e10, 5);
     hz_rayhit_t *out = malloc(sizeof *out * 2000);
     su_check_kernels(r, a, rays, 2000, out);
     BAIL(r);
@@ -189,8 +115,8 @@ static void c_denormals(stab_result_t *r)
         sub += b.pos[i] != 0.0f && fabsf(b.pos[i]) < 1.17549435e-38f;
     STAB_CHECK(r, sub > 0, "no subnormal coordinate in the input");
     double c[3] = { 0, 0, 0 };
-    hz_rayhit_t *rays = inside_rays(3000, c, 1e-39, 3);
-    check_mesh(r, pos, nv, tri, nt, rays, 3000, true, a.tri_count, 1e-4);
+    hz_rayhit_t *rays = su_inside_rays(3000, c, 1e-39, 3);
+    su_check_mesh(r, pos, nv, tri, nt, rays, 3000, true, a.tri_count, 1e-4);
     stab_note(r, "%u subnormal coordinates", sub);
     free(rays), free(pos), free(tri);
 }
@@ -205,8 +131,8 @@ static void c_zero_area(stab_result_t *r)
     uint32_t good = m.tri_count;
     STAB_OK(r, hz_meshgen_append_degenerates(&m, &hz_pools_get()->scene, 600, 9, &err), &err);
     double c[3] = { 0, 0, 0 };
-    hz_rayhit_t *rays = inside_rays(4000, c, 0.6, 21);
-    check_mesh(r, m.pos, m.vertex_count, m.tri, m.tri_count, rays, 4000, true, good, 1e-4);
+    hz_rayhit_t *rays = su_inside_rays(4000, c, 0.6, 21);
+    su_check_mesh(r, m.pos, m.vertex_count, m.tri, m.tri_count, rays, 4000, true, good, 1e-4);
     free(rays);
 }
 
@@ -238,11 +164,11 @@ static void needle_tube(stab_result_t *r, float R)
     hz_rng_t g;
     hz_rng_seed(&g, 4, 4);
     for (uint32_t i = 0; i < n; i++) {
-        double d[3], rr = 0.5 * R * sqrt(unit(&g)), a = 6.283185307179586 * unit(&g);
-        random_dir(&g, i, d);
-        su_ray(&rays[i], rr * cos(a), rr * sin(a), 0.05 + 9.9 * unit(&g), d[0], d[1], d[2]);
+        double d[3], rr = 0.5 * R * sqrt(su_unit(&g)), a = 6.283185307179586 * su_unit(&g);
+        su_random_dir(&g, i, d);
+        su_ray(&rays[i], rr * cos(a), rr * sin(a), 0.05 + 9.9 * su_unit(&g), d[0], d[1], d[2]);
     }
-    check_mesh(r, pos, 2 * S + 2, tri, nt, rays, n, true, nt, 1e-3);
+    su_check_mesh(r, pos, 2 * S + 2, tri, nt, rays, n, true, nt, 1e-3);
     stab_note(r, "side triangles of aspect %.0f", 10.0 / (R * 6.283185307179586 / S));
     free(rays), free(pos), free(tri);
 }
@@ -280,7 +206,7 @@ static void c_coplanar_overlap(stab_result_t *r)
     hz_rng_t g;
     hz_rng_seed(&g, 8, 8);
     for (uint32_t i = 0; i < n; i++) {
-        double x = 0.5 / N + (1 - 0.5 / N) * unit(&g), y = 0.5 / N + (1 - 0.5 / N) * unit(&g);
+        double x = 0.5 / N + (1 - 0.5 / N) * su_unit(&g), y = 0.5 / N + (1 - 0.5 / N) * su_unit(&g);
         su_ray(&rays[i], x, y, 1.0, 0, 0, -1);
     }
     hz_error_t err;
@@ -363,7 +289,7 @@ static void c_watertight_edges(stab_result_t *r)
                        mid[2] - org[o][2]);
             }
     }
-    check_mesh(r, m.pos, m.vertex_count, m.tri, m.tri_count, rays, k, true, m.tri_count, 1e-4);
+    su_check_mesh(r, m.pos, m.vertex_count, m.tri, m.tri_count, rays, k, true, m.tri_count, 1e-4);
     free(rays);
 }
 
@@ -421,7 +347,7 @@ static void c_empty_accel(stab_result_t *r)
     hz_rng_seed(&g, 1, 1);
     for (uint32_t i = 0; i < 64; i++) {
         double d[3];
-        random_dir(&g, i, d);
+        su_random_dir(&g, i, d);
         su_ray(&rays[i], 0, 0, 0, d[0], d[1], d[2]);
     }
     su_check_kernels(r, a, rays, 64, out);
@@ -477,8 +403,8 @@ static void c_nonfinite_vertices(stab_result_t *r)
             tri[3 * (a.tri_count + i) + v] = a.vertex_count + 3 * i + v;
         }
     double c[3] = { 0, 0, 0 };
-    hz_rayhit_t *rays = inside_rays(3000, c, 0.6, 17);
-    check_mesh(r, pos, nv, tri, nt, rays, 3000, true, a.tri_count, 1e-4);
+    hz_rayhit_t *rays = su_inside_rays(3000, c, 0.6, 17);
+    su_check_mesh(r, pos, nv, tri, nt, rays, 3000, true, a.tri_count, 1e-4);
     free(rays), free(pos), free(tri);
 }
 

@@ -3,7 +3,10 @@
 
 #include <stdlib.h>
 
+#include "hz/hash.h"
+
 #include "hz/hzb_write.h"
+#include "hz/meshgen.h"
 #include "render_run.h"
 
 static void *grow(void *p, uint32_t *cap, uint32_t need, size_t elem)
@@ -143,6 +146,8 @@ hz_status_t su_render_open(su_render_t *s, const su_scene_t *b, const hz_render_
     memset(s, 0, sizeof *s);
     s->opts = *o;
     hz_pools_t *p = hz_pools_get();
+    s->marks[0] = hz_arena_mark(&p->scene), s->marks[1] = hz_arena_mark(&p->accel);
+    s->marks[2] = hz_arena_mark(&p->frame), s->marks[3] = hz_arena_mark(&p->thread[0]);
     hz_status_t st = su_load(b, &s->scene, err);
     if (st != HZ_OK)
         return st;
@@ -151,6 +156,15 @@ hz_status_t su_render_open(su_render_t *s, const su_scene_t *b, const hz_render_
         (st = hz_accel_build_native(&s->accel, &g, NULL, &p->accel, err)) != HZ_OK)
         return st;
     return hz_render_create(&s->r, &s->scene, s->accel, o, &p->frame, p->thread, 1, err);
+}
+
+void su_render_close(su_render_t *s)
+{
+    hz_pools_t *p = hz_pools_get();
+    hz_arena_reset(&p->thread[0], s->marks[3]);
+    hz_arena_reset(&p->frame, s->marks[2]);
+    hz_arena_reset(&p->accel, s->marks[1]);
+    hz_arena_reset(&p->scene, s->marks[0]);
 }
 
 hz_status_t su_render_frame(su_render_t *s, uint64_t index, float t, hz_error_t *err)
@@ -354,4 +368,117 @@ void su_check_kernels(stab_result_t *r, const hz_accel_t *a, const hz_rayhit_t *
                 }
         }
     }
+}
+
+double su_unit(hz_rng_t *g)
+{
+    return (double)hz_rng_u32(g) / 4294967296.0;
+}
+
+/* A random unit direction; every 8th has one zero component, every 16th two. */
+void su_random_dir(hz_rng_t *g, uint32_t i, double d[3])
+{
+    double z = 2 * su_unit(g) - 1, ph = 6.283185307179586 * su_unit(g), s = sqrt(fmax(0, 1 - z * z));
+    d[0] = s * cos(ph), d[1] = s * sin(ph), d[2] = z;
+    if (i % 8 == 3)
+        d[i / 8 % 3] = 0;
+    if (i % 16 == 7)
+        d[i / 16 % 3] = 0, d[(i / 16 + 1) % 3] = 0, d[(i / 16 + 2) % 3] = i & 32 ? -1 : 1;
+    if (d[0] == 0 && d[1] == 0 && d[2] == 0)
+        d[2] = 1;
+}
+
+/* Checks rays against a mesh: kernels agree, no non-finite hit, `closed`: every ray hits (leaks counted and
+ * required 0), and hits agree in t with the double-precision oracle where the oracle's decision is clear. Hits
+ * on triangles at or after `first_bad` (degenerate or non-finite ones) fail. */
+void su_check_mesh(stab_result_t *r, const float *pos, uint32_t nv, const uint32_t *tri, uint32_t nt,
+                       const hz_rayhit_t *rays, uint32_t n, bool closed, uint32_t first_bad, double t_bound)
+{
+    hz_error_t err;
+    hz_accel_t *a;
+    STAB_OK(r, su_accel(&a, pos, nv, tri, nt, &err), &err);
+    r->status = HZ_OK;
+    hz_rayhit_t *out = malloc(sizeof *out * n);
+    STAB_CHECK(r, out != NULL, "malloc");
+    su_check_kernels(r, a, rays, n, out);
+    if (r->fail[0])
+        return;
+    uint32_t leaks = 0, compared = 0, disagree = 0;
+    for (uint32_t i = 0; i < n; i++) {
+        bool hit = out[i].hit.geom_id != HZ_ACCEL_INVALID_ID;
+        leaks += closed && !hit;
+        STAB_CHECK(r, !hit || out[i].hit.prim_id < first_bad, "ray %u hit excluded triangle %u", i,
+                   out[i].hit.prim_id);
+        su_ref_t ref = su_ref_intersect(pos, tri, first_bad < nt ? first_bad : nt, &rays[i]);
+        if (ref.prim < 0 || ref.edge_margin < 1e-4 || ref.t_gap < 1e-4)
+            continue;
+        compared++;
+        if (!hit || out[i].hit.prim_id != (uint32_t)ref.prim) {
+            disagree++;
+            continue;
+        }
+        stab_error(r, su_relerr(out[i].ray.tfar, ref.t, 1e-300));
+    }
+    stab_note(r, "%u rays; %u leaks; %u clear hits vs double oracle; %u disagree; triangles %u (%u skipped)", n,
+              leaks, compared, disagree, nt, a->info.tri_skipped);
+    STAB_CHECK(r, leaks == 0, "%u of %u rays leaked through the closed mesh", leaks, n);
+    STAB_CHECK(r, disagree == 0, "%u clear hits disagree with the oracle", disagree);
+    STAB_CHECK(r, isnan(r->max_error) || r->max_error <= t_bound, "t relative error %g > %g", r->max_error, t_bound);
+    free(out);
+}
+
+/* Rays from random points inside a sphere of radius `inner` around c. */
+hz_rayhit_t *su_inside_rays(uint32_t n, const double c[3], double inner, uint64_t seed)
+{
+    hz_rayhit_t *rays = malloc(sizeof *rays * n);
+    hz_rng_t g;
+    hz_rng_seed(&g, seed, 7);
+    for (uint32_t i = 0; i < n; i++) {
+        double o[3], d[3];
+        su_random_dir(&g, i, d);
+        double rr = inner * cbrt(su_unit(&g)), od[3];
+        su_random_dir(&g, i + 1, od);
+        for (int k = 0; k < 3; k++)
+            o[k] = c[k] + rr * od[k];
+        su_ray(&rays[i], o[0], o[1], o[2], d[0], d[1], d[2]);
+    }
+    return rays;
+}
+
+
+void su_mesh(su_scene_t *b, const float *pos, uint32_t nv, const uint32_t *tri, uint32_t nt, uint32_t mat,
+             float scale, const float offset[3])
+{
+    uint32_t base = b->nv;
+    for (uint32_t i = 0; i < nv; i++)
+        su_vertex(b, pos[4 * i] * scale + offset[0], pos[4 * i + 1] * scale + offset[1],
+                  pos[4 * i + 2] * scale + offset[2]);
+    for (uint32_t t = 0; t < nt; t++)
+        su_tri(b, base + tri[3 * t], base + tri[3 * t + 1], base + tri[3 * t + 2], mat);
+}
+
+void su_room(su_scene_t *b, float s)
+{
+    uint32_t grey = su_material(b, 0.7f, 0.7f, 0.7f), red = su_material(b, 0.8f, 0.2f, 0.1f);
+    const float f0[3] = { -5 * s, 0, -5 * s }, f1[3] = { 5 * s, 0, -5 * s }, f2[3] = { 5 * s, 0, 5 * s },
+                f3[3] = { -5 * s, 0, 5 * s };
+    su_quad(b, f3, f2, f1, f0, grey);
+    const float w0[3] = { -5 * s, 0, -5 * s }, w1[3] = { 5 * s, 0, -5 * s }, w2[3] = { 5 * s, 5 * s, -5 * s },
+                w3[3] = { -5 * s, 5 * s, -5 * s };
+    su_quad(b, w0, w1, w2, w3, grey);
+    su_object(b);
+    hz_mesh_t m;
+    hz_arena_mark_t mk = hz_arena_mark(&hz_pools_get()->frame);
+    if (hz_meshgen_sphere(&m, &hz_pools_get()->frame, 12, 24, 1.0f, NULL) == HZ_OK) {
+        const float off[3] = { 0, 1.2f * s, 0 };
+        su_mesh(b, m.pos, m.vertex_count, m.tri, m.tri_count, red, s, off);
+        su_object(b);
+    }
+    hz_arena_reset(&hz_pools_get()->frame, mk);
+    su_light(b, 1 * s, 4 * s, 3 * s, 20.0f * s * s);
+}
+
+void su_check_image(stab_result_t *r, const hz_image_t *img)
+{
+    stab_count_nonfinite(r, img->rgb, 3 * hz_image_pixels(img));
 }

@@ -57,6 +57,12 @@ void su_quad(su_scene_t *b, const float p0[3], const float p1[3], const float p2
 hz_hzb_object_t *su_object(su_scene_t *b);
 void su_light(su_scene_t *b, float x, float y, float z, float power);
 void su_camera(su_scene_t *b, float t, const float eye[3], const float target[3], float fov_y);
+/* Appends a mesh (float4 positions scaled and offset, indices) to the object being built. */
+void su_mesh(su_scene_t *b, const float *pos, uint32_t nv, const uint32_t *tri, uint32_t nt, uint32_t mat,
+             float scale, const float offset[3]);
+/* A test room at scale s: floor and back wall (object 0), a sphere of radius s at height 1.2 s (object 1), one
+ * light. The caller adds the camera. */
+void su_room(su_scene_t *b, float s);
 /* The .hzb image (64-byte aligned, from pools->scene) and its size. */
 hz_status_t su_image(const su_scene_t *b, const void **img, size_t *size, hz_error_t *err);
 /* su_image + hz_scene_load with pools->scene. */
@@ -69,13 +75,19 @@ typedef struct su_render {
     hz_renderer_t *r;
     hz_render_opts_t opts;
     uint64_t nonfinite_stat, queue_full, layer_cap;
+    hz_arena_mark_t marks[4];
 } su_render_t;
 
 hz_status_t su_render_open(su_render_t *s, const su_scene_t *b, const hz_render_opts_t *o, hz_error_t *err);
+/* Releases what su_render_open took from the pools. */
+void su_render_close(su_render_t *s);
 hz_status_t su_render_frame(su_render_t *s, uint64_t index, float t, hz_error_t *err);
 /* Counts non-finite values of the output, the G-buffer's normals and motion vectors (and depth values that
  * are NaN or -inf) into r->nonfinite, and the renderer's own nonfinite counter of the last frame as well. */
 void su_render_check(stab_result_t *r, su_render_t *s);
+
+/* Counts non-finite values of an image into r->nonfinite. */
+void su_check_image(stab_result_t *r, const hz_image_t *img);
 
 /* ---- accel over arrays ---- */
 hz_status_t su_accel(hz_accel_t **a, const float *pos, uint32_t nv, const uint32_t *tri, uint32_t nt,
@@ -96,6 +108,19 @@ su_ref_t su_ref_intersect(const float *pos, const uint32_t *tri, uint32_t nt, co
  * one bit for bit. Counts non-finite t/u/v/ng of hits into r->nonfinite. */
 void su_check_kernels(stab_result_t *r, const hz_accel_t *a, const hz_rayhit_t *rays, uint32_t n,
                       hz_rayhit_t *out);
+
+struct hz_rng;
+/* Uniform in [0, 1) from the generator. */
+double su_unit(struct hz_rng *g);
+/* A random unit direction; every 8th (by i) has one zero component, every 16th two. */
+void su_random_dir(struct hz_rng *g, uint32_t i, double d[3]);
+/* n rays (malloc) from random points within `inner` of c, random directions. */
+hz_rayhit_t *su_inside_rays(uint32_t n, const double c[3], double inner, uint64_t seed);
+/* Builds a native accel over the arrays and checks rays: su_check_kernels, no non-finite hit, `closed`: every
+ * ray hits (0 leaks), clear hits agree with su_ref_intersect in triangle and in t (relative error <= t_bound,
+ * recorded as max_error); hits on triangles >= first_bad fail. */
+void su_check_mesh(stab_result_t *r, const float *pos, uint32_t nv, const uint32_t *tri, uint32_t nt,
+                   const hz_rayhit_t *rays, uint32_t n, bool closed, uint32_t first_bad, double t_bound);
 
 /* Largest |a - b| / max(|b|, floor). */
 double su_relerr(double a, double b, double floor_);
