@@ -218,7 +218,7 @@ int main(int argc, char **argv)
             clock_gettime(CLOCK_MONOTONIC, &t1);
             double sec = (double)(t1.tv_sec - t0.tv_sec) + 1e-9 * (double)(t1.tv_nsec - t0.tv_nsec);
             passed += (unsigned)ok, failed += (unsigned)!ok;
-            printf("  %-5s %-44s %6.2f s  %s\n", ok ? "ok" : "FAIL", name, sec, ok ? r.note : result);
+            printf("  %-5s %-44s %6.2f s  %s%s%s\n", ok ? "ok" : "FAIL", name, sec, ok ? r.note : result, ok || !r.note[0] ? "" : " -- ", ok ? "" : r.note);
             fflush(stdout);
             snprintf(checks, sizeof checks, "%s", c->checks);
             clean(checks), clean(result), clean(r.note);

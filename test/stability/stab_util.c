@@ -182,22 +182,31 @@ void su_render_check(stab_result_t *r, su_render_t *s)
 {
     const hz_image_t *img = hz_render_output(s->r);
     size_t n = hz_image_pixels(img);
+    uint64_t before = r->nonfinite;
     stab_count_nonfinite(r, img->rgb, 3 * n);
+    if (r->nonfinite != before)
+        stab_note(r, "%llu non-finite output values", (unsigned long long)(r->nonfinite - before));
     for (size_t i = 0; i < 3 * n; i++)
         if (img->rgb[i] < 0.0f) {
             stab_failf(r, __FILE__, __LINE__, "negative radiance %g at value %zu", (double)img->rgb[i], i);
             break;
         }
     const hz_gbuffer_t *gb = hz_render_gbuffer(s->r);
-    if (gb->normal)
-        stab_count_nonfinite(r, gb->normal, 3 * n);
-    if (gb->mv)
-        stab_count_nonfinite(r, gb->mv, 2 * n);
-    if (gb->mv_reflect)
-        stab_count_nonfinite(r, gb->mv_reflect, 2 * n);
-    if (gb->depth)
+    if (gb->mv && stab_count_nonfinite(r, gb->mv, 2 * n))
+        stab_note(r, "non-finite motion vectors");
+    if (gb->mv_reflect && stab_count_nonfinite(r, gb->mv_reflect, 2 * n))
+        stab_note(r, "non-finite reflected motion vectors");
+    if (gb->normal && stab_count_nonfinite(r, gb->normal, 3 * n))
+        stab_note(r, "non-finite normals");
+    if (gb->depth) {
+        uint64_t bad = 0;
         for (size_t i = 0; i < n; i++)
-            r->nonfinite += !(gb->depth[i] >= 0.0f); /* NaN or negative; +inf marks a miss */
+            bad += !(gb->depth[i] >= 0.0f); /* NaN or negative; +inf marks a miss */
+        if (bad)
+            stab_note(r, "%llu depth values NaN or negative (mode %s)", (unsigned long long)bad,
+                      hz_render_mode_name(s->opts.mode));
+        r->nonfinite += bad;
+    }
     r->nonfinite += s->nonfinite_stat;
     if (s->nonfinite_stat)
         stab_note(r, "renderer replaced %llu non-finite values", (unsigned long long)s->nonfinite_stat);
