@@ -7,7 +7,10 @@
  *  aligned), u32 triangle indices, optional per-triangle flags. The view's arrays must stay alive and in place
  *  for the life of the accel: refit re-reads `pos` (animation writes new positions into the same array).
  *  Building validates the view (alignment, counts, every index < vertex_count; error names the triangle).
- *  Triangles with non-finite vertices are kept out of the structure (never hit) and counted in info.
+ *  Triangles with non-finite vertices, or with a coordinate beyond +-HZ_ACCEL_MAX_COORD, are kept out of the
+ *  structure (never hit) and counted in info.tri_skipped (refit treats a triangle moved there the same way):
+ *  beyond that range the watertight test's products (cubes of coordinate differences) would overflow to
+ *  infinite or NaN distances. Rays should start within the same range.
  *  Degenerate triangles (zero area) never report a hit.
  *
  *  Memory. The native build takes every byte from the arena passed in (the board's accel arena): the build's
@@ -23,7 +26,8 @@
  *  prim_id = primID, geom_id = geomID, inst_id = instID), so the Embree backend passes them through without
  *  copying (port/embree checks the offsets at compile time). Packets: 16-byte (4) / 32-byte (8) aligned;
  *  `valid[i]` is -1 for an active lane and 0 for one left untouched. Rays must have finite origin and finite,
- *  non-zero direction (need not be normalised) and 0 <= tnear <= tfar; zero direction components are fine.
+ *  non-zero direction (need not be normalised) and 0 <= tnear <= tfar; zero direction components are fine
+ *  (a direction so short that a hit's t would not be a finite float, e.g. 1e-45, misses).
  *  Rays that break this never crash or loop: they miss.
  *  - intersect: finds the closest hit with t in [tnear, tfar] (both ends included). On a hit it writes
  *    ray.tfar = t, hit.u/v (barycentrics of vertices 1 and 2: P = (1-u-v) v0 + u v1 + v v2), hit.ng_* (the
@@ -73,6 +77,9 @@
 #define HZ_ACCEL_INVALID_ID 0xFFFFFFFFu
 /* tri_flags bit 0: the any-hit callback decides hits on this triangle (alpha cutouts, blended surfaces). */
 #define HZ_ACCEL_TRI_ANYHIT 0x01u
+/* Largest coordinate magnitude a triangle may have (2^36, about 6.9e10; see "Geometry" above). The scene
+ * loader refuses positions beyond it. */
+#define HZ_ACCEL_MAX_COORD 68719476736.0f
 /* Most triangles one accel takes (the native leaf encoding's limit). */
 #define HZ_ACCEL_MAX_TRIS (1u << 25)
 

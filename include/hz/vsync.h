@@ -121,7 +121,8 @@ int64_t hz_vsync_period_q16(const hz_vsync_t *v);
 int64_t hz_vsync_period_ns(const hz_vsync_t *v);
 /* Predicted time of a slot's edge. */
 int64_t hz_vsync_slot_time(const hz_vsync_t *v, int64_t slot);
-/* The first slot whose predicted edge is at or after t. */
+/* The first slot whose predicted edge is at or after t (the anchor slot, 0, before the first lock; at the ends
+ * of the int64 range, where predictions saturate, the slot nearest to it). */
 int64_t hz_vsync_slot_at_or_after(const hz_vsync_t *v, int64_t t);
 /* Current acceptance half-width and robust residual standard deviation (ns). */
 int64_t hz_vsync_tolerance_ns(const hz_vsync_t *v);

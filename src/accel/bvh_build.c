@@ -132,7 +132,8 @@ static bool tri_box(const hz_accel_geom_t *g, uint32_t t, box_t *b)
     box_empty(b);
     for (int k = 0; k < 3; k++) {
         const float *p = vtx(g, g->tri[3u * (size_t)t + (uint32_t)k]);
-        if (!hz_isfinitef(p[0]) || !hz_isfinitef(p[1]) || !hz_isfinitef(p[2]))
+        if (!(hz_absf(p[0]) <= HZ_ACCEL_MAX_COORD && hz_absf(p[1]) <= HZ_ACCEL_MAX_COORD &&
+              hz_absf(p[2]) <= HZ_ACCEL_MAX_COORD)) /* also false for NaN */
             return false;
         box_grow_pt(b, p[0], p[1], p[2]);
     }
@@ -664,10 +665,10 @@ static void fill_block_slot(hz_bvh_block_t *bl, uint32_t s, const hz_accel_geom_
         const float *p = vtx(g, t[v]);
         for (int k = 0; k < 3; k++) {
             bl->v[v][k][s] = p[k];
-            ok = ok && hz_isfinitef(p[k]);
+            ok = ok && hz_absf(p[k]) <= HZ_ACCEL_MAX_COORD;
         }
     }
-    if (!ok) /* moved to a non-finite place by the caller: the triangle disappears (degenerate) */
+    if (!ok) /* moved out of range (or to NaN) by the caller: the triangle disappears (degenerate) */
         for (int v = 0; v < 3; v++)
             for (int k = 0; k < 3; k++)
                 bl->v[v][k][s] = 0.0f;

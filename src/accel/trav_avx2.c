@@ -123,11 +123,20 @@ HZ_INLINE unsigned woop8(__m256 akx, __m256 aky, __m256 akz, __m256 bkx, __m256 
     unsigned m = (unsigned)_mm256_movemask_ps(ok) & lm;
     if (!m)
         return 0;
-    const __m256 az = _mm256_mul_ps(sz, akz), bz = _mm256_mul_ps(sz, bkz), cz = _mm256_mul_ps(sz, ckz);
-    const __m256 T =
-        _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(U, az), _mm256_mul_ps(V, bz)), _mm256_mul_ps(Wv, cz));
-    const __m256 t = _mm256_div_ps(T, det);
-    const __m256 in = _mm256_and_ps(_mm256_cmp_ps(t, tnear, _CMP_GE_OQ), _mm256_cmp_ps(t, tfar, _CMP_LE_OQ));
+    /* t from the plane, as hz_bvh_tri_test (see there), operation for operation */
+    const __m256 e1x = _mm256_sub_ps(bkx, akx), e1y = _mm256_sub_ps(bky, aky), e1z = _mm256_sub_ps(bkz, akz);
+    const __m256 e2x = _mm256_sub_ps(ckx, akx), e2y = _mm256_sub_ps(cky, aky), e2z = _mm256_sub_ps(ckz, akz);
+    const __m256 nx = _mm256_sub_ps(_mm256_mul_ps(e1y, e2z), _mm256_mul_ps(e1z, e2y));
+    const __m256 ny = _mm256_sub_ps(_mm256_mul_ps(e1z, e2x), _mm256_mul_ps(e1x, e2z));
+    const __m256 nz = _mm256_sub_ps(_mm256_mul_ps(e1x, e2y), _mm256_mul_ps(e1y, e2x));
+    const __m256 num =
+        _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(nx, akx), _mm256_mul_ps(ny, aky)), _mm256_mul_ps(nz, akz));
+    const __m256 den = _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(nx, sx), _mm256_mul_ps(ny, sy)), nz);
+    const __m256 t = _mm256_div_ps(_mm256_mul_ps(num, sz), den);
+    const __m256 fin = _mm256_cmp_ps(_mm256_andnot_ps(_mm256_set1_ps(-0.0f), t), _mm256_set1_ps(__builtin_inff()),
+                                     _CMP_LT_OQ);
+    const __m256 in = _mm256_and_ps(
+        fin, _mm256_and_ps(_mm256_cmp_ps(t, tnear, _CMP_GE_OQ), _mm256_cmp_ps(t, tfar, _CMP_LE_OQ)));
     *t_out = t, *v_out = V, *w_out = Wv, *det_out = det;
     return m & (unsigned)_mm256_movemask_ps(in);
 }

@@ -53,10 +53,17 @@ HZ_INLINE unsigned woop4(float32x4_t akx, float32x4_t aky, float32x4_t akz, floa
     const unsigned m = movemask(ok);
     if (!m)
         return 0;
-    const float32x4_t az = vmulq_f32(sz, akz), bz = vmulq_f32(sz, bkz), cz = vmulq_f32(sz, ckz);
-    const float32x4_t T = vaddq_f32(vaddq_f32(vmulq_f32(U, az), vmulq_f32(V, bz)), vmulq_f32(Wv, cz));
-    *t = vdivq_f32(T, d), *v = V, *w = Wv, *det = d;
-    return m;
+    /* t from the plane, as hz_bvh_tri_test (see there), operation for operation */
+    const float32x4_t e1x = vsubq_f32(bkx, akx), e1y = vsubq_f32(bky, aky), e1z = vsubq_f32(bkz, akz);
+    const float32x4_t e2x = vsubq_f32(ckx, akx), e2y = vsubq_f32(cky, aky), e2z = vsubq_f32(ckz, akz);
+    const float32x4_t nx = vsubq_f32(vmulq_f32(e1y, e2z), vmulq_f32(e1z, e2y));
+    const float32x4_t ny = vsubq_f32(vmulq_f32(e1z, e2x), vmulq_f32(e1x, e2z));
+    const float32x4_t nz = vsubq_f32(vmulq_f32(e1x, e2y), vmulq_f32(e1y, e2x));
+    const float32x4_t num = vaddq_f32(vaddq_f32(vmulq_f32(nx, akx), vmulq_f32(ny, aky)), vmulq_f32(nz, akz));
+    const float32x4_t den = vaddq_f32(vaddq_f32(vmulq_f32(nx, sx), vmulq_f32(ny, sy)), nz);
+    const float32x4_t tt = vdivq_f32(vmulq_f32(num, sz), den);
+    *t = tt, *v = V, *w = Wv, *det = d;
+    return m & movemask(vcltq_f32(vabsq_f32(tt), vdupq_n_f32(__builtin_inff())));
 }
 
 /* ---------------------------------------------------------------------------------------------------------

@@ -358,6 +358,12 @@ static void resolve_pixel(hz_tdense_t *td, uint32_t x, uint32_t y, unsigned subf
                     float half = td->cfg.gamma * hz_sqrtf(var[k]);
                     out[k] = hz_clampf(out[k], mean[k] - half, mean[k] + half);
                 }
+                /* A non-finite sample shows in the frame it was traced (a broken tracer must be visible), but
+                 * the clamp lets NaN through and bilinear reprojection spreads it: old values that are not
+                 * finite restart from the new samples' mean, so it dies out instead of drifting forever. */
+                for (int k = 0; k < 3; k++)
+                    if (!hz_isfinitef(out[k]))
+                        out[k] = n ? mean[k] : 0.0f;
             }
         }
     }

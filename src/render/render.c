@@ -134,6 +134,26 @@ hz_status_t hz_render_plan(const hz_scene_t *scene, const hz_render_opts_t *opts
     return HZ_OK;
 }
 
+/* Every record says "no hit" until a ray writes it: tdense traces a quarter of the pixels per frame, so
+ * without this the first frames' G-buffer showed whatever the arena held (poison: negative depths). */
+static void gbuffer_clear(hz_gbuffer_t *gb, size_t px)
+{
+    for (size_t i = 0; i < px; i++) {
+        gb->depth[i] = __builtin_inff();
+        gb->object[i] = HZ_GB_NO_OBJECT;
+        if (gb->object2)
+            gb->object2[i] = HZ_GB_NO_OBJECT;
+    }
+    hz_memset(gb->normal, 0, px * 12);
+    hz_memset(gb->shadow, 0, px);
+    hz_memset(gb->flags, 0, px);
+    if (gb->object2) {
+        hz_memset(gb->normal2, 0, px * 12);
+        hz_memset(gb->shadow2, 0, px);
+        hz_memset(gb->flags2, 0, px);
+    }
+}
+
 static void *take(hz_arena_t *a, size_t bytes, bool *ok)
 {
     void *p = hz_arena_alloc(a, bytes, 64);
@@ -237,6 +257,7 @@ hz_status_t hz_render_create(hz_renderer_t **out, hz_scene_t *scene, hz_accel_t 
         hz_memset(gb->mv, 0, px * 8);
     if (gb->mv_reflect)
         hz_memset(gb->mv_reflect, 0, px * 8);
+    gbuffer_clear(gb, px);
     r->thread_count = thread_count;
     for (uint32_t t = 0; t < thread_count; t++) {
         hz_arena_t *ta = &thread_arenas[t];

@@ -1,6 +1,7 @@
 /* .hzb validation and loading (see hz/scene.h for the contract, hz/hzb.h for the format). Every check runs
  * before the data it guards is used; every size computation is done in 64 bits with explicit overflow checks.
  * Nothing here depends on the data being trustworthy. */
+#include "hz/accel.h" /* HZ_ACCEL_MAX_COORD: positions the accel can trace */
 #include "hz/crc32.h"
 #include "scene_internal.h"
 
@@ -206,6 +207,10 @@ static hz_status_t check_float4s(view_t *v, uint32_t id, int unit_length)
     for (uint64_t i = 0; i < n; i++, f += 4) {
         if (!finite3(f) || f[3] != 0.0f)
             return fail(v, HZ_E_RANGE, "section '%s': element %llu is not finite or its w is not 0",
+                        hz_hzb_section_name(id), (unsigned long long)i);
+        if (!unit_length && !(hz_absf(f[0]) <= HZ_ACCEL_MAX_COORD && hz_absf(f[1]) <= HZ_ACCEL_MAX_COORD &&
+                              hz_absf(f[2]) <= HZ_ACCEL_MAX_COORD))
+            return fail(v, HZ_E_RANGE, "section '%s': element %llu has a coordinate beyond +-2^36 (the accel's range)",
                         hz_hzb_section_name(id), (unsigned long long)i);
         if (unit_length && f[0] * f[0] + f[1] * f[1] + f[2] * f[2] > 1.0201f)
             return fail(v, HZ_E_RANGE, "section '%s': element %llu is longer than 1", hz_hzb_section_name(id),

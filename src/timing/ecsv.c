@@ -56,9 +56,10 @@ static int parse_time(const char *f, size_t n, int frac, int64_t *out)
             return 0;
         if (fd >= 0 && ++fd > frac)
             return 0;
-        if (v > ((uint64_t)INT64_MAX - 9) / 10)
+        uint64_t d = (uint64_t)(c - '0');
+        if (v > ((uint64_t)INT64_MAX - d) / 10) /* exact: INT64_MAX itself is a valid time */
             return 0;
-        v = v * 10 + (uint64_t)(c - '0');
+        v = v * 10 + d;
         digits++;
     }
     if (!digits)
@@ -143,7 +144,7 @@ static hz_status_t line(hz_ecsv_t *p, hz_edge_fn edge, void *ctx, hz_error_t *er
         shown[k] = '\0';
         return hz_error_set(err, HZ_E_FORMAT, "line %llu: time '%s' is not a non-negative number%s",
                             (unsigned long long)p->line_no, shown,
-                            p->t_unit_digits ? " (with at most the unit's decimals)" : " of nanoseconds");
+                            p->t_unit_digits ? " (with at most the unit's decimals) below 2^63 ns" : " of nanoseconds below 2^63");
     }
     int level = 1;
     if (p->level_col >= 0) {

@@ -104,6 +104,12 @@ int64_t hz_dist_rank(const int64_t *sorted, size_t n, uint32_t per_mille_x10)
     return sorted[rank - 1];
 }
 
+/* |a - b| for any two int64 values, exactly. */
+static uint64_t dev_abs(int64_t a, int64_t b)
+{
+    return a >= b ? (uint64_t)a - (uint64_t)b : (uint64_t)b - (uint64_t)a;
+}
+
 void hz_dist_compute(int64_t *v, size_t n, hz_dist_t *d)
 {
     d->n = n;
@@ -129,13 +135,33 @@ void hz_dist_compute(int64_t *v, size_t n, hz_dist_t *d)
         q++; /* round half up */
     d->mean = (int64_t)((uint64_t)v[0] + q);
     /* Squared deviations from the rounded mean: its rounding error e (|e| <= 1/2 ns) adds e^2 <= 1/4 ns^2 to
-     * the variance, so sd is exact to within 1 ns. */
+     * the variance, so sd is exact to within 1 ns. A deviation needs 64 unsigned bits (values at both ends of
+     * the int64 range; v[i] - mean in int64 overflowed there) and its square 128, so a sum of squares can
+     * overflow: then each square is divided by n first (quotients and remainders summed apart), which is
+     * exact too and cannot overflow, as the variance is below 2^126. */
     hz_u128_t ss = { 0, 0 };
+    int wrapped = 0;
     for (size_t i = 0; i < n; i++) {
-        int64_t dev = v[i] - d->mean;
-        ss = hz_u128_add(ss, hz_u128_mul(hz_abs64(dev), hz_abs64(dev)));
+        uint64_t dev = dev_abs(v[i], d->mean);
+        hz_u128_t sq = hz_u128_mul(dev, dev), next = hz_u128_add(ss, sq);
+        if (next.hi < ss.hi || (next.hi == ss.hi && next.lo < ss.lo))
+            wrapped = 1;
+        ss = next;
     }
-    uint64_t sd = hz_u128_isqrt(hz_u128_div_full(ss, n));
+    hz_u128_t var = hz_u128_div_full(ss, n);
+    if (wrapped) {
+        hz_u128_t q = { 0, 0 }, rs = { 0, 0 };
+        for (size_t i = 0; i < n; i++) {
+            uint64_t dev = dev_abs(v[i], d->mean);
+            hz_u128_t sq = hz_u128_mul(dev, dev), qi = hz_u128_div_full(sq, n);
+            /* sq - qi n < n fits a word, so the low words (mod 2^64) give it */
+            hz_u128_t r1 = { 0, sq.lo - qi.lo * (uint64_t)n };
+            q = hz_u128_add(q, qi);
+            rs = hz_u128_add(rs, r1);
+        }
+        var = hz_u128_add(q, hz_u128_div_full(rs, n));
+    }
+    uint64_t sd = hz_u128_isqrt(var);
     d->sd = sd > (uint64_t)INT64_MAX ? INT64_MAX : (int64_t)sd;
 }
 

@@ -11,14 +11,30 @@ static int64_t q16_to_ns(int64_t q)
     return (q + Q16 / 2) / Q16;
 }
 
+/* a + b and a - b saturated to [INT64_MIN + 1, INT64_MAX] like wide.h's helpers: predictions for slots (or
+ * times) far from the anchor, near the ends of the range, must not wrap (signed overflow). */
+static int64_t sat_add(int64_t a, int64_t b)
+{
+    if (b > 0 && a > INT64_MAX - b)
+        return INT64_MAX;
+    if (b < 0 && a < INT64_MIN + 1 - b)
+        return INT64_MIN + 1;
+    return a + b;
+}
+
+static int64_t sat_sub(int64_t a, int64_t b)
+{
+    return b == INT64_MIN ? sat_add(sat_add(a, INT64_MAX), 1) : sat_add(a, -b);
+}
+
 static int64_t predict(const hz_vsync_t *v, int64_t slot)
 {
-    return v->anchor_t + hz_mul_q16(slot - v->anchor_slot, v->period_q16);
+    return sat_add(v->anchor_t, hz_mul_q16(sat_sub(slot, v->anchor_slot), v->period_q16));
 }
 
 static int64_t nearest_slot(const hz_vsync_t *v, int64_t t)
 {
-    return v->anchor_slot + hz_muldiv(t - v->anchor_t, Q16, v->period_q16);
+    return sat_add(v->anchor_slot, hz_muldiv(sat_sub(t, v->anchor_t), Q16, v->period_q16));
 }
 
 static void emit(hz_vsync_t *v, const hz_vsync_event_t *ev)
@@ -429,10 +445,17 @@ int64_t hz_vsync_slot_time(const hz_vsync_t *v, int64_t slot)
 
 int64_t hz_vsync_slot_at_or_after(const hz_vsync_t *v, int64_t t)
 {
+    /* Without a period (no lock yet) every slot predicts the same time: there is no answer to search for
+     * (the loops below never ended). */
+    if (v->period_q16 <= 0)
+        return v->anchor_slot;
     int64_t k = nearest_slot(v, t);
-    while (predict(v, k) < t)
+    /* nearest_slot is within one slot of the answer; predictions saturate at the ends of the int64 range, where
+     * they stop increasing, so the corrections are bounded rather than run until a saturated prediction
+     * passes t (forever for t = INT64_MIN) or k wraps. */
+    for (int i = 0; i < 4 && k < INT64_MAX && predict(v, k) < t; i++)
         k++;
-    while (predict(v, k - 1) >= t)
+    for (int i = 0; i < 4 && k > INT64_MIN + 1 && predict(v, k - 1) >= t; i++)
         k--;
     return k;
 }
