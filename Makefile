@@ -102,8 +102,8 @@ INTEGER_FLAGS := -mgeneral-regs-only
 CORE_SRCS := src/core/arena.c src/core/status.c src/core/fmt.c src/core/fixed.c src/core/hash.c src/core/vmath.c \
              src/core/crc32.c src/core/image.c src/core/srgb_tables.c
 CORE_INTEGER_SRCS := src/core/fixed.c src/core/hash.c src/core/crc32.c
-CORE_TESTS := arena status fmt fixed hash vmath config crc32 image
-CORE_PORT_TESTS := zero_alloc imageio
+CORE_TESTS := arena status fmt fixed hash vmath crc32 image
+CORE_PORT_TESTS := zero_alloc imageio config
 
 # scene (src/scene): baked format, validating loader, built-in scene
 SCENE_SRCS := src/scene/hzb.c src/scene/write.c src/scene/load.c src/scene/animate.c src/scene/builtin.c

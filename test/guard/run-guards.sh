@@ -50,4 +50,20 @@ expect_fail "integer-float-token" "names a floating-point type" \
 printf '#include "hz/config.h"\nint hz_board_probe;\n' >"$tmp/probe.c"
 expect_fail "board-missing-setting" "HZ_DISPLAY_HZ" \
     gcc -std=c99 -Iinclude -I"$bad/board-missing" -c "$tmp/probe.c" -o "$tmp/probe.o"
+# The test runner: a binary that hangs is stopped at the time limit and counts as a failure naming it.
+printf '#!/bin/sh\necho "[==========] Running 1 test(s)."\nsleep 60\n' >"$tmp/test_hangs"
+chmod +x "$tmp/test_hangs"
+t0=$(date +%s)
+out=$(HZ_TEST_TIMEOUT=2 sh "$here/../run-tests.sh" "$tmp/runner" guard "" "$tmp/test_hangs" 2>&1)
+took=$(( $(date +%s) - t0 ))
+read -r _ rp rf _ <"$tmp/runner/test_hangs.res" 2>/dev/null || rf=0
+if [ "$rf" -ge 1 ] && [ "$took" -lt 30 ] && printf '%s\n' "$out" | grep -q "test_hangs timed out after 2 s"; then
+    echo "  ok    guard runner-time-limit"
+    record "guard/runner-time-limit" 1 0
+else
+    echo "  FAIL  guard runner-time-limit: a hung binary was not stopped and failed by name (${took} s):"
+    printf '%s\n' "$out" | head -n 5 | sed 's/^/        /'
+    record "guard/runner-time-limit" 0 1
+    fails=$((fails + 1))
+fi
 [ $fails = 0 ]

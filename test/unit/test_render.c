@@ -195,7 +195,11 @@ static void test_static_pixels_have_zero_motion(void **state)
     rfix_close(&f);
 }
 
-static void compare_golden(const char *scene, const char *golden, float t, uint32_t spp)
+/* min_db: what float reordering leaves of the match, measured: this build gives builtin 115.28 dB and the Cornell
+ * boxes 148.2 dB against the stored images (AArch64 under qemu the same); a build with FMA contraction
+ * (-ffp-contract=fast, the largest reordering a compiler makes here) 115.27 and 147.3 dB. The thresholds keep
+ * about 5 dB below that; one channel of one pixel off by 0.001 already costs the built-in scene 106 dB. */
+static void compare_golden(const char *scene, const char *golden, float t, uint32_t spp, double min_db)
 {
     char dir[4096];
     const char *root = getenv("HZ_TEST_DIR");
@@ -212,7 +216,8 @@ static void compare_golden(const char *scene, const char *golden, float t, uint3
     const hz_image_t *img = render_builtin(&f, HZ_MODE_FULL, spp, ref.width, ref.height, 2, 1, t);
     double psnr = rfix_psnr(img, &ref);
     print_message("%s vs %s: PSNR %.2f dB\n", scene, golden, psnr);
-    assert_true(psnr >= 40.0);
+    if (!(psnr >= min_db))
+        fail_msg("%s vs %s: PSNR %.2f dB is below %.1f dB", scene, golden, psnr, min_db);
     f.frame_mark = m;
     rfix_close(&f);
 }
@@ -220,14 +225,14 @@ static void compare_golden(const char *scene, const char *golden, float t, uint3
 static void test_matches_stored_references(void **state)
 {
     (void)state;
-    compare_golden("builtin", "builtin_160x90_16spp_t1.pfm", 1.0f, 16);
+    compare_golden("builtin", "builtin_160x90_16spp_t1.pfm", 1.0f, 16, 110.0);
     char p[4096];
     const char *orig = rfix_scene_path("CornellBox-Original.hzb", p, sizeof p);
     if (orig)
-        compare_golden(orig, "cornell_original_96x96_16spp.pfm", 0.0f, 16);
+        compare_golden(orig, "cornell_original_96x96_16spp.pfm", 0.0f, 16, 142.0);
     const char *mirror = rfix_scene_path("CornellBox-Mirror.hzb", p, sizeof p);
     if (mirror)
-        compare_golden(mirror, "cornell_mirror_96x96_16spp.pfm", 0.0f, 16);
+        compare_golden(mirror, "cornell_mirror_96x96_16spp.pfm", 0.0f, 16, 142.0);
 }
 
 int main(void)
