@@ -300,7 +300,7 @@ tests: $(ERRTIME)
 REPORT_O := $(BUILD_ROOT)/report
 REPORT_SCENES := CornellBox-Mirror,sponza,lost-empire,builtin,builtin@240,sponza@240,conference@240
 REPORT_SKIP := taa-clip,taa-catmull-rom,taa-clip-cr
-report: $(ERRTIME) scenes ## error against run time of every method on the standard scenes: build/report/ (CSV, MD, SVG)
+report: deps $(ERRTIME) scenes ## error against run time of every method on the standard scenes: build/report/ (CSV, MD, SVG)
 	$(Q)t0=$$(date +%s); nice $(ERRTIME) --scene $(REPORT_SCENES) --skip $(REPORT_SKIP) --scenes $(SCENES_O) \
 		--cache $(BUILD_ROOT)/errtime-cache --out $(REPORT_O) || exit $$?; \
 	echo "report: $$(( $$(date +%s) - t0 )) s on $$(nproc) cores"
@@ -458,7 +458,7 @@ DEPS_TEST_CROSS := gcc-aarch64-linux-gnu libc6-dev-arm64-cross binutils-aarch64-
 deps: ## install the Debian packages BOARD needs to build, run and test (apt-get as root; else print the line)
 	$(Q)sh tools/deps.sh $(BOARD_DEPS) $(BOARD_TEST_DEPS) \
 		$(if $(filter test,$(MAKECMDGOALS)),$(DEPS_TEST_HOST) $(DEPS_TEST_CROSS)) \
-		$(if $(filter test scenes bake test-host,$(MAKECMDGOALS)),$(DEPS_BAKE)) \
+		$(if $(filter test scenes bake test-host bench report,$(MAKECMDGOALS)),$(DEPS_BAKE)) \
 		$(if $(filter test fuzz test-host,$(MAKECMDGOALS)),$(DEPS_FUZZ)) \
 		$(if $(filter test vmtest,$(MAKECMDGOALS)),$(DEPS_VMTEST))
 
@@ -479,7 +479,7 @@ LATENCY_SIM_ARGS ?= --source sim --hz 240 --jitter-us 50 --miss-pct 1 --glitch-p
 latency-sim: $(HZRT) ## simulated 240 Hz display-locked run: miss rate, latency percentiles, histogram (build/<board>/latency-sim)
 	$(Q)$(HZRT) latency $(LATENCY_SIM_ARGS) --out $(O)/latency-sim
 
-bench: $(BENCH) ## measure (side by side, in one run) and print a table; writes $(O)/bench/*.csv
+bench: deps $(BENCH) scenes ## measure (side by side, in one run) and print a table; writes $(O)/bench/*.csv
 	$(Q)mkdir -p $(O)/bench
 	$(Q)$(BENCH) --csv $(O)/bench/bench.csv --accel-csv $(O)/bench/accel.csv --scenes $(SCENES_O) $(BENCH_ARGS)
 
@@ -503,13 +503,13 @@ tests: $(TEST_BINS) $(HZRT) ## build the test binaries of BOARD without running 
 
 # Runs this board's tests and guards; results go to $(O)/test-results/ for the summary (failures are
 # recorded there, so the run goes on to the summary line).
-test-board: tests
+test-board: tests $(if $(BOARD_TEST_LAUNCHER),,$(BENCH))
 	$(Q)rm -rf $(O)/test-results && mkdir -p $(O)/test-results
 	$(Q)sh test/run-tests.sh $(O)/test-results "$(BOARD)" "$(BOARD_TEST_LAUNCHER)" $(TEST_BINS)
 	$(Q)HZ_GUARD_LABEL=$(BOARD) sh test/guard/check-freestanding.sh --record $(O)/test-results "$(NM)" \
 		$(CHECK_OBJS) || true
 	$(Q)sh test/guard/check-integer.sh --record $(O)/test-results "$(CC)" "$(BOARD_ARCH)" $(INTEGER_SRCS) || true
-	$(Q)$(if $(BOARD_TEST_LAUNCHER),true,sh test/cli/run.sh $(O)/test-results $(HZRT))
+	$(Q)$(if $(BOARD_TEST_LAUNCHER),true,sh test/cli/run.sh $(O)/test-results $(HZRT) $(BENCH))
 
 ifeq ($(SAN),1)
 # Sanitizer objects reference the sanitizer runtime: check a plain build of the core instead.

@@ -1,9 +1,9 @@
 #!/bin/sh
 # Command-line behaviour of hzrt: help, usage errors, bad inputs (each a clear message and a distinct exit
 # status), and that a good run leaves exactly its outputs behind (no temporary files).
-#   run.sh RESULTS_DIR HZRT
+#   run.sh RESULTS_DIR HZRT [HZBENCH]
 set -u
-results=$1 hzrt=$2
+results=$1 hzrt=$2 hzbench=${3:-}
 mkdir -p "$results"
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
@@ -67,6 +67,12 @@ if command -v python3 >/dev/null 2>&1; then
 fi
 head -c 8 "$tmp/run/frames.y4m" | grep -q YUV4MPEG && pass=$((pass + 1)) ||
     { echo "  FAIL  cli render-ok: frames.y4m lacks the YUV4MPEG2 signature"; fail=$((fail + 1)); }
+
+# hzbench: a missing scene is named before anything is measured.
+if [ -n "$hzbench" ]; then
+    expect bench-missing-scene 73 "scene 'dragon' is missing: $tmp/noscenes/dragon.hzb" \
+        "$hzbench" --only accel --scenes "$tmp/noscenes" --scene dragon --rounds 1
+fi
 
 echo "  ok    cli                    $pass passed$( [ $fail -ne 0 ] && echo ", $fail failed")"
 echo "cli $pass $fail 0" >"$results/cli.res"
