@@ -32,7 +32,41 @@ typedef struct args {
     float start;
     hz_accel_backend_t backend;
     bool write_y4m, write_png, write_pfm, quiet;
+    const char *given[64]; /* the options on the command line, for the mode table below */
+    int given_n;
 } args_t;
+
+/* Options that act only in some modes. Given in another mode they would do nothing, so they are refused (and a
+ * summary never reports them). A mode-specific option joins by adding its row. */
+#define IN_MODE(m) (1u << (m))
+typedef struct mode_opt {
+    const char *name;
+    unsigned modes; /* IN_MODE(...) bits of the modes it acts in */
+    const char *what;
+} mode_opt_t;
+static const mode_opt_t mode_opts[] = {
+    { "--spp", IN_MODE(HZ_MODE_FULL), "samples per pixel of full mode (tdense traces one sample per 2x2 tile "
+                                      "per frame, taa one jittered sample per pixel)" },
+    { "--msaa4", IN_MODE(HZ_MODE_FULL), "the 4x MSAA positions of full mode" },
+    { "--ordering", IN_MODE(HZ_MODE_TDENSE), "the tile orderings of tdense mode" },
+    { "--no-reflected-mv", IN_MODE(HZ_MODE_TDENSE), "the mirrors' motion in tdense mode" },
+    { "--tdense-gamma", IN_MODE(HZ_MODE_TDENSE), "the variance box of tdense mode" },
+    { "--taa-gamma", IN_MODE(HZ_MODE_TAA), "the variance box of taa mode" },
+    { "--taa-clip", IN_MODE(HZ_MODE_TAA), "the history constraint of taa mode" },
+    { "--taa-catmull-rom", IN_MODE(HZ_MODE_TAA), "the history filter of taa mode" },
+};
+
+static bool check_mode_opts(const args_t *a)
+{
+    for (int g = 0; g < a->given_n; g++)
+        for (size_t k = 0; k < sizeof mode_opts / sizeof mode_opts[0]; k++)
+            if (!strcmp(a->given[g], mode_opts[k].name) && !(mode_opts[k].modes & IN_MODE(a->opts.mode))) {
+                hz_cli_error("render: %s does nothing in %s mode: it sets %s", mode_opts[k].name,
+                             hz_render_mode_name(a->opts.mode), mode_opts[k].what);
+                return false;
+            }
+    return true;
+}
 
 static int default_threads(void)
 {
@@ -99,6 +133,8 @@ static int parse(int argc, char **argv, args_t *a)
         const char *o = argv[i];
         const char *v = i + 1 < argc ? argv[i + 1] : NULL;
         long n;
+        if (o[0] == '-' && a->given_n < (int)(sizeof a->given / sizeof a->given[0]))
+            a->given[a->given_n++] = o;
         if (!strcmp(o, "-h") || !strcmp(o, "--help")) {
             usage(stdout);
             return -1;
@@ -218,6 +254,8 @@ static int parse(int argc, char **argv, args_t *a)
         hz_cli_error("render: which scene? (a .hzb file or `builtin`; try hzrt render --help)");
         return HZ_EXIT_USAGE;
     }
+    if (!check_mode_opts(a))
+        return HZ_EXIT_USAGE;
     hz_error_t err;
     if (hz_render_opts_check(&a->opts, &err) != HZ_OK) {
         hz_cli_error("render: %s", err.msg);
@@ -372,8 +410,9 @@ int hz_cmd_render(int argc, char **argv)
     char feats[160];
     hz_scene_features_str(scene.features, feats, sizeof feats);
     hz_summary_t sm = {
-        .scene = a.scene, .mode = hz_render_mode_name(a.opts.mode), .spp = a.opts.spp,
-        .width = a.opts.width, .height = a.opts.height, .hz = a.hz, .frames = a.frames, .threads = a.threads,
+        .scene = a.scene, .mode = hz_render_mode_name(a.opts.mode),
+        .spp = (double)total.primary_rays / ((double)a.opts.width * a.opts.height * a.frames),
+        .start = a.start, .width = a.opts.width, .height = a.opts.height, .hz = a.hz, .frames = a.frames, .threads = a.threads,
         .backend = accel->info.backend, .build_ms = build_ms, .ms_p50 = percentile(sorted_ms, n, 0.5),
         .ms_p99 = percentile(sorted_ms, n, 0.99), .ms_mean = n ? sum / n : 0, .ms_max = n ? sorted_ms[n - 1] : 0,
         .frames_timed = n, .rays = rays, .rays_per_frame = (double)rays / a.frames,

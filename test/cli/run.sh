@@ -34,13 +34,22 @@ expect info-help 0 "usage: hzrt info" "$hzrt" info --help
 expect no-command 2 "usage" "$hzrt"
 expect unknown-command 2 "unknown command 'bogus'" "$hzrt" bogus
 expect render-no-scene 2 "which scene" "$hzrt" render
-expect render-bad-spp 2 "square" "$hzrt" render builtin --spp 3
+expect render-bad-spp 2 "square" "$hzrt" render builtin --mode full --spp 3
 expect render-bad-size 2 "--size" "$hzrt" render builtin --size 0x5
 expect render-bad-frames 2 "'abc' is not an integer" "$hzrt" render builtin --frames abc
 expect render-bad-mode 2 "not tdense, full or taa" "$hzrt" render builtin --mode xyz
 expect render-bad-ordering 2 "'zigzag' is not full, dominant" "$hzrt" render builtin --ordering zigzag
 expect render-bad-tdense-gamma 2 "--tdense-gamma: '0' is not a number" "$hzrt" render builtin --tdense-gamma 0
 expect render-msaa4-needs-4spp 2 "4x MSAA positions need full mode with 4 spp" "$hzrt" render builtin --mode full --msaa4
+# Options of one mode are refused in the others (they would do nothing there).
+expect render-spp-in-tdense 2 "\-\-spp does nothing in tdense mode" "$hzrt" render builtin --mode tdense --spp 16
+expect render-spp-in-taa 2 "\-\-spp does nothing in taa mode" "$hzrt" render builtin --mode taa --spp 4
+expect render-spp-default-mode 2 "\-\-spp does nothing in tdense mode" "$hzrt" render builtin --spp 4
+expect render-ordering-in-full 2 "\-\-ordering does nothing in full mode" "$hzrt" render builtin --mode full --ordering bowtie
+expect render-taa-clip-in-full 2 "\-\-taa-clip does nothing in full mode" "$hzrt" render builtin --mode full --taa-clip
+expect render-taa-cr-in-tdense 2 "\-\-taa-catmull-rom does nothing in tdense" "$hzrt" render builtin --taa-catmull-rom
+expect render-msaa4-in-taa 2 "\-\-msaa4 does nothing in taa mode" "$hzrt" render builtin --mode taa --msaa4
+expect render-reflected-in-taa 2 "\-\-no-reflected-mv does nothing in taa" "$hzrt" render builtin --mode taa --no-reflected-mv
 expect render-help-tdense 0 "--no-reflected-mv" "$hzrt" render --help
 expect render-unknown-option 2 "unknown option '--fast'" "$hzrt" render builtin --fast
 expect render-missing-file 73 "$tmp/nope.hzb: No such file" "$hzrt" render "$tmp/nope.hzb" --out "$tmp/o1"
@@ -64,6 +73,15 @@ if command -v python3 >/dev/null 2>&1; then
     python3 -c "import json,sys; d=json.load(open(sys.argv[1])); assert d['frames']==3 and d['rays']['total']>0" \
         "$tmp/run/summary.json" && pass=$((pass + 1)) ||
         { echo "  FAIL  cli render-ok: summary.json is not the expected JSON"; fail=$((fail + 1)); }
+fi
+# The summary reports what was done: samples per pixel actually traced, the start time.
+expect render-tdense-spp 0 "mode tdense, 0.25 spp per frame" "$hzrt" render builtin --size 64x36 --frames 2 --start 0.5 --out "$tmp/td"
+expect render-full-spp 0 "mode full, 4 spp per frame" "$hzrt" render builtin --mode full --spp 4 --size 32x16 --out "$tmp/f4"
+expect render-start-line 0 "scene time 0.5 to 0.5042 s" "$hzrt" render builtin --size 32x16 --frames 2 --start 0.5 --out "$tmp/td"
+if command -v python3 >/dev/null 2>&1; then
+    python3 -c "import json,sys; d=json.load(open(sys.argv[1])); assert d['spp']==0.25 and d['start']==0.5, d" \
+        "$tmp/td/summary.json" && pass=$((pass + 1)) ||
+        { echo "  FAIL  cli render-summary-json: spp or start wrong in summary.json"; fail=$((fail + 1)); }
 fi
 head -c 8 "$tmp/run/frames.y4m" | grep -q YUV4MPEG && pass=$((pass + 1)) ||
     { echo "  FAIL  cli render-ok: frames.y4m lacks the YUV4MPEG2 signature"; fail=$((fail + 1)); }
