@@ -4,6 +4,7 @@
 
 #include "accel_cmd.h"
 #include "cli.h"
+#include "fileio.h"
 #include "hz/hz.h"
 #include "latency.h"
 #include "hz/render.h"
@@ -174,6 +175,7 @@ int main(int argc, char **argv)
         return HZ_EXIT_USAGE;
     }
     const char *cmd = argv[1];
+    hz_out_remove_on_signals(); /* an interrupted run leaves no temporary files */
     if (!strcmp(cmd, "-h") || !strcmp(cmd, "--help") || !strcmp(cmd, "help")) {
         usage(stdout);
         return 0;

@@ -306,8 +306,11 @@ int hz_cmd_render(int argc, char **argv)
         hz_cli_error("render: could not set up the static arenas");
         return hz_status_exit_code(HZ_E_INTERNAL);
     }
-    if (hz_mkdirs(a.out_dir, &err) != HZ_OK)
+    char created[1024];
+    if (hz_out_dir_prepare(a.out_dir, created, sizeof created, &err) != HZ_OK)
         return hz_cli_report(&err);
+    if (created[0] && !a.quiet)
+        fprintf(stderr, "%s: render: --out: created %s\n", hz_cli_prog, created);
 
     hz_scene_t scene;
     if (hz_scenefile_open(a.scene, pools, &scene, &err) != HZ_OK)

@@ -86,6 +86,46 @@ fi
 head -c 8 "$tmp/run/frames.y4m" | grep -q YUV4MPEG && pass=$((pass + 1)) ||
     { echo "  FAIL  cli render-ok: frames.y4m lacks the YUV4MPEG2 signature"; fail=$((fail + 1)); }
 
+# Output folders: an unwritable --out is refused before the work (single frame and latency alike), and the
+# folders --out creates are named.
+mkdir -p "$tmp/ro" && chmod 555 "$tmp/ro"
+ro=$tmp/ro
+[ -w "$ro" ] && ro=/proc/self  # root writes anywhere but in /proc
+expect render-out-readonly 73 "$ro: the output folder is not writable" "$hzrt" render builtin --size 32x16 --out "$ro"
+if "$hzrt" render builtin --size 32x16 --out "$ro" 2>&1 | grep -q "frame time"; then
+    echo "  FAIL  cli render-out-readonly-early: the render ran before the folder was refused"; fail=$((fail + 1))
+else
+    pass=$((pass + 1))
+fi
+expect latency-out-readonly 73 "$ro: the output folder is not writable" "$hzrt" latency --virtual --source sim \
+    --hz 240 --render-model uniform:0.2P:0.8P --frames 50 --out "$ro"
+expect render-out-created 0 "created $tmp/new, $tmp/new/a, $tmp/new/a/b" "$hzrt" render builtin --size 32x16 \
+    --out "$tmp/new/a/b"
+# An interrupted render (SIGINT, SIGTERM) leaves no temporary file behind and ends as the signal does.
+if command -v python3 >/dev/null 2>&1; then
+    for sig in INT TERM; do
+        if python3 - "$hzrt" "$tmp/sig-$sig" "$sig" <<'PYEOF'
+import glob, os, signal, subprocess, sys, time
+hzrt, out, sig = sys.argv[1], sys.argv[2], getattr(signal, "SIG" + sys.argv[3])
+p = subprocess.Popen([hzrt, "render", "builtin", "--size", "320x180", "--frames", "100000", "--threads", "1",
+                      "--quiet", "--out", out], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+deadline = time.time() + 60
+while time.time() < deadline and not glob.glob(out + "/*.tmp.*"):
+    time.sleep(0.05)
+seen = glob.glob(out + "/*.tmp.*")
+time.sleep(0.3)
+p.send_signal(sig)
+rc = p.wait(timeout=60)
+left = glob.glob(out + "/*.tmp.*") + glob.glob(out + "/.hz-probe.*")
+ok = bool(seen) and not left and rc == -sig
+if not ok:
+    print("temporaries seen %s, left %s, status %s" % (seen, left, rc))
+sys.exit(0 if ok else 1)
+PYEOF
+        then pass=$((pass + 1)); else echo "  FAIL  cli render-sig$sig-leftovers"; fail=$((fail + 1)); fi
+    done
+fi
+
 # hzbench: a missing scene is named before anything is measured.
 if [ -n "$hzbench" ]; then
     expect bench-missing-scene 73 "scene 'dragon' is missing: $tmp/noscenes/dragon.hzb" \

@@ -371,6 +371,7 @@ static char *default_sidecar(const char *model)
 int main(int argc, char **argv)
 {
     hz_cli_prog = "hzbake";
+    hz_out_remove_on_signals(); /* an interrupted bake leaves no temporary file */
     job_t job;
     memset(&job, 0, sizeof job);
     job.timeout_s = 600;
