@@ -111,7 +111,15 @@ static void usage(FILE *f)
             "  --no-y4m          do not write the video\n"
             "  --pfm             also write last.pfm\n"
             "  --quiet           no progress bar and no printed summary (the JSON is still written)\n"
-            "  -h, --help        this text\n",
+            "  -h, --help        this text\n"
+            "\n"
+            "Options of one mode (--spp, --msaa4: full; --ordering, --no-reflected-mv, --tdense-gamma: tdense;\n"
+            "--taa-*: taa) are refused in the others, where they would do nothing. A scene without lights gets a\n"
+            "default light (the summary says so).\n"
+            "\n"
+            "exit status: 0 ok, 2 bad command line, 64+N failure with hz status N (66: the scene or the frame\n"
+            "does not fit the board's arenas, 68/70: malformed or corrupt scene, 73: a file that cannot be read or\n"
+            "written, e.g. an --out that is not writable; killed by a signal, it removes its temporary files)\n",
             HZ_DISPLAY_WIDTH, HZ_DISPLAY_HEIGHT, HZ_DISPLAY_HZ, HZ_MAX_THREADS);
 }
 

@@ -31,6 +31,18 @@ expect() {
 expect help 0 "usage: hzrt" "$hzrt" --help
 expect render-help 0 "samples per pixel" "$hzrt" render --help
 expect info-help 0 "usage: hzrt info" "$hzrt" info --help
+for c in render info accel board latency; do
+    expect "$c-help-exit-status" 0 "exit status: 0 ok, 2 bad command line" "$hzrt" $c --help
+done
+expect latency-fbdev-absent-source 72 "^hzrt: --source fbdev: this build has no fbdev port" "$hzrt" latency --source fbdev --frames 3
+expect accel-native-plan 0 "native build needs at most" "$hzrt" accel builtin
+if "$hzrt" accel builtin --embree >"$tmp/embree.txt" 2>&1; then
+    if grep -q "native build needs" "$tmp/embree.txt" || ! grep -q "Embree allocates its own memory" "$tmp/embree.txt"; then
+        echo "  FAIL  cli accel-embree-plan: --embree prints the native memory plan"; fail=$((fail + 1))
+    else
+        pass=$((pass + 1))
+    fi
+fi
 expect no-command 2 "usage" "$hzrt"
 expect unknown-command 2 "unknown command 'bogus'" "$hzrt" bogus
 expect render-no-scene 2 "which scene" "$hzrt" render

@@ -52,7 +52,8 @@ static void usage(FILE *f)
             "its colour).\n"
             "\n"
             "exit status: 0 ok (warnings may have been printed), 2 bad command line, and 64 + hz status code:\n"
-            "  66 out of memory, 67 too large, 68 malformed model, sidecar or scene, 71 value out of range\n"
+            "  66 out of memory, 67 too large, 68 malformed model, sidecar or scene, 70 corrupt .hzb (a\n"
+            "  checksum fails: --info, or the baked image's own check), 71 value out of range\n"
             "  (e.g. NaN vertex), 72 unsupported format, 73 file missing or unreadable, 75 import timed out,\n"
             "  76 the importer crashed (or another internal failure)\n");
 }
