@@ -122,6 +122,7 @@ ACCEL_PORT_TESTS_embree := accel_embree
 
 # render (src/render, src/recon): camera, shading, G-buffer, reconstruction
 RENDER_SRCS := src/render/camera.c src/render/texture.c src/render/trace.c src/render/render.c src/recon/taa.c \
+               src/render/deflight.c \
                src/recon/tdense.c
 RENDER_TESTS := tdense
 RENDER_PORT_TESTS := render render_tdense

@@ -137,6 +137,9 @@ void hz_render_frame_stats(const hz_renderer_t *r, hz_render_stats_t *last, hz_r
 /* tdense mode: the compositor's state (tile orderings, per-pixel flags: hz/tdense.h), for tests and tools that
  * show it; NULL in the other modes. */
 const struct hz_tdense *hz_render_tdense(const hz_renderer_t *r);
+/* The key light the renderer added because the scene has none (hz/deflight.h), or NULL when the scene brings
+ * its own lights. */
+const hz_light_t *hz_render_default_light(const hz_renderer_t *r);
 /* Forget history (TAA) and previous-frame state, e.g. after a cut. */
 void hz_render_reset_history(hz_renderer_t *r);
 

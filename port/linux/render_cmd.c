@@ -420,7 +420,14 @@ int hz_cmd_render(int argc, char **argv)
         render_s += frame_ms[i] * 1e-3;
     char feats[160];
     hz_scene_features_str(scene.features, feats, sizeof feats);
+    char note[256];
+    const hz_light_t *dl = hz_render_default_light(r);
+    if (dl)
+        snprintf(note, sizeof note, "the scene has no lights: lit by a default key light at (%.4g %.4g %.4g) "
+                 "(a sidecar 'light = ...' line replaces it)", (double)dl->position[0], (double)dl->position[1],
+                 (double)dl->position[2]);
     hz_summary_t sm = {
+        .note = dl ? note : NULL,
         .scene = a.scene, .mode = hz_render_mode_name(a.opts.mode),
         .spp = (double)total.primary_rays / ((double)a.opts.width * a.opts.height * a.frames),
         .start = a.start, .width = a.opts.width, .height = a.opts.height, .hz = a.hz, .frames = a.frames, .threads = a.threads,
