@@ -43,6 +43,12 @@ if "$hzrt" accel builtin --embree >"$tmp/embree.txt" 2>&1; then
         pass=$((pass + 1))
     fi
 fi
+# Long phases are named as they run (HZ_PROGRESS=all shows every phase, however short, on a non-terminal).
+expect progress-native-build 0 "hzrt: native build of builtin (3016 triangles): done in" env HZ_PROGRESS=all \
+    "$hzrt" accel builtin
+expect progress-single-frame 0 "hzrt: rendering builtin (32x16, mode full): done in" env HZ_PROGRESS=all \
+    "$hzrt" render builtin --mode full --size 32x16 --out "$tmp/prog"
+expect progress-quiet 0 "" sh -c "! HZ_PROGRESS=all \"$hzrt\" render builtin --size 32x16 --quiet --out \"$tmp/prog\" 2>&1 | grep -q 'done in'"
 expect no-command 2 "usage" "$hzrt"
 expect unknown-command 2 "unknown command 'bogus'" "$hzrt" bogus
 expect render-no-scene 2 "which scene" "$hzrt" render

@@ -1188,6 +1188,18 @@ static void test_obj_glass_and_bump_maps(void **state)
     assert_int_equal(r.status, 0);
     assert_int_equal(count_of(r.out, "bump map"), 0);
     assert_int_equal(count_of(r.out, "is glass"), 2);
+    /* Phases are named while the import child works: the skinning bake is not "importing". */
+    char cm[4096], cms[4096];
+    source_path(cm, sizeof cm, "HZ_SCENES_SRC", "gltf/CesiumMan/glTF/CesiumMan.gltf");
+    snprintf(cms, sizeof cms, "tools/bake/scenes/CesiumMan-small.hzs"); /* tests run from the repository root */
+    const char *skin[] = { "-s", cms, cm, out, NULL };
+    setenv("HZ_PROGRESS", "all", 1);
+    bake(&r, NULL, skin);
+    unsetenv("HZ_PROGRESS");
+    print_message("%s", r.out);
+    assert_int_equal(r.status, 0);
+    assert_non_null(strstr(r.out, "CesiumMan.gltf: baking skinning of mesh 'Cesium_Man' (3273 vertices, 19 bones"));
+    assert_non_null(strstr(r.out, "CesiumMan.gltf: importing (assimp)"));
     /* The help text names every exit status the baker uses. */
     const char *help[] = { "--help", NULL };
     bake(&r, NULL, help);

@@ -492,6 +492,8 @@ static hz_status_t skinned_mesh(ctx_t *c, const struct aiNode *node, const struc
     }
     float *pos = hz_bake_xmalloc((size_t)nv * 16), *nrm = hz_bake_xmalloc((size_t)nv * 16);
     hz_status_t st = HZ_OK;
+    hz_bake_phase("baking skinning of mesh '%s' (%u vertices, %u bones, %u frames)", mesh->mName.data, nv,
+                  mesh->mNumBones, frames);
     for (uint32_t f = 0; f < frames && st == HZ_OK; f++) {
         double ticks = (double)f / c->sc->skin_rate * c->tps;
         skin_pose(c, node, mesh, bones, inf_first, inf, ticks, pos, nrm);
@@ -663,6 +665,7 @@ hz_status_t hz_bake_import_assimp(hz_bake_scene_t *s, const char *path, const hz
     aiSetImportPropertyFloat(props, AI_CONFIG_PP_GSN_MAX_SMOOTHING_ANGLE, sc->smooth_angle_deg);
     double t0 = hz_bake_now();
     hz_bake_progress("importing %s", path);
+    hz_bake_phase("importing (assimp)");
     const struct aiScene *ai;
     if (gz) {
         uint8_t *data;
@@ -694,6 +697,7 @@ hz_status_t hz_bake_import_assimp(hz_bake_scene_t *s, const char *path, const hz
     }
     hz_bake_progress("imported in %.2f s: %u meshes, %u materials, %u animations", hz_bake_now() - t0, ai->mNumMeshes,
                      ai->mNumMaterials, ai->mNumAnimations);
+    hz_bake_phase("converting %u meshes and %u materials", ai->mNumMeshes, ai->mNumMaterials);
     c.ai = ai;
     hz_status_t st = HZ_OK;
     if ((ai->mFlags & AI_SCENE_FLAGS_INCOMPLETE) || !ai->mRootNode)
