@@ -102,8 +102,8 @@ INTEGER_FLAGS := -mgeneral-regs-only
 CORE_SRCS := src/core/arena.c src/core/status.c src/core/fmt.c src/core/fixed.c src/core/hash.c src/core/vmath.c \
              src/core/crc32.c src/core/image.c src/core/srgb_tables.c
 CORE_INTEGER_SRCS := src/core/fixed.c src/core/hash.c src/core/crc32.c
-CORE_TESTS := arena status fmt fixed hash vmath config crc32 image
-CORE_PORT_TESTS := zero_alloc imageio
+CORE_TESTS := arena status fmt fixed hash vmath crc32 image
+CORE_PORT_TESTS := zero_alloc imageio config
 
 # scene (src/scene): baked format, validating loader, built-in scene
 SCENE_SRCS := src/scene/hzb.c src/scene/write.c src/scene/load.c src/scene/animate.c src/scene/builtin.c
@@ -122,6 +122,7 @@ ACCEL_PORT_TESTS_embree := accel_embree
 
 # render (src/render, src/recon): camera, shading, G-buffer, reconstruction
 RENDER_SRCS := src/render/camera.c src/render/texture.c src/render/trace.c src/render/render.c src/recon/taa.c \
+               src/render/deflight.c \
                src/recon/tdense.c src/recon/adaptive.c
 RENDER_TESTS := tdense
 RENDER_PORT_TESTS := render render_tdense render_adaptive
@@ -192,6 +193,7 @@ KNOWN_PORTS := linux timing fbdev v4l2 gpio drm
 PORT_SRCS_linux := port/linux/pools.c port/linux/cli.c port/linux/clock.c port/linux/fileio.c port/linux/scenefile.c \
                    port/linux/threads.c port/linux/render_cmd.c port/linux/summary.c port/linux/accel_backend.c \
                    port/linux/render_run.c port/linux/adaptive_cli.c
+PORT_SRCS_linux += port/linux/progress.c
 $(foreach p,$(BOARD_PORTS),$(if $(filter $(p),$(KNOWN_PORTS)),,$(error $(BOARD_DIR)/board.mk: unknown port '$(p)' (known: $(KNOWN_PORTS)))))
 # Image files (port/linux/imageio.c): PNG needs libpng for the target. It is on when the target's compiler links
 # -lpng (host builds: libpng-dev is in host-sim's BOARD_DEPS); elsewhere the PNG calls report "not built in".
@@ -321,7 +323,7 @@ tests: $(ERRTIME)
 REPORT_O := $(BUILD_ROOT)/report
 REPORT_SCENES := CornellBox-Mirror,sponza,lost-empire,builtin,builtin@240,sponza@240,conference@240
 REPORT_SKIP := taa-clip,taa-catmull-rom,taa-clip-cr
-report: $(ERRTIME) scenes ## error against run time of every method on the standard scenes: build/report/ (CSV, MD, SVG)
+report: deps $(ERRTIME) scenes ## error against run time of every method on the standard scenes: build/report/ (CSV, MD, SVG)
 	$(Q)t0=$$(date +%s); nice $(ERRTIME) --scene $(REPORT_SCENES) --skip $(REPORT_SKIP) --scenes $(SCENES_O) \
 		--cache $(BUILD_ROOT)/errtime-cache --out $(REPORT_O) || exit $$?; \
 	echo "report: $$(( $$(date +%s) - t0 )) s on $$(nproc) cores"
@@ -521,7 +523,7 @@ DEPS_TEST_CROSS := gcc-aarch64-linux-gnu libc6-dev-arm64-cross binutils-aarch64-
 deps: ## install the Debian packages BOARD needs to build, run and test (apt-get as root; else print the line)
 	$(Q)sh tools/deps.sh $(BOARD_DEPS) $(BOARD_TEST_DEPS) \
 		$(if $(filter test stability,$(MAKECMDGOALS)),$(DEPS_TEST_HOST) $(DEPS_TEST_CROSS)) \
-		$(if $(filter test scenes bake test-host,$(MAKECMDGOALS)),$(DEPS_BAKE)) \
+		$(if $(filter test scenes bake test-host bench report,$(MAKECMDGOALS)),$(DEPS_BAKE)) \
 		$(if $(filter test fuzz test-host,$(MAKECMDGOALS)),$(DEPS_FUZZ)) \
 		$(if $(filter test vmtest,$(MAKECMDGOALS)),$(DEPS_VMTEST))
 
@@ -542,7 +544,7 @@ LATENCY_SIM_ARGS ?= --source sim --hz 240 --jitter-us 50 --miss-pct 1 --glitch-p
 latency-sim: $(HZRT) ## simulated 240 Hz display-locked run: miss rate, latency percentiles, histogram (build/<board>/latency-sim)
 	$(Q)$(HZRT) latency $(LATENCY_SIM_ARGS) --out $(O)/latency-sim
 
-bench: $(BENCH) ## measure (side by side, in one run) and print a table; writes $(O)/bench/*.csv
+bench: deps $(BENCH) scenes ## measure (side by side, in one run) and print a table; writes $(O)/bench/*.csv
 	$(Q)mkdir -p $(O)/bench
 	$(Q)$(BENCH) --csv $(O)/bench/bench.csv --accel-csv $(O)/bench/accel.csv --scenes $(SCENES_O) $(BENCH_ARGS)
 
@@ -566,13 +568,13 @@ tests: $(TEST_BINS) $(HZRT) ## build the test binaries of BOARD without running 
 
 # Runs this board's tests and guards; results go to $(O)/test-results/ for the summary (failures are
 # recorded there, so the run goes on to the summary line).
-test-board: tests
+test-board: tests $(if $(BOARD_TEST_LAUNCHER),,$(BENCH))
 	$(Q)rm -rf $(O)/test-results && mkdir -p $(O)/test-results
 	$(Q)sh test/run-tests.sh $(O)/test-results "$(BOARD)" "$(BOARD_TEST_LAUNCHER)" $(TEST_BINS)
 	$(Q)HZ_GUARD_LABEL=$(BOARD) sh test/guard/check-freestanding.sh --record $(O)/test-results "$(NM)" \
 		$(CHECK_OBJS) || true
 	$(Q)sh test/guard/check-integer.sh --record $(O)/test-results "$(CC)" "$(BOARD_ARCH)" $(INTEGER_SRCS) || true
-	$(Q)$(if $(BOARD_TEST_LAUNCHER),true,sh test/cli/run.sh $(O)/test-results $(HZRT))
+	$(Q)$(if $(BOARD_TEST_LAUNCHER),true,sh test/cli/run.sh $(O)/test-results $(HZRT) $(BENCH))
 	$(Q)$(MAKE) --no-print-directory test-gpiod2
 
 ifeq ($(SAN),1)

@@ -4,22 +4,30 @@
 # Each binary's output goes to RESULTS_DIR/<bin>.log; RESULTS_DIR/<bin>.res gets "label/bin passed failed skipped".
 # A binary that exits non-zero without reporting a failed test (a crash, a sanitizer abort, a missing library)
 # counts as one failure; one that exits 0 without running a test also fails, so nothing passes by silence.
+# Each binary runs under a time limit (HZ_TEST_TIMEOUT seconds, default 900: generous, the slowest binary takes
+# a few minutes under qemu on 2 cores): a hung test is killed and counts as a failure that names it, instead of
+# stalling the suite.
 set -u
 results=$1 label=$2 launcher=$3
 shift 3
 [ -d "$results" ] || mkdir -p "$results"
 export CMOCKA_MESSAGE_OUTPUT=stdout
 status=0
+limit=${HZ_TEST_TIMEOUT:-900}
 for bin in "$@"; do
     name=$(basename "$bin")
     log=$results/$name.log
     # shellcheck disable=SC2086 # the launcher is a command line on purpose
-    $launcher "$bin" >"$log" 2>&1
+    timeout -k 10 "$limit" $launcher "$bin" >"$log" 2>&1
     rc=$?
     passed=$(sed -n 's/^\[  PASSED  \] \([0-9][0-9]*\) test.*/\1/p' "$log" | awk '{s+=$1} END {print s+0}')
     failed=$(sed -n 's/^\[  FAILED  \] \([0-9][0-9]*\) test.*/\1/p' "$log" | awk '{s+=$1} END {print s+0}')
     skipped=$(sed -n 's/^\[  SKIPPED \] \([0-9][0-9]*\) test.*/\1/p' "$log" | awk '{s+=$1} END {print s+0}')
-    if [ $rc -ne 0 ] && [ "$failed" -eq 0 ]; then
+    if [ $rc -eq 124 ] || [ $rc -eq 137 ]; then
+        failed=$((failed + 1))
+        echo "  $label: $name timed out after $limit s (HZ_TEST_TIMEOUT) and was stopped; see $log"
+        echo "[  FAILED  ] $name: timed out after $limit s" >>"$log"
+    elif [ $rc -ne 0 ] && [ "$failed" -eq 0 ]; then
         failed=1
         echo "  $label: $name exited with status $rc without a test report (crash?); see $log"
     fi

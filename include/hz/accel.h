@@ -213,6 +213,10 @@ typedef struct hz_accel_config {
     /* Embree */
     bool robust;           /* RTC_SCENE_FLAG_ROBUST (watertight, slower) */
     int quality;           /* 0 low, 1 medium (default), 2 high (Embree's own spatial splits) */
+    /* Progress of a native build, for the port to show (the core has no I/O); NULL (default) for none. Called
+     * on the building thread with the fraction done in [0, 1], at most about 300 times, the last time with 1. */
+    void (*progress)(void *user, float done);
+    void *progress_user;
 } hz_accel_config_t;
 
 void hz_accel_config_default(hz_accel_config_t *cfg);

@@ -147,6 +147,9 @@ const struct hz_tdense *hz_render_tdense(const hz_renderer_t *r);
 /* adaptive mode: the last frame's activity mask (width * height bytes, bit q = subpixel q: 0 top-left, 1
  * top-right, 2 bottom-left, 3 bottom-right); NULL in the other modes. */
 const uint8_t *hz_render_adaptive_mask(const hz_renderer_t *r);
+/* The key light the renderer added because the scene has none (hz/deflight.h), or NULL when the scene brings
+ * its own lights. */
+const hz_light_t *hz_render_default_light(const hz_renderer_t *r);
 /* Forget history (TAA) and previous-frame state, e.g. after a cut. */
 void hz_render_reset_history(hz_renderer_t *r);
 

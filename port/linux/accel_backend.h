@@ -12,6 +12,9 @@
 
 hz_status_t hz_accel_backend_build(hz_accel_backend_t backend, hz_accel_t **out, const hz_accel_geom_t *geom,
                                    hz_arena_t *arena, hz_error_t *err);
+/* The same with a configuration for the native build (NULL: defaults; its progress callback is used). */
+hz_status_t hz_accel_backend_build_cfg(hz_accel_backend_t backend, hz_accel_t **out, const hz_accel_geom_t *geom,
+                                       const hz_accel_config_t *cfg, hz_arena_t *arena, hz_error_t *err);
 const char *hz_accel_backend_name(hz_accel_backend_t backend);
 
 #endif

@@ -10,6 +10,7 @@
 #include "hz/accel.h"
 #include "hz/scene.h"
 #include "pools.h"
+#include "progress.h"
 #include "scenefile.h"
 #if defined(HZ_HAVE_EMBREE)
 #include "embree_accel.h"
@@ -25,7 +26,10 @@ static void usage(FILE *f)
                "  --embree           Embree instead of the native BVH (host boards built with Embree)\n"
                "  --no-spatial       binned SAH only, no spatial splits\n"
                "  --leaf N           triangles per leaf, 1..%d (default %d)\n"
-               "  --budget F         spatial-split replication budget, fraction of the triangles (default 0.25)\n",
+               "  --budget F         spatial-split replication budget, fraction of the triangles (default 0.25)\n"
+               "\n"
+               "exit status: 0 ok, 2 bad command line, 64+N failure with hz status N (66: the build does not fit\n"
+               "the accel arena, 68/70: malformed or corrupt scene, 72: no Embree in this build, 73: unreadable file)\n",
             HZ_BVH_WIDTH, HZ_BVH_WIDTH);
 }
 
@@ -93,11 +97,19 @@ int hz_cmd_accel(int argc, char **argv)
     hz_accel_bytes_t bound = hz_accel_bytes_bound(g.tri_count, &cfg);
     printf("scene      %s: %u triangles, %u vertices%s\n", scene_name, g.tri_count, g.vertex_count,
            g.tri_flags ? ", any-hit triangles (alpha)" : "");
-    printf("plan       native build needs at most %zu bytes (%zu kept) of arena '%s' (%zu free)\n", bound.peak,
-           bound.kept, p->accel.name, hz_arena_available(&p->accel, 64));
+    if (embree)
+        printf("plan       Embree allocates its own memory (the native plan, %zu bytes at most, does not apply)\n",
+               bound.peak);
+    else
+        printf("plan       native build needs at most %zu bytes (%zu kept) of arena '%s' (%zu free)\n", bound.peak,
+               bound.kept, p->accel.name, hz_arena_available(&p->accel, 64));
     if (!embree && hz_accel_plan_check(g.tri_count, &cfg, &p->accel, &err) != HZ_OK)
         return hz_cli_report(&err);
     hz_accel_t *a = NULL;
+    hz_progress_t prog;
+    cfg.progress = hz_progress_accel, cfg.progress_user = &prog;
+    hz_progress_begin(&prog, false, "%s build of %s (%u triangles)", embree ? "Embree" : "native", scene_name,
+                      g.tri_count);
     int64_t t0 = hz_clock_ns();
     hz_status_t s;
 #if defined(HZ_HAVE_EMBREE)
@@ -107,6 +119,7 @@ int hz_cmd_accel(int argc, char **argv)
 #endif
         s = hz_accel_build_native(&a, &g, &cfg, &p->accel, &err);
     double secs = (double)(hz_clock_ns() - t0) * 1e-9;
+    hz_progress_end(&prog);
     (void)embree_config;
     if (s != HZ_OK)
         return hz_cli_report(&err);

@@ -42,18 +42,27 @@ const char *hz_devices_missing(const char *kind)
 }
 
 #if !defined(HZ_PORT_FBDEV)
+/* Names the option the user gave; the device only when it was given (the board's default device may be a
+ * placeholder such as host-sim's "file"). */
+static hz_status_t absent_fbdev(const char *opt, const char *path, hz_error_t *err)
+{
+    if (!strcmp(path, HZ_DISPLAY_DEVICE))
+        return hz_error_set(err, HZ_E_UNSUPPORTED, "%s fbdev: %s", opt, NO_FBDEV);
+    return hz_error_set(err, HZ_E_UNSUPPORTED, "%s fbdev:%s: %s", opt, path, NO_FBDEV);
+}
+
 hz_status_t hz_fbdev_sink_open(hz_sink_t *s, const char *path, const hz_sysio_t *io, hz_error_t *err)
 {
     (void)io;
     memset(s, 0, sizeof *s);
-    return hz_error_set(err, HZ_E_UNSUPPORTED, "%s: %s", path, NO_FBDEV);
+    return absent_fbdev("--sink", path, err);
 }
 
 hz_status_t hz_fbdev_vsource_open(hz_vsource_t *s, const char *path, const hz_sysio_t *io, hz_error_t *err)
 {
     (void)io;
     memset(s, 0, sizeof *s);
-    return hz_error_set(err, HZ_E_UNSUPPORTED, "%s: %s", path, NO_FBDEV);
+    return absent_fbdev("--source", path, err);
 }
 #endif
 

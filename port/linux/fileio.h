@@ -7,6 +7,10 @@
  * flushes, checks every write succeeded, closes and renames; hz_out_abort() closes and removes the temporary.
  * Errors name the path and the reason (strerror) in err. Exactly one of commit/abort must follow a
  * successful open.
+ *
+ * Signals: after hz_out_remove_on_signals(), SIGINT, SIGTERM, SIGHUP and SIGQUIT remove every temporary file
+ * that is still open (at most HZ_OUT_TRACKED at a time are tracked) and then end the process as the signal
+ * would have: an interrupted run leaves nothing behind.
  */
 #ifndef HZ_PORT_FILEIO_H
 #define HZ_PORT_FILEIO_H
@@ -16,8 +20,11 @@
 
 #include "hz/status.h"
 
+#define HZ_OUT_TRACKED 16
+
 typedef struct hz_out {
     FILE *f;
+    int slot; /* this temporary's entry in the signal clean-up table, -1 when untracked */
     char path[4096];
     char tmp[4096 + 16];
 } hz_out_t;
@@ -35,5 +42,13 @@ hz_status_t hz_file_read(const char *path, void *buf, size_t cap, size_t *size, 
 
 /* mkdir -p; existing directories are fine. */
 hz_status_t hz_mkdirs(const char *path, hz_error_t *err);
+
+/* An output folder made ready before any work: mkdir -p, then proof that a file can be created in it (a
+ * read-only folder or file system is refused now, not after the run). `created` (may be NULL) gets the folders
+ * this call made, outermost first, separated by ", " ("" when all existed). */
+hz_status_t hz_out_dir_prepare(const char *path, char *created, size_t cap, hz_error_t *err);
+
+/* Installs the clean-up of open temporaries on SIGINT, SIGTERM, SIGHUP and SIGQUIT (see above). */
+void hz_out_remove_on_signals(void);
 
 #endif

@@ -9,6 +9,7 @@
 #include <string.h>
 
 #include "cli.h"
+#include "fileio.h"
 #include "devices.h"
 #include "drm_port.h"
 #include "frameloop.h"
@@ -458,6 +459,13 @@ int hz_cmd_latency(int argc, char **argv)
     cfg.edge_timeout_ns = o.timeout_ms * 1000000LL;
     cfg.rtm = o.model ? &model : NULL;
     cfg.lock = o.lock;
+
+    /* The report folder before the run: a folder that cannot be written is refused now, not after it. */
+    char created[1024];
+    if (hz_out_dir_prepare(o.out, created, sizeof created, &err) != HZ_OK)
+        return hz_cli_report(&err);
+    if (created[0] && !o.quiet)
+        fprintf(stderr, "%s: latency: --out: created %s\n", hz_cli_prog, created);
 
     /* Real-time scheduling first: threads started later (the renderer's workers) inherit it. */
     char sched[128] = "";

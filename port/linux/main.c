@@ -4,6 +4,7 @@
 
 #include "accel_cmd.h"
 #include "cli.h"
+#include "fileio.h"
 #include "hz/hz.h"
 #include "latency.h"
 #include "hz/render.h"
@@ -45,7 +46,8 @@ static int cmd_board(int argc, char **argv)
 {
     for (int i = 1; i < argc; i++) {
         if (!strcmp(argv[i], "-h") || !strcmp(argv[i], "--help")) {
-            printf("usage: hzrt board\n\nPrints the board this binary was built for and its static memory.\n");
+            printf("usage: hzrt board\n\nPrints the board this binary was built for and its static memory.\n\n"
+                   "exit status: 0 ok, 2 bad command line, 76 the static arenas could not be set up\n");
             return 0;
         }
         hz_cli_error("board: unknown option '%s' (try hzrt board --help)", argv[i]);
@@ -93,7 +95,10 @@ static int cmd_info(int argc, char **argv)
         if (!strcmp(argv[i], "-h") || !strcmp(argv[i], "--help")) {
             printf("usage: hzrt info SCENE\n\n"
                    "Validates SCENE (a .hzb file from tools/bake, or `builtin`) exactly as a render would load it,\n"
-                   "then prints its header, counts, feature mask and memory plan against this board's arenas.\n");
+                   "then prints its header, counts, feature mask and memory plan against this board's arenas.\n\n"
+                   "exit status: 0 ok, 2 bad command line, 64+N failure with hz status N: 66 does not load into the\n"
+                   "scene arena, 68 malformed, 69 unsupported version, 70 corrupt (a checksum fails), 73 missing or\n"
+                   "unreadable file (a scene that loads but whose render would not fit exits 0: see the verdict)\n");
             return 0;
         }
         if (argv[i][0] == '-' || name) {
@@ -174,6 +179,7 @@ int main(int argc, char **argv)
         return HZ_EXIT_USAGE;
     }
     const char *cmd = argv[1];
+    hz_out_remove_on_signals(); /* an interrupted run leaves no temporary files */
     if (!strcmp(cmd, "-h") || !strcmp(cmd, "--help") || !strcmp(cmd, "help")) {
         usage(stdout);
         return 0;

@@ -16,6 +16,7 @@
 #include "hz/render.h"
 #include "imageio.h"
 #include "pools.h"
+#include "progress.h"
 #include "render_run.h"
 #include "scenefile.h"
 #include "summary.h"
@@ -34,7 +35,41 @@ typedef struct args {
     hz_accel_backend_t backend;
     bool write_y4m, write_png, write_pfm, quiet;
     hz_adaptive_cli_t adaptive;
+    const char *given[64]; /* the options on the command line, for the mode table below */
+    int given_n;
 } args_t;
+
+/* Options that act only in some modes. Given in another mode they would do nothing, so they are refused (and a
+ * summary never reports them). A mode-specific option joins by adding its row. */
+#define IN_MODE(m) (1u << (m))
+typedef struct mode_opt {
+    const char *name;
+    unsigned modes; /* IN_MODE(...) bits of the modes it acts in */
+    const char *what;
+} mode_opt_t;
+static const mode_opt_t mode_opts[] = {
+    { "--spp", IN_MODE(HZ_MODE_FULL), "samples per pixel of full mode (tdense traces one sample per 2x2 tile "
+                                      "per frame, taa one jittered sample per pixel)" },
+    { "--msaa4", IN_MODE(HZ_MODE_FULL), "the 4x MSAA positions of full mode" },
+    { "--ordering", IN_MODE(HZ_MODE_TDENSE), "the tile orderings of tdense mode" },
+    { "--no-reflected-mv", IN_MODE(HZ_MODE_TDENSE), "the mirrors' motion in tdense mode" },
+    { "--tdense-gamma", IN_MODE(HZ_MODE_TDENSE), "the variance box of tdense mode" },
+    { "--taa-gamma", IN_MODE(HZ_MODE_TAA), "the variance box of taa mode" },
+    { "--taa-clip", IN_MODE(HZ_MODE_TAA), "the history constraint of taa mode" },
+    { "--taa-catmull-rom", IN_MODE(HZ_MODE_TAA), "the history filter of taa mode" },
+};
+
+static bool check_mode_opts(const args_t *a)
+{
+    for (int g = 0; g < a->given_n; g++)
+        for (size_t k = 0; k < sizeof mode_opts / sizeof mode_opts[0]; k++)
+            if (!strcmp(a->given[g], mode_opts[k].name) && !(mode_opts[k].modes & IN_MODE(a->opts.mode))) {
+                hz_cli_error("render: %s does nothing in %s mode: it sets %s", mode_opts[k].name,
+                             hz_render_mode_name(a->opts.mode), mode_opts[k].what);
+                return false;
+            }
+    return true;
+}
 
 static int default_threads(void)
 {
@@ -80,7 +115,15 @@ static void usage(FILE *f)
             "  --no-y4m          do not write the video\n"
             "  --pfm             also write last.pfm\n"
             "  --quiet           no progress bar and no printed summary (the JSON is still written)\n"
-            "  -h, --help        this text\n",
+            "  -h, --help        this text\n"
+            "\n"
+            "Options of one mode (--spp, --msaa4: full; --ordering, --no-reflected-mv, --tdense-gamma: tdense;\n"
+            "--taa-*: taa) are refused in the others, where they would do nothing. A scene without lights gets a\n"
+            "default light (the summary says so).\n"
+            "\n"
+            "exit status: 0 ok, 2 bad command line, 64+N failure with hz status N (66: the scene or the frame\n"
+            "does not fit the board's arenas, 68/70: malformed or corrupt scene, 73: a file that cannot be read or\n"
+            "written, e.g. an --out that is not writable; killed by a signal, it removes its temporary files)\n",
             HZ_DISPLAY_WIDTH, HZ_DISPLAY_HEIGHT, HZ_DISPLAY_HZ, HZ_MAX_THREADS);
     hz_adaptive_cli_usage(f);
 }
@@ -103,6 +146,8 @@ static int parse(int argc, char **argv, args_t *a)
         const char *o = argv[i];
         const char *v = i + 1 < argc ? argv[i + 1] : NULL;
         long n;
+        if (o[0] == '-' && a->given_n < (int)(sizeof a->given / sizeof a->given[0]))
+            a->given[a->given_n++] = o;
         int used = hz_adaptive_cli_option(o, v, &a->opts.adaptive, &a->adaptive);
         if (used < 0)
             return -used;
@@ -231,7 +276,7 @@ static int parse(int argc, char **argv, args_t *a)
         hz_cli_error("render: which scene? (a .hzb file or `builtin`; try hzrt render --help)");
         return HZ_EXIT_USAGE;
     }
-    if (hz_adaptive_cli_check(&a->adaptive, a->opts.mode))
+    if (hz_adaptive_cli_check(&a->adaptive, a->opts.mode) || !check_mode_opts(a))
         return HZ_EXIT_USAGE;
     hz_error_t err;
     if (hz_render_opts_check(&a->opts, &err) != HZ_OK) {
@@ -283,8 +328,11 @@ int hz_cmd_render(int argc, char **argv)
         hz_cli_error("render: could not set up the static arenas");
         return hz_status_exit_code(HZ_E_INTERNAL);
     }
-    if (hz_mkdirs(a.out_dir, &err) != HZ_OK)
+    char created[1024];
+    if (hz_out_dir_prepare(a.out_dir, created, sizeof created, &err) != HZ_OK)
         return hz_cli_report(&err);
+    if (created[0] && !a.quiet)
+        fprintf(stderr, "%s: render: --out: created %s\n", hz_cli_prog, created);
 
     hz_scene_t scene;
     if (hz_scenefile_open(a.scene, pools, &scene, &err) != HZ_OK)
@@ -296,7 +344,15 @@ int hz_cmd_render(int argc, char **argv)
         return hz_cli_report(&err);
     int64_t t0 = hz_clock_ns();
     hz_accel_t *accel = NULL;
-    if (hz_accel_backend_build(a.backend, &accel, &geom, &pools->accel, &err) != HZ_OK)
+    hz_progress_t prog;
+    hz_accel_config_t acfg;
+    hz_accel_config_default(&acfg);
+    acfg.progress = hz_progress_accel, acfg.progress_user = &prog;
+    hz_progress_begin(&prog, a.quiet, "%s build of %s (%u triangles)", hz_accel_backend_name(a.backend), a.scene,
+                      geom.tri_count);
+    hz_status_t bs = hz_accel_backend_build_cfg(a.backend, &accel, &geom, &acfg, &pools->accel, &err);
+    hz_progress_end(&prog);
+    if (bs != HZ_OK)
         return hz_cli_report(&err);
     double build_ms = (hz_clock_ns() - t0) * 1e-6;
 
@@ -330,7 +386,14 @@ int hz_cmd_render(int argc, char **argv)
     for (uint32_t f = 0; f < a.frames; f++) {
         float t = a.start + (float)f / (float)a.hz;
         int64_t f0 = hz_clock_ns();
-        if (hz_render_run_frame(r, f, t, &err) != HZ_OK) {
+        /* A single frame has no frame counter to show: its own progress, should it take long. */
+        if (a.frames == 1)
+            hz_progress_begin(&prog, a.quiet, "rendering %s (%ux%u, mode %s)", a.scene, a.opts.width,
+                              a.opts.height, hz_render_mode_name(a.opts.mode));
+        hz_status_t fs = hz_render_run_frame_progress(r, f, t, a.frames == 1 ? &prog : NULL, &err);
+        if (a.frames == 1)
+            hz_progress_end(&prog);
+        if (fs != HZ_OK) {
             rc = hz_cli_report(&err);
             goto done;
         }
@@ -392,9 +455,17 @@ int hz_cmd_render(int argc, char **argv)
         render_s += frame_ms[i] * 1e-3;
     char feats[160];
     hz_scene_features_str(scene.features, feats, sizeof feats);
+    char note[256];
+    const hz_light_t *dl = hz_render_default_light(r);
+    if (dl)
+        snprintf(note, sizeof note, "the scene has no lights: lit by a default key light at (%.4g %.4g %.4g) "
+                 "(a sidecar 'light = ...' line replaces it)", (double)dl->position[0], (double)dl->position[1],
+                 (double)dl->position[2]);
     hz_summary_t sm = {
-        .scene = a.scene, .mode = hz_render_mode_name(a.opts.mode), .spp = a.opts.spp,
-        .width = a.opts.width, .height = a.opts.height, .hz = a.hz, .frames = a.frames, .threads = a.threads,
+        .note = dl ? note : NULL,
+        .scene = a.scene, .mode = hz_render_mode_name(a.opts.mode),
+        .spp = (double)total.primary_rays / ((double)a.opts.width * a.opts.height * a.frames),
+        .start = a.start, .width = a.opts.width, .height = a.opts.height, .hz = a.hz, .frames = a.frames, .threads = a.threads,
         .backend = accel->info.backend, .build_ms = build_ms, .ms_p50 = percentile(sorted_ms, n, 0.5),
         .ms_p99 = percentile(sorted_ms, n, 0.99), .ms_mean = n ? sum / n : 0, .ms_max = n ? sorted_ms[n - 1] : 0,
         .frames_timed = n, .rays = rays, .rays_per_frame = (double)rays / a.frames,

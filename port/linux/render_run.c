@@ -7,24 +7,34 @@
 typedef struct pass_job {
     hz_renderer_t *r;
     uint32_t pass;
+    hz_progress_t *prog; /* NULL: none */
+    uint32_t *done, total;
 } pass_job_t;
 
 static void run_item(void *user, uint32_t item, int thread)
 {
     pass_job_t *j = (pass_job_t *)user;
     hz_render_pass_run(j->r, j->pass, item, (uint32_t)thread);
+    if (j->prog) {
+        uint32_t d = __atomic_add_fetch(j->done, 1u, __ATOMIC_RELAXED);
+        if (thread == 0) /* the caller: progress lines come from one thread */
+            hz_progress_update(j->prog, (float)d / (float)j->total);
+    }
 }
 
-hz_status_t hz_render_run_frame_parts(hz_renderer_t *r, uint64_t index, float time, int64_t ns[3],
-                                      hz_error_t *err)
+static hz_status_t run_frame(hz_renderer_t *r, uint64_t index, float time, int64_t ns[3], hz_progress_t *prog,
+                             hz_error_t *err)
 {
     int64_t t0 = ns ? hz_clock_ns() : 0;
     hz_status_t s = hz_render_begin_frame(r, index, time, err);
     if (s != HZ_OK)
         return s;
     int64_t t1 = ns ? hz_clock_ns() : 0, t2 = t1;
+    uint32_t done = 0, total = 0;
+    for (uint32_t p = 0; p < hz_render_pass_count(r); p++)
+        total += hz_render_pass_items(r, p);
     for (uint32_t p = 0; p < hz_render_pass_count(r); p++) {
-        pass_job_t j = { r, p };
+        pass_job_t j = { r, p, prog, &done, total ? total : 1u };
         hz_threads_run(run_item, &j, hz_render_pass_items(r, p));
         if (p == 0 && ns)
             t2 = hz_clock_ns();
@@ -38,7 +48,19 @@ hz_status_t hz_render_run_frame_parts(hz_renderer_t *r, uint64_t index, float ti
     return HZ_OK;
 }
 
+hz_status_t hz_render_run_frame_parts(hz_renderer_t *r, uint64_t index, float time, int64_t ns[3],
+                                      hz_error_t *err)
+{
+    return run_frame(r, index, time, ns, NULL, err);
+}
+
+hz_status_t hz_render_run_frame_progress(hz_renderer_t *r, uint64_t index, float time, hz_progress_t *prog,
+                                         hz_error_t *err)
+{
+    return run_frame(r, index, time, NULL, prog, err);
+}
+
 hz_status_t hz_render_run_frame(hz_renderer_t *r, uint64_t index, float time, hz_error_t *err)
 {
-    return hz_render_run_frame_parts(r, index, time, NULL, err);
+    return run_frame(r, index, time, NULL, NULL, err);
 }

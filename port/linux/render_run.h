@@ -10,6 +10,7 @@
 #define HZ_PORT_RENDER_RUN_H
 
 #include "hz/render.h"
+#include "progress.h"
 
 hz_status_t hz_render_run_frame(hz_renderer_t *r, uint64_t index, float time, hz_error_t *err);
 
@@ -17,5 +18,10 @@ hz_status_t hz_render_run_frame(hz_renderer_t *r, uint64_t index, float time, hz
  * ns[1] the first pass (tracing), ns[2] the other passes (resolves) and end_frame. ns may be NULL. */
 hz_status_t hz_render_run_frame_parts(hz_renderer_t *r, uint64_t index, float time, int64_t ns[3],
                                       hz_error_t *err);
+
+/* The same, updating prog with the fraction of the frame's work items done (from the calling thread), for a
+ * single long frame; prog may be NULL. */
+hz_status_t hz_render_run_frame_progress(hz_renderer_t *r, uint64_t index, float time, hz_progress_t *prog,
+                                         hz_error_t *err);
 
 #endif

@@ -16,15 +16,18 @@ void hz_summary_print(const hz_summary_t *s, FILE *f)
 {
     const hz_pools_t *p = s->pools;
     fprintf(f, "scene        %s  [%s]\n", s->scene, s->features);
-    fprintf(f, "render       %ux%u, mode %s, %u spp, %d threads, backend %s (built in %.1f ms)\n", s->width,
-            s->height, s->mode, s->spp, s->threads, s->backend, s->build_ms);
-    fprintf(f, "frames       %u at a simulated %u Hz (%.3f s of scene time)\n", s->frames, s->hz,
-            (double)s->frames / s->hz);
+    fprintf(f, "render       %ux%u, mode %s, %g spp per frame, %d threads, backend %s (built in %.1f ms)\n",
+            s->width, s->height, s->mode, s->spp, s->threads, s->backend, s->build_ms);
+    if (s->note)
+        fprintf(f, "note         %s\n", s->note);
+    fprintf(f, "frames       %u at a simulated %u Hz, scene time %.4g to %.4g s\n", s->frames, s->hz, (double)s->start,
+            (double)s->start + (double)(s->frames - 1) / s->hz);
     fprintf(f, "frame time   p50 %.3f ms, p99 %.3f ms, mean %.3f ms, max %.3f ms (%u frames timed)\n", s->ms_p50,
             s->ms_p99, s->ms_mean, s->ms_max, s->frames_timed);
-    fprintf(f, "rays         %.0f per frame (primary %llu, shadow %llu, secondary %llu in total), %.2f Mrays/s\n",
-            s->rays_per_frame, (unsigned long long)s->stats.primary_rays, (unsigned long long)s->stats.shadow_rays,
-            (unsigned long long)s->stats.secondary_rays, s->mrays_per_s);
+    double nf = s->frames ? (double)s->frames : 1.0;
+    fprintf(f, "rays         %.0f per frame (primary %.0f, shadow %.0f, secondary %.0f), %llu in total, %.2f Mrays/s\n",
+            s->rays_per_frame, s->stats.primary_rays / nf, s->stats.shadow_rays / nf, s->stats.secondary_rays / nf,
+            (unsigned long long)s->rays, s->mrays_per_s);
     fprintf(f, "memory       scene %.1f / %.0f MiB, accel %.1f / %.0f MiB, frame %.1f / %.0f MiB, thread %.2f / %.0f MiB\n",
             p->scene.high_water / 1048576.0, p->scene.cap / 1048576.0, p->accel.high_water / 1048576.0,
             p->accel.cap / 1048576.0, p->frame.high_water / 1048576.0, p->frame.cap / 1048576.0,
@@ -74,8 +77,12 @@ hz_status_t hz_summary_write_json(const hz_summary_t *s, const char *path, hz_er
     json_str(f, s->backend);
     fprintf(f, ",\n  \"board\": ");
     json_str(f, HZ_BOARD_NAME);
-    fprintf(f, ",\n  \"width\": %u, \"height\": %u, \"spp\": %u, \"hz\": %u, \"threads\": %d,\n", s->width,
-            s->height, s->spp, s->hz, s->threads);
+    if (s->note) {
+        fprintf(f, ",\n  \"note\": ");
+        json_str(f, s->note);
+    }
+    fprintf(f, ",\n  \"width\": %u, \"height\": %u, \"spp\": %.6g, \"hz\": %u, \"threads\": %d, \"start\": %.6g,\n",
+            s->width, s->height, s->spp, s->hz, s->threads, (double)s->start);
     fprintf(f, "  \"frames\": %u, \"frames_timed\": %u, \"run_s\": %.6f, \"accel_build_ms\": %.3f,\n", s->frames,
             s->frames_timed, s->run_s, s->build_ms);
     fprintf(f, "  \"frame_ms\": {\"p50\": %.4f, \"p99\": %.4f, \"mean\": %.4f, \"max\": %.4f},\n", s->ms_p50,

@@ -15,6 +15,8 @@ void hz_accel_config_default(hz_accel_config_t *cfg)
     cfg->split_budget = 0.25f;
     cfg->robust = false;
     cfg->quality = 1;
+    cfg->progress = 0;
+    cfg->progress_user = 0;
 }
 
 hz_status_t hz_accel_plan_check(uint32_t tri_count, const hz_accel_config_t *cfg, const hz_arena_t *arena,

@@ -69,6 +69,10 @@ typedef struct build {
     sp_bin_t sbins[3][SPATIAL_BINS];
     box_t rbox[OBJ_BINS > SPATIAL_BINS ? OBJ_BINS : SPATIAL_BINS]; /* sweep: union of bins right of i */
     bool failed;
+    /* progress (hz_accel_config_t): references placed in leaves against the first ones' count */
+    void (*progress)(void *user, float done);
+    void *progress_user;
+    uint32_t progress_next, progress_step, progress_total;
 } build_t;
 
 /* ---- boxes: written out per axis (no loops, no arrays indexed by a variable) so the compiler keeps boxes of
@@ -551,6 +555,13 @@ static float make_leaf(build_t *bd, uint32_t idx, uint32_t n, float area)
     for (uint32_t i = 0; i < n; i++)
         bd->leaf_prims[bd->leaf_count++] = bd->refs[base + i].prim;
     bd->top = base;
+    if (bd->progress && bd->leaf_count >= bd->progress_next) {
+        /* Splits add references as it goes, so the fraction is capped; the collapse into wide nodes after it
+         * takes about a fifth of the time (the dragon, the furball). */
+        float f = (float)bd->leaf_count / (float)bd->progress_total;
+        bd->progress(bd->progress_user, 0.8f * (f < 1.0f ? f : 1.0f));
+        bd->progress_next = bd->leaf_count + bd->progress_step;
+    }
     return COST_TRI * sah_count(n) * area;
 }
 
@@ -866,6 +877,11 @@ hz_status_t hz_bvh_build(hz_bvh_t *bvh, const hz_accel_geom_t *g, const hz_accel
         nodes[0].n = BLEAF | 0u;
     } else {
         uint32_t bud = budget;
+        bd->progress = cfg->progress;
+        bd->progress_user = cfg->progress_user;
+        bd->progress_total = bd->top;
+        bd->progress_step = bd->top / 256u + 1u;
+        bd->progress_next = bd->progress_step;
         sah = build_node(bd, root_idx, bd->top, &root, 0, &bud);
     }
     if (bd->failed) {
@@ -886,6 +902,8 @@ hz_status_t hz_bvh_build(hz_bvh_t *bvh, const hz_accel_geom_t *g, const hz_accel
         wn = c.node_count;
         wb = c.block_count;
     }
+    if (cfg->progress)
+        cfg->progress(cfg->progress_user, 0.9f);
     hz_bvh_node_t *wnodes = hz_arena_alloc_array(arena, wn, sizeof(hz_bvh_node_t), 64);
     hz_bvh_block_t *wblocks = wb ? hz_arena_alloc_array(arena, wb, sizeof(hz_bvh_block_t), 64) : 0;
     out->bytes_peak = hz_arena_mark(arena) - m0;
@@ -937,6 +955,8 @@ hz_status_t hz_bvh_build(hz_bvh_t *bvh, const hz_accel_geom_t *g, const hz_accel
     if (g->tri_flags)
         for (uint32_t t = 0; t < g->tri_count && !bvh->has_anyhit; t++)
             bvh->has_anyhit = (g->tri_flags[t] & HZ_ACCEL_TRI_ANYHIT) != 0;
+    if (cfg->progress)
+        cfg->progress(cfg->progress_user, 1.0f);
     return HZ_OK;
 }
 

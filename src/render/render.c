@@ -1,4 +1,5 @@
 /* Renderer set-up, frame sequencing and the full-frame mode (see hz/render.h). */
+#include "hz/deflight.h"
 #include "hz/fixed.h"
 #include "hz/hash.h"
 #include "render_internal.h"
@@ -194,6 +195,11 @@ hz_status_t hz_render_create(hz_renderer_t **out, hz_scene_t *scene, hz_accel_t 
     hz_memset(r, 0, sizeof *r);
     r->opts = *opts;
     r->scene = scene;
+    r->lights = scene->lights, r->light_count = scene->light_count;
+    if (scene->light_count == 0) {
+        hz_deflight_place(scene, &r->default_light);
+        r->lights = &r->default_light, r->light_count = 1, r->default_lit = true;
+    }
     r->accel = accel;
     r->has_blend = n.blend, r->has_mask = n.mask, r->has_textures = n.textures, r->has_mirrors = n.mirrors;
     r->has_motion = n.motion, r->camera_moves = n.camera_moves, r->need_mv = n.mv;
@@ -498,6 +504,11 @@ void hz_render_frame_stats(const hz_renderer_t *r, hz_render_stats_t *last, hz_r
         *last = r->last;
     if (total)
         *total = r->total;
+}
+
+const hz_light_t *hz_render_default_light(const hz_renderer_t *r)
+{
+    return r->default_lit ? &r->default_light : NULL;
 }
 
 const struct hz_tdense *hz_render_tdense(const hz_renderer_t *r)

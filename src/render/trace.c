@@ -540,8 +540,8 @@ static void shade_hit(hz_worker_t *w, const ray_job_t *j, const hitrec_t *h)
     float diffuse = 1.0f - mirror;
     float kd[3] = { wc[0] * diffuse * sf.albedo[0], wc[1] * diffuse * sf.albedo[1], wc[2] * diffuse * sf.albedo[2] };
     hz_vec3_t o_light = hz_accel_offset_origin(sf.p, sf.ng, r->offset_scale);
-    for (uint32_t l = 0; l < s->light_count; l++) {
-        const hz_light_t *lt = &s->lights[l];
+    for (uint32_t l = 0; l < r->light_count; l++) {
+        const hz_light_t *lt = &r->lights[l];
         hz_vec3_t L = hz_v3_sub(hz_v3(lt->position[0], lt->position[1], lt->position[2]), o_light);
         float dist2 = hz_v3_dot(L, L);
         float dist = hz_sqrtf(dist2);

@@ -1,9 +1,9 @@
 #!/bin/sh
 # Command-line behaviour of hzrt: help, usage errors, bad inputs (each a clear message and a distinct exit
 # status), and that a good run leaves exactly its outputs behind (no temporary files).
-#   run.sh RESULTS_DIR HZRT
+#   run.sh RESULTS_DIR HZRT [HZBENCH]
 set -u
-results=$1 hzrt=$2
+results=$1 hzrt=$2 hzbench=${3:-}
 mkdir -p "$results"
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
@@ -31,16 +31,43 @@ expect() {
 expect help 0 "usage: hzrt" "$hzrt" --help
 expect render-help 0 "samples per pixel" "$hzrt" render --help
 expect info-help 0 "usage: hzrt info" "$hzrt" info --help
+for c in render info accel board latency; do
+    expect "$c-help-exit-status" 0 "exit status: 0 ok, 2 bad command line" "$hzrt" $c --help
+done
+expect latency-fbdev-absent-source 72 "^hzrt: --source fbdev: this build has no fbdev port" "$hzrt" latency --source fbdev --frames 3
+expect accel-native-plan 0 "native build needs at most" "$hzrt" accel builtin
+if "$hzrt" accel builtin --embree >"$tmp/embree.txt" 2>&1; then
+    if grep -q "native build needs" "$tmp/embree.txt" || ! grep -q "Embree allocates its own memory" "$tmp/embree.txt"; then
+        echo "  FAIL  cli accel-embree-plan: --embree prints the native memory plan"; fail=$((fail + 1))
+    else
+        pass=$((pass + 1))
+    fi
+fi
+# Long phases are named as they run (HZ_PROGRESS=all shows every phase, however short, on a non-terminal).
+expect progress-native-build 0 "hzrt: native build of builtin (3016 triangles): done in" env HZ_PROGRESS=all \
+    "$hzrt" accel builtin
+expect progress-single-frame 0 "hzrt: rendering builtin (32x16, mode full): done in" env HZ_PROGRESS=all \
+    "$hzrt" render builtin --mode full --size 32x16 --out "$tmp/prog"
+expect progress-quiet 0 "" sh -c "! HZ_PROGRESS=all \"$hzrt\" render builtin --size 32x16 --quiet --out \"$tmp/prog\" 2>&1 | grep -q 'done in'"
 expect no-command 2 "usage" "$hzrt"
 expect unknown-command 2 "unknown command 'bogus'" "$hzrt" bogus
 expect render-no-scene 2 "which scene" "$hzrt" render
-expect render-bad-spp 2 "square" "$hzrt" render builtin --spp 3
+expect render-bad-spp 2 "square" "$hzrt" render builtin --mode full --spp 3
 expect render-bad-size 2 "--size" "$hzrt" render builtin --size 0x5
 expect render-bad-frames 2 "'abc' is not an integer" "$hzrt" render builtin --frames abc
 expect render-bad-mode 2 "not tdense, full or taa" "$hzrt" render builtin --mode xyz
 expect render-bad-ordering 2 "'zigzag' is not full, dominant" "$hzrt" render builtin --ordering zigzag
 expect render-bad-tdense-gamma 2 "--tdense-gamma: '0' is not a number" "$hzrt" render builtin --tdense-gamma 0
 expect render-msaa4-needs-4spp 2 "4x MSAA positions need full mode with 4 spp" "$hzrt" render builtin --mode full --msaa4
+# Options of one mode are refused in the others (they would do nothing there).
+expect render-spp-in-tdense 2 "\-\-spp does nothing in tdense mode" "$hzrt" render builtin --mode tdense --spp 16
+expect render-spp-in-taa 2 "\-\-spp does nothing in taa mode" "$hzrt" render builtin --mode taa --spp 4
+expect render-spp-default-mode 2 "\-\-spp does nothing in tdense mode" "$hzrt" render builtin --spp 4
+expect render-ordering-in-full 2 "\-\-ordering does nothing in full mode" "$hzrt" render builtin --mode full --ordering bowtie
+expect render-taa-clip-in-full 2 "\-\-taa-clip does nothing in full mode" "$hzrt" render builtin --mode full --taa-clip
+expect render-taa-cr-in-tdense 2 "\-\-taa-catmull-rom does nothing in tdense" "$hzrt" render builtin --taa-catmull-rom
+expect render-msaa4-in-taa 2 "\-\-msaa4 does nothing in taa mode" "$hzrt" render builtin --mode taa --msaa4
+expect render-reflected-in-taa 2 "\-\-no-reflected-mv does nothing in taa" "$hzrt" render builtin --mode taa --no-reflected-mv
 expect render-help-tdense 0 "--no-reflected-mv" "$hzrt" render --help
 expect render-unknown-option 2 "unknown option '--fast'" "$hzrt" render builtin --fast
 expect render-missing-file 73 "$tmp/nope.hzb: No such file" "$hzrt" render "$tmp/nope.hzb" --out "$tmp/o1"
@@ -65,8 +92,63 @@ if command -v python3 >/dev/null 2>&1; then
         "$tmp/run/summary.json" && pass=$((pass + 1)) ||
         { echo "  FAIL  cli render-ok: summary.json is not the expected JSON"; fail=$((fail + 1)); }
 fi
+# The summary reports what was done: samples per pixel actually traced, the start time.
+expect render-tdense-spp 0 "mode tdense, 0.25 spp per frame" "$hzrt" render builtin --size 64x36 --frames 2 --start 0.5 --out "$tmp/td"
+expect render-full-spp 0 "mode full, 4 spp per frame" "$hzrt" render builtin --mode full --spp 4 --size 32x16 --out "$tmp/f4"
+expect render-start-line 0 "scene time 0.5 to 0.5042 s" "$hzrt" render builtin --size 32x16 --frames 2 --start 0.5 --out "$tmp/td"
+if command -v python3 >/dev/null 2>&1; then
+    python3 -c "import json,sys; d=json.load(open(sys.argv[1])); assert d['spp']==0.25 and d['start']==0.5, d" \
+        "$tmp/td/summary.json" && pass=$((pass + 1)) ||
+        { echo "  FAIL  cli render-summary-json: spp or start wrong in summary.json"; fail=$((fail + 1)); }
+fi
 head -c 8 "$tmp/run/frames.y4m" | grep -q YUV4MPEG && pass=$((pass + 1)) ||
     { echo "  FAIL  cli render-ok: frames.y4m lacks the YUV4MPEG2 signature"; fail=$((fail + 1)); }
+
+# Output folders: an unwritable --out is refused before the work (single frame and latency alike), and the
+# folders --out creates are named.
+mkdir -p "$tmp/ro" && chmod 555 "$tmp/ro"
+ro=$tmp/ro
+[ -w "$ro" ] && ro=/proc/self  # root writes anywhere but in /proc
+expect render-out-readonly 73 "$ro: the output folder is not writable" "$hzrt" render builtin --size 32x16 --out "$ro"
+if "$hzrt" render builtin --size 32x16 --out "$ro" 2>&1 | grep -q "frame time"; then
+    echo "  FAIL  cli render-out-readonly-early: the render ran before the folder was refused"; fail=$((fail + 1))
+else
+    pass=$((pass + 1))
+fi
+expect latency-out-readonly 73 "$ro: the output folder is not writable" "$hzrt" latency --virtual --source sim \
+    --hz 240 --render-model uniform:0.2P:0.8P --frames 50 --out "$ro"
+expect render-out-created 0 "created $tmp/new, $tmp/new/a, $tmp/new/a/b" "$hzrt" render builtin --size 32x16 \
+    --out "$tmp/new/a/b"
+# An interrupted render (SIGINT, SIGTERM) leaves no temporary file behind and ends as the signal does.
+if command -v python3 >/dev/null 2>&1; then
+    for sig in INT TERM; do
+        if python3 - "$hzrt" "$tmp/sig-$sig" "$sig" <<'PYEOF'
+import glob, os, signal, subprocess, sys, time
+hzrt, out, sig = sys.argv[1], sys.argv[2], getattr(signal, "SIG" + sys.argv[3])
+p = subprocess.Popen([hzrt, "render", "builtin", "--size", "320x180", "--frames", "100000", "--threads", "1",
+                      "--quiet", "--out", out], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+deadline = time.time() + 60
+while time.time() < deadline and not glob.glob(out + "/*.tmp.*"):
+    time.sleep(0.05)
+seen = glob.glob(out + "/*.tmp.*")
+time.sleep(0.3)
+p.send_signal(sig)
+rc = p.wait(timeout=60)
+left = glob.glob(out + "/*.tmp.*") + glob.glob(out + "/.hz-probe.*")
+ok = bool(seen) and not left and rc == -sig
+if not ok:
+    print("temporaries seen %s, left %s, status %s" % (seen, left, rc))
+sys.exit(0 if ok else 1)
+PYEOF
+        then pass=$((pass + 1)); else echo "  FAIL  cli render-sig$sig-leftovers"; fail=$((fail + 1)); fi
+    done
+fi
+
+# hzbench: a missing scene is named before anything is measured.
+if [ -n "$hzbench" ]; then
+    expect bench-missing-scene 73 "scene 'dragon' is missing: $tmp/noscenes/dragon.hzb" \
+        "$hzbench" --only accel --scenes "$tmp/noscenes" --scene dragon --rounds 1
+fi
 
 echo "  ok    cli                    $pass passed$( [ $fail -ne 0 ] && echo ", $fail failed")"
 echo "cli $pass $fail 0" >"$results/cli.res"

@@ -50,4 +50,37 @@ expect_fail "integer-float-token" "names a floating-point type" \
 printf '#include "hz/config.h"\nint hz_board_probe;\n' >"$tmp/probe.c"
 expect_fail "board-missing-setting" "HZ_DISPLAY_HZ" \
     gcc -std=c99 -Iinclude -I"$bad/board-missing" -c "$tmp/probe.c" -o "$tmp/probe.o"
+# `make bench` and `make report` on a fresh checkout bake the scenes they read before they run (dry run into an
+# empty build root: the bake of each scene comes before the measuring command).
+root=$here/../..
+for case in "bench hzbench furball.hzb" "report hzerrtime lost-empire.hzb"; do
+    set -- $case
+    plan=$(make -n -C "$root" --no-print-directory "$1" BUILD_ROOT="$tmp/fresh" 2>&1)
+    bake_at=$(printf '%s\n' "$plan" | grep -n "hzbake .*$3" | head -n 1 | cut -d: -f1)
+    run_at=$(printf '%s\n' "$plan" | grep -n "bin/$2 --" | tail -n 1 | cut -d: -f1)
+    if [ -n "$bake_at" ] && [ -n "$run_at" ] && [ "$bake_at" -lt "$run_at" ]; then
+        echo "  ok    guard make-$1-bakes-first"
+        record "guard/make-$1-bakes-first" 1 0
+    else
+        echo "  FAIL  guard make-$1-bakes-first: on a fresh checkout 'make $1' runs $2 without baking $3 first"
+        record "guard/make-$1-bakes-first" 0 1
+        fails=$((fails + 1))
+    fi
+done
+# The test runner: a binary that hangs is stopped at the time limit and counts as a failure naming it.
+printf '#!/bin/sh\necho "[==========] Running 1 test(s)."\nsleep 60\n' >"$tmp/test_hangs"
+chmod +x "$tmp/test_hangs"
+t0=$(date +%s)
+out=$(HZ_TEST_TIMEOUT=2 sh "$here/../run-tests.sh" "$tmp/runner" guard "" "$tmp/test_hangs" 2>&1)
+took=$(( $(date +%s) - t0 ))
+read -r _ rp rf _ <"$tmp/runner/test_hangs.res" 2>/dev/null || rf=0
+if [ "$rf" -ge 1 ] && [ "$took" -lt 30 ] && printf '%s\n' "$out" | grep -q "test_hangs timed out after 2 s"; then
+    echo "  ok    guard runner-time-limit"
+    record "guard/runner-time-limit" 1 0
+else
+    echo "  FAIL  guard runner-time-limit: a hung binary was not stopped and failed by name (${took} s):"
+    printf '%s\n' "$out" | head -n 5 | sed 's/^/        /'
+    record "guard/runner-time-limit" 0 1
+    fails=$((fails + 1))
+fi
 [ $fails = 0 ]

@@ -1131,6 +1131,89 @@ static void test_instanced_meshes_are_expanded(void **state)
     assert_int_equal(system(cmd), 0);
 }
 
+/* ---- OBJ glass, bump maps, the help text ---- */
+
+static int count_of(const char *hay, const char *needle)
+{
+    int n = 0;
+    for (const char *p = strstr(hay, needle); p; p = strstr(p + 1, needle))
+        n++;
+    return n;
+}
+
+/* Glass (transparency illum modes, Tf, Kd 0, no d) becomes a blended surface of opacity 1 - mean(Tf), with a
+ * warning per material; an opaque illum keeps Tf ignored; a bump map is said once per material with -v. */
+static void test_obj_glass_and_bump_maps(void **state)
+{
+    (void)state;
+    snprintf(tmpdir, sizeof tmpdir, "/tmp/hzbake-glass.XXXXXX");
+    assert_non_null(mkdtemp(tmpdir));
+    put_text("g.obj", "mtllib g.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nusemtl glass\nf 1 2 3\n"
+                      "usemtl wall\nf 1 2 4\nusemtl tinted\nf 1 3 4\nusemtl dark\nf 2 3 4\n");
+    put_text("g.mtl", "newmtl glass\nKd 0 0 0\nKs 0.3 0.3 0.3\nTf 0.8 0.8 0.8\nillum 4\nmap_bump b.png\n"
+                      "bump b.png\n\nnewmtl wall\nKd 0.5 0.5 0.5\nTf 1 1 1\nillum 2\nmap_bump w.png\n\n"
+                      "newmtl tinted\nKd 0 0 0\nTf 0.1 0.4 0.7\nd 0.5\nillum 7\n\n"
+                      "newmtl dark\nKd 0 0 0\nTf 0 0 0\nillum 6\n");
+    char obj[256], out[256];
+    snprintf(obj, sizeof obj, "%s/g.obj", tmpdir);
+    snprintf(out, sizeof out, "%s/g.hzb", tmpdir);
+    const char *args[] = { "-v", obj, out, NULL };
+    run_t r;
+    bake(&r, NULL, args);
+    print_message("%s", r.out);
+    assert_int_equal(r.status, 0);
+    assert_int_equal(count_of(r.out, "material 'glass' is glass (illum 4, Tf 0.8 0.8 0.8): baked as a blended "
+                                     "surface of alpha 0.2"), 1);
+    assert_int_equal(count_of(r.out, "material 'dark' is glass (illum 6, Tf 0 0 0): baked as opaque"), 1);
+    assert_int_equal(count_of(r.out, "'wall' is glass"), 0);
+    assert_int_equal(count_of(r.out, "'tinted' is glass"), 0); /* its d decides */
+    assert_int_equal(count_of(r.out, "material 'glass': bump map 'b.png' is not baked"), 1);
+    assert_int_equal(count_of(r.out, "material 'wall': bump map 'w.png' is not baked"), 1);
+    size_t size;
+    void *img = read_all(out, &size, 1);
+    hz_scene_t s;
+    assert_int_equal(hz_scene_load(&s, img, size, NULL, NULL), HZ_OK);
+    const hz_material_t *glass = material_named(&s, "glass"), *wall = material_named(&s, "wall");
+    const hz_material_t *tinted = material_named(&s, "tinted"), *dark = material_named(&s, "dark");
+    assert_int_equal(glass->alpha_mode, HZ_ALPHA_BLEND);
+    assert_true(fabsf(glass->alpha - 0.2f) < 1e-6f);
+    assert_int_equal(wall->alpha_mode, HZ_ALPHA_OPAQUE);
+    assert_int_equal(tinted->alpha_mode, HZ_ALPHA_BLEND);
+    assert_true(tinted->alpha == 0.5f);
+    assert_int_equal(dark->alpha_mode, HZ_ALPHA_OPAQUE);
+    free(img);
+    /* Without -v the bump maps are not mentioned; the glass warning stays. */
+    const char *quiet[] = { obj, out, NULL };
+    bake(&r, NULL, quiet);
+    assert_int_equal(r.status, 0);
+    assert_int_equal(count_of(r.out, "bump map"), 0);
+    assert_int_equal(count_of(r.out, "is glass"), 2);
+    /* Phases are named while the import child works: the skinning bake is not "importing". */
+    char cm[4096], cms[4096];
+    source_path(cm, sizeof cm, "HZ_SCENES_SRC", "gltf/CesiumMan/glTF/CesiumMan.gltf");
+    snprintf(cms, sizeof cms, "tools/bake/scenes/CesiumMan-small.hzs"); /* tests run from the repository root */
+    const char *skin[] = { "-s", cms, cm, out, NULL };
+    setenv("HZ_PROGRESS", "all", 1);
+    bake(&r, NULL, skin);
+    unsetenv("HZ_PROGRESS");
+    print_message("%s", r.out);
+    assert_int_equal(r.status, 0);
+    assert_non_null(strstr(r.out, "CesiumMan.gltf: baking skinning of mesh 'Cesium_Man' (3273 vertices, 19 bones"));
+    assert_non_null(strstr(r.out, "CesiumMan.gltf: importing (assimp)"));
+    /* The help text names every exit status the baker uses. */
+    const char *help[] = { "--help", NULL };
+    bake(&r, NULL, help);
+    assert_int_equal(r.status, 0);
+    static const char *const codes[] = { " 2 bad command line", "66 ", "67 ", "68 ", "70 ", "71 ", "72 ", "73 ",
+                                         "75 ", "76 " };
+    for (size_t i = 0; i < sizeof codes / sizeof codes[0]; i++)
+        if (!strstr(r.out, codes[i]))
+            fail_msg("hzbake --help does not list exit status '%s'", codes[i]);
+    char cmd[128];
+    snprintf(cmd, sizeof cmd, "rm -rf %s", tmpdir);
+    assert_int_equal(system(cmd), 0);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -1144,6 +1227,7 @@ int main(void)
         cmocka_unit_test(test_bad_inputs_get_clear_errors_and_distinct_statuses),
         cmocka_unit_test(test_sidecar_motion_is_baked_and_animates),
         cmocka_unit_test(test_instanced_meshes_are_expanded),
+        cmocka_unit_test(test_obj_glass_and_bump_maps),
     };
     return HZ_RUN(tests);
 }

@@ -209,6 +209,27 @@ static void test_unmatched_sections_are_named(void **state)
     hz_bake_sidecar_free(&sc);
 }
 
+/* A byte-order mark at the start (Windows editors write one) is not text; one elsewhere is refused by name, its
+ * bytes shown. */
+static void test_byte_order_mark(void **state)
+{
+    (void)state;
+    hz_bake_sidecar_t sc;
+    hz_error_t err;
+    assert_int_equal(parse(&sc, "\xef\xbb\xbflight = position 1 2 3 color 4 5 6\nfov = 40\n", &err), HZ_OK);
+    assert_int_equal((int)sc.lights.len, 1);
+    hz_bake_sidecar_free(&sc);
+    assert_int_equal(parse(&sc, "fov = 40\n\xef\xbb\xbflight = position 1 2 3 color 4 5 6\n", &err), HZ_E_FORMAT);
+    print_message("%s\n", err.msg);
+    assert_non_null(strstr(err.msg, "t.hzs:2:"));
+    assert_non_null(strstr(err.msg, "'\\xef\\xbb\\xbflight' is not a key"));
+    assert_non_null(strstr(err.msg, "byte-order mark"));
+    hz_bake_sidecar_free(&sc);
+    assert_int_equal(parse(&sc, "f\xc2\xa0ov = 40\n", &err), HZ_E_FORMAT);
+    assert_non_null(strstr(err.msg, "'f\\xc2\\xa0ov' is not a key"));
+    hz_bake_sidecar_free(&sc);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -216,6 +237,7 @@ int main(void)
         cmocka_unit_test(test_each_mistake_is_refused_with_its_line),
         cmocka_unit_test(test_binary_and_long_lines_are_refused),
         cmocka_unit_test(test_unmatched_sections_are_named),
+        cmocka_unit_test(test_byte_order_mark),
     };
     return HZ_RUN(tests);
 }

@@ -162,6 +162,76 @@ static const char *write_spin_scene(char *path, size_t size)
     return path;
 }
 
+/* A model as the baker writes it without a sidecar: no lights, no camera keys (the automatic camera), a floor and
+ * a wall. */
+static const char *write_unlit_scene(char *path, size_t size)
+{
+    static float pos[8][4] = { { -2, 0, -2, 0 }, { 2, 0, -2, 0 }, { 2, 0, 2, 0 }, { -2, 0, 2, 0 },
+                               { -2, 0, -2, 0 }, { 2, 0, -2, 0 }, { 2, 2, -2, 0 }, { -2, 2, -2, 0 } };
+    static uint32_t tri[4][3] = { { 0, 2, 1 }, { 0, 3, 2 }, { 4, 5, 6 }, { 4, 6, 7 } };
+    static uint32_t info[4] = { 0, 0, 0, 0 };
+    hz_hzb_material_t m;
+    memset(&m, 0, sizeof m);
+    m.base_color[0] = m.base_color[1] = m.base_color[2] = 0.8f;
+    m.alpha = 1.0f;
+    m.base_texture = m.alpha_texture = -1;
+    hz_hzb_object_t o;
+    memset(&o, 0, sizeof o);
+    o.triangle_count = 4, o.vertex_count = 8;
+    hz_hzb_source_t src;
+    memset(&src, 0, sizeof src);
+    src.vertex_count = 8, src.positions = &pos[0][0];
+    src.triangle_count = 4, src.triangles = &tri[0][0], src.tri_info = info;
+    src.material_count = 1, src.materials = &m, src.object_count = 1, src.objects = &o;
+    src.ambient[0] = src.ambient[1] = src.ambient[2] = 0.03f;
+    static uint8_t img[8192] HZ_ALIGNED(64);
+    size_t n;
+    assert_int_equal(hz_hzb_write(&src, img, sizeof img, &n, NULL), HZ_OK);
+    snprintf(path, size, "/tmp/hz-test-unlit-%d.hzb", (int)getpid());
+    assert_int_equal(hz_file_write_atomic(path, img, n, NULL), HZ_OK);
+    return path;
+}
+
+/* A scene without lights gets the default key light (and says so); it is lit, not ambient-dark. A scene with
+ * lights keeps exactly its own. */
+static void test_scene_without_lights_gets_a_default_light(void **state)
+{
+    (void)state;
+    char path[256];
+    write_unlit_scene(path, sizeof path);
+    rfix_t f;
+    hz_error_t err;
+    assert_int_equal(rfix_open(&f, path, HZ_ACCEL_NATIVE, &err), HZ_OK);
+    unlink(path);
+    assert_int_equal(f.scene.light_count, 0);
+    const hz_image_t *img = render_builtin(&f, HZ_MODE_FULL, 1, 64, 48, 1, 1, 0.0f);
+    const hz_light_t *dl = hz_render_default_light(f.r);
+    assert_non_null(dl);
+    assert_true(isfinite(dl->position[0]) && isfinite(dl->position[1]) && isfinite(dl->position[2]));
+    /* Above the floor and in front of the wall, so both face it. */
+    assert_true(dl->position[1] > 0.0f && dl->position[2] > -2.0f);
+    const hz_gbuffer_t *gb = hz_render_gbuffer(f.r);
+    double sum = 0;
+    size_t hit = 0, dark = 0;
+    for (size_t i = 0; i < 64 * 48; i++) {
+        if (gb->object[i] == HZ_GB_NO_OBJECT)
+            continue;
+        double y = (img->rgb[i * 3] + img->rgb[i * 3 + 1] + img->rgb[i * 3 + 2]) / 3.0;
+        sum += y, hit++;
+        dark += y < 0.05; /* ambient alone gives 0.024 */
+    }
+    print_message("default light at (%.3g %.3g %.3g): %zu pixels hit, mean %.3f, %zu at ambient level\n",
+                  (double)dl->position[0], (double)dl->position[1], (double)dl->position[2], hit, sum / hit, dark);
+    assert_true(hit > 500);
+    assert_true(sum / hit > 0.25);
+    assert_true(dark < hit / 50);
+    rfix_close(&f);
+    assert_int_equal(rfix_open(&f, "builtin", HZ_ACCEL_NATIVE, &err), HZ_OK);
+    render_builtin(&f, HZ_MODE_FULL, 1, 32, 16, 1, 1, 0.0f);
+    assert_null(hz_render_default_light(f.r));
+    rfix_close(&f);
+}
+
 /* Under a still camera, static surfaces have motion vectors of exactly zero and moving ones do not. */
 static void test_static_pixels_have_zero_motion(void **state)
 {
@@ -195,7 +265,11 @@ static void test_static_pixels_have_zero_motion(void **state)
     rfix_close(&f);
 }
 
-static void compare_golden(const char *scene, const char *golden, float t, uint32_t spp)
+/* min_db: what float reordering leaves of the match, measured: this build gives builtin 115.28 dB and the Cornell
+ * boxes 148.2 dB against the stored images (AArch64 under qemu the same); a build with FMA contraction
+ * (-ffp-contract=fast, the largest reordering a compiler makes here) 115.27 and 147.3 dB. The thresholds keep
+ * about 5 dB below that; one channel of one pixel off by 0.001 already costs the built-in scene 106 dB. */
+static void compare_golden(const char *scene, const char *golden, float t, uint32_t spp, double min_db)
 {
     char dir[4096];
     const char *root = getenv("HZ_TEST_DIR");
@@ -212,7 +286,8 @@ static void compare_golden(const char *scene, const char *golden, float t, uint3
     const hz_image_t *img = render_builtin(&f, HZ_MODE_FULL, spp, ref.width, ref.height, 2, 1, t);
     double psnr = rfix_psnr(img, &ref);
     print_message("%s vs %s: PSNR %.2f dB\n", scene, golden, psnr);
-    assert_true(psnr >= 40.0);
+    if (!(psnr >= min_db))
+        fail_msg("%s vs %s: PSNR %.2f dB is below %.1f dB", scene, golden, psnr, min_db);
     f.frame_mark = m;
     rfix_close(&f);
 }
@@ -220,14 +295,14 @@ static void compare_golden(const char *scene, const char *golden, float t, uint3
 static void test_matches_stored_references(void **state)
 {
     (void)state;
-    compare_golden("builtin", "builtin_160x90_16spp_t1.pfm", 1.0f, 16);
+    compare_golden("builtin", "builtin_160x90_16spp_t1.pfm", 1.0f, 16, 110.0);
     char p[4096];
     const char *orig = rfix_scene_path("CornellBox-Original.hzb", p, sizeof p);
     if (orig)
-        compare_golden(orig, "cornell_original_96x96_16spp.pfm", 0.0f, 16);
+        compare_golden(orig, "cornell_original_96x96_16spp.pfm", 0.0f, 16, 142.0);
     const char *mirror = rfix_scene_path("CornellBox-Mirror.hzb", p, sizeof p);
     if (mirror)
-        compare_golden(mirror, "cornell_mirror_96x96_16spp.pfm", 0.0f, 16);
+        compare_golden(mirror, "cornell_mirror_96x96_16spp.pfm", 0.0f, 16, 142.0);
 }
 
 int main(void)
@@ -238,6 +313,7 @@ int main(void)
         cmocka_unit_test(test_motion_vectors_reproject),
         cmocka_unit_test(test_static_pixels_have_zero_motion),
         cmocka_unit_test(test_matches_stored_references),
+        cmocka_unit_test(test_scene_without_lights_gets_a_default_light),
     };
     return HZ_RUN(tests);
 }

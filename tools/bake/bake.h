@@ -50,6 +50,11 @@ extern int hz_bake_warnings; /* number of warnings printed */
 
 void hz_bake_warn(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
 void hz_bake_progress(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
+/* The import child names the phase it enters ("baking skinning of mesh 'Cesium_Man' (2 s, 60 frames)"); the
+ * parent, which waits on it, shows a phase that lasts longer than a second by that name (on a terminal, or
+ * with -v). Writes one line to hz_bake_phase_fd (the parent's pipe; -1: nowhere). */
+extern int hz_bake_phase_fd;
+void hz_bake_phase(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
 /* Formats err (like hz_error_set, but with the full printf language) and returns code. */
 hz_status_t hz_bake_err(hz_error_t *err, hz_status_t code, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
 double hz_bake_now(void);

@@ -160,10 +160,31 @@ static void add_material(ctx_t *c, const struct aiMaterial *am, unsigned index)
         int illum = 0;
         unsigned one = 1;
         struct aiColor4D ks = { 0, 0, 0, 1 };
-        if (aiGetMaterialIntegerArray(am, "$mat.illum", 0, 0, &illum, &one) == aiReturn_SUCCESS &&
-            (illum == 3 || illum == 5 || illum == 8) &&
+        int have_illum = aiGetMaterialIntegerArray(am, "$mat.illum", 0, 0, &illum, &one) == aiReturn_SUCCESS;
+        if (have_illum && (illum == 3 || illum == 5 || illum == 8) &&
             aiGetMaterialColor(am, AI_MATKEY_COLOR_SPECULAR, &ks) == aiReturn_SUCCESS)
             m->m.mirror = clamp01(fmaxf(ks.r, fmaxf(ks.g, ks.b)));
+        /* Glass: illum 4, 6, 7 or 9 (transparency on) with no d < 1 and no map_d. Its transmission filter Tf
+         * becomes opacity, alpha = 1 - mean(Tf), blended: the renderer has no refraction, so glass shows what is
+         * behind it dimmed by its opacity instead of opaque black (what Kd 0 alone would give). */
+        struct aiColor4D tf = { 0, 0, 0, 1 };
+        if (have_illum && (illum == 4 || illum == 6 || illum == 7 || illum == 9) && m->m.alpha_mode == HZ_ALPHA_OPAQUE &&
+            aiGetMaterialColor(am, AI_MATKEY_COLOR_TRANSPARENT, &tf) == aiReturn_SUCCESS) {
+            float t = clamp01((tf.r + tf.g + tf.b) / 3.0f);
+            if (t > 0.0f) {
+                m->m.alpha = 1.0f - t;
+                m->m.alpha_mode = HZ_ALPHA_BLEND;
+                m->m.alpha_texture = base_has_alpha ? base : -1;
+            }
+            hz_bake_warn("%s: material '%s' is glass (illum %d, Tf %.3g %.3g %.3g): baked as %s%.3g (no "
+                         "refraction; a sidecar [material] section can override it)",
+                         c->s->model, m->name, illum, (double)tf.r, (double)tf.g, (double)tf.b,
+                         t > 0.0f ? "a blended surface of alpha " : "opaque, its Tf transmits nothing: alpha ",
+                         (double)m->m.alpha);
+        }
+        /* Bump and normal maps are not baked: said once per material (a model names them per material). */
+        if (first_texture(am, aiTextureType_HEIGHT, &tex) || first_texture(am, aiTextureType_NORMALS, &tex))
+            hz_bake_progress("material '%s': bump map '%s' is not baked (no bump mapping)", m->name, tex.data);
     }
 }
 
@@ -471,6 +492,8 @@ static hz_status_t skinned_mesh(ctx_t *c, const struct aiNode *node, const struc
     }
     float *pos = hz_bake_xmalloc((size_t)nv * 16), *nrm = hz_bake_xmalloc((size_t)nv * 16);
     hz_status_t st = HZ_OK;
+    hz_bake_phase("baking skinning of mesh '%s' (%u vertices, %u bones, %u frames)", mesh->mName.data, nv,
+                  mesh->mNumBones, frames);
     for (uint32_t f = 0; f < frames && st == HZ_OK; f++) {
         double ticks = (double)f / c->sc->skin_rate * c->tps;
         skin_pose(c, node, mesh, bones, inf_first, inf, ticks, pos, nrm);
@@ -642,6 +665,7 @@ hz_status_t hz_bake_import_assimp(hz_bake_scene_t *s, const char *path, const hz
     aiSetImportPropertyFloat(props, AI_CONFIG_PP_GSN_MAX_SMOOTHING_ANGLE, sc->smooth_angle_deg);
     double t0 = hz_bake_now();
     hz_bake_progress("importing %s", path);
+    hz_bake_phase("importing (assimp)");
     const struct aiScene *ai;
     if (gz) {
         uint8_t *data;
@@ -673,6 +697,7 @@ hz_status_t hz_bake_import_assimp(hz_bake_scene_t *s, const char *path, const hz
     }
     hz_bake_progress("imported in %.2f s: %u meshes, %u materials, %u animations", hz_bake_now() - t0, ai->mNumMeshes,
                      ai->mNumMaterials, ai->mNumAnimations);
+    hz_bake_phase("converting %u meshes and %u materials", ai->mNumMeshes, ai->mNumMaterials);
     c.ai = ai;
     hz_status_t st = HZ_OK;
     if ((ai->mFlags & AI_SCENE_FLAGS_INCOMPLETE) || !ai->mRootNode)

@@ -81,6 +81,7 @@ hz_status_t hz_bake_import_furball(hz_bake_scene_t *s, const char *path, const h
 {
     uint8_t *xml;
     size_t xml_size;
+    hz_bake_phase("reading strands and tessellating them into tubes");
     hz_status_t st = hz_bake_read_file(path, &xml, &xml_size, err);
     if (st)
         return st;

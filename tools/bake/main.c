@@ -7,6 +7,7 @@
  * runtime's own loader (hz_scene_plan) and only then renames it over the target. Any failure leaves the target
  * as it was. */
 #include <errno.h>
+#include <fcntl.h>
 #include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -52,7 +53,8 @@ static void usage(FILE *f)
             "its colour).\n"
             "\n"
             "exit status: 0 ok (warnings may have been printed), 2 bad command line, and 64 + hz status code:\n"
-            "  66 out of memory, 67 too large, 68 malformed model, sidecar or scene, 71 value out of range\n"
+            "  66 out of memory, 67 too large, 68 malformed model, sidecar or scene, 70 corrupt .hzb (a\n"
+            "  checksum fails: --info, or the baked image's own check), 71 value out of range\n"
             "  (e.g. NaN vertex), 72 unsupported format, 73 file missing or unreadable, 75 import timed out,\n"
             "  76 the importer crashed (or another internal failure)\n");
 }
@@ -193,12 +195,14 @@ static int child(job_t *job, FILE *out)
     if (st == HZ_OK) {
         hz_bake_progress("converted: %zu triangles, %zu vertices, %zu objects, %zu materials, %zu textures", s.tri.len,
                          s.pos.len, s.objs.len, s.mats.len, s.texs.len);
+        hz_bake_phase("building the scene image (%zu triangles)", s.tri.len);
         st = hz_bake_scene_finish(&s, &job->sc, &img, &err);
     }
     hz_bake_scene_free(&s);
     if (st != HZ_OK)
         return hz_cli_report(&err);
     hz_bake_progress("writing %zu bytes", img.size);
+    hz_bake_phase("writing %zu bytes", img.size);
     if (fwrite(img.data, 1, img.size, out) != img.size || fflush(out) != 0) {
         hz_bake_err(&err, HZ_E_IO, "%s: write failed: %s", job->out, strerror(errno));
         free(img.data);
@@ -230,6 +234,72 @@ static void sleep_ms(long ms)
         ;
 }
 
+/* The child's current phase as the parent sees it (read from the pipe). */
+typedef struct phase {
+    int fd;
+    char name[256];
+    size_t fill;     /* bytes of a partial line in buf */
+    double since;    /* when this phase began */
+    double next;     /* when to say something about it next (0: not yet said) */
+    int said;
+    char buf[512];
+} phase_t;
+
+/* Seconds a phase lasts before it is said: 1, or 0 with HZ_PROGRESS=all in the environment (every phase, for
+ * tests and the curious). */
+static double phase_after(void)
+{
+    const char *e = getenv("HZ_PROGRESS");
+    return e && !strcmp(e, "all") ? 0.0 : 1.0;
+}
+
+/* Phases are said on a terminal, with -v, or with HZ_PROGRESS=all. */
+static int phase_shown(void)
+{
+    return hz_bake_verbose || hz_cli_stderr_is_tty() || phase_after() == 0.0;
+}
+
+/* Takes the newest complete phase line from the pipe; says a phase once it has lasted a second, then every
+ * 5 s, on a terminal or with -v. */
+static void phase_poll(phase_t *ph, const char *model, double now)
+{
+    if (ph->fd >= 0) {
+        ssize_t r;
+        while ((r = read(ph->fd, ph->buf + ph->fill, sizeof ph->buf - 1 - ph->fill)) > 0) {
+            ph->fill += (size_t)r;
+            char *nl;
+            while ((nl = memchr(ph->buf, '\n', ph->fill)) != NULL) {
+                *nl = 0;
+                if (strcmp(ph->name, ph->buf)) {
+                    if (ph->said && phase_shown())
+                        fprintf(stderr, "%s: %s: %s: done in %.1f s\n", hz_cli_prog, model, ph->name,
+                                now - ph->since);
+                    hz_bake_strcpy(ph->name, sizeof ph->name, ph->buf);
+                    ph->since = now, ph->next = 0, ph->said = 0;
+                    if (phase_after() == 0.0) { /* every phase, also those that came and went between polls */
+                        fprintf(stderr, "%s: %s: %s ...\n", hz_cli_prog, model, ph->name);
+                        ph->said = 1, ph->next = now + 5.0;
+                    }
+                }
+                size_t used = (size_t)(nl - ph->buf) + 1;
+                memmove(ph->buf, nl + 1, ph->fill - used);
+                ph->fill -= used;
+            }
+            if (ph->fill == sizeof ph->buf - 1)
+                ph->fill = 0; /* a line too long to be ours */
+        }
+    }
+    if (!phase_shown())
+        return;
+    if (!ph->said && now - ph->since >= phase_after()) {
+        fprintf(stderr, "%s: %s: %s ...\n", hz_cli_prog, model, ph->name);
+        ph->said = 1, ph->next = now + 5.0;
+    } else if (ph->said && now >= ph->next) {
+        fprintf(stderr, "%s: %s: still %s (%.0f s)\n", hz_cli_prog, model, ph->name, now - ph->since);
+        ph->next = now + 5.0;
+    }
+}
+
 static int bake(job_t *job)
 {
     hz_error_t err;
@@ -253,17 +323,31 @@ static int bake(job_t *job)
         return hz_cli_report(&err);
     fflush(stdout);
     fflush(stderr);
+    /* The child names its phases through a pipe, so the wait can say what is taking long. */
+    int phase_pipe[2] = { -1, -1 };
+    if (pipe(phase_pipe) == 0)
+        fcntl(phase_pipe[0], F_SETFL, O_NONBLOCK);
     pid_t pid = fork();
     if (pid < 0) {
         hz_out_abort(&out);
         hz_bake_err(&err, HZ_E_INTERNAL, "cannot start the import process: %s", strerror(errno));
         return hz_cli_report(&err);
     }
-    if (pid == 0)
+    if (pid == 0) {
+        if (phase_pipe[0] >= 0)
+            close(phase_pipe[0]);
+        hz_bake_phase_fd = phase_pipe[1];
         _exit(child(job, out.f));
+    }
+    if (phase_pipe[1] >= 0)
+        close(phase_pipe[1]);
+    static phase_t ph;
+    memset(&ph, 0, sizeof ph);
+    ph.fd = phase_pipe[0];
+    ph.since = t0;
+    hz_bake_strcpy(ph.name, sizeof ph.name, "importing");
 
     int status = 0;
-    double next_note = hz_bake_now() + 5.0;
     for (;;) {
         pid_t r = waitpid(pid, &status, WNOHANG);
         if (r == pid)
@@ -282,12 +366,16 @@ static int bake(job_t *job)
                         job->model, job->timeout_s, job->out);
             return hz_cli_report(&err);
         }
-        if (now >= next_note && (hz_bake_verbose || hz_cli_stderr_is_tty())) {
-            fprintf(stderr, "%s: %s: still importing (%.0f s)\n", hz_cli_prog, job->model, now - t0);
-            next_note = now + 5.0;
-        }
+        phase_poll(&ph, job->model, now);
         sleep_ms(now - t0 < 1.0 ? 2 : 20);
     }
+    if (ph.fd >= 0) {
+        phase_poll(&ph, job->model, hz_bake_now()); /* the lines written just before the child ended */
+        close(ph.fd);
+    }
+    if (ph.said && phase_shown())
+        fprintf(stderr, "%s: %s: %s: done in %.1f s\n", hz_cli_prog, job->model, ph.name, hz_bake_now() - ph.since);
+    double tv = hz_bake_now();
     if (WIFSIGNALED(status)) {
         hz_out_abort(&out);
         hz_bake_err(&err, HZ_E_INTERNAL, "%s: the importer crashed (%s, signal %d) while reading it; %s is unchanged",
@@ -333,6 +421,9 @@ static int bake(job_t *job)
                     job->out);
         return hz_cli_report(&err);
     }
+    if (phase_shown() && hz_bake_now() - tv >= phase_after())
+        fprintf(stderr, "%s: %s: checked the baked image with the runtime loader in %.1f s\n", hz_cli_prog, job->out,
+                hz_bake_now() - tv);
     if (hz_out_commit(&out, &err) != HZ_OK) {
         free(buf);
         return hz_cli_report(&err);
@@ -371,6 +462,7 @@ static char *default_sidecar(const char *model)
 int main(int argc, char **argv)
 {
     hz_cli_prog = "hzbake";
+    hz_out_remove_on_signals(); /* an interrupted bake leaves no temporary file */
     job_t job;
     memset(&job, 0, sizeof job);
     job.timeout_s = 600;

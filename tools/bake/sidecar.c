@@ -533,8 +533,27 @@ static hz_status_t key_line(parser_t *p, char *s)
     if (!kl)
         return perr(p, HZ_E_FORMAT, "missing key before '='");
     for (size_t i = 0; i < kl; i++)
-        if (!(islower((unsigned char)key[i]) || key[i] == '_'))
-            return perr(p, HZ_E_FORMAT, "'%s' is not a key (keys are lower_case words)", key);
+        if (!(islower((unsigned char)key[i]) || key[i] == '_')) {
+            /* Invisible bytes (a byte-order mark mid-file, a non-breaking space) are shown as \xNN. */
+            char shown[256];
+            size_t n = 0;
+            int invisible = 0;
+            for (size_t k = 0; k < kl && n + 5 < sizeof shown; k++) {
+                unsigned char c = (unsigned char)key[k];
+                if (c >= 0x21 && c < 0x7f) {
+                    shown[n++] = (char)c;
+                } else {
+                    n += (size_t)snprintf(shown + n, sizeof shown - n, "\\x%02x", c);
+                    invisible = 1;
+                }
+            }
+            shown[n] = 0;
+            int bom = kl >= 3 && !memcmp(key, "\xef\xbb\xbf", 3);
+            return perr(p, HZ_E_FORMAT, "'%s' is not a key (keys are lower_case words)%s", shown,
+                        bom ? "; it starts with a UTF-8 byte-order mark (U+FEFF), which is only accepted at "
+                              "the start of the file"
+                            : invisible ? "; it holds bytes that do not print (shown as \\xNN)" : "");
+        }
     if (!*value)
         return perr(p, HZ_E_FORMAT, "%s: missing value", key);
     if (p->section == SEC_SCENE && !strcmp(key, "light"))
@@ -576,6 +595,9 @@ hz_status_t hz_bake_sidecar_parse(hz_bake_sidecar_t *sc, const char *path, const
     snprintf(sc->path, sizeof sc->path, "%s", path);
     size_t at = 0;
     char line[4096];
+    /* A UTF-8 byte-order mark, as some Windows editors write it, is not part of the text. */
+    if (size >= 3 && !memcmp(text, "\xef\xbb\xbf", 3))
+        at = 3;
     while (at < size) {
         p.line++;
         size_t end = at;

@@ -208,6 +208,7 @@ int hz_bake_texture_get(hz_bake_scene_t *s, const char *path, int alpha_from_lum
         return -1;
     }
     int w = 0, h = 0, comp = 0;
+    hz_bake_phase("decoding textures (%s)", hz_bake_basename(path));
     uint8_t *px = stbi_load(path, &w, &h, &comp, 4);
     return decoded(s, path, px, w, h, alpha_from_luma, max_size, material);
 }

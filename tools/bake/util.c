@@ -8,6 +8,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 #include <sys/stat.h>
 #include <time.h>
 #include <zlib.h>
@@ -104,6 +105,30 @@ void hz_bake_progress(const char *fmt, ...)
     vfprintf(stderr, fmt, ap);
     fputc('\n', stderr);
     va_end(ap);
+}
+
+int hz_bake_phase_fd = -1;
+
+void hz_bake_phase(const char *fmt, ...)
+{
+    if (hz_bake_phase_fd < 0)
+        return;
+    char line[256];
+    va_list ap;
+    va_start(ap, fmt);
+    int n = vsnprintf(line, sizeof line - 1, fmt, ap);
+    va_end(ap);
+    if (n < 0)
+        return;
+    if (n > (int)sizeof line - 2)
+        n = (int)sizeof line - 2;
+    for (int i = 0; i < n; i++)
+        if (line[i] == '\n')
+            line[i] = ' ';
+    line[n++] = '\n';
+    /* One short write: atomic on a pipe; a full pipe (the parent reads every 20 ms) just drops the line. */
+    ssize_t w = write(hz_bake_phase_fd, line, (size_t)n);
+    (void)w;
 }
 
 hz_status_t hz_bake_err(hz_error_t *err, hz_status_t code, const char *fmt, ...)

@@ -1,11 +1,13 @@
 /* The accel benchmark of hzbench (see bench_accel.h). */
 #include "bench_accel.h"
 
+#include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
+#include <unistd.h>
 
 #include "cli.h"
 #include "clock.h"
@@ -535,6 +537,21 @@ int hz_bench_accel(const hz_bench_accel_opts_t *opts)
         o.width = o.height = 1024;
     if (!o.embree_config)
         o.embree_config = "";
+    /* Every scene is there before anything is measured: a missing one is named, not found half-way. */
+    int missing = 0;
+    for (int i = 0; i < o.scene_count; i++) {
+        char path[4096];
+        snprintf(path, sizeof path, "%s/%s.hzb", o.scenes_dir, o.scenes[i]);
+        if (access(path, R_OK) != 0) {
+            hz_cli_error("bench: scene '%s' is missing: %s: %s", o.scenes[i], path, strerror(errno));
+            missing++;
+        }
+    }
+    if (missing) {
+        hz_cli_error("bench: %d of %d scenes missing (`make bench` bakes them; by hand: `make scenes`, or pick "
+                     "others with --scene NAME)", missing, o.scene_count);
+        return hz_status_exit_code(HZ_E_IO);
+    }
     hz_error_t err;
     if (hz_threads_start(o.threads, &err) != HZ_OK)
         return hz_cli_report(&err);
