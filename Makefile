@@ -130,8 +130,8 @@ RENDER_PORT_TESTS_embree := render_backends
 RENDER_PORT_TESTS_native := render_taa
 
 # pattern (src/pattern): integer-only tile orderings, dither maps, masks
-PATTERN_SRCS := src/pattern/tileorder.c
-PATTERN_TESTS := tileorder
+PATTERN_SRCS := src/pattern/tileorder.c src/pattern/dither.c src/pattern/dither_tables.c
+PATTERN_TESTS := tileorder dither
 
 # timing (src/timing): v-sync model, pacing, latency statistics; integer-only throughout
 TIMING_SRCS := src/timing/wide.c src/timing/tstat.c src/timing/vsync.c src/timing/vsynth.c src/timing/pace.c \
@@ -497,6 +497,13 @@ $(GEN_BIN)/srgb_tables: tools/gen/srgb_tables.c
 gen-srgb: $(GEN_BIN)/srgb_tables ## regenerate src/core/srgb_tables.c (exact sRGB 8-bit tables; test_image checks them)
 	$(Q)$(GEN_BIN)/srgb_tables src/core/srgb_tables.c
 
+$(GEN_BIN)/dither_tables: tools/gen/dither_tables.c tools/gen/vac.h
+	@mkdir -p $(dir $@)
+	$(call msg,HOSTCC,$@)$(HOSTCC) $(WARN) -O2 -o $@ $< -lm
+
+gen-dither: $(GEN_BIN)/dither_tables ## regenerate src/pattern/dither_tables.c (STD maps, void-and-cluster blue noise; test_dither checks them)
+	$(Q)$(GEN_BIN)/dither_tables src/pattern/dither_tables.c
+
 # ---------------------------------------------------------------------------------------------------------
 # Tests
 tests: $(TEST_BINS) $(HZRT) ## build the test binaries of BOARD without running them
@@ -607,6 +614,6 @@ help: ## list the targets
 	@grep -hE '^[a-z][a-z-]*:.*## ' $(MAKEFILE_LIST) | sed -E 's/^([a-z-]+):.*## (.*)/\1|\2/' | \
 		awk -F'|' '{ printf "  %-20s %s\n", $$1, $$2 }'
 
-.PHONY: all deps run bench size tests test-board test check-freestanding check-integer clean help gen-srgb errtime \
+.PHONY: all deps run bench size tests test-board test check-freestanding check-integer clean help gen-srgb gen-dither errtime \
         bake scenes fuzz test-host report
 .PHONY: vmtest vmtest-tier vmtest-board latency-sim
