@@ -122,6 +122,7 @@ ACCEL_PORT_TESTS_embree := accel_embree
 
 # render (src/render, src/recon): camera, shading, G-buffer, reconstruction
 RENDER_SRCS := src/render/camera.c src/render/texture.c src/render/trace.c src/render/render.c src/recon/taa.c \
+               src/render/transp.c \
                src/recon/tdense.c
 RENDER_TESTS := tdense
 RENDER_PORT_TESTS := render render_tdense
@@ -178,7 +179,7 @@ INTEGER_SRCS += $(TIMING_INTEGER_SRCS)
 KNOWN_PORTS := linux timing fbdev v4l2 gpio
 PORT_SRCS_linux := port/linux/pools.c port/linux/cli.c port/linux/clock.c port/linux/fileio.c port/linux/scenefile.c \
                    port/linux/threads.c port/linux/render_cmd.c port/linux/summary.c port/linux/accel_backend.c \
-                   port/linux/render_run.c
+                   port/linux/render_run.c port/linux/transp_opt.c
 $(foreach p,$(BOARD_PORTS),$(if $(filter $(p),$(KNOWN_PORTS)),,$(error $(BOARD_DIR)/board.mk: unknown port '$(p)' (known: $(KNOWN_PORTS)))))
 # Image files (port/linux/imageio.c): PNG needs libpng for the target. It is on when the target's compiler links
 # -lpng (host builds: libpng-dev is in host-sim's BOARD_DEPS); elsewhere the PNG calls report "not built in".

@@ -19,6 +19,7 @@
 #include "scenefile.h"
 #include "summary.h"
 #include "threads.h"
+#include "transp_opt.h"
 
 #define MAX_FRAMES 100000
 
@@ -73,6 +74,11 @@ static void usage(FILE *f)
             "  --taa-gamma G     TAA variance box width in standard deviations; default 1\n"
             "  --taa-clip        clip history towards the box centre (default: clamp per channel)\n"
             "  --taa-catmull-rom fetch history with Catmull-Rom (default: bilinear)\n"
+            "  --transparency T  blended surfaces: exact (front-to-back compositing, deep shadow rays), rr\n"
+            "                    (Russian roulette), std (spatio-temporal dither), dtaa, dtaa-star, or hybrid:X\n"
+            "                    (exact while the visibility > X in [0, 1], then one std decision); default exact.\n"
+            "                    The stochastic ones shade one fragment per pixel: use them with --mode taa or\n"
+            "                    tdense, or full with N spp (N steps of the dither)\n"
             "  --out DIR         output folder (created); default out\n"
             "  --no-y4m          do not write the video\n"
             "  --pfm             also write last.pfm\n"
@@ -178,6 +184,13 @@ static int parse(int argc, char **argv, args_t *a)
                 return HZ_EXIT_USAGE;
             }
             a->opts.taa_gamma = (float)g, i++;
+        } else if (!strcmp(o, "--transparency")) {
+            if (!hz_transp_parse(v, &a->opts.transparency, &a->opts.hybrid_x)) {
+                hz_cli_error("render: --transparency: '%s' is not exact, rr, std, dtaa, dtaa-star or hybrid:X "
+                             "with X in [0, 1]", v ? v : "");
+                return HZ_EXIT_USAGE;
+            }
+            i++;
         } else if (!strcmp(o, "--taa-clip")) {
             a->opts.taa_clip = true;
         } else if (!strcmp(o, "--taa-catmull-rom")) {
