@@ -203,7 +203,7 @@ HZRT_SRCS := port/linux/main.c port/linux/accel_cmd.c
 HZRT_OBJS := $(HZRT_SRCS:%.c=$(O)/%.o)
 HZRT := $(O)/bin/hzrt
 
-BENCH_SRCS := tools/bench/bench.c tools/bench/bench_accel.c tools/bench/bench_tdense.c
+BENCH_SRCS := tools/bench/bench.c tools/bench/bench_accel.c tools/bench/bench_tdense.c tools/bench/bench_transp.c
 BENCH_OBJS := $(BENCH_SRCS:%.c=$(O)/%.o)
 BENCH := $(O)/bin/hzbench
 
@@ -373,6 +373,8 @@ SCENE_MODEL_CornellBox-Original := $(SCENES_UNPACK)/CornellBox/CornellBox-Origin
 SCENE_MODEL_CornellBox-Mirror := $(SCENES_UNPACK)/CornellBox/CornellBox-Mirror.obj
 SCENE_MODEL_conference := $(SCENES_UNPACK)/conference/conference.obj
 SCENE_MODEL_sponza := $(SCENES_UNPACK)/sponza/sponza.obj
+# sponza-smoke: Sponza with a 12000-particle smoke cloud (seed 004), written by tools/gen/smoke_scene.c.
+SCENE_MODEL_sponza-smoke := $(SCENES_UNPACK)/sponza/sponza-smoke.obj
 SCENE_MODEL_lost-empire := $(SCENES_UNPACK)/lost-empire/lost_empire.obj
 SCENE_MODEL_pine := $(SCENES_UNPACK)/pine/scrubPine.obj
 SCENE_MODEL_dragon-res4 := $(SCENES_SRC)/dragon/dragon_vrip_res4.ply.gz
@@ -387,7 +389,7 @@ SCENE_MODEL_CesiumMan-small := $(SCENE_MODEL_CesiumMan)
 SCENE_MODEL_AlphaBlendModeTest-small := $(SCENE_MODEL_AlphaBlendModeTest)
 SCENES := CornellBox-Original CornellBox-Mirror conference sponza lost-empire pine dragon-res4 dragon-res3 \
           dragon-res2 dragon furball BoxAnimated CesiumMan AlphaBlendModeTest CesiumMan-small \
-          AlphaBlendModeTest-small
+          AlphaBlendModeTest-small sponza-smoke
 SCENE_FILES := $(SCENES:%=$(SCENES_O)/%.hzb)
 # What each scene reads besides its model: the unpacked zip (its stamp) or every file beside the model.
 scene_inputs = $(if $(filter $(SCENES_UNPACK)/%,$(1)),$(dir $(1)).unpacked,$(1) $(wildcard $(dir $(1))*))
@@ -400,6 +402,9 @@ $(SCENES_O)/%.hzb: $(BAKE) $(SIDECAR_DIR)/%.hzs
 	@mkdir -p $(dir $@)
 	$(call msg,BAKE,$@)$(BAKE) -q -s $(SIDECAR_DIR)/$*.hzs $(SCENE_MODEL_$*) $@
 $(foreach s,$(SCENES),$(eval $(SCENES_O)/$(s).hzb: $(call scene_inputs,$(SCENE_MODEL_$(s)))))
+$(SCENE_MODEL_sponza-smoke): $(SCENES_UNPACK)/sponza/.unpacked $(BUILD_ROOT)/host/tools/gen/smoke_scene
+	$(call msg,GEN,$@)$(BUILD_ROOT)/host/tools/gen/smoke_scene $(SCENES_UNPACK)/sponza
+$(SCENES_O)/sponza-smoke.hzb: $(SCENE_MODEL_sponza-smoke)
 
 ifeq ($(wildcard $(SCENES_SRC)/SOURCES.md),)
 scenes:
@@ -459,7 +464,7 @@ DEPS_TEST_CROSS := gcc-aarch64-linux-gnu libc6-dev-arm64-cross binutils-aarch64-
 deps: ## install the Debian packages BOARD needs to build, run and test (apt-get as root; else print the line)
 	$(Q)sh tools/deps.sh $(BOARD_DEPS) $(BOARD_TEST_DEPS) \
 		$(if $(filter test,$(MAKECMDGOALS)),$(DEPS_TEST_HOST) $(DEPS_TEST_CROSS)) \
-		$(if $(filter test scenes bake test-host,$(MAKECMDGOALS)),$(DEPS_BAKE)) \
+		$(if $(filter test scenes bake test-host bench,$(MAKECMDGOALS)),$(DEPS_BAKE)) \
 		$(if $(filter test fuzz test-host,$(MAKECMDGOALS)),$(DEPS_FUZZ)) \
 		$(if $(filter test vmtest,$(MAKECMDGOALS)),$(DEPS_VMTEST))
 
@@ -482,7 +487,10 @@ latency-sim: $(HZRT) ## simulated 240 Hz display-locked run: miss rate, latency 
 
 bench: $(BENCH) ## measure (side by side, in one run) and print a table; writes $(O)/bench/*.csv
 	$(Q)mkdir -p $(O)/bench
-	$(Q)$(BENCH) --csv $(O)/bench/bench.csv --accel-csv $(O)/bench/accel.csv --scenes $(SCENES_O) $(BENCH_ARGS)
+	$(Q)$(BENCH) --csv $(O)/bench/bench.csv --accel-csv $(O)/bench/accel.csv --scenes $(SCENES_O) \
+		--transparency-csv $(O)/bench/transparency.csv $(BENCH_ARGS)
+# The transparency group reads the smoke scene (seed 004): baked first.
+bench: deps $(SCENES_O)/sponza-smoke.hzb
 
 size: $(HZRT) ## section sizes of hzrt, its largest symbols and the board's static arenas
 	$(Q)$(SIZE) $(HZRT) $(LIB)
@@ -497,6 +505,10 @@ $(GEN_BIN)/srgb_tables: tools/gen/srgb_tables.c
 
 gen-srgb: $(GEN_BIN)/srgb_tables ## regenerate src/core/srgb_tables.c (exact sRGB 8-bit tables; test_image checks them)
 	$(Q)$(GEN_BIN)/srgb_tables src/core/srgb_tables.c
+
+$(GEN_BIN)/smoke_scene: tools/gen/smoke_scene.c
+	@mkdir -p $(dir $@)
+	$(call msg,HOSTCC,$@)$(HOSTCC) $(WARN) -D_POSIX_C_SOURCE=200809L -O2 -o $@ $< -lm
 
 $(GEN_BIN)/dither_tables: tools/gen/dither_tables.c tools/gen/vac.h
 	@mkdir -p $(dir $@)
