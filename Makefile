@@ -125,7 +125,7 @@ RENDER_SRCS := src/render/camera.c src/render/texture.c src/render/trace.c src/r
                src/render/transp.c \
                src/recon/tdense.c
 RENDER_TESTS := tdense
-RENDER_PORT_TESTS := render render_tdense
+RENDER_PORT_TESTS := render render_tdense render_transp
 RENDER_PORT_TESTS_embree := render_backends
 # Heavy render tests for boards whose tests run natively (not under emulation).
 RENDER_PORT_TESTS_native := render_taa

@@ -71,12 +71,14 @@ typedef struct hz_render_opts {
     uint32_t seed;         /* decorrelates sample patterns between runs that want it */
     /* Transparency of blended surfaces (seed 004, hz/dither.h): exact compositing (default) or one stochastic
      * decision per camera path (rr, std, dtaa, dtaa-star), or exact while the path's visibility > hybrid_x and
-     * then one STD decision (hybrid). Stochastic fragments are shaded as opaque with a stochastic shadow ray
-     * (blended occluders by Russian roulette); TAA widens its window to 7x7, aligns motion vectors to the
-     * dither's cell (3 px; 5 for DTAA) and skips its object-id test where the G-buffer has HZ_GB_DITHER.
-     * Scenes without blended surfaces leave all of it out (identical to exact). */
+     * then one STD decision (hybrid). A stochastic fragment is shaded as opaque with one deep shadow ray (as in
+     * the paper), or with rr_shadows one binary shadow ray that treats blended occluders by Russian roulette;
+     * TAA widens its window to 7x7, aligns motion vectors to the dither's cell (3 px; 5 for DTAA) and skips its
+     * object-id test where the G-buffer has HZ_GB_DITHER. Scenes without blended surfaces leave all of it out
+     * (identical to exact). */
     hz_transp_t transparency;
     float hybrid_x;        /* hybrid: in [0, 1]; 0 behaves as exact, 1 as std */
+    bool rr_shadows;       /* stochastic fragments: Russian-roulette shadow rays instead of deep ones */
 } hz_render_opts_t;
 
 void hz_render_opts_default(hz_render_opts_t *o);

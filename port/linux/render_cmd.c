@@ -79,6 +79,8 @@ static void usage(FILE *f)
             "                    (exact while the visibility > X in [0, 1], then one std decision); default exact.\n"
             "                    The stochastic ones shade one fragment per pixel: use them with --mode taa or\n"
             "                    tdense, or full with N spp (N steps of the dither)\n"
+            "  --rr-shadows      stochastic transparency: the shaded fragment's shadow ray takes blended occluders\n"
+            "                    by Russian roulette (one binary ray) instead of the deep shadow ray's transmittance\n"
             "  --out DIR         output folder (created); default out\n"
             "  --no-y4m          do not write the video\n"
             "  --pfm             also write last.pfm\n"
@@ -191,6 +193,8 @@ static int parse(int argc, char **argv, args_t *a)
                 return HZ_EXIT_USAGE;
             }
             i++;
+        } else if (!strcmp(o, "--rr-shadows")) {
+            a->opts.rr_shadows = true;
         } else if (!strcmp(o, "--taa-clip")) {
             a->opts.taa_clip = true;
         } else if (!strcmp(o, "--taa-catmull-rom")) {

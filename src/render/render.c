@@ -26,6 +26,7 @@ void hz_render_opts_default(hz_render_opts_t *o)
     o->seed = 0;
     o->transparency = HZ_TRANSP_EXACT;
     o->hybrid_x = 0.5f;
+    o->rr_shadows = false;
 }
 
 const char *hz_render_mode_name(hz_render_mode_t m)

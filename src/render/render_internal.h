@@ -57,7 +57,7 @@ typedef struct shadow_job {
     uint8_t light;             /* the light's index (mod 256): packets are gathered per light */
     uint16_t layers;
     uint8_t camera;            /* 1: from a camera ray's hit (packets of these are coherent) */
-    uint8_t dither;            /* 1: from a stochastic fragment: blended occluders by Russian roulette */
+    uint8_t dither;            /* 1: from a stochastic fragment with rr_shadows: blended occluders by roulette */
 } shadow_job_t;
 
 /* Mirror data of a primary hit, for the reflected hit's motion vector. */

@@ -15,7 +15,7 @@ typedef struct hitrec {
 #define ID_PRIMARY 0x10000u
 #define ID_SHADOW 0x20000u /* shadow ray; the low bits are its packet lane */
 #define ID_DITHER 0x40000u        /* camera-path ray taking the stochastic transparency decision (transp.c) */
-#define ID_SHADOW_DITHER 0x80000u /* shadow ray of a stochastic fragment: blended occluders by roulette */
+#define ID_SHADOW_DITHER 0x80000u /* rr_shadows: shadow ray of a stochastic fragment, blended occluders by roulette */
 #define SHADOW_GATHER (4u * HZ_RENDER_LANES) /* how deep take_shadows looks for a packet towards one light */
 
 /* ---- packets ---- */
@@ -573,7 +573,7 @@ static void shade_hit(hz_worker_t *w, const ray_job_t *j, const hitrec_t *h)
         sj.layers = 0;
         sj.light = (uint8_t)l;
         sj.camera = j->bounces == 0 && j->layers == 0;
-        sj.dither = (uint8_t)(j->dither != 0);
+        sj.dither = (uint8_t)(j->dither && r->opts.rr_shadows);
         push_shadow(w, &sj);
     }
     const float *amb = s->header->ambient;
