@@ -223,7 +223,7 @@ $(O)/test/unit/test_imageio: TEST_CFLAGS += -DHZ_HAVE_PNG=$(HAVE_PNG)
 # Its files are prefixed et_ because it also sees port/linux (which has report.h, for instance).
 ERRTIME_SRCS := tools/errtime/et_metrics.c tools/errtime/et_flip.c tools/errtime/et_report.c \
                 tools/errtime/et_progress.c tools/errtime/driver.c tools/errtime/et_synthetic.c \
-                tools/errtime/et_methods.c tools/errtime/et_render.c
+                tools/errtime/et_methods.c tools/errtime/et_render.c tools/errtime/et_stability.c
 ERRTIME_MAIN_SRCS := tools/errtime/main.c
 ERRTIME_TESTS := metrics flip et_report errtime et_render
 ERRTIME_OBJS := $(ERRTIME_SRCS:%.c=$(O)/%.o)

@@ -28,6 +28,7 @@ typedef struct et_state {
     et_scene_t *sc;
     hz_renderer_t *r;
     float refresh_hz;
+    bool still;        /* a still view: every frame at scene time 0 (et_stability.h) */
     uint64_t rendered; /* frames this renderer drew: its own frame index (TAA's jitter phase, tdense's subframe),
                         * which differs from the displayed frame's for held methods */
 } et_state_t;
@@ -48,6 +49,8 @@ static void opts_for(const hz_et_render_params_t *p, uint32_t w, uint32_t h, hz_
     o->taa_clip = p->taa_clip;
     o->taa_catmull_rom = p->taa_catmull_rom;
     o->seed = p->seed;
+    o->transparency = p->transparency;
+    o->hybrid_x = p->hybrid_x;
 }
 
 static hz_status_t rbegin(const hz_et_method_t *m, const hz_et_sequence_t *seq, hz_arena_t *arena, void **state,
@@ -64,6 +67,7 @@ static hz_status_t rbegin(const hz_et_method_t *m, const hz_et_sequence_t *seq, 
     st->sc = sc;
     st->rendered = 0;
     st->refresh_hz = (float)seq->refresh_hz;
+    st->still = seq->camera && !strcmp(seq->camera, "still");
     hz_status_t s = hz_render_create(&st->r, &sc->scene, sc->accel, &o, arena, sc->pools->thread, sc->threads, err);
     if (s != HZ_OK) {
         give_back_threads(sc);
@@ -76,7 +80,8 @@ static hz_status_t rbegin(const hz_et_method_t *m, const hz_et_sequence_t *seq, 
 static hz_status_t rrender(void *state, uint32_t frame, hz_image_t *out, uint64_t *rays, hz_error_t *err)
 {
     et_state_t *st = state;
-    hz_status_t s = hz_render_run_frame(st->r, st->rendered++, (float)frame / st->refresh_hz, err);
+    float t = st->still ? 0.0f : (float)frame / st->refresh_hz;
+    hz_status_t s = hz_render_run_frame(st->r, st->rendered++, t, err);
     if (s != HZ_OK)
         return s;
     if ((s = hz_image_copy(out, hz_render_output(st->r), err)) != HZ_OK)
@@ -99,14 +104,14 @@ static void rend(void *state)
 
 /* ---- the table ---- */
 
-#define FULL(n) { HZ_MODE_FULL, n, false, false, 0 }
+#define FULL(n) { HZ_MODE_FULL, n, false, false, 0, HZ_TRANSP_EXACT, 0.0f }
 static const hz_et_render_params_t p_full1 = FULL(1), p_full4 = FULL(4), p_full9 = FULL(9), p_full16 = FULL(16);
-static const hz_et_render_params_t p_taa = { HZ_MODE_TAA, 1, false, false, 0 };
-static const hz_et_render_params_t p_taa_clip = { HZ_MODE_TAA, 1, true, false, 0 };
-static const hz_et_render_params_t p_taa_cr = { HZ_MODE_TAA, 1, false, true, 0 };
-static const hz_et_render_params_t p_taa_clip_cr = { HZ_MODE_TAA, 1, true, true, 0 };
+static const hz_et_render_params_t p_taa = { HZ_MODE_TAA, 1, false, false, 0, HZ_TRANSP_EXACT, 0.0f };
+static const hz_et_render_params_t p_taa_clip = { HZ_MODE_TAA, 1, true, false, 0, HZ_TRANSP_EXACT, 0.0f };
+static const hz_et_render_params_t p_taa_cr = { HZ_MODE_TAA, 1, false, true, 0, HZ_TRANSP_EXACT, 0.0f };
+static const hz_et_render_params_t p_taa_clip_cr = { HZ_MODE_TAA, 1, true, true, 0, HZ_TRANSP_EXACT, 0.0f };
 /* The reference: 256 stratified samples with a seed no method uses. */
-static const hz_et_render_params_t p_ref = { HZ_MODE_FULL, 256, false, false, 0x5eed };
+static const hz_et_render_params_t p_ref = { HZ_MODE_FULL, 256, false, false, 0x5eed, HZ_TRANSP_EXACT, 0.0f };
 
 #define METHOD(name, knob, value, params) { name, knob, value, rbegin, rrender, rend, params, 0 }
 #define HELD(name, knob, value, params, hold) { name, knob, value, rbegin, rrender, rend, params, hold }
@@ -126,8 +131,8 @@ const hz_et_method_t hz_et_render_methods[HZ_ET_RENDER_METHOD_COUNT] = {
     METHOD("taa-clip-cr", "spp", 1, &p_taa_clip_cr),   /* both */
 };
 
-static const hz_et_render_params_t p_tdense = { HZ_MODE_TDENSE, 1, false, false, 0 };
-static const hz_et_render_params_t p_ref64 = { HZ_MODE_FULL, 64, false, false, 0x5eed };
+static const hz_et_render_params_t p_tdense = { HZ_MODE_TDENSE, 1, false, false, 0, HZ_TRANSP_EXACT, 0.0f };
+static const hz_et_render_params_t p_ref64 = { HZ_MODE_FULL, 64, false, false, 0x5eed, HZ_TRANSP_EXACT, 0.0f };
 
 const hz_et_method_t hz_et_display_reference = METHOD("full-frame", "spp", 64, &p_ref64);
 
@@ -137,6 +142,33 @@ const hz_et_method_t hz_et_display_methods[HZ_ET_DISPLAY_METHOD_COUNT] = {
     METHOD("full-1spp", "hz", 240, &p_full1),
     HELD("taa", "hz", 60, &p_taa, 4),
     METHOD("taa", "hz", 240, &p_taa),
+};
+
+#define TAA_T(t, x) { HZ_MODE_TAA, 1, false, false, 0, t, x }
+static const hz_et_render_params_t p_t_exact = TAA_T(HZ_TRANSP_EXACT, 0.0f), p_t_rr = TAA_T(HZ_TRANSP_RR, 0.0f),
+                                   p_t_std = TAA_T(HZ_TRANSP_STD, 0.0f), p_t_dtaa = TAA_T(HZ_TRANSP_DTAA, 0.0f),
+                                   p_t_dtaas = TAA_T(HZ_TRANSP_DTAA_STAR, 0.0f),
+                                   p_t_h25 = TAA_T(HZ_TRANSP_HYBRID, 0.25f), p_t_h50 = TAA_T(HZ_TRANSP_HYBRID, 0.5f),
+                                   p_t_h75 = TAA_T(HZ_TRANSP_HYBRID, 0.75f);
+
+const hz_et_method_t hz_et_transp_methods[HZ_ET_TRANSP_METHOD_COUNT] = {
+    METHOD("taa-exact", "spp", 1, &p_t_exact),
+    METHOD("taa-rr", "spp", 1, &p_t_rr),
+    METHOD("taa-std", "spp", 1, &p_t_std),
+    METHOD("taa-dtaa", "spp", 1, &p_t_dtaa),
+    METHOD("taa-dtaa-star", "spp", 1, &p_t_dtaas),
+    METHOD("taa-hybrid", "x", 0.25, &p_t_h25),
+    METHOD("taa-hybrid", "x", 0.5, &p_t_h50),
+    METHOD("taa-hybrid", "x", 0.75, &p_t_h75),
+};
+
+static const hz_et_render_params_t p_td_std = { HZ_MODE_TDENSE, 1, false, false, 0, HZ_TRANSP_STD, 0.0f };
+
+const hz_et_method_t hz_et_transp_display_methods[HZ_ET_TRANSP_DISPLAY_METHOD_COUNT] = {
+    METHOD("tdense-std", "hz", 240, &p_td_std),
+    METHOD("tdense-exact", "hz", 240, &p_tdense),
+    HELD("taa-std", "hz", 60, &p_t_std, 4),
+    HELD("taa-exact", "hz", 60, &p_t_exact, 4),
 };
 
 /* ---- scenes ---- */
