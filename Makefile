@@ -203,7 +203,8 @@ HZRT_SRCS := port/linux/main.c port/linux/accel_cmd.c
 HZRT_OBJS := $(HZRT_SRCS:%.c=$(O)/%.o)
 HZRT := $(O)/bin/hzrt
 
-BENCH_SRCS := tools/bench/bench.c tools/bench/bench_accel.c tools/bench/bench_tdense.c tools/bench/bench_transp.c
+BENCH_SRCS := tools/bench/bench.c tools/bench/bench_accel.c tools/bench/bench_tdense.c tools/bench/bench_transp.c \
+              tools/bench/bench_scene.c
 BENCH_OBJS := $(BENCH_SRCS:%.c=$(O)/%.o)
 BENCH := $(O)/bin/hzbench
 
@@ -300,6 +301,9 @@ tests: $(ERRTIME)
 # up on its point): `hzerrtime --methods taa,taa-clip,taa-catmull-rom,taa-clip-cr` compares them.
 REPORT_O := $(BUILD_ROOT)/report
 REPORT_SCENES := CornellBox-Mirror,sponza,lost-empire,builtin,builtin@240,sponza@240,conference@240
+# Transparency (seed 004): every --transparency method with TAA, the still-view stability figure, and std under
+# tdense at 240 Hz against + TAA at 60 Hz.
+REPORT_SCENES := $(REPORT_SCENES),sponza-smoke,AlphaBlendModeTest,builtin-transp,sponza-smoke@240,AlphaBlendModeTest@240
 REPORT_SKIP := taa-clip,taa-catmull-rom,taa-clip-cr
 report: $(ERRTIME) scenes ## error against run time of every method on the standard scenes: build/report/ (CSV, MD, SVG)
 	$(Q)t0=$$(date +%s); nice $(ERRTIME) --scene $(REPORT_SCENES) --skip $(REPORT_SKIP) --scenes $(SCENES_O) \

@@ -6,12 +6,11 @@
 #include <string.h>
 #include <unistd.h>
 
-#include "accel_backend.h"
+#include "bench_scene.h"
 #include "clock.h"
 #include "hz/render.h"
 #include "pools.h"
 #include "render_run.h"
-#include "scenefile.h"
 #include "threads.h"
 #include "transp_opt.h"
 
@@ -46,22 +45,13 @@ int hz_bench_transp(const hz_bench_transp_opts_t *o, hz_bench_transp_row_t rows[
         return 0;
     }
     uint32_t frames = o->frames < 1 ? 1 : o->frames > HZ_BENCH_TRANSP_MAX_FRAMES ? HZ_BENCH_TRANSP_MAX_FRAMES : o->frames;
-    hz_pools_t *pools = hz_pools_get();
-    hz_arena_mark_t ms = hz_arena_mark(&pools->scene), ma = hz_arena_mark(&pools->accel),
-                    mf = hz_arena_mark(&pools->frame), mt[HZ_MAX_THREADS];
-    for (int t = 0; t < HZ_MAX_THREADS; t++)
-        mt[t] = hz_arena_mark(&pools->thread[t]);
-    hz_scene_t scene;
-    hz_accel_t *accel = NULL;
-    hz_accel_geom_t geom;
-    hz_status_t s = hz_threads_start(o->threads, err);
-    bool threads = s == HZ_OK;
+    hz_bench_scene_t bs;
+    hz_status_t s = hz_bench_scene_open(&bs, path, err);
+    hz_pools_t *pools = bs.pools;
+    bool threads = false;
     if (s == HZ_OK)
-        s = hz_scenefile_open(path, pools, &scene, err);
-    if (s == HZ_OK)
-        s = hz_accel_geom_from_scene(&geom, &scene, &pools->accel, err);
-    if (s == HZ_OK)
-        s = hz_accel_backend_build(HZ_ACCEL_NATIVE, &accel, &geom, &pools->accel, err);
+        threads = (s = hz_threads_start(o->threads, err)) == HZ_OK;
+    const hz_scene_t *scene = &bs.scene;
     hz_renderer_t *r[HZ_BENCH_TRANSP_METHODS] = { NULL };
     for (int m = 0; m < HZ_BENCH_TRANSP_METHODS && s == HZ_OK; m++) {
         hz_render_opts_t ro;
@@ -69,11 +59,12 @@ int hz_bench_transp(const hz_bench_transp_opts_t *o, hz_bench_transp_row_t rows[
         ro.width = o->width, ro.height = o->height;
         ro.mode = HZ_MODE_TAA;
         ro.transparency = methods[m].t, ro.hybrid_x = methods[m].x;
-        s = hz_render_create(&r[m], &scene, accel, &ro, &pools->frame, pools->thread, (uint32_t)o->threads, err);
+        s = hz_render_create(&r[m], &bs.scene, bs.accel, &ro, &pools->frame, pools->thread, (uint32_t)o->threads,
+                             err);
     }
     static double best[HZ_BENCH_TRANSP_METHODS][HZ_BENCH_TRANSP_MAX_FRAMES];
     double rays[HZ_BENCH_TRANSP_METHODS] = { 0 };
-    float duration = s == HZ_OK && scene.header->duration > 0.0f ? scene.header->duration : 1.0f;
+    float duration = s == HZ_OK && scene->header->duration > 0.0f ? scene->header->duration : 1.0f;
     for (int round = 0; round < o->rounds && s == HZ_OK; round++) {
         for (uint32_t i = 0; i < frames && s == HZ_OK; i++) {
             float t = duration * (float)i / (float)frames;
@@ -112,12 +103,7 @@ int hz_bench_transp(const hz_bench_transp_opts_t *o, hz_bench_transp_row_t rows[
             row->rays_per_frame = rays[m];
         }
     }
-    hz_accel_release(accel);
-    hz_arena_reset(&pools->frame, mf);
-    hz_arena_reset(&pools->accel, ma);
-    hz_arena_reset(&pools->scene, ms);
-    for (int t = 0; t < HZ_MAX_THREADS; t++)
-        hz_arena_reset(&pools->thread[t], mt[t]);
+    hz_bench_scene_close(&bs);
     if (threads)
         hz_threads_stop();
     return s == HZ_OK ? n : -1;

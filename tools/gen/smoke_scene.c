@@ -30,6 +30,13 @@ static double uniform(void)
     return (double)(rng >> 8) / 16777216.0;
 }
 
+static void normalize(double v[3])
+{
+    double l = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    for (int c = 0; c < 3; c++)
+        v[c] /= l;
+}
+
 static void fail(const char *what, const char *path)
 {
     fprintf(stderr, "smoke_scene: %s: %s: %s\n", path, what, errno ? strerror(errno) : "failed");
@@ -135,15 +142,11 @@ int main(int argc, char **argv)
                 n[c] = uniform() * 2.0 - 1.0;
             n2 = n[0] * n[0] + n[1] * n[1] + n[2] * n[2];
         } while (n2 > 1.0 || n2 < 1e-6);
-        double nl = sqrt(n2);
-        for (int c = 0; c < 3; c++)
-            n[c] /= nl;
+        normalize(n);
         /* Tangent frame: any vector not parallel to n. */
         double a[3] = { fabs(n[0]) < 0.9 ? 1.0 : 0.0, fabs(n[0]) < 0.9 ? 0.0 : 1.0, 0.0 };
         double t[3] = { a[1] * n[2] - a[2] * n[1], a[2] * n[0] - a[0] * n[2], a[0] * n[1] - a[1] * n[0] };
-        double tl = sqrt(t[0] * t[0] + t[1] * t[1] + t[2] * t[2]);
-        for (int c = 0; c < 3; c++)
-            t[c] /= tl;
+        normalize(t);
         double b[3] = { n[1] * t[2] - n[2] * t[1], n[2] * t[0] - n[0] * t[2], n[0] * t[1] - n[1] * t[0] };
         double half = 0.15 + 0.2 * uniform();
         int mat = (int)(uniform() * 4.0) & 3;
