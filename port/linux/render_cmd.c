@@ -291,6 +291,9 @@ int hz_cmd_render(int argc, char **argv)
     hz_scene_t scene;
     if (hz_scenefile_open(a.scene, pools, &scene, &err) != HZ_OK)
         return hz_cli_report(&err);
+    if (a.opts.transparency != HZ_TRANSP_EXACT && !(scene.features & HZ_FEAT_BLEND) && !a.quiet)
+        fprintf(stderr, "%s: render: --transparency %s: %s has no blended surfaces; it renders as exact\n",
+                hz_cli_prog, hz_transp_name(a.opts.transparency), a.scene);
     hz_accel_geom_t geom;
     if (hz_accel_geom_from_scene(&geom, &scene, &pools->accel, &err) != HZ_OK)
         return hz_cli_report(&err);

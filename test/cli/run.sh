@@ -43,6 +43,11 @@ expect render-bad-tdense-gamma 2 "--tdense-gamma: '0' is not a number" "$hzrt" r
 expect render-msaa4-needs-4spp 2 "4x MSAA positions need full mode with 4 spp" "$hzrt" render builtin --mode full --msaa4
 expect render-help-tdense 0 "--no-reflected-mv" "$hzrt" render --help
 expect render-unknown-option 2 "unknown option '--fast'" "$hzrt" render builtin --fast
+expect render-bad-transparency 2 "--transparency: 'stochastic' is not exact, rr, std" "$hzrt" render builtin --transparency stochastic
+expect render-bad-hybrid 2 "--transparency: 'hybrid:1.5' is not exact" "$hzrt" render builtin --transparency hybrid:1.5
+expect render-bad-hybrid-empty 2 "--transparency: 'hybrid:' is not exact" "$hzrt" render builtin --transparency hybrid:
+expect render-help-transparency 0 "dtaa-star" "$hzrt" render --help
+expect render-transparency-std 0 "mode taa" "$hzrt" render builtin --mode taa --size 32x18 --frames 2 --transparency hybrid:0.5 --no-y4m --out "$tmp/o-std"
 expect render-missing-file 73 "$tmp/nope.hzb: No such file" "$hzrt" render "$tmp/nope.hzb" --out "$tmp/o1"
 head -c 300 /dev/urandom >"$tmp/random.hzb"
 expect info-garbage 68 "random.hzb: not a .hzb file" "$hzrt" info "$tmp/random.hzb"
