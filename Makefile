@@ -122,17 +122,17 @@ ACCEL_PORT_TESTS_embree := accel_embree
 
 # render (src/render, src/recon): camera, shading, G-buffer, reconstruction
 RENDER_SRCS := src/render/camera.c src/render/texture.c src/render/trace.c src/render/render.c src/recon/taa.c \
-               src/render/deflight.c \
+               src/render/deflight.c src/render/transp.c \
                src/recon/tdense.c src/recon/adaptive.c
 RENDER_TESTS := tdense
-RENDER_PORT_TESTS := render render_tdense render_adaptive
+RENDER_PORT_TESTS := render render_tdense render_adaptive render_transp
 RENDER_PORT_TESTS_embree := render_backends
 # Heavy render tests for boards whose tests run natively (not under emulation).
 RENDER_PORT_TESTS_native := render_taa
 
 # pattern (src/pattern): integer-only tile orderings, dither maps, masks
-PATTERN_SRCS := src/pattern/tileorder.c src/pattern/adaptive_mask.c
-PATTERN_TESTS := tileorder adaptive_mask
+PATTERN_SRCS := src/pattern/tileorder.c src/pattern/adaptive_mask.c src/pattern/dither.c src/pattern/dither_tables.c
+PATTERN_TESTS := tileorder adaptive_mask dither
 
 # timing (src/timing): v-sync model, pacing, latency statistics; integer-only throughout
 TIMING_SRCS := src/timing/wide.c src/timing/tstat.c src/timing/vsync.c src/timing/vsynth.c src/timing/pace.c \
@@ -192,7 +192,7 @@ INTEGER_SRCS += $(TIMING_INTEGER_SRCS)
 KNOWN_PORTS := linux timing fbdev v4l2 gpio drm
 PORT_SRCS_linux := port/linux/pools.c port/linux/cli.c port/linux/clock.c port/linux/fileio.c port/linux/scenefile.c \
                    port/linux/threads.c port/linux/render_cmd.c port/linux/summary.c port/linux/accel_backend.c \
-                   port/linux/render_run.c port/linux/adaptive_cli.c
+                   port/linux/render_run.c port/linux/adaptive_cli.c port/linux/transp_opt.c
 PORT_SRCS_linux += port/linux/progress.c
 $(foreach p,$(BOARD_PORTS),$(if $(filter $(p),$(KNOWN_PORTS)),,$(error $(BOARD_DIR)/board.mk: unknown port '$(p)' (known: $(KNOWN_PORTS)))))
 # Image files (port/linux/imageio.c): PNG needs libpng for the target. It is on when the target's compiler links
@@ -217,7 +217,8 @@ HZRT_SRCS := port/linux/main.c port/linux/accel_cmd.c
 HZRT_OBJS := $(HZRT_SRCS:%.c=$(O)/%.o)
 HZRT := $(O)/bin/hzrt
 
-BENCH_SRCS := tools/bench/bench.c tools/bench/bench_accel.c tools/bench/bench_tdense.c
+BENCH_SRCS := tools/bench/bench.c tools/bench/bench_accel.c tools/bench/bench_tdense.c tools/bench/bench_transp.c \
+              tools/bench/bench_scene.c
 BENCH_OBJS := $(BENCH_SRCS:%.c=$(O)/%.o)
 BENCH := $(O)/bin/hzbench
 
@@ -237,7 +238,7 @@ $(O)/test/unit/test_imageio: TEST_CFLAGS += -DHZ_HAVE_PNG=$(HAVE_PNG)
 # Its files are prefixed et_ because it also sees port/linux (which has report.h, for instance).
 ERRTIME_SRCS := tools/errtime/et_metrics.c tools/errtime/et_flip.c tools/errtime/et_report.c \
                 tools/errtime/et_progress.c tools/errtime/driver.c tools/errtime/et_synthetic.c \
-                tools/errtime/et_methods.c tools/errtime/et_render.c
+                tools/errtime/et_methods.c tools/errtime/et_render.c tools/errtime/et_stability.c
 ERRTIME_MAIN_SRCS := tools/errtime/main.c
 ERRTIME_TESTS := metrics flip et_report errtime et_render
 ERRTIME_OBJS := $(ERRTIME_SRCS:%.c=$(O)/%.o)
@@ -322,6 +323,9 @@ tests: $(ERRTIME)
 # up on its point): `hzerrtime --methods taa,taa-clip,taa-catmull-rom,taa-clip-cr` compares them.
 REPORT_O := $(BUILD_ROOT)/report
 REPORT_SCENES := CornellBox-Mirror,sponza,lost-empire,builtin,builtin@240,sponza@240,conference@240
+# Transparency (seed 004): every --transparency method with TAA, the still-view stability figure, and std under
+# tdense at 240 Hz against + TAA at 60 Hz.
+REPORT_SCENES := $(REPORT_SCENES),sponza-smoke,AlphaBlendModeTest,builtin-transp,sponza-smoke@240,AlphaBlendModeTest@240
 REPORT_SKIP := taa-clip,taa-catmull-rom,taa-clip-cr
 report: deps $(ERRTIME) scenes ## error against run time of every method on the standard scenes: build/report/ (CSV, MD, SVG)
 	$(Q)t0=$$(date +%s); nice $(ERRTIME) --scene $(REPORT_SCENES) --skip $(REPORT_SKIP) --scenes $(SCENES_O) \
@@ -437,6 +441,8 @@ SCENE_MODEL_CornellBox-Original := $(SCENES_UNPACK)/CornellBox/CornellBox-Origin
 SCENE_MODEL_CornellBox-Mirror := $(SCENES_UNPACK)/CornellBox/CornellBox-Mirror.obj
 SCENE_MODEL_conference := $(SCENES_UNPACK)/conference/conference.obj
 SCENE_MODEL_sponza := $(SCENES_UNPACK)/sponza/sponza.obj
+# sponza-smoke: Sponza with a 12000-particle smoke cloud (seed 004), written by tools/gen/smoke_scene.c.
+SCENE_MODEL_sponza-smoke := $(SCENES_UNPACK)/sponza/sponza-smoke.obj
 SCENE_MODEL_lost-empire := $(SCENES_UNPACK)/lost-empire/lost_empire.obj
 SCENE_MODEL_pine := $(SCENES_UNPACK)/pine/scrubPine.obj
 SCENE_MODEL_dragon-res4 := $(SCENES_SRC)/dragon/dragon_vrip_res4.ply.gz
@@ -451,7 +457,7 @@ SCENE_MODEL_CesiumMan-small := $(SCENE_MODEL_CesiumMan)
 SCENE_MODEL_AlphaBlendModeTest-small := $(SCENE_MODEL_AlphaBlendModeTest)
 SCENES := CornellBox-Original CornellBox-Mirror conference sponza lost-empire pine dragon-res4 dragon-res3 \
           dragon-res2 dragon furball BoxAnimated CesiumMan AlphaBlendModeTest CesiumMan-small \
-          AlphaBlendModeTest-small
+          AlphaBlendModeTest-small sponza-smoke
 SCENE_FILES := $(SCENES:%=$(SCENES_O)/%.hzb)
 # What each scene reads besides its model: the unpacked zip (its stamp) or every file beside the model.
 scene_inputs = $(if $(filter $(SCENES_UNPACK)/%,$(1)),$(dir $(1)).unpacked,$(1) $(wildcard $(dir $(1))*))
@@ -464,6 +470,9 @@ $(SCENES_O)/%.hzb: $(BAKE) $(SIDECAR_DIR)/%.hzs
 	@mkdir -p $(dir $@)
 	$(call msg,BAKE,$@)$(BAKE) -q -s $(SIDECAR_DIR)/$*.hzs $(SCENE_MODEL_$*) $@
 $(foreach s,$(SCENES),$(eval $(SCENES_O)/$(s).hzb: $(call scene_inputs,$(SCENE_MODEL_$(s)))))
+$(SCENE_MODEL_sponza-smoke): $(SCENES_UNPACK)/sponza/.unpacked $(BUILD_ROOT)/host/tools/gen/smoke_scene
+	$(call msg,GEN,$@)$(BUILD_ROOT)/host/tools/gen/smoke_scene $(SCENES_UNPACK)/sponza
+$(SCENES_O)/sponza-smoke.hzb: $(SCENE_MODEL_sponza-smoke)
 
 ifeq ($(wildcard $(SCENES_SRC)/SOURCES.md),)
 scenes:
@@ -546,7 +555,10 @@ latency-sim: $(HZRT) ## simulated 240 Hz display-locked run: miss rate, latency 
 
 bench: deps $(BENCH) scenes ## measure (side by side, in one run) and print a table; writes $(O)/bench/*.csv
 	$(Q)mkdir -p $(O)/bench
-	$(Q)$(BENCH) --csv $(O)/bench/bench.csv --accel-csv $(O)/bench/accel.csv --scenes $(SCENES_O) $(BENCH_ARGS)
+	$(Q)$(BENCH) --csv $(O)/bench/bench.csv --accel-csv $(O)/bench/accel.csv --scenes $(SCENES_O) \
+		--transparency-csv $(O)/bench/transparency.csv $(BENCH_ARGS)
+# The transparency group reads the smoke scene (seed 004): baked first.
+bench: deps $(SCENES_O)/sponza-smoke.hzb
 
 size: $(HZRT) ## section sizes of hzrt, its largest symbols and the board's static arenas
 	$(Q)$(SIZE) $(HZRT) $(LIB)
@@ -561,6 +573,17 @@ $(GEN_BIN)/srgb_tables: tools/gen/srgb_tables.c
 
 gen-srgb: $(GEN_BIN)/srgb_tables ## regenerate src/core/srgb_tables.c (exact sRGB 8-bit tables; test_image checks them)
 	$(Q)$(GEN_BIN)/srgb_tables src/core/srgb_tables.c
+
+$(GEN_BIN)/smoke_scene: tools/gen/smoke_scene.c
+	@mkdir -p $(dir $@)
+	$(call msg,HOSTCC,$@)$(HOSTCC) $(WARN) -D_POSIX_C_SOURCE=200809L -O2 -o $@ $< -lm
+
+$(GEN_BIN)/dither_tables: tools/gen/dither_tables.c tools/gen/vac.h
+	@mkdir -p $(dir $@)
+	$(call msg,HOSTCC,$@)$(HOSTCC) $(WARN) -O2 -o $@ $< -lm
+
+gen-dither: $(GEN_BIN)/dither_tables ## regenerate src/pattern/dither_tables.c (STD maps, void-and-cluster blue noise; test_dither checks them)
+	$(Q)$(GEN_BIN)/dither_tables src/pattern/dither_tables.c
 
 # ---------------------------------------------------------------------------------------------------------
 # Tests
@@ -687,7 +710,7 @@ help: ## list the targets
 	@grep -hE '^[a-z][a-z-]*:.*## ' $(MAKEFILE_LIST) | sed -E 's/^([a-z-]+):.*## (.*)/\1|\2/' | \
 		awk -F'|' '{ printf "  %-20s %s\n", $$1, $$2 }'
 
-.PHONY: all deps run bench size tests test-board test check-freestanding check-integer clean help gen-srgb errtime \
+.PHONY: all deps run bench size tests test-board test check-freestanding check-integer clean help gen-srgb gen-dither errtime \
         bake scenes fuzz test-host report
 .PHONY: vmtest vmtest-tier vmtest-board latency-sim
 .PHONY: stability stability-tier stability-board

@@ -36,6 +36,7 @@
 #include "hz/accel.h"
 #include "hz/adaptive.h"
 #include "hz/arena.h"
+#include "hz/dither.h"
 #include "hz/image.h"
 #include "hz/scene.h"
 #include "hz/status.h"
@@ -72,6 +73,16 @@ typedef struct hz_render_opts {
     /* adaptive */
     hz_adaptive_opts_t adaptive; /* thresholds, normal angle, focus objects (hz/adaptive.h) */
     uint32_t seed;         /* decorrelates sample patterns between runs that want it */
+    /* Transparency of blended surfaces (seed 004, hz/dither.h): exact compositing (default) or one stochastic
+     * decision per camera path (rr, std, dtaa, dtaa-star), or exact while the path's visibility > hybrid_x and
+     * then one STD decision (hybrid). A stochastic fragment is shaded as opaque with one deep shadow ray (as in
+     * the paper), or with rr_shadows one binary shadow ray that treats blended occluders by Russian roulette;
+     * TAA widens its window to 7x7, aligns motion vectors to the dither's cell (3 px; 5 for DTAA) and skips its
+     * object-id test where the G-buffer has HZ_GB_DITHER. Scenes without blended surfaces leave all of it out
+     * (identical to exact). */
+    hz_transp_t transparency;
+    float hybrid_x;        /* hybrid: in [0, 1]; 0 behaves as exact, 1 as std */
+    bool rr_shadows;       /* stochastic fragments: Russian-roulette shadow rays instead of deep ones */
 } hz_render_opts_t;
 
 void hz_render_opts_default(hz_render_opts_t *o);
@@ -85,6 +96,8 @@ enum {
     HZ_GB_TEXTURED = 1u << 1,  /* the material samples a texture */
     HZ_GB_ALPHA = 1u << 2,     /* alpha affected this pixel (a cutout was tested or a blended layer crossed) */
     HZ_GB_MIRROR = 1u << 3,    /* the surface reflects (mirror > 0) */
+    HZ_GB_DITHER = 1u << 4,    /* a stochastic transparency decision met a blended surface on the pixel's
+                                * camera path (the opacity mask TAA reads); never set with exact */
 };
 #define HZ_GB_NO_OBJECT 0xffffu
 

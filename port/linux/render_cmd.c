@@ -21,6 +21,7 @@
 #include "scenefile.h"
 #include "summary.h"
 #include "threads.h"
+#include "transp_opt.h"
 
 #define MAX_FRAMES 100000
 
@@ -111,6 +112,13 @@ static void usage(FILE *f)
             "  --taa-gamma G     TAA variance box width in standard deviations; default 1\n"
             "  --taa-clip        clip history towards the box centre (default: clamp per channel)\n"
             "  --taa-catmull-rom fetch history with Catmull-Rom (default: bilinear)\n"
+            "  --transparency T  blended surfaces: exact (front-to-back compositing, deep shadow rays), rr\n"
+            "                    (Russian roulette), std (spatio-temporal dither), dtaa, dtaa-star, or hybrid:X\n"
+            "                    (exact while the visibility > X in [0, 1], then one std decision); default exact.\n"
+            "                    The stochastic ones shade one fragment per pixel: use them with --mode taa or\n"
+            "                    tdense, or full with N spp (N steps of the dither)\n"
+            "  --rr-shadows      stochastic transparency: the shaded fragment's shadow ray takes blended occluders\n"
+            "                    by Russian roulette (one binary ray) instead of the deep shadow ray's transmittance\n"
             "  --out DIR         output folder (created); default out\n"
             "  --no-y4m          do not write the video\n"
             "  --pfm             also write last.pfm\n"
@@ -236,6 +244,15 @@ static int parse(int argc, char **argv, args_t *a)
                 return HZ_EXIT_USAGE;
             }
             a->opts.taa_gamma = (float)g, i++;
+        } else if (!strcmp(o, "--transparency")) {
+            if (!hz_transp_parse(v, &a->opts.transparency, &a->opts.hybrid_x)) {
+                hz_cli_error("render: --transparency: '%s' is not exact, rr, std, dtaa, dtaa-star or hybrid:X "
+                             "with X in [0, 1]", v ? v : "");
+                return HZ_EXIT_USAGE;
+            }
+            i++;
+        } else if (!strcmp(o, "--rr-shadows")) {
+            a->opts.rr_shadows = true;
         } else if (!strcmp(o, "--taa-clip")) {
             a->opts.taa_clip = true;
         } else if (!strcmp(o, "--taa-catmull-rom")) {
@@ -339,6 +356,9 @@ int hz_cmd_render(int argc, char **argv)
         return hz_cli_report(&err);
     if (hz_adaptive_cli_resolve(&a.adaptive, &scene, &a.opts.adaptive, &err) != HZ_OK)
         return hz_cli_report(&err);
+    if (a.opts.transparency != HZ_TRANSP_EXACT && !(scene.features & HZ_FEAT_BLEND) && !a.quiet)
+        fprintf(stderr, "%s: render: --transparency %s: %s has no blended surfaces; it renders as exact\n",
+                hz_cli_prog, hz_transp_name(a.opts.transparency), a.scene);
     hz_accel_geom_t geom;
     if (hz_accel_geom_from_scene(&geom, &scene, &pools->accel, &err) != HZ_OK)
         return hz_cli_report(&err);

@@ -5,6 +5,26 @@
  * away from the linear average the references are, and measured 0.2 dB worse against them on Sponza. */
 #include "../render/render_internal.h"
 
+#include "hz/dither.h"
+#include "hz/hash.h"
+
+/* Where the pixel's camera path took a stochastic transparency decision (seed 004, Sec. 3.2 and 3.3.1): the
+ * variance box comes from a 7x7 neighbourhood (the dither's cells are 3x3 and 5x5: a 3x3 window sees one
+ * threshold of each and clamps the accumulated coverage away), and the motion vector is snapped to the dither's
+ * cell by a stochastic bilinear choice so that the history is read on the same threshold sequence. */
+#define DITHER_RADIUS 3
+
+static void align_mv(const struct hz_renderer *r, uint32_t x, uint32_t y, float *mx, float *my)
+{
+    const float lim = 16384.0f; /* Q16 range; farther is off-screen anyway */
+    if (!(hz_absf(*mx) < lim && hz_absf(*my) < lim))
+        return;
+    int32_t q[2] = { (int32_t)(*mx * 65536.0f), (int32_t)(*my * 65536.0f) };
+    hz_dither_align_mv(q, hz_transp_mv_align(r->opts.transparency), hz_hash3(x, y, (uint32_t)r->frame));
+    *mx = (float)q[0] * (1.0f / 65536.0f);
+    *my = (float)q[1] * (1.0f / 65536.0f);
+}
+
 static void to_ycocg(const float *rgb, float *o)
 {
     o[0] = 0.25f * rgb[0] + 0.5f * rgb[1] + 0.25f * rgb[2];
@@ -112,9 +132,12 @@ void hz_taa_resolve_tile(struct hz_renderer *r, uint32_t tile)
         for (uint32_t x = x0; x < x0 + HZ_RENDER_TILE && x < w; x++) {
             size_t px = (size_t)y * w + x;
             float c[3], sum[3] = { 0, 0, 0 }, sum2[3] = { 0, 0, 0 };
+            bool dither = r->dither && (gb->flags[px] & HZ_GB_DITHER);
+            const int rad = dither ? DITHER_RADIUS : 1;
+            const float count = dither ? (float)((2 * DITHER_RADIUS + 1) * (2 * DITHER_RADIUS + 1)) : 9.0f;
             to_ycocg(cur->rgb + px * 3, c);
-            for (int dy = -1; dy <= 1; dy++)
-                for (int dx = -1; dx <= 1; dx++) {
+            for (int dy = -rad; dy <= rad; dy++)
+                for (int dx = -rad; dx <= rad; dx++) {
                     float q[3];
                     to_ycocg(pix(cur, (int32_t)x + dx, (int32_t)y + dy), q);
                     for (int k = 0; k < 3; k++)
@@ -122,21 +145,25 @@ void hz_taa_resolve_tile(struct hz_renderer *r, uint32_t tile)
                 }
             float mean[3], ext[3];
             for (int k = 0; k < 3; k++) {
-                mean[k] = sum[k] / 9.0f;
-                float var = sum2[k] / 9.0f - mean[k] * mean[k];
+                mean[k] = sum[k] / count;
+                float var = sum2[k] / count - mean[k] * mean[k];
                 ext[k] = gamma * hz_sqrtf(var > 0.0f ? var : 0.0f);
             }
             float res[3];
             bool reset = !r->hist_valid;
             float hx = (float)x + 0.5f, hy = (float)y + 0.5f;
             if (!reset && gb->mv) {
-                hx += gb->mv[px * 2];
-                hy += gb->mv[px * 2 + 1];
+                float mx = gb->mv[px * 2], my = gb->mv[px * 2 + 1];
+                if (dither)
+                    align_mv(r, x, y, &mx, &my);
+                hx += mx;
+                hy += my;
             }
             /* Off-screen or disoccluded (another object was there): start over from this frame's sample. */
             if (!reset && !(hx >= 0.0f && hy >= 0.0f && hx < (float)w && hy < (float)h))
                 reset = true;
-            if (!reset && !seen_before(r, hx, hy, gb->object[px]))
+            /* A dithered pixel shows a different fragment from frame to frame: its object changes by design. */
+            if (!reset && !dither && !seen_before(r, hx, hy, gb->object[px]))
                 reset = true;
             if (reset) {
                 res[0] = c[0], res[1] = c[1], res[2] = c[2];

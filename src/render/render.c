@@ -26,6 +26,9 @@ void hz_render_opts_default(hz_render_opts_t *o)
     o->tdense_gamma = 1.0f;
     hz_adaptive_opts_default(&o->adaptive);
     o->seed = 0;
+    o->transparency = HZ_TRANSP_EXACT;
+    o->hybrid_x = 0.5f;
+    o->rr_shadows = false;
 }
 
 const char *hz_render_mode_name(hz_render_mode_t m)
@@ -56,6 +59,10 @@ hz_status_t hz_render_opts_check(const hz_render_opts_t *o, hz_error_t *err)
         return hz_error_set(err, HZ_E_INVALID_ARG, "unknown tdense ordering rule %d", (int)o->tdense_rule);
     if (!(o->tdense_gamma > 0.0f && o->tdense_gamma <= 16.0f))
         return hz_error_set(err, HZ_E_INVALID_ARG, "tdense gamma must lie in (0, 16]");
+    if ((unsigned)o->transparency >= HZ_TRANSP_COUNT)
+        return hz_error_set(err, HZ_E_INVALID_ARG, "unknown transparency method %d", (int)o->transparency);
+    if (!(o->hybrid_x >= 0.0f && o->hybrid_x <= 1.0f))
+        return hz_error_set(err, HZ_E_INVALID_ARG, "hybrid visibility threshold must lie in [0, 1]");
     if (o->mode == HZ_MODE_ADAPTIVE) {
         hz_amask_config_t c;
         return hz_adaptive_config(&o->adaptive, &c, err);
@@ -203,6 +210,9 @@ hz_status_t hz_render_create(hz_renderer_t **out, hz_scene_t *scene, hz_accel_t 
     r->accel = accel;
     r->has_blend = n.blend, r->has_mask = n.mask, r->has_textures = n.textures, r->has_mirrors = n.mirrors;
     r->has_motion = n.motion, r->camera_moves = n.camera_moves, r->need_mv = n.mv;
+    /* The dither stage exists only where something is blended (hybrid:0 never leaves the exact path). */
+    r->dither = n.blend && opts->transparency != HZ_TRANSP_EXACT &&
+                !(opts->transparency == HZ_TRANSP_HYBRID && opts->hybrid_x <= 0.0f);
     const hz_hzb_header_t *hb = scene->header;
     r->offset_scale = 0.0f;
     for (int c = 0; c < 3; c++)
@@ -388,6 +398,7 @@ static void trace_tile(hz_renderer_t *r, uint32_t tile, hz_worker_t *w, hz_image
                 jitter[slot][1] = (cy + hz_u32_to_unit(hz_hash32(h))) / (float)side - 0.5f;
             }
         }
+        w->dither_frame = (uint32_t)r->frame * spp + k; /* N spp walk N steps of the dither's sequence */
         hz_trace_batch(w, (const float(*)[2])jitter, k == 0);
     }
     float scale = 1.0f / (float)spp;
@@ -420,6 +431,7 @@ static void trace_tile_tdense(hz_renderer_t *r, uint32_t tile, hz_worker_t *w)
         n++;
     }
     hz_memset(w->radiance, 0, sizeof w->radiance);
+    w->dither_frame = (uint32_t)r->frame;
     hz_trace_batch(w, (const float(*)[2])jitter, true);
     const hz_gbuffer_t *gb = &r->gb;
     static const float still[2] = { 0.0f, 0.0f };

@@ -45,7 +45,7 @@ typedef struct ray_job {
     uint8_t gslot;             /* GSLOT_* */
     uint8_t bounces;           /* mirror reflections so far */
     uint16_t layers;           /* blended layers crossed so far */
-    uint16_t pad;
+    uint16_t dither;           /* 1: this ray takes the stochastic transparency decision (hz/dither.h) */
 } ray_job_t;
 
 typedef struct shadow_job {
@@ -58,6 +58,7 @@ typedef struct shadow_job {
     uint8_t light;             /* the light's index (mod 256): packets are gathered per light */
     uint16_t layers;
     uint8_t camera;            /* 1: from a camera ray's hit (packets of these are coherent) */
+    uint8_t dither;            /* 1: from a stochastic fragment with rr_shadows: blended occluders by roulette */
 } shadow_job_t;
 
 /* Mirror data of a primary hit, for the reflected hit's motion vector. */
@@ -74,6 +75,9 @@ typedef struct hz_worker {
     float radiance[HZ_TILE_PIXELS * 3];
     uint32_t pixel[HZ_TILE_PIXELS];          /* slot -> pixel index; UINT32_MAX for slots outside the image */
     uint8_t alpha_touched[HZ_TILE_PIXELS];   /* a cutout was tested on the slot's primary path */
+    uint8_t dither_touched[HZ_TILE_PIXELS];  /* a stochastic decision met a blended surface on the slot's path */
+    uint32_t dither_frame;                   /* frame index the thresholds use (full mode: frame * spp + k) */
+    bool write_gbuffer;                      /* this batch fills the G-buffer */
     mirror_rec_t mirror[HZ_TILE_PIXELS];
     /* Shadow packet in flight (scenes with blended surfaces): per lane the transmittance of the blended
      * triangles met so far and which ones (the any-hit callback may see a triangle more than once). */
@@ -100,6 +104,7 @@ struct hz_renderer {
     hz_accel_t *accel;
     /* What this scene needs (features leave stages out). */
     bool has_blend, has_mask, has_textures, has_mirrors, has_motion, camera_moves, need_mv;
+    bool dither;               /* a stochastic transparency method is on and the scene blends something */
     float offset_scale;        /* scene size for secondary-ray origin offsets (hz_accel_offset_origin) */
     hz_view_t view, prev_view;
     bool have_prev;
@@ -155,6 +160,14 @@ hz_status_t hz_adaptive_init(struct hz_renderer *r, hz_arena_t *frame_arena, hz_
 void hz_adaptive_keep_attrs(struct hz_renderer *r, const hz_worker_t *w);
 void hz_adaptive_test_tile(struct hz_renderer *r, uint32_t tile);               /* pass 1 */
 void hz_adaptive_extra_tile(struct hz_renderer *r, uint32_t tile, hz_worker_t *w); /* pass 2 */
+/* transp.c: stochastic transparency (seed 004, hz/dither.h) */
+/* Any-hit of a stochastic ray of batch slot `slot` at a blended triangle of opacity alpha: true keeps it (the
+ * ray ends there, the fragment is shaded as opaque). Marks the slot's dither_touched unless alpha <= 0.01. */
+bool hz_transp_keep(hz_worker_t *w, uint32_t prim, float u, float v, float alpha, uint32_t slot);
+/* Any-hit of a stochastic fragment's shadow ray at a blended triangle: true blocks the light. */
+bool hz_transp_shadow_blocks(const hz_worker_t *w, uint32_t prim, float u, float v, float alpha);
+/* Motion-vector alignment (pixels) TAA uses where the method dithered: 3 (STD cell), 5 (DTAA), 1 (RR). */
+unsigned hz_transp_mv_align(hz_transp_t t);
 
 /* taa.c (src/recon) */
 void hz_taa_resolve_tile(struct hz_renderer *r, uint32_t tile);

@@ -14,6 +14,8 @@ typedef struct hitrec {
  * for shadow rays the lane and ID_SHADOW (blended surfaces then composite into the lane's transmittance). */
 #define ID_PRIMARY 0x10000u
 #define ID_SHADOW 0x20000u /* shadow ray; the low bits are its packet lane */
+#define ID_DITHER 0x40000u        /* camera-path ray taking the stochastic transparency decision (transp.c) */
+#define ID_SHADOW_DITHER 0x80000u /* rr_shadows: shadow ray of a stochastic fragment, blended occluders by roulette */
 #define SHADOW_GATHER (4u * HZ_RENDER_LANES) /* how deep take_shadows looks for a packet towards one light */
 
 /* ---- packets ---- */
@@ -46,7 +48,7 @@ static void intersect_jobs(hz_worker_t *w, const ray_job_t *jobs, uint32_t n, hi
         p.ray.tfar[i] = tmax && i < n ? tmax[i] : __builtin_inff();
         p.ray.time[i] = time;
         p.ray.mask[i] = 0xffffffffu;
-        p.ray.id[i] = j->slot | (j->gslot == GSLOT_PRIMARY ? ID_PRIMARY : 0u);
+        p.ray.id[i] = j->slot | (j->gslot == GSLOT_PRIMARY ? ID_PRIMARY : 0u) | (j->dither ? ID_DITHER : 0u);
         p.ray.flags[i] = 0;
         p.hit.geom_id[i] = HZ_ACCEL_INVALID_ID;
         p.hit.prim_id[i] = HZ_ACCEL_INVALID_ID;
@@ -179,6 +181,10 @@ bool hz_render_anyhit(void *user, uint32_t prim, float u, float v, float t, uint
     const hz_scene_t *s = w->r->scene;
     const hz_material_t *m = &s->materials[s->tri_info[prim] & 0xffffu];
     if (m->alpha_mode == HZ_ALPHA_BLEND) {
+        if (ray_id & ID_DITHER)
+            return hz_transp_keep(w, prim, u, v, blend_alpha(w->r, prim, u, v), ray_id & 0xffffu);
+        if (ray_id & ID_SHADOW_DITHER)
+            return hz_transp_shadow_blocks(w, prim, u, v, blend_alpha(w->r, prim, u, v));
         if (!(ray_id & ID_SHADOW))
             return true; /* camera and secondary rays stop at a blended surface and continue behind it */
         /* A shadow ray lets the layer's opacity through and goes on, counting each triangle once. */
@@ -297,7 +303,7 @@ static void process_shadows(hz_worker_t *w)
         p.tfar[i] = j->tmax;
         p.time[i] = r->time;
         p.mask[i] = 0xffffffffu;
-        p.id[i] = i | ID_SHADOW;
+        p.id[i] = i | ID_SHADOW | (j->dither ? ID_SHADOW_DITHER : 0u);
         p.flags[i] = 0;
         w->shadow_vis[i] = 1.0f;
         w->shadow_nprims[i] = 0;
@@ -512,8 +518,9 @@ static void shade_hit(hz_worker_t *w, const ray_job_t *j, const hitrec_t *h)
         }
     }
 
-    /* Blended surface: it takes alpha of what reaches it; the rest continues behind it. */
-    float a = sf.alpha;
+    /* Blended surface: it takes alpha of what reaches it; the rest continues behind it. A stochastic ray's
+     * fragment survived its decision: opaque. */
+    float a = j->dither ? 1.0f : sf.alpha;
     float wc[3] = { j->w[0] * j->vis * a, j->w[1] * j->vis * a, j->w[2] * j->vis * a };
     if (a < 1.0f) {
         float vis = j->vis * (1.0f - a);
@@ -530,6 +537,8 @@ static void shade_hit(hz_worker_t *w, const ray_job_t *j, const hitrec_t *h)
             c.vis = vis;
             c.layers = (uint16_t)(j->layers + 1u);
             c.gslot = GSLOT_NONE;
+            /* hybrid: exact while the path's visibility is above X, then one stochastic ray */
+            c.dither = r->dither && j->bounces == 0 && !(vis > r->opts.hybrid_x);
             push_ray(w, &c);
         }
     }
@@ -564,6 +573,7 @@ static void shade_hit(hz_worker_t *w, const ray_job_t *j, const hitrec_t *h)
         sj.layers = 0;
         sj.light = (uint8_t)l;
         sj.camera = j->bounces == 0 && j->layers == 0;
+        sj.dither = (uint8_t)(j->dither && r->opts.rr_shadows);
         push_shadow(w, &sj);
     }
     const float *amb = s->header->ambient;
@@ -587,6 +597,7 @@ static void shade_hit(hz_worker_t *w, const ray_job_t *j, const hitrec_t *h)
         c.cone_w = j->cone_w + j->cone_s * h->t;
         c.bounces = (uint8_t)(j->bounces + 1u);
         c.gslot = j->gslot == GSLOT_PRIMARY ? GSLOT_SECONDARY : GSLOT_NONE;
+        c.dither = 0; /* reflections composite exactly */
         push_ray(w, &c);
     } else if (j->gslot == GSLOT_PRIMARY && r->gb.object2) {
         /* No reflected hit: the secondary record says so. */
@@ -603,6 +614,8 @@ static void shade(hz_worker_t *w, const ray_job_t *j, const hitrec_t *h)
         shade_miss(w, j);
     else
         shade_hit(w, j, h);
+    if (j->dither && w->write_gbuffer && w->dither_touched[j->slot])
+        w->r->gb.flags[w->pixel[j->slot]] |= HZ_GB_DITHER; /* the opacity mask TAA reads */
 }
 
 /* Everything queued: rays depth first in packets, shadow rays whenever a packet's worth is waiting. */
@@ -633,6 +646,10 @@ void hz_trace_batch(hz_worker_t *w, const float (*jitter)[2], bool write_gbuffer
     ray_job_t jobs[HZ_RENDER_LANES];
     hitrec_t hits[HZ_RENDER_LANES];
     hz_memset(w->alpha_touched, 0, sizeof w->alpha_touched);
+    hz_memset(w->dither_touched, 0, sizeof w->dither_touched);
+    w->write_gbuffer = write_gbuffer;
+    /* Stochastic from the first hit, unless hybrid's threshold lies below full visibility. */
+    uint16_t dither = r->dither && (r->opts.transparency != HZ_TRANSP_HYBRID || !(1.0f > r->opts.hybrid_x));
     for (uint32_t base = 0; base < HZ_TILE_PIXELS; base += HZ_RENDER_LANES) {
         uint32_t n = 0;
         for (uint32_t i = 0; i < HZ_RENDER_LANES; i++) {
@@ -654,7 +671,7 @@ void hz_trace_batch(hz_worker_t *w, const float (*jitter)[2], bool write_gbuffer
             j->gslot = write_gbuffer ? GSLOT_PRIMARY : GSLOT_NONE;
             j->bounces = 0;
             j->layers = 0;
-            j->pad = 0;
+            j->dither = dither;
         }
         if (n == 0)
             continue;

@@ -70,6 +70,11 @@ expect render-msaa4-in-taa 2 "\-\-msaa4 does nothing in taa mode" "$hzrt" render
 expect render-reflected-in-taa 2 "\-\-no-reflected-mv does nothing in taa" "$hzrt" render builtin --mode taa --no-reflected-mv
 expect render-help-tdense 0 "--no-reflected-mv" "$hzrt" render --help
 expect render-unknown-option 2 "unknown option '--fast'" "$hzrt" render builtin --fast
+expect render-bad-transparency 2 "--transparency: 'stochastic' is not exact, rr, std" "$hzrt" render builtin --transparency stochastic
+expect render-bad-hybrid 2 "--transparency: 'hybrid:1.5' is not exact" "$hzrt" render builtin --transparency hybrid:1.5
+expect render-bad-hybrid-empty 2 "--transparency: 'hybrid:' is not exact" "$hzrt" render builtin --transparency hybrid:
+expect render-help-transparency 0 "dtaa-star" "$hzrt" render --help
+expect render-transparency-std 0 "mode taa" "$hzrt" render builtin --mode taa --size 32x18 --frames 2 --transparency hybrid:0.5 --no-y4m --out "$tmp/o-std"
 expect render-missing-file 73 "$tmp/nope.hzb: No such file" "$hzrt" render "$tmp/nope.hzb" --out "$tmp/o1"
 head -c 300 /dev/urandom >"$tmp/random.hzb"
 expect info-garbage 68 "random.hzb: not a .hzb file" "$hzrt" info "$tmp/random.hzb"

@@ -21,6 +21,7 @@
 #include "hz/tileorder.h"
 
 #include "bench_accel.h"
+#include "bench_transp.h"
 
 #define ROUNDS 7
 
@@ -165,7 +166,9 @@ int main(int argc, char **argv)
 {
     hz_cli_prog = "hzbench";
     const char *csv_path = NULL;
-    bool core = true, accel = true, tdense = true, only_given = false;
+    bool core = true, accel = true, tdense = true, transp = true, only_given = false;
+    const char *transp_csv = NULL;
+    hz_bench_transp_opts_t tp = { NULL, 192, 108, 0, 3, 24, false };
     hz_bench_accel_opts_t ao;
     memset(&ao, 0, sizeof ao);
     hz_bench_tdense_opts_t td = { NULL, 640, 360, 0, 5, 4, 12, 1.0f, 240, false };
@@ -178,7 +181,7 @@ int main(int argc, char **argv)
         } else if (!strcmp(argv[i], "--only") && i + 1 < argc) {
             const char *what = argv[++i];
             if (!only_given)
-                core = accel = tdense = false;
+                core = accel = tdense = transp = false;
             only_given = true;
             if (!strcmp(what, "kernels"))
                 core = true;
@@ -186,12 +189,14 @@ int main(int argc, char **argv)
                 accel = true;
             else if (!strcmp(what, "tdense"))
                 tdense = true;
+            else if (!strcmp(what, "transparency"))
+                transp = true;
             else {
-                hz_cli_error("--only: '%s' is not kernels, accel or tdense", what);
+                hz_cli_error("--only: '%s' is not kernels, accel, tdense or transparency", what);
                 return HZ_EXIT_USAGE;
             }
         } else if (!strcmp(argv[i], "--scenes") && i + 1 < argc) {
-            ao.scenes_dir = td.scenes_dir = argv[++i];
+            ao.scenes_dir = td.scenes_dir = tp.scenes_dir = argv[++i];
         } else if (!strcmp(argv[i], "--scene") && i + 1 < argc) {
             if (ao.scene_count == HZ_BENCH_MAX_SCENES) {
                 hz_cli_error("--scene: at most %d scenes", HZ_BENCH_MAX_SCENES);
@@ -201,11 +206,11 @@ int main(int argc, char **argv)
         } else if (!strcmp(argv[i], "--rounds") && i + 1 < argc) {
             if (!hz_cli_parse_long("--rounds", argv[++i], 1, HZ_BENCH_TDENSE_MAX_ROUNDS < 15 ? HZ_BENCH_TDENSE_MAX_ROUNDS : 15, &v))
                 return HZ_EXIT_USAGE;
-            ao.rounds = td.rounds = (int)v;
+            ao.rounds = td.rounds = tp.rounds = (int)v;
         } else if (!strcmp(argv[i], "--threads") && i + 1 < argc) {
             if (!hz_cli_parse_long("--threads", argv[++i], 0, HZ_MAX_THREADS, &v))
                 return HZ_EXIT_USAGE;
-            ao.threads = td.threads = (int)v;
+            ao.threads = td.threads = tp.threads = (int)v;
         } else if (!strcmp(argv[i], "--size") && i + 1 < argc) {
             int w, h;
             if (!hz_cli_parse_size("--size", argv[++i], 8, 8192, &w, &h))
@@ -220,17 +225,32 @@ int main(int argc, char **argv)
             if (!hz_cli_parse_long("--frames", argv[++i], 1, 1000, &v))
                 return HZ_EXIT_USAGE;
             td.frames = (uint32_t)v;
+        } else if (!strcmp(argv[i], "--transparency-csv") && i + 1 < argc) {
+            transp_csv = argv[++i];
+        } else if (!strcmp(argv[i], "--transparency-size") && i + 1 < argc) {
+            int w, h;
+            if (!hz_cli_parse_size("--transparency-size", argv[++i], 8, 8192, &w, &h))
+                return HZ_EXIT_USAGE;
+            tp.width = (uint32_t)w, tp.height = (uint32_t)h;
+        } else if (!strcmp(argv[i], "--transparency-frames") && i + 1 < argc) {
+            if (!hz_cli_parse_long("--transparency-frames", argv[++i], 1, HZ_BENCH_TRANSP_MAX_FRAMES, &v))
+                return HZ_EXIT_USAGE;
+            tp.frames = (uint32_t)v;
         } else if (!strcmp(argv[i], "--embree-config") && i + 1 < argc) {
             ao.embree_config = argv[++i];
         } else if (!strcmp(argv[i], "-h") || !strcmp(argv[i], "--help")) {
-            printf("usage: hzbench [--only kernels|accel|tdense]... [--csv FILE] [--accel-csv FILE] [--scenes DIR]\n"
-                   "               [--scene NAME]... [--rounds N] [--threads N] [--size WxH] [--tdense-size WxH]\n"
-                   "               [--frames N] [--embree-config S]\n"
+            printf("usage: hzbench [--only kernels|accel|tdense|transparency]... [--csv FILE] [--accel-csv FILE]\n"
+                   "               [--scenes DIR] [--scene NAME]... [--rounds N] [--threads N] [--size WxH]\n"
+                   "               [--tdense-size WxH] [--frames N] [--embree-config S] [--transparency-csv FILE]\n"
+                   "               [--transparency-size WxH] [--transparency-frames N]\n"
                    "\nMeasures hzrt's kernels side by side and prints medians of interleaved rounds, in three parts\n"
                    "(all by default, or those --only names):\n"
                    "  kernels  core kernels (%d rounds)\n"
                    "  tdense   displayed-frame time of tdense against full-frame 1 spp + TAA on the built-in scene\n"
                    "           and sponza/conference (--tdense-size, default 640x360; --frames timed frames, 12)\n"
+                   "  transparency  per-frame time along sponza-smoke's camera path of exact, rr, std, dtaa and\n"
+                   "           hybrid:0.25/0.5/0.75 with TAA (--transparency-size, default 192x108;\n"
+                   "           --transparency-frames, default 24; min over 3 rounds; CSV with --transparency-csv)\n"
                    "  accel    native BVH against Embree on the baked scenes (--scene picks them, default\n"
                    "           conference sponza lost-empire furball dragon-res4 dragon-res3 dragon-res2 dragon;\n"
                    "           --size the primary rays, default 1024x1024; --embree-config Embree's device config)\n"
@@ -299,6 +319,41 @@ int main(int argc, char **argv)
                    t->part_ms[1][1] / t->part_ms[0][1]);
         }
         printf("(seed 001 reports about 3.5x at 1920x1080 on an RTX 2080 Ti)\n");
+    }
+    if (transp) {
+        hz_error_t err;
+        hz_bench_transp_row_t prow[HZ_BENCH_TRANSP_METHODS];
+        tp.progress = hz_cli_stderr_is_tty();
+        if (tp.threads == 0) {
+            long c = sysconf(_SC_NPROCESSORS_ONLN);
+            tp.threads = c < 1 ? 1 : c > HZ_MAX_THREADS ? HZ_MAX_THREADS : (int)c;
+        }
+        printf("\ntransparency (seed 004) on sponza-smoke with TAA: %ux%u, %d threads, %u frames along the camera "
+               "path, min of %d rounds per frame\n", tp.width, tp.height, tp.threads, tp.frames, tp.rounds);
+        int np = hz_bench_transp(&tp, prow, &err);
+        if (np < 0)
+            return hz_cli_report(&err);
+        if (np > 0) {
+            printf("%-12s %10s %10s %8s %14s %12s %12s\n", "method", "p50 ms", "p99 ms", "p99/p50", "rays/frame",
+                   "exact/p50", "exact/p99");
+            for (int k = 0; k < np; k++)
+                printf("%-12s %10.2f %10.2f %8.3f %14.0f %11.2fx %11.2fx\n", prow[k].method, prow[k].p50_ms,
+                       prow[k].p99_ms, prow[k].p99_ms / prow[k].p50_ms, prow[k].rays_per_frame,
+                       prow[0].p50_ms / prow[k].p50_ms, prow[0].p99_ms / prow[k].p99_ms);
+            printf("(goal, seed 004: std >= 3x exact at p50, std p99/p50 <= 1.15)\n");
+        }
+        if (transp_csv && np > 0) {
+            hz_out_t out;
+            if (hz_out_open(&out, transp_csv, &err) != HZ_OK)
+                return hz_cli_report(&err);
+            fprintf(out.f, "scene,method,frames,p50_ms,p99_ms,rays_per_frame\n");
+            for (int k = 0; k < np; k++)
+                fprintf(out.f, "%s,%s,%u,%.3f,%.3f,%.0f\n", prow[k].scene, prow[k].method, prow[k].frames,
+                        prow[k].p50_ms, prow[k].p99_ms, prow[k].rays_per_frame);
+            if (hz_out_commit(&out, &err) != HZ_OK)
+                return hz_cli_report(&err);
+            printf("wrote %s\n", transp_csv);
+        }
     }
     if (csv_path) {
         hz_out_t out;

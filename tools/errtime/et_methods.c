@@ -29,11 +29,19 @@ static hz_status_t render_open(const hz_et_scene_t *scene, const hz_et_env_t *en
 
 #define RENDERED(name, about, file, w, h, frames, warmup)                                                       \
     { name, about, file, render_open, hz_et_render_close, hz_et_render_methods, HZ_ET_RENDER_METHOD_COUNT,     \
-      &hz_et_render_reference, w, h, frames, warmup, 0 }
+      &hz_et_render_reference, w, h, frames, warmup, 0, 0 }
 /* tdense and its baselines shown on a 240 Hz display. */
 #define AT240(name, about, file, w, h, frames, warmup)                                                          \
     { name, about, file, render_open, hz_et_render_close, hz_et_display_methods, HZ_ET_DISPLAY_METHOD_COUNT,   \
-      &hz_et_display_reference, w, h, frames, warmup, 240 }
+      &hz_et_display_reference, w, h, frames, warmup, 240, 0 }
+
+/* Transparency (seed 004): every --transparency method with TAA, plus the still-view stability figure. */
+#define TRANSP(name, about, file, w, h, frames, warmup)                                                         \
+    { name, about, file, render_open, hz_et_render_close, hz_et_transp_methods, HZ_ET_TRANSP_METHOD_COUNT,     \
+      &hz_et_render_reference, w, h, frames, warmup, 0, 16 }
+#define TRANSP240(name, about, file, w, h, frames, warmup)                                                      \
+    { name, about, file, render_open, hz_et_render_close, hz_et_transp_display_methods,                        \
+      HZ_ET_TRANSP_DISPLAY_METHOD_COUNT, &hz_et_display_reference, w, h, frames, warmup, 240, 0 }
 
 /* The standard set (`make report`): sizes and lengths keep a cold run (256-spp references included) within
  * ~15 minutes on 2 cores; see README "Error against run time". */
@@ -54,8 +62,18 @@ const hz_et_scene_t hz_et_scenes[] = {
           48, 16),
     AT240("conference@240", "Conference on a 240 Hz display: tdense vs 1 spp and TAA at 60 and 240 Hz",
           "conference.hzb", 160, 90, 48, 16),
+    TRANSP("sponza-smoke", "Sponza with a 12000-particle smoke cloud (sponza-smoke.hzb), camera flying into it: "
+           "transparency methods + TAA", "sponza-smoke.hzb", 64, 36, 20, 12),
+    TRANSP("AlphaBlendModeTest", "glTF AlphaBlendModeTest (AlphaBlendModeTest.hzb): transparency methods + TAA",
+           "AlphaBlendModeTest.hzb", 160, 90, 40, 16),
+    TRANSP("builtin-transp", "built-in scene (blended particles): transparency methods + TAA", "builtin", 160, 90, 40,
+           16),
+    TRANSP240("sponza-smoke@240", "smoke on a 240 Hz display: std and exact under tdense vs + TAA at 60 Hz",
+              "sponza-smoke.hzb", 64, 36, 32, 16),
+    TRANSP240("AlphaBlendModeTest@240", "AlphaBlendModeTest on a 240 Hz display: std and exact under tdense vs "
+              "+ TAA at 60 Hz", "AlphaBlendModeTest.hzb", 160, 90, 48, 16),
     { "synthetic", "built-in analytic animation (rotating checkerboard, sweeping disc); needs no renderer", NULL,
-      synthetic_open, NULL, hz_synth_methods, HZ_SYNTH_METHOD_COUNT, &hz_synth_reference, 0, 0, 0, 0, 0 },
+      synthetic_open, NULL, hz_synth_methods, HZ_SYNTH_METHOD_COUNT, &hz_synth_reference, 0, 0, 0, 0, 0, 0 },
 };
 const size_t hz_et_scene_count = sizeof hz_et_scenes / sizeof hz_et_scenes[0];
 

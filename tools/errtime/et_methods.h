@@ -35,6 +35,7 @@ struct hz_et_scene {
     const hz_et_method_t *reference;
     uint32_t width, height, frames, warmup; /* report defaults; --size/--frames/--warmup win */
     uint32_t refresh_hz;                    /* display refresh of the sequence; 0: --refresh (default 60) */
+    uint32_t still_frames; /* > 0: also the still-view stability figure of every method (et_stability.h) */
 };
 
 extern const hz_et_scene_t hz_et_scenes[];

@@ -29,6 +29,7 @@ typedef struct et_state {
     hz_renderer_t *r;
     float refresh_hz;
     uint64_t camera;   /* camera rays of the last frame */
+    bool still;        /* a still view: every frame at scene time 0 (et_stability.h) */
     uint64_t rendered; /* frames this renderer drew: its own frame index (TAA's jitter phase, tdense's subframe),
                         * which differs from the displayed frame's for held methods */
 } et_state_t;
@@ -51,6 +52,8 @@ static void opts_for(const hz_et_render_params_t *p, uint32_t w, uint32_t h, hz_
     o->seed = p->seed;
     if (p->mode == HZ_MODE_ADAPTIVE)
         o->adaptive.tau[HZ_TAU_COL] = o->adaptive.tau[HZ_TAU_PTE] = o->adaptive.tau[HZ_TAU_STE] = p->adaptive_tau;
+    o->transparency = p->transparency;
+    o->hybrid_x = p->hybrid_x;
 }
 
 static hz_status_t rbegin(const hz_et_method_t *m, const hz_et_sequence_t *seq, hz_arena_t *arena, void **state,
@@ -67,6 +70,7 @@ static hz_status_t rbegin(const hz_et_method_t *m, const hz_et_sequence_t *seq, 
     st->sc = sc;
     st->rendered = 0;
     st->refresh_hz = (float)seq->refresh_hz;
+    st->still = seq->camera && !strcmp(seq->camera, "still");
     hz_status_t s = hz_render_create(&st->r, &sc->scene, sc->accel, &o, arena, sc->pools->thread, sc->threads, err);
     if (s != HZ_OK) {
         give_back_threads(sc);
@@ -79,7 +83,8 @@ static hz_status_t rbegin(const hz_et_method_t *m, const hz_et_sequence_t *seq, 
 static hz_status_t rrender(void *state, uint32_t frame, hz_image_t *out, uint64_t *rays, hz_error_t *err)
 {
     et_state_t *st = state;
-    hz_status_t s = hz_render_run_frame(st->r, st->rendered++, (float)frame / st->refresh_hz, err);
+    float t = st->still ? 0.0f : (float)frame / st->refresh_hz;
+    hz_status_t s = hz_render_run_frame(st->r, st->rendered++, t, err);
     if (s != HZ_OK)
         return s;
     if ((s = hz_image_copy(out, hz_render_output(st->r), err)) != HZ_OK)
@@ -108,17 +113,19 @@ static void rend(void *state)
 
 /* ---- the table ---- */
 
-#define FULL(n) { HZ_MODE_FULL, n, false, false, 0, 0.0f }
+/* Designated initialisers: a field a row leaves out is 0 (exact transparency, no shutter, ...). */
+#define FULL(n) { .mode = HZ_MODE_FULL, .spp = n }
 static const hz_et_render_params_t p_full1 = FULL(1), p_full4 = FULL(4), p_full9 = FULL(9), p_full16 = FULL(16);
-static const hz_et_render_params_t p_taa = { HZ_MODE_TAA, 1, false, false, 0, 0.0f };
-static const hz_et_render_params_t p_taa_clip = { HZ_MODE_TAA, 1, true, false, 0, 0.0f };
-static const hz_et_render_params_t p_taa_cr = { HZ_MODE_TAA, 1, false, true, 0, 0.0f };
-static const hz_et_render_params_t p_taa_clip_cr = { HZ_MODE_TAA, 1, true, true, 0, 0.0f };
-#define ADAPTIVE(t) { HZ_MODE_ADAPTIVE, 1, false, false, 0, t }
+static const hz_et_render_params_t p_taa = { .mode = HZ_MODE_TAA, .spp = 1 };
+static const hz_et_render_params_t p_taa_clip = { .mode = HZ_MODE_TAA, .spp = 1, .taa_clip = true };
+static const hz_et_render_params_t p_taa_cr = { .mode = HZ_MODE_TAA, .spp = 1, .taa_catmull_rom = true };
+static const hz_et_render_params_t p_taa_clip_cr = { .mode = HZ_MODE_TAA, .spp = 1, .taa_clip = true,
+                                                     .taa_catmull_rom = true };
+#define ADAPTIVE(t) { .mode = HZ_MODE_ADAPTIVE, .spp = 1, .adaptive_tau = t }
 static const hz_et_render_params_t p_ad01 = ADAPTIVE(0.1f), p_ad03 = ADAPTIVE(0.3f), p_ad06 = ADAPTIVE(0.6f),
                                    p_ad10 = ADAPTIVE(1.0f);
 /* The reference: 256 stratified samples with a seed no method uses. */
-static const hz_et_render_params_t p_ref = { HZ_MODE_FULL, 256, false, false, 0x5eed, 0.0f };
+static const hz_et_render_params_t p_ref = { .mode = HZ_MODE_FULL, .spp = 256, .seed = 0x5eed };
 
 #define METHOD(name, knob, value, params) { name, knob, value, rbegin, rrender, rend, params, 0, rcamera }
 #define HELD(name, knob, value, params, hold) { name, knob, value, rbegin, rrender, rend, params, hold, rcamera }
@@ -142,8 +149,8 @@ const hz_et_method_t hz_et_render_methods[HZ_ET_RENDER_METHOD_COUNT] = {
     METHOD("adaptive", "tau", 1.0, &p_ad10),
 };
 
-static const hz_et_render_params_t p_tdense = { HZ_MODE_TDENSE, 1, false, false, 0, 0.0f };
-static const hz_et_render_params_t p_ref64 = { HZ_MODE_FULL, 64, false, false, 0x5eed, 0.0f };
+static const hz_et_render_params_t p_tdense = { .mode = HZ_MODE_TDENSE, .spp = 1 };
+static const hz_et_render_params_t p_ref64 = { .mode = HZ_MODE_FULL, .spp = 64, .seed = 0x5eed };
 
 const hz_et_method_t hz_et_display_reference = METHOD("full-frame", "spp", 64, &p_ref64);
 
@@ -153,6 +160,33 @@ const hz_et_method_t hz_et_display_methods[HZ_ET_DISPLAY_METHOD_COUNT] = {
     METHOD("full-1spp", "hz", 240, &p_full1),
     HELD("taa", "hz", 60, &p_taa, 4),
     METHOD("taa", "hz", 240, &p_taa),
+};
+
+#define TAA_T(t, x) { .mode = HZ_MODE_TAA, .spp = 1, .transparency = t, .hybrid_x = x }
+static const hz_et_render_params_t p_t_exact = TAA_T(HZ_TRANSP_EXACT, 0.0f), p_t_rr = TAA_T(HZ_TRANSP_RR, 0.0f),
+                                   p_t_std = TAA_T(HZ_TRANSP_STD, 0.0f), p_t_dtaa = TAA_T(HZ_TRANSP_DTAA, 0.0f),
+                                   p_t_dtaas = TAA_T(HZ_TRANSP_DTAA_STAR, 0.0f),
+                                   p_t_h25 = TAA_T(HZ_TRANSP_HYBRID, 0.25f), p_t_h50 = TAA_T(HZ_TRANSP_HYBRID, 0.5f),
+                                   p_t_h75 = TAA_T(HZ_TRANSP_HYBRID, 0.75f);
+
+const hz_et_method_t hz_et_transp_methods[HZ_ET_TRANSP_METHOD_COUNT] = {
+    METHOD("taa-exact", "spp", 1, &p_t_exact),
+    METHOD("taa-rr", "spp", 1, &p_t_rr),
+    METHOD("taa-std", "spp", 1, &p_t_std),
+    METHOD("taa-dtaa", "spp", 1, &p_t_dtaa),
+    METHOD("taa-dtaa-star", "spp", 1, &p_t_dtaas),
+    METHOD("taa-hybrid", "x", 0.25, &p_t_h25),
+    METHOD("taa-hybrid", "x", 0.5, &p_t_h50),
+    METHOD("taa-hybrid", "x", 0.75, &p_t_h75),
+};
+
+static const hz_et_render_params_t p_td_std = { .mode = HZ_MODE_TDENSE, .spp = 1, .transparency = HZ_TRANSP_STD };
+
+const hz_et_method_t hz_et_transp_display_methods[HZ_ET_TRANSP_DISPLAY_METHOD_COUNT] = {
+    METHOD("tdense-std", "hz", 240, &p_td_std),
+    METHOD("tdense-exact", "hz", 240, &p_tdense),
+    HELD("taa-std", "hz", 60, &p_t_std, 4),
+    HELD("taa-exact", "hz", 60, &p_t_exact, 4),
 };
 
 /* ---- scenes ---- */

@@ -47,6 +47,8 @@ typedef struct hz_et_render_params {
     bool taa_catmull_rom; /* TAA: history fetched with Catmull-Rom instead of bilinear */
     uint32_t seed;
     float adaptive_tau;   /* adaptive: tau_col = tau_pte = tau_ste (the paper's tau_alpha); the rest Table 2's */
+    hz_transp_t transparency; /* blended surfaces (hz/dither.h); 0 = exact */
+    float hybrid_x;
 } hz_et_render_params_t;
 
 /* The renderer's methods (full-frame, TAA, adaptive supersampling at tau_alpha 0.1, 0.3, 0.6 and 1; later modes
@@ -67,6 +69,17 @@ extern const hz_et_method_t hz_et_render_reference;
 #define HZ_ET_DISPLAY_METHOD_COUNT 5
 extern const hz_et_method_t hz_et_display_methods[HZ_ET_DISPLAY_METHOD_COUNT];
 extern const hz_et_method_t hz_et_display_reference;
+
+/* Transparency (seed 004) on scenes with blended surfaces: TAA with each --transparency method (exact, rr, std,
+ * dtaa, dtaa-star; hybrid with its threshold as the knob), against the 256-spp exact reference. A sequence whose
+ * camera label is "still" is rendered at scene time 0 for every frame (the still view of the stability figure,
+ * et_stability.h). */
+#define HZ_ET_TRANSP_METHOD_COUNT 8
+extern const hz_et_method_t hz_et_transp_methods[HZ_ET_TRANSP_METHOD_COUNT];
+/* On a 240 Hz display (beyond the paper): std and exact under tdense at 240 Hz against std and exact + TAA at
+ * 60 Hz (held for 4 displayed frames), scored display-integrated against hz_et_display_reference. */
+#define HZ_ET_TRANSP_DISPLAY_METHOD_COUNT 4
+extern const hz_et_method_t hz_et_transp_display_methods[HZ_ET_TRANSP_DISPLAY_METHOD_COUNT];
 
 hz_status_t hz_et_render_open(const char *file, const hz_et_env_t *env, hz_et_sequence_t *seq, hz_error_t *err);
 void hz_et_render_close(void);

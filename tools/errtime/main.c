@@ -11,6 +11,7 @@
 #include "et_flip.h"
 #include "hz/config.h"
 #include "et_methods.h"
+#include "et_stability.h"
 
 static void usage(FILE *f)
 {
@@ -204,6 +205,8 @@ int main(int argc, char **argv)
         return hz_status_exit_code(HZ_E_NO_MEMORY);
     }
     size_t count = 0;
+    hz_et_stab_row_t *stab = NULL; /* still-view stability of the scenes that ask for it */
+    size_t nstab = 0;
 
     hz_et_env_t env = { scene_dir && *scene_dir ? scene_dir : "build/scenes", (uint32_t)threads };
     hz_arena_t arena;
@@ -244,6 +247,16 @@ int main(int argc, char **argv)
             return hz_cli_report(&err);
         hz_et_config_t cfg = { cache, ppd, &arena, stderr, hz_cli_stderr_is_tty(), video };
         hz_status_t s = hz_et_run(&seq, scene->reference, chosen + first, count - first, &cfg, rows + first, &err);
+        for (size_t j = first; j < count && s == HZ_OK && scene->still_frames; j++) {
+            hz_et_stab_row_t *sr = realloc(stab, (nstab + 1) * sizeof *stab);
+            if (!sr) {
+                hz_error_set(&err, HZ_E_NO_MEMORY, "no memory for the stability rows");
+                return hz_cli_report(&err);
+            }
+            stab = sr;
+            s = hz_et_stability(&seq, &chosen[j], scene->still_frames, &arena, &stab[nstab], &err);
+            nstab += s == HZ_OK;
+        }
         if (scene->close)
             scene->close();
         if (s != HZ_OK)
@@ -265,6 +278,17 @@ int main(int argc, char **argv)
             return hz_cli_report(&err);
     }
     hz_et_print_markdown(stdout, rows, count);
+    if (nstab) {
+        snprintf(path, sizeof path, "%s/transparency-stability.csv", out);
+        if (hz_et_write_stability_csv(path, stab, nstab, &err) != HZ_OK)
+            return hz_cli_report(&err);
+        printf("\nstill-view stability: mean |frame-to-frame change|, 8-bit sRGB codes (%s)\n", path);
+        printf("| scene | method | knob | change |\n|---|---|---:|---:|\n");
+        for (size_t k = 0; k < nstab; k++)
+            printf("| %s | %s | %s %g | %.3f |\n", stab[k].scene, stab[k].method, stab[k].knob, stab[k].value,
+                   stab[k].mean_abs_change);
+    }
+    free(stab);
     printf("\nwrote %s/errtime.csv, %s/errtime.md and %zu chart%s (<scene>.svg) in %s\n", out, out, nscenes,
            nscenes == 1 ? "" : "s", out);
     free(mem);

@@ -1,0 +1,236 @@
+/* Stochastic transparency in the renderer (seed 004; src/render/transp.c, hz/dither.h): the stage is left out
+ * for scenes without blended surfaces (identical images, memory and ray counts to exact, no opacity mask);
+ * hybrid:0 is exact and hybrid:1 is std by definition; the opacity mask marks dithered pixels only; every
+ * stochastic method's temporal average converges to the exact composite (the dither strata of STD and DTAA
+ * cover alpha exactly over their periods, so their averages get much closer than Russian roulette's); std + TAA
+ * on a still view approaches exact + TAA; stochastic rays trace fewer continuation rays. */
+#include "hz_test.h"
+
+#include "render_fixture.h"
+
+#define W 64
+#define H 48
+
+typedef struct run {
+    float *rgb;            /* W * H * 3: the mean over the frames */
+    uint8_t flags_or;      /* G-buffer flags of every pixel of the last frame, or'ed */
+    uint8_t *dithered;     /* W * H: the pixel had HZ_GB_DITHER in some frame */
+    hz_render_stats_t total;
+    size_t frame_bytes;
+} run_t;
+
+static bool g_rr_shadows; /* render() with opts.rr_shadows */
+
+/* Renders `frames` frames of a still view (scene time t, frame index 0..frames-1) and averages them. */
+static void render(const char *scene, hz_render_mode_t mode, uint32_t spp, hz_transp_t t, float x, uint32_t frames,
+                   float time, run_t *out)
+{
+    rfix_t f;
+    hz_error_t err;
+    assert_int_equal(rfix_open(&f, scene, HZ_ACCEL_NATIVE, &err), HZ_OK);
+    hz_render_opts_t o;
+    hz_render_opts_default(&o);
+    o.width = W, o.height = H, o.mode = mode, o.spp = spp, o.transparency = t, o.hybrid_x = x;
+    o.rr_shadows = g_rr_shadows;
+    hz_render_plan_t plan;
+    assert_int_equal(hz_render_plan(&f.scene, &o, &plan, &err), HZ_OK);
+    out->frame_bytes = plan.frame_bytes;
+    assert_int_equal(rfix_renderer(&f, &o, 2, &err), HZ_OK);
+    out->rgb = calloc((size_t)W * H * 3, sizeof(float));
+    out->dithered = calloc((size_t)W * H, 1);
+    assert_non_null(out->rgb);
+    assert_non_null(out->dithered);
+    const hz_gbuffer_t *gb = hz_render_gbuffer(f.r);
+    for (uint32_t i = 0; i < frames; i++) {
+        assert_int_equal(rfix_frame(&f, i, time, &err), HZ_OK);
+        const hz_image_t *img = hz_render_output(f.r);
+        for (size_t k = 0; k < (size_t)W * H * 3; k++)
+            out->rgb[k] += img->rgb[k] / (float)frames;
+        for (size_t p = 0; p < (size_t)W * H; p++)
+            out->dithered[p] |= (gb->flags[p] & HZ_GB_DITHER) != 0;
+    }
+    out->flags_or = 0;
+    for (size_t p = 0; p < (size_t)W * H; p++)
+        out->flags_or |= gb->flags[p];
+    hz_render_frame_stats(f.r, NULL, &out->total);
+    rfix_close(&f);
+}
+
+/* PSNR over the pixels `mask` marks (the dithered ones: elsewhere every method is exact). */
+static double psnr_masked(const float *a, const float *b, const uint8_t *mask)
+{
+    double se = 0;
+    size_t n = 0;
+    for (size_t p = 0; p < (size_t)W * H; p++)
+        if (mask[p])
+            for (int c = 0; c < 3; c++) {
+                double x = a[p * 3 + c] < 0 ? 0 : a[p * 3 + c] > 1 ? 1 : a[p * 3 + c];
+                double y = b[p * 3 + c] < 0 ? 0 : b[p * 3 + c] > 1 ? 1 : b[p * 3 + c];
+                se += (x - y) * (x - y), n++;
+            }
+    assert_true(n > 300); /* the panels cover a real part of the view */
+    return se == 0 ? INFINITY : 10.0 * log10((double)n / se);
+}
+
+static void run_free(run_t *r)
+{
+    free(r->rgb);
+    free(r->dithered);
+}
+
+static bool same(const run_t *a, const run_t *b)
+{
+    return !memcmp(a->rgb, b->rgb, (size_t)W * H * 3 * sizeof(float));
+}
+
+static const char *scene_path(const char *file, char *buf, size_t n)
+{
+    const char *p = rfix_scene_path(file, buf, n);
+    if (!p)
+        fail_msg("HZ_SCENES_DIR is not set (make test sets it)");
+    return p;
+}
+
+/* CornellBox-Original blends nothing: every method is the exact renderer, with the same memory. */
+static void test_left_out_without_blend(void **state)
+{
+    (void)state;
+    char path[4096];
+    const char *scene = scene_path("CornellBox-Original.hzb", path, sizeof path);
+    static const hz_render_mode_t modes[2] = { HZ_MODE_FULL, HZ_MODE_TAA };
+    for (int m = 0; m < 2; m++) {
+        run_t ex;
+        render(scene, modes[m], 1, HZ_TRANSP_EXACT, 0.0f, 3, 0.0f, &ex);
+        for (int t = HZ_TRANSP_RR; t < HZ_TRANSP_COUNT; t++) {
+            run_t r;
+            render(scene, modes[m], 1, (hz_transp_t)t, 0.75f, 3, 0.0f, &r);
+            assert_true(same(&ex, &r));
+            assert_int_equal(r.frame_bytes, ex.frame_bytes);
+            assert_int_equal(r.total.primary_rays + r.total.shadow_rays + r.total.secondary_rays,
+                             ex.total.primary_rays + ex.total.shadow_rays + ex.total.secondary_rays);
+            assert_false(r.flags_or & HZ_GB_DITHER);
+            run_free(&r);
+        }
+        run_free(&ex);
+    }
+}
+
+static void test_hybrid_ends_and_mask(void **state)
+{
+    (void)state;
+    char path[4096];
+    const char *scene = scene_path("AlphaBlendModeTest-small.hzb", path, sizeof path);
+    run_t ex, h0, st, h1, h5;
+    render(scene, HZ_MODE_TAA, 1, HZ_TRANSP_EXACT, 0.0f, 4, 0.0f, &ex);
+    render(scene, HZ_MODE_TAA, 1, HZ_TRANSP_HYBRID, 0.0f, 4, 0.0f, &h0);
+    render(scene, HZ_MODE_TAA, 1, HZ_TRANSP_STD, 0.0f, 4, 0.0f, &st);
+    render(scene, HZ_MODE_TAA, 1, HZ_TRANSP_HYBRID, 1.0f, 4, 0.0f, &h1);
+    render(scene, HZ_MODE_TAA, 1, HZ_TRANSP_HYBRID, 0.5f, 4, 0.0f, &h5);
+    assert_true(same(&ex, &h0));
+    assert_true(same(&st, &h1));
+    assert_false(same(&ex, &st));
+    /* The opacity mask: set where std dithered, never with exact. */
+    assert_false(ex.flags_or & HZ_GB_DITHER);
+    assert_true(st.flags_or & HZ_GB_DITHER);
+    /* Continuations through the blended panels are what the stochastic method saves. */
+    assert_true(st.total.secondary_rays < ex.total.secondary_rays);
+    assert_true(h5.total.secondary_rays <= ex.total.secondary_rays);
+    run_free(&ex), run_free(&h0), run_free(&st), run_free(&h1), run_free(&h5);
+}
+
+/* Averages over the dither periods converge to the exact composite (full mode, 1 spp, still view). */
+static void test_temporal_average_converges(void **state)
+{
+    (void)state;
+    char path[4096];
+    const char *scene = scene_path("AlphaBlendModeTest-small.hzb", path, sizeof path);
+    run_t ex, one, st, rr, dt, ds, hy;
+    render(scene, HZ_MODE_FULL, 1, HZ_TRANSP_EXACT, 0.0f, 1, 0.0f, &ex);
+    render(scene, HZ_MODE_FULL, 1, HZ_TRANSP_STD, 0.0f, 1, 0.0f, &one);
+    render(scene, HZ_MODE_FULL, 1, HZ_TRANSP_STD, 0.0f, 18, 0.0f, &st);
+    render(scene, HZ_MODE_FULL, 1, HZ_TRANSP_RR, 0.0f, 18, 0.0f, &rr);
+    render(scene, HZ_MODE_FULL, 1, HZ_TRANSP_DTAA, 0.0f, 10, 0.0f, &dt);
+    render(scene, HZ_MODE_FULL, 1, HZ_TRANSP_DTAA_STAR, 0.0f, 10, 0.0f, &ds);
+    render(scene, HZ_MODE_FULL, 1, HZ_TRANSP_HYBRID, 0.5f, 18, 0.0f, &hy);
+    run_t rs;
+    g_rr_shadows = true;
+    render(scene, HZ_MODE_FULL, 1, HZ_TRANSP_STD, 0.0f, 18, 0.0f, &rs);
+    g_rr_shadows = false;
+    const uint8_t *m = st.dithered;
+    double p1 = psnr_masked(ex.rgb, one.rgb, m), ps = psnr_masked(ex.rgb, st.rgb, m),
+           pr = psnr_masked(ex.rgb, rr.rgb, m), pd = psnr_masked(ex.rgb, dt.rgb, m),
+           pds = psnr_masked(ex.rgb, ds.rgb, m), ph = psnr_masked(ex.rgb, hy.rgb, m),
+           prs = psnr_masked(ex.rgb, rs.rgb, m);
+    print_message("PSNR vs exact: std 1 frame %.1f dB, std 18 %.1f, rr 18 %.1f, dtaa 10 %.1f, dtaa* 10 %.1f, "
+                  "hybrid:0.5 18 %.1f, std + rr shadows 18 %.1f\n", p1, ps, pr, pd, pds, ph, prs);
+    assert_true(ps > p1 + 10.0);
+    assert_true(ps > 35.0);
+    assert_true(pd > 35.0 && pds > 35.0);
+    assert_true(pr > p1 + 5.0);
+    assert_true(ps > pr + 3.0); /* stratified beats white noise at the same frame count */
+    assert_true(ph > ps - 1.0);
+    assert_true(prs > p1 + 5.0); /* roulette shadows converge too, more slowly */
+    run_free(&rs);
+    run_free(&ex), run_free(&one), run_free(&st), run_free(&rr), run_free(&dt), run_free(&ds), run_free(&hy);
+}
+
+/* Full mode with N spp walks N steps of the dither within the frame: std at 9 spp is close to exact at 9. */
+static void test_full_spp_walks_the_dither(void **state)
+{
+    (void)state;
+    char path[4096];
+    const char *scene = scene_path("AlphaBlendModeTest-small.hzb", path, sizeof path);
+    run_t ex, st1, st9;
+    render(scene, HZ_MODE_FULL, 9, HZ_TRANSP_EXACT, 0.0f, 1, 0.0f, &ex);
+    render(scene, HZ_MODE_FULL, 1, HZ_TRANSP_STD, 0.0f, 1, 0.0f, &st1);
+    render(scene, HZ_MODE_FULL, 9, HZ_TRANSP_STD, 0.0f, 1, 0.0f, &st9);
+    double p1 = psnr_masked(ex.rgb, st1.rgb, st9.dithered), p9 = psnr_masked(ex.rgb, st9.rgb, st9.dithered);
+    print_message("PSNR vs exact 9 spp: std 1 spp %.1f dB, std 9 spp %.1f dB\n", p1, p9);
+    assert_true(p9 > p1 + 8.0);
+    run_free(&ex), run_free(&st1), run_free(&st9);
+}
+
+/* TAA on a still view accumulates std towards exact + TAA (7x7 window and no object-id resets where dithered). */
+static void test_taa_accumulates(void **state)
+{
+    (void)state;
+    char path[4096];
+    const char *scene = scene_path("AlphaBlendModeTest-small.hzb", path, sizeof path);
+    run_t ex, st, one;
+    /* The last frame of each: averaging 1 frame = the frame itself. */
+    rfix_t f;
+    hz_error_t err;
+    float *last[2];
+    for (int m = 0; m < 2; m++) {
+        assert_int_equal(rfix_open(&f, scene, HZ_ACCEL_NATIVE, &err), HZ_OK);
+        hz_render_opts_t o;
+        hz_render_opts_default(&o);
+        o.width = W, o.height = H, o.mode = HZ_MODE_TAA, o.transparency = m ? HZ_TRANSP_STD : HZ_TRANSP_EXACT;
+        assert_int_equal(rfix_renderer(&f, &o, 2, &err), HZ_OK);
+        for (uint32_t i = 0; i < 60; i++)
+            assert_int_equal(rfix_frame(&f, i, 0.0f, &err), HZ_OK);
+        last[m] = malloc((size_t)W * H * 3 * sizeof(float));
+        memcpy(last[m], hz_render_output(f.r)->rgb, (size_t)W * H * 3 * sizeof(float));
+        rfix_close(&f);
+    }
+    ex.rgb = last[0], st.rgb = last[1];
+    render(scene, HZ_MODE_TAA, 1, HZ_TRANSP_STD, 0.0f, 1, 0.0f, &one);
+    double p = psnr_masked(ex.rgb, st.rgb, one.dithered), p1 = psnr_masked(ex.rgb, one.rgb, one.dithered);
+    print_message("PSNR vs exact + TAA after 60 frames: std + TAA %.1f dB (first frame %.1f dB)\n", p, p1);
+    assert_true(p > p1 + 6.0);
+    assert_true(p > 28.0);
+    free(last[0]), free(last[1]);
+    run_free(&one);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_left_out_without_blend),
+        cmocka_unit_test(test_hybrid_ends_and_mask),
+        cmocka_unit_test(test_temporal_average_converges),
+        cmocka_unit_test(test_full_spp_walks_the_dither),
+        cmocka_unit_test(test_taa_accumulates),
+    };
+    return HZ_RUN(tests);
+}

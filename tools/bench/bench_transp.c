@@ -1,0 +1,110 @@
+/* hzbench's transparency group (see bench_transp.h). */
+#include "bench_transp.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "bench_scene.h"
+#include "clock.h"
+#include "hz/render.h"
+#include "pools.h"
+#include "render_run.h"
+#include "threads.h"
+#include "transp_opt.h"
+
+static const struct {
+    hz_transp_t t;
+    float x;
+} methods[HZ_BENCH_TRANSP_METHODS] = {
+    { HZ_TRANSP_EXACT, 0.0f },   { HZ_TRANSP_RR, 0.0f },      { HZ_TRANSP_STD, 0.0f },     { HZ_TRANSP_DTAA, 0.0f },
+    { HZ_TRANSP_HYBRID, 0.25f }, { HZ_TRANSP_HYBRID, 0.5f }, { HZ_TRANSP_HYBRID, 0.75f },
+};
+
+static int cmp_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return x < y ? -1 : x > y;
+}
+
+/* Nearest-rank percentile of n sorted values. */
+static double percentile(const double *sorted, uint32_t n, double p)
+{
+    uint32_t k = (uint32_t)(p * n + 0.999999);
+    return sorted[k < 1 ? 0 : k > n ? n - 1 : k - 1];
+}
+
+int hz_bench_transp(const hz_bench_transp_opts_t *o, hz_bench_transp_row_t rows[HZ_BENCH_TRANSP_METHODS],
+                    hz_error_t *err)
+{
+    char path[4096];
+    snprintf(path, sizeof path, "%s/sponza-smoke.hzb", o->scenes_dir ? o->scenes_dir : ".");
+    if (access(path, R_OK) != 0) {
+        printf("transparency: skipped: %s missing (make scenes)\n", path);
+        return 0;
+    }
+    uint32_t frames = o->frames < 1 ? 1 : o->frames > HZ_BENCH_TRANSP_MAX_FRAMES ? HZ_BENCH_TRANSP_MAX_FRAMES : o->frames;
+    hz_bench_scene_t bs;
+    hz_status_t s = hz_bench_scene_open(&bs, path, err);
+    hz_pools_t *pools = bs.pools;
+    bool threads = false;
+    if (s == HZ_OK)
+        threads = (s = hz_threads_start(o->threads, err)) == HZ_OK;
+    const hz_scene_t *scene = &bs.scene;
+    hz_renderer_t *r[HZ_BENCH_TRANSP_METHODS] = { NULL };
+    for (int m = 0; m < HZ_BENCH_TRANSP_METHODS && s == HZ_OK; m++) {
+        hz_render_opts_t ro;
+        hz_render_opts_default(&ro);
+        ro.width = o->width, ro.height = o->height;
+        ro.mode = HZ_MODE_TAA;
+        ro.transparency = methods[m].t, ro.hybrid_x = methods[m].x;
+        s = hz_render_create(&r[m], &bs.scene, bs.accel, &ro, &pools->frame, pools->thread, (uint32_t)o->threads,
+                             err);
+    }
+    static double best[HZ_BENCH_TRANSP_METHODS][HZ_BENCH_TRANSP_MAX_FRAMES];
+    double rays[HZ_BENCH_TRANSP_METHODS] = { 0 };
+    float duration = s == HZ_OK && scene->header->duration > 0.0f ? scene->header->duration : 1.0f;
+    for (int round = 0; round < o->rounds && s == HZ_OK; round++) {
+        for (uint32_t i = 0; i < frames && s == HZ_OK; i++) {
+            float t = duration * (float)i / (float)frames;
+            for (int k = 0; k < HZ_BENCH_TRANSP_METHODS && s == HZ_OK; k++) {
+                int m = (int)((k + i + (uint32_t)round) % HZ_BENCH_TRANSP_METHODS);
+                int64_t a = hz_clock_ns();
+                s = hz_render_run_frame(r[m], i, t, err);
+                double ms_frame = (double)(hz_clock_ns() - a) * 1e-6;
+                if (round == 0 || ms_frame < best[m][i])
+                    best[m][i] = ms_frame;
+                if (round == 0) {
+                    hz_render_stats_t last;
+                    hz_render_frame_stats(r[m], &last, NULL);
+                    rays[m] += (double)(last.primary_rays + last.shadow_rays + last.secondary_rays) / frames;
+                }
+            }
+            if (o->progress) {
+                fprintf(stderr, "\r  transparency round %d/%d frame %u/%u", round + 1, o->rounds, i + 1, frames);
+                fflush(stderr);
+            }
+        }
+    }
+    if (o->progress)
+        fprintf(stderr, "\r%60s\r", "");
+    int n = 0;
+    if (s == HZ_OK) {
+        for (int m = 0; m < HZ_BENCH_TRANSP_METHODS; m++) {
+            hz_bench_transp_row_t *row = &rows[n++];
+            memset(row, 0, sizeof *row);
+            snprintf(row->scene, sizeof row->scene, "sponza-smoke");
+            hz_transp_format(row->method, sizeof row->method, methods[m].t, methods[m].x);
+            row->frames = frames;
+            qsort(best[m], frames, sizeof(double), cmp_double);
+            row->p50_ms = percentile(best[m], frames, 0.5);
+            row->p99_ms = percentile(best[m], frames, 0.99);
+            row->rays_per_frame = rays[m];
+        }
+    }
+    hz_bench_scene_close(&bs);
+    if (threads)
+        hz_threads_stop();
+    return s == HZ_OK ? n : -1;
+}

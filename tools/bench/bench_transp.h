@@ -1,0 +1,44 @@
+/*
+ * bench_transp.h — hzbench's transparency group (seed 004): per-frame time along the smoke scene's camera path
+ * (sponza-smoke.hzb: 12000 alpha-blended particles, one light with shadows through them) for exact compositing,
+ * Russian roulette, STD, DTAA and the hybrids, in one run.
+ *
+ * Contract: one TAA renderer per method (1 spp + the TAA resolve, the paper's set-up) from the board pools at
+ * width x height on `threads` threads. `frames` frames at scene times spread evenly over the camera path
+ * (t_i = i * duration / frames); each round renders every frame with every method, the methods taking turns at
+ * going first; a frame's time is begin_frame to end_frame (all passes) and the figure per (method, frame) is
+ * the minimum over rounds (the machine is shared: the least disturbed run). p50 and p99 are over the frames
+ * (nearest rank), rays per frame the mean of primary + shadow + secondary rays. A missing scene file is
+ * reported and the group returns 0 rows; other failures return -1 with err set.
+ */
+#ifndef HZ_BENCH_TRANSP_H
+#define HZ_BENCH_TRANSP_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "hz/dither.h"
+#include "hz/status.h"
+
+#define HZ_BENCH_TRANSP_METHODS 7
+#define HZ_BENCH_TRANSP_MAX_FRAMES 256
+
+typedef struct hz_bench_transp_opts {
+    const char *scenes_dir;
+    uint32_t width, height;
+    int threads;
+    int rounds;
+    uint32_t frames;
+    bool progress;
+} hz_bench_transp_opts_t;
+
+typedef struct hz_bench_transp_row {
+    char scene[32], method[24];
+    uint32_t frames;
+    double p50_ms, p99_ms, rays_per_frame;
+} hz_bench_transp_row_t;
+
+int hz_bench_transp(const hz_bench_transp_opts_t *o, hz_bench_transp_row_t rows[HZ_BENCH_TRANSP_METHODS],
+                    hz_error_t *err);
+
+#endif
