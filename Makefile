@@ -292,13 +292,13 @@ errtime: $(ERRTIME) ## build hzerrtime (error against run time; `hzerrtime --hel
 tests: $(ERRTIME)
 
 # `make report`: every renderer method of tools/errtime/et_methods.c on the standard scenes, each at its table
-# entry's size, length and display rate: the general set (full-frame 1/4/9/16 spp, TAA) on CornellBox-Mirror,
-# Sponza, Lost Empire and the built-in scene, and temporally dense rendering against 1 spp and TAA at 60 and
+# entry's size, length and display rate: the general set (full-frame 1/4/9/16 spp, TAA, adaptive supersampling
+# at tau 0.1/0.3/0.6/1) on CornellBox-Mirror, Sponza, Lost Empire, Conference and the built-in scene, and temporally dense rendering against 1 spp and TAA at 60 and
 # 240 Hz on a 240 Hz display (the @240 scenes). References cached in $(BUILD_ROOT)/errtime-cache (delete it for
 # a cold run). The TAA variants stay out of the chart (within ~2% of the default TAA's FLIP everywhere, they pile
 # up on its point): `hzerrtime --methods taa,taa-clip,taa-catmull-rom,taa-clip-cr` compares them.
 REPORT_O := $(BUILD_ROOT)/report
-REPORT_SCENES := CornellBox-Mirror,sponza,lost-empire,builtin,builtin@240,sponza@240,conference@240
+REPORT_SCENES := CornellBox-Mirror,sponza,lost-empire,conference,builtin,builtin@240,sponza@240,conference@240
 REPORT_SKIP := taa-clip,taa-catmull-rom,taa-clip-cr
 report: $(ERRTIME) scenes ## error against run time of every method on the standard scenes: build/report/ (CSV, MD, SVG)
 	$(Q)t0=$$(date +%s); nice $(ERRTIME) --scene $(REPORT_SCENES) --skip $(REPORT_SKIP) --scenes $(SCENES_O) \
