@@ -15,6 +15,12 @@ static void run_item(void *user, uint32_t item, int thread)
     hz_render_pass_run(j->r, j->pass, item, (uint32_t)thread);
 }
 
+void hz_render_run_pass(hz_renderer_t *r, uint32_t pass)
+{
+    pass_job_t j = { r, pass };
+    hz_threads_run(run_item, &j, hz_render_pass_items(r, pass));
+}
+
 hz_status_t hz_render_run_frame_parts(hz_renderer_t *r, uint64_t index, float time, int64_t ns[3],
                                       hz_error_t *err)
 {
@@ -24,8 +30,7 @@ hz_status_t hz_render_run_frame_parts(hz_renderer_t *r, uint64_t index, float ti
         return s;
     int64_t t1 = ns ? hz_clock_ns() : 0, t2 = t1;
     for (uint32_t p = 0; p < hz_render_pass_count(r); p++) {
-        pass_job_t j = { r, p };
-        hz_threads_run(run_item, &j, hz_render_pass_items(r, p));
+        hz_render_run_pass(r, p);
         if (p == 0 && ns)
             t2 = hz_clock_ns();
     }

@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include "accel_backend.h"
+#include "bench_common.h"
 #include "clock.h"
 #include "fileio.h"
 #include "hz/image.h"
@@ -20,17 +21,6 @@
 #define METHODS (1 + HZ_BENCH_ADAPTIVE_TAUS)
 static const float taus[HZ_BENCH_ADAPTIVE_TAUS] = { 0.3f, 0.6f, 1.0f };
 
-typedef struct pass_job {
-    hz_renderer_t *r;
-    uint32_t pass;
-} pass_job_t;
-
-static void run_item(void *user, uint32_t item, int thread)
-{
-    pass_job_t *j = (pass_job_t *)user;
-    hz_render_pass_run(j->r, j->pass, item, (uint32_t)thread);
-}
-
 /* One frame with each pass timed: ns[0..2] the first three passes, returns the whole frame. */
 static hz_status_t frame(hz_renderer_t *r, uint64_t index, float t, int64_t *total, int64_t ns[3], hz_error_t *err)
 {
@@ -40,26 +30,13 @@ static hz_status_t frame(hz_renderer_t *r, uint64_t index, float t, int64_t *tot
         return s;
     for (uint32_t p = 0; p < hz_render_pass_count(r); p++) {
         int64_t b = hz_clock_ns();
-        pass_job_t j = { r, p };
-        hz_threads_run(run_item, &j, hz_render_pass_items(r, p));
+        hz_render_run_pass(r, p);
         if (p < 3)
             ns[p] = hz_clock_ns() - b;
     }
     hz_render_end_frame(r);
     *total = hz_clock_ns() - a;
     return HZ_OK;
-}
-
-static int cmp_double(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return x < y ? -1 : x > y;
-}
-
-static double median(double *v, int n)
-{
-    qsort(v, (size_t)n, sizeof *v, cmp_double);
-    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
 /* PSNR of the 8-bit sRGB codes (what the display shows) against the reference's. */
@@ -89,20 +66,10 @@ static void opts_for(int m, const hz_bench_adaptive_opts_t *o, hz_render_opts_t 
 static hz_status_t bench_scene(const char *label, const char *path, const hz_bench_adaptive_opts_t *o,
                                hz_bench_adaptive_row_t *rows, hz_error_t *err)
 {
-    hz_pools_t *pools = hz_pools_get();
-    hz_arena_mark_t ms = hz_arena_mark(&pools->scene), ma = hz_arena_mark(&pools->accel),
-                    mf = hz_arena_mark(&pools->frame), mt[HZ_MAX_THREADS];
-    for (int t = 0; t < HZ_MAX_THREADS; t++)
-        mt[t] = hz_arena_mark(&pools->thread[t]);
-    hz_scene_t scene;
-    hz_accel_t *accel = NULL;
-    hz_accel_geom_t geom;
+    hz_bench_scene_t bs;
     hz_image_t ref = { o->width, o->height, NULL };
-    hz_status_t s = hz_scenefile_open(path, pools, &scene, err);
-    if (s == HZ_OK)
-        s = hz_accel_geom_from_scene(&geom, &scene, &pools->accel, err);
-    if (s == HZ_OK)
-        s = hz_accel_backend_build(HZ_ACCEL_NATIVE, &accel, &geom, &pools->accel, err);
+    hz_status_t s = hz_bench_scene_open(&bs, path, err);
+    hz_pools_t *pools = bs.pools;
     /* The reference first, from the frame arena, given back before the methods' renderers. */
     if (s == HZ_OK) {
         ref.rgb = malloc(hz_image_pixels(&ref) * 3 * sizeof(float));
@@ -114,22 +81,21 @@ static hz_status_t bench_scene(const char *label, const char *path, const hz_ben
         hz_render_opts_default(&ro);
         ro.width = o->width, ro.height = o->height, ro.spp = o->ref_spp, ro.seed = 0x5eed;
         hz_renderer_t *rr = NULL;
-        s = hz_render_create(&rr, &scene, accel, &ro, &pools->frame, pools->thread, (uint32_t)o->threads, err);
+        s = hz_render_create(&rr, &bs.scene, bs.accel, &ro, &pools->frame, pools->thread, (uint32_t)o->threads, err);
         if (s == HZ_OK && o->progress)
             fprintf(stderr, "\r  adaptive %-18s reference %u spp", label, o->ref_spp);
         if (s == HZ_OK)
             s = hz_render_run_frame(rr, 0, o->t, err);
         if (s == HZ_OK)
             memcpy(ref.rgb, hz_render_output(rr)->rgb, hz_image_pixels(&ref) * 3 * sizeof(float));
-        hz_arena_reset(&pools->frame, mf);
-        for (int t = 0; t < HZ_MAX_THREADS; t++)
-            hz_arena_reset(&pools->thread[t], mt[t]);
+        hz_bench_scene_reset_frames(&bs);
     }
     hz_renderer_t *r[METHODS] = { NULL };
     for (int m = 0; m < METHODS && s == HZ_OK; m++) {
         hz_render_opts_t ro;
         opts_for(m, o, &ro);
-        s = hz_render_create(&r[m], &scene, accel, &ro, &pools->frame, pools->thread, (uint32_t)o->threads, err);
+        s = hz_render_create(&r[m], &bs.scene, bs.accel, &ro, &pools->frame, pools->thread, (uint32_t)o->threads,
+                             err);
     }
     double ms_m[METHODS][HZ_BENCH_ADAPTIVE_MAX_ROUNDS], parts[METHODS][3][HZ_BENCH_ADAPTIVE_MAX_ROUNDS];
     for (int round = 0; round < o->rounds && s == HZ_OK; round++) {
@@ -162,9 +128,9 @@ static hz_status_t bench_scene(const char *label, const char *path, const hz_ben
         snprintf(row->scene, sizeof row->scene, "%s", label);
         snprintf(row->method, sizeof row->method, "%s", m ? "adaptive" : "full-9spp");
         row->tau = m ? (double)taus[m - 1] : NAN;
-        row->ms = median(ms_m[m], o->rounds);
+        row->ms = hz_bench_median(ms_m[m], o->rounds);
         for (int q = 0; q < 3; q++)
-            row->pass_ms[q] = median(parts[m][q], o->rounds);
+            row->pass_ms[q] = hz_bench_median(parts[m][q], o->rounds);
         hz_render_stats_t last;
         hz_render_frame_stats(r[m], &last, NULL);
         double px = (double)o->width * o->height;
@@ -173,12 +139,7 @@ static hz_status_t bench_scene(const char *label, const char *path, const hz_ben
         row->psnr_srgb8_db = psnr_srgb8(&ref, hz_render_output(r[m]));
     }
     free(ref.rgb);
-    hz_accel_release(accel);
-    hz_arena_reset(&pools->frame, mf);
-    hz_arena_reset(&pools->accel, ma);
-    hz_arena_reset(&pools->scene, ms);
-    for (int t = 0; t < HZ_MAX_THREADS; t++)
-        hz_arena_reset(&pools->thread[t], mt[t]);
+    hz_bench_scene_close(&bs);
     return s;
 }
 

@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include "accel_backend.h"
+#include "bench_common.h"
 #include "clock.h"
 #include "hz/render.h"
 #include "pools.h"
@@ -42,42 +43,21 @@ static hz_status_t run_frames(hz_renderer_t *r, uint32_t warm, uint32_t frames, 
     return HZ_OK;
 }
 
-static int cmp_double(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return x < y ? -1 : x > y;
-}
-
-static double median(double *v, int n)
-{
-    qsort(v, (size_t)n, sizeof *v, cmp_double);
-    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
-
 /* One scene: both renderers from the same pools, rounds alternating which mode goes first. */
 static hz_status_t bench_scene(const char *label, const char *path, const hz_bench_tdense_opts_t *o,
                                hz_bench_tdense_row_t *row, hz_error_t *err)
 {
-    hz_pools_t *pools = hz_pools_get();
-    hz_arena_mark_t ms = hz_arena_mark(&pools->scene), ma = hz_arena_mark(&pools->accel),
-                    mf = hz_arena_mark(&pools->frame), mt[HZ_MAX_THREADS];
-    for (int t = 0; t < HZ_MAX_THREADS; t++)
-        mt[t] = hz_arena_mark(&pools->thread[t]);
-    hz_scene_t scene;
-    hz_accel_t *accel = NULL;
-    hz_accel_geom_t geom;
-    hz_status_t s = hz_scenefile_open(path, pools, &scene, err);
-    if (s == HZ_OK)
-        s = hz_accel_geom_from_scene(&geom, &scene, &pools->accel, err);
-    if (s == HZ_OK)
-        s = hz_accel_backend_build(HZ_ACCEL_NATIVE, &accel, &geom, &pools->accel, err);
+    hz_bench_scene_t bs;
+    hz_status_t s = hz_bench_scene_open(&bs, path, err);
+    hz_pools_t *pools = bs.pools;
     hz_renderer_t *r[2] = { NULL, NULL };
     for (int m = 0; m < 2 && s == HZ_OK; m++) {
         hz_render_opts_t ro;
         hz_render_opts_default(&ro);
         ro.width = o->width, ro.height = o->height;
         ro.mode = m == 0 ? HZ_MODE_TDENSE : HZ_MODE_TAA;
-        s = hz_render_create(&r[m], &scene, accel, &ro, &pools->frame, pools->thread, (uint32_t)o->threads, err);
+        s = hz_render_create(&r[m], &bs.scene, bs.accel, &ro, &pools->frame, pools->thread, (uint32_t)o->threads,
+                             err);
     }
     double ms_mode[2][HZ_BENCH_TDENSE_MAX_ROUNDS], ratio[HZ_BENCH_TDENSE_MAX_ROUNDS];
     double parts[2][3][HZ_BENCH_TDENSE_MAX_ROUNDS];
@@ -102,23 +82,18 @@ static hz_status_t bench_scene(const char *label, const char *path, const hz_ben
         snprintf(row->scene, sizeof row->scene, "%s", label);
         for (int m = 0; m < 2; m++)
             for (int q = 0; q < 3; q++)
-                row->part_ms[m][q] = median(parts[m][q], o->rounds);
-        row->tdense_ms = median(ms_mode[0], o->rounds);
-        row->taa_ms = median(ms_mode[1], o->rounds);
-        row->ratio = median(ratio, o->rounds);
-        row->ratio_min = ratio[0], row->ratio_max = ratio[o->rounds - 1]; /* sorted by median() */
+                row->part_ms[m][q] = hz_bench_median(parts[m][q], o->rounds);
+        row->tdense_ms = hz_bench_median(ms_mode[0], o->rounds);
+        row->taa_ms = hz_bench_median(ms_mode[1], o->rounds);
+        row->ratio = hz_bench_median(ratio, o->rounds);
+        row->ratio_min = ratio[0], row->ratio_max = ratio[o->rounds - 1]; /* sorted by hz_bench_median() */
         hz_render_stats_t last;
         hz_render_frame_stats(r[0], &last, NULL);
         row->tdense_rays = (double)(last.primary_rays + last.shadow_rays + last.secondary_rays);
         hz_render_frame_stats(r[1], &last, NULL);
         row->taa_rays = (double)(last.primary_rays + last.shadow_rays + last.secondary_rays);
     }
-    hz_accel_release(accel);
-    hz_arena_reset(&pools->frame, mf);
-    hz_arena_reset(&pools->accel, ma);
-    hz_arena_reset(&pools->scene, ms);
-    for (int t = 0; t < HZ_MAX_THREADS; t++)
-        hz_arena_reset(&pools->thread[t], mt[t]);
+    hz_bench_scene_close(&bs);
     return s;
 }
 
