@@ -199,6 +199,18 @@ bool hz_amask_subpixel(const hz_amask_config_t *c, const hz_amask_px_t *p, const
     return colour_active(p, nb, tau);
 }
 
+static bool same_hit(const hz_amask_hit_t *a, const hz_amask_hit_t *b)
+{
+    return a->object == b->object && a->n[0] == b->n[0] && a->n[1] == b->n[1] && a->n[2] == b->n[2] &&
+           a->shadow == b->shadow && a->flags == b->flags;
+}
+
+static bool same_px(const hz_amask_px_t *a, const hz_amask_px_t *b)
+{
+    return a->rgb[0] == b->rgb[0] && a->rgb[1] == b->rgb[1] && a->rgb[2] == b->rgb[2] &&
+           same_hit(&a->hit[0], &b->hit[0]) && same_hit(&a->hit[1], &b->hit[1]);
+}
+
 uint32_t hz_amask_block(const hz_amask_config_t *c, const hz_amask_px_t *win, uint32_t stride, uint32_t w,
                         uint32_t h, uint8_t *mask, uint32_t mask_stride)
 {
@@ -206,9 +218,23 @@ uint32_t hz_amask_block(const hz_amask_config_t *c, const hz_amask_px_t *win, ui
     for (uint32_t y = 0; y < h; y++)
         for (uint32_t x = 0; x < w; x++) {
             const hz_amask_px_t *p = &win[(size_t)(y + 1) * stride + x + 1];
-            /* Each of the 8 neighbours is compared once; subpixels share them (Fig. 4). */
             uint32_t pair[3][3], tex = 0;
             bool in[2] = { involved(c, p, 0, &tex), involved(c, p, 1, &tex) };
+            /* A neighbourhood of copies of P (flat walls, sky): no attribute disagrees and C = 0 everywhere, so
+             * all four subpixels share one answer, the same the general path would give. */
+            bool flat = true;
+            for (int k = 0; k < 9 && flat; k++)
+                flat = same_px(p + (ptrdiff_t)(k / 3 - 1) * (ptrdiff_t)stride + (k % 3 - 1), p);
+            if (flat) {
+                const hz_amask_px_t *self[3] = { p, p, p };
+                uint32_t tau;
+                select_tau(c, tex, &tau);
+                uint8_t m = colour_active(p, self, tau) ? 0xf : 0;
+                mask[(size_t)y * mask_stride + x] = m;
+                active += hz_amask_count(m);
+                continue;
+            }
+            /* Each of the 8 neighbours is compared once; subpixels share them (Fig. 4). */
             for (int dy = -1; dy <= 1; dy++)
                 for (int dx = -1; dx <= 1; dx++) {
                     const hz_amask_px_t *q = p + (ptrdiff_t)dy * (ptrdiff_t)stride + dx;
