@@ -218,7 +218,7 @@ HZRT_OBJS := $(HZRT_SRCS:%.c=$(O)/%.o)
 HZRT := $(O)/bin/hzrt
 
 BENCH_SRCS := tools/bench/bench.c tools/bench/bench_accel.c tools/bench/bench_tdense.c tools/bench/bench_transp.c \
-              tools/bench/bench_scene.c
+              tools/bench/bench_scene.c tools/bench/bench_adaptive.c
 BENCH_OBJS := $(BENCH_SRCS:%.c=$(O)/%.o)
 BENCH := $(O)/bin/hzbench
 
@@ -316,13 +316,13 @@ errtime: $(ERRTIME) ## build hzerrtime (error against run time; `hzerrtime --hel
 tests: $(ERRTIME)
 
 # `make report`: every renderer method of tools/errtime/et_methods.c on the standard scenes, each at its table
-# entry's size, length and display rate: the general set (full-frame 1/4/9/16 spp, TAA) on CornellBox-Mirror,
-# Sponza, Lost Empire and the built-in scene, and temporally dense rendering against 1 spp and TAA at 60 and
+# entry's size, length and display rate: the general set (full-frame 1/4/9/16 spp, TAA, adaptive supersampling
+# at tau 0.1/0.3/0.6/1) on CornellBox-Mirror, Sponza, Lost Empire, Conference and the built-in scene, and temporally dense rendering against 1 spp and TAA at 60 and
 # 240 Hz on a 240 Hz display (the @240 scenes). References cached in $(BUILD_ROOT)/errtime-cache (delete it for
 # a cold run). The TAA variants stay out of the chart (within ~2% of the default TAA's FLIP everywhere, they pile
 # up on its point): `hzerrtime --methods taa,taa-clip,taa-catmull-rom,taa-clip-cr` compares them.
 REPORT_O := $(BUILD_ROOT)/report
-REPORT_SCENES := CornellBox-Mirror,sponza,lost-empire,builtin,builtin@240,sponza@240,conference@240
+REPORT_SCENES := CornellBox-Mirror,sponza,lost-empire,conference,builtin,builtin@240,sponza@240,conference@240
 # Transparency (seed 004): every --transparency method with TAA, the still-view stability figure, and std under
 # tdense at 240 Hz against + TAA at 60 Hz.
 REPORT_SCENES := $(REPORT_SCENES),sponza-smoke,AlphaBlendModeTest,builtin-transp,sponza-smoke@240,AlphaBlendModeTest@240
@@ -556,7 +556,7 @@ latency-sim: $(HZRT) ## simulated 240 Hz display-locked run: miss rate, latency 
 bench: deps $(BENCH) scenes ## measure (side by side, in one run) and print a table; writes $(O)/bench/*.csv
 	$(Q)mkdir -p $(O)/bench
 	$(Q)$(BENCH) --csv $(O)/bench/bench.csv --accel-csv $(O)/bench/accel.csv --scenes $(SCENES_O) \
-		--transparency-csv $(O)/bench/transparency.csv $(BENCH_ARGS)
+		--transparency-csv $(O)/bench/transparency.csv --adaptive-csv $(O)/bench/adaptive.csv $(BENCH_ARGS)
 # The transparency group reads the smoke scene (seed 004): baked first.
 bench: deps $(SCENES_O)/sponza-smoke.hzb
 

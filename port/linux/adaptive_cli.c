@@ -80,7 +80,7 @@ int hz_adaptive_cli_check(const hz_adaptive_cli_t *st, hz_render_mode_t mode)
 void hz_adaptive_cli_usage(FILE *f)
 {
     fprintf(f,
-            "adaptive mode (--mode adaptive; seed 003: presample, activity mask, 4 extra samples per active\n"
+            "\nadaptive mode (--mode adaptive; seed 003: presample, activity mask, 4 extra samples per active\n"
             "subpixel): thresholds in [0, 1], smaller = more samples, 1 switches an attribute off\n"
             "  --tau T           tau-col, tau-pte and tau-ste together (the paper's tau_alpha); default 0.6\n"
             "  --tau-col T       colour contrast where no attribute disagrees; default 0.6\n"

@@ -22,6 +22,12 @@ static void run_item(void *user, uint32_t item, int thread)
     }
 }
 
+void hz_render_run_pass(hz_renderer_t *r, uint32_t pass)
+{
+    pass_job_t j = { r, pass, NULL, NULL, 0 };
+    hz_threads_run(run_item, &j, hz_render_pass_items(r, pass));
+}
+
 static hz_status_t run_frame(hz_renderer_t *r, uint64_t index, float time, int64_t ns[3], hz_progress_t *prog,
                              hz_error_t *err)
 {

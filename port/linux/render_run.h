@@ -14,6 +14,10 @@
 
 hz_status_t hz_render_run_frame(hz_renderer_t *r, uint64_t index, float time, hz_error_t *err);
 
+/* Pass `pass` of the current frame (between begin_frame and end_frame), every item spread over the pool: for
+ * callers that time the passes one by one (hzbench's adaptive group). */
+void hz_render_run_pass(hz_renderer_t *r, uint32_t pass);
+
 /* The same, and where the time went (CLOCK_MONOTONIC, ns): ns[0] begin_frame (animation, refit, camera),
  * ns[1] the first pass (tracing), ns[2] the other passes (resolves) and end_frame. ns may be NULL. */
 hz_status_t hz_render_run_frame_parts(hz_renderer_t *r, uint64_t index, float time, int64_t ns[3],

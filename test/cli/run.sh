@@ -55,7 +55,13 @@ expect render-no-scene 2 "which scene" "$hzrt" render
 expect render-bad-spp 2 "square" "$hzrt" render builtin --mode full --spp 3
 expect render-bad-size 2 "--size" "$hzrt" render builtin --size 0x5
 expect render-bad-frames 2 "'abc' is not an integer" "$hzrt" render builtin --frames abc
-expect render-bad-mode 2 "not tdense, full or taa" "$hzrt" render builtin --mode xyz
+expect render-bad-mode 2 "not tdense, full, taa or adaptive" "$hzrt" render builtin --mode xyz
+expect render-tau-outside-adaptive 2 "--tau applies only to --mode adaptive" "$hzrt" render builtin --tau 0.3
+expect render-map-outside-adaptive 2 "--adaptive-map applies only to --mode adaptive" "$hzrt" render builtin --mode full --adaptive-map "$tmp/m.png"
+expect render-bad-tau 2 "--tau-psn: '2' is not a threshold in \[0, 1\]" "$hzrt" render builtin --mode adaptive --tau-psn 2
+expect render-bad-normal-angle 2 "--normal-angle: '-1' is not an angle" "$hzrt" render builtin --mode adaptive --normal-angle -1
+expect render-unknown-focus 65 "no object named 'nosuch'" "$hzrt" render builtin --mode adaptive --focus-objects nosuch --out "$tmp/o2"
+expect render-help-adaptive 0 "--tau-soid" "$hzrt" render --help
 expect render-bad-ordering 2 "'zigzag' is not full, dominant" "$hzrt" render builtin --ordering zigzag
 expect render-bad-tdense-gamma 2 "--tdense-gamma: '0' is not a number" "$hzrt" render builtin --tdense-gamma 0
 expect render-msaa4-needs-4spp 2 "4x MSAA positions need full mode with 4 spp" "$hzrt" render builtin --mode full --msaa4
@@ -83,6 +89,13 @@ expect info-empty 68 "truncated" "$hzrt" info "$tmp/empty.hzb"
 expect info-directory 73 "not a regular file" "$hzrt" info "$tmp"
 : >"$tmp/file"
 expect render-out-not-dir 73 "Not a directory" "$hzrt" render builtin --out "$tmp/file/sub"
+
+# Adaptive supersampling: the summary's figures and the activity map.
+expect render-adaptive-ok 0 "extra rays/px" "$hzrt" render builtin --mode adaptive --size 64x36 --threads 2 --tau 0.3 \
+    --focus-objects 0,1 --adaptive-map "$tmp/ad/map.png" --out "$tmp/ad"
+[ -s "$tmp/ad/map.png" ] || { echo "  FAIL  cli render-adaptive-ok: map missing"; fail=$((fail + 1)); }
+grep -q '"sample_ratio_9spp"' "$tmp/ad/summary.json" 2>/dev/null ||
+    { echo "  FAIL  cli render-adaptive-ok: summary.json lacks the adaptive figures"; fail=$((fail + 1)); }
 
 # A good run: its outputs and nothing else.
 expect render-ok 0 "frame time" "$hzrt" render builtin --size 64x36 --frames 3 --threads 2 --out "$tmp/run"

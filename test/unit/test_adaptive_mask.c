@@ -481,6 +481,50 @@ static void test_oracle(void **state)
     (void)ties;
 }
 
+/* hz_amask_block (shared neighbour comparisons, the flat-neighbourhood shortcut) against hz_amask_subpixel on
+ * blocky random fields: large runs of identical pixels with random ones in between. */
+static void test_block_matches_subpixel(void **state)
+{
+    (void)state;
+    uint32_t s = 77;
+    for (int trial = 0; trial < 200; trial++) {
+        hz_amask_config_t c;
+        hz_amask_config_default(&c);
+        if (trial % 4 == 1)
+            c.tau[HZ_TAU_COL] = 0, c.tau[HZ_TAU_PTE] = 0;
+        if (trial % 4 == 2)
+            c.focus_count = 1, c.focus[0] = 1;
+        hz_amask_px_t base[3];
+        for (int k = 0; k < 3; k++)
+            random_px(&s, &base[k]);
+        for (int y = 0; y < H; y++)
+            for (int x = 0; x < W; x++) {
+                uint32_t r = xs(&s) % 16;
+                if (r < 12)
+                    field[y][x] = base[(x / 5 + y / 4) % 3];
+                else
+                    random_px(&s, &field[y][x]);
+            }
+        replicate(field);
+        hz_amask_block(&c, win, W + 2, W, H, mask, W);
+        for (int y = 0; y < H; y++)
+            for (int x = 0; x < W; x++) {
+                const hz_amask_px_t *p = &win[(y + 1) * (W + 2) + x + 1];
+                uint8_t want = 0;
+                for (int q = 0; q < 4; q++) {
+                    const hz_amask_px_t *nb[3];
+                    for (int k = 0; k < 3; k++)
+                        nb[k] = p + hz_amask_neighbours[q][k][1] * (W + 2) + hz_amask_neighbours[q][k][0];
+                    if (hz_amask_subpixel(&c, p, nb))
+                        want |= (uint8_t)(1u << q);
+                }
+                if (mask[y * W + x] != want)
+                    fail_msg("trial %d pixel (%d, %d): block %x, subpixel tests %x", trial, x, y, mask[y * W + x],
+                             want);
+            }
+    }
+}
+
 static void test_pack(void **state)
 {
     (void)state;
@@ -589,6 +633,7 @@ int main(void)
         cmocka_unit_test(test_flat_region_and_nan),
         cmocka_unit_test(test_straight_edges),
         cmocka_unit_test(test_oracle),
+        cmocka_unit_test(test_block_matches_subpixel),
         cmocka_unit_test(test_pack),
         cmocka_unit_test(test_golden_hash),
     };

@@ -7,6 +7,8 @@
 #include <string.h>
 #include <unistd.h>
 
+#include "accel_backend.h"
+#include "bench_common.h"
 #include "bench_scene.h"
 #include "clock.h"
 #include "hz/render.h"
@@ -40,18 +42,6 @@ static hz_status_t run_frames(hz_renderer_t *r, uint32_t warm, uint32_t frames, 
     for (int k = 0; k < 3; k++)
         part[k] = (double)parts[k] / frames * 1e-6;
     return HZ_OK;
-}
-
-static int cmp_double(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return x < y ? -1 : x > y;
-}
-
-static double median(double *v, int n)
-{
-    qsort(v, (size_t)n, sizeof *v, cmp_double);
-    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
 /* One scene: both renderers from the same pools, rounds alternating which mode goes first. */
@@ -93,11 +83,11 @@ static hz_status_t bench_scene(const char *label, const char *path, const hz_ben
         snprintf(row->scene, sizeof row->scene, "%s", label);
         for (int m = 0; m < 2; m++)
             for (int q = 0; q < 3; q++)
-                row->part_ms[m][q] = median(parts[m][q], o->rounds);
-        row->tdense_ms = median(ms_mode[0], o->rounds);
-        row->taa_ms = median(ms_mode[1], o->rounds);
-        row->ratio = median(ratio, o->rounds);
-        row->ratio_min = ratio[0], row->ratio_max = ratio[o->rounds - 1]; /* sorted by median() */
+                row->part_ms[m][q] = hz_bench_median(parts[m][q], o->rounds);
+        row->tdense_ms = hz_bench_median(ms_mode[0], o->rounds);
+        row->taa_ms = hz_bench_median(ms_mode[1], o->rounds);
+        row->ratio = hz_bench_median(ratio, o->rounds);
+        row->ratio_min = ratio[0], row->ratio_max = ratio[o->rounds - 1]; /* sorted by hz_bench_median() */
         hz_render_stats_t last;
         hz_render_frame_stats(r[0], &last, NULL);
         row->tdense_rays = (double)(last.primary_rays + last.shadow_rays + last.secondary_rays);
