@@ -37,6 +37,13 @@ void hz_pace_observe(hz_pace_t *p, int64_t cost_ns)
     p->observed++;
 }
 
+/* a + b for b >= 0, saturated at INT64_MAX: a cost near INT64_MAX (a stalled clock) must give the largest
+ * budget, not wrap to a negative one. */
+static int64_t sat_add(int64_t a, int64_t b)
+{
+    return a > INT64_MAX - b ? INT64_MAX : a + b;
+}
+
 int64_t hz_pace_budget(hz_pace_t *p, int64_t period_ns)
 {
     int64_t whole = period_ns - p->cfg.latch_ns;
@@ -49,7 +56,7 @@ int64_t hz_pace_budget(hz_pace_t *p, int64_t period_ns)
     uint64_t rank = ((uint64_t)p->n * p->cfg.percentile + 999u) / 1000u;
     int64_t pct = hz_select_i64(p->scratch, p->n, (size_t)(rank ? rank - 1 : 0));
     int64_t guard = p->cfg.guard_ns < 0 ? period_ns / 16 : p->cfg.guard_ns;
-    return pct + guard;
+    return sat_add(pct, guard < 0 ? 0 : guard);
 }
 
 void hz_pace_plan(hz_pace_t *p, const hz_vsync_t *v, int64_t now, int64_t min_slot, hz_pace_plan_t *out)
@@ -60,12 +67,13 @@ void hz_pace_plan(hz_pace_t *p, const hz_vsync_t *v, int64_t now, int64_t min_sl
     int64_t current = hz_vsync_slot_at_or_after(v, now + 1) - 1;
     if (min_slot < current + (int64_t)p->cfg.lookahead)
         min_slot = current + (int64_t)p->cfg.lookahead;
-    int64_t slot = hz_vsync_slot_at_or_after(v, now + budget + p->cfg.latch_ns);
+    int64_t slot = hz_vsync_slot_at_or_after(v, sat_add(sat_add(now, budget), p->cfg.latch_ns));
     if (slot < min_slot)
         slot = min_slot;
     out->slot = slot;
     out->edge_ns = hz_vsync_slot_time(v, slot);
-    out->start_ns = out->edge_ns - p->cfg.latch_ns - budget;
+    out->start_ns = out->edge_ns - p->cfg.latch_ns < INT64_MIN + 1 + budget ? now
+                                                                        : out->edge_ns - p->cfg.latch_ns - budget;
     if (out->start_ns < now)
         out->start_ns = now;
     out->budget_ns = budget;

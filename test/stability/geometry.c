@@ -20,7 +20,7 @@ static void sphere_case(stab_result_t *r, float radius, hz_vec3_t offset, uint32
 {
     hz_error_t err;
     hz_mesh_t m;
-    STAB_OK(r, hz_meshgen_cube_sphere(&m, &hz_pools_get()->scene, 12, 1.0f, true, &err), &err);
+    STAB_OK(r, hz_meshgen_cube_sphere(&m, &hz_pools_get()->scene, r->full ? 24 : 8, 1.0f, true, &err), &err);
     hz_meshgen_transform(&m, radius, offset);
     double c[3] = { offset.x, offset.y, offset.z };
     hz_rayhit_t *rays = su_inside_rays(n, c, 0.5 * radius, 11);
@@ -30,31 +30,31 @@ static void sphere_case(stab_result_t *r, float radius, hz_vec3_t offset, uint32
 
 static void c_unit_sphere(stab_result_t *r)
 {
-    sphere_case(r, 1.0f, hz_v3(0, 0, 0), r->full ? 200000 : 4000, 1e-4);
+    sphere_case(r, 1.0f, hz_v3(0, 0, 0), r->full ? 100000 : 1500, 1e-4);
 }
 
 static void c_scale_1e_6(stab_result_t *r)
 {
-    sphere_case(r, 1e-6f, hz_v3(0, 0, 0), 4000, 1e-4);
+    sphere_case(r, 1e-6f, hz_v3(0, 0, 0), r->full ? 20000 : 1200, 1e-4);
 }
 
 static void c_scale_1e6(stab_result_t *r)
 {
-    sphere_case(r, 1e6f, hz_v3(0, 0, 0), 4000, 1e-4);
+    sphere_case(r, 1e6f, hz_v3(0, 0, 0), r->full ? 20000 : 1200, 1e-4);
 }
 
 /* A unit sphere a million units from the origin: coordinates keep ~0.06 of resolution, shared vertices stay
  * shared, so the mesh stays closed. */
 static void c_far_from_origin(stab_result_t *r)
 {
-    sphere_case(r, 1.0f, hz_v3(1e6f, -1e6f, 1e6f), 4000, 1e-2);
+    sphere_case(r, 1.0f, hz_v3(1e6f, -1e6f, 1e6f), r->full ? 20000 : 1200, 1e-2);
 }
 
 /* Coordinates of 6e10, just inside the accel's range (HZ_ACCEL_MAX_COORD = 2^36): products of three
  * coordinate differences reach 1e33 and must stay finite. */
 static void c_scale_6e10(stab_result_t *r)
 {
-    sphere_case(r, 6e10f, hz_v3(0, 0, 0), 4000, 1e-4);
+    sphere_case(r, 6e10f, hz_v3(0, 0, 0), r->full ? 20000 : 1200, 1e-4);
 }
 
 /* Near the top of the float range (3e38 = FLT_MAX / 1.1), beyond the accel's range: the build keeps every
@@ -100,7 +100,7 @@ static void c_denormals(stab_result_t *r)
     hz_error_t err;
     hz_mesh_t a, b;
     hz_arena_t *ar = &hz_pools_get()->scene;
-    STAB_OK(r, hz_meshgen_cube_sphere(&a, ar, 10, 1.0f, true, &err), &err);
+    STAB_OK(r, hz_meshgen_cube_sphere(&a, ar, 8, 1.0f, true, &err), &err);
     STAB_OK(r, hz_meshgen_cube_sphere(&b, ar, 4, 1e-39f, true, &err), &err);
     uint32_t nv = a.vertex_count + b.vertex_count, nt = a.tri_count + b.tri_count;
     float *pos = malloc(sizeof(float) * 4 * nv);
@@ -115,8 +115,8 @@ static void c_denormals(stab_result_t *r)
         sub += b.pos[i] != 0.0f && fabsf(b.pos[i]) < 1.17549435e-38f;
     STAB_CHECK(r, sub > 0, "no subnormal coordinate in the input");
     double c[3] = { 0, 0, 0 };
-    hz_rayhit_t *rays = su_inside_rays(3000, c, 1e-39, 3);
-    su_check_mesh(r, pos, nv, tri, nt, rays, 3000, true, a.tri_count, 1e-4);
+    hz_rayhit_t *rays = su_inside_rays(600, c, 1e-39, 3);
+    su_check_mesh(r, pos, nv, tri, nt, rays, 600, true, a.tri_count, 1e-4);
     stab_note(r, "%u subnormal coordinates", sub);
     free(rays), free(pos), free(tri);
 }
@@ -127,12 +127,12 @@ static void c_zero_area(stab_result_t *r)
 {
     hz_error_t err;
     hz_mesh_t m;
-    STAB_OK(r, hz_meshgen_cube_sphere(&m, &hz_pools_get()->scene, 10, 1.0f, true, &err), &err);
+    STAB_OK(r, hz_meshgen_cube_sphere(&m, &hz_pools_get()->scene, 8, 1.0f, true, &err), &err);
     uint32_t good = m.tri_count;
     STAB_OK(r, hz_meshgen_append_degenerates(&m, &hz_pools_get()->scene, 600, 9, &err), &err);
     double c[3] = { 0, 0, 0 };
-    hz_rayhit_t *rays = su_inside_rays(4000, c, 0.6, 21);
-    su_check_mesh(r, m.pos, m.vertex_count, m.tri, m.tri_count, rays, 4000, true, good, 1e-4);
+    hz_rayhit_t *rays = su_inside_rays(1200, c, 0.6, 21);
+    su_check_mesh(r, m.pos, m.vertex_count, m.tri, m.tri_count, rays, 1200, true, good, 1e-4);
     free(rays);
 }
 
@@ -159,7 +159,7 @@ static void needle_tube(stab_result_t *r, float R)
         memcpy(tri + 3 * nt, t, sizeof t);
         nt += 4;
     }
-    uint32_t n = 4000;
+    uint32_t n = r->full ? 20000 : 1500;
     hz_rayhit_t *rays = malloc(sizeof *rays * n);
     hz_rng_t g;
     hz_rng_seed(&g, 4, 4);
@@ -201,7 +201,7 @@ static void c_coplanar_overlap(stab_result_t *r)
                 nt += 2;
             }
     }
-    uint32_t n = 4096, leaks = 0;
+    uint32_t n = r->full ? 16384 : 1024, leaks = 0;
     hz_rayhit_t *rays = malloc(sizeof *rays * n);
     hz_rng_t g;
     hz_rng_seed(&g, 8, 8);
@@ -229,11 +229,11 @@ static void c_coplanar_overlap(stab_result_t *r)
     free(rays), free(out), free(pos), free(tri);
 }
 
-/* 4096 copies of one triangle: one leaf cannot hold them, the builder must still terminate (no split can
+/* 1024 copies of one triangle (65536 with FULL=1): one leaf cannot hold them, the builder must still terminate (no split can
  * separate them); every ray through the triangle reports copy 0 (equal t: lowest index), every other misses. */
 static void c_identical_leaf(stab_result_t *r)
 {
-    const uint32_t N = r->full ? 65536 : 4096;
+    const uint32_t N = r->full ? 65536 : 1024;
     float pos[12] = { 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0 };
     uint32_t *tri = malloc(sizeof(uint32_t) * 3 * N);
     for (uint32_t i = 0; i < N; i++)
@@ -271,7 +271,7 @@ static void c_watertight_edges(stab_result_t *r)
 {
     hz_error_t err;
     hz_mesh_t m;
-    STAB_OK(r, hz_meshgen_cube_sphere(&m, &hz_pools_get()->scene, 8, 1.0f, true, &err), &err);
+    STAB_OK(r, hz_meshgen_cube_sphere(&m, &hz_pools_get()->scene, r->full ? 12 : 5, 1.0f, true, &err), &err);
     uint32_t n = 2 * (m.vertex_count + 3 * m.tri_count), k = 0;
     hz_rayhit_t *rays = malloc(sizeof *rays * n);
     const double org[2][3] = { { 0, 0, 0 }, { 0.1234, -0.0567, 0.0891 } };
@@ -387,7 +387,7 @@ static void c_nonfinite_vertices(stab_result_t *r)
 {
     hz_error_t err;
     hz_mesh_t a;
-    STAB_OK(r, hz_meshgen_cube_sphere(&a, &hz_pools_get()->scene, 10, 1.0f, true, &err), &err);
+    STAB_OK(r, hz_meshgen_cube_sphere(&a, &hz_pools_get()->scene, 8, 1.0f, true, &err), &err);
     uint32_t extra = 64, nv = a.vertex_count + 3 * extra, nt = a.tri_count + extra;
     float *pos = malloc(sizeof(float) * 4 * nv);
     uint32_t *tri = malloc(sizeof(uint32_t) * 3 * nt);
@@ -403,8 +403,8 @@ static void c_nonfinite_vertices(stab_result_t *r)
             tri[3 * (a.tri_count + i) + v] = a.vertex_count + 3 * i + v;
         }
     double c[3] = { 0, 0, 0 };
-    hz_rayhit_t *rays = su_inside_rays(3000, c, 0.6, 17);
-    su_check_mesh(r, pos, nv, tri, nt, rays, 3000, true, a.tri_count, 1e-4);
+    hz_rayhit_t *rays = su_inside_rays(1200, c, 0.6, 17);
+    su_check_mesh(r, pos, nv, tri, nt, rays, 1200, true, a.tri_count, 1e-4);
     free(rays), free(pos), free(tri);
 }
 
@@ -420,7 +420,7 @@ static const stab_case_t cases[] = {
     { "needles", "closed tube of 1e5:1 needle triangles: 0 leaks; t vs oracle <= 1e-3", c_needles, 0 },
     { "coplanar_overlap", "two overlapping coplanar grids: 0 leaks; t exact to 1e-6; tie rule agrees",
       c_coplanar_overlap, 0 },
-    { "identical_leaf", "4096 identical triangles: build ends; hits report copy 0; others miss", c_identical_leaf,
+    { "identical_leaf", "1024 identical triangles: build ends; hits report copy 0; others miss", c_identical_leaf,
       0 },
     { "watertight_edges", "rays through every shared vertex and edge midpoint: 0 leaks", c_watertight_edges, 0 },
     { "one_triangle", "single triangle: hit/miss and t agree with the oracle off the edges", c_one_triangle, 0 },
