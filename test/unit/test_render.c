@@ -162,6 +162,15 @@ static const char *write_spin_scene(char *path, size_t size)
     return path;
 }
 
+/* Opens a scene written to a temporary file and removes the file. */
+static void open_temp_scene(rfix_t *f, const char *path)
+{
+    hz_error_t err;
+    if (rfix_open(f, path, HZ_ACCEL_NATIVE, &err) != HZ_OK)
+        fail_msg("%s: %s", path, err.msg);
+    unlink(path);
+}
+
 /* A model as the baker writes it without a sidecar: no lights, no camera keys (the automatic camera), a floor and
  * a wall. */
 static const char *write_unlit_scene(char *path, size_t size)
@@ -198,11 +207,9 @@ static void test_scene_without_lights_gets_a_default_light(void **state)
 {
     (void)state;
     char path[256];
-    write_unlit_scene(path, sizeof path);
     rfix_t f;
     hz_error_t err;
-    assert_int_equal(rfix_open(&f, path, HZ_ACCEL_NATIVE, &err), HZ_OK);
-    unlink(path);
+    open_temp_scene(&f, write_unlit_scene(path, sizeof path));
     assert_int_equal(f.scene.light_count, 0);
     const hz_image_t *img = render_builtin(&f, HZ_MODE_FULL, 1, 64, 48, 1, 1, 0.0f);
     const hz_light_t *dl = hz_render_default_light(f.r);
@@ -237,11 +244,9 @@ static void test_static_pixels_have_zero_motion(void **state)
 {
     (void)state;
     char path[256];
-    write_spin_scene(path, sizeof path);
     rfix_t f;
     hz_error_t err;
-    assert_int_equal(rfix_open(&f, path, HZ_ACCEL_NATIVE, &err), HZ_OK);
-    unlink(path);
+    open_temp_scene(&f, write_spin_scene(path, sizeof path));
     hz_render_opts_t o;
     hz_render_opts_default(&o);
     o.width = 64, o.height = 64;
