@@ -122,10 +122,10 @@ ACCEL_PORT_TESTS_embree := accel_embree
 
 # render (src/render, src/recon): camera, shading, G-buffer, reconstruction
 RENDER_SRCS := src/render/camera.c src/render/texture.c src/render/trace.c src/render/render.c src/recon/taa.c \
-               src/render/deflight.c src/render/transp.c \
+               src/render/deflight.c src/render/terminator.c src/render/transp.c \
                src/recon/tdense.c src/recon/adaptive.c
 RENDER_TESTS := tdense
-RENDER_PORT_TESTS := render render_tdense render_adaptive render_transp
+RENDER_PORT_TESTS := render render_tdense render_speckles render_adaptive render_transp
 RENDER_PORT_TESTS_embree := render_backends
 # Heavy render tests for boards whose tests run natively (not under emulation).
 RENDER_PORT_TESTS_native := render_taa
@@ -193,7 +193,7 @@ KNOWN_PORTS := linux timing fbdev v4l2 gpio drm
 PORT_SRCS_linux := port/linux/pools.c port/linux/cli.c port/linux/clock.c port/linux/fileio.c port/linux/scenefile.c \
                    port/linux/threads.c port/linux/render_cmd.c port/linux/summary.c port/linux/accel_backend.c \
                    port/linux/render_run.c port/linux/adaptive_cli.c port/linux/transp_opt.c
-PORT_SRCS_linux += port/linux/progress.c
+PORT_SRCS_linux += port/linux/phase.c
 $(foreach p,$(BOARD_PORTS),$(if $(filter $(p),$(KNOWN_PORTS)),,$(error $(BOARD_DIR)/board.mk: unknown port '$(p)' (known: $(KNOWN_PORTS)))))
 # Image files (port/linux/imageio.c): PNG needs libpng for the target. It is on when the target's compiler links
 # -lpng (host builds: libpng-dev is in host-sim's BOARD_DEPS); elsewhere the PNG calls report "not built in".

@@ -10,7 +10,7 @@
 #include "hz/accel.h"
 #include "hz/scene.h"
 #include "pools.h"
-#include "progress.h"
+#include "phase.h"
 #include "scenefile.h"
 #if defined(HZ_HAVE_EMBREE)
 #include "embree_accel.h"
@@ -106,9 +106,9 @@ int hz_cmd_accel(int argc, char **argv)
     if (!embree && hz_accel_plan_check(g.tri_count, &cfg, &p->accel, &err) != HZ_OK)
         return hz_cli_report(&err);
     hz_accel_t *a = NULL;
-    hz_progress_t prog;
-    cfg.progress = hz_progress_accel, cfg.progress_user = &prog;
-    hz_progress_begin(&prog, false, "%s build of %s (%u triangles)", embree ? "Embree" : "native", scene_name,
+    hz_phase_t prog;
+    cfg.progress = hz_phase_accel, cfg.progress_user = &prog;
+    hz_phase_begin(&prog, false, "%s build of %s (%u triangles)", embree ? "Embree" : "native", scene_name,
                       g.tri_count);
     int64_t t0 = hz_clock_ns();
     hz_status_t s;
@@ -119,7 +119,7 @@ int hz_cmd_accel(int argc, char **argv)
 #endif
         s = hz_accel_build_native(&a, &g, &cfg, &p->accel, &err);
     double secs = (double)(hz_clock_ns() - t0) * 1e-9;
-    hz_progress_end(&prog);
+    hz_phase_end(&prog);
     (void)embree_config;
     if (s != HZ_OK)
         return hz_cli_report(&err);

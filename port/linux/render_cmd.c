@@ -16,7 +16,7 @@
 #include "hz/render.h"
 #include "imageio.h"
 #include "pools.h"
-#include "progress.h"
+#include "phase.h"
 #include "render_run.h"
 #include "scenefile.h"
 #include "summary.h"
@@ -364,14 +364,14 @@ int hz_cmd_render(int argc, char **argv)
         return hz_cli_report(&err);
     int64_t t0 = hz_clock_ns();
     hz_accel_t *accel = NULL;
-    hz_progress_t prog;
+    hz_phase_t prog;
     hz_accel_config_t acfg;
     hz_accel_config_default(&acfg);
-    acfg.progress = hz_progress_accel, acfg.progress_user = &prog;
-    hz_progress_begin(&prog, a.quiet, "%s build of %s (%u triangles)", hz_accel_backend_name(a.backend), a.scene,
+    acfg.progress = hz_phase_accel, acfg.progress_user = &prog;
+    hz_phase_begin(&prog, a.quiet, "%s build of %s (%u triangles)", hz_accel_backend_name(a.backend), a.scene,
                       geom.tri_count);
     hz_status_t bs = hz_accel_backend_build_cfg(a.backend, &accel, &geom, &acfg, &pools->accel, &err);
-    hz_progress_end(&prog);
+    hz_phase_end(&prog);
     if (bs != HZ_OK)
         return hz_cli_report(&err);
     double build_ms = (hz_clock_ns() - t0) * 1e-6;
@@ -408,11 +408,11 @@ int hz_cmd_render(int argc, char **argv)
         int64_t f0 = hz_clock_ns();
         /* A single frame has no frame counter to show: its own progress, should it take long. */
         if (a.frames == 1)
-            hz_progress_begin(&prog, a.quiet, "rendering %s (%ux%u, mode %s)", a.scene, a.opts.width,
+            hz_phase_begin(&prog, a.quiet, "rendering %s (%ux%u, mode %s)", a.scene, a.opts.width,
                               a.opts.height, hz_render_mode_name(a.opts.mode));
         hz_status_t fs = hz_render_run_frame_progress(r, f, t, a.frames == 1 ? &prog : NULL, &err);
         if (a.frames == 1)
-            hz_progress_end(&prog);
+            hz_phase_end(&prog);
         if (fs != HZ_OK) {
             rc = hz_cli_report(&err);
             goto done;

@@ -7,7 +7,7 @@
 typedef struct pass_job {
     hz_renderer_t *r;
     uint32_t pass;
-    hz_progress_t *prog; /* NULL: none */
+    hz_phase_t *prog; /* NULL: none */
     uint32_t *done, total;
 } pass_job_t;
 
@@ -18,7 +18,7 @@ static void run_item(void *user, uint32_t item, int thread)
     if (j->prog) {
         uint32_t d = __atomic_add_fetch(j->done, 1u, __ATOMIC_RELAXED);
         if (thread == 0) /* the caller: progress lines come from one thread */
-            hz_progress_update(j->prog, (float)d / (float)j->total);
+            hz_phase_update(j->prog, (float)d / (float)j->total);
     }
 }
 
@@ -28,7 +28,7 @@ void hz_render_run_pass(hz_renderer_t *r, uint32_t pass)
     hz_threads_run(run_item, &j, hz_render_pass_items(r, pass));
 }
 
-static hz_status_t run_frame(hz_renderer_t *r, uint64_t index, float time, int64_t ns[3], hz_progress_t *prog,
+static hz_status_t run_frame(hz_renderer_t *r, uint64_t index, float time, int64_t ns[3], hz_phase_t *prog,
                              hz_error_t *err)
 {
     int64_t t0 = ns ? hz_clock_ns() : 0;
@@ -60,7 +60,7 @@ hz_status_t hz_render_run_frame_parts(hz_renderer_t *r, uint64_t index, float ti
     return run_frame(r, index, time, ns, NULL, err);
 }
 
-hz_status_t hz_render_run_frame_progress(hz_renderer_t *r, uint64_t index, float time, hz_progress_t *prog,
+hz_status_t hz_render_run_frame_progress(hz_renderer_t *r, uint64_t index, float time, hz_phase_t *prog,
                                          hz_error_t *err)
 {
     return run_frame(r, index, time, NULL, prog, err);

@@ -10,7 +10,7 @@
 #define HZ_PORT_RENDER_RUN_H
 
 #include "hz/render.h"
-#include "progress.h"
+#include "phase.h"
 
 hz_status_t hz_render_run_frame(hz_renderer_t *r, uint64_t index, float time, hz_error_t *err);
 
@@ -25,7 +25,7 @@ hz_status_t hz_render_run_frame_parts(hz_renderer_t *r, uint64_t index, float ti
 
 /* The same, updating prog with the fraction of the frame's work items done (from the calling thread), for a
  * single long frame; prog may be NULL. */
-hz_status_t hz_render_run_frame_progress(hz_renderer_t *r, uint64_t index, float time, hz_progress_t *prog,
+hz_status_t hz_render_run_frame_progress(hz_renderer_t *r, uint64_t index, float time, hz_phase_t *prog,
                                          hz_error_t *err);
 
 #endif

@@ -8,7 +8,7 @@
 #include <unistd.h>
 
 #include "hz/builtin.h"
-#include "progress.h"
+#include "phase.h"
 
 hz_status_t hz_scenefile_read(const char *path, hz_arena_t *arena, const void **data, size_t *size,
                               hz_error_t *err)
@@ -34,8 +34,8 @@ hz_status_t hz_scenefile_read(const char *path, hz_arena_t *arena, const void **
         return hz_arena_error(arena, err);
     }
     size_t got = 0;
-    hz_progress_t prog;
-    hz_progress_begin(&prog, false, "reading %s (%.1f MB)", path, (double)st.st_size * 1e-6);
+    hz_phase_t prog;
+    hz_phase_begin(&prog, false, "reading %s (%.1f MB)", path, (double)st.st_size * 1e-6);
     while (got < (size_t)st.st_size) {
         /* In pieces, so a large scene shows its progress. */
         size_t want = (size_t)st.st_size - got;
@@ -44,16 +44,16 @@ hz_status_t hz_scenefile_read(const char *path, hz_arena_t *arena, const void **
             continue;
         if (r <= 0) {
             int e = r < 0 ? errno : EIO;
-            hz_progress_end(&prog);
+            hz_phase_end(&prog);
             close(fd);
             hz_arena_reset(arena, mark);
             return hz_error_set(err, HZ_E_IO, "%s: read failed after %zu of %lld bytes: %s", path, got,
                                 (long long)st.st_size, r < 0 ? strerror(e) : "file shrank");
         }
         got += (size_t)r;
-        hz_progress_update(&prog, (float)got / (float)st.st_size);
+        hz_phase_update(&prog, (float)got / (float)st.st_size);
     }
-    hz_progress_end(&prog);
+    hz_phase_end(&prog);
     close(fd);
     *data = buf;
     *size = got;

@@ -1,5 +1,6 @@
 /* Tracing and Whitted shading of one tile batch (see render_internal.h for the work organisation). */
 #include "hz/image.h"
+#include "hz/terminator.h"
 #include "render_internal.h"
 
 #define INV_PI 0.31830988618379067f
@@ -549,6 +550,7 @@ static void shade_hit(hz_worker_t *w, const ray_job_t *j, const hitrec_t *h)
     float diffuse = 1.0f - mirror;
     float kd[3] = { wc[0] * diffuse * sf.albedo[0], wc[1] * diffuse * sf.albedo[1], wc[2] * diffuse * sf.albedo[2] };
     hz_vec3_t o_light = hz_accel_offset_origin(sf.p, sf.ng, r->offset_scale);
+    const float skip = hz_terminator_skip(s, h->prim, sf.ng); /* the facet's own curvature (hz/terminator.h) */
     for (uint32_t l = 0; l < r->light_count; l++) {
         const hz_light_t *lt = &r->lights[l];
         hz_vec3_t L = hz_v3_sub(hz_v3(lt->position[0], lt->position[1], lt->position[2]), o_light);
@@ -566,6 +568,11 @@ static void shade_hit(hz_worker_t *w, const ray_job_t *j, const hitrec_t *h)
         sj.o[0] = o_light.x, sj.o[1] = o_light.y, sj.o[2] = o_light.z;
         sj.d[0] = ld.x, sj.d[1] = ld.y, sj.d[2] = ld.z;
         sj.tmax = dist * (1.0f - 1e-4f);
+        if (skip > 0.0f) {
+            float k0 = hz_minf(skip, sj.tmax);
+            sj.o[0] += ld.x * k0, sj.o[1] += ld.y * k0, sj.o[2] += ld.z * k0;
+            sj.tmax -= k0;
+        }
         sj.w[0] = kd[0] * lt->color[0] * k, sj.w[1] = kd[1] * lt->color[1] * k, sj.w[2] = kd[2] * lt->color[2] * k;
         sj.vis = 1.0f;
         sj.slot = j->slot;

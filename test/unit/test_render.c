@@ -162,6 +162,15 @@ static const char *write_spin_scene(char *path, size_t size)
     return path;
 }
 
+/* Opens a scene written to a temporary file and removes the file. */
+static void open_temp_scene(rfix_t *f, const char *path)
+{
+    hz_error_t err;
+    if (rfix_open(f, path, HZ_ACCEL_NATIVE, &err) != HZ_OK)
+        fail_msg("%s: %s", path, err.msg);
+    unlink(path);
+}
+
 /* A model as the baker writes it without a sidecar: no lights, no camera keys (the automatic camera), a floor and
  * a wall. */
 static const char *write_unlit_scene(char *path, size_t size)
@@ -198,11 +207,9 @@ static void test_scene_without_lights_gets_a_default_light(void **state)
 {
     (void)state;
     char path[256];
-    write_unlit_scene(path, sizeof path);
     rfix_t f;
     hz_error_t err;
-    assert_int_equal(rfix_open(&f, path, HZ_ACCEL_NATIVE, &err), HZ_OK);
-    unlink(path);
+    open_temp_scene(&f, write_unlit_scene(path, sizeof path));
     assert_int_equal(f.scene.light_count, 0);
     const hz_image_t *img = render_builtin(&f, HZ_MODE_FULL, 1, 64, 48, 1, 1, 0.0f);
     const hz_light_t *dl = hz_render_default_light(f.r);
@@ -237,11 +244,9 @@ static void test_static_pixels_have_zero_motion(void **state)
 {
     (void)state;
     char path[256];
-    write_spin_scene(path, sizeof path);
     rfix_t f;
     hz_error_t err;
-    assert_int_equal(rfix_open(&f, path, HZ_ACCEL_NATIVE, &err), HZ_OK);
-    unlink(path);
+    open_temp_scene(&f, write_spin_scene(path, sizeof path));
     hz_render_opts_t o;
     hz_render_opts_default(&o);
     o.width = 64, o.height = 64;
@@ -265,10 +270,12 @@ static void test_static_pixels_have_zero_motion(void **state)
     rfix_close(&f);
 }
 
-/* min_db: what float reordering leaves of the match, measured: this build gives builtin 115.28 dB and the Cornell
- * boxes 148.2 dB against the stored images (AArch64 under qemu the same); a build with FMA contraction
- * (-ffp-contract=fast, the largest reordering a compiler makes here) 115.27 and 147.3 dB. The thresholds keep
- * about 5 dB below that; one channel of one pixel off by 0.001 already costs the built-in scene 106 dB. */
+/* min_db: what float reordering leaves of the match, measured. The built-in scene's image was regenerated with
+ * the shadow-terminator change (hz/terminator.h: 867 of its 14,400 pixels, on the small smooth-shaded objects,
+ * got brighter, by at most 0.077); this build reproduces all three images bit for bit (inf dB), a build with FMA
+ * contraction (-ffp-contract=fast, the largest reordering a compiler makes here) gives 146.2 dB for the
+ * built-in scene and 147.3 dB for the Cornell boxes, AArch64 under qemu see make test. The thresholds keep
+ * about 5 dB below that; one channel of one pixel off by 1e-4 costs the built-in scene 126 dB. */
 static void compare_golden(const char *scene, const char *golden, float t, uint32_t spp, double min_db)
 {
     char dir[4096];
@@ -295,7 +302,7 @@ static void compare_golden(const char *scene, const char *golden, float t, uint3
 static void test_matches_stored_references(void **state)
 {
     (void)state;
-    compare_golden("builtin", "builtin_160x90_16spp_t1.pfm", 1.0f, 16, 110.0);
+    compare_golden("builtin", "builtin_160x90_16spp_t1.pfm", 1.0f, 16, 140.0);
     char p[4096];
     const char *orig = rfix_scene_path("CornellBox-Original.hzb", p, sizeof p);
     if (orig)

@@ -659,7 +659,13 @@ hz_status_t hz_bake_import_assimp(hz_bake_scene_t *s, const char *path, const hz
     hz_bake_dirname(path, c.dir, sizeof c.dir);
 
     unsigned flags = aiProcess_Triangulate | aiProcess_SortByPType | aiProcess_ValidateDataStructure;
-    if (sc->normals != HZ_BAKE_NORMALS_NONE)
+    /* PLY meshes share their vertices, and assimp 5.2's smooth normals are wrong on shared vertices: each vertex
+     * gets the normal of the last face that names it (within the crease angle of itself), an arbitrary
+     * neighbour, so a scan's sliver triangles give vertex normals up to 180 degrees off the surface (the dragon at
+     * res2: 669 vertices more than 60 degrees off the area-weighted mean of their faces) and dark single pixels
+     * where they tilt away from a light. Their normals come from the baker's own area-weighted mean instead
+     * (scene.c, as for missing normals); a scan is one smooth surface, so no crease angle is lost. */
+    if (sc->normals != HZ_BAKE_NORMALS_NONE && c.fmt != FMT_PLY)
         flags |= aiProcess_GenSmoothNormals;
     struct aiPropertyStore *props = aiCreatePropertyStore();
     aiSetImportPropertyFloat(props, AI_CONFIG_PP_GSN_MAX_SMOOTHING_ANGLE, sc->smooth_angle_deg);

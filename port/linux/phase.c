@@ -1,5 +1,5 @@
-/* Progress lines on stderr (see progress.h). */
-#include "progress.h"
+/* Progress lines on stderr (see phase.h). */
+#include "phase.h"
 
 #include <stdarg.h>
 #include <stdio.h>
@@ -9,7 +9,7 @@
 #include "cli.h"
 #include "clock.h"
 
-void hz_progress_begin(hz_progress_t *p, bool quiet, const char *fmt, ...)
+void hz_phase_begin(hz_phase_t *p, bool quiet, const char *fmt, ...)
 {
     memset(p, 0, sizeof *p);
     va_list ap;
@@ -19,11 +19,11 @@ void hz_progress_begin(hz_progress_t *p, bool quiet, const char *fmt, ...)
     const char *env = getenv("HZ_PROGRESS");
     p->tty = hz_cli_stderr_is_tty();
     p->enabled = !quiet && (p->tty || (env && (!strcmp(env, "1") || !strcmp(env, "all"))));
-    p->after_s = env && !strcmp(env, "all") ? 0.0 : HZ_PROGRESS_AFTER_S;
+    p->after_s = env && !strcmp(env, "all") ? 0.0 : HZ_PHASE_AFTER_S;
     p->t0 = p->last = hz_clock_ns();
 }
 
-void hz_progress_update(hz_progress_t *p, float fraction)
+void hz_phase_update(hz_phase_t *p, float fraction)
 {
     if (!p->enabled || !(fraction < 1.0f)) /* the end says when it is done */
         return;
@@ -40,7 +40,7 @@ void hz_progress_update(hz_progress_t *p, float fraction)
     fflush(stderr);
 }
 
-void hz_progress_end(hz_progress_t *p)
+void hz_phase_end(hz_phase_t *p)
 {
     if (!p->enabled)
         return;
@@ -52,7 +52,7 @@ void hz_progress_end(hz_progress_t *p)
     p->shown = false;
 }
 
-void hz_progress_accel(void *user, float done)
+void hz_phase_accel(void *user, float done)
 {
-    hz_progress_update((hz_progress_t *)user, done);
+    hz_phase_update((hz_phase_t *)user, done);
 }
