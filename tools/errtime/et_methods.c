@@ -63,7 +63,7 @@ const hz_et_scene_t hz_et_scenes[] = {
     AT240("conference@240", "Conference on a 240 Hz display: tdense vs 1 spp and TAA at 60 and 240 Hz",
           "conference.hzb", 160, 90, 48, 16),
     TRANSP("sponza-smoke", "Sponza with a 12000-particle smoke cloud (sponza-smoke.hzb), camera flying into it: "
-           "transparency methods + TAA", "sponza-smoke.hzb", 64, 36, 20, 12),
+           "transparency methods + TAA", "sponza-smoke.hzb", 64, 36, 16, 12),
     TRANSP("AlphaBlendModeTest", "glTF AlphaBlendModeTest (AlphaBlendModeTest.hzb): transparency methods + TAA",
            "AlphaBlendModeTest.hzb", 160, 90, 40, 16),
     TRANSP("builtin-transp", "built-in scene (blended particles): transparency methods + TAA", "builtin", 160, 90, 40,
