@@ -22,14 +22,19 @@ hz_status_t hz_bench_scene_open(hz_bench_scene_t *b, const char *path, hz_error_
     return s;
 }
 
+void hz_bench_scene_reset_frames(hz_bench_scene_t *b)
+{
+    hz_arena_reset(&b->pools->frame, b->mf);
+    for (int t = 0; t < HZ_MAX_THREADS; t++)
+        hz_arena_reset(&b->pools->thread[t], b->mt[t]);
+}
+
 void hz_bench_scene_close(hz_bench_scene_t *b)
 {
-    hz_pools_t *pools = b->pools;
-    hz_accel_release(b->accel);
+    if (b->accel)
+        hz_accel_release(b->accel);
     b->accel = NULL;
-    hz_arena_reset(&pools->frame, b->mf);
-    hz_arena_reset(&pools->accel, b->ma);
-    hz_arena_reset(&pools->scene, b->ms);
-    for (int t = 0; t < HZ_MAX_THREADS; t++)
-        hz_arena_reset(&pools->thread[t], b->mt[t]);
+    hz_bench_scene_reset_frames(b);
+    hz_arena_reset(&b->pools->accel, b->ma);
+    hz_arena_reset(&b->pools->scene, b->ms);
 }

@@ -4,7 +4,8 @@
  *
  * Contract: hz_bench_scene_open marks every pool, loads `path` ("builtin" or a .hzb file) and builds the native
  * BVH; on failure err is set and close must still be called. hz_bench_scene_close releases the accel and resets
- * the scene, accel, frame and thread arenas to the marks (renderers created from them in between are gone).
+ * the scene, accel, frame and thread arenas to the marks (renderers created from them in between are gone);
+ * hz_bench_scene_reset_frames resets only the frame and thread arenas.
  */
 #ifndef HZ_BENCH_SCENE_H
 #define HZ_BENCH_SCENE_H
@@ -22,5 +23,7 @@ typedef struct hz_bench_scene {
 
 hz_status_t hz_bench_scene_open(hz_bench_scene_t *b, const char *path, hz_error_t *err);
 void hz_bench_scene_close(hz_bench_scene_t *b);
+/* Gives the frame and thread arenas back to where open left them (between renderers). */
+void hz_bench_scene_reset_frames(hz_bench_scene_t *b);
 
 #endif

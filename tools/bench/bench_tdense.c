@@ -9,7 +9,6 @@
 
 #include "accel_backend.h"
 #include "bench_common.h"
-#include "bench_scene.h"
 #include "clock.h"
 #include "hz/render.h"
 #include "pools.h"
