@@ -458,7 +458,7 @@ DEPS_TEST_CROSS := gcc-aarch64-linux-gnu libc6-dev-arm64-cross binutils-aarch64-
 deps: ## install the Debian packages BOARD needs to build, run and test (apt-get as root; else print the line)
 	$(Q)sh tools/deps.sh $(BOARD_DEPS) $(BOARD_TEST_DEPS) \
 		$(if $(filter test,$(MAKECMDGOALS)),$(DEPS_TEST_HOST) $(DEPS_TEST_CROSS)) \
-		$(if $(filter test scenes bake test-host,$(MAKECMDGOALS)),$(DEPS_BAKE)) \
+		$(if $(filter test scenes bake test-host bench report,$(MAKECMDGOALS)),$(DEPS_BAKE)) \
 		$(if $(filter test fuzz test-host,$(MAKECMDGOALS)),$(DEPS_FUZZ)) \
 		$(if $(filter test vmtest,$(MAKECMDGOALS)),$(DEPS_VMTEST))
 
@@ -479,7 +479,7 @@ LATENCY_SIM_ARGS ?= --source sim --hz 240 --jitter-us 50 --miss-pct 1 --glitch-p
 latency-sim: $(HZRT) ## simulated 240 Hz display-locked run: miss rate, latency percentiles, histogram (build/<board>/latency-sim)
 	$(Q)$(HZRT) latency $(LATENCY_SIM_ARGS) --out $(O)/latency-sim
 
-bench: $(BENCH) ## measure (side by side, in one run) and print a table; writes $(O)/bench/*.csv
+bench: deps $(BENCH) scenes ## measure (side by side, in one run) and print a table; writes $(O)/bench/*.csv
 	$(Q)mkdir -p $(O)/bench
 	$(Q)$(BENCH) --csv $(O)/bench/bench.csv --accel-csv $(O)/bench/accel.csv --adaptive-csv $(O)/bench/adaptive.csv \
 		--scenes $(SCENES_O) $(BENCH_ARGS)
