@@ -82,6 +82,13 @@ static void test_bad_inputs_have_their_own_status(void **state)
     assert_int_equal(run("--source", csv, "--quiet", "--out", dir, NULL), 64 + HZ_E_FORMAT); /* no edges */
     assert_int_equal(run("--sink", "v4l2:/dev/video1:nv12", NULL), 64 + HZ_E_UNSUPPORTED);
     assert_int_equal(run("--render-scale", "0", NULL), 2);
+    /* DRM: a malformed mode is a usage error; a card that is not there a device error (72 where the build has
+     * no DRM port); --source drm needs the DRM sink. */
+    assert_int_equal(run("--sink", "drm:card0:Virtual-1:640x", "--frames", "1", NULL), 2);
+    int rc = run("--sink", "drm:/dev/dri/card-hz-none", "--frames", "1", NULL);
+    assert_true(rc == 64 + HZ_E_DEVICE || rc == 64 + HZ_E_UNSUPPORTED);
+    assert_int_equal(run("--source", "drm", "--frames", "1", NULL), 2);
+    assert_int_equal(run("--sink", "drm", "--drm-buffers", "4", NULL), 2);
     assert_false(exists("report.json")); /* nothing half-written by the failures */
 }
 
