@@ -17,17 +17,24 @@
 
 static char dir[64];
 
+/* "latency" and the NULL-terminated arguments into argv[32]; returns argc. */
+static int build_argv(const char **argv, const char *a, va_list ap)
+{
+    int argc = 0;
+    argv[argc++] = "latency";
+    for (const char *s = a; s && argc < 31; s = va_arg(ap, const char *))
+        argv[argc++] = s;
+    argv[argc] = NULL;
+    return argc;
+}
+
 static int run(const char *a, ...)
 {
     const char *argv[32];
-    int argc = 0;
-    argv[argc++] = "latency";
     va_list ap;
     va_start(ap, a);
-    for (const char *s = a; s && argc < 31; s = va_arg(ap, const char *))
-        argv[argc++] = s;
+    int argc = build_argv(argv, a, ap);
     va_end(ap);
-    argv[argc] = NULL;
     fflush(stdout);
     return hz_cmd_latency(argc, (char **)argv);
 }
@@ -157,14 +164,10 @@ static void slurp(const char *path, char *buf, size_t cap)
 static int run_captured(char *buf, size_t cap, const char *a, ...)
 {
     const char *argv[32];
-    int argc = 0;
-    argv[argc++] = "latency";
     va_list ap;
     va_start(ap, a);
-    for (const char *s = a; s && argc < 31; s = va_arg(ap, const char *))
-        argv[argc++] = s;
+    int argc = build_argv(argv, a, ap);
     va_end(ap);
-    argv[argc] = NULL;
     char path[96];
     snprintf(path, sizeof path, "%s/stdout.txt", dir);
     fflush(stdout);
