@@ -17,17 +17,24 @@
 
 static char dir[64];
 
+/* "latency" and the NULL-terminated arguments into argv[32]; returns argc. */
+static int build_argv(const char **argv, const char *a, va_list ap)
+{
+    int argc = 0;
+    argv[argc++] = "latency";
+    for (const char *s = a; s && argc < 31; s = va_arg(ap, const char *))
+        argv[argc++] = s;
+    argv[argc] = NULL;
+    return argc;
+}
+
 static int run(const char *a, ...)
 {
     const char *argv[32];
-    int argc = 0;
-    argv[argc++] = "latency";
     va_list ap;
     va_start(ap, a);
-    for (const char *s = a; s && argc < 31; s = va_arg(ap, const char *))
-        argv[argc++] = s;
+    int argc = build_argv(argv, a, ap);
     va_end(ap);
-    argv[argc] = NULL;
     fflush(stdout);
     return hz_cmd_latency(argc, (char **)argv);
 }
@@ -82,6 +89,13 @@ static void test_bad_inputs_have_their_own_status(void **state)
     assert_int_equal(run("--source", csv, "--quiet", "--out", dir, NULL), 64 + HZ_E_FORMAT); /* no edges */
     assert_int_equal(run("--sink", "v4l2:/dev/video1:nv12", NULL), 64 + HZ_E_UNSUPPORTED);
     assert_int_equal(run("--render-scale", "0", NULL), 2);
+    /* DRM: a malformed mode is a usage error; a card that is not there a device error (72 where the build has
+     * no DRM port); --source drm needs the DRM sink. */
+    assert_int_equal(run("--sink", "drm:card0:Virtual-1:640x", "--frames", "1", NULL), 2);
+    int rc = run("--sink", "drm:/dev/dri/card-hz-none", "--frames", "1", NULL);
+    assert_true(rc == 64 + HZ_E_DEVICE || rc == 64 + HZ_E_UNSUPPORTED);
+    assert_int_equal(run("--source", "drm", "--frames", "1", NULL), 2);
+    assert_int_equal(run("--sink", "drm", "--drm-buffers", "4", NULL), 2);
     assert_false(exists("report.json")); /* nothing half-written by the failures */
 }
 
@@ -150,14 +164,10 @@ static void slurp(const char *path, char *buf, size_t cap)
 static int run_captured(char *buf, size_t cap, const char *a, ...)
 {
     const char *argv[32];
-    int argc = 0;
-    argv[argc++] = "latency";
     va_list ap;
     va_start(ap, a);
-    for (const char *s = a; s && argc < 31; s = va_arg(ap, const char *))
-        argv[argc++] = s;
+    int argc = build_argv(argv, a, ap);
     va_end(ap);
-    argv[argc] = NULL;
     char path[96];
     snprintf(path, sizeof path, "%s/stdout.txt", dir);
     fflush(stdout);

@@ -16,11 +16,11 @@
 # VM_ENV (optional): NAME=VALUE words the tests get in the guest, as `make test` exports them on the host
 # (HZ_SCENES_DIR=...). A VALUE that is a host directory is shared into the guest read-only (virtio-9p) at
 # the same path, so tests that read data files find them where the host tests do.
-# A guest that does not finish within VM_LIMIT_S (default 300 s; a loaded 2-core CI machine needs the slack) is killed and counted as a failure.
+# A guest that does not finish within VM_LIMIT_S (default 600 s: a hang guard, generous for loaded 2-core machines) is killed and counted as a failure.
 set -u
 results=$1 cache=$2 init=$3 hzrt=$4 devtest=$5
 shift 5
-limit=${VM_LIMIT_S:-300}
+limit=${VM_LIMIT_S:-600}
 pulses_gap=${VM_PULSE_GAP_S:-0.4}
 label=vm-aarch64
 mkdir -p "$results" "$cache"

@@ -22,8 +22,13 @@ opts="-o Dir::Etc::SourceList=$apt/sources.list -o Dir::Etc::SourceParts=/dev/nu
       -o APT::Architecture=amd64 -o Debug::NoLocking=1 -o Acquire::Languages=none"
 # shellcheck disable=SC2086 # opts is a list of options on purpose
 if [ ! -f "$apt/updated" ]; then
-    apt-get $opts -qq update >"$apt/update.log" 2>&1 ||
-        { echo "gpiod2: apt-get update of Debian trixie from $mirror failed (see $apt/update.log)" >&2; exit 1; }
+    # apt-get update can exit 0 with nothing fetched (an unreachable mirror is only a warning): check the lists.
+    if ! apt-get $opts -qq update >"$apt/update.log" 2>&1 ||
+        [ -z "$(find "$apt/lists" -maxdepth 1 -name '*trixie*Packages*' 2>/dev/null | head -n 1)" ]; then
+        echo "gpiod2: cannot fetch Debian trixie's package lists from $mirror (see $apt/update.log):" \
+            "$(grep -m 1 -E '^(E|W):' "$apt/update.log")" >&2
+        exit 1
+    fi
     touch "$apt/updated"
 fi
 status=0
