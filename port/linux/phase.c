@@ -9,6 +9,8 @@
 #include "cli.h"
 #include "clock.h"
 
+bool hz_phase_muted = false;
+
 void hz_phase_begin(hz_phase_t *p, bool quiet, const char *fmt, ...)
 {
     memset(p, 0, sizeof *p);
@@ -18,7 +20,7 @@ void hz_phase_begin(hz_phase_t *p, bool quiet, const char *fmt, ...)
     va_end(ap);
     const char *env = getenv("HZ_PROGRESS");
     p->tty = hz_cli_stderr_is_tty();
-    p->enabled = !quiet && (p->tty || (env && (!strcmp(env, "1") || !strcmp(env, "all"))));
+    p->enabled = !quiet && !hz_phase_muted && (p->tty || (env && (!strcmp(env, "1") || !strcmp(env, "all"))));
     p->after_s = env && !strcmp(env, "all") ? 0.0 : HZ_PHASE_AFTER_S;
     p->t0 = p->last = hz_clock_ns();
 }

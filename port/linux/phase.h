@@ -27,6 +27,9 @@ typedef struct hz_phase {
     double after_s;
 } hz_phase_t;
 
+/* A command's --quiet for every phase of the run, also those begun deep in the port (reading the scene). */
+extern bool hz_phase_muted;
+
 /* quiet: the command's own --quiet (no progress at all). */
 void hz_phase_begin(hz_phase_t *p, bool quiet, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
 void hz_phase_update(hz_phase_t *p, float fraction);

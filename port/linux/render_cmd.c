@@ -339,6 +339,7 @@ int hz_cmd_render(int argc, char **argv)
     int rc = parse(argc, argv, &a);
     if (rc)
         return rc < 0 ? 0 : rc;
+    hz_phase_muted = a.quiet;
     hz_error_t err;
     hz_pools_t *pools = hz_pools_get();
     if (!pools) {

@@ -49,6 +49,11 @@ expect progress-native-build 0 "hzrt: native build of builtin (3016 triangles): 
 expect progress-single-frame 0 "hzrt: rendering builtin (32x16, mode full): done in" env HZ_PROGRESS=all \
     "$hzrt" render builtin --mode full --size 32x16 --out "$tmp/prog"
 expect progress-quiet 0 "" sh -c "! HZ_PROGRESS=all \"$hzrt\" render builtin --size 32x16 --quiet --out \"$tmp/prog\" 2>&1 | grep -q 'done in'"
+if [ -f "${HZ_SCENES_DIR:-/nonexistent}/dragon-res4.hzb" ]; then
+    expect progress-reading 0 "hzrt: reading $HZ_SCENES_DIR/dragon-res4.hzb" env HZ_PROGRESS=all "$hzrt" render \
+        "$HZ_SCENES_DIR/dragon-res4.hzb" --size 32x16 --out "$tmp/prog"
+    expect progress-quiet-reading 0 "" sh -c "! HZ_PROGRESS=all \"$hzrt\" render \"$HZ_SCENES_DIR/dragon-res4.hzb\" --size 32x16 --quiet --out \"$tmp/prog\" 2>&1 | grep -q 'reading'"
+fi
 expect no-command 2 "usage" "$hzrt"
 expect unknown-command 2 "unknown command 'bogus'" "$hzrt" bogus
 expect render-no-scene 2 "which scene" "$hzrt" render
