@@ -100,9 +100,9 @@ INTEGER_FLAGS := -mgeneral-regs-only
 
 # core (src/core): arenas, status, formatter, fixed point, hash + RNG, CRC-32, vec/mat, images + sRGB codes
 CORE_SRCS := src/core/arena.c src/core/status.c src/core/fmt.c src/core/fixed.c src/core/hash.c src/core/vmath.c \
-             src/core/crc32.c src/core/image.c src/core/srgb_tables.c
+             src/core/crc32.c src/core/image.c src/core/srgb_tables.c src/core/pack.c
 CORE_INTEGER_SRCS := src/core/fixed.c src/core/hash.c src/core/crc32.c
-CORE_TESTS := arena status fmt fixed hash vmath config crc32 image
+CORE_TESTS := arena status fmt fixed hash vmath config crc32 image pack
 CORE_PORT_TESTS := zero_alloc imageio
 
 # scene (src/scene): baked format, validating loader, built-in scene

@@ -107,10 +107,16 @@ typedef struct hz_render_stats {
     uint64_t queue_full;   /* rays dropped because a ray queue was full (should stay 0) */
 } hz_render_stats_t;
 
-/* Memory a renderer needs: frame_bytes from the frame arena, thread_bytes from each thread arena. */
+/* Memory a renderer needs: frame_bytes from the frame arena, thread_bytes from each thread arena. frame_bytes
+ * by part (alignment padding included, the parts sum to frame_bytes): the displayed frame (float RGB), the
+ * primary G-buffer, the secondary (mirror) G-buffer, the motion vectors (primary and reflected), and the mode's
+ * own state (TAA history, the tdense window...). anyhit: the accel's any-hit callback is installed (cutouts or
+ * blended surfaces); transparency: continuation rays through blended layers run. */
 typedef struct hz_render_plan {
     size_t frame_bytes;
     size_t thread_bytes;
+    size_t display_bytes, gbuffer_bytes, gbuffer2_bytes, mv_bytes, state_bytes;
+    bool anyhit, transparency;
 } hz_render_plan_t;
 
 hz_status_t hz_render_plan(const hz_scene_t *scene, const hz_render_opts_t *opts, hz_render_plan_t *plan,
