@@ -14,6 +14,7 @@
 #include "fileio.h"
 #include "hz/render.h"
 #include "imageio.h"
+#include "modeplan.h"
 #include "pools.h"
 #include "render_run.h"
 #include "scenefile.h"
@@ -274,6 +275,15 @@ int hz_cmd_render(int argc, char **argv)
     hz_scene_t scene;
     if (hz_scenefile_open(a.scene, pools, &scene, &err) != HZ_OK)
         return hz_cli_report(&err);
+    /* Refuse up front, before the accel build, with the numbers `hzrt info` prints. */
+    hz_render_plan_t plan;
+    char why[256];
+    if (!hz_modeplan_check(&scene, pools, &a.opts, a.threads, &plan, why, sizeof why)) {
+        hz_cli_error("render: a %ux%u %s render of %s does not fit board %s: %s (hzrt info %s shows every mode)",
+                     a.opts.width, a.opts.height, hz_render_mode_name(a.opts.mode), a.scene, HZ_BOARD_NAME, why,
+                     a.scene);
+        return hz_status_exit_code(HZ_E_NO_MEMORY);
+    }
     hz_accel_geom_t geom;
     if (hz_accel_geom_from_scene(&geom, &scene, &pools->accel, &err) != HZ_OK)
         return hz_cli_report(&err);
