@@ -30,7 +30,7 @@
  *  - Odd widths/heights: the last tile column/row is partial; a tile whose named pixel lies outside the image
  *    traces nothing that frame.
  *  - Compact state (hz/pack.h): window samples and the previous displayed frame are kept as RGB9E5, motion
- *    vectors in 16-bit fixed point (1/32 px). A traced sample is displayed at full precision in the frame that
+ *    vectors as half floats. A traced sample is displayed at full precision in the frame that
  *    traced it; what is kept for later frames is rounded to RGB9E5.
  *  - Non-finite colours are displayed as given in the frame that traced them (a broken tracer shows up) and kept
  *    as 0 (RGB9E5 has no NaN); non-finite or huge motion vectors are sanitised (NaN as 0, clamped to
@@ -49,7 +49,7 @@
 #include "hz/status.h"
 #include "hz/tileorder.h"
 
-#define HZ_TDENSE_MAX_MOTION HZ_MV16_MAX /* motion is stored in 16-bit fixed point (hz/pack.h) */
+#define HZ_TDENSE_MAX_MOTION 16384.0f
 
 typedef struct hz_tdense_config {
     uint32_t width, height;  /* the displayed frame, 1..HZ_IMAGE_MAX_DIM each */
@@ -80,7 +80,7 @@ typedef struct hz_tdense {
     uint8_t *next_orders;  /* tiles: chosen in the last frame of a cycle */
     float *sub_rgb;        /* tiles x 3: this frame's sample of each tile */
     int8_t *sub_jitter;    /* tiles: MSAA index the sample was traced at, -1 for the centre, -2 none traced */
-    int16_t *mv;           /* pixels x 2: motion of each pixel's newest sample (hz_mv16); NULL without motion */
+    uint16_t *mv;          /* pixels x 2: motion of each pixel's newest sample (half float); NULL without motion */
     uint32_t *window;      /* pixels x 4: the moving window, one RGB9E5 sample per MSAA position */
     uint8_t *flags;        /* pixels: HZ_TDENSE_* bits */
     uint32_t *hist[2];     /* displayed frames as RGB9E5, ping-pong: the one written is hist[frame & 1] */

@@ -118,14 +118,11 @@ void hz_half_unpack3(float dst[3], const uint16_t src[3])
     dst[2] = hz_half_unpack(src[2]);
 }
 
-int16_t hz_mv16_pack(float pixels)
+uint16_t hz_half_pack_signed(float v)
 {
-    if (pixels != pixels) /* NaN */
-        return 0;
-    if (pixels >= HZ_MV16_MAX)
-        return 32767;
-    if (pixels <= -HZ_MV16_MAX)
-        return -32767;
-    float q = pixels * 32.0f;
-    return (int16_t)(q >= 0.0f ? (int32_t)(q + 0.5f) : -(int32_t)(-q + 0.5f));
+    if (v < 0.0f) {
+        uint16_t m = hz_half_pack(-v);
+        return m ? (uint16_t)(0x8000u | m) : 0; /* never -0: zero motion has one code */
+    }
+    return hz_half_pack(v); /* NaN and -0 give 0 */
 }

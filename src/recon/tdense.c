@@ -33,7 +33,7 @@ static size_t plan_bytes(uint32_t width, uint32_t height, bool motion, size_t *o
         tiles,                            /* next_orders */
         tiles * 3 * sizeof(float),        /* sub_rgb */
         tiles,                            /* sub_jitter */
-        motion ? px * 2 * sizeof(int16_t) : 0, /* mv (a still scene under a still camera has none) */
+        motion ? px * 2 * sizeof(uint16_t) : 0, /* mv (a still scene under a still camera has none) */
         px * WIN * sizeof(uint32_t),      /* window */
         px,                               /* flags */
         px * sizeof(uint32_t),            /* hist[0] */
@@ -85,7 +85,7 @@ hz_status_t hz_tdense_init(hz_tdense_t *td, const hz_tdense_config_t *cfg, hz_ar
     td->next_orders = hz_arena_alloc(arena, tiles, ALIGN);
     td->sub_rgb = hz_arena_alloc_array(arena, tiles * 3, sizeof(float), ALIGN);
     td->sub_jitter = hz_arena_alloc(arena, tiles, ALIGN);
-    td->mv = cfg->motion ? hz_arena_alloc_array(arena, px * 2, sizeof(int16_t), ALIGN) : NULL;
+    td->mv = cfg->motion ? hz_arena_alloc_array(arena, px * 2, sizeof(uint16_t), ALIGN) : NULL;
     td->window = hz_arena_alloc_array(arena, px * WIN, sizeof(uint32_t), ALIGN);
     td->flags = hz_arena_alloc(arena, px, ALIGN);
     td->hist[0] = hz_arena_alloc_array(arena, px, sizeof(uint32_t), ALIGN);
@@ -118,7 +118,7 @@ void hz_tdense_reset(hz_tdense_t *td)
     hz_memset(td->sub_rgb, 0, tiles * 3 * sizeof(float));
     hz_memset(td->sub_jitter, -1, tiles);
     if (td->mv)
-        hz_memset(td->mv, 0, px * 2 * sizeof(int16_t));
+        hz_memset(td->mv, 0, px * 2 * sizeof(uint16_t));
     hz_memset(td->window, 0, px * WIN * sizeof(uint32_t));
     hz_memset(td->flags, 0, px);
     hz_memset(td->hist[0], 0, px * sizeof(uint32_t)); /* RGB9E5 code 0 is black */
@@ -169,6 +169,13 @@ bool hz_tdense_tile_sample(const hz_tdense_t *td, uint32_t tx, uint32_t ty, uint
     return true;
 }
 
+static float sanitise_motion(float v)
+{
+    if (hz_isnanf(v))
+        return 0.0f;
+    return hz_clampf(v, -HZ_TDENSE_MAX_MOTION, HZ_TDENSE_MAX_MOTION);
+}
+
 void hz_tdense_put(hz_tdense_t *td, uint32_t tx, uint32_t ty, const float rgb[3], const float mv[2],
                    const float *mv_reflect)
 {
@@ -181,9 +188,9 @@ void hz_tdense_put(hz_tdense_t *td, uint32_t tx, uint32_t ty, const float rgb[3]
     td->sub_rgb[3 * t + 2] = rgb[2];
     td->sub_jitter[t] = (int8_t)trace_msaa(td, p);
     const float *m = (mv_reflect && td->cfg.reflect_mv) ? mv_reflect : mv;
-    if (td->mv) { /* NaN as 0, clamped to +-HZ_TDENSE_MAX_MOTION */
-        td->mv[2 * p + 0] = hz_mv16_pack(m[0]);
-        td->mv[2 * p + 1] = hz_mv16_pack(m[1]);
+    if (td->mv) {
+        td->mv[2 * p + 0] = hz_half_pack_signed(sanitise_motion(m[0]));
+        td->mv[2 * p + 1] = hz_half_pack_signed(sanitise_motion(m[1]));
     }
 }
 
@@ -206,11 +213,11 @@ HZ_INLINE motion_t longer(motion_t a, motion_t b)
     return b.l2 > a.l2 ? b : a;
 }
 
-HZ_INLINE motion_t motion_at(const int16_t *mv, size_t p)
+HZ_INLINE motion_t motion_at(const uint16_t *mv, size_t p)
 {
     motion_t m = { 0.0f, 0.0f, 0.0f };
     if (mv) {
-        m.x = hz_mv16_unpack(mv[2 * p]), m.y = hz_mv16_unpack(mv[2 * p + 1]);
+        m.x = hz_half_unpack(mv[2 * p]), m.y = hz_half_unpack(mv[2 * p + 1]);
         m.l2 = m.x * m.x + m.y * m.y;
     }
     return m;
@@ -382,9 +389,9 @@ static void resolve_pixel(hz_tdense_t *td, uint32_t x, uint32_t y, unsigned subf
 static void resolve_row(hz_tdense_t *td, uint32_t y, unsigned subframe, const uint32_t *prev, uint32_t *cur)
 {
     uint32_t w = td->cfg.width, h = td->cfg.height;
-    const int16_t *r0 = td->mv ? td->mv + 2 * (size_t)(y ? y - 1 : 0) * w : NULL;
-    const int16_t *r1 = td->mv ? td->mv + 2 * (size_t)y * w : NULL;
-    const int16_t *r2 = td->mv ? td->mv + 2 * (size_t)(y + 1 < h ? y + 1 : y) * w : NULL;
+    const uint16_t *r0 = td->mv ? td->mv + 2 * (size_t)(y ? y - 1 : 0) * w : NULL;
+    const uint16_t *r1 = td->mv ? td->mv + 2 * (size_t)y * w : NULL;
+    const uint16_t *r2 = td->mv ? td->mv + 2 * (size_t)(y + 1 < h ? y + 1 : y) * w : NULL;
     motion_t col_prev, col_cur, col_next;
     col_cur = longer(longer(motion_at(r0, 0), motion_at(r1, 0)), motion_at(r2, 0));
     col_prev = col_cur;

@@ -145,30 +145,28 @@ static void test_9e5_edges(void **state)
     }
 }
 
-static void test_mv16(void **state)
+static void test_half_signed(void **state)
 {
     (void)state;
-    assert_int_equal(hz_mv16_pack(0.0f), 0);
-    assert_int_equal(hz_mv16_pack(-0.0f), 0);
-    assert_int_equal(hz_mv16_pack(NAN), 0);
-    assert_int_equal(hz_mv16_pack(INFINITY), 32767);
-    assert_int_equal(hz_mv16_pack(-INFINITY), -32767);
-    assert_int_equal(hz_mv16_pack(1e9f), 32767);
-    assert_true(hz_mv16_unpack(32767) == HZ_MV16_MAX);
-    assert_int_equal(hz_mv16_pack(1e-40f), 0); /* float subnormal */
-    assert_int_equal(hz_mv16_pack(1.0f / 64.0f), 1);   /* half a step: ties away from zero */
-    assert_int_equal(hz_mv16_pack(-1.0f / 64.0f), -1);
-    assert_int_equal(hz_mv16_pack(0.999f / 64.0f), 0);
-    /* Nearest code against a brute-force scan, symmetric in sign. */
-    hz_rng_t r;
-    hz_rng_seed(&r, 16, 1);
-    for (int i = 0; i < 100000; i++) {
-        float v = (hz_u32_to_unit(hz_rng_u32(&r)) * 2.0f - 1.0f) * 1100.0f;
-        int16_t q = hz_mv16_pack(v);
-        double want = fmax(-32767.0, fmin(32767.0, round((double)v * 32.0)));
-        assert_int_equal(q, (int)want);
-        assert_int_equal(hz_mv16_pack(-v), -q);
-        assert_int_equal(hz_mv16_pack(hz_mv16_unpack(q)), q);
+    assert_int_equal(hz_half_pack_signed(0.0f), 0);
+    assert_int_equal(hz_half_pack_signed(-0.0f), 0);
+    assert_int_equal(hz_half_pack_signed(NAN), 0);
+    assert_int_equal(hz_half_pack_signed(-NAN), 0);
+    assert_int_equal(hz_half_pack_signed(INFINITY), 0x7bff);
+    assert_int_equal(hz_half_pack_signed(-INFINITY), 0xfbff);
+    assert_true(hz_half_unpack(0xfbff) == -HZ_HALF_MAX);
+    assert_int_equal(hz_half_pack_signed(-1e-45f), 0); /* float subnormal below half's range: +0 */
+    assert_int_equal(hz_half_pack_signed(-ldexpf(1.0f, -24)), 0x8001);
+    assert_true(hz_half_unpack(hz_half_pack_signed(-16384.0f)) == -16384.0f);
+    /* A motion far below a pixel stays non-zero (a static pixel is exactly 0, as in float). */
+    assert_true(hz_half_unpack(hz_half_pack_signed(1e-3f)) > 0.0f);
+    assert_true(hz_half_unpack(hz_half_pack_signed(-1e-3f)) < 0.0f);
+    /* Symmetric in sign, and every negative code round-trips. */
+    for (uint32_t h = 1; h <= 0x7bffu; h++) {
+        float v = hz_half_unpack((uint16_t)h);
+        assert_true(hz_half_unpack((uint16_t)(h | 0x8000u)) == -v);
+        assert_int_equal(hz_half_pack_signed(-v), h | 0x8000u);
+        assert_int_equal(hz_half_pack_signed(v), h);
     }
 }
 
@@ -177,7 +175,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_half_decode_every_code), cmocka_unit_test(test_half_round_to_nearest_even),
         cmocka_unit_test(test_half_edges),             cmocka_unit_test(test_9e5_nearest),
-        cmocka_unit_test(test_9e5_edges),              cmocka_unit_test(test_mv16),
+        cmocka_unit_test(test_9e5_edges),              cmocka_unit_test(test_half_signed),
     };
     return HZ_RUN(tests);
 }

@@ -492,8 +492,8 @@ static void test_bad_motion_and_first_frame(void **state)
     float j[2];
     int msaa;
     hz_tdense_tile_sample(&td, 2, 2, &px, &py, j, &msaa);
-    assert_true(hz_mv16_unpack(td.mv[2 * (py * 8 + px)]) == 0.0f);
-    assert_true(hz_mv16_unpack(td.mv[2 * (py * 8 + px) + 1]) == HZ_TDENSE_MAX_MOTION);
+    assert_true(hz_half_unpack(td.mv[2 * (py * 8 + px)]) == 0.0f);
+    assert_true(hz_half_unpack(td.mv[2 * (py * 8 + px) + 1]) == HZ_TDENSE_MAX_MOTION);
     hz_tdense_end_frame(&td);
     /* Huge motion reprojects from the clamped edge without reading outside the image. */
     for (int f = 0; f < 4; f++)
