@@ -124,7 +124,7 @@ ACCEL_PORT_TESTS_embree := accel_embree
 RENDER_SRCS := src/render/camera.c src/render/texture.c src/render/trace.c src/render/render.c src/recon/taa.c \
                src/recon/tdense.c
 RENDER_TESTS := tdense
-RENDER_PORT_TESTS := render render_tdense
+RENDER_PORT_TESTS := render render_tdense leaveout
 RENDER_PORT_TESTS_embree := render_backends
 # Heavy render tests for boards whose tests run natively (not under emulation).
 RENDER_PORT_TESTS_native := render_taa
@@ -375,6 +375,7 @@ SCENE_MODEL_sponza := $(SCENES_UNPACK)/sponza/sponza.obj
 SCENE_MODEL_lost-empire := $(SCENES_UNPACK)/lost-empire/lost_empire.obj
 SCENE_MODEL_pine := $(SCENES_UNPACK)/pine/scrubPine.obj
 SCENE_MODEL_dragon-res4 := $(SCENES_SRC)/dragon/dragon_vrip_res4.ply.gz
+SCENE_MODEL_dragon-res4-still := $(SCENE_MODEL_dragon-res4)
 SCENE_MODEL_dragon-res3 := $(SCENES_SRC)/dragon/dragon_vrip_res3.ply.gz
 SCENE_MODEL_dragon-res2 := $(SCENES_SRC)/dragon/dragon_vrip_res2.ply.gz
 SCENE_MODEL_dragon := $(SCENES_SRC)/dragon/dragon_vrip.ply.gz
@@ -386,7 +387,7 @@ SCENE_MODEL_CesiumMan-small := $(SCENE_MODEL_CesiumMan)
 SCENE_MODEL_AlphaBlendModeTest-small := $(SCENE_MODEL_AlphaBlendModeTest)
 SCENES := CornellBox-Original CornellBox-Mirror conference sponza lost-empire pine dragon-res4 dragon-res3 \
           dragon-res2 dragon furball BoxAnimated CesiumMan AlphaBlendModeTest CesiumMan-small \
-          AlphaBlendModeTest-small
+          AlphaBlendModeTest-small dragon-res4-still
 SCENE_FILES := $(SCENES:%=$(SCENES_O)/%.hzb)
 # What each scene reads besides its model: the unpacked zip (its stamp) or every file beside the model.
 scene_inputs = $(if $(filter $(SCENES_UNPACK)/%,$(1)),$(dir $(1)).unpacked,$(1) $(wildcard $(dir $(1))*))
@@ -511,6 +512,16 @@ test-board: tests
 	$(Q)sh test/guard/check-integer.sh --record $(O)/test-results "$(CC)" "$(BOARD_ARCH)" $(INTEGER_SRCS) || true
 	$(Q)$(if $(BOARD_TEST_LAUNCHER),true,sh test/cli/run.sh $(O)/test-results $(HZRT))
 
+# Fixed memory per board (test/boards/fit.sh, run by `make test` for every board): `hzrt info` of each scene in
+# the board's BOARD_FIT_SCENES (board.mk; default builtin) says the default mode fits the display, and one frame
+# of it renders (under the board's test launcher: qemu for AArch64).
+BOARD_FIT_SCENES ?= builtin
+BOARD_FIT_RES ?= $(O)/test-results/board-fit.res
+board-fit: $(HZRT) $(foreach s,$(filter-out builtin,$(BOARD_FIT_SCENES)),$(SCENES_O)/$(s).hzb) ## check that the board's default mode fits its display with its reference scenes
+	$(Q)mkdir -p $(dir $(BOARD_FIT_RES))
+	$(Q)sh test/boards/fit.sh $(BOARD_FIT_RES) "$(BOARD)" "$(BOARD_TEST_LAUNCHER)" $(HZRT) \
+		$(foreach s,$(BOARD_FIT_SCENES),$(if $(filter builtin,$(s)),builtin,$(SCENES_O)/$(s).hzb))
+
 ifeq ($(SAN),1)
 # Sanitizer objects reference the sanitizer runtime: check a plain build of the core instead.
 CHECK_OBJS := $(LIB_SRCS:%.c=$(O)/check/%.o)
@@ -544,6 +555,11 @@ test: deps ## build and run every test: scenes, host tools, host-sim, AArch64 un
 		else echo "  FAIL  board $$b does not build: $(BUILD_ROOT)/guards$(SAN_SUFFIX)/build-$$b.log"; \
 			grep -m 5 error $(BUILD_ROOT)/guards$(SAN_SUFFIX)/build-$$b.log | sed 's/^/        /'; \
 			echo "board-build/$$b 0 1 0" >$(BUILD_ROOT)/guards$(SAN_SUFFIX)/build-$$b.res; fi; \
+	done; \
+	for b in $(TEST_BOARDS) $(BUILD_CHECK_BOARDS); do \
+		r=$(BUILD_ROOT)/guards$(SAN_SUFFIX)/board-fit-$$b.res; \
+		$(MAKE) --no-print-directory BOARD=$$b O=$(BUILD_ROOT)/$$b$(SAN_SUFFIX) BOARD_FIT_RES=$$r board-fit || \
+			[ -f $$r ] || echo "board-fit/$$b 0 1 0" >$$r; \
 	done; \
 	sh test/summary.sh $(HOST_O)/test-results $(foreach b,$(TEST_BOARDS),$(BUILD_ROOT)/$(b)$(SAN_SUFFIX)/test-results) \
 		$(TEST_TIER_RESULTS) $(BUILD_ROOT)/guards$(SAN_SUFFIX)
@@ -609,4 +625,4 @@ help: ## list the targets
 
 .PHONY: all deps run bench size tests test-board test check-freestanding check-integer clean help gen-srgb errtime \
         bake scenes fuzz test-host report
-.PHONY: vmtest vmtest-tier vmtest-board latency-sim
+.PHONY: vmtest vmtest-tier vmtest-board latency-sim board-fit
