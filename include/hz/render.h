@@ -129,6 +129,8 @@ hz_status_t hz_render_create(hz_renderer_t **out, hz_scene_t *scene, hz_accel_t 
                              const hz_render_opts_t *opts, hz_arena_t *frame_arena, hz_arena_t *thread_arenas,
                              uint32_t thread_count, hz_error_t *err);
 
+/* time_ns: the frame's scene time (hz/scenetime.h). The float variant takes seconds (finite; short runs). */
+hz_status_t hz_render_begin_frame_ns(hz_renderer_t *r, uint64_t frame_index, hz_time_ns_t time_ns, hz_error_t *err);
 hz_status_t hz_render_begin_frame(hz_renderer_t *r, uint64_t frame_index, float time, hz_error_t *err);
 uint32_t hz_render_pass_count(const hz_renderer_t *r);
 uint32_t hz_render_pass_items(const hz_renderer_t *r, uint32_t pass);

@@ -30,7 +30,7 @@ typedef struct args {
     uint32_t hz;
     uint32_t frames;
     int threads;
-    float start;
+    hz_time_ns_t start;
     hz_accel_backend_t backend;
     bool write_y4m, write_png, write_pfm, quiet;
 } args_t;
@@ -67,7 +67,7 @@ static void usage(FILE *f)
             "  --size WxH        image size; default the board's display (%dx%d)\n"
             "  --hz N            simulated display refresh: frame n shows scene time start + n / N; default %d\n"
             "  --frames N        display frames to render; default 1\n"
-            "  --start T         scene time of the first frame in seconds; default 0\n"
+            "  --start T         scene time of the first frame in seconds (0..1e9, kept to the nanosecond); default 0\n"
             "  --threads N       render threads (1..%d); default: the machine's cores\n"
             "  --backend B       native or embree (host builds); default native\n"
             "  --bounces N       mirror reflections per path, 0..3; default 3\n"
@@ -166,11 +166,11 @@ static int parse(int argc, char **argv, args_t *a)
         } else if (!strcmp(o, "--start")) {
             char *end = NULL;
             double t = v ? strtod(v, &end) : 0.0;
-            if (!v || !*v || *end || !isfinite(t) || t < 0.0 || t > 1e6) {
-                hz_cli_error("render: --start: '%s' is not a time in seconds in [0, 1e6]", v ? v : "");
+            if (!v || !*v || *end || !isfinite(t) || t < 0.0 || t > 1e9) {
+                hz_cli_error("render: --start: '%s' is not a time in seconds in [0, 1e9]", v ? v : "");
                 return HZ_EXIT_USAGE;
             }
-            a->start = (float)t, i++;
+            a->start = hz_time_from_s(t), i++;
         } else if (!strcmp(o, "--taa-gamma")) {
             char *end = NULL;
             double g = v ? strtod(v, &end) : 0.0;
@@ -321,9 +321,9 @@ int hz_cmd_render(int argc, char **argv)
     bool show = !a.quiet && hz_cli_stderr_is_tty() && a.frames > 1;
     int64_t run0 = hz_clock_ns(), last_progress = run0;
     for (uint32_t f = 0; f < a.frames; f++) {
-        float t = a.start + (float)f / (float)a.hz;
+        hz_time_ns_t t = hz_time_of_frame(a.start, f, a.hz);
         int64_t f0 = hz_clock_ns();
-        if (hz_render_run_frame(r, f, t, &err) != HZ_OK) {
+        if (hz_render_run_frame_ns(r, f, t, &err) != HZ_OK) {
             rc = hz_cli_report(&err);
             goto done;
         }

@@ -18,8 +18,16 @@ static void run_item(void *user, uint32_t item, int thread)
 hz_status_t hz_render_run_frame_parts(hz_renderer_t *r, uint64_t index, float time, int64_t ns[3],
                                       hz_error_t *err)
 {
+    if (!(time == time) || time > 9e9f || time < -9e9f)
+        return hz_error_set(err, HZ_E_INVALID_ARG, "frame time is not finite");
+    return hz_render_run_frame_parts_ns(r, index, hz_time_from_s(time), ns, err);
+}
+
+hz_status_t hz_render_run_frame_parts_ns(hz_renderer_t *r, uint64_t index, hz_time_ns_t time, int64_t ns[3],
+                                         hz_error_t *err)
+{
     int64_t t0 = ns ? hz_clock_ns() : 0;
-    hz_status_t s = hz_render_begin_frame(r, index, time, err);
+    hz_status_t s = hz_render_begin_frame_ns(r, index, time, err);
     if (s != HZ_OK)
         return s;
     int64_t t1 = ns ? hz_clock_ns() : 0, t2 = t1;
@@ -41,4 +49,9 @@ hz_status_t hz_render_run_frame_parts(hz_renderer_t *r, uint64_t index, float ti
 hz_status_t hz_render_run_frame(hz_renderer_t *r, uint64_t index, float time, hz_error_t *err)
 {
     return hz_render_run_frame_parts(r, index, time, NULL, err);
+}
+
+hz_status_t hz_render_run_frame_ns(hz_renderer_t *r, uint64_t index, hz_time_ns_t time, hz_error_t *err)
+{
+    return hz_render_run_frame_parts_ns(r, index, time, NULL, err);
 }

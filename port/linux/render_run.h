@@ -11,11 +11,15 @@
 
 #include "hz/render.h"
 
+/* time: scene time in nanoseconds (hz/scenetime.h); the float variants take seconds (short runs, tests). */
+hz_status_t hz_render_run_frame_ns(hz_renderer_t *r, uint64_t index, hz_time_ns_t time, hz_error_t *err);
 hz_status_t hz_render_run_frame(hz_renderer_t *r, uint64_t index, float time, hz_error_t *err);
 
 /* The same, and where the time went (CLOCK_MONOTONIC, ns): ns[0] begin_frame (animation, refit, camera),
  * ns[1] the first pass (tracing), ns[2] the other passes (resolves) and end_frame. ns may be NULL. */
 hz_status_t hz_render_run_frame_parts(hz_renderer_t *r, uint64_t index, float time, int64_t ns[3],
                                       hz_error_t *err);
+hz_status_t hz_render_run_frame_parts_ns(hz_renderer_t *r, uint64_t index, hz_time_ns_t time, int64_t ns[3],
+                                         hz_error_t *err);
 
 #endif

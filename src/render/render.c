@@ -283,22 +283,29 @@ hz_status_t hz_render_begin_frame(hz_renderer_t *r, uint64_t frame_index, float 
 {
     if (!hz_isfinitef(time))
         return hz_error_set(err, HZ_E_INVALID_ARG, "frame time is not finite");
+    return hz_render_begin_frame_ns(r, frame_index, hz_time_from_s(time), err);
+}
+
+hz_status_t hz_render_begin_frame_ns(hz_renderer_t *r, uint64_t frame_index, hz_time_ns_t time_ns, hz_error_t *err)
+{
+    float time = hz_time_wrap_s(time_ns, r->scene->header->duration);
     if (r->has_motion) {
-        hz_scene_animate(r->scene, time);
+        hz_scene_animate_ns(r->scene, time_ns);
         if (!r->have_prev)
-            hz_scene_animate(r->scene, time); /* no history yet: previous = current, zero object motion */
+            hz_scene_animate_ns(r->scene, time_ns); /* no history yet: previous = current, zero object motion */
         hz_status_t s = hz_accel_refit(r->accel, err);
         if (s != HZ_OK)
             return s;
     }
     if (r->have_prev)
         r->prev_view = r->view;
-    hz_camera_t cam = hz_scene_camera(r->scene, time);
+    hz_camera_t cam = hz_scene_camera_ns(r->scene, time_ns);
     hz_view_setup(&r->view, &cam, r->opts.width, r->opts.height);
     if (!r->have_prev)
         r->prev_view = r->view;
     r->frame = frame_index;
     r->time = time;
+    r->time_ns = time_ns;
     if (r->opts.mode == HZ_MODE_TDENSE) {
         /* Any change of the camera restarts every static window (seed 001, 3.2.2). */
         const hz_view_t *a = &r->view, *b = &r->prev_view;

@@ -95,7 +95,8 @@ struct hz_renderer {
     hz_view_t view, prev_view;
     bool have_prev;
     uint64_t frame;
-    float time;
+    float time;                /* scene time inside the loop (seconds), for ray time */
+    hz_time_ns_t time_ns;      /* scene time of this frame */
     float jitter[2];           /* this frame's sub-pixel offset (TAA), in pixels */
     uint32_t tiles_x, tiles_y;
     hz_image_t out;            /* displayed frame */
