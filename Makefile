@@ -355,6 +355,12 @@ ifeq ($(SAN),1)
 $(eval $(call HOST_TREE,$(HOST_O),$(HOST_SAN_FLAGS)))
 endif
 BAKE := $(HOST_PLAIN_O)/bin/hzbake
+# The baker warns when a scene fits no board's scene arena: every board's HZ_ARENA_SCENE_BYTES (in MiB).
+BOARD_SCENE_ARENAS := $(foreach b,$(wildcard boards/*/board.h),$(patsubst boards/%/board.h,%,$(b))=$(shell \
+	sed -n 's/^\#define HZ_ARENA_SCENE_BYTES (\([0-9]*\)ull << 20).*/\1/p' $(b)))
+$(HOST_PLAIN_O)/obj/tools/bake/main.o $(HOST_O)/obj/tools/bake/main.o: $(wildcard boards/*/board.h)
+$(HOST_PLAIN_O)/obj/tools/bake/main.o $(HOST_O)/obj/tools/bake/main.o: HOST_CFLAGS += \
+	-DHZ_BAKE_BOARD_SCENE_ARENAS='"$(BOARD_SCENE_ARENAS)"'
 HOST_TEST_BINS := $(HOST_TESTS:%=$(HOST_O)/test/test_%)
 
 bake: $(BAKE) ## build the scene baker tools/bake (hzbake) for the build machine into $(BUILD_ROOT)/host

@@ -157,9 +157,9 @@ static int cmd_info(int argc, char **argv)
     /* Every render mode's plan at the display's size; the verdict is for hzrt render's default mode. */
     int fits = ab.peak <= pools->accel.cap;
     fits = hz_modeplan_print(stdout, &scene, pools, HZ_DISPLAY_WIDTH, HZ_DISPLAY_HEIGHT) && fits;
-    printf("verdict      %s (default mode %s at %dx%d)\n",
-           fits ? "fits this board" : "does NOT fit this board (see the sizes above)",
-           hz_render_mode_name(HZ_MODEPLAN_DEFAULT_MODE), HZ_DISPLAY_WIDTH, HZ_DISPLAY_HEIGHT);
+    printf("verdict      %s: default mode %s at %dx%d%s\n", fits ? "fits this board" : "does NOT fit this board",
+           hz_render_mode_name(HZ_MODEPLAN_DEFAULT_MODE), HZ_DISPLAY_WIDTH, HZ_DISPLAY_HEIGHT,
+           fits ? "" : " (see the sizes above)");
     return 0;
 }
 

@@ -80,7 +80,7 @@ bool hz_modeplan_print(FILE *f, const hz_scene_t *scene, hz_pools_t *pools, uint
         bool fits = hz_modeplan_check(scene, pools, &o, 1, &p, why, sizeof why);
         if (m == HZ_MODEPLAN_DEFAULT_MODE)
             default_fits = fits;
-        fprintf(f, "  %-8s %12zu bytes %6.1f B/px = %.1f + %.1f + %.1f + %.1f + %.1f%s\n", hz_render_mode_name(o.mode),
+        fprintf(f, "  %-8s %11zu bytes %6.1f B/px = %.1f + %.1f + %.1f + %.1f + %.1f%s\n", hz_render_mode_name(o.mode),
                 p.frame_bytes, per_px(p.frame_bytes, px), per_px(p.display_bytes, px), per_px(p.gbuffer_bytes, px),
                 per_px(p.gbuffer2_bytes, px), per_px(p.mv_bytes, px), per_px(p.state_bytes, px),
                 m == HZ_MODEPLAN_DEFAULT_MODE ? "  (hzrt render's default)" : "");
@@ -107,14 +107,14 @@ bool hz_modeplan_print(FILE *f, const hz_scene_t *scene, hz_pools_t *pools, uint
         { "mirrors", HZ_FEAT_MIRROR },
         { "transparency", HZ_FEAT_BLEND | HZ_FEAT_CUTOUT },
     };
-    fprintf(f, "feature cost (B/px a scene without the feature saves; 'has' = this scene has it):\n  %-14s",
+    fprintf(f, "feature cost (B/px a scene without the feature saves; 'has' = this scene has it):\n  %-17s",
             "feature");
     for (int m = 0; m < HZ_MODE_COUNT; m++)
         fprintf(f, " %8s", hz_render_mode_name((hz_render_mode_t)m));
     fprintf(f, "\n");
     for (size_t i = 0; i < sizeof feats / sizeof feats[0]; i++) {
         hz_scene_t on = with_feature(scene, feats[i].bits, true), off = with_feature(scene, feats[i].bits, false);
-        fprintf(f, "  %-10s %-3s", feats[i].name, (scene->features & feats[i].bits) ? "has" : "");
+        fprintf(f, "  %-13s %-3s", feats[i].name, (scene->features & feats[i].bits) ? "has" : "");
         for (int m = 0; m < HZ_MODE_COUNT; m++) {
             o.mode = (hz_render_mode_t)m;
             size_t a = plan_frame(&on, &o), b = plan_frame(&off, &o);
@@ -122,7 +122,7 @@ bool hz_modeplan_print(FILE *f, const hz_scene_t *scene, hz_pools_t *pools, uint
         }
         fprintf(f, "%s\n", feats[i].bits & HZ_FEAT_BLEND ? "  (no bytes: any-hit and continuation rays)" : "");
     }
-    fprintf(f, "  %-14s %zu bytes in the scene arena (moving vertices, current and previous)\n", "animation",
+    fprintf(f, "  %-17s %zu bytes in the scene arena (moving vertices, current and previous)\n", "animation",
             scene->plan.arena_bytes);
     return default_fits;
 }
