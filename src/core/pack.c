@@ -2,24 +2,12 @@
  * only float operations are exact power-of-two scalings and one rounding per value. */
 #include "hz/pack.h"
 
-static uint32_t float_bits(float f)
-{
-    uint32_t u;
-    hz_memcpy(&u, &f, sizeof u);
-    return u;
-}
-
-static float bits_float(uint32_t u)
-{
-    float f;
-    hz_memcpy(&f, &u, sizeof f);
-    return f;
-}
+#include "hz/image.h" /* hz_float_bits, hz_float_from_bits */
 
 /* 2^e for -126 <= e <= 127 (a normal float). */
 static float pow2f(int e)
 {
-    return bits_float((uint32_t)(e + 127) << 23);
+    return hz_float_from_bits((uint32_t)(e + 127) << 23);
 }
 
 /* Non-negative, finite, at most max: NaN and negatives to 0, +Inf and above to max. */
@@ -45,7 +33,7 @@ uint32_t hz_rgb9e5_pack(const float rgb[3])
     m = m > c[2] ? m : c[2];
     if (m == 0.0f)
         return 0;
-    int ex = (int)((float_bits(m) >> 23) & 0xffu) - 127; /* floor(log2 m); float subnormals read as -127 */
+    int ex = (int)((hz_float_bits(m) >> 23) & 0xffu) - 127; /* floor(log2 m); float subnormals read as -127 */
     if (ex < -16)
         ex = -16;
     int es = ex + 16; /* shared exponent: the largest channel's mantissa lands in [256, 512) */
@@ -72,7 +60,7 @@ void hz_rgb9e5_unpack(uint32_t code, float rgb[3])
 uint16_t hz_half_pack(float v)
 {
     v = clamp_range(v, HZ_HALF_MAX);
-    uint32_t u = float_bits(v);
+    uint32_t u = hz_float_bits(v);
     int e = (int)(u >> 23) - 127;
     if (v == 0.0f || e < -25)
         return 0; /* below half the smallest subnormal (2^-24) */
@@ -101,7 +89,7 @@ float hz_half_unpack(uint16_t h)
         return sign * (float)m * pow2f(-24);
     if (e == 31)
         return m ? 0.0f : sign * HZ_HALF_MAX; /* not produced by hz_half_pack; read as finite anyway */
-    return sign * bits_float(((e + 112u) << 23) | (m << 13));
+    return sign * hz_float_from_bits(((e + 112u) << 23) | (m << 13));
 }
 
 void hz_half_pack3(uint16_t dst[3], const float src[3])

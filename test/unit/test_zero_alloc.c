@@ -93,6 +93,7 @@ static void count(void)
     }
 }
 
+#ifdef HZ_HAVE_EMBREE
 /* Whether recorded call i has a frame in a shared object whose path contains `lib`. */
 static int stack_has(unsigned long i, const char *lib)
 {
@@ -103,6 +104,7 @@ static int stack_has(unsigned long i, const char *lib)
     }
     return 0;
 }
+#endif
 
 void *malloc(size_t n)
 {
