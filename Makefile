@@ -100,9 +100,9 @@ INTEGER_FLAGS := -mgeneral-regs-only
 
 # core (src/core): arenas, status, formatter, fixed point, hash + RNG, CRC-32, vec/mat, images + sRGB codes
 CORE_SRCS := src/core/arena.c src/core/status.c src/core/fmt.c src/core/fixed.c src/core/hash.c src/core/vmath.c \
-             src/core/crc32.c src/core/image.c src/core/srgb_tables.c
+             src/core/crc32.c src/core/image.c src/core/srgb_tables.c src/core/pack.c
 CORE_INTEGER_SRCS := src/core/fixed.c src/core/hash.c src/core/crc32.c
-CORE_TESTS := arena status fmt fixed hash vmath crc32 image
+CORE_TESTS := arena status fmt fixed hash vmath crc32 image pack
 CORE_PORT_TESTS := zero_alloc imageio config
 
 # scene (src/scene): baked format, validating loader, built-in scene
@@ -125,7 +125,7 @@ RENDER_SRCS := src/render/camera.c src/render/texture.c src/render/trace.c src/r
                src/render/deflight.c src/render/terminator.c src/render/transp.c \
                src/recon/tdense.c src/recon/adaptive.c
 RENDER_TESTS := tdense
-RENDER_PORT_TESTS := render render_tdense render_speckles render_adaptive render_transp
+RENDER_PORT_TESTS := render render_tdense render_speckles render_adaptive render_transp leaveout scene_clock
 RENDER_PORT_TESTS_embree := render_backends
 # Heavy render tests for boards whose tests run natively (not under emulation).
 RENDER_PORT_TESTS_native := render_taa
@@ -193,7 +193,7 @@ KNOWN_PORTS := linux timing fbdev v4l2 gpio drm
 PORT_SRCS_linux := port/linux/pools.c port/linux/cli.c port/linux/clock.c port/linux/fileio.c port/linux/scenefile.c \
                    port/linux/threads.c port/linux/render_cmd.c port/linux/summary.c port/linux/accel_backend.c \
                    port/linux/render_run.c port/linux/adaptive_cli.c port/linux/transp_opt.c
-PORT_SRCS_linux += port/linux/phase.c
+PORT_SRCS_linux += port/linux/phase.c port/linux/modeplan.c
 $(foreach p,$(BOARD_PORTS),$(if $(filter $(p),$(KNOWN_PORTS)),,$(error $(BOARD_DIR)/board.mk: unknown port '$(p)' (known: $(KNOWN_PORTS)))))
 # Image files (port/linux/imageio.c): PNG needs libpng for the target. It is on when the target's compiler links
 # -lpng (host builds: libpng-dev is in host-sim's BOARD_DEPS); elsewhere the PNG calls report "not built in".
@@ -424,6 +424,12 @@ ifeq ($(SAN),1)
 $(eval $(call HOST_TREE,$(HOST_O),$(HOST_SAN_FLAGS)))
 endif
 BAKE := $(HOST_PLAIN_O)/bin/hzbake
+# The baker warns when a scene fits no board's scene arena: every board's HZ_ARENA_SCENE_BYTES (in MiB).
+BOARD_SCENE_ARENAS := $(foreach b,$(wildcard boards/*/board.h),$(patsubst boards/%/board.h,%,$(b))=$(shell \
+	sed -n 's/^\#define HZ_ARENA_SCENE_BYTES (\([0-9]*\)ull << 20).*/\1/p' $(b)))
+$(HOST_PLAIN_O)/obj/tools/bake/main.o $(HOST_O)/obj/tools/bake/main.o: $(wildcard boards/*/board.h)
+$(HOST_PLAIN_O)/obj/tools/bake/main.o $(HOST_O)/obj/tools/bake/main.o: HOST_CFLAGS += \
+	-DHZ_BAKE_BOARD_SCENE_ARENAS='"$(BOARD_SCENE_ARENAS)"'
 HOST_TEST_BINS := $(HOST_TESTS:%=$(HOST_O)/test/test_%)
 
 bake: $(BAKE) ## build the scene baker tools/bake (hzbake) for the build machine into $(BUILD_ROOT)/host
@@ -446,6 +452,7 @@ SCENE_MODEL_sponza-smoke := $(SCENES_UNPACK)/sponza/sponza-smoke.obj
 SCENE_MODEL_lost-empire := $(SCENES_UNPACK)/lost-empire/lost_empire.obj
 SCENE_MODEL_pine := $(SCENES_UNPACK)/pine/scrubPine.obj
 SCENE_MODEL_dragon-res4 := $(SCENES_SRC)/dragon/dragon_vrip_res4.ply.gz
+SCENE_MODEL_dragon-res4-still := $(SCENE_MODEL_dragon-res4)
 SCENE_MODEL_dragon-res3 := $(SCENES_SRC)/dragon/dragon_vrip_res3.ply.gz
 SCENE_MODEL_dragon-res2 := $(SCENES_SRC)/dragon/dragon_vrip_res2.ply.gz
 SCENE_MODEL_dragon := $(SCENES_SRC)/dragon/dragon_vrip.ply.gz
@@ -457,7 +464,7 @@ SCENE_MODEL_CesiumMan-small := $(SCENE_MODEL_CesiumMan)
 SCENE_MODEL_AlphaBlendModeTest-small := $(SCENE_MODEL_AlphaBlendModeTest)
 SCENES := CornellBox-Original CornellBox-Mirror conference sponza lost-empire pine dragon-res4 dragon-res3 \
           dragon-res2 dragon furball BoxAnimated CesiumMan AlphaBlendModeTest CesiumMan-small \
-          AlphaBlendModeTest-small sponza-smoke
+          AlphaBlendModeTest-small sponza-smoke dragon-res4-still
 SCENE_FILES := $(SCENES:%=$(SCENES_O)/%.hzb)
 # What each scene reads besides its model: the unpacked zip (its stamp) or every file beside the model.
 scene_inputs = $(if $(filter $(SCENES_UNPACK)/%,$(1)),$(dir $(1)).unpacked,$(1) $(wildcard $(dir $(1))*))
@@ -600,6 +607,16 @@ test-board: tests $(if $(BOARD_TEST_LAUNCHER),,$(BENCH))
 	$(Q)$(if $(BOARD_TEST_LAUNCHER),true,sh test/cli/run.sh $(O)/test-results $(HZRT) $(BENCH))
 	$(Q)$(MAKE) --no-print-directory test-gpiod2
 
+# Fixed memory per board (test/boards/fit.sh, run by `make test` for every board): `hzrt info` of each scene in
+# the board's BOARD_FIT_SCENES (board.mk; default builtin) says the default mode fits the display, and one frame
+# of it renders (under the board's test launcher: qemu for AArch64).
+BOARD_FIT_SCENES ?= builtin
+BOARD_FIT_RES ?= $(O)/test-results/board-fit.res
+board-fit: $(HZRT) $(foreach s,$(filter-out builtin,$(BOARD_FIT_SCENES)),$(SCENES_O)/$(s).hzb) ## check that the board's default mode fits its display with its reference scenes
+	$(Q)mkdir -p $(dir $(BOARD_FIT_RES))
+	$(Q)sh test/boards/fit.sh $(BOARD_FIT_RES) "$(BOARD)" "$(BOARD_TEST_LAUNCHER)" $(HZRT) \
+		$(foreach s,$(BOARD_FIT_SCENES),$(if $(filter builtin,$(s)),builtin,$(SCENES_O)/$(s).hzb))
+
 ifeq ($(SAN),1)
 # Sanitizer objects reference the sanitizer runtime: check a plain build of the core instead.
 CHECK_OBJS := $(LIB_SRCS:%.c=$(O)/check/%.o)
@@ -634,6 +651,11 @@ test: deps ## build and run every test: scenes, host tools, host-sim, AArch64 un
 			grep -m 5 error $(BUILD_ROOT)/guards$(SAN_SUFFIX)/build-$$b.log | sed 's/^/        /'; \
 			echo "board-build/$$b 0 1 0" >$(BUILD_ROOT)/guards$(SAN_SUFFIX)/build-$$b.res; fi; \
 	done; \
+	for b in $(TEST_BOARDS) $(BUILD_CHECK_BOARDS); do \
+		r=$(BUILD_ROOT)/guards$(SAN_SUFFIX)/board-fit-$$b.res; \
+		$(MAKE) --no-print-directory BOARD=$$b O=$(BUILD_ROOT)/$$b$(SAN_SUFFIX) BOARD_FIT_RES=$$r board-fit || \
+			[ -f $$r ] || echo "board-fit/$$b 0 1 0" >$$r; \
+	done; \
 	sh test/summary.sh $(HOST_O)/test-results $(foreach b,$(TEST_BOARDS),$(BUILD_ROOT)/$(b)$(SAN_SUFFIX)/test-results) \
 		$(TEST_TIER_RESULTS) $(BUILD_ROOT)/guards$(SAN_SUFFIX)
 
@@ -654,7 +676,8 @@ VM_TEST_ENV := HZ_SCENES_DIR HZ_SCENES_UNPACK
 # In the VM (software-emulated CPU, ~10x slower than qemu user mode) run the unit tests that need no scene files
 # and take seconds; the heavy ones (BVH builds over 10^5..10^6 triangles, whole-image corruption sweeps,
 # rendered sequences) already run on the same AArch64 binaries under qemu-aarch64 in the board stage.
-VM_HEAVY_TESTS := scene_corrupt accel_build accel_trav accel_water zero_alloc render render_transp errtime et_render render_speckles
+VM_HEAVY_TESTS := scene_corrupt accel_build accel_trav accel_water zero_alloc render render_transp errtime et_render \
+                  render_speckles pack leaveout scene_clock
 VM_TEST_BINS := $(filter-out $(VM_HEAVY_TESTS:%=$(O)/test/unit/test_%),$(TEST_BINS))
 
 vmtest: deps ## boot Debian's arm64 kernel in qemu-system-aarch64: AArch64 unit tests, V4L2 loop-back, GPIO capture
@@ -713,4 +736,4 @@ help: ## list the targets
 .PHONY: all deps run bench size tests test-board test check-freestanding check-integer clean help gen-srgb gen-dither errtime \
         bake scenes fuzz test-host report
 .PHONY: vmtest vmtest-tier vmtest-board latency-sim
-.PHONY: stability stability-tier stability-board
+.PHONY: stability stability-tier stability-board board-fit

@@ -15,3 +15,5 @@ BOARD_DEPS := gcc-aarch64-linux-gnu libc6-dev-arm64-cross binutils-aarch64-linux
 # forever. LD_LIBRARY_PATH puts the cross libc (and libubsan for SAN=1) first; cmocka still comes from multiarch.
 BOARD_TEST_LAUNCHER := qemu-aarch64-static -L /usr/aarch64-linux-gnu -E LD_LIBRARY_PATH=/lib:/usr/lib/aarch64-linux-gnu
 BOARD_TEST_DEPS := qemu-user-static libcmocka-dev:arm64
+# Scenes `make test` checks this board with (test/boards/fit.sh): the default mode fits the display, one frame renders.
+BOARD_FIT_SCENES := builtin sponza

@@ -11,6 +11,8 @@
 
 #define HZ_ARENA_SCENE_BYTES (256ull << 20)
 #define HZ_ARENA_ACCEL_BYTES (512ull << 20)
+/* Frame arena from `hzrt info` at 1280x800 (tdense, the default mode): builtin 94.5 MiB (96.8 B/px),
+ * Conference 71.0 MiB (72.8 B/px), Conference's accel build at most 136 MiB. */
 #define HZ_ARENA_FRAME_BYTES (128ull << 20)
 #define HZ_ARENA_THREAD_BYTES (8ull << 20)
 #define HZ_MAX_THREADS 16

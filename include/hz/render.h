@@ -127,10 +127,16 @@ typedef struct hz_render_stats {
     uint64_t active_subpixels, extra_rays, extra_packets;
 } hz_render_stats_t;
 
-/* Memory a renderer needs: frame_bytes from the frame arena, thread_bytes from each thread arena. */
+/* Memory a renderer needs: frame_bytes from the frame arena, thread_bytes from each thread arena. frame_bytes
+ * by part (alignment padding included, the parts sum to frame_bytes): the displayed frame (float RGB), the
+ * primary G-buffer, the secondary (mirror) G-buffer, the motion vectors (primary and reflected), and the mode's
+ * own state (TAA history, the tdense window...). anyhit: the accel's any-hit callback is installed (cutouts or
+ * blended surfaces); transparency: continuation rays through blended layers run. */
 typedef struct hz_render_plan {
     size_t frame_bytes;
     size_t thread_bytes;
+    size_t display_bytes, gbuffer_bytes, gbuffer2_bytes, mv_bytes, state_bytes;
+    bool anyhit, transparency;
 } hz_render_plan_t;
 
 hz_status_t hz_render_plan(const hz_scene_t *scene, const hz_render_opts_t *opts, hz_render_plan_t *plan,
@@ -143,6 +149,8 @@ hz_status_t hz_render_create(hz_renderer_t **out, hz_scene_t *scene, hz_accel_t 
                              const hz_render_opts_t *opts, hz_arena_t *frame_arena, hz_arena_t *thread_arenas,
                              uint32_t thread_count, hz_error_t *err);
 
+/* time_ns: the frame's scene time (hz/scenetime.h). The float variant takes seconds (finite; short runs). */
+hz_status_t hz_render_begin_frame_ns(hz_renderer_t *r, uint64_t frame_index, hz_time_ns_t time_ns, hz_error_t *err);
 hz_status_t hz_render_begin_frame(hz_renderer_t *r, uint64_t frame_index, float time, hz_error_t *err);
 uint32_t hz_render_pass_count(const hz_renderer_t *r);
 uint32_t hz_render_pass_items(const hz_renderer_t *r, uint32_t pass);

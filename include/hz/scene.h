@@ -14,9 +14,15 @@
  *    into buf, which must stay alive and unchanged while the scene is used, and be 64-byte aligned (so float4
  *    arrays can be loaded with aligned SIMD loads). Only animated scenes take memory from the arena: current
  *    and previous positions and normals of the moving vertices' arrays; a static scene takes none.
- *  - hz_scene_animate(scene, t) moves every animated object to time t: prev_pos/prev_nrm receive the old
- *    state, pos/nrm the new one. Static scenes ignore it. It allocates nothing.
- *  - hz_scene_camera(scene, t, aspect) evaluates the camera path (or a default camera framing the bounds).
+ *  - hz_scene_animate_ns(scene, t) moves every animated object to scene time t (hz/scenetime.h: int64
+ *    nanoseconds, exact for centuries): prev_pos/prev_nrm receive the old state, pos/nrm the new one. Static
+ *    scenes ignore it. It allocates nothing. Motion is evaluated at t wrapped into the scene's loop (duration),
+ *    or without one into each object's own period (one turn, one oscillation, the vertex-key range; rigid keys
+ *    hold the last key), so float only ever holds an offset inside a period.
+ *  - hz_scene_camera_ns(scene, t) evaluates the camera path at t (looped, or held at the last key), or a default
+ *    camera framing the bounds.
+ *  - hz_scene_animate / hz_scene_camera take float seconds: conveniences for short times (tests, tools), the
+ *    same as the _ns functions at the nearest nanosecond.
  */
 #ifndef HZ_SCENE_H
 #define HZ_SCENE_H
@@ -26,6 +32,7 @@
 
 #include "hz/arena.h"
 #include "hz/hzb.h"
+#include "hz/scenetime.h"
 #include "hz/status.h"
 #include "hz/vmath.h"
 
@@ -66,7 +73,8 @@ typedef struct hz_scene {
     const hz_light_t *lights;
     const hz_hzb_camera_key_t *camera_keys;
 
-    float time;                 /* time of pos/nrm */
+    float time;                 /* time of pos/nrm inside the scene's loop (seconds) */
+    hz_time_ns_t time_ns;       /* time of pos/nrm */
     hz_scene_plan_t plan;
 } hz_scene_t;
 
@@ -77,6 +85,8 @@ typedef struct hz_camera {
 
 hz_status_t hz_scene_plan(const void *buf, size_t size, hz_scene_plan_t *plan, hz_error_t *err);
 hz_status_t hz_scene_load(hz_scene_t *scene, const void *buf, size_t size, hz_arena_t *arena, hz_error_t *err);
+void hz_scene_animate_ns(hz_scene_t *scene, hz_time_ns_t t);
+hz_camera_t hz_scene_camera_ns(const hz_scene_t *scene, hz_time_ns_t t);
 void hz_scene_animate(hz_scene_t *scene, float t);
 hz_camera_t hz_scene_camera(const hz_scene_t *scene, float t);
 

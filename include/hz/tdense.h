@@ -29,8 +29,12 @@
  *    neighbourhoods of the tile's four pixels (the same motion that decided whether they are dynamic).
  *  - Odd widths/heights: the last tile column/row is partial; a tile whose named pixel lies outside the image
  *    traces nothing that frame.
- *  - Non-finite colours are stored as given (a broken tracer shows up); non-finite or huge motion vectors are
- *    sanitised (NaN as 0, clamped to ±HZ_TDENSE_MAX_MOTION px).
+ *  - Compact state (hz/pack.h): window samples and the previous displayed frame are kept as RGB9E5, motion
+ *    vectors as half floats. A traced sample is displayed at full precision in the frame that
+ *    traced it; what is kept for later frames is rounded to RGB9E5.
+ *  - Non-finite colours are displayed as given in the frame that traced them (a broken tracer shows up) and kept
+ *    as 0 (RGB9E5 has no NaN); non-finite or huge motion vectors are sanitised (NaN as 0, clamped to
+ *    ±HZ_TDENSE_MAX_MOTION px).
  */
 #ifndef HZ_TDENSE_H
 #define HZ_TDENSE_H
@@ -41,6 +45,7 @@
 
 #include "hz/arena.h"
 #include "hz/image.h"
+#include "hz/pack.h"
 #include "hz/status.h"
 #include "hz/tileorder.h"
 
@@ -52,6 +57,8 @@ typedef struct hz_tdense_config {
     uint32_t seed;           /* for the random band of ĝ */
     bool reflect_mv;         /* mirrors use the reflected hit's motion (default true) */
     float gamma;             /* variance box half-width in standard deviations (default 1) */
+    bool motion;             /* anything can move (default true); false: every motion vector is 0 and none is
+                              * stored (a still scene under a still camera) */
 } hz_tdense_config_t;
 
 /* Defaults for a width x height frame: full ĝ, seed 0, reflected motion on, γ = 1. */
@@ -72,17 +79,20 @@ typedef struct hz_tdense {
     uint8_t *orders;       /* tiles: ordering index of this cycle */
     uint8_t *next_orders;  /* tiles: chosen in the last frame of a cycle */
     float *sub_rgb;        /* tiles x 3: this frame's sample of each tile */
-    hz_q16_t *tile_motion; /* tiles x 2: the motion ĝ reads, filled in the last frame of a cycle */
     int8_t *sub_jitter;    /* tiles: MSAA index the sample was traced at, -1 for the centre, -2 none traced */
-    float *mv;             /* pixels x 2: motion of each pixel's newest sample */
-    float *window;         /* pixels x 4 x 4: the moving window, one (r, g, b, -) slot per MSAA position */
+    uint16_t *mv;          /* pixels x 2: motion of each pixel's newest sample (half float); NULL without motion */
+    uint32_t *window;      /* pixels x 4: the moving window, one RGB9E5 sample per MSAA position */
     uint8_t *flags;        /* pixels: HZ_TDENSE_* bits */
-    hz_image_t frames[2];  /* displayed frames, ping-pong: cur = frames[frame & 1] */
+    uint32_t *hist[2];     /* displayed frames as RGB9E5, ping-pong: the one written is hist[frame & 1] */
+    hz_image_t out;        /* the displayed frame (linear float RGB) */
 } hz_tdense_t;
 
 /* Bytes hz_tdense_init takes from an arena for width x height (including alignment padding), or 0 when the
- * size is invalid. */
+ * size is invalid; hz_tdense_bytes assumes motion, hz_tdense_plan says it (cfg.motion) and gives the part that
+ * is the displayed frame (float RGB) in *display_bytes (may be NULL). Stored per pixel: 16 bytes of window,
+ * 8 of history, 4 of motion (with motion), 1 of flags, 3.75 per pixel of per-tile state, the displayed frame. */
 size_t hz_tdense_bytes(uint32_t width, uint32_t height);
+size_t hz_tdense_plan(uint32_t width, uint32_t height, bool motion, size_t *display_bytes);
 
 /* Checks cfg and allocates the state. HZ_E_INVALID_ARG for a bad size, rule or γ; HZ_E_NO_MEMORY (with needed
  * and available bytes) when the arena is too small, in which case nothing is kept. */

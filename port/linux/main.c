@@ -7,6 +7,7 @@
 #include "fileio.h"
 #include "hz/hz.h"
 #include "latency.h"
+#include "modeplan.h"
 #include "hz/render.h"
 #include "pools.h"
 #include "render_cmd.h"
@@ -156,19 +157,14 @@ static int cmd_info(int argc, char **argv)
     print_mib("accel build, at most", ab.peak);
     print_mib("accel kept, at most", ab.kept);
     print_mib("accel arena size", pools->accel.cap);
-    hz_render_opts_t ro;
-    hz_render_opts_default(&ro);
-    ro.width = HZ_DISPLAY_WIDTH, ro.height = HZ_DISPLAY_HEIGHT;
-    hz_render_plan_t rp;
+    print_mib("frame arena size", pools->frame.cap);
+    print_mib("thread arena size", pools->thread[0].cap);
+    /* Every render mode's plan at the display's size; the verdict is for hzrt render's default mode. */
     int fits = ab.peak <= pools->accel.cap;
-    if (hz_render_plan(&scene, &ro, &rp, &err) == HZ_OK) {
-        print_mib("frame (1 spp)", rp.frame_bytes);
-        print_mib("frame arena size", pools->frame.cap);
-        print_mib("per thread", rp.thread_bytes);
-        print_mib("thread arena size", pools->thread[0].cap);
-        fits = fits && rp.frame_bytes <= pools->frame.cap && rp.thread_bytes <= pools->thread[0].cap;
-    }
-    printf("verdict      %s\n", fits ? "fits this board" : "does NOT fit this board (see the sizes above)");
+    fits = hz_modeplan_print(stdout, &scene, pools, HZ_DISPLAY_WIDTH, HZ_DISPLAY_HEIGHT) && fits;
+    printf("verdict      %s: default mode %s at %dx%d%s\n", fits ? "fits this board" : "does NOT fit this board",
+           hz_render_mode_name(HZ_MODEPLAN_DEFAULT_MODE), HZ_DISPLAY_WIDTH, HZ_DISPLAY_HEIGHT,
+           fits ? "" : " (see the sizes above)");
     return 0;
 }
 

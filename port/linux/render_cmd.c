@@ -15,6 +15,7 @@
 #include "fileio.h"
 #include "hz/render.h"
 #include "imageio.h"
+#include "modeplan.h"
 #include "pools.h"
 #include "phase.h"
 #include "render_run.h"
@@ -32,7 +33,7 @@ typedef struct args {
     uint32_t hz;
     uint32_t frames;
     int threads;
-    float start;
+    hz_time_ns_t start;
     hz_accel_backend_t backend;
     bool write_y4m, write_png, write_pfm, quiet;
     hz_adaptive_cli_t adaptive;
@@ -105,7 +106,7 @@ static void usage(FILE *f)
             "  --size WxH        image size; default the board's display (%dx%d)\n"
             "  --hz N            simulated display refresh: frame n shows scene time start + n / N; default %d\n"
             "  --frames N        display frames to render; default 1\n"
-            "  --start T         scene time of the first frame in seconds; default 0\n"
+            "  --start T         scene time of the first frame in seconds (0..1e9, kept to the nanosecond); default 0\n"
             "  --threads N       render threads (1..%d); default: the machine's cores\n"
             "  --backend B       native or embree (host builds); default native\n"
             "  --bounces N       mirror reflections per path, 0..3; default 3\n"
@@ -231,11 +232,11 @@ static int parse(int argc, char **argv, args_t *a)
         } else if (!strcmp(o, "--start")) {
             char *end = NULL;
             double t = v ? strtod(v, &end) : 0.0;
-            if (!v || !*v || *end || !isfinite(t) || t < 0.0 || t > 1e6) {
-                hz_cli_error("render: --start: '%s' is not a time in seconds in [0, 1e6]", v ? v : "");
+            if (!v || !*v || *end || !isfinite(t) || t < 0.0 || t > 1e9) {
+                hz_cli_error("render: --start: '%s' is not a time in seconds in [0, 1e9]", v ? v : "");
                 return HZ_EXIT_USAGE;
             }
-            a->start = (float)t, i++;
+            a->start = hz_time_from_s(t), i++;
         } else if (!strcmp(o, "--taa-gamma")) {
             char *end = NULL;
             double g = v ? strtod(v, &end) : 0.0;
@@ -360,6 +361,15 @@ int hz_cmd_render(int argc, char **argv)
     if (a.opts.transparency != HZ_TRANSP_EXACT && !(scene.features & HZ_FEAT_BLEND) && !a.quiet)
         fprintf(stderr, "%s: render: --transparency %s: %s has no blended surfaces; it renders as exact\n",
                 hz_cli_prog, hz_transp_name(a.opts.transparency), a.scene);
+    /* Refuse up front, before the accel build, with the numbers `hzrt info` prints. */
+    hz_render_plan_t plan;
+    char why[256];
+    if (!hz_modeplan_check(&scene, pools, &a.opts, a.threads, &plan, why, sizeof why)) {
+        hz_cli_error("render: a %ux%u %s render of %s does not fit board %s: %s (hzrt info %s shows every mode)",
+                     a.opts.width, a.opts.height, hz_render_mode_name(a.opts.mode), a.scene, HZ_BOARD_NAME, why,
+                     a.scene);
+        return hz_status_exit_code(HZ_E_NO_MEMORY);
+    }
     hz_accel_geom_t geom;
     if (hz_accel_geom_from_scene(&geom, &scene, &pools->accel, &err) != HZ_OK)
         return hz_cli_report(&err);
@@ -405,13 +415,13 @@ int hz_cmd_render(int argc, char **argv)
     bool show = !a.quiet && hz_cli_stderr_is_tty() && a.frames > 1;
     int64_t run0 = hz_clock_ns(), last_progress = run0;
     for (uint32_t f = 0; f < a.frames; f++) {
-        float t = a.start + (float)f / (float)a.hz;
+        hz_time_ns_t t = hz_time_of_frame(a.start, f, a.hz);
         int64_t f0 = hz_clock_ns();
         /* A single frame has no frame counter to show: its own progress, should it take long. */
         if (a.frames == 1)
             hz_phase_begin(&prog, a.quiet, "rendering %s (%ux%u, mode %s)", a.scene, a.opts.width,
                               a.opts.height, hz_render_mode_name(a.opts.mode));
-        hz_status_t fs = hz_render_run_frame_progress(r, f, t, a.frames == 1 ? &prog : NULL, &err);
+        hz_status_t fs = hz_render_run_frame_progress_ns(r, f, t, a.frames == 1 ? &prog : NULL, &err);
         if (a.frames == 1)
             hz_phase_end(&prog);
         if (fs != HZ_OK) {

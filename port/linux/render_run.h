@@ -12,6 +12,8 @@
 #include "hz/render.h"
 #include "phase.h"
 
+/* time: scene time in nanoseconds (hz/scenetime.h); the float variants take seconds (short runs, tests). */
+hz_status_t hz_render_run_frame_ns(hz_renderer_t *r, uint64_t index, hz_time_ns_t time, hz_error_t *err);
 hz_status_t hz_render_run_frame(hz_renderer_t *r, uint64_t index, float time, hz_error_t *err);
 
 /* Pass `pass` of the current frame (between begin_frame and end_frame), every item spread over the pool: for
@@ -22,10 +24,12 @@ void hz_render_run_pass(hz_renderer_t *r, uint32_t pass);
  * ns[1] the first pass (tracing), ns[2] the other passes (resolves) and end_frame. ns may be NULL. */
 hz_status_t hz_render_run_frame_parts(hz_renderer_t *r, uint64_t index, float time, int64_t ns[3],
                                       hz_error_t *err);
+hz_status_t hz_render_run_frame_parts_ns(hz_renderer_t *r, uint64_t index, hz_time_ns_t time, int64_t ns[3],
+                                         hz_error_t *err);
 
 /* The same, updating prog with the fraction of the frame's work items done (from the calling thread), for a
  * single long frame; prog may be NULL. */
-hz_status_t hz_render_run_frame_progress(hz_renderer_t *r, uint64_t index, float time, hz_phase_t *prog,
-                                         hz_error_t *err);
+hz_status_t hz_render_run_frame_progress_ns(hz_renderer_t *r, uint64_t index, hz_time_ns_t time,
+                                            hz_phase_t *prog, hz_error_t *err);
 
 #endif

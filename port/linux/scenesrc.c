@@ -35,8 +35,9 @@ static hz_status_t render(void *ctx, const hz_frame_req_t *req, hz_rgb8_image_t 
         s->t0_ns = req->display_ns;
         s->have_t0 = true;
     }
-    float t = (float)((double)(req->display_ns - s->t0_ns) * 1e-9);
-    hz_status_t st = hz_render_run_frame(s->r, req->id, t, err);
+    /* Nanoseconds all the way into the core: a float of seconds since start would quantise the animation
+     * after hours of running. */
+    hz_status_t st = hz_render_run_frame_ns(s->r, req->id, req->display_ns - s->t0_ns, err);
     if (st != HZ_OK)
         return st;
     const hz_image_t *img = hz_render_output(s->r);

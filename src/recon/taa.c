@@ -24,6 +24,7 @@ static void align_mv(const struct hz_renderer *r, uint32_t x, uint32_t y, float 
     *mx = (float)q[0] * (1.0f / 65536.0f);
     *my = (float)q[1] * (1.0f / 65536.0f);
 }
+#include "hz/pack.h"
 
 static void to_ycocg(const float *rgb, float *o)
 {
@@ -46,14 +47,29 @@ static const float *pix(const hz_image_t *img, int32_t x, int32_t y)
     return img->rgb + 3 * ((size_t)y * img->width + (size_t)x);
 }
 
+/* The history (half-float RGB, w x h) is an image of the output's size. */
+typedef struct history {
+    const uint16_t *rgb;
+    int32_t width, height;
+} history_t;
+
+/* History pixel (x, y), clamped to the edge, as float RGB. */
+static void hist_at(const history_t *h, int32_t x, int32_t y, float out[3])
+{
+    x = x < 0 ? 0 : x >= h->width ? h->width - 1 : x;
+    y = y < 0 ? 0 : y >= h->height ? h->height - 1 : y;
+    hz_half_unpack3(out, h->rgb + 3 * ((size_t)y * (size_t)h->width + (size_t)x));
+}
+
 /* History at continuous position (hx, hy) (pixel centres at +0.5), bilinear. */
-static void fetch_bilinear(const hz_image_t *h, float hx, float hy, float out[3])
+static void fetch_bilinear(const history_t *h, float hx, float hy, float out[3])
 {
     float fx = hx - 0.5f, fy = hy - 0.5f;
     float x0 = hz_floorf(fx), y0 = hz_floorf(fy);
     float ax = fx - x0, ay = fy - y0;
     int32_t ix = (int32_t)x0, iy = (int32_t)y0;
-    const float *a = pix(h, ix, iy), *b = pix(h, ix + 1, iy), *c = pix(h, ix, iy + 1), *d = pix(h, ix + 1, iy + 1);
+    float a[3], b[3], c[3], d[3];
+    hist_at(h, ix, iy, a), hist_at(h, ix + 1, iy, b), hist_at(h, ix, iy + 1, c), hist_at(h, ix + 1, iy + 1, d);
     for (int k = 0; k < 3; k++) {
         float top = a[k] + (b[k] - a[k]) * ax, bot = c[k] + (d[k] - c[k]) * ax;
         out[k] = top + (bot - top) * ay;
@@ -70,7 +86,7 @@ static void catmull_rom_weights(float t, float w[4])
 }
 
 /* History with the 16-tap Catmull-Rom filter: sharper than bilinear, can overshoot (the clip removes that). */
-static void fetch_catmull_rom(const hz_image_t *h, float hx, float hy, float out[3])
+static void fetch_catmull_rom(const history_t *h, float hx, float hy, float out[3])
 {
     float fx = hx - 0.5f, fy = hy - 0.5f;
     float x0 = hz_floorf(fx), y0 = hz_floorf(fy);
@@ -81,7 +97,8 @@ static void fetch_catmull_rom(const hz_image_t *h, float hx, float hy, float out
     out[0] = out[1] = out[2] = 0.0f;
     for (int j = 0; j < 4; j++)
         for (int i = 0; i < 4; i++) {
-            const float *p = pix(h, ix + i, iy + j);
+            float p[3];
+            hist_at(h, ix + i, iy + j, p);
             float w = wx[i] * wy[j];
             out[0] += w * p[0], out[1] += w * p[1], out[2] += w * p[2];
         }
@@ -122,8 +139,9 @@ static bool seen_before(const struct hz_renderer *r, float hx, float hy, uint16_
 void hz_taa_resolve_tile(struct hz_renderer *r, uint32_t tile)
 {
     const hz_image_t *cur = &r->cur;
-    const hz_image_t *prev = &r->hist[r->hist_index];
-    hz_image_t *next = &r->hist[r->hist_index ^ 1u];
+    const history_t prev_h = { r->hist[r->hist_index], (int32_t)r->opts.width, (int32_t)r->opts.height };
+    const history_t *prev = &prev_h;
+    uint16_t *next = r->hist[r->hist_index ^ 1u];
     const hz_gbuffer_t *gb = &r->gb;
     uint32_t w = r->opts.width, h = r->opts.height;
     uint32_t x0 = (tile % r->tiles_x) * HZ_RENDER_TILE, y0 = (tile / r->tiles_x) * HZ_RENDER_TILE;
@@ -188,7 +206,7 @@ void hz_taa_resolve_tile(struct hz_renderer *r, uint32_t tile)
             for (int k = 0; k < 3; k++) {
                 float v = hz_isfinitef(rgb[k]) && rgb[k] > 0.0f ? rgb[k] : 0.0f;
                 r->out.rgb[px * 3 + k] = v;
-                next->rgb[px * 3 + k] = v;
             }
+            hz_half_pack3(next + px * 3, r->out.rgb + px * 3);
         }
 }

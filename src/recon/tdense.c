@@ -2,12 +2,12 @@
  * dynamic reproject-and-clamp path, and the once-per-cycle choice of tile orderings. */
 #include "hz/tdense.h"
 
+#include "hz/pack.h"
 #include "hz/vmath.h"
 
 #define ALIGN 64u
-/* Window floats per pixel: 4 slots of (r, g, b, unused), so a pixel's window is one aligned 64-byte cache line
- * (the window is the largest array, and the one pixel per tile that gets a sample touches one line). */
-#define WIN 16u
+/* Window slots per pixel: one RGB9E5 sample per MSAA position (16 bytes: four pixels per cache line). */
+#define WIN 4u
 
 hz_tdense_config_t hz_tdense_config_default(uint32_t width, uint32_t height)
 {
@@ -18,39 +18,47 @@ hz_tdense_config_t hz_tdense_config_default(uint32_t width, uint32_t height)
     c.seed = 0;
     c.reflect_mv = true;
     c.gamma = 1.0f;
+    c.motion = true;
     return c;
 }
 
 /* The arrays hz_tdense_init takes, in order, each rounded up to ALIGN: once the first is aligned, none of the
  * others needs padding, so an arena with this many bytes available at ALIGN holds them all. */
-static size_t plan_bytes(uint32_t width, uint32_t height)
+static size_t plan_bytes(uint32_t width, uint32_t height, bool motion, size_t *out_bytes)
 {
     size_t px = (size_t)width * height;
     size_t tiles = (size_t)((width + 1) / 2) * ((height + 1) / 2);
     const size_t sizes[] = {
-        tiles,                          /* orders */
-        tiles,                          /* next_orders */
-        tiles * 3 * sizeof(float),      /* sub_rgb */
-        tiles * 2 * sizeof(hz_q16_t),   /* tile_motion */
-        tiles,                          /* sub_jitter */
-        px * 2 * sizeof(float),         /* mv */
-        px * WIN * sizeof(float),       /* window */
-        px,                             /* flags */
-        px * 3 * sizeof(float),         /* frames[0] */
-        px * 3 * sizeof(float),         /* frames[1] */
+        tiles,                            /* orders */
+        tiles,                            /* next_orders */
+        tiles * 3 * sizeof(float),        /* sub_rgb */
+        tiles,                            /* sub_jitter */
+        motion ? px * 2 * sizeof(uint16_t) : 0, /* mv (a still scene under a still camera has none) */
+        px * WIN * sizeof(uint32_t),      /* window */
+        px,                               /* flags */
+        px * sizeof(uint32_t),            /* hist[0] */
+        px * sizeof(uint32_t),            /* hist[1] */
+        px * 3 * sizeof(float),           /* out: the displayed frame */
     };
     size_t total = 0;
     for (size_t i = 0; i < HZ_ARRAY_LEN(sizes); i++)
         total += hz_align_up(sizes[i], ALIGN);
+    if (out_bytes)
+        *out_bytes = hz_align_up(sizes[HZ_ARRAY_LEN(sizes) - 1], ALIGN);
     return total;
 }
 
 size_t hz_tdense_bytes(uint32_t width, uint32_t height)
 {
+    return hz_tdense_plan(width, height, true, NULL);
+}
+
+size_t hz_tdense_plan(uint32_t width, uint32_t height, bool motion, size_t *display_bytes)
+{
     size_t dummy;
     if (hz_image_check_size(width, height, &dummy, NULL) != HZ_OK)
         return 0;
-    return plan_bytes(width, height) + ALIGN - 1; /* plus the worst padding before the first array */
+    return plan_bytes(width, height, motion, display_bytes) + ALIGN - 1; /* plus the worst padding first */
 }
 
 hz_status_t hz_tdense_init(hz_tdense_t *td, const hz_tdense_config_t *cfg, hz_arena_t *arena, hz_error_t *err)
@@ -64,7 +72,7 @@ hz_status_t hz_tdense_init(hz_tdense_t *td, const hz_tdense_config_t *cfg, hz_ar
         return hz_error_set(err, HZ_E_INVALID_ARG, "tdense: unknown ordering rule %d", (int)cfg->rule);
     if (!(cfg->gamma >= 0.0f && cfg->gamma <= 100.0f))
         return hz_error_set(err, HZ_E_INVALID_ARG, "tdense: variance box gamma must lie in [0, 100]");
-    size_t need = plan_bytes(cfg->width, cfg->height), have = hz_arena_available(arena, ALIGN);
+    size_t need = plan_bytes(cfg->width, cfg->height, cfg->motion, NULL), have = hz_arena_available(arena, ALIGN);
     if (need > have)
         return hz_error_set(err, HZ_E_NO_MEMORY,
                             "tdense %ux%u: arena '%s' needs %zu bytes, has %zu", (unsigned)cfg->width,
@@ -76,15 +84,15 @@ hz_status_t hz_tdense_init(hz_tdense_t *td, const hz_tdense_config_t *cfg, hz_ar
     td->orders = hz_arena_alloc(arena, tiles, ALIGN);
     td->next_orders = hz_arena_alloc(arena, tiles, ALIGN);
     td->sub_rgb = hz_arena_alloc_array(arena, tiles * 3, sizeof(float), ALIGN);
-    td->tile_motion = hz_arena_alloc_array(arena, tiles * 2, sizeof(hz_q16_t), ALIGN);
     td->sub_jitter = hz_arena_alloc(arena, tiles, ALIGN);
-    td->mv = hz_arena_alloc_array(arena, px * 2, sizeof(float), ALIGN);
-    td->window = hz_arena_alloc_array(arena, px * WIN, sizeof(float), ALIGN);
+    td->mv = cfg->motion ? hz_arena_alloc_array(arena, px * 2, sizeof(uint16_t), ALIGN) : NULL;
+    td->window = hz_arena_alloc_array(arena, px * WIN, sizeof(uint32_t), ALIGN);
     td->flags = hz_arena_alloc(arena, px, ALIGN);
-    float *f0 = hz_arena_alloc_array(arena, px * 3, sizeof(float), ALIGN);
-    float *f1 = hz_arena_alloc_array(arena, px * 3, sizeof(float), ALIGN);
-    if (!td->orders || !td->next_orders || !td->sub_rgb || !td->tile_motion || !td->sub_jitter || !td->mv ||
-        !td->window || !td->flags || !f0 || !f1) {
+    td->hist[0] = hz_arena_alloc_array(arena, px, sizeof(uint32_t), ALIGN);
+    td->hist[1] = hz_arena_alloc_array(arena, px, sizeof(uint32_t), ALIGN);
+    float *out = hz_arena_alloc_array(arena, px * 3, sizeof(float), ALIGN);
+    if (!td->orders || !td->next_orders || !td->sub_rgb || !td->sub_jitter || (cfg->motion && !td->mv) ||
+        !td->window || !td->flags || !td->hist[0] || !td->hist[1] || !out) {
         /* The plan above is an upper bound, so this is a bug in plan_bytes. */
         hz_arena_reset(arena, mark);
         hz_memset(td, 0, sizeof *td);
@@ -94,10 +102,9 @@ hz_status_t hz_tdense_init(hz_tdense_t *td, const hz_tdense_config_t *cfg, hz_ar
     td->cfg = *cfg;
     td->tiles_x = tx;
     td->tiles_y = ty;
-    td->frames[0].width = td->frames[1].width = cfg->width;
-    td->frames[0].height = td->frames[1].height = cfg->height;
-    td->frames[0].rgb = f0;
-    td->frames[1].rgb = f1;
+    td->out.width = cfg->width;
+    td->out.height = cfg->height;
+    td->out.rgb = out;
     hz_tdense_reset(td);
     return HZ_OK;
 }
@@ -109,13 +116,14 @@ void hz_tdense_reset(hz_tdense_t *td)
     hz_memset(td->orders, (int)first, tiles);
     hz_memset(td->next_orders, (int)first, tiles);
     hz_memset(td->sub_rgb, 0, tiles * 3 * sizeof(float));
-    hz_memset(td->tile_motion, 0, tiles * 2 * sizeof(hz_q16_t));
     hz_memset(td->sub_jitter, -1, tiles);
-    hz_memset(td->mv, 0, px * 2 * sizeof(float));
-    hz_memset(td->window, 0, px * WIN * sizeof(float));
+    if (td->mv)
+        hz_memset(td->mv, 0, px * 2 * sizeof(uint16_t));
+    hz_memset(td->window, 0, px * WIN * sizeof(uint32_t));
     hz_memset(td->flags, 0, px);
-    hz_memset(td->frames[0].rgb, 0, px * 3 * sizeof(float));
-    hz_memset(td->frames[1].rgb, 0, px * 3 * sizeof(float));
+    hz_memset(td->hist[0], 0, px * sizeof(uint32_t)); /* RGB9E5 code 0 is black */
+    hz_memset(td->hist[1], 0, px * sizeof(uint32_t));
+    hz_memset(td->out.rgb, 0, px * 3 * sizeof(float));
     td->frame = 0;
     td->camera_moved = false;
     td->in_frame = false;
@@ -180,8 +188,10 @@ void hz_tdense_put(hz_tdense_t *td, uint32_t tx, uint32_t ty, const float rgb[3]
     td->sub_rgb[3 * t + 2] = rgb[2];
     td->sub_jitter[t] = (int8_t)trace_msaa(td, p);
     const float *m = (mv_reflect && td->cfg.reflect_mv) ? mv_reflect : mv;
-    td->mv[2 * p + 0] = sanitise_motion(m[0]);
-    td->mv[2 * p + 1] = sanitise_motion(m[1]);
+    if (td->mv) {
+        td->mv[2 * p + 0] = hz_half_pack_signed(sanitise_motion(m[0]));
+        td->mv[2 * p + 1] = hz_half_pack_signed(sanitise_motion(m[1]));
+    }
 }
 
 /* Whether pixel (x, y) is the one its tile traced this frame (then *tile is its tile index). */
@@ -203,10 +213,13 @@ HZ_INLINE motion_t longer(motion_t a, motion_t b)
     return b.l2 > a.l2 ? b : a;
 }
 
-HZ_INLINE motion_t motion_at(const float *mv, size_t p)
+HZ_INLINE motion_t motion_at(const uint16_t *mv, size_t p)
 {
-    motion_t m = { mv[2 * p], mv[2 * p + 1], 0.0f };
-    m.l2 = m.x * m.x + m.y * m.y;
+    motion_t m = { 0.0f, 0.0f, 0.0f };
+    if (mv) {
+        m.x = hz_half_unpack(mv[2 * p]), m.y = hz_half_unpack(mv[2 * p + 1]);
+        m.l2 = m.x * m.x + m.y * m.y;
+    }
     return m;
 }
 
@@ -225,17 +238,20 @@ static motion_t longest_in(const hz_tdense_t *td, int x0, int y0, int x1, int y1
     return best;
 }
 
-/* Bilinear fetch of the previous frame at continuous pixel coordinates (pixel centres on integers), clamped
- * to the image edge (so the coordinates are non-negative and truncation is the floor). */
-static void fetch_bilinear(const hz_image_t *img, float sx, float sy, float out[3])
+/* Bilinear fetch of the previous frame (RGB9E5, w x h) at continuous pixel coordinates (pixel centres on
+ * integers), clamped to the image edge (so the coordinates are non-negative and truncation is the floor). */
+static void fetch_bilinear(const uint32_t *img, uint32_t w, uint32_t h, float sx, float sy, float out[3])
 {
-    sx = hz_clampf(sx, 0.0f, (float)img->width - 1.0f);
-    sy = hz_clampf(sy, 0.0f, (float)img->height - 1.0f);
+    sx = hz_clampf(sx, 0.0f, (float)w - 1.0f);
+    sy = hz_clampf(sy, 0.0f, (float)h - 1.0f);
     uint32_t x0 = (uint32_t)sx, y0 = (uint32_t)sy;
     float fx = sx - (float)x0, fy = sy - (float)y0;
-    uint32_t x1 = x0 + 1 < img->width ? x0 + 1 : x0, y1 = y0 + 1 < img->height ? y0 + 1 : y0;
-    const float *a = hz_image_at(img, x0, y0), *b = hz_image_at(img, x1, y0);
-    const float *c = hz_image_at(img, x0, y1), *d = hz_image_at(img, x1, y1);
+    uint32_t x1 = x0 + 1 < w ? x0 + 1 : x0, y1 = y0 + 1 < h ? y0 + 1 : y0;
+    float a[3], b[3], c[3], d[3];
+    hz_rgb9e5_unpack(img[(size_t)y0 * w + x0], a);
+    hz_rgb9e5_unpack(img[(size_t)y0 * w + x1], b);
+    hz_rgb9e5_unpack(img[(size_t)y1 * w + x0], c);
+    hz_rgb9e5_unpack(img[(size_t)y1 * w + x1], d);
     for (int k = 0; k < 3; k++) {
         float top = a[k] + (b[k] - a[k]) * fx;
         float bot = c[k] + (d[k] - c[k]) * fx;
@@ -287,15 +303,17 @@ static int newest_box(const hz_tdense_t *td, uint32_t x, uint32_t y, unsigned su
 }
 
 /* Average of the window's samples in MSAA order (the order the 4-spp full-frame mode sums them in). */
-static void window_average(const float *win, unsigned mask, float out[3])
+static void window_average(const uint32_t *win, unsigned mask, float out[3])
 {
     float s[3] = { 0.0f, 0.0f, 0.0f };
     unsigned n = 0;
     for (unsigned j = 0; j < 4; j++) {
         if (!(mask & (1u << j)))
             continue;
+        float c[3];
+        hz_rgb9e5_unpack(win[j], c);
         for (int k = 0; k < 3; k++)
-            s[k] += win[4 * j + k];
+            s[k] += c[k];
         n++;
     }
     for (int k = 0; k < 3; k++)
@@ -309,9 +327,10 @@ HZ_INLINE void copy3(float *dst, const float *src)
     dst[2] = src[2];
 }
 
-/* One pixel of Fig. 3; m is the longest motion in its 3x3 neighbourhood. */
+/* One pixel of Fig. 3; m is the longest motion in its 3x3 neighbourhood. out: the displayed pixel; prev, cur:
+ * the previous frame and the one written now (RGB9E5 history, ping-pong). */
 static void resolve_pixel(hz_tdense_t *td, uint32_t x, uint32_t y, unsigned subframe, motion_t m,
-                          const hz_image_t *prev, float *out)
+                          const uint32_t *prev, uint32_t *cur, float *out)
 {
     size_t p = (size_t)y * td->cfg.width + x, t;
     bool fresh = is_new(td, x, y, subframe, &t);
@@ -326,7 +345,7 @@ static void resolve_pixel(hz_tdense_t *td, uint32_t x, uint32_t y, unsigned subf
         if (fresh) {
             int j = td->sub_jitter[t];
             if (j >= 0) {
-                copy3(td->window + WIN * p + 4 * (unsigned)j, sample);
+                td->window[WIN * p + (unsigned)j] = hz_rgb9e5_pack(sample);
                 f |= 1u << j;
                 window_average(td->window + WIN * p, f & HZ_TDENSE_SAMPLES, out);
             } else {
@@ -334,10 +353,11 @@ static void resolve_pixel(hz_tdense_t *td, uint32_t x, uint32_t y, unsigned subf
                 copy3(out, sample);
             }
         } else if (f & HZ_TDENSE_SEEN) {
-            /* The frame being written is the one before the previous (ping-pong): if the previous frame kept
-             * the value too, it is already there. */
+            /* The history being written is the one before the previous (ping-pong): if the previous frame
+             * kept the value too, it is already there. */
             if (!(f & HZ_TDENSE_KEPT))
-                copy3(out, hz_image_at(prev, x, y));
+                cur[p] = prev[p];
+            hz_rgb9e5_unpack(prev[p], out);
             td->flags[p] = (uint8_t)(f | HZ_TDENSE_KEPT);
             return;
         } else {
@@ -353,7 +373,7 @@ static void resolve_pixel(hz_tdense_t *td, uint32_t x, uint32_t y, unsigned subf
             if (!(f & HZ_TDENSE_SEEN)) {
                 copy3(out, mean);
             } else {
-                fetch_bilinear(prev, (float)x + m.x, (float)y + m.y, out);
+                fetch_bilinear(prev, td->cfg.width, td->cfg.height, (float)x + m.x, (float)y + m.y, out);
                 for (int k = 0; n && k < 3; k++) { /* clamp to mean ± γσ (branch-free: min/max) */
                     float half = td->cfg.gamma * hz_sqrtf(var[k]);
                     out[k] = hz_clampf(out[k], mean[k] - half, mean[k] + half);
@@ -367,16 +387,17 @@ static void resolve_pixel(hz_tdense_t *td, uint32_t x, uint32_t y, unsigned subf
             }
         }
     }
+    cur[p] = hz_rgb9e5_pack(out);
     td->flags[p] = (uint8_t)((f | HZ_TDENSE_SEEN) & ~HZ_TDENSE_KEPT);
 }
 
 /* Pixel row y: the 3x3 longest motion slides along the row as three column maxima. */
-static void resolve_row(hz_tdense_t *td, uint32_t y, unsigned subframe, const hz_image_t *prev, hz_image_t *cur)
+static void resolve_row(hz_tdense_t *td, uint32_t y, unsigned subframe, const uint32_t *prev, uint32_t *cur)
 {
     uint32_t w = td->cfg.width, h = td->cfg.height;
-    const float *r0 = td->mv + 2 * (size_t)(y ? y - 1 : 0) * w;
-    const float *r1 = td->mv + 2 * (size_t)y * w;
-    const float *r2 = td->mv + 2 * (size_t)(y + 1 < h ? y + 1 : y) * w;
+    const uint16_t *r0 = td->mv ? td->mv + 2 * (size_t)(y ? y - 1 : 0) * w : NULL;
+    const uint16_t *r1 = td->mv ? td->mv + 2 * (size_t)y * w : NULL;
+    const uint16_t *r2 = td->mv ? td->mv + 2 * (size_t)(y + 1 < h ? y + 1 : y) * w : NULL;
     motion_t col_prev, col_cur, col_next;
     col_cur = longer(longer(motion_at(r0, 0), motion_at(r1, 0)), motion_at(r2, 0));
     col_prev = col_cur;
@@ -384,7 +405,7 @@ static void resolve_row(hz_tdense_t *td, uint32_t y, unsigned subframe, const hz
         uint32_t xn = x + 1 < w ? x + 1 : x;
         col_next = longer(longer(motion_at(r0, xn), motion_at(r1, xn)), motion_at(r2, xn));
         motion_t m = longer(longer(col_prev, col_cur), col_next);
-        resolve_pixel(td, x, y, subframe, m, prev, hz_image_at(cur, x, y));
+        resolve_pixel(td, x, y, subframe, m, prev, cur, hz_image_at(&td->out, x, y));
         col_prev = col_cur;
         col_cur = col_next;
     }
@@ -393,8 +414,8 @@ static void resolve_row(hz_tdense_t *td, uint32_t y, unsigned subframe, const hz
 void hz_tdense_resolve_rows(hz_tdense_t *td, uint32_t ty0, uint32_t ty1)
 {
     unsigned subframe = hz_tdense_subframe(td->frame);
-    hz_image_t *cur = &td->frames[td->frame & 1u];
-    const hz_image_t *prev = &td->frames[(td->frame + 1u) & 1u];
+    uint32_t *cur = td->hist[td->frame & 1u];
+    const uint32_t *prev = td->hist[(td->frame + 1u) & 1u];
     uint32_t h = td->cfg.height;
     if (ty1 > td->tiles_y)
         ty1 = td->tiles_y;
@@ -403,15 +424,16 @@ void hz_tdense_resolve_rows(hz_tdense_t *td, uint32_t ty0, uint32_t ty1)
             resolve_row(td, y, subframe, prev, cur);
         if (subframe == 3) {
             /* Last frame of the cycle: each tile's motion is the longest over the 3x3 neighbourhoods of its
-             * pixels, i.e. the 4x4 block around it; ĝ picks the next cycle's ordering. */
+             * pixels, i.e. the 4x4 block around it; ĝ picks the next cycle's ordering (as hz_tileorder_choose
+             * does, a tile at a time, so no per-tile motion array is kept). */
+            uint32_t cycle = hz_tdense_cycle(td->frame) + 1u;
             for (uint32_t tx = 0; tx < td->tiles_x; tx++) {
                 motion_t m = longest_in(td, 2 * (int)tx - 1, 2 * (int)ty - 1, 2 * (int)tx + 2, 2 * (int)ty + 2);
-                size_t t = (size_t)ty * td->tiles_x + tx;
-                td->tile_motion[2 * t] = hz_q16_from_float(m.x);
-                td->tile_motion[2 * t + 1] = hz_q16_from_float(m.y);
+                uint32_t rnd = hz_tileorder_tile_random(tx, ty, cycle, td->cfg.seed);
+                hz_tilecycle_t c = hz_tileorder_ghat(hz_q16_from_float(m.x), hz_q16_from_float(m.y), rnd,
+                                                     td->cfg.rule);
+                td->next_orders[(size_t)ty * td->tiles_x + tx] = (uint8_t)hz_tileorder_of_cycle(c);
             }
-            hz_tileorder_choose(td->tile_motion, td->tiles_x, ty, ty + 1, hz_tdense_cycle(td->frame) + 1u,
-                                td->cfg.seed, td->cfg.rule, td->next_orders);
         }
     }
 }
@@ -429,5 +451,5 @@ void hz_tdense_end_frame(hz_tdense_t *td)
 
 const hz_image_t *hz_tdense_output(const hz_tdense_t *td)
 {
-    return &td->frames[(td->in_frame ? td->frame : td->frame + 1u) & 1u];
+    return &td->out;
 }

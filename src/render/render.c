@@ -87,40 +87,58 @@ static needs_t scene_needs(const hz_scene_t *s)
     return n;
 }
 
-/* Sizes of every frame-arena allocation, in the order create makes them (64-byte alignment each). */
-static size_t frame_bytes(const hz_render_opts_t *o, const needs_t *n)
+/* Sizes of every frame-arena allocation, in the order create makes them (64-byte alignment each); *parts (may
+ * be NULL) gets them by part (hz_render_plan_t). */
+static size_t frame_bytes(const hz_render_opts_t *o, const needs_t *n, hz_render_plan_t *parts)
 {
     size_t px = (size_t)o->width * o->height, a = 64, total = 0;
-#define ADD(bytes) total += hz_align_up((bytes), a) + a
+    hz_render_plan_t pp;
+    hz_memset(&pp, 0, sizeof pp);
+    size_t *part = &pp.state_bytes; /* what each ADD is counted in */
+#define ADD(bytes) (total += hz_align_up((bytes), a) + a, *part += hz_align_up((bytes), a) + a)
     ADD(sizeof(struct hz_renderer));
+    part = &pp.display_bytes;
     if (o->mode != HZ_MODE_TDENSE)
         ADD(px * 12); /* out (tdense displays its own frames) */
+    part = &pp.gbuffer_bytes;
     ADD(px * 4);  /* depth */
     ADD(px * 2);  /* object */
     ADD(px * 12); /* normal */
     ADD(px);      /* shadow */
     ADD(px);      /* flags */
+    part = &pp.gbuffer2_bytes;
     if (n->mirrors) {
         ADD(px * 2);
         ADD(px * 12);
         ADD(px);
         ADD(px);
     }
+    part = &pp.mv_bytes;
     if (n->mv)
         ADD(px * 8);
     if (n->mv && n->mirrors)
         ADD(px * 8);
+    part = &pp.state_bytes;
     if (o->mode == HZ_MODE_TAA) {
         ADD(px * 12); /* cur */
-        ADD(px * 12); /* hist[0] */
-        ADD(px * 12); /* hist[1] */
+        ADD(px * 6);  /* hist[0], half float */
+        ADD(px * 6);  /* hist[1] */
         ADD(px * 2);  /* prev_object */
     }
 #undef ADD
-    if (o->mode == HZ_MODE_TDENSE)
-        total += hz_tdense_bytes(o->width, o->height);
-    if (o->mode == HZ_MODE_ADAPTIVE)
-        total += hz_adaptive_frame_bytes(o->width, o->height, n->mirrors);
+    if (o->mode == HZ_MODE_TDENSE) {
+        size_t display, td = hz_tdense_plan(o->width, o->height, n->mv, &display);
+        total += td;
+        pp.display_bytes += display;
+        pp.state_bytes += td - display;
+    }
+    if (o->mode == HZ_MODE_ADAPTIVE) {
+        size_t ad = hz_adaptive_frame_bytes(o->width, o->height, n->mirrors);
+        total += ad;
+        pp.state_bytes += ad;
+    }
+    if (parts)
+        *parts = pp;
     return total;
 }
 
@@ -137,8 +155,10 @@ hz_status_t hz_render_plan(const hz_scene_t *scene, const hz_render_opts_t *opts
     if (s != HZ_OK)
         return s;
     needs_t n = scene_needs(scene);
-    plan->frame_bytes = frame_bytes(opts, &n);
+    plan->frame_bytes = frame_bytes(opts, &n, plan);
     plan->thread_bytes = thread_bytes();
+    plan->anyhit = n.mask || n.blend;
+    plan->transparency = n.blend;
     return HZ_OK;
 }
 
@@ -182,7 +202,7 @@ hz_status_t hz_render_create(hz_renderer_t **out, hz_scene_t *scene, hz_accel_t 
         return hz_error_set(err, HZ_E_INVALID_ARG, "thread count %u outside 1..%d", thread_count, HZ_MAX_THREADS);
     needs_t n = scene_needs(scene);
     /* Refuse up front, naming the arena and both counts, rather than half-way through. */
-    size_t need = frame_bytes(opts, &n), have = hz_arena_available(frame_arena, 64);
+    size_t need = frame_bytes(opts, &n, NULL), have = hz_arena_available(frame_arena, 64);
     if (need > have)
         return hz_error_set(err, HZ_E_NO_MEMORY, "arena '%s': a %ux%u %s renderer needs %zu bytes, has %zu",
                             frame_arena->name, opts->width, opts->height, hz_render_mode_name(opts->mode), need,
@@ -242,9 +262,8 @@ hz_status_t hz_render_create(hz_renderer_t **out, hz_scene_t *scene, hz_accel_t 
     if (opts->mode == HZ_MODE_TAA) {
         r->cur = r->out;
         r->cur.rgb = take(frame_arena, px * 12, &ok);
-        r->hist[0] = r->hist[1] = r->out;
-        r->hist[0].rgb = take(frame_arena, px * 12, &ok);
-        r->hist[1].rgb = take(frame_arena, px * 12, &ok);
+        r->hist[0] = take(frame_arena, px * 6, &ok);
+        r->hist[1] = take(frame_arena, px * 6, &ok);
         r->prev_object = take(frame_arena, px * 2, &ok);
     }
     if (!ok) {
@@ -258,6 +277,7 @@ hz_status_t hz_render_create(hz_renderer_t **out, hz_scene_t *scene, hz_accel_t 
         tc.seed = opts->seed;
         tc.reflect_mv = opts->tdense_reflect_mv;
         tc.gamma = opts->tdense_gamma;
+        tc.motion = n.mv;
         if ((s = hz_tdense_init(&r->td, &tc, frame_arena, err)) != HZ_OK) {
             hz_arena_reset(frame_arena, mark);
             return s;
@@ -314,22 +334,29 @@ hz_status_t hz_render_begin_frame(hz_renderer_t *r, uint64_t frame_index, float 
 {
     if (!hz_isfinitef(time))
         return hz_error_set(err, HZ_E_INVALID_ARG, "frame time is not finite");
+    return hz_render_begin_frame_ns(r, frame_index, hz_time_from_s(time), err);
+}
+
+hz_status_t hz_render_begin_frame_ns(hz_renderer_t *r, uint64_t frame_index, hz_time_ns_t time_ns, hz_error_t *err)
+{
+    float time = hz_time_wrap_s(time_ns, r->scene->header->duration);
     if (r->has_motion) {
-        hz_scene_animate(r->scene, time);
+        hz_scene_animate_ns(r->scene, time_ns);
         if (!r->have_prev)
-            hz_scene_animate(r->scene, time); /* no history yet: previous = current, zero object motion */
+            hz_scene_animate_ns(r->scene, time_ns); /* no history yet: previous = current, zero object motion */
         hz_status_t s = hz_accel_refit(r->accel, err);
         if (s != HZ_OK)
             return s;
     }
     if (r->have_prev)
         r->prev_view = r->view;
-    hz_camera_t cam = hz_scene_camera(r->scene, time);
+    hz_camera_t cam = hz_scene_camera_ns(r->scene, time_ns);
     hz_view_setup(&r->view, &cam, r->opts.width, r->opts.height);
     if (!r->have_prev)
         r->prev_view = r->view;
     r->frame = frame_index;
     r->time = time;
+    r->time_ns = time_ns;
     if (r->opts.mode == HZ_MODE_TDENSE) {
         /* Any change of the camera restarts every static window (seed 001, 3.2.2). */
         const hz_view_t *a = &r->view, *b = &r->prev_view;

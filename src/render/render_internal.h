@@ -109,12 +109,13 @@ struct hz_renderer {
     hz_view_t view, prev_view;
     bool have_prev;
     uint64_t frame;
-    float time;
+    float time;                /* scene time inside the loop (seconds), for ray time */
+    hz_time_ns_t time_ns;      /* scene time of this frame */
     float jitter[2];           /* this frame's sub-pixel offset (TAA), in pixels */
     uint32_t tiles_x, tiles_y;
     hz_image_t out;            /* displayed frame */
     hz_image_t cur;            /* TAA: this frame's raw samples */
-    hz_image_t hist[2];        /* TAA: resolved history, ping-pong */
+    uint16_t *hist[2];         /* TAA: resolved history, ping-pong, half-float RGB (hz/pack.h) */
     uint32_t hist_index;       /* hist[hist_index] is the previous frame's */
     bool hist_valid;
     uint16_t *prev_object;     /* TAA: previous frame's primary object ids */

@@ -166,16 +166,50 @@ static void animate_object(hz_scene_t *s, const hz_hzb_object_t *o, float t)
     }
 }
 
-void hz_scene_pose(hz_scene_t *s, float t)
+/* Time of object o at scene time t, as float seconds small enough to keep float's precision: inside the scene's
+ * loop when it has one; otherwise inside the object's own period (spin: one turn, oscillate: one cycle, vertex
+ * keys: the key range), or clamped after the last rigid key (the pose stays there). */
+static float object_time(const hz_hzb_object_t *o, const hz_hzb_rigid_key_t *keys, hz_time_ns_t t,
+                         float duration)
 {
-    float tw = hz_scene_wrap_time(t, s->header->duration);
+    if (duration > 0.0f)
+        return hz_time_wrap_s(t, duration);
+    switch (o->motion) {
+    case HZ_MOTION_SPIN:
+        return o->params[6] != 0.0f ? hz_time_wrap_s(t, 2.0 * HZ_PI / hz_absf(o->params[6])) : 0.0f;
+    case HZ_MOTION_OSCILLATE:
+        return o->params[3] != 0.0f ? hz_time_wrap_s(t, 1.0 / hz_absf(o->params[3])) : 0.0f;
+    case HZ_MOTION_VERTEX:
+        return o->key_rate > 0.0f ? hz_time_wrap_s(t, (double)o->key_count / o->key_rate) : 0.0f;
+    case HZ_MOTION_RIGID: {
+        float last = keys[o->key_first + o->key_count - 1].time;
+        return t >= hz_time_from_s(last) ? last : hz_time_wrap_s(t, 0.0);
+    }
+    default:
+        return 0.0f;
+    }
+}
+
+void hz_scene_pose_ns(hz_scene_t *s, hz_time_ns_t t)
+{
     for (uint32_t i = 0; i < s->object_count; i++)
         if (s->objects[i].motion != HZ_MOTION_NONE)
-            animate_object(s, &s->objects[i], tw);
-    s->time = t;
+            animate_object(s, &s->objects[i], object_time(&s->objects[i], s->rigid_keys, t, s->header->duration));
+    s->time = hz_time_wrap_s(t, s->header->duration);
+    s->time_ns = t;
+}
+
+void hz_scene_pose(hz_scene_t *s, float t)
+{
+    hz_scene_pose_ns(s, hz_time_from_s(t));
 }
 
 void hz_scene_animate(hz_scene_t *s, float t)
+{
+    hz_scene_animate_ns(s, hz_time_from_s(t));
+}
+
+void hz_scene_animate_ns(hz_scene_t *s, hz_time_ns_t t)
 {
     if (!s->prev_pos)
         return; /* nothing moves */
@@ -188,7 +222,7 @@ void hz_scene_animate(hz_scene_t *s, float t)
         if (s->nrm)
             hz_memcpy(s->prev_nrm + off, s->nrm + off, n * sizeof(float));
     }
-    hz_scene_pose(s, t);
+    hz_scene_pose_ns(s, t);
 }
 
 /* Uniform Catmull-Rom through p1..p2 with neighbours p0, p3. */
@@ -210,6 +244,11 @@ static hz_vec3_t v3_of(const float *f)
 
 hz_camera_t hz_scene_camera(const hz_scene_t *s, float t)
 {
+    return hz_scene_camera_ns(s, hz_time_from_s(t));
+}
+
+hz_camera_t hz_scene_camera_ns(const hz_scene_t *s, hz_time_ns_t t_ns)
+{
     hz_camera_t cam;
     uint32_t n = s->camera_key_count;
     const hz_hzb_camera_key_t *k = s->camera_keys;
@@ -229,8 +268,10 @@ hz_camera_t hz_scene_camera(const hz_scene_t *s, float t)
         return cam;
     }
     int loop = (s->header->camera_flags & 1u) && s->header->duration > 0.0f;
-    if (loop)
-        t = hz_scene_wrap_time(t, s->header->duration);
+    /* In the loop, or held at the last key after it (a float of the time since the start would lose precision
+     * over long runs). */
+    float t = loop ? hz_time_wrap_s(t_ns, s->header->duration)
+                   : t_ns >= hz_time_from_s(k[n - 1].time) ? k[n - 1].time : hz_time_wrap_s(t_ns, 0.0);
     if (n == 1 || t <= k[0].time || (!loop && t >= k[n - 1].time)) {
         const hz_hzb_camera_key_t *e = (n == 1 || t <= k[0].time) ? &k[0] : &k[n - 1];
         cam.eye = v3_of(e->eye), cam.target = v3_of(e->target), cam.up = v3_of(e->up), cam.fov_y = e->fov_y;

@@ -28,6 +28,7 @@ int hz_object_matrix(const hz_hzb_object_t *o, const hz_hzb_rigid_key_t *keys, f
 void hz_object_vertex_frames(const hz_hzb_object_t *o, float t, uint32_t *f0, uint32_t *f1, float *w);
 
 /* Poses every animated object at time t into pos/nrm (no prev update): the loader uses it for t = 0. */
+void hz_scene_pose_ns(hz_scene_t *s, hz_time_ns_t t);
 void hz_scene_pose(hz_scene_t *s, float t);
 
 /* Rotation matrix of a unit quaternion (x, y, z, w). */

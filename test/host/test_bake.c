@@ -1267,6 +1267,29 @@ static void test_obj_glass_and_bump_maps(void **state)
     for (size_t i = 0; i < sizeof codes / sizeof codes[0]; i++)
         if (!strstr(r.out, codes[i]))
             fail_msg("hzbake --help does not list exit status '%s'", codes[i]);
+/* A bake that no board can load (its scene arena need exceeds every board's) gets a warning naming the
+ * largest board and what to change (skinned vertex keys: skin_rate); one that fits gets none. The board list is
+ * replaced by a test hook so a small scene stands in for a huge one. */
+static void test_warns_when_no_board_can_load_it(void **state)
+{
+    (void)state;
+    snprintf(tmpdir, sizeof tmpdir, "/tmp/hzbake-test.XXXXXX");
+    assert_non_null(mkdtemp(tmpdir));
+    char model[4096], out[256];
+    source_path(model, sizeof model, "HZ_SCENES_SRC", "gltf/CesiumMan/glTF/CesiumMan.gltf");
+    snprintf(out, sizeof out, "%s/cm.hzb", tmpdir);
+    const char *args[] = { "-q", model, out, NULL };
+    run_t r;
+    setenv("HZ_BAKE_TEST_BOARDS", "big-board=4 small-board=2", 1);
+    bake(&r, NULL, args);
+    unsetenv("HZ_BAKE_TEST_BOARDS");
+    assert_int_equal(r.status, 0); /* a warning, not an error: the file is written */
+    if (!strstr(r.out, "no board can load it") || !strstr(r.out, "big-board, has 4 MiB") ||
+        !strstr(r.out, "skin_rate 30"))
+        fail_msg("no or wrong warning: %s", r.out);
+    bake(&r, NULL, args); /* the real boards: CesiumMan fits them all */
+    assert_int_equal(r.status, 0);
+    assert_null(strstr(r.out, "no board can load it"));
     char cmd[128];
     snprintf(cmd, sizeof cmd, "rm -rf %s", tmpdir);
     assert_int_equal(system(cmd), 0);
@@ -1287,6 +1310,7 @@ int main(void)
         cmocka_unit_test(test_instanced_meshes_are_expanded),
         cmocka_unit_test(test_obj_glass_and_bump_maps),
         cmocka_unit_test(test_scan_normals_follow_the_surface),
+        cmocka_unit_test(test_warns_when_no_board_can_load_it),
     };
     return HZ_RUN(tests);
 }

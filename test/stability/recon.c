@@ -4,6 +4,7 @@
  * make the output non-finite once finite samples come again (or ever, for huge finite values). */
 #include <stdlib.h>
 
+#include "hz/pack.h"
 #include "hz/tdense.h"
 #include "stab_util.h"
 
@@ -153,9 +154,10 @@ static void c_tdense_huge_motion(stab_result_t *r)
                 for (uint32_t tx = 0; tx < td.tiles_x; tx++)
                     STAB_CHECK(r, hz_tdense_tile_order(&td, tx, ty) < HZ_TILEORDER_COUNT, "bad tile ordering");
         }
-        for (size_t i = 0; i < 2 * hz_image_pixels(&td.frames[0]); i++)
-            STAB_CHECK(r, fabsf(td.mv[i]) <= HZ_TDENSE_MAX_MOTION, "stored motion %g beyond the clamp",
-                       (double)td.mv[i]);
+        for (size_t i = 0; i < 2 * hz_image_pixels(&td.out); i++) {
+            float m = hz_half_unpack(td.mv[i]); /* stored as half floats */
+            STAB_CHECK(r, fabsf(m) <= HZ_TDENSE_MAX_MOTION, "stored motion %g beyond the clamp", (double)m);
+        }
     }
     stab_note(r, "mv 1e30; +-Inf; NaN; 16384.5; -1e-45: finite; motion clamped to +-%g px",
               (double)HZ_TDENSE_MAX_MOTION);

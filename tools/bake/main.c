@@ -164,6 +164,47 @@ typedef struct job {
     int quiet;
 } job_t;
 
+/* The boards' scene arenas, "name=MiB ..." from boards/<name>/board.h (the Makefile passes them);
+ * HZ_BAKE_TEST_BOARDS replaces the list (tests only). */
+#ifndef HZ_BAKE_BOARD_SCENE_ARENAS
+#define HZ_BAKE_BOARD_SCENE_ARENAS ""
+#endif
+
+/* Warns when no board can load the output: its scene arena need exceeds the largest board's scene arena. */
+static void warn_if_no_board_fits(const char *out, const hz_scene_plan_t *plan, const hz_hzb_header_t *h,
+                                  const hz_bake_sidecar_t *sc)
+{
+    const char *list = getenv("HZ_BAKE_TEST_BOARDS");
+    if (!list || !*list)
+        list = HZ_BAKE_BOARD_SCENE_ARENAS;
+    char best[64] = "";
+    unsigned long long best_mib = 0;
+    for (const char *p = list; *p;) {
+        char name[64];
+        unsigned long long mib;
+        int used = 0;
+        if (sscanf(p, " %63[^=]=%llu%n", name, &mib, &used) != 2 || used <= 0)
+            break;
+        if (mib > best_mib)
+            best_mib = mib, snprintf(best, sizeof best, "%s", name);
+        p += used;
+    }
+    size_t need = plan->file_bytes + plan->arena_bytes + 2 * HZ_HZB_ALIGN; /* what `hzrt info` checks */
+    if (!best_mib || need <= (size_t)(best_mib << 20))
+        return;
+    size_t keys = (size_t)h->vertex_key_count * 16 * (h->features & HZ_FEAT_NORMALS ? 2 : 1);
+    if (keys > need / 4)
+        hz_bake_warn("%s: needs %zu bytes of scene arena, more than any board has (the largest, %s, has %llu "
+                     "MiB): no board can load it. Vertex keys (skinned meshes sampled at skin_rate %.3g frames/s) "
+                     "take about %zu bytes: lower skin_rate in the sidecar, or shorten the animation",
+                     out, need, best, best_mib, (double)sc->skin_rate, keys);
+    else
+        hz_bake_warn("%s: needs %zu bytes of scene arena, more than any board has (the largest, %s, has %llu "
+                     "MiB): no board can load it. Simplify the model, lower texture_max, or raise a board's "
+                     "HZ_ARENA_SCENE_BYTES",
+                     out, need, best, best_mib);
+}
+
 /* Test hooks (tests only): HZ_BAKE_TEST_CRASH=abort|segv|hang makes the child fail that way once the import
  * begins, to check that the parent turns it into a clean error. */
 static void test_hook(void)
@@ -428,6 +469,7 @@ static int bake(job_t *job)
         free(buf);
         return hz_cli_report(&err);
     }
+    warn_if_no_board_fits(job->out, &plan, (const hz_hzb_header_t *)buf, &job->sc);
     if (!job->quiet) {
         const hz_hzb_header_t *h = buf;
         char feats[160];

@@ -1,0 +1,38 @@
+#!/bin/sh
+# Fixed memory is a promise to boards: for one board, `hzrt info` of each reference scene says every render
+# mode's plan and that the default mode fits at the display size, and `hzrt render` of one frame at the display
+# size in the default mode succeeds (under qemu for the AArch64 boards).
+#   fit.sh RESULTS_FILE BOARD "LAUNCHER" HZRT SCENE...
+# SCENE: a .hzb path or `builtin`. Writes "board-fit/BOARD PASSED FAILED 0" to RESULTS_FILE.
+set -u
+res=$1 board=$2 launcher=$3 hzrt=$4
+shift 4
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+pass=0 fail=0
+for scene in "$@"; do
+    name=$(basename "$scene" .hzb)
+    if ! $launcher "$hzrt" info "$scene" >"$tmp/info" 2>&1; then
+        echo "  FAIL  board $board: hzrt info $name failed"; sed 's/^/        /' "$tmp/info" | tail -n 3
+        fail=$((fail + 1)); continue
+    fi
+    # Every mode has a plan line, and the verdict is for the default mode.
+    modes=$(grep -c ' B/px = ' "$tmp/info")
+    if [ "$modes" -lt 3 ] || ! grep -q '^verdict      fits this board' "$tmp/info"; then
+        echo "  FAIL  board $board: hzrt info $name does not say it fits ($modes mode plans):"
+        grep -E 'B/px|NOT fit|^verdict' "$tmp/info" | sed 's/^/        /'
+        fail=$((fail + 1)); continue
+    fi
+    if ! $launcher "$hzrt" render "$scene" --frames 1 --threads 2 --quiet --out "$tmp/out" >"$tmp/render" 2>&1 ||
+        ! [ -s "$tmp/out/summary.json" ]; then
+        echo "  FAIL  board $board: hzrt render $name --frames 1 (default mode, display size) failed:"
+        tail -n 3 "$tmp/render" | sed 's/^/        /'
+        fail=$((fail + 1)); continue
+    fi
+    grep -q '"mode": *"tdense"' "$tmp/out/summary.json" || {
+        echo "  FAIL  board $board: $name rendered, but not in the default mode (tdense)"; fail=$((fail + 1)); continue; }
+    echo "  ok    board $board: $name fits ($(grep '(hzrt render' "$tmp/info" | awk '{print $1, $4, $5}')) and renders"
+    pass=$((pass + 1))
+done
+echo "board-fit/$board $pass $fail 0" >"$res"
+[ "$fail" -eq 0 ]

@@ -1,0 +1,181 @@
+/* Compact frame-state formats (hz/pack.h): decoding against libm's ldexp, encoding against brute-force nearest
+ * codes, and the edge cases (0, float subnormals, the largest code, NaN/Inf/negative -> finite). */
+#include "hz_test.h"
+
+#include <math.h>
+#include <string.h>
+
+#include "hz/hash.h"
+#include "hz/pack.h"
+#include "hz/vmath.h"
+
+/* Half: code -> value by the IEEE 754 definition, independently of the code under test. */
+static double ref_half(uint16_t h)
+{
+    int e = (h >> 10) & 31, m = h & 1023;
+    return e == 0 ? ldexp(m, -24) : ldexp(1024 + m, e - 25);
+}
+
+static void test_half_decode_every_code(void **state)
+{
+    (void)state;
+    for (uint32_t h = 0; h <= 0x7bffu; h++) {
+        assert_true((double)hz_half_unpack((uint16_t)h) == ref_half((uint16_t)h));
+        assert_int_equal(hz_half_pack(hz_half_unpack((uint16_t)h)), h); /* round trip */
+    }
+}
+
+/* Every midpoint between neighbouring codes rounds to the even one, and a hair above or below it to the
+ * nearer one (covers the subnormal/normal boundary and every exponent step). */
+static void test_half_round_to_nearest_even(void **state)
+{
+    (void)state;
+    for (uint32_t h = 0; h < 0x7bffu; h++) {
+        double a = ref_half((uint16_t)h), b = ref_half((uint16_t)(h + 1)), mid = 0.5 * (a + b);
+        uint16_t even = (h & 1u) ? (uint16_t)(h + 1) : (uint16_t)h;
+        assert_int_equal(hz_half_pack((float)mid), even);
+        float above = nextafterf((float)mid, INFINITY), below = nextafterf((float)mid, 0.0f);
+        assert_int_equal(hz_half_pack(above), h + 1);
+        assert_int_equal(hz_half_pack(below), h);
+    }
+}
+
+static void test_half_edges(void **state)
+{
+    (void)state;
+    assert_int_equal(hz_half_pack(0.0f), 0);
+    assert_int_equal(hz_half_pack(-0.0f), 0);
+    assert_int_equal(hz_half_pack(-3.0f), 0);
+    assert_int_equal(hz_half_pack(NAN), 0);
+    assert_int_equal(hz_half_pack(INFINITY), 0x7bff);
+    assert_int_equal(hz_half_pack(-INFINITY), 0);
+    assert_int_equal(hz_half_pack(1e30f), 0x7bff);
+    assert_true(hz_half_unpack(0x7bff) == HZ_HALF_MAX);
+    assert_int_equal(hz_half_pack(1e-45f), 0); /* float subnormal */
+    assert_int_equal(hz_half_pack(ldexpf(1.0f, -24)), 1); /* smallest half subnormal */
+    assert_int_equal(hz_half_pack(ldexpf(1.0f, -14)), 0x0400); /* smallest normal */
+    assert_int_equal(hz_half_pack(1.0f), 0x3c00);
+    /* Codes outside what pack produces still read as finite. */
+    assert_true(isfinite(hz_half_unpack(0x7c00)) && isfinite(hz_half_unpack(0x7e00)));
+    assert_true(isfinite(hz_half_unpack(0xfc00)));
+    float in[3] = { 0.25f, 2.0f, 1000.0f }, out[3];
+    uint16_t h3[3];
+    hz_half_pack3(h3, in);
+    hz_half_unpack3(out, h3);
+    assert_memory_equal(in, out, sizeof in);
+}
+
+/* RGB9E5: code -> value by the format's definition. */
+static void ref_9e5(uint32_t c, double v[3])
+{
+    int e = (int)(c >> 27);
+    for (int k = 0; k < 3; k++)
+        v[k] = ldexp((double)((c >> (9 * k)) & 511u), e - 24);
+}
+
+/* Brute force: over every shared exponent whose range holds the largest channel, round each channel to the
+ * nearest multiple; the smallest achievable maximum error. */
+static double best_9e5_error(const float c[3])
+{
+    double best = INFINITY;
+    for (int e = 0; e < 32; e++) {
+        double q = ldexp(1.0, e - 24), err = 0.0;
+        int ok = 1;
+        for (int k = 0; k < 3; k++) {
+            double m = floor(c[k] / q + 0.5);
+            if (m > 511)
+                ok = 0;
+            err = fmax(err, fabs(m * q - c[k]));
+        }
+        if (ok)
+            best = fmin(best, err);
+    }
+    return best;
+}
+
+static void test_9e5_nearest(void **state)
+{
+    (void)state;
+    hz_rng_t r;
+    hz_rng_seed(&r, 9, 5);
+    for (int i = 0; i < 50000; i++) {
+        float c[3];
+        int scale = (int)(hz_rng_u32(&r) % 40u) - 26; /* 2^-26 .. 2^13 */
+        for (int k = 0; k < 3; k++) /* channels of different magnitudes: the shared exponent's hard case */
+            c[k] = ldexpf(hz_u32_to_unit(hz_rng_u32(&r)), scale - (int)(hz_rng_u32(&r) % 12u));
+        uint32_t code = hz_rgb9e5_pack(c);
+        double v[3], err = 0.0;
+        float back[3];
+        ref_9e5(code, v);
+        hz_rgb9e5_unpack(code, back);
+        for (int k = 0; k < 3; k++) {
+            assert_true((double)back[k] == v[k]);
+            err = fmax(err, fabs(v[k] - c[k]));
+        }
+        assert_true(err <= best_9e5_error(c) * (1.0 + 1e-12) + 1e-30);
+        assert_int_equal(hz_rgb9e5_pack(back), code); /* round trip */
+    }
+}
+
+static void test_9e5_edges(void **state)
+{
+    (void)state;
+    float zero[3] = { 0, 0, 0 }, v[3];
+    assert_int_equal(hz_rgb9e5_pack(zero), 0);
+    float bad[3] = { NAN, -INFINITY, -1.0f };
+    assert_int_equal(hz_rgb9e5_pack(bad), 0);
+    float inf[3] = { INFINITY, 1e30f, HZ_RGB9E5_MAX };
+    hz_rgb9e5_unpack(hz_rgb9e5_pack(inf), v);
+    for (int k = 0; k < 3; k++)
+        assert_true(v[k] == HZ_RGB9E5_MAX);
+    float tiny[3] = { 1e-45f, ldexpf(1.0f, -24), ldexpf(1.0f, -26) }; /* float subnormal, smallest code, below */
+    hz_rgb9e5_unpack(hz_rgb9e5_pack(tiny), v);
+    assert_true(v[0] == 0.0f && v[1] == ldexpf(1.0f, -24) && v[2] == 0.0f);
+    /* Rounding that carries into the next exponent: 511.75 * 2^-8 needs exponent 2^-7's range. */
+    float carry[3] = { 511.75f / 256.0f, 0.0f, 1.0f };
+    hz_rgb9e5_unpack(hz_rgb9e5_pack(carry), v);
+    assert_true(v[0] == 2.0f && v[2] == 1.0f);
+    /* Exact for values with <= 9 significant bits against the largest channel. */
+    float exact[3] = { 1.5f, 0.25f, 3.0f };
+    hz_rgb9e5_unpack(hz_rgb9e5_pack(exact), v);
+    assert_memory_equal(exact, v, sizeof v);
+    for (uint32_t c = 0; c < 0xffffffffu - 0x01000193u; c += 0x01000193u) { /* any code reads as finite */
+        hz_rgb9e5_unpack(c, v);
+        assert_true(isfinite(v[0]) && isfinite(v[1]) && isfinite(v[2]) && v[0] >= 0 && v[1] >= 0 && v[2] >= 0);
+    }
+}
+
+static void test_half_signed(void **state)
+{
+    (void)state;
+    assert_int_equal(hz_half_pack_signed(0.0f), 0);
+    assert_int_equal(hz_half_pack_signed(-0.0f), 0);
+    assert_int_equal(hz_half_pack_signed(NAN), 0);
+    assert_int_equal(hz_half_pack_signed(-NAN), 0);
+    assert_int_equal(hz_half_pack_signed(INFINITY), 0x7bff);
+    assert_int_equal(hz_half_pack_signed(-INFINITY), 0xfbff);
+    assert_true(hz_half_unpack(0xfbff) == -HZ_HALF_MAX);
+    assert_int_equal(hz_half_pack_signed(-1e-45f), 0); /* float subnormal below half's range: +0 */
+    assert_int_equal(hz_half_pack_signed(-ldexpf(1.0f, -24)), 0x8001);
+    assert_true(hz_half_unpack(hz_half_pack_signed(-16384.0f)) == -16384.0f);
+    /* A motion far below a pixel stays non-zero (a static pixel is exactly 0, as in float). */
+    assert_true(hz_half_unpack(hz_half_pack_signed(1e-3f)) > 0.0f);
+    assert_true(hz_half_unpack(hz_half_pack_signed(-1e-3f)) < 0.0f);
+    /* Symmetric in sign, and every negative code round-trips. */
+    for (uint32_t h = 1; h <= 0x7bffu; h++) {
+        float v = hz_half_unpack((uint16_t)h);
+        assert_true(hz_half_unpack((uint16_t)(h | 0x8000u)) == -v);
+        assert_int_equal(hz_half_pack_signed(-v), h | 0x8000u);
+        assert_int_equal(hz_half_pack_signed(v), h);
+    }
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_half_decode_every_code), cmocka_unit_test(test_half_round_to_nearest_even),
+        cmocka_unit_test(test_half_edges),             cmocka_unit_test(test_9e5_nearest),
+        cmocka_unit_test(test_9e5_edges),              cmocka_unit_test(test_half_signed),
+    };
+    return HZ_RUN(tests);
+}
