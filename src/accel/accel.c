@@ -15,6 +15,32 @@ void hz_accel_config_default(hz_accel_config_t *cfg)
     cfg->split_budget = 0.25f;
     cfg->robust = false;
     cfg->quality = 1;
+    cfg->blur = HZ_ACCEL_BLUR_MSBVH;
+    cfg->rebuild_sah_growth = 0.30f;
+}
+
+static const char *const blur_names[HZ_ACCEL_BLUR_COUNT] = { "msbvh", "interp", "swept" };
+
+const char *hz_accel_blur_name(hz_accel_blur_t b)
+{
+    return (unsigned)b < HZ_ACCEL_BLUR_COUNT ? blur_names[b] : "unknown";
+}
+
+static bool str_eq(const char *a, const char *b)
+{
+    while (*a && *a == *b)
+        a++, b++;
+    return *a == *b;
+}
+
+bool hz_accel_blur_parse(const char *s, hz_accel_blur_t *out)
+{
+    for (int i = 0; s && i < HZ_ACCEL_BLUR_COUNT; i++)
+        if (str_eq(s, blur_names[i])) {
+            *out = (hz_accel_blur_t)i;
+            return true;
+        }
+    return false;
 }
 
 hz_status_t hz_accel_plan_check(uint32_t tri_count, const hz_accel_config_t *cfg, const hz_arena_t *arena,
@@ -31,6 +57,7 @@ hz_status_t hz_accel_plan_check(uint32_t tri_count, const hz_accel_config_t *cfg
 
 hz_status_t hz_accel_geom_from_scene(hz_accel_geom_t *g, const hz_scene_t *s, hz_arena_t *arena, hz_error_t *err)
 {
+    hz_accel_geom_init(g);
     g->pos = s->pos;
     g->vertex_count = s->vertex_count;
     g->tri = s->tri;
@@ -67,6 +94,18 @@ hz_status_t hz_accel_geom_check(const hz_accel_geom_t *g, hz_error_t *err)
     if (((uintptr_t)g->pos & 15u) != 0)
         return hz_error_set(err, HZ_E_INVALID_ARG, "accel: positions at %p are not 16-byte aligned",
                             (const void *)g->pos);
+    if (g->time_keys > 1u) {
+        const uint32_t k = g->time_keys;
+        if (k != 2u && k != 3u && k != 5u && k != 9u)
+            return hz_error_set(err, HZ_E_RANGE, "accel: %u time keys, supported: 0, 1, 2, 3, 5 or 9", k);
+        for (uint32_t i = 0; i < k; i++) {
+            if (g->vertex_count && !g->pos_keys[i])
+                return hz_error_set(err, HZ_E_INVALID_ARG, "accel: time key %u of %u has no position array", i, k);
+            if (((uintptr_t)g->pos_keys[i] & 15u) != 0)
+                return hz_error_set(err, HZ_E_INVALID_ARG, "accel: time key %u positions at %p are not 16-byte aligned",
+                                    i, (const void *)g->pos_keys[i]);
+        }
+    }
     if (g->tri_count && !g->tri)
         return hz_error_set(err, HZ_E_INVALID_ARG, "accel: %u triangles but no index array", g->tri_count);
     for (uint32_t t = 0; t < g->tri_count; t++)

@@ -239,6 +239,7 @@ void hz_meshgen_transform(hz_mesh_t *m, float scale, hz_vec3_t offset)
 hz_accel_geom_t hz_meshgen_geom(const hz_mesh_t *m)
 {
     hz_accel_geom_t g;
+    hz_accel_geom_init(&g);
     g.pos = m->pos;
     g.vertex_count = m->vertex_count;
     g.tri = m->tri;
