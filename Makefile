@@ -111,7 +111,7 @@ SCENE_TESTS := scene scene_corrupt
 SCENE_PORT_TESTS :=
 
 # accel (src/accel): BVH build and traversal; the Embree backend lives in port/embree
-ACCEL_SRCS := src/accel/accel.c src/accel/bvh_build.c src/accel/trav_scalar.c src/accel/meshgen.c
+ACCEL_SRCS := src/accel/accel.c src/accel/bvh_build.c src/accel/msbvh.c src/accel/trav_scalar.c src/accel/meshgen.c
 ACCEL_SRCS_avx2 := src/accel/trav_avx2.c
 ACCEL_SRCS_neon := src/accel/trav_neon.c
 ACCEL_TESTS := accel_build accel_trav
