@@ -114,7 +114,7 @@ SCENE_PORT_TESTS :=
 ACCEL_SRCS := src/accel/accel.c src/accel/bvh_build.c src/accel/msbvh.c src/accel/trav_scalar.c src/accel/meshgen.c
 ACCEL_SRCS_avx2 := src/accel/trav_avx2.c
 ACCEL_SRCS_neon := src/accel/trav_neon.c
-ACCEL_TESTS := accel_build accel_trav
+ACCEL_TESTS := accel_build accel_trav accel_motion
 ACCEL_PORT_TESTS := threads accel_water accel_scenes
 # with embree in BOARD_ACCEL: the backend's port sources and its cross-check tests
 PORT_SRCS_embree := port/embree/embree_accel.c
