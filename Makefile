@@ -106,7 +106,8 @@ CORE_TESTS := arena status fmt fixed hash vmath config crc32 image
 CORE_PORT_TESTS := zero_alloc imageio
 
 # scene (src/scene): baked format, validating loader, built-in scene
-SCENE_SRCS := src/scene/hzb.c src/scene/write.c src/scene/load.c src/scene/animate.c src/scene/builtin.c
+SCENE_SRCS := src/scene/hzb.c src/scene/write.c src/scene/load.c src/scene/animate.c src/scene/builtin.c \
+              src/scene/posekeys.c
 SCENE_TESTS := scene scene_corrupt
 SCENE_PORT_TESTS :=
 
@@ -130,7 +131,7 @@ RENDER_PORT_TESTS_embree := render_backends
 RENDER_PORT_TESTS_native := render_taa
 
 # pattern (src/pattern): integer-only tile orderings, dither maps, masks
-PATTERN_SRCS := src/pattern/tileorder.c
+PATTERN_SRCS := src/pattern/tileorder.c src/pattern/timeseq.c
 PATTERN_TESTS := tileorder
 
 # timing (src/timing): v-sync model, pacing, latency statistics; integer-only throughout
@@ -178,7 +179,7 @@ INTEGER_SRCS += $(TIMING_INTEGER_SRCS)
 KNOWN_PORTS := linux timing fbdev v4l2 gpio
 PORT_SRCS_linux := port/linux/pools.c port/linux/cli.c port/linux/clock.c port/linux/fileio.c port/linux/scenefile.c \
                    port/linux/threads.c port/linux/render_cmd.c port/linux/summary.c port/linux/accel_backend.c \
-                   port/linux/render_run.c
+                   port/linux/render_run.c port/linux/blur_setup.c
 $(foreach p,$(BOARD_PORTS),$(if $(filter $(p),$(KNOWN_PORTS)),,$(error $(BOARD_DIR)/board.mk: unknown port '$(p)' (known: $(KNOWN_PORTS)))))
 # Image files (port/linux/imageio.c): PNG needs libpng for the target. It is on when the target's compiler links
 # -lpng (host builds: libpng-dev is in host-sim's BOARD_DEPS); elsewhere the PNG calls report "not built in".
