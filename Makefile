@@ -108,7 +108,7 @@ CORE_PORT_TESTS := zero_alloc imageio
 # scene (src/scene): baked format, validating loader, built-in scene
 SCENE_SRCS := src/scene/hzb.c src/scene/write.c src/scene/load.c src/scene/animate.c src/scene/builtin.c \
               src/scene/posekeys.c
-SCENE_TESTS := scene scene_corrupt
+SCENE_TESTS := scene scene_corrupt posekeys
 SCENE_PORT_TESTS :=
 
 # accel (src/accel): BVH build and traversal; the Embree backend lives in port/embree
@@ -132,7 +132,7 @@ RENDER_PORT_TESTS_native := render_taa
 
 # pattern (src/pattern): integer-only tile orderings, dither maps, masks
 PATTERN_SRCS := src/pattern/tileorder.c src/pattern/timeseq.c
-PATTERN_TESTS := tileorder
+PATTERN_TESTS := tileorder timeseq
 
 # timing (src/timing): v-sync model, pacing, latency statistics; integer-only throughout
 TIMING_SRCS := src/timing/wide.c src/timing/tstat.c src/timing/vsync.c src/timing/vsynth.c src/timing/pace.c \

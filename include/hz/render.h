@@ -122,6 +122,7 @@ typedef struct hz_render_stats {
     uint64_t nonfinite;    /* NaN/Inf values replaced by 0 (should stay 0) */
     uint64_t layer_cap;    /* paths cut at HZ_RENDER_MAX_LAYERS */
     uint64_t queue_full;   /* rays dropped because a ray queue was full (should stay 0) */
+    uint64_t refits;       /* accel refits in begin_frame (motion blur in tdense: one per 4-subframe cycle) */
 } hz_render_stats_t;
 
 /* Memory a renderer needs: frame_bytes from the frame arena, thread_bytes from each thread arena. */

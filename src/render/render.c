@@ -325,6 +325,7 @@ static hz_status_t blur_begin(hz_renderer_t *r, uint64_t frame_index, float time
         r->keys_frame = frame_index, r->keys_cycle = frame_index - sub;
         r->keys_t = time, r->keys_lo = lo, r->keys_hi = hi;
         r->key_evals++;
+        r->frame_refits = 1;
         hz_status_t s = hz_accel_refit(r->accel, err);
         if (s != HZ_OK)
             return s;
@@ -341,6 +342,7 @@ hz_status_t hz_render_begin_frame(hz_renderer_t *r, uint64_t frame_index, float 
 {
     if (!hz_isfinitef(time))
         return hz_error_set(err, HZ_E_INVALID_ARG, "frame time is not finite");
+    r->frame_refits = 0;
     if (r->has_motion) {
         hz_scene_animate(r->scene, time);
         if (!r->have_prev)
@@ -348,6 +350,7 @@ hz_status_t hz_render_begin_frame(hz_renderer_t *r, uint64_t frame_index, float 
         hz_status_t s = r->keys ? HZ_OK : hz_accel_refit(r->accel, err);
         if (s != HZ_OK)
             return s;
+        r->frame_refits = r->keys ? 0u : 1u;
     }
     if (r->have_prev)
         r->prev_view = r->view;
@@ -513,6 +516,7 @@ static void add_stats(hz_render_stats_t *a, const hz_render_stats_t *b)
     a->nonfinite += b->nonfinite;
     a->layer_cap += b->layer_cap;
     a->queue_full += b->queue_full;
+    a->refits += b->refits;
 }
 
 void hz_render_end_frame(hz_renderer_t *r)
@@ -520,6 +524,7 @@ void hz_render_end_frame(hz_renderer_t *r)
     hz_memset(&r->last, 0, sizeof r->last);
     for (uint32_t t = 0; t < r->thread_count; t++)
         add_stats(&r->last, &r->workers_by_thread[t]->stats);
+    r->last.refits = r->frame_refits;
     add_stats(&r->total, &r->last);
     if (r->opts.mode == HZ_MODE_TAA) {
         r->hist_index ^= 1u; /* the history just written becomes the previous frame's */

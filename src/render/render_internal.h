@@ -117,6 +117,7 @@ struct hz_renderer {
     uint64_t keys_frame, keys_cycle; /* the frame whose begin evaluated the keys (and its cycle's first frame) */
     float keys_t, keys_lo, keys_hi;
     uint64_t key_evals;        /* key evaluations + refits so far (tdense cycles save them) */
+    uint32_t frame_refits;     /* accel refits of this frame's begin */
     hz_worker_t *workers_by_thread[HZ_MAX_THREADS]; /* each from its thread's arena */
     uint32_t thread_count;
     hz_render_stats_t last, total;
