@@ -125,7 +125,7 @@ ACCEL_PORT_TESTS_embree := accel_embree
 RENDER_SRCS := src/render/camera.c src/render/texture.c src/render/trace.c src/render/render.c src/recon/taa.c \
                src/recon/tdense.c
 RENDER_TESTS := tdense
-RENDER_PORT_TESTS := render render_tdense
+RENDER_PORT_TESTS := render render_tdense render_blur
 RENDER_PORT_TESTS_embree := render_backends
 # Heavy render tests for boards whose tests run natively (not under emulation).
 RENDER_PORT_TESTS_native := render_taa
