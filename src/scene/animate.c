@@ -117,6 +117,23 @@ void hz_object_vertex_frames(const hz_hzb_object_t *o, float t, uint32_t *f0, ui
     *w = n > 1 ? f - (float)i : 0.0f;
 }
 
+/* HZ_MOTION_SWAY (hz/hzb.h): rest position plus a h^2 sin(w t + pi (u.x + u.y + u.z)); rest normals. */
+static void sway_object(const hz_scene_t *s, const hz_hzb_object_t *o, float t, float *pos, float *nrm)
+{
+    const float *c = o->params, *a = o->params + 3, w = o->params[6], r0 = o->params[7];
+    for (uint32_t i = o->first_vertex; i < o->first_vertex + o->vertex_count; i++) {
+        const float *r = s->rest_pos + (size_t)i * 4;
+        float dx = r[0] - c[0], dy = r[1] - c[1], dz = r[2] - c[2];
+        float len = hz_sqrtf(dx * dx + dy * dy + dz * dz), h = len > r0 ? len - r0 : 0.0f;
+        float u = len > 0.0f ? (dx + dy + dz) / len : 0.0f;
+        float k = h * h * hz_sinf(w * t + HZ_PI * u);
+        float *dst = pos + (size_t)i * 4;
+        dst[0] = r[0] + a[0] * k, dst[1] = r[1] + a[1] * k, dst[2] = r[2] + a[2] * k, dst[3] = 0.0f;
+        if (nrm)
+            hz_memcpy(nrm + (size_t)i * 4, s->rest_nrm + (size_t)i * 4, 4 * sizeof(float));
+    }
+}
+
 /* Writes the state of object `o` at time t into pos/nrm (full-size arrays indexed by vertex; nrm may be NULL). */
 static void animate_object(const hz_scene_t *s, const hz_hzb_object_t *o, float t, float *pos, float *nrm)
 {
@@ -141,6 +158,10 @@ static void animate_object(const hz_scene_t *s, const hz_hzb_object_t *o, float 
                 dst[0] = n.x, dst[1] = n.y, dst[2] = n.z, dst[3] = 0.0f;
             }
         }
+        return;
+    }
+    if (o->motion == HZ_MOTION_SWAY) {
+        sway_object(s, o, t, pos, nrm);
         return;
     }
     hz_mat4_t m, inv, nm;

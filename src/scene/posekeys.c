@@ -12,6 +12,8 @@ static float object_segments(const hz_scene_t *s, const hz_hzb_object_t *o, floa
         return hz_absf(o->params[6]) * interval_s / per;
     case HZ_MOTION_OSCILLATE:
         return 2.0f * HZ_PI * hz_absf(o->params[3]) * interval_s / per;
+    case HZ_MOTION_SWAY:
+        return hz_absf(o->params[6]) * interval_s / per;
     case HZ_MOTION_VERTEX:
         return o->key_rate * interval_s;
     case HZ_MOTION_RIGID: {
