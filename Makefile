@@ -106,8 +106,9 @@ CORE_TESTS := arena status fmt fixed hash vmath config crc32 image
 CORE_PORT_TESTS := zero_alloc imageio
 
 # scene (src/scene): baked format, validating loader, built-in scene
-SCENE_SRCS := src/scene/hzb.c src/scene/write.c src/scene/load.c src/scene/animate.c src/scene/builtin.c
-SCENE_TESTS := scene scene_corrupt
+SCENE_SRCS := src/scene/hzb.c src/scene/write.c src/scene/load.c src/scene/animate.c src/scene/builtin.c \
+              src/scene/posekeys.c
+SCENE_TESTS := scene scene_corrupt posekeys
 SCENE_PORT_TESTS :=
 
 # accel (src/accel): BVH build and traversal; the Embree backend lives in port/embree
@@ -124,14 +125,14 @@ ACCEL_PORT_TESTS_embree := accel_embree
 RENDER_SRCS := src/render/camera.c src/render/texture.c src/render/trace.c src/render/render.c src/recon/taa.c \
                src/recon/tdense.c
 RENDER_TESTS := tdense
-RENDER_PORT_TESTS := render render_tdense
+RENDER_PORT_TESTS := render render_tdense render_blur
 RENDER_PORT_TESTS_embree := render_backends
 # Heavy render tests for boards whose tests run natively (not under emulation).
 RENDER_PORT_TESTS_native := render_taa
 
 # pattern (src/pattern): integer-only tile orderings, dither maps, masks
-PATTERN_SRCS := src/pattern/tileorder.c
-PATTERN_TESTS := tileorder
+PATTERN_SRCS := src/pattern/tileorder.c src/pattern/timeseq.c
+PATTERN_TESTS := tileorder timeseq
 
 # timing (src/timing): v-sync model, pacing, latency statistics; integer-only throughout
 TIMING_SRCS := src/timing/wide.c src/timing/tstat.c src/timing/vsync.c src/timing/vsynth.c src/timing/pace.c \
@@ -178,7 +179,7 @@ INTEGER_SRCS += $(TIMING_INTEGER_SRCS)
 KNOWN_PORTS := linux timing fbdev v4l2 gpio
 PORT_SRCS_linux := port/linux/pools.c port/linux/cli.c port/linux/clock.c port/linux/fileio.c port/linux/scenefile.c \
                    port/linux/threads.c port/linux/render_cmd.c port/linux/summary.c port/linux/accel_backend.c \
-                   port/linux/render_run.c
+                   port/linux/render_run.c port/linux/blur_setup.c
 $(foreach p,$(BOARD_PORTS),$(if $(filter $(p),$(KNOWN_PORTS)),,$(error $(BOARD_DIR)/board.mk: unknown port '$(p)' (known: $(KNOWN_PORTS)))))
 # Image files (port/linux/imageio.c): PNG needs libpng for the target. It is on when the target's compiler links
 # -lpng (host builds: libpng-dev is in host-sim's BOARD_DEPS); elsewhere the PNG calls report "not built in".
@@ -384,9 +385,11 @@ SCENE_MODEL_CesiumMan := $(SCENES_SRC)/gltf/CesiumMan/glTF/CesiumMan.gltf
 SCENE_MODEL_AlphaBlendModeTest := $(SCENES_SRC)/gltf/AlphaBlendModeTest/glTF/AlphaBlendModeTest.gltf
 SCENE_MODEL_CesiumMan-small := $(SCENE_MODEL_CesiumMan)
 SCENE_MODEL_AlphaBlendModeTest-small := $(SCENE_MODEL_AlphaBlendModeTest)
+SCENE_MODEL_furball-sway := $(SCENE_MODEL_furball)
+SCENE_MODEL_sponza-rotated := $(SCENE_MODEL_sponza)
 SCENES := CornellBox-Original CornellBox-Mirror conference sponza lost-empire pine dragon-res4 dragon-res3 \
           dragon-res2 dragon furball BoxAnimated CesiumMan AlphaBlendModeTest CesiumMan-small \
-          AlphaBlendModeTest-small
+          AlphaBlendModeTest-small furball-sway sponza-rotated
 SCENE_FILES := $(SCENES:%=$(SCENES_O)/%.hzb)
 # What each scene reads besides its model: the unpacked zip (its stamp) or every file beside the model.
 scene_inputs = $(if $(filter $(SCENES_UNPACK)/%,$(1)),$(dir $(1)).unpacked,$(1) $(wildcard $(dir $(1))*))

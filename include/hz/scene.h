@@ -16,6 +16,10 @@
  *    and previous positions and normals of the moving vertices' arrays; a static scene takes none.
  *  - hz_scene_animate(scene, t) moves every animated object to time t: prev_pos/prev_nrm receive the old
  *    state, pos/nrm the new one. Static scenes ignore it. It allocates nothing.
+ *  - hz_scene_pose_at(scene, t, dt, pos, nrm) writes the pose at time t + dt (dt: a small offset, e.g. inside a
+ *    shutter interval) of every animated object's vertices into pos (float4 per vertex, full-size array) and,
+ *    when the scene has normals, nrm; other vertices are left as they are. It reads the scene, never changes
+ *    it, and allocates nothing: motion blur evaluates the shutter's key times with it (hz/posekeys.h).
  *  - hz_scene_camera(scene, t, aspect) evaluates the camera path (or a default camera framing the bounds).
  */
 #ifndef HZ_SCENE_H
@@ -78,6 +82,7 @@ typedef struct hz_camera {
 hz_status_t hz_scene_plan(const void *buf, size_t size, hz_scene_plan_t *plan, hz_error_t *err);
 hz_status_t hz_scene_load(hz_scene_t *scene, const void *buf, size_t size, hz_arena_t *arena, hz_error_t *err);
 void hz_scene_animate(hz_scene_t *scene, float t);
+void hz_scene_pose_at(const hz_scene_t *scene, float t, float dt, float *pos, float *nrm);
 hz_camera_t hz_scene_camera(const hz_scene_t *scene, float t);
 
 /* Material and object of a triangle. */

@@ -133,7 +133,7 @@ static int cmd_info(int argc, char **argv)
            (double)h->bounds_min[1], (double)h->bounds_min[2], (double)h->bounds_max[0],
            (double)h->bounds_max[1], (double)h->bounds_max[2]);
     for (uint32_t i = 0; i < scene.object_count; i++) {
-        static const char *const kinds[] = { "static", "rigid keys", "vertex keys", "spin", "oscillate" };
+        static const char *const kinds[] = { "static", "rigid keys", "vertex keys", "spin", "oscillate", "sway" };
         const hz_object_t *o = &scene.objects[i];
         printf("  object %-3u %-24s %8u tris %8u verts  %s\n", i, (const char *)o->name, o->triangle_count,
                o->vertex_count, kinds[o->motion]);
