@@ -10,6 +10,7 @@
 #include "hz/accel.h"
 #include "hz/hash.h"
 #include "hz/meshgen.h"
+#include "hz/posekeys.h"
 #include "hz/scene.h"
 #include "pools.h"
 #include "scenefile.h"
@@ -23,8 +24,10 @@ typedef struct mcheck {
     hz_meshgen_motion_kind_t kind;
     bool kind_set;
     uint32_t keys;
+    bool keys_set;
     float turns;
     uint32_t seed;
+    float time, interval; /* scenes that move: the keys span [time - interval / 2, time + interval / 2] s */
 } mcheck_t;
 
 static float rnd01(uint32_t *st)
@@ -168,7 +171,7 @@ static void usage(FILE *f)
 {
     fprintf(f, "usage: hzrt accel SCENE [--embree [--embree-config S]] [--no-spatial] [--leaf N] [--budget F]\n"
                "       hzrt accel SCENE --motion-check N [--blur-bvh msbvh|interp|swept] [--motion KIND] [--keys K]\n"
-               "                  [--turns F] [--seed S]\n"
+               "                  [--turns F] [--time T] [--interval S] [--seed S]\n"
                "\n"
                "Builds the acceleration structure of SCENE (.hzb file or `builtin`) in the board's accel arena and\n"
                "prints build time, bytes per triangle and the tree's shape. The memory plan is checked first:\n"
@@ -183,9 +186,11 @@ static void usage(FILE *f)
                "                     packets); prints 'motion-check: N rays, K misses, M mismatches' and exits 1\n"
                "                     when K or M is not 0\n"
                "  --blur-bvh B       msbvh (default), interp (interpolated BVH) or swept (static BVH, swept boxes)\n"
-               "  --motion KIND      procedural time keys from the scene's positions: sway (default), rotate,\n"
-               "                     cross (vertices cross split planes), collapse (to a point), rot180 (one segment)\n"
-               "  --keys K           time keys, 2, 3, 5 or 9 (default 2; rot180 needs 2)\n"
+               "  --motion KIND      procedural time keys from the scene's positions instead of its animation: sway,\n"
+               "                     rotate, cross (vertices cross split planes), collapse (to a point), rot180 (one\n"
+               "                     segment). Default: the scene's animation if it moves, else sway\n"
+               "  --time T, --interval S  scenes that move: keys over [T - S/2, T + S/2] s (default 1, 1/30)\n"
+               "  --keys K           time keys, 2, 3, 5 or 9 (default: the scene's choice, else 2; rot180 needs 2)\n"
                "  --turns F          rotate: turns over the interval (default 0.25)\n"
                "  --seed S           ray seed (default 1)\n",
             HZ_BVH_WIDTH, HZ_BVH_WIDTH);
@@ -197,7 +202,7 @@ int hz_cmd_accel(int argc, char **argv)
     bool embree = false, blur_set = false, motion_opt = false;
     hz_accel_config_t cfg;
     hz_accel_config_default(&cfg);
-    mcheck_t mc = { 0, HZ_MESHGEN_SWAY, false, 2u, 0.25f, 1u };
+    mcheck_t mc = { 0, HZ_MESHGEN_SWAY, false, 2u, false, 0.25f, 1u, 1.0f, 1.0f / 30.0f };
     for (int i = 1; i < argc; i++) {
         long v;
         if (!strcmp(argv[i], "-h") || !strcmp(argv[i], "--help")) {
@@ -225,7 +230,7 @@ int hz_cmd_accel(int argc, char **argv)
                 return HZ_EXIT_USAGE;
             }
             mc.keys = (uint32_t)v;
-            motion_opt = true;
+            mc.keys_set = motion_opt = true;
         } else if (!strcmp(argv[i], "--turns") && i + 1 < argc) {
             char *end;
             double t = strtod(argv[++i], &end);
@@ -234,6 +239,17 @@ int hz_cmd_accel(int argc, char **argv)
                 return HZ_EXIT_USAGE;
             }
             mc.turns = (float)t;
+            motion_opt = true;
+        } else if ((!strcmp(argv[i], "--time") || !strcmp(argv[i], "--interval")) && i + 1 < argc) {
+            const bool is_time = !strcmp(argv[i], "--time");
+            char *end;
+            double t = strtod(argv[++i], &end);
+            if (*end || end == argv[i] || !(is_time ? (t >= 0.0 && t <= 1e6) : (t > 0.0 && t <= 10.0))) {
+                hz_cli_error("accel: %s: '%s' is not a number in %s", is_time ? "--time" : "--interval", argv[i],
+                             is_time ? "[0, 1e6] (seconds)" : "(0, 10] (seconds)");
+                return HZ_EXIT_USAGE;
+            }
+            *(is_time ? &mc.time : &mc.interval) = (float)t;
             motion_opt = true;
         } else if (!strcmp(argv[i], "--seed") && i + 1 < argc) {
             if (!hz_cli_parse_long("--seed", argv[++i], 0, 0x7FFFFFFFL, &v))
@@ -273,7 +289,7 @@ int hz_cmd_accel(int argc, char **argv)
         return HZ_EXIT_USAGE;
     }
     if ((blur_set || motion_opt) && !mc.n) {
-        hz_cli_error("accel: --blur-bvh, --motion, --keys, --turns and --seed need --motion-check N");
+        hz_cli_error("accel: --blur-bvh, --motion, --keys, --turns, --time, --interval and --seed need --motion-check N");
         return HZ_EXIT_USAGE;
     }
     if (mc.n && embree) {
@@ -302,7 +318,21 @@ int hz_cmd_accel(int argc, char **argv)
     hz_accel_geom_t g;
     if (hz_accel_geom_from_scene(&g, &sc, &p->scene, &err) != HZ_OK)
         return hz_cli_report(&err);
-    if (mc.n) {
+    hz_posekeys_t keys;
+    const uint32_t scene_k = mc.n && !mc.kind_set ? hz_posekeys_count(&sc, mc.interval) : 0u;
+    if (mc.n && scene_k >= 2u) {
+        /* the scene's own animation, posed at the keys of an interval around mc.time */
+        const uint32_t k = mc.keys_set ? mc.keys : scene_k;
+        if (hz_posekeys_init(&keys, &sc, k, &p->scene, &err) != HZ_OK)
+            return hz_cli_report(&err);
+        hz_posekeys_eval(&keys, &sc, mc.time, -0.5f * mc.interval, 0.5f * mc.interval);
+        hz_posekeys_geom(&keys, &g);
+        fprintf(stderr, "motion-check: %s, %u triangles, the scene's animation over [%g, %g] s, %u keys, %s BVH\n",
+                scene_name, g.tri_count, (double)(mc.time - 0.5f * mc.interval),
+                (double)(mc.time + 0.5f * mc.interval), k, hz_accel_blur_name(cfg.blur));
+    } else if (mc.n) {
+        if (!mc.kind_set)
+            fprintf(stderr, "motion-check: %s does not move: procedural keys (--motion sway)\n", scene_name);
         /* procedural keys from the scene's positions (center: the middle of its box, size: its largest extent) */
         float lo[3] = { 1e30f, 1e30f, 1e30f }, hi[3] = { -1e30f, -1e30f, -1e30f };
         for (uint32_t v = 0; v < g.vertex_count; v++)
@@ -323,6 +353,8 @@ int hz_cmd_accel(int argc, char **argv)
         }
         fprintf(stderr, "motion-check: %s, %u triangles, motion %s, %u keys, %s BVH\n", scene_name, g.tri_count,
                 hz_meshgen_motion_name(mc.kind), mc.keys, hz_accel_blur_name(cfg.blur));
+    }
+    if (mc.n) {
         if (hz_accel_plan_check_geom(&g, &cfg, &p->accel, &err) != HZ_OK)
             return hz_cli_report(&err);
         hz_accel_t *ma = NULL;
