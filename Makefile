@@ -203,7 +203,7 @@ HZRT_SRCS := port/linux/main.c port/linux/accel_cmd.c
 HZRT_OBJS := $(HZRT_SRCS:%.c=$(O)/%.o)
 HZRT := $(O)/bin/hzrt
 
-BENCH_SRCS := tools/bench/bench.c tools/bench/bench_accel.c tools/bench/bench_tdense.c
+BENCH_SRCS := tools/bench/bench.c tools/bench/bench_accel.c tools/bench/bench_tdense.c tools/bench/bench_motion.c
 BENCH_OBJS := $(BENCH_SRCS:%.c=$(O)/%.o)
 BENCH := $(O)/bin/hzbench
 
@@ -486,7 +486,8 @@ latency-sim: $(HZRT) ## simulated 240 Hz display-locked run: miss rate, latency 
 
 bench: $(BENCH) ## measure (side by side, in one run) and print a table; writes $(O)/bench/*.csv
 	$(Q)mkdir -p $(O)/bench
-	$(Q)$(BENCH) --csv $(O)/bench/bench.csv --accel-csv $(O)/bench/accel.csv --scenes $(SCENES_O) $(BENCH_ARGS)
+	$(Q)$(BENCH) --csv $(O)/bench/bench.csv --accel-csv $(O)/bench/accel.csv --motion-csv $(O)/bench/motion.csv \
+		--scenes $(SCENES_O) $(BENCH_ARGS)
 
 size: $(HZRT) ## section sizes of hzrt, its largest symbols and the board's static arenas
 	$(Q)$(SIZE) $(HZRT) $(LIB)

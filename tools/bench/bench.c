@@ -21,6 +21,7 @@
 #include "hz/tileorder.h"
 
 #include "bench_accel.h"
+#include "bench_motion.h"
 
 #define ROUNDS 7
 
@@ -165,9 +166,11 @@ int main(int argc, char **argv)
 {
     hz_cli_prog = "hzbench";
     const char *csv_path = NULL;
-    bool core = true, accel = true, tdense = true, only_given = false;
+    bool core = true, accel = true, tdense = true, only_given = false, motion = true;
     hz_bench_accel_opts_t ao;
     memset(&ao, 0, sizeof ao);
+    hz_bench_motion_opts_t mo;
+    memset(&mo, 0, sizeof mo);
     hz_bench_tdense_opts_t td = { NULL, 640, 360, 0, 5, 4, 12, 1.0f, 240, false };
     for (int i = 1; i < argc; i++) {
         long v;
@@ -178,20 +181,43 @@ int main(int argc, char **argv)
         } else if (!strcmp(argv[i], "--only") && i + 1 < argc) {
             const char *what = argv[++i];
             if (!only_given)
-                core = accel = tdense = false;
+                core = accel = tdense = motion = false;
             only_given = true;
             if (!strcmp(what, "kernels"))
                 core = true;
+            else if (!strcmp(what, "motion"))
+                motion = true;
             else if (!strcmp(what, "accel"))
                 accel = true;
             else if (!strcmp(what, "tdense"))
                 tdense = true;
             else {
-                hz_cli_error("--only: '%s' is not kernels, accel or tdense", what);
+                hz_cli_error("--only: '%s' is not kernels, accel, tdense or motion", what);
                 return HZ_EXIT_USAGE;
             }
+        } else if (!strcmp(argv[i], "--motion-csv") && i + 1 < argc) {
+            mo.csv_path = argv[++i];
+        } else if (!strcmp(argv[i], "--motion-scene") && i + 1 < argc) {
+            if (mo.scene_count == HZ_BENCH_MOTION_MAX_SCENES) {
+                hz_cli_error("--motion-scene: at most %d scenes", HZ_BENCH_MOTION_MAX_SCENES);
+                return HZ_EXIT_USAGE;
+            }
+            mo.scenes[mo.scene_count++] = argv[++i];
+        } else if (!strcmp(argv[i], "--motion-size") && i + 1 < argc) {
+            int w, h;
+            if (!hz_cli_parse_size("--motion-size", argv[++i], 8, 8192, &w, &h))
+                return HZ_EXIT_USAGE;
+            mo.width = (uint32_t)w, mo.height = (uint32_t)h;
+        } else if (!strcmp(argv[i], "--motion-interval") && i + 1 < argc) {
+            char *end;
+            double t = strtod(argv[++i], &end);
+            if (*end || end == argv[i] || !(t > 0.0 && t <= 10.0)) {
+                hz_cli_error("--motion-interval: '%s' is not a number of seconds in (0, 10]", argv[i]);
+                return HZ_EXIT_USAGE;
+            }
+            mo.interval = (float)t;
         } else if (!strcmp(argv[i], "--scenes") && i + 1 < argc) {
-            ao.scenes_dir = td.scenes_dir = argv[++i];
+            ao.scenes_dir = td.scenes_dir = mo.scenes_dir = argv[++i];
         } else if (!strcmp(argv[i], "--scene") && i + 1 < argc) {
             if (ao.scene_count == HZ_BENCH_MAX_SCENES) {
                 hz_cli_error("--scene: at most %d scenes", HZ_BENCH_MAX_SCENES);
@@ -201,7 +227,7 @@ int main(int argc, char **argv)
         } else if (!strcmp(argv[i], "--rounds") && i + 1 < argc) {
             if (!hz_cli_parse_long("--rounds", argv[++i], 1, HZ_BENCH_TDENSE_MAX_ROUNDS < 15 ? HZ_BENCH_TDENSE_MAX_ROUNDS : 15, &v))
                 return HZ_EXIT_USAGE;
-            ao.rounds = td.rounds = (int)v;
+            ao.rounds = td.rounds = mo.rounds = (int)v;
         } else if (!strcmp(argv[i], "--threads") && i + 1 < argc) {
             if (!hz_cli_parse_long("--threads", argv[++i], 0, HZ_MAX_THREADS, &v))
                 return HZ_EXIT_USAGE;
@@ -223,9 +249,10 @@ int main(int argc, char **argv)
         } else if (!strcmp(argv[i], "--embree-config") && i + 1 < argc) {
             ao.embree_config = argv[++i];
         } else if (!strcmp(argv[i], "-h") || !strcmp(argv[i], "--help")) {
-            printf("usage: hzbench [--only kernels|accel|tdense]... [--csv FILE] [--accel-csv FILE] [--scenes DIR]\n"
-                   "               [--scene NAME]... [--rounds N] [--threads N] [--size WxH] [--tdense-size WxH]\n"
-                   "               [--frames N] [--embree-config S]\n"
+            printf("usage: hzbench [--only kernels|accel|tdense|motion]... [--csv FILE] [--accel-csv FILE]\n"
+                   "               [--motion-csv FILE] [--scenes DIR] [--scene NAME]... [--rounds N] [--threads N]\n"
+                   "               [--size WxH] [--tdense-size WxH] [--frames N] [--embree-config S]\n"
+                   "               [--motion-scene NAME]... [--motion-size WxH] [--motion-interval S]\n"
                    "\nMeasures hzrt's kernels side by side and prints medians of interleaved rounds, in three parts\n"
                    "(all by default, or those --only names):\n"
                    "  kernels  core kernels (%d rounds)\n"
@@ -234,6 +261,9 @@ int main(int argc, char **argv)
                    "  accel    native BVH against Embree on the baked scenes (--scene picks them, default\n"
                    "           conference sponza lost-empire furball dragon-res4 dragon-res3 dragon-res2 dragon;\n"
                    "           --size the primary rays, default 1024x1024; --embree-config Embree's device config)\n"
+                   "  motion   motion-blur BVHs (seed 002: msbvh, interp, swept) against Embree's motion blur on the\n"
+                   "           moving furball and the rotated Sponza (--motion-scene picks others; --motion-size the\n"
+                   "           frame, default 512x512; --motion-interval the shutter interval, default 1/24 s)\n"
                    "--scenes: the baked scenes (default $HZ_SCENES_DIR or build/scenes; `make scenes` bakes them),\n"
                    "--rounds: rounds of the accel and tdense parts (5), --threads: pool size (0: every CPU).\n",
                    ROUNDS);
@@ -326,5 +356,8 @@ int main(int argc, char **argv)
             return hz_cli_report(&err);
         printf("wrote %s\n", csv_path);
     }
-    return accel ? hz_bench_accel(&ao) : 0;
+    int status = accel ? hz_bench_accel(&ao) : 0;
+    if (status == 0 && motion)
+        status = hz_bench_motion(&mo);
+    return status;
 }
