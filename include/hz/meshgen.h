@@ -67,6 +67,9 @@ const char *hz_meshgen_motion_name(hz_meshgen_motion_kind_t k); /* "sway", "rota
 bool hz_meshgen_motion_parse(const char *s, hz_meshgen_motion_kind_t *out);
 hz_status_t hz_meshgen_motion(hz_accel_geom_t *g, const float *pos, hz_meshgen_motion_kind_t kind, uint32_t keys,
                               hz_vec3_t center, float size, float turns, hz_arena_t *a);
+/* The point with barycentrics (1 - b1 - b2, b1, b2) of triangle t of g at normalised time `time` (the keys'
+ * lerp, as the accel sees it; static views: pos): for rays aimed at moving triangles. */
+hz_vec3_t hz_meshgen_tri_point(const hz_accel_geom_t *g, uint32_t t, float time, float b1, float b2);
 hz_accel_geom_t hz_meshgen_geom(const hz_mesh_t *m);
 
 #endif /* HZ_MESHGEN_H */

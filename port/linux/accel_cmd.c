@@ -54,21 +54,11 @@ static void mc_ray(const hz_accel_geom_t *g, const float *lo, const float *hi, u
         uint32_t t = (uint32_t)(rnd01(&st) * (float)g->tri_count);
         if (t >= g->tri_count)
             t = g->tri_count - 1u;
-        uint32_t seg;
-        float f;
-        hz_accel_time_segment(time, g->time_keys, &seg, &f);
         float b1 = rnd01(&st), b2 = rnd01(&st);
         if (b1 + b2 > 1.0f)
             b1 = 1.0f - b1, b2 = 1.0f - b2;
-        float w[3] = { 1.0f - b1 - b2, b1, b2 };
-        for (int k = 0; k < 3; k++) {
-            float p = 0.0f;
-            for (int v = 0; v < 3; v++) {
-                size_t vi = 4u * (size_t)g->tri[3u * (size_t)t + (uint32_t)v] + (size_t)k;
-                p += w[v] * hz_accel_lerp_key(g->pos_keys[seg][vi], g->pos_keys[seg + 1u][vi], f);
-            }
-            d[k] = p - o[k];
-        }
+        const hz_vec3_t p = hz_meshgen_tri_point(g, t, time, b1, b2);
+        d[0] = p.x - o[0], d[1] = p.y - o[1], d[2] = p.z - o[2];
     } else {
         for (int k = 0; k < 3; k++)
             d[k] = 2.0f * rnd01(&st) - 1.0f;

@@ -332,3 +332,20 @@ hz_status_t hz_meshgen_motion(hz_accel_geom_t *g, const float *pos, hz_meshgen_m
     g->pos = g->pos_keys[keys & 1u ? (keys - 1u) / 2u : 0u];
     return HZ_OK;
 }
+
+hz_vec3_t hz_meshgen_tri_point(const hz_accel_geom_t *g, uint32_t t, float time, float b1, float b2)
+{
+    uint32_t seg = 0;
+    float f = 0.0f;
+    const bool motion = g->time_keys >= 2u;
+    if (motion)
+        hz_accel_time_segment(time, g->time_keys, &seg, &f);
+    const float w[3] = { 1.0f - b1 - b2, b1, b2 };
+    float p[3] = { 0.0f, 0.0f, 0.0f };
+    for (int v = 0; v < 3; v++)
+        for (int c = 0; c < 3; c++) {
+            const size_t vi = 4u * (size_t)g->tri[3u * (size_t)t + (uint32_t)v] + (size_t)c;
+            p[c] += w[v] * (motion ? hz_accel_lerp_key(g->pos_keys[seg][vi], g->pos_keys[seg + 1u][vi], f) : g->pos[vi]);
+        }
+    return hz_v3(p[0], p[1], p[2]);
+}

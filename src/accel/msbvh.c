@@ -111,6 +111,26 @@ static int clip_poly(const pvert_t *in, int n, const float *d, pvert_t *out)
     return m;
 }
 
+/* Cuts polygon a[0..n) to lo[k] <= x[k] <= hi[k] for k = 0..2, x = the vertices' barycentrics (`bary`) or
+ * positions; returns the new count. */
+static int clip_to_box(pvert_t *a, int n, const float *lo, const float *hi, bool bary)
+{
+    pvert_t b[POLY_MAX];
+    for (int plane = 0; plane < 6 && n > 0; plane++) {
+        const int k = plane >> 1;
+        const bool up = plane & 1;
+        float d[POLY_MAX];
+        for (int i = 0; i < n; i++) {
+            const float x = bary ? a[i].b[k] : a[i].p[k];
+            d[i] = up ? x - hi[k] : lo[k] - x;
+        }
+        n = clip_poly(a, n, d, b);
+        for (int i = 0; i < n; i++)
+            a[i] = b[i];
+    }
+    return n;
+}
+
 static void tri_poly(pvert_t *v, const float *const *tv)
 {
     for (int i = 0; i < 3; i++)
@@ -150,20 +170,12 @@ static void piece_of(const hz_accel_geom_t *g, const float *mid, uint32_t prim, 
     for (int k = 0; k < 3; k++)
         cm = hz_maxf(cm, hz_maxf(hz_absf(cb->lo[k]), hz_absf(cb->hi[k])));
     const float mg = margin(&tb, hz_isfinitef(cm) ? cm : 0.0f);
-    pvert_t a[POLY_MAX], b[POLY_MAX];
+    pvert_t a[POLY_MAX];
     tri_poly(a, tv);
-    int n = 3;
-    for (int plane = 0; plane < 6 && n > 0; plane++) {
-        const int k = plane >> 1;
-        const bool hi = plane & 1;
-        const float lim = hi ? cb->hi[k] + mg : cb->lo[k] - mg;
-        float d[POLY_MAX];
-        for (int i = 0; i < n; i++)
-            d[i] = hi ? a[i].p[k] - lim : lim - a[i].p[k];
-        n = clip_poly(a, n, d, b);
-        for (int i = 0; i < n; i++)
-            a[i] = b[i];
-    }
+    float lo[3], hi[3];
+    for (int k = 0; k < 3; k++)
+        lo[k] = cb->lo[k] - mg, hi[k] = cb->hi[k] + mg;
+    const int n = clip_to_box(a, 3, lo, hi, false);
     if (n == 0) { /* rounding at a touching plane: stay conservative */
         piece_full(out);
         return;
@@ -181,24 +193,16 @@ static void piece_of(const hz_accel_geom_t *g, const float *mid, uint32_t prim, 
 /* The piece's polygon in the barycentric domain (the triangle cut to the piece's ranges). */
 static int piece_poly(const hz_bvh_piece_t *pc, float (*bo)[3])
 {
-    pvert_t a[POLY_MAX], b[POLY_MAX];
+    pvert_t a[POLY_MAX];
     const float e0[3] = { 1, 0, 0 }, e1[3] = { 0, 1, 0 }, e2[3] = { 0, 0, 1 };
     const float *tv[3] = { e0, e1, e2 };
     tri_poly(a, tv);
-    int n = 3;
-    for (int plane = 0; plane < 6 && n > 0; plane++) {
-        const int k = plane >> 1;
-        const bool hi = plane & 1;
-        const float lim = (float)(hi ? pc->hi[k] : pc->lo[k]) * (1.0f / (float)PIECE_ONE);
-        if (hi ? pc->hi[k] == PIECE_ONE : pc->lo[k] == 0)
-            continue;
-        float d[POLY_MAX];
-        for (int i = 0; i < n; i++)
-            d[i] = hi ? a[i].b[k] - lim : lim - a[i].b[k];
-        n = clip_poly(a, n, d, b);
-        for (int i = 0; i < n; i++)
-            a[i] = b[i];
+    float lo[3], hi[3];
+    for (int k = 0; k < 3; k++) { /* full ranges cut nothing: the triangle's own sides stay exact */
+        lo[k] = pc->lo[k] == 0 ? -FLT_MAX : (float)pc->lo[k] * (1.0f / (float)PIECE_ONE);
+        hi[k] = pc->hi[k] == PIECE_ONE ? FLT_MAX : (float)pc->hi[k] * (1.0f / (float)PIECE_ONE);
     }
+    const int n = clip_to_box(a, 3, lo, hi, true);
     for (int i = 0; i < n; i++)
         for (int k = 0; k < 3; k++)
             bo[i][k] = a[i].b[k];

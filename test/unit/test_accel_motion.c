@@ -19,8 +19,8 @@ static uint8_t mem[MEM_BYTES] HZ_ALIGNED(64);
 static hz_arena_t arena;
 
 #if defined(HZ_SIMD_NEON)
-#define N_RAYS 6000u
-#define N_BRUTE 400u
+#define N_RAYS 4000u
+#define N_BRUTE 250u
 #else
 #define N_RAYS 12000u
 #define N_BRUTE 800u
@@ -68,23 +68,11 @@ static void make_rays(const hz_accel_geom_t *g, uint32_t seed)
         r->ray.time = time;
         if (i % 2u == 0u) {
             uint32_t t = (uint32_t)(unit01(&st) * (float)g->tri_count) % g->tri_count;
-            uint32_t seg;
-            float f;
-            hz_accel_time_segment(time, g->time_keys, &seg, &f);
             float b1 = unit01(&st), b2 = unit01(&st);
             if (b1 + b2 > 1.0f)
                 b1 = 1.0f - b1, b2 = 1.0f - b2;
-            const float w[3] = { 1.0f - b1 - b2, b1, b2 };
-            float d[3];
-            const float o[3] = { r->ray.org_x, r->ray.org_y, r->ray.org_z };
-            for (int c = 0; c < 3; c++) {
-                float p = 0.0f;
-                for (int v = 0; v < 3; v++) {
-                    size_t vi = 4u * (size_t)g->tri[3u * t + (uint32_t)v] + (size_t)c;
-                    p += w[v] * hz_accel_lerp_key(g->pos_keys[seg][vi], g->pos_keys[seg + 1u][vi], f);
-                }
-                d[c] = p - o[c];
-            }
+            const hz_vec3_t p = hz_meshgen_tri_point(g, t, time, b1, b2);
+            const float d[3] = { p.x - r->ray.org_x, p.y - r->ray.org_y, p.z - r->ray.org_z };
             if (isfinite(d[0]) && isfinite(d[1]) && isfinite(d[2]) && (d[0] != 0.0f || d[1] != 0.0f || d[2] != 0.0f))
                 r->ray.dir_x = d[0], r->ray.dir_y = d[1], r->ray.dir_z = d[2];
         }
