@@ -348,8 +348,14 @@ int hz_cmd_accel(int argc, char **argv)
         if (hz_accel_plan_check_geom(&g, &cfg, &p->accel, &err) != HZ_OK)
             return hz_cli_report(&err);
         hz_accel_t *ma = NULL;
+        int64_t t0 = hz_clock_ns();
         if (hz_accel_build_native(&ma, &g, &cfg, &p->accel, &err) != HZ_OK)
             return hz_cli_report(&err);
+        const hz_accel_info_t *in = &ma->info;
+        fprintf(stderr, "motion-check: built in %.3f s: %u references (%u spatial splits), %u nodes, SAH %.2f, "
+                        "%.1f bytes per triangle\n", (double)(hz_clock_ns() - t0) * 1e-9, in->ref_count,
+                in->spatial_splits, in->node_count, (double)in->sah_cost,
+                g.tri_count ? (double)in->bytes / g.tri_count : 0.0);
         return motion_check(ma, &g, &mc);
     }
     hz_accel_bytes_t bound = hz_accel_bytes_bound(g.tri_count, &cfg);
