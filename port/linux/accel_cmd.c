@@ -101,6 +101,8 @@ static int motion_check(const hz_accel_t *a, const hz_accel_geom_t *g, const mch
     int64_t t0 = hz_clock_ns(), last = t0;
     hz_accel_ctx_t ctx;
     hz_accel_ctx_init(&ctx);
+    hz_accel_stats_t st;
+    memset(&st, 0, sizeof st);
     for (uint64_t i0 = 0; i0 < mc->n; i0 += 8) {
         hz_rayhit_t ref[8], got[8];
         hz_rayhit8_t pk;
@@ -115,7 +117,9 @@ static int motion_check(const hz_accel_t *a, const hz_accel_geom_t *g, const mch
             got[l] = ref[l];
             hz_ray_t occ = ref[l].ray;
             hz_accel_brute_intersect1(g, &ref[l]);
+            ctx.stats = &st; /* per-ray figures of the closest-hit queries */
             hz_accel_intersect1(a, &ctx, &got[l]);
+            ctx.stats = NULL;
             hz_accel_occluded1(a, &ctx, &occ);
             const bool rh = ref[l].hit.prim_id != HZ_ACCEL_INVALID_ID, gh = got[l].hit.prim_id != HZ_ACCEL_INVALID_ID;
             const bool oh = occ.tfar == -__builtin_inff();
@@ -152,6 +156,10 @@ static int motion_check(const hz_accel_t *a, const hz_accel_geom_t *g, const mch
     }
     fprintf(stderr, "motion-check: %llu of the rays hit (brute force), %.1f s\n", (unsigned long long)hits,
             (double)(hz_clock_ns() - t0) * 1e-9);
+    if (HZ_FEATURE_STATS && st.rays)
+        fprintf(stderr, "motion-check: per ray %.1f nodes traversed (max %u), %.1f triangles intersected (max %u)\n",
+                (double)st.nodes / (double)st.rays, st.ray_nodes_max, (double)st.tris / (double)st.rays,
+                st.ray_tris_max);
     printf("motion-check: %llu rays, %llu misses, %llu mismatches\n", (unsigned long long)mc->n,
            (unsigned long long)misses, (unsigned long long)mismatches);
     return misses || mismatches ? 1 : 0;
