@@ -376,6 +376,49 @@ static void test_bad_motion(void **state)
     assert_string_equal(hz_accel_blur_name(HZ_ACCEL_BLUR_MSBVH), "msbvh");
 }
 
+/* Empty geometry with keys builds and misses; a triangle with a non-finite coordinate at one key never hits
+ * (at any time, also where its other keys are finite), as brute force says, in every BVH. */
+static void test_motion_edge_geometry(void **state)
+{
+    (void)state;
+    hz_arena_mark_t m0 = hz_arena_mark(&arena);
+    static float k0[16] HZ_ALIGNED(16) = { -1, -1, 0, 0, 1, -1, 0, 0, 0, 1, 0, 0, 5, 5, 5, 0 };
+    static float k1[16] HZ_ALIGNED(16) = { -1, -1, 1, 0, 1, -1, 1, 0, 0, 1, 1, 0, 5, 5, 5, 0 };
+    k1[13] = NAN; /* vertex 3 at key 1 */
+    static const uint32_t tri[6] = { 0, 1, 2, 0, 1, 3 };
+    for (int b = 0; b < HZ_ACCEL_BLUR_COUNT; b++) {
+        hz_accel_config_t cfg;
+        hz_accel_config_default(&cfg);
+        cfg.blur = (hz_accel_blur_t)b;
+        hz_accel_geom_t g;
+        hz_accel_geom_init(&g);
+        g.time_keys = 2, g.pos_keys[0] = g.pos_keys[1] = k0, g.pos = k0; /* no vertices, no triangles */
+        hz_accel_t *a;
+        hz_error_t err;
+        assert_int_equal(hz_accel_build_native(&a, &g, &cfg, &arena, &err), HZ_OK);
+        hz_rayhit_t rh;
+        const float o[3] = { 0.2f, -0.3f, 5.0f }, d[3] = { 0.0f, 0.0f, -1.0f };
+        fx_set_ray(&rh, o, d, 0.0f, INFINITY, 1);
+        rh.ray.time = 0.5f;
+        hz_accel_intersect1(a, NULL, &rh);
+        assert_int_equal(rh.hit.geom_id, HZ_ACCEL_INVALID_ID);
+        g.pos = k0, g.vertex_count = 4, g.tri = tri, g.tri_count = 2, g.pos_keys[1] = k1;
+        assert_int_equal(hz_accel_build_native(&a, &g, &cfg, &arena, &err), HZ_OK);
+        for (int i = 0; i <= 8; i++) {
+            hz_rayhit_t r1, r2;
+            fx_set_ray(&r1, o, d, 0.0f, INFINITY, 1);
+            r1.ray.time = (float)i / 8.0f;
+            r2 = r1;
+            hz_accel_intersect1(a, NULL, &r1);
+            hz_accel_brute_intersect1(&g, &r2);
+            assert_true(fx_same(&r1, &r2));
+            assert_int_equal(r1.hit.prim_id, 0); /* triangle 1 (through the NaN vertex) never */
+            assert_float_equal(r1.ray.tfar, 5.0f - (float)i / 8.0f, 1e-6f);
+        }
+    }
+    hz_arena_reset(&arena, m0);
+}
+
 /* hz_accel_time_segment: exact segments and weights, clamping, NaN. */
 static void test_time_segment(void **state)
 {
@@ -404,6 +447,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_time_segment),     cmocka_unit_test(test_analytic),
         cmocka_unit_test(test_static_ignores_time), cmocka_unit_test(test_bad_motion),
+        cmocka_unit_test(test_motion_edge_geometry),
         cmocka_unit_test(test_msbvh_splits),     cmocka_unit_test(test_refit_rebuild),
         cmocka_unit_test(test_motion_cases),
     };
