@@ -112,11 +112,11 @@ SCENE_TESTS := scene scene_corrupt posekeys
 SCENE_PORT_TESTS :=
 
 # accel (src/accel): BVH build and traversal; the Embree backend lives in port/embree
-ACCEL_SRCS := src/accel/accel.c src/accel/bvh_build.c src/accel/trav_scalar.c src/accel/meshgen.c
+ACCEL_SRCS := src/accel/accel.c src/accel/bvh_build.c src/accel/msbvh.c src/accel/trav_scalar.c src/accel/meshgen.c
 ACCEL_SRCS_avx2 := src/accel/trav_avx2.c
 ACCEL_SRCS_neon := src/accel/trav_neon.c
-ACCEL_TESTS := accel_build accel_trav
-ACCEL_PORT_TESTS := threads accel_water accel_scenes
+ACCEL_TESTS := accel_build accel_trav accel_motion
+ACCEL_PORT_TESTS := threads accel_water accel_scenes accel_motion_cli
 # with embree in BOARD_ACCEL: the backend's port sources and its cross-check tests
 PORT_SRCS_embree := port/embree/embree_accel.c
 ACCEL_PORT_TESTS_embree := accel_embree
@@ -280,7 +280,9 @@ $(O)/test/unit/test_%: test/unit/test_%.c $(LIB)
 $(PORT_TEST_BINS): $(O)/test/unit/test_%: test/unit/test_%.c $(PORT_LIB) $(LIB)
 	@mkdir -p $(dir $@)
 	$(call msg,CCLD,$@)$(CC) $(TEST_CFLAGS) $(PORT_DEFS) -Iport/linux $(DEPFLAGS) $(LDFLAGS_ALL) -o $@ $< \
-		$(PORT_LIB) $(LIB) $(TEST_LIBS) $(PORT_LIBS) -ldl
+		$(filter %.o,$^) $(PORT_LIB) $(LIB) $(TEST_LIBS) $(PORT_LIBS) -ldl
+# `hzrt accel` through its entry point (the command lives in hzrt, not in the port library)
+$(O)/test/unit/test_accel_motion_cli: $(O)/port/linux/accel_cmd.o
 
 $(ERRTIME_LIB): $(ERRTIME_OBJS)
 	$(call msg,AR,$@)rm -f $@ && $(AR) rcs $@ $^

@@ -314,10 +314,19 @@ typedef struct hz_accel_bytes {
 
 hz_accel_bytes_t hz_accel_bytes_bound(uint32_t tri_count, const hz_accel_config_t *cfg);
 
+/* The same bounds for a geometry view, motion included (time_keys >= 2: the key copies of the triangles, the
+ * node boxes per key, the MSBVH's pieces, and the build's scratch; static views give hz_accel_bytes_bound). A
+ * refit that decides to rebuild needs `peak` bytes free above the accel (it builds the new tree before it
+ * drops the old one); without them it only refits. */
+hz_accel_bytes_t hz_accel_bytes_bound_geom(const hz_accel_geom_t *g, const hz_accel_config_t *cfg);
+
 /* HZ_OK if a native build of tri_count triangles surely fits in `available` bytes, else HZ_E_NO_MEMORY with
- * "accel: <n> triangles need up to <peak> bytes to build, arena '<name>' has <available>". */
+ * "accel: <n> triangles need up to <peak> bytes to build, arena '<name>' has <available>". The _geom form
+ * checks a view with motion. */
 hz_status_t hz_accel_plan_check(uint32_t tri_count, const hz_accel_config_t *cfg, const hz_arena_t *arena,
                                 hz_error_t *err);
+hz_status_t hz_accel_plan_check_geom(const hz_accel_geom_t *g, const hz_accel_config_t *cfg, const hz_arena_t *arena,
+                                     hz_error_t *err);
 
 /* What a build produced (filled by the backend; times are measured by the caller, src/ has no clock). */
 typedef struct hz_accel_info {
@@ -421,6 +430,12 @@ HZ_INLINE void hz_accel_occluded8(const int32_t *valid, const hz_accel_t *a, hz_
 {
     a->ops->occluded8(valid, a, ctx, r);
 }
+
+/* The reference for tests and `hzrt accel --motion-check`: the closest hit of rh over every triangle of g at
+ * rh->ray.time (hz_accel_time_segment + hz_accel_lerp_key per vertex), with the native kernels' watertight test
+ * and tie rule but no hierarchy: O(triangles) per ray. Triangles with a non-finite coordinate (at any key)
+ * never hit. Writes rh as hz_accel_intersect1 does; any-hit flags are ignored (every triangle opaque). */
+void hz_accel_brute_intersect1(const hz_accel_geom_t *g, hz_rayhit_t *rh);
 
 /* Whether the native build of this board has a SIMD form of `kernel` (SCALAR and AUTO always). */
 bool hz_accel_kernel_available(hz_accel_kernel_t kernel);
