@@ -203,7 +203,8 @@ HZRT_SRCS := port/linux/main.c port/linux/accel_cmd.c
 HZRT_OBJS := $(HZRT_SRCS:%.c=$(O)/%.o)
 HZRT := $(O)/bin/hzrt
 
-BENCH_SRCS := tools/bench/bench.c tools/bench/bench_accel.c tools/bench/bench_tdense.c tools/bench/bench_blur.c
+BENCH_SRCS := tools/bench/bench.c tools/bench/bench_accel.c tools/bench/bench_tdense.c tools/bench/bench_blur.c \
+              tools/bench/bench_util.c
 BENCH_OBJS := $(BENCH_SRCS:%.c=$(O)/%.o)
 BENCH := $(O)/bin/hzbench
 

@@ -13,6 +13,7 @@
 
 #include "bench_blur.h"
 #include "bench_tdense.h"
+#include "bench_util.h"
 #include "cli.h"
 #include "clock.h"
 #include "fileio.h"
@@ -294,10 +295,7 @@ int main(int argc, char **argv)
     if (tdense) {
         hz_error_t err;
         td.progress = hz_cli_stderr_is_tty();
-        if (td.threads == 0) {
-            long c = sysconf(_SC_NPROCESSORS_ONLN);
-            td.threads = c < 1 ? 1 : c > HZ_MAX_THREADS ? HZ_MAX_THREADS : (int)c;
-        }
+        td.threads = hz_bench_threads(td.threads);
         printf("\ntdense vs full-frame 1 spp + TAA: %ux%u, %d threads, %u frames after %u from t = %.1f s at %u Hz, "
                "median of %d rounds\n", td.width, td.height, td.threads, td.frames, td.warm, td.start, td.hz,
                td.rounds);
@@ -326,10 +324,7 @@ int main(int argc, char **argv)
     if (blur) {
         hz_error_t err;
         bo.progress = hz_cli_stderr_is_tty();
-        if (bo.threads == 0) {
-            long c = sysconf(_SC_NPROCESSORS_ONLN);
-            bo.threads = c < 1 ? 1 : c > HZ_MAX_THREADS ? HZ_MAX_THREADS : (int)c;
-        }
+        bo.threads = hz_bench_threads(bo.threads);
         printf("\nmotion blur in tdense, shutter %.2f: one key interval per 4-subframe cycle vs per subframe (%s); "
                "%ux%u, %d threads, %u frames after %u from t = %.1f s at %u Hz, median of %d rounds\n",
                (double)bo.shutter, hz_accel_blur_name(bo.blur), bo.width, bo.height, bo.threads, bo.frames, bo.warm,

@@ -2,29 +2,15 @@
 #include "bench_blur.h"
 
 #include <stdio.h>
-#include <stdlib.h>
 #include <string.h>
-#include <unistd.h>
 
+#include "bench_util.h"
 #include "blur_setup.h"
 #include "clock.h"
 #include "hz/render.h"
 #include "pools.h"
 #include "render_run.h"
 #include "scenefile.h"
-#include "threads.h"
-
-static int cmp_double(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return x < y ? -1 : x > y;
-}
-
-static double median(double *v, int n)
-{
-    qsort(v, (size_t)n, sizeof *v, cmp_double);
-    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
 
 /* Mean displayed-frame time and its begin and trace parts over `frames` frames after `warm`, history reset
  * first (every round the same sequence); refits per timed frame. */
@@ -101,12 +87,12 @@ static hz_status_t bench_scene(const char *label, const char *path, const hz_ben
         snprintf(row->scene, sizeof row->scene, "%s", label);
         row->time_keys = ro[0].keys ? ro[0].keys->count : 0;
         for (int m = 0; m < 2; m++) {
-            row->ms[m] = median(fig[m][0], o->rounds);
-            row->begin_ms[m] = median(fig[m][1], o->rounds);
-            row->trace_ms[m] = median(fig[m][2], o->rounds);
-            row->refits[m] = median(fig[m][3], o->rounds);
+            row->ms[m] = hz_bench_median(fig[m][0], o->rounds);
+            row->begin_ms[m] = hz_bench_median(fig[m][1], o->rounds);
+            row->trace_ms[m] = hz_bench_median(fig[m][2], o->rounds);
+            row->refits[m] = hz_bench_median(fig[m][3], o->rounds);
         }
-        row->ratio = median(ratio, o->rounds);
+        row->ratio = hz_bench_median(ratio, o->rounds);
     }
     hz_accel_release(accel);
     hz_arena_reset(&pools->frame, mf);
@@ -117,31 +103,18 @@ static hz_status_t bench_scene(const char *label, const char *path, const hz_ben
     return s;
 }
 
+static hz_status_t scene_fn(const char *label, const char *path, void *ctx, int row, hz_error_t *err)
+{
+    const hz_bench_blur_opts_t *o = ((void **)ctx)[0];
+    hz_bench_blur_row_t *rows = ((void **)ctx)[1];
+    return bench_scene(label, path, o, &rows[row], err);
+}
+
 int hz_bench_blur(const hz_bench_blur_opts_t *o, hz_bench_blur_row_t *rows, int max_rows, hz_error_t *err)
 {
     static const char *const scenes[][2] = { { "builtin", NULL }, { "sponza-rotated", "sponza-rotated.hzb" },
                                              { "furball-sway", "furball-sway.hzb" } };
-    int n = 0;
-    if (hz_threads_start(o->threads, err) != HZ_OK)
-        return -1;
-    for (size_t i = 0; i < sizeof scenes / sizeof scenes[0] && n < max_rows; i++) {
-        char path[4096];
-        if (scenes[i][1]) {
-            snprintf(path, sizeof path, "%s/%s", o->scenes_dir ? o->scenes_dir : ".", scenes[i][1]);
-            if (access(path, R_OK) != 0) {
-                printf("blur     %-14s skipped: %s missing (make scenes)\n", scenes[i][0], path);
-                continue;
-            }
-        } else {
-            snprintf(path, sizeof path, "builtin");
-        }
-        if (bench_scene(scenes[i][0], path, o, &rows[n], err) != HZ_OK) {
-            hz_error_prefix(err, scenes[i][0]);
-            hz_threads_stop();
-            return -1;
-        }
-        n++;
-    }
-    hz_threads_stop();
-    return n;
+    void *ctx[2] = { (void *)o, rows };
+    return hz_bench_scenes("blur", scenes, sizeof scenes / sizeof scenes[0], o->scenes_dir, o->threads, scene_fn, ctx,
+                           max_rows, err);
 }
