@@ -203,7 +203,8 @@ HZRT_SRCS := port/linux/main.c port/linux/accel_cmd.c
 HZRT_OBJS := $(HZRT_SRCS:%.c=$(O)/%.o)
 HZRT := $(O)/bin/hzrt
 
-BENCH_SRCS := tools/bench/bench.c tools/bench/bench_accel.c tools/bench/bench_tdense.c tools/bench/bench_motion.c
+BENCH_SRCS := tools/bench/bench.c tools/bench/bench_accel.c tools/bench/bench_tdense.c tools/bench/bench_blur.c \
+              tools/bench/bench_util.c tools/bench/bench_motion.c
 BENCH_OBJS := $(BENCH_SRCS:%.c=$(O)/%.o)
 BENCH := $(O)/bin/hzbench
 
@@ -301,7 +302,9 @@ tests: $(ERRTIME)
 # a cold run). The TAA variants stay out of the chart (within ~2% of the default TAA's FLIP everywhere, they pile
 # up on its point): `hzerrtime --methods taa,taa-clip,taa-catmull-rom,taa-clip-cr` compares them.
 REPORT_O := $(BUILD_ROOT)/report
-REPORT_SCENES := CornellBox-Mirror,sponza,lost-empire,builtin,builtin@240,sponza@240,conference@240
+# Motion blur (seed 002): msbvh, interp and Embree at equal time budget on 30 Hz sequences with the shutter open.
+REPORT_BLUR_SCENES := builtin-blur,sponza-rotated-blur
+REPORT_SCENES := CornellBox-Mirror,sponza,lost-empire,builtin,builtin@240,sponza@240,conference@240,$(REPORT_BLUR_SCENES)
 REPORT_SKIP := taa-clip,taa-catmull-rom,taa-clip-cr
 report: $(ERRTIME) scenes ## error against run time of every method on the standard scenes: build/report/ (CSV, MD, SVG)
 	$(Q)t0=$$(date +%s); nice $(ERRTIME) --scene $(REPORT_SCENES) --skip $(REPORT_SKIP) --scenes $(SCENES_O) \

@@ -162,6 +162,11 @@ static int cmd_info(int argc, char **argv)
         print_mib("per thread", rp.thread_bytes);
         print_mib("thread arena size", pools->thread[0].cap);
         fits = fits && rp.frame_bytes <= pools->frame.cap && rp.thread_bytes <= pools->thread[0].cap;
+        /* Motion blur is an option (--shutter), not the default: its pose keys are shown, not counted. */
+        ro.shutter = 1.0f, ro.mode = HZ_MODE_TDENSE;
+        if (hz_render_plan(&scene, &ro, &rp, &err) == HZ_OK && rp.time_keys)
+            printf("  pose keys, --shutter 1 %12zu bytes (%.1f MiB, %u time keys, scene arena; not counted)\n",
+                   rp.keys_bytes, rp.keys_bytes / 1048576.0, rp.time_keys);
     }
     printf("verdict      %s\n", fits ? "fits this board" : "does NOT fit this board (see the sizes above)");
     return 0;

@@ -416,6 +416,12 @@ int hz_cmd_render(int argc, char **argv)
     }
     if (!a.quiet)
         hz_summary_print(&sm, stdout);
+    if (!a.quiet && a.opts.shutter > 0.0f)
+        printf("motion blur  shutter %.3g of each 1/%u s frame, %s, %u time keys, %u refits, %u rebuilds\n",
+               (double)a.opts.shutter, a.hz,
+               accel->info.time_keys < 2 ? "static accel (nothing moves: camera blur only)"
+               : a.backend == HZ_ACCEL_EMBREE ? "Embree motion blur" : hz_accel_blur_name(accel->info.blur),
+               accel->info.time_keys, accel->info.refits, accel->info.rebuilds);
     rc = 0;
 done:
     if (y4m_open)

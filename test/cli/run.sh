@@ -43,6 +43,11 @@ expect render-bad-tdense-gamma 2 "--tdense-gamma: '0' is not a number" "$hzrt" r
 expect render-msaa4-needs-4spp 2 "4x MSAA positions need full mode with 4 spp" "$hzrt" render builtin --mode full --msaa4
 expect render-help-tdense 0 "--no-reflected-mv" "$hzrt" render --help
 expect render-unknown-option 2 "unknown option '--fast'" "$hzrt" render builtin --fast
+expect render-bad-shutter 2 "--shutter: '1.5' is not a fraction" "$hzrt" render builtin --shutter 1.5
+expect render-blur-bvh-needs-shutter 2 "does nothing without motion blur" "$hzrt" render builtin --blur-bvh interp
+expect render-bad-blur-bvh 2 "'kd' is not msbvh, interp or swept" "$hzrt" render builtin --shutter 1 --blur-bvh kd
+expect render-blur-bvh-not-embree 2 "Embree builds its own motion blur" "$hzrt" render builtin --shutter 1 --backend embree --blur-bvh msbvh
+expect render-blur-ok 0 "frame time" "$hzrt" render builtin --size 32x18 --frames 5 --threads 2 --shutter 0.5 --blur-bvh interp --out "$tmp/blur"
 expect render-missing-file 73 "$tmp/nope.hzb: No such file" "$hzrt" render "$tmp/nope.hzb" --out "$tmp/o1"
 head -c 300 /dev/urandom >"$tmp/random.hzb"
 expect info-garbage 68 "random.hzb: not a .hzb file" "$hzrt" info "$tmp/random.hzb"

@@ -19,14 +19,7 @@ static hz_posekeys_t keys;
 static hz_status_t bopen(rfix_t *f, const char *scene, hz_accel_backend_t backend, hz_accel_blur_t blur,
                          hz_render_opts_t *o, hz_error_t *err)
 {
-    memset(f, 0, sizeof *f);
-    f->pools = hz_pools_get();
-    f->scene_mark = hz_arena_mark(&f->pools->scene);
-    f->accel_mark = hz_arena_mark(&f->pools->accel);
-    f->frame_mark = hz_arena_mark(&f->pools->frame);
-    for (int t = 0; t < HZ_MAX_THREADS; t++)
-        f->thread_marks[t] = hz_arena_mark(&f->pools->thread[t]);
-    hz_status_t s = hz_scenefile_open(scene, f->pools, &f->scene, err);
+    hz_status_t s = rfix_open_scene(f, scene, err);
     return s == HZ_OK ? hz_blur_build(&f->scene, o, backend, blur, f->pools, &keys, &f->accel, err) : s;
 }
 

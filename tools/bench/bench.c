@@ -11,7 +11,9 @@
 #include <string.h>
 #include <unistd.h>
 
+#include "bench_blur.h"
 #include "bench_tdense.h"
+#include "bench_util.h"
 #include "cli.h"
 #include "clock.h"
 #include "fileio.h"
@@ -166,7 +168,8 @@ int main(int argc, char **argv)
 {
     hz_cli_prog = "hzbench";
     const char *csv_path = NULL;
-    bool core = true, accel = true, tdense = true, only_given = false, motion = true;
+    bool core = true, accel = true, tdense = true, only_given = false, blur = true, motion = true;
+    hz_bench_blur_opts_t bo = { NULL, 320, 180, 0, 5, 4, 12, 1.0f, 1.0f, 240, HZ_ACCEL_BLUR_MSBVH, false };
     hz_bench_accel_opts_t ao;
     memset(&ao, 0, sizeof ao);
     hz_bench_motion_opts_t mo;
@@ -181,7 +184,7 @@ int main(int argc, char **argv)
         } else if (!strcmp(argv[i], "--only") && i + 1 < argc) {
             const char *what = argv[++i];
             if (!only_given)
-                core = accel = tdense = motion = false;
+                core = accel = tdense = blur = motion = false;
             only_given = true;
             if (!strcmp(what, "kernels"))
                 core = true;
@@ -191,8 +194,10 @@ int main(int argc, char **argv)
                 accel = true;
             else if (!strcmp(what, "tdense"))
                 tdense = true;
+            else if (!strcmp(what, "blur"))
+                blur = true;
             else {
-                hz_cli_error("--only: '%s' is not kernels, accel, tdense or motion", what);
+                hz_cli_error("--only: '%s' is not kernels, accel, tdense, blur or motion", what);
                 return HZ_EXIT_USAGE;
             }
         } else if (!strcmp(argv[i], "--motion-csv") && i + 1 < argc) {
@@ -217,7 +222,7 @@ int main(int argc, char **argv)
             }
             mo.interval = (float)t;
         } else if (!strcmp(argv[i], "--scenes") && i + 1 < argc) {
-            ao.scenes_dir = td.scenes_dir = mo.scenes_dir = argv[++i];
+            ao.scenes_dir = td.scenes_dir = bo.scenes_dir = mo.scenes_dir = argv[++i];
         } else if (!strcmp(argv[i], "--scene") && i + 1 < argc) {
             if (ao.scene_count == HZ_BENCH_MAX_SCENES) {
                 hz_cli_error("--scene: at most %d scenes", HZ_BENCH_MAX_SCENES);
@@ -227,11 +232,11 @@ int main(int argc, char **argv)
         } else if (!strcmp(argv[i], "--rounds") && i + 1 < argc) {
             if (!hz_cli_parse_long("--rounds", argv[++i], 1, HZ_BENCH_TDENSE_MAX_ROUNDS < 15 ? HZ_BENCH_TDENSE_MAX_ROUNDS : 15, &v))
                 return HZ_EXIT_USAGE;
-            ao.rounds = td.rounds = mo.rounds = (int)v;
+            ao.rounds = td.rounds = bo.rounds = mo.rounds = (int)v;
         } else if (!strcmp(argv[i], "--threads") && i + 1 < argc) {
             if (!hz_cli_parse_long("--threads", argv[++i], 0, HZ_MAX_THREADS, &v))
                 return HZ_EXIT_USAGE;
-            ao.threads = td.threads = (int)v;
+            ao.threads = td.threads = bo.threads = (int)v;
         } else if (!strcmp(argv[i], "--size") && i + 1 < argc) {
             int w, h;
             if (!hz_cli_parse_size("--size", argv[++i], 8, 8192, &w, &h))
@@ -246,18 +251,35 @@ int main(int argc, char **argv)
             if (!hz_cli_parse_long("--frames", argv[++i], 1, 1000, &v))
                 return HZ_EXIT_USAGE;
             td.frames = (uint32_t)v;
+        } else if (!strcmp(argv[i], "--shutter") && i + 1 < argc) {
+            char *end;
+            const char *a = argv[++i];
+            double d = strtod(a, &end);
+            if (end == a || *end || !(d > 0.0 && d <= 1.0)) {
+                hz_cli_error("--shutter: '%s' is not a fraction in (0, 1]", a);
+                return HZ_EXIT_USAGE;
+            }
+            bo.shutter = (float)d;
+        } else if (!strcmp(argv[i], "--blur-size") && i + 1 < argc) {
+            int w, h;
+            if (!hz_cli_parse_size("--blur-size", argv[++i], 16, 8192, &w, &h))
+                return HZ_EXIT_USAGE;
+            bo.width = (uint32_t)w, bo.height = (uint32_t)h;
         } else if (!strcmp(argv[i], "--embree-config") && i + 1 < argc) {
             ao.embree_config = argv[++i];
         } else if (!strcmp(argv[i], "-h") || !strcmp(argv[i], "--help")) {
-            printf("usage: hzbench [--only kernels|accel|tdense|motion]... [--csv FILE] [--accel-csv FILE]\n"
+            printf("usage: hzbench [--only kernels|accel|tdense|blur|motion]... [--csv FILE] [--accel-csv FILE]\n"
                    "               [--motion-csv FILE] [--scenes DIR] [--scene NAME]... [--rounds N] [--threads N]\n"
-                   "               [--size WxH] [--tdense-size WxH] [--frames N] [--embree-config S]\n"
-                   "               [--motion-scene NAME]... [--motion-size WxH] [--motion-interval S]\n"
+                   "               [--size WxH] [--tdense-size WxH] [--frames N] [--embree-config S] [--shutter S]\n"
+                   "               [--blur-size WxH] [--motion-scene NAME]... [--motion-size WxH] [--motion-interval S]\n"
                    "\nMeasures hzrt's kernels side by side and prints medians of interleaved rounds, in three parts\n"
                    "(all by default, or those --only names):\n"
                    "  kernels  core kernels (%d rounds)\n"
                    "  tdense   displayed-frame time of tdense against full-frame 1 spp + TAA on the built-in scene\n"
                    "           and sponza/conference (--tdense-size, default 640x360; --frames timed frames, 12)\n"
+                   "  blur     motion blur in tdense (--shutter, default 1; --blur-size, default 320x180): one MSBVH\n"
+                   "           key interval and refit per 4-subframe cycle against posing and refitting every\n"
+                   "           subframe, on the built-in scene, sponza-rotated and furball-sway\n"
                    "  accel    native BVH against Embree on the baked scenes (--scene picks them, default\n"
                    "           conference sponza lost-empire furball dragon-res4 dragon-res3 dragon-res2 dragon;\n"
                    "           --size the primary rays, default 1024x1024; --embree-config Embree's device config)\n"
@@ -303,10 +325,7 @@ int main(int argc, char **argv)
     if (tdense) {
         hz_error_t err;
         td.progress = hz_cli_stderr_is_tty();
-        if (td.threads == 0) {
-            long c = sysconf(_SC_NPROCESSORS_ONLN);
-            td.threads = c < 1 ? 1 : c > HZ_MAX_THREADS ? HZ_MAX_THREADS : (int)c;
-        }
+        td.threads = hz_bench_threads(td.threads);
         printf("\ntdense vs full-frame 1 spp + TAA: %ux%u, %d threads, %u frames after %u from t = %.1f s at %u Hz, "
                "median of %d rounds\n", td.width, td.height, td.threads, td.frames, td.warm, td.start, td.hz,
                td.rounds);
@@ -330,6 +349,28 @@ int main(int argc, char **argv)
         }
         printf("(seed 001 reports about 3.5x at 1920x1080 on an RTX 2080 Ti)\n");
     }
+    hz_bench_blur_row_t brows[4];
+    int nb = 0;
+    if (blur) {
+        hz_error_t err;
+        bo.progress = hz_cli_stderr_is_tty();
+        bo.threads = hz_bench_threads(bo.threads);
+        printf("\nmotion blur in tdense, shutter %.2f: one key interval per 4-subframe cycle vs per subframe (%s); "
+               "%ux%u, %d threads, %u frames after %u from t = %.1f s at %u Hz, median of %d rounds\n",
+               (double)bo.shutter, hz_accel_blur_name(bo.blur), bo.width, bo.height, bo.threads, bo.frames, bo.warm,
+               (double)bo.start, bo.hz, bo.rounds);
+        nb = hz_bench_blur(&bo, brows, 4, &err);
+        if (nb < 0)
+            return hz_cli_report(&err);
+        printf("%-14s %3s %10s %10s %7s %11s %11s %11s %11s %9s\n", "scene", "K", "cycle ms", "subfr ms",
+               "ratio", "cycle begin", "subfr begin", "cycle trace", "subfr trace", "refits/f");
+        for (int k = 0; k < nb; k++) {
+            const hz_bench_blur_row_t *b = &brows[k];
+            printf("%-14s %3u %10.2f %10.2f %6.2fx %11.2f %11.2f %11.2f %11.2f %4.2f/%4.2f\n", b->scene, b->time_keys,
+                   b->ms[0], b->ms[1], b->ratio, b->begin_ms[0], b->begin_ms[1], b->trace_ms[0], b->trace_ms[1],
+                   b->refits[0], b->refits[1]);
+        }
+    }
     if (csv_path) {
         hz_out_t out;
         hz_error_t err;
@@ -351,6 +392,19 @@ int main(int argc, char **argv)
                 for (int q = 0; q < 3; q++)
                     fprintf(out.f, "tdense,%s %ux%u %s %s,%.3f,,,ms/frame\n", trows[k].scene, td.width, td.height,
                             m ? "full 1 spp + taa" : "tdense", part[q], trows[k].part_ms[m][q]);
+        }
+        for (int k = 0; k < nb; k++) {
+            static const char *const how[2] = { "keys per cycle", "keys per subframe" };
+            for (int m = 0; m < 2; m++) {
+                fprintf(out.f, "blur,%s %ux%u tdense %s,%.3f,,,ms/frame\n", brows[k].scene, bo.width, bo.height,
+                        how[m], brows[k].ms[m]);
+                fprintf(out.f, "blur,%s %ux%u tdense %s begin_frame,%.3f,,,ms/frame\n", brows[k].scene, bo.width,
+                        bo.height, how[m], brows[k].begin_ms[m]);
+                fprintf(out.f, "blur,%s %ux%u tdense %s trace pass,%.3f,,,ms/frame\n", brows[k].scene, bo.width,
+                        bo.height, how[m], brows[k].trace_ms[m]);
+            }
+            fprintf(out.f, "blur,%s %ux%u per subframe/per cycle,%.3f,,,ratio\n", brows[k].scene, bo.width,
+                    bo.height, brows[k].ratio);
         }
         if (hz_out_commit(&out, &err) != HZ_OK)
             return hz_cli_report(&err);

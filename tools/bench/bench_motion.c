@@ -18,6 +18,7 @@
 #include "hz/scene.h"
 #include "pools.h"
 #include "scenefile.h"
+#include "bench_util.h"
 #if defined(HZ_HAVE_EMBREE)
 #include "embree_accel.h"
 #endif
@@ -45,18 +46,11 @@ static double thread_cpu_s(void)
     return (double)t.tv_sec + (double)t.tv_nsec * 1e-9;
 }
 
-static int cmp_double(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return x < y ? -1 : x > y;
-}
-
 static double median(const double *v, int n)
 {
     double s[MAX_ROUNDS];
     memcpy(s, v, (size_t)n * sizeof(double));
-    qsort(s, (size_t)n, sizeof(double), cmp_double);
-    return n % 2 ? s[n / 2] : 0.5 * (s[n / 2 - 1] + s[n / 2]);
+    return hz_bench_median(s, n);
 }
 
 /* ---- the frame: primary packets (4x2-pixel tiles), each pixel at its own time ---- */

@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include "accel_backend.h"
+#include "bench_util.h"
 #include "clock.h"
 #include "hz/render.h"
 #include "pools.h"
@@ -40,18 +41,6 @@ static hz_status_t run_frames(hz_renderer_t *r, uint32_t warm, uint32_t frames, 
     for (int k = 0; k < 3; k++)
         part[k] = (double)parts[k] / frames * 1e-6;
     return HZ_OK;
-}
-
-static int cmp_double(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return x < y ? -1 : x > y;
-}
-
-static double median(double *v, int n)
-{
-    qsort(v, (size_t)n, sizeof *v, cmp_double);
-    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
 /* One scene: both renderers from the same pools, rounds alternating which mode goes first. */
@@ -102,10 +91,10 @@ static hz_status_t bench_scene(const char *label, const char *path, const hz_ben
         snprintf(row->scene, sizeof row->scene, "%s", label);
         for (int m = 0; m < 2; m++)
             for (int q = 0; q < 3; q++)
-                row->part_ms[m][q] = median(parts[m][q], o->rounds);
-        row->tdense_ms = median(ms_mode[0], o->rounds);
-        row->taa_ms = median(ms_mode[1], o->rounds);
-        row->ratio = median(ratio, o->rounds);
+                row->part_ms[m][q] = hz_bench_median(parts[m][q], o->rounds);
+        row->tdense_ms = hz_bench_median(ms_mode[0], o->rounds);
+        row->taa_ms = hz_bench_median(ms_mode[1], o->rounds);
+        row->ratio = hz_bench_median(ratio, o->rounds);
         row->ratio_min = ratio[0], row->ratio_max = ratio[o->rounds - 1]; /* sorted by median() */
         hz_render_stats_t last;
         hz_render_frame_stats(r[0], &last, NULL);
@@ -122,30 +111,18 @@ static hz_status_t bench_scene(const char *label, const char *path, const hz_ben
     return s;
 }
 
+static hz_status_t scene_fn(const char *label, const char *path, void *ctx, int row, hz_error_t *err)
+{
+    const hz_bench_tdense_opts_t *o = ((void **)ctx)[0];
+    hz_bench_tdense_row_t *rows = ((void **)ctx)[1];
+    return bench_scene(label, path, o, &rows[row], err);
+}
+
 int hz_bench_tdense(const hz_bench_tdense_opts_t *o, hz_bench_tdense_row_t *rows, int max_rows, hz_error_t *err)
 {
     static const char *const scenes[][2] = { { "builtin", NULL }, { "sponza", "sponza.hzb" },
                                              { "conference", "conference.hzb" } };
-    int n = 0;
-    if (hz_threads_start(o->threads, err) != HZ_OK)
-        return -1;
-    for (size_t i = 0; i < sizeof scenes / sizeof scenes[0] && n < max_rows; i++) {
-        char path[4096];
-        if (scenes[i][1]) {
-            snprintf(path, sizeof path, "%s/%s", o->scenes_dir ? o->scenes_dir : ".", scenes[i][1]);
-            if (access(path, R_OK) != 0) {
-                printf("tdense   %-12s skipped: %s missing (make scenes)\n", scenes[i][0], path);
-                continue;
-            }
-        } else {
-            snprintf(path, sizeof path, "builtin");
-        }
-        if (bench_scene(scenes[i][0], path, o, &rows[n], err) != HZ_OK) {
-            hz_threads_stop();
-            return -1;
-        }
-        n++;
-    }
-    hz_threads_stop();
-    return n;
+    void *ctx[2] = { (void *)o, rows };
+    return hz_bench_scenes("tdense", scenes, sizeof scenes / sizeof scenes[0], o->scenes_dir, o->threads, scene_fn,
+                           ctx, max_rows, err);
 }

@@ -6,34 +6,11 @@ of the sequence, or a difference between ISAs, shows up as a mismatch.
     python3 tools/gen/timeseq_golden.py
 """
 
-M32 = 0xFFFFFFFF
+import os
+import sys
 
-
-def fmix32(x):
-    x ^= x >> 16
-    x = (x * 0x85EBCA6B) & M32
-    x ^= x >> 13
-    x = (x * 0xC2B2AE35) & M32
-    x ^= x >> 16
-    return x
-
-
-def pcg_hash(v):
-    state = (v * 747796405 + 2891336453) & M32
-    word = (((state >> ((state >> 28) + 4)) ^ state) * 277803737) & M32
-    return (word >> 22) ^ word
-
-
-def combine(seed, v):
-    return fmix32(seed ^ ((pcg_hash(v) + 0x9E3779B9 + ((seed << 6) & M32) + (seed >> 2)) & M32))
-
-
-def hash2(a, b):
-    return combine(pcg_hash(a), b)
-
-
-def hash3(a, b, c):
-    return combine(combine(pcg_hash(a), b), c)
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from tileorder_golden import M32, hash2, hash3  # noqa: E402 (hz/hash.h's model, shared)
 
 
 def stratum(pixel, index, count, seed):
