@@ -61,7 +61,9 @@
  *  ignores ray.time and runs exactly today's code. The hit's t, u, v, ng are those of the triangle at the ray's
  *  time, bit-identical across kernels and ISAs as for static geometry. cfg.blur picks the motion BVH (MSBVH,
  *  interpolated or swept); the native backend's nodes then carry a box per key and every lane interpolates
- *  them at its own time (one packet may mix times). The topology is built on the positions at time 0.5.
+ *  them at its own time (one packet may mix times: packets of moving geometry go lane by lane through the
+ *  single-ray SIMD kernel). The topology is built on the positions at time 0.5. A triangle with a non-finite
+ *  coordinate at any key never hits.
  *  Conservative in floating point, why: box and vertex interpolation use the same two products and one sum
  *  (no FMA), and round-to-nearest is monotone, so if box_s <= p_s and box_s+1 <= p_s+1 per coordinate then
  *  lerp(box) <= lerp(p) exactly in floats; interpolated and swept boxes are bounds of whole triangles at the
