@@ -106,16 +106,17 @@ CORE_TESTS := arena status fmt fixed hash vmath crc32 image pack
 CORE_PORT_TESTS := zero_alloc imageio config
 
 # scene (src/scene): baked format, validating loader, built-in scene
-SCENE_SRCS := src/scene/hzb.c src/scene/write.c src/scene/load.c src/scene/animate.c src/scene/builtin.c
-SCENE_TESTS := scene scene_corrupt
+SCENE_SRCS := src/scene/hzb.c src/scene/write.c src/scene/load.c src/scene/animate.c src/scene/builtin.c \
+              src/scene/posekeys.c
+SCENE_TESTS := scene scene_corrupt posekeys
 SCENE_PORT_TESTS :=
 
 # accel (src/accel): BVH build and traversal; the Embree backend lives in port/embree
-ACCEL_SRCS := src/accel/accel.c src/accel/bvh_build.c src/accel/trav_scalar.c src/accel/meshgen.c
+ACCEL_SRCS := src/accel/accel.c src/accel/bvh_build.c src/accel/msbvh.c src/accel/trav_scalar.c src/accel/meshgen.c
 ACCEL_SRCS_avx2 := src/accel/trav_avx2.c
 ACCEL_SRCS_neon := src/accel/trav_neon.c
-ACCEL_TESTS := accel_build accel_trav
-ACCEL_PORT_TESTS := threads accel_water accel_scenes
+ACCEL_TESTS := accel_build accel_trav accel_motion
+ACCEL_PORT_TESTS := threads accel_water accel_scenes accel_motion_cli
 # with embree in BOARD_ACCEL: the backend's port sources and its cross-check tests
 PORT_SRCS_embree := port/embree/embree_accel.c
 ACCEL_PORT_TESTS_embree := accel_embree
@@ -125,14 +126,16 @@ RENDER_SRCS := src/render/camera.c src/render/texture.c src/render/trace.c src/r
                src/render/deflight.c src/render/terminator.c src/render/transp.c \
                src/recon/tdense.c src/recon/adaptive.c
 RENDER_TESTS := tdense
-RENDER_PORT_TESTS := render render_tdense render_speckles render_adaptive render_transp leaveout scene_clock
+RENDER_PORT_TESTS := render render_tdense render_speckles render_adaptive render_transp leaveout scene_clock \
+                     render_blur
 RENDER_PORT_TESTS_embree := render_backends
 # Heavy render tests for boards whose tests run natively (not under emulation).
 RENDER_PORT_TESTS_native := render_taa
 
 # pattern (src/pattern): integer-only tile orderings, dither maps, masks
-PATTERN_SRCS := src/pattern/tileorder.c src/pattern/adaptive_mask.c src/pattern/dither.c src/pattern/dither_tables.c
-PATTERN_TESTS := tileorder adaptive_mask dither
+PATTERN_SRCS := src/pattern/tileorder.c src/pattern/adaptive_mask.c src/pattern/dither.c src/pattern/dither_tables.c \
+                src/pattern/timeseq.c
+PATTERN_TESTS := tileorder adaptive_mask dither timeseq
 
 # timing (src/timing): v-sync model, pacing, latency statistics; integer-only throughout
 TIMING_SRCS := src/timing/wide.c src/timing/tstat.c src/timing/vsync.c src/timing/vsynth.c src/timing/pace.c \
@@ -193,7 +196,7 @@ KNOWN_PORTS := linux timing fbdev v4l2 gpio drm
 PORT_SRCS_linux := port/linux/pools.c port/linux/cli.c port/linux/clock.c port/linux/fileio.c port/linux/scenefile.c \
                    port/linux/threads.c port/linux/render_cmd.c port/linux/summary.c port/linux/accel_backend.c \
                    port/linux/render_run.c port/linux/adaptive_cli.c port/linux/transp_opt.c
-PORT_SRCS_linux += port/linux/phase.c port/linux/modeplan.c
+PORT_SRCS_linux += port/linux/phase.c port/linux/modeplan.c port/linux/blur_setup.c
 $(foreach p,$(BOARD_PORTS),$(if $(filter $(p),$(KNOWN_PORTS)),,$(error $(BOARD_DIR)/board.mk: unknown port '$(p)' (known: $(KNOWN_PORTS)))))
 # Image files (port/linux/imageio.c): PNG needs libpng for the target. It is on when the target's compiler links
 # -lpng (host builds: libpng-dev is in host-sim's BOARD_DEPS); elsewhere the PNG calls report "not built in".
@@ -218,7 +221,8 @@ HZRT_OBJS := $(HZRT_SRCS:%.c=$(O)/%.o)
 HZRT := $(O)/bin/hzrt
 
 BENCH_SRCS := tools/bench/bench.c tools/bench/bench_accel.c tools/bench/bench_tdense.c tools/bench/bench_transp.c \
-              tools/bench/bench_scene.c tools/bench/bench_adaptive.c
+              tools/bench/bench_scene.c tools/bench/bench_adaptive.c tools/bench/bench_blur.c tools/bench/bench_util.c \
+              tools/bench/bench_motion.c
 BENCH_OBJS := $(BENCH_SRCS:%.c=$(O)/%.o)
 BENCH := $(O)/bin/hzbench
 
@@ -295,7 +299,9 @@ $(O)/test/unit/test_%: test/unit/test_%.c $(LIB)
 $(PORT_TEST_BINS): $(O)/test/unit/test_%: test/unit/test_%.c $(PORT_LIB) $(LIB)
 	@mkdir -p $(dir $@)
 	$(call msg,CCLD,$@)$(CC) $(TEST_CFLAGS) $(PORT_DEFS) -Iport/linux $(DEPFLAGS) $(LDFLAGS_ALL) -o $@ $< \
-		$(PORT_LIB) $(LIB) $(TEST_LIBS) $(PORT_LIBS) -ldl
+		$(filter %.o,$^) $(PORT_LIB) $(LIB) $(TEST_LIBS) $(PORT_LIBS) -ldl
+# `hzrt accel` through its entry point (the command lives in hzrt, not in the port library)
+$(O)/test/unit/test_accel_motion_cli: $(O)/port/linux/accel_cmd.o
 
 # The sigrok-cli demo traces (test/traces/README.md) as C arrays, for tests that also run in the VM.
 TRACE_HDR := $(O)/test/gen/hz_traces.h
@@ -326,6 +332,9 @@ REPORT_SCENES := CornellBox-Mirror,sponza,lost-empire,conference,builtin,builtin
 # Transparency (seed 004): every --transparency method with TAA, the still-view stability figure, and std under
 # tdense at 240 Hz against + TAA at 60 Hz.
 REPORT_SCENES := $(REPORT_SCENES),sponza-smoke,AlphaBlendModeTest,builtin-transp,sponza-smoke@240,AlphaBlendModeTest@240
+# Motion blur (seed 002): msbvh, interp and Embree at equal time budget on 30 Hz sequences with the shutter open.
+REPORT_BLUR_SCENES := builtin-blur,sponza-rotated-blur
+REPORT_SCENES := $(REPORT_SCENES),$(REPORT_BLUR_SCENES)
 REPORT_SKIP := taa-clip,taa-catmull-rom,taa-clip-cr
 report: deps $(ERRTIME) scenes ## error against run time of every method on the standard scenes: build/report/ (CSV, MD, SVG)
 	$(Q)t0=$$(date +%s); nice $(ERRTIME) --scene $(REPORT_SCENES) --skip $(REPORT_SKIP) --scenes $(SCENES_O) \
@@ -462,9 +471,11 @@ SCENE_MODEL_CesiumMan := $(SCENES_SRC)/gltf/CesiumMan/glTF/CesiumMan.gltf
 SCENE_MODEL_AlphaBlendModeTest := $(SCENES_SRC)/gltf/AlphaBlendModeTest/glTF/AlphaBlendModeTest.gltf
 SCENE_MODEL_CesiumMan-small := $(SCENE_MODEL_CesiumMan)
 SCENE_MODEL_AlphaBlendModeTest-small := $(SCENE_MODEL_AlphaBlendModeTest)
+SCENE_MODEL_furball-sway := $(SCENE_MODEL_furball)
+SCENE_MODEL_sponza-rotated := $(SCENE_MODEL_sponza)
 SCENES := CornellBox-Original CornellBox-Mirror conference sponza lost-empire pine dragon-res4 dragon-res3 \
           dragon-res2 dragon furball BoxAnimated CesiumMan AlphaBlendModeTest CesiumMan-small \
-          AlphaBlendModeTest-small sponza-smoke dragon-res4-still
+          AlphaBlendModeTest-small sponza-smoke dragon-res4-still furball-sway sponza-rotated
 SCENE_FILES := $(SCENES:%=$(SCENES_O)/%.hzb)
 # What each scene reads besides its model: the unpacked zip (its stamp) or every file beside the model.
 scene_inputs = $(if $(filter $(SCENES_UNPACK)/%,$(1)),$(dir $(1)).unpacked,$(1) $(wildcard $(dir $(1))*))
@@ -563,9 +574,8 @@ latency-sim: $(HZRT) ## simulated 240 Hz display-locked run: miss rate, latency 
 bench: deps $(BENCH) scenes ## measure (side by side, in one run) and print a table; writes $(O)/bench/*.csv
 	$(Q)mkdir -p $(O)/bench
 	$(Q)$(BENCH) --csv $(O)/bench/bench.csv --accel-csv $(O)/bench/accel.csv --scenes $(SCENES_O) \
-		--transparency-csv $(O)/bench/transparency.csv --adaptive-csv $(O)/bench/adaptive.csv $(BENCH_ARGS)
-# The transparency group reads the smoke scene (seed 004): baked first.
-bench: deps $(SCENES_O)/sponza-smoke.hzb
+		--transparency-csv $(O)/bench/transparency.csv --adaptive-csv $(O)/bench/adaptive.csv \
+		--motion-csv $(O)/bench/motion.csv $(BENCH_ARGS)
 
 size: $(HZRT) ## section sizes of hzrt, its largest symbols and the board's static arenas
 	$(Q)$(SIZE) $(HZRT) $(LIB)
@@ -677,7 +687,7 @@ VM_TEST_ENV := HZ_SCENES_DIR HZ_SCENES_UNPACK
 # and take seconds; the heavy ones (BVH builds over 10^5..10^6 triangles, whole-image corruption sweeps,
 # rendered sequences) already run on the same AArch64 binaries under qemu-aarch64 in the board stage.
 VM_HEAVY_TESTS := scene_corrupt accel_build accel_trav accel_water zero_alloc render render_transp errtime et_render \
-                  render_speckles pack leaveout scene_clock
+                  render_speckles pack leaveout scene_clock accel_motion accel_motion_cli render_blur
 VM_TEST_BINS := $(filter-out $(VM_HEAVY_TESTS:%=$(O)/test/unit/test_%),$(TEST_BINS))
 
 vmtest: deps ## boot Debian's arm64 kernel in qemu-system-aarch64: AArch64 unit tests, V4L2 loop-back, GPIO capture

@@ -40,7 +40,8 @@ HZ_UNUSED_FN static const char *rfix_scene_path(const char *file, char *buf, siz
     return buf;
 }
 
-static hz_status_t rfix_open(rfix_t *f, const char *scene, hz_accel_backend_t backend, hz_error_t *err)
+/* Marks the pools (rfix_close goes back to them) and opens the scene. */
+static hz_status_t rfix_open_scene(rfix_t *f, const char *scene, hz_error_t *err)
 {
     memset(f, 0, sizeof *f);
     f->pools = hz_pools_get();
@@ -51,7 +52,12 @@ static hz_status_t rfix_open(rfix_t *f, const char *scene, hz_accel_backend_t ba
     f->frame_mark = hz_arena_mark(&f->pools->frame);
     for (int t = 0; t < HZ_MAX_THREADS; t++)
         f->thread_marks[t] = hz_arena_mark(&f->pools->thread[t]);
-    hz_status_t s = hz_scenefile_open(scene, f->pools, &f->scene, err);
+    return hz_scenefile_open(scene, f->pools, &f->scene, err);
+}
+
+static hz_status_t rfix_open(rfix_t *f, const char *scene, hz_accel_backend_t backend, hz_error_t *err)
+{
+    hz_status_t s = rfix_open_scene(f, scene, err);
     if (s != HZ_OK)
         return s;
     hz_accel_geom_t g;

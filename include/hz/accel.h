@@ -39,8 +39,9 @@
  *  - occluded: true when any hit with t in [tnear, tfar] exists; then ray.tfar = -inf, else untouched.
  *  - Hits are watertight (Woop, Benthin, Wald 2013): a ray through a shared edge or vertex of a closed,
  *    consistently indexed mesh hits at least one of the triangles there. Both faces hit (no culling).
- *  - time, mask, flags and id are carried for the renderer; id reaches the any-hit callback, time is for the
- *    motion-blur extension (the native static BVH ignores it), mask is ignored (as in Debian's Embree).
+ *  - time, mask, flags and id are carried for the renderer; id reaches the any-hit callback, time selects the
+ *    geometry's pose when it has time keys (see Motion; static geometry ignores it), mask is ignored (as in
+ *    Debian's Embree).
  *
  *  Any-hit. Triangles with HZ_ACCEL_TRI_ANYHIT in geom.tri_flags do not hit by themselves: every candidate
  *  hit on one (t in range, closer than the best so far for intersect) is offered to ctx->anyhit, which returns
@@ -57,9 +58,34 @@
  *  Threads. Queries only read the accel: any number of threads may query at once, each with its own ctx.
  *  Build, refit and release need exclusive access.
  *
- *  Layout note for the motion-blur extension (seed 002, MSBVH): the native node's child words reserve a
- *  "motion node" type whose node carries a second box set at t1; traversal would interpolate boxes at
- *  ray.time, and the builder's split search runs on boxes at the shutter midpoint (see src/accel/bvh.h).
+ *  Motion (seed 002, Grünschloß et al. 2011; interface in the motion-blur note shared with the renderer).
+ *  Geometry with time_keys K >= 2 has key k at normalised time k / (K - 1); between keys vertices move
+ *  linearly: the triangle a ray meets is, per vertex, hz_accel_lerp_key(key s, key s + 1, f) with (s, f) =
+ *  hz_accel_time_segment(ray.time, K). ray.time outside [0, 1] is clamped, NaN means 0; static geometry (K <= 1)
+ *  ignores ray.time and runs exactly today's code. The hit's t, u, v, ng are those of the triangle at the ray's
+ *  time, bit-identical across kernels and ISAs as for static geometry. cfg.blur picks the motion BVH (MSBVH,
+ *  interpolated or swept); the native backend's nodes then carry a box per key and every lane interpolates
+ *  them at its own time (one packet may mix times: packets of moving geometry go lane by lane through the
+ *  single-ray SIMD kernel). The topology is built on the positions at time 0.5. A triangle with a non-finite
+ *  coordinate at any key never hits.
+ *  Conservative in floating point, why: box and vertex interpolation use the same two products and one sum
+ *  (no FMA), and round-to-nearest is monotone, so if box_s <= p_s and box_s+1 <= p_s+1 per coordinate then
+ *  lerp(box) <= lerp(p) exactly in floats; interpolated and swept boxes are bounds of whole triangles at the
+ *  keys, so they contain every lerped vertex (and so the triangle) exactly, with no margin. The MSBVH's leaf
+ *  boxes bound polygons computed in floats (clipping at the midpoint, barycentric transfer to the keys), so each
+ *  side of a leaf's key-k box is widened by delta_k = 2^-14 * e_k + 2^-18 * m_k (e_k: largest extent, m_k:
+ *  largest absolute coordinate of the triangle at key k) and then cut to the triangle's own key-k box widened
+ *  by delta_k; the midpoint clip runs against the leaf box widened likewise. The rounding it covers: the clip's
+ *  barycentric vertices are off the exact polygon by a few ulps of 1 (at most ~2^-21 of the triangle at key
+ *  k after transfer, 2^-14 is a 128x allowance), the transfer v0 + b1 e1 + b2 e2 and the lerp of a box against
+ *  the lerp of a point each add at most ~8 ulps of the coordinates' magnitude (2^-20; 2^-18 is 4x that), and
+ *  the clip planes widened by delta_mid make pieces of adjacent leaves overlap rather than leave slivers. A
+ *  triangle seen through several leaves is covered by the union of their pieces. hzrt accel --motion-check
+ *  proves it against brute force (0 misses, 0 mismatches) on scenes and extreme procedural motions.
+ *
+ *  Layout note: the native node's child words reserve a "motion node" type (src/accel/bvh.h); the motion BVH
+ *  instead stores a whole tree's key boxes beside the nodes (see src/accel/msbvh.h), so static nodes are
+ *  unchanged.
  */
 #ifndef HZ_ACCEL_H
 #define HZ_ACCEL_H
@@ -92,13 +118,58 @@
 #endif
 
 /* ---- geometry view ---- */
+/* Motion blur: most time keys per vertex (K = 2^m + 1 for m = 0..3, or 2). */
+#define HZ_ACCEL_MAX_TIME_KEYS 9
+
 typedef struct hz_accel_geom {
     const float *pos;         /* 4 floats per vertex (x, y, z, unused), 16-byte aligned */
     uint32_t vertex_count;
     const uint32_t *tri;      /* 3 vertex indices per triangle */
     uint32_t tri_count;
     const uint8_t *tri_flags; /* optional, NULL = all opaque; bit 0: HZ_ACCEL_TRI_ANYHIT */
+    /* Motion blur (see "Motion" in the contract). 0 or 1: static, only `pos` is read. Else K = 2, 3, 5 or 9
+     * keys: pos_keys[k] (k < K) holds the positions at normalised time k / (K - 1), same layout as `pos`; `pos`
+     * must still be a valid array (the midpoint key by convention) for code that reads only it. */
+    uint32_t time_keys;
+    const float *pos_keys[HZ_ACCEL_MAX_TIME_KEYS];
 } hz_accel_geom_t;
+
+/* Zeroes a view (static, no keys): initialise with this before filling fields, so new fields get defaults. */
+HZ_INLINE void hz_accel_geom_init(hz_accel_geom_t *g)
+{
+    g->pos = 0;
+    g->vertex_count = 0;
+    g->tri = 0;
+    g->tri_count = 0;
+    g->tri_flags = 0;
+    g->time_keys = 0;
+    for (int k = 0; k < HZ_ACCEL_MAX_TIME_KEYS; k++)
+        g->pos_keys[k] = 0;
+}
+
+/* The motion segment of ray time `time` for K >= 2 keys: the key pair (*seg, *seg + 1) and the weight f of key
+ * *seg + 1 in [0, 1]. time is clamped to [0, 1], NaN counts as 0. Exact: time * (K - 1) has no rounding for K - 1
+ * a power of two. Every kernel, the brute-force check and the renderer's shading use exactly this and
+ * hz_accel_lerp_key, so the triangle a ray hits is the triangle the renderer shades. */
+HZ_INLINE void hz_accel_time_segment(float time, uint32_t keys, uint32_t *seg, float *f)
+{
+    float t = time >= 0.0f ? (time <= 1.0f ? time : 1.0f) : 0.0f; /* NaN fails both: 0 */
+    float x = t * (float)(keys - 1u);
+    uint32_t s = (uint32_t)x;
+    if (s > keys - 2u)
+        s = keys - 2u;
+    *seg = s;
+    *f = x - (float)s;
+}
+
+/* Position at weight f between keys a (f = 0) and b (f = 1): (1 - f) * a + f * b with separate products (no
+ * fused multiply-add: src/ is built with -ffp-contract=off), so keys are reproduced exactly at f = 0 and 1 and
+ * the rounding is monotone in a and b (the bounding argument of the contract's "Motion" relies on it). */
+HZ_INLINE float hz_accel_lerp_key(float a, float b, float f)
+{
+    const float g = 1.0f - f;
+    return g * a + f * b;
+}
 
 /* ---- rays and hits: Embree 3 layouts ---- */
 typedef struct HZ_ALIGNED(16) hz_ray {
@@ -167,6 +238,10 @@ typedef struct hz_accel_stats {
     uint64_t nodes;        /* wide nodes visited (box tests of all children of one node count once) */
     uint64_t tris;         /* ray/triangle tests (per ray and triangle) */
     uint64_t anyhit_calls; /* calls of the any-hit callback */
+    /* Per-ray maxima over the queries that used this sink (HZ_FEATURE_STATS): the most wide nodes one ray
+     * visited and the most triangles one ray tested (a packet lane counts as one ray; the frustum packet, which
+     * visits nodes for the whole packet, charges each active lane the packet's counts). */
+    uint32_t ray_nodes_max, ray_tris_max;
 } hz_accel_stats_t;
 
 /* Native kernel choice. AUTO takes the fastest measured form for the packet's coherence (see README:
@@ -204,6 +279,24 @@ HZ_INLINE void hz_accel_ctx_init(hz_accel_ctx_t *c)
 /* ---- build ---- */
 typedef enum hz_accel_backend { HZ_ACCEL_NATIVE = 0, HZ_ACCEL_EMBREE = 1 } hz_accel_backend_t;
 
+/* Which motion-blur BVH the native backend builds for geometry with time_keys >= 2 (seed 002):
+ *  MSBVH:  SBVH topology at the midpoint time, node boxes at every key from the leaves' triangles clipped to
+ *          the leaf's midpoint box and carried to each key by barycentrics (Grünschloß et al. 2011, 3.1);
+ *  INTERP: the classic interpolated BVH: the same builder without spatial splits, boxes at every key from whole
+ *          triangles;
+ *  SWEPT:  a static BVH over swept boxes (each triangle's box is the union over all keys), no box interpolation.
+ * Static geometry ignores the choice. */
+typedef enum hz_accel_blur {
+    HZ_ACCEL_BLUR_MSBVH = 0,
+    HZ_ACCEL_BLUR_INTERP,
+    HZ_ACCEL_BLUR_SWEPT,
+    HZ_ACCEL_BLUR_COUNT
+} hz_accel_blur_t;
+
+const char *hz_accel_blur_name(hz_accel_blur_t b); /* "msbvh", "interp", "swept" */
+/* Parses "msbvh" | "interp" | "swept"; false (and *out untouched) for anything else. */
+bool hz_accel_blur_parse(const char *s, hz_accel_blur_t *out);
+
 typedef struct hz_accel_config {
     /* native */
     uint32_t leaf_max;     /* triangles per leaf, 1..HZ_BVH_WIDTH (default HZ_BVH_WIDTH) */
@@ -217,6 +310,9 @@ typedef struct hz_accel_config {
      * on the building thread with the fraction done in [0, 1], at most about 300 times, the last time with 1. */
     void (*progress)(void *user, float done);
     void *progress_user;
+    /* motion blur (native; Embree builds its own motion BVH) */
+    hz_accel_blur_t blur;     /* HZ_ACCEL_BLUR_MSBVH */
+    float rebuild_sah_growth; /* refit rebuilds when the SAH cost grew by more than this fraction (0.30) */
 } hz_accel_config_t;
 
 void hz_accel_config_default(hz_accel_config_t *cfg);
@@ -231,10 +327,19 @@ typedef struct hz_accel_bytes {
 
 hz_accel_bytes_t hz_accel_bytes_bound(uint32_t tri_count, const hz_accel_config_t *cfg);
 
+/* The same bounds for a geometry view, motion included (time_keys >= 2: the key copies of the triangles, the
+ * node boxes per key, the MSBVH's pieces, and the build's scratch; static views give hz_accel_bytes_bound). A
+ * refit that decides to rebuild needs `peak` bytes free above the accel (it builds the new tree before it
+ * drops the old one); without them it only refits. */
+hz_accel_bytes_t hz_accel_bytes_bound_geom(const hz_accel_geom_t *g, const hz_accel_config_t *cfg);
+
 /* HZ_OK if a native build of tri_count triangles surely fits in `available` bytes, else HZ_E_NO_MEMORY with
- * "accel: <n> triangles need up to <peak> bytes to build, arena '<name>' has <available>". */
+ * "accel: <n> triangles need up to <peak> bytes to build, arena '<name>' has <available>". The _geom form
+ * checks a view with motion. */
 hz_status_t hz_accel_plan_check(uint32_t tri_count, const hz_accel_config_t *cfg, const hz_arena_t *arena,
                                 hz_error_t *err);
+hz_status_t hz_accel_plan_check_geom(const hz_accel_geom_t *g, const hz_accel_config_t *cfg, const hz_arena_t *arena,
+                                     hz_error_t *err);
 
 /* What a build produced (filled by the backend; times are measured by the caller, src/ has no clock). */
 typedef struct hz_accel_info {
@@ -247,9 +352,16 @@ typedef struct hz_accel_info {
     uint32_t leaf_count;
     uint32_t block_count;    /* triangle blocks of HZ_BVH_WIDTH slots */
     uint32_t depth;          /* deepest wide-node level */
-    float sah_cost;          /* SAH cost of the binary tree, relative to the root box (native) */
+    float sah_cost;          /* SAH cost of the binary tree, relative to the root box (native); with motion: of
+                                the wide tree with its boxes averaged over the keys, as of the last build/refit */
     size_t bytes;            /* bytes the built structure holds */
     size_t bytes_peak;       /* most bytes held during the build */
+    /* motion blur */
+    uint32_t time_keys;      /* K of the geometry (0 = static) */
+    hz_accel_blur_t blur;    /* the motion BVH built (meaningful when time_keys >= 2) */
+    float sah_built;         /* sah_cost right after the last (re)build: refit compares against it */
+    uint32_t refits;         /* refits since the first build (each re-reads the keys) */
+    uint32_t rebuilds;       /* refits that rebuilt because sah_cost > sah_built * (1 + rebuild_sah_growth) */
 } hz_accel_info_t;
 
 typedef struct hz_accel hz_accel_t;
@@ -281,16 +393,21 @@ struct hz_scene;
 hz_status_t hz_accel_geom_from_scene(hz_accel_geom_t *g, const struct hz_scene *scene, hz_arena_t *arena,
                                      hz_error_t *err);
 
-/* Validates geom (HZ_E_INVALID_ARG / HZ_E_RANGE naming the field or triangle); shared by both backends. */
+/* Validates geom (HZ_E_INVALID_ARG / HZ_E_RANGE naming the field or triangle); shared by both backends. With
+ * motion: time_keys in {0, 1, 2, 3, 5, 9}, every key array present and 16-byte aligned. */
 hz_status_t hz_accel_geom_check(const hz_accel_geom_t *g, hz_error_t *err);
 
 /* Native build ("commit"): all memory from `arena` (cfg may be NULL for defaults). *out points into the
- * arena; nothing needs releasing, the arena owner resets it. */
+ * arena; nothing needs releasing, the arena owner resets it. With motion (time_keys >= 2) the accel keeps
+ * `arena` for rebuilds on refit: allocate nothing else from it after the build, or refit only refits. */
 hz_status_t hz_accel_build_native(hz_accel_t **out, const hz_accel_geom_t *g, const hz_accel_config_t *cfg,
                                   hz_arena_t *arena, hz_error_t *err);
 
-/* Recomputes boxes (and the native backend's triangle copies) after the renderer moved vertices in geom.pos;
- * the topology stays. Cheaper than a build, but rays slow down as the motion grows; rebuild then. */
+/* Recomputes boxes (and the native backend's triangle copies) after the renderer moved vertices in geom.pos
+ * (or, with motion, rewrote geom.pos_keys for a new shutter interval: the MSBVH re-clips its leaves); the
+ * topology stays. Cheaper than a build, but rays slow down as the motion grows: with motion the native backend
+ * rebuilds (in the same arena, the same bytes bound) when the SAH cost grew past cfg.rebuild_sah_growth, and
+ * counts refits and rebuilds in info. */
 HZ_INLINE hz_status_t hz_accel_refit(hz_accel_t *a, hz_error_t *err) { return a->ops->refit(a, err); }
 /* Gives back what the backend holds outside arenas (Embree's device and scene). */
 HZ_INLINE void hz_accel_release(hz_accel_t *a)
@@ -326,6 +443,12 @@ HZ_INLINE void hz_accel_occluded8(const int32_t *valid, const hz_accel_t *a, hz_
 {
     a->ops->occluded8(valid, a, ctx, r);
 }
+
+/* The reference for tests and `hzrt accel --motion-check`: the closest hit of rh over every triangle of g at
+ * rh->ray.time (hz_accel_time_segment + hz_accel_lerp_key per vertex), with the native kernels' watertight test
+ * and tie rule but no hierarchy: O(triangles) per ray. Triangles with a non-finite coordinate (at any key)
+ * never hit. Writes rh as hz_accel_intersect1 does; any-hit flags are ignored (every triangle opaque). */
+void hz_accel_brute_intersect1(const hz_accel_geom_t *g, hz_rayhit_t *rh);
 
 /* Whether the native build of this board has a SIMD form of `kernel` (SCALAR and AUTO always). */
 bool hz_accel_kernel_available(hz_accel_kernel_t kernel);

@@ -27,7 +27,11 @@
  *    VERTEX_KEY_NORMALS), linearly interpolated between frames, wrapping around the key range.
  *  - HZ_MOTION_SPIN: rotation by params[6] radians/s about the axis params[3..5] through params[0..2].
  *  - HZ_MOTION_OSCILLATE: translation by params[0..2] * sin(2 pi params[3] t + params[4]).
- *  For the last three, POSITIONS are world positions at t = 0 (spin/oscillate) or in object space (rigid).
+ *  - HZ_MOTION_SWAY: smooth per-vertex deformation (strands swaying, seed 002's moving hairball): a vertex at
+ *    rest position p moves to p + a h^2 sin(w t + pi (u.x + u.y + u.z)), with centre c = params[0..2],
+ *    a = params[3..5], w = params[6] (rad/s), r0 = params[7] >= 0, d = p - c, h = max(0, |d| - r0) (height above
+ *    the root sphere) and u = d / |d| (0 at c). Normals keep their rest values (thin strands bend slowly).
+ *  For rigid, spin and oscillate, POSITIONS are world positions at t = 0 (spin/oscillate) or in object space (rigid).
  *
  * Texture coordinates (UVS): (0, 0) is the top-left corner of a texture's level 0, u grows to the right and v
  * downwards (glTF's convention; tools/bake flips OBJ's); texel (x, y) of a w x h level covers u in [x/w, (x+1)/w)
@@ -152,6 +156,7 @@ enum hz_motion_kind {
     HZ_MOTION_VERTEX = 2,       /* key_first: first float4 in VERTEX_KEYS; key_count frames of vertex_count */
     HZ_MOTION_SPIN = 3,
     HZ_MOTION_OSCILLATE = 4,
+    HZ_MOTION_SWAY = 5,         /* params: centre, amplitude, angular frequency, root radius (see the top) */
 };
 
 typedef struct hz_hzb_object {

@@ -24,8 +24,18 @@
  *  - Mirrors reflect up to opts.max_bounces times (0..3).
  *  - Motion vectors (G-buffer mv): for each pixel, its primary hit's position at the previous frame (object
  *    motion through the previous vertex positions, camera motion through the previous camera) minus its
- *    position now, in pixels. mv_reflect: the same for the reflected hit seen in a mirror (the motion of its
+ *    position now, in pixels. With motion blur they stay those of the frame's time. mv_reflect: the same for the reflected hit seen in a mirror (the motion of its
  *    virtual image behind the mirror plane), or the primary value where there is no mirror (seed 001 Fig. 5).
+ *  - Motion blur (seed 002): with opts.shutter S > 0 the shutter is open for S / frame_hz seconds centred on
+ *    the frame's time. Each sample draws its time from hz/timeseq.h (full mode: sample k of N, stratified over
+ *    the N samples of the pixel; TAA: over 16 frames; tdense: over 4 cycles), the camera is evaluated at it
+ *    (views at HZ_RENDER_CAMERA_KEYS times across the shutter, interpolated linearly) and every ray carries
+ *    it (ray.time, normalised to the accel's key interval); shadow, mirror and continuation rays inherit it
+ *    and shading uses the geometry at the ray's time. A moving scene needs opts.keys: pose keys
+ *    (hz/posekeys.h, hz_render_plan's time_keys and keys_bytes) that the accel was built over; each
+ *    begin_frame evaluates them for the frame's shutter (tdense with opts.tdense_cycle_keys: once per
+ *    4-subframe cycle, over the cycle's whole interval, so the accel is refitted once per cycle) and refits.
+ *    shutter 0 renders exactly what it did without the option.
  */
 #ifndef HZ_RENDER_H
 #define HZ_RENDER_H
@@ -38,12 +48,14 @@
 #include "hz/arena.h"
 #include "hz/dither.h"
 #include "hz/image.h"
+#include "hz/posekeys.h"
 #include "hz/scene.h"
 #include "hz/status.h"
 #include "hz/tileorder.h"
 
 #define HZ_RENDER_MAX_LAYERS 128
 #define HZ_RENDER_TILE 8 /* tiles are 8 x 8 pixels */
+#define HZ_RENDER_CAMERA_KEYS 9 /* motion blur: camera views across the shutter */
 
 typedef enum hz_render_mode {
     HZ_MODE_FULL = 0, /* every pixel, opts.spp stratified samples */
@@ -83,6 +95,11 @@ typedef struct hz_render_opts {
     hz_transp_t transparency;
     float hybrid_x;        /* hybrid: in [0, 1]; 0 behaves as exact, 1 as std */
     bool rr_shadows;       /* stochastic fragments: Russian-roulette shadow rays instead of deep ones */
+    /* motion blur */
+    float shutter;         /* open fraction of the frame interval 1 / frame_hz, in [0, 1]; 0 = no blur */
+    uint32_t frame_hz;     /* the frame rate the shutter refers to (default HZ_DISPLAY_HZ) */
+    hz_posekeys_t *keys;   /* shutter > 0 and a moving scene: the pose keys the accel reads (else NULL) */
+    bool tdense_cycle_keys; /* tdense: one key interval and refit per 4-subframe cycle (default true) */
 } hz_render_opts_t;
 
 void hz_render_opts_default(hz_render_opts_t *o);
@@ -125,6 +142,7 @@ typedef struct hz_render_stats {
     /* adaptive: active subpixels, their extra camera rays (4 each, also in primary_rays) and the packets
      * those went out in (extra_rays / extra_packets = live lanes per packet) */
     uint64_t active_subpixels, extra_rays, extra_packets;
+    uint64_t refits;       /* accel refits in begin_frame (motion blur in tdense: one per 4-subframe cycle) */
 } hz_render_stats_t;
 
 /* Memory a renderer needs: frame_bytes from the frame arena, thread_bytes from each thread arena. frame_bytes
@@ -137,6 +155,8 @@ typedef struct hz_render_plan {
     size_t thread_bytes;
     size_t display_bytes, gbuffer_bytes, gbuffer2_bytes, mv_bytes, state_bytes;
     bool anyhit, transparency;
+    uint32_t time_keys;    /* motion blur: pose keys opts.keys needs (0: none) */
+    size_t keys_bytes;     /* what hz_posekeys_init takes for them (from the scene arena, say), 0 without */
 } hz_render_plan_t;
 
 hz_status_t hz_render_plan(const hz_scene_t *scene, const hz_render_opts_t *opts, hz_render_plan_t *plan,

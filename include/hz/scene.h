@@ -21,6 +21,11 @@
  *    hold the last key), so float only ever holds an offset inside a period.
  *  - hz_scene_camera_ns(scene, t) evaluates the camera path at t (looped, or held at the last key), or a default
  *    camera framing the bounds.
+ *  - hz_scene_pose_at_ns(scene, t, dt, pos, nrm) writes the pose at time t + dt (dt: a small offset in seconds,
+ *    e.g. inside a shutter interval) of every animated object's vertices into pos (float4 per vertex, full-size
+ *    array) and, when the scene has normals, nrm; other vertices are left as they are. It reads the scene, never
+ *    changes it, and allocates nothing: motion blur evaluates the shutter's key times with it (hz/posekeys.h).
+ *    hz_scene_pose_at takes t in float seconds.
  *  - hz_scene_animate / hz_scene_camera take float seconds: conveniences for short times (tests, tools), the
  *    same as the _ns functions at the nearest nanosecond.
  */
@@ -88,6 +93,8 @@ hz_status_t hz_scene_load(hz_scene_t *scene, const void *buf, size_t size, hz_ar
 void hz_scene_animate_ns(hz_scene_t *scene, hz_time_ns_t t);
 hz_camera_t hz_scene_camera_ns(const hz_scene_t *scene, hz_time_ns_t t);
 void hz_scene_animate(hz_scene_t *scene, float t);
+void hz_scene_pose_at_ns(const hz_scene_t *scene, hz_time_ns_t t, float dt, float *pos, float *nrm);
+void hz_scene_pose_at(const hz_scene_t *scene, float t, float dt, float *pos, float *nrm);
 hz_camera_t hz_scene_camera(const hz_scene_t *scene, float t);
 
 /* Material and object of a triangle. */

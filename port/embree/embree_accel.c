@@ -204,7 +204,10 @@ static hz_status_t e_refit(hz_accel_t *a, hz_error_t *err)
         rtcSetSceneFlags(e->scene, rtcGetSceneFlags(e->scene) | RTC_SCENE_FLAG_DYNAMIC);
         e->refitting = 1;
     }
-    rtcUpdateGeometryBuffer(e->geom, RTC_BUFFER_TYPE_VERTEX, 0);
+    /* Motion blur: every key moved (the renderer re-posed them for the new shutter interval). */
+    uint32_t slots = a->geom.time_keys >= 2u ? a->geom.time_keys : 1u;
+    for (uint32_t k = 0; k < slots && a->geom.tri_count; k++)
+        rtcUpdateGeometryBuffer(e->geom, RTC_BUFFER_TYPE_VERTEX, k);
     rtcCommitGeometry(e->geom);
     rtcCommitScene(e->scene);
     hz_status_t s = check(e, "refit", err);
@@ -281,9 +284,19 @@ hz_status_t hz_accel_build_embree(hz_accel_t **out, const hz_accel_geom_t *g, co
                                                               : RTC_BUILD_QUALITY_HIGH);
         e->geom = rtcNewGeometry(e->device, RTC_GEOMETRY_TYPE_TRIANGLE);
     }
-    if (e->geom && g->tri_count) {
+    if (e->geom && g->tri_count && g->time_keys >= 2u) {
+        /* Motion blur: one vertex buffer per time key, spread evenly over Embree's default time range [0, 1]
+         * (ray.time is normalised the same way: hz/accel.h "Motion"); Embree interpolates linearly between them. */
+        rtcSetGeometryTimeStepCount(e->geom, g->time_keys);
+        for (uint32_t k = 0; k < g->time_keys; k++)
+            rtcSetSharedGeometryBuffer(e->geom, RTC_BUFFER_TYPE_VERTEX, k, RTC_FORMAT_FLOAT3, g->pos_keys[k], 0,
+                                       4 * sizeof(float), g->vertex_count);
+        a->info.time_keys = g->time_keys;
+    } else if (e->geom && g->tri_count) {
         rtcSetSharedGeometryBuffer(e->geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, g->pos, 0,
                                    4 * sizeof(float), g->vertex_count);
+    }
+    if (e->geom && g->tri_count) {
         rtcSetSharedGeometryBuffer(e->geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, g->tri, 0,
                                    3 * sizeof(uint32_t), g->tri_count);
         rtcSetGeometryBuildQuality(e->geom, cfg->quality <= 0   ? RTC_BUILD_QUALITY_LOW

@@ -15,7 +15,11 @@
  *    checked at compile time); HZ_ACCEL_COHERENT maps to RTC_INTERSECT_CONTEXT_FLAG_COHERENT. Any-hit
  *    triangles go through Embree filter functions (installed only when some triangle is flagged), which call
  *    ctx->anyhit with the lane index of the filter's packet. ctx->kernel and ctx->stats are ignored.
- *  - Refit tells Embree the vertices changed and commits the scene again (Embree rebuilds).
+ *  - Motion blur: a view with time_keys K >= 2 becomes a triangle geometry with K time steps
+ *    (rtcSetGeometryTimeStepCount), key k's array shared as vertex buffer k, over Embree's default time range
+ *    [0, 1]; rays pass their normalised ray.time through. Embree's own motion BVH (cfg->blur is ignored).
+ *  - Refit tells Embree the vertices (every key) changed and commits the scene again (Embree rebuilds, with its
+ *    own allocations: the memory monitor counts them against the arena's free bytes).
  *  - hz_accel_release frees the scene and device (call it before resetting the arena).
  */
 #ifndef HZ_PORT_EMBREE_ACCEL_H

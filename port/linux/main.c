@@ -139,7 +139,7 @@ static int cmd_info(int argc, char **argv)
            (double)h->bounds_min[1], (double)h->bounds_min[2], (double)h->bounds_max[0],
            (double)h->bounds_max[1], (double)h->bounds_max[2]);
     for (uint32_t i = 0; i < scene.object_count; i++) {
-        static const char *const kinds[] = { "static", "rigid keys", "vertex keys", "spin", "oscillate" };
+        static const char *const kinds[] = { "static", "rigid keys", "vertex keys", "spin", "oscillate", "sway" };
         const hz_object_t *o = &scene.objects[i];
         printf("  object %-3u %-24s %8u tris %8u verts  %s\n", i, (const char *)o->name, o->triangle_count,
                o->vertex_count, kinds[o->motion]);
@@ -165,6 +165,15 @@ static int cmd_info(int argc, char **argv)
     printf("verdict      %s: default mode %s at %dx%d%s\n", fits ? "fits this board" : "does NOT fit this board",
            hz_render_mode_name(HZ_MODEPLAN_DEFAULT_MODE), HZ_DISPLAY_WIDTH, HZ_DISPLAY_HEIGHT,
            fits ? "" : " (see the sizes above)");
+    /* Motion blur is an option (--shutter), not the default: its pose keys are shown, not counted. */
+    hz_render_opts_t ro;
+    hz_render_opts_default(&ro);
+    ro.width = HZ_DISPLAY_WIDTH, ro.height = HZ_DISPLAY_HEIGHT;
+    ro.shutter = 1.0f, ro.mode = HZ_MODE_TDENSE;
+    hz_render_plan_t rp;
+    if (hz_render_plan(&scene, &ro, &rp, &err) == HZ_OK && rp.time_keys)
+        printf("  pose keys, --shutter 1 %12zu bytes (%.1f MiB, %u time keys, scene arena; not counted)\n",
+               rp.keys_bytes, rp.keys_bytes / 1048576.0, rp.time_keys);
     return 0;
 }
 

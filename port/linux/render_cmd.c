@@ -10,6 +10,7 @@
 
 #include "accel_backend.h"
 #include "adaptive_cli.h"
+#include "blur_setup.h"
 #include "cli.h"
 #include "clock.h"
 #include "fileio.h"
@@ -35,6 +36,8 @@ typedef struct args {
     int threads;
     hz_time_ns_t start;
     hz_accel_backend_t backend;
+    hz_accel_blur_t blur;
+    const char *blur_arg; /* --blur-bvh as given (NULL: default) */
     bool write_y4m, write_png, write_pfm, quiet;
     hz_adaptive_cli_t adaptive;
     const char *given[64]; /* the options on the command line, for the mode table below */
@@ -110,6 +113,10 @@ static void usage(FILE *f)
             "  --threads N       render threads (1..%d); default: the machine's cores\n"
             "  --backend B       native or embree (host builds); default native\n"
             "  --bounces N       mirror reflections per path, 0..3; default 3\n"
+            "  --shutter S       motion blur: the shutter is open for S (0..1) of each frame interval 1/hz,\n"
+            "                    centred on the frame's time; default 0 (no blur)\n"
+            "  --blur-bvh B      motion-blur BVH of the native backend: msbvh (seed 002), interp (interpolated\n"
+            "                    BVH) or swept (static BVH over swept boxes); default msbvh; needs --shutter\n"
             "  --taa-gamma G     TAA variance box width in standard deviations; default 1\n"
             "  --taa-clip        clip history towards the box centre (default: clamp per channel)\n"
             "  --taa-catmull-rom fetch history with Catmull-Rom (default: bilinear)\n"
@@ -268,6 +275,20 @@ static int parse(int argc, char **argv, args_t *a)
                 return HZ_EXIT_USAGE;
             }
             i++;
+        } else if (!strcmp(o, "--shutter")) {
+            char *end = NULL;
+            double sh = v ? strtod(v, &end) : 0.0;
+            if (!v || !*v || *end || !(sh >= 0.0 && sh <= 1.0)) {
+                hz_cli_error("render: --shutter: '%s' is not a fraction in [0, 1]", v ? v : "");
+                return HZ_EXIT_USAGE;
+            }
+            a->opts.shutter = (float)sh, i++;
+        } else if (!strcmp(o, "--blur-bvh")) {
+            if (!v || !hz_accel_blur_parse(v, &a->blur)) {
+                hz_cli_error("render: --blur-bvh: '%s' is not msbvh, interp or swept", v ? v : "");
+                return HZ_EXIT_USAGE;
+            }
+            a->blur_arg = v, i++;
         } else if (!strcmp(o, "--out")) {
             if (!v || !*v) {
                 hz_cli_error("render: --out: missing folder");
@@ -294,6 +315,16 @@ static int parse(int argc, char **argv, args_t *a)
         hz_cli_error("render: which scene? (a .hzb file or `builtin`; try hzrt render --help)");
         return HZ_EXIT_USAGE;
     }
+    if (a->blur_arg && !(a->opts.shutter > 0.0f)) {
+        hz_cli_error("render: --blur-bvh %s does nothing without motion blur (give --shutter S > 0)", a->blur_arg);
+        return HZ_EXIT_USAGE;
+    }
+    if (a->blur_arg && a->backend == HZ_ACCEL_EMBREE) {
+        hz_cli_error("render: --blur-bvh picks the native backend's BVH; Embree builds its own motion blur "
+                     "(drop --blur-bvh or use --backend native)");
+        return HZ_EXIT_USAGE;
+    }
+    a->opts.frame_hz = a->hz;
     if (hz_adaptive_cli_check(&a->adaptive, a->opts.mode) || !check_mode_opts(a))
         return HZ_EXIT_USAGE;
     hz_error_t err;
@@ -370,18 +401,16 @@ int hz_cmd_render(int argc, char **argv)
                      a.scene);
         return hz_status_exit_code(HZ_E_NO_MEMORY);
     }
-    hz_accel_geom_t geom;
-    if (hz_accel_geom_from_scene(&geom, &scene, &pools->accel, &err) != HZ_OK)
-        return hz_cli_report(&err);
     int64_t t0 = hz_clock_ns();
     hz_accel_t *accel = NULL;
+    static hz_posekeys_t keys; /* motion blur: the scene's pose across the shutter (opts.keys) */
     hz_phase_t prog;
     hz_accel_config_t acfg;
     hz_accel_config_default(&acfg);
     acfg.progress = hz_phase_accel, acfg.progress_user = &prog;
     hz_phase_begin(&prog, a.quiet, "%s build of %s (%u triangles)", hz_accel_backend_name(a.backend), a.scene,
-                      geom.tri_count);
-    hz_status_t bs = hz_accel_backend_build_cfg(a.backend, &accel, &geom, &acfg, &pools->accel, &err);
+                   scene.triangle_count);
+    hz_status_t bs = hz_blur_build_cfg(&scene, &a.opts, a.backend, a.blur, &acfg, pools, &keys, &accel, &err);
     hz_phase_end(&prog);
     if (bs != HZ_OK)
         return hz_cli_report(&err);
@@ -515,6 +544,12 @@ int hz_cmd_render(int argc, char **argv)
     }
     if (!a.quiet)
         hz_summary_print(&sm, stdout);
+    if (!a.quiet && a.opts.shutter > 0.0f)
+        printf("motion blur  shutter %.3g of each 1/%u s frame, %s, %u time keys, %u refits, %u rebuilds\n",
+               (double)a.opts.shutter, a.hz,
+               accel->info.time_keys < 2 ? "static accel (nothing moves: camera blur only)"
+               : a.backend == HZ_ACCEL_EMBREE ? "Embree motion blur" : hz_accel_blur_name(accel->info.blur),
+               accel->info.time_keys, accel->info.refits, accel->info.rebuilds);
     rc = 0;
 done:
     if (y4m_open)

@@ -17,12 +17,48 @@ void hz_accel_config_default(hz_accel_config_t *cfg)
     cfg->quality = 1;
     cfg->progress = 0;
     cfg->progress_user = 0;
+    cfg->blur = HZ_ACCEL_BLUR_MSBVH;
+    cfg->rebuild_sah_growth = 0.30f;
+}
+
+static const char *const blur_names[HZ_ACCEL_BLUR_COUNT] = { "msbvh", "interp", "swept" };
+
+const char *hz_accel_blur_name(hz_accel_blur_t b)
+{
+    return (unsigned)b < HZ_ACCEL_BLUR_COUNT ? blur_names[b] : "unknown";
+}
+
+static bool str_eq(const char *a, const char *b)
+{
+    while (*a && *a == *b)
+        a++, b++;
+    return *a == *b;
+}
+
+bool hz_accel_blur_parse(const char *s, hz_accel_blur_t *out)
+{
+    for (int i = 0; s && i < HZ_ACCEL_BLUR_COUNT; i++)
+        if (str_eq(s, blur_names[i])) {
+            *out = (hz_accel_blur_t)i;
+            return true;
+        }
+    return false;
 }
 
 hz_status_t hz_accel_plan_check(uint32_t tri_count, const hz_accel_config_t *cfg, const hz_arena_t *arena,
                                 hz_error_t *err)
 {
-    hz_accel_bytes_t b = hz_accel_bytes_bound(tri_count, cfg);
+    hz_accel_geom_t g;
+    hz_accel_geom_init(&g);
+    g.tri_count = tri_count;
+    return hz_accel_plan_check_geom(&g, cfg, arena, err);
+}
+
+hz_status_t hz_accel_plan_check_geom(const hz_accel_geom_t *g, const hz_accel_config_t *cfg, const hz_arena_t *arena,
+                                     hz_error_t *err)
+{
+    const uint32_t tri_count = g->tri_count;
+    hz_accel_bytes_t b = hz_accel_bytes_bound_geom(g, cfg);
     size_t avail = hz_arena_available(arena, 64);
     if (b.peak <= avail)
         return HZ_OK;
@@ -33,6 +69,7 @@ hz_status_t hz_accel_plan_check(uint32_t tri_count, const hz_accel_config_t *cfg
 
 hz_status_t hz_accel_geom_from_scene(hz_accel_geom_t *g, const hz_scene_t *s, hz_arena_t *arena, hz_error_t *err)
 {
+    hz_accel_geom_init(g);
     g->pos = s->pos;
     g->vertex_count = s->vertex_count;
     g->tri = s->tri;
@@ -69,6 +106,18 @@ hz_status_t hz_accel_geom_check(const hz_accel_geom_t *g, hz_error_t *err)
     if (((uintptr_t)g->pos & 15u) != 0)
         return hz_error_set(err, HZ_E_INVALID_ARG, "accel: positions at %p are not 16-byte aligned",
                             (const void *)g->pos);
+    if (g->time_keys > 1u) {
+        const uint32_t k = g->time_keys;
+        if (k != 2u && k != 3u && k != 5u && k != 9u)
+            return hz_error_set(err, HZ_E_RANGE, "accel: %u time keys, supported: 0, 1, 2, 3, 5 or 9", k);
+        for (uint32_t i = 0; i < k; i++) {
+            if (g->vertex_count && !g->pos_keys[i])
+                return hz_error_set(err, HZ_E_INVALID_ARG, "accel: time key %u of %u has no position array", i, k);
+            if (((uintptr_t)g->pos_keys[i] & 15u) != 0)
+                return hz_error_set(err, HZ_E_INVALID_ARG, "accel: time key %u positions at %p are not 16-byte aligned",
+                                    i, (const void *)g->pos_keys[i]);
+        }
+    }
     if (g->tri_count && !g->tri)
         return hz_error_set(err, HZ_E_INVALID_ARG, "accel: %u triangles but no index array", g->tri_count);
     for (uint32_t t = 0; t < g->tri_count; t++)
@@ -97,11 +146,30 @@ void hz_bvh_best_finish(const hz_bvh_t *bvh, const hz_bvh_best_t *best, float *n
     ng[2] = e1[0] * e2[1] - e1[1] * e2[0];
 }
 
+void hz_bvh_best_finish_at(const hz_bvh_t *bvh, const hz_bvh_best_t *best, const hz_bvh_ray_t *r, float *ng,
+                           float *u, float *v)
+{
+    if (!bvh->time_keys) {
+        hz_bvh_best_finish(bvh, best, ng, u, v);
+        return;
+    }
+    /* the triangle at the ray's time, in a one-block tree of its own */
+    hz_bvh_block_t tmp;
+    hz_bvh_t one = *bvh;
+    hz_bvh_best_t b1 = *best;
+    one.blocks = (hz_bvh_block_t *)hz_bvh_block_at(bvh, best->slot / HZ_BVH_W, r, &tmp);
+    b1.slot = best->slot % HZ_BVH_W;
+    hz_bvh_best_finish(&one, &b1, ng, u, v);
+}
+
 bool hz_bvh_anyhit(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, uint32_t slot, const hz_bvh_ray_t *r, float t,
                    uint32_t ray_id, int lane)
 {
     float tt, U, V, W, det, u = 0.0f, v = 0.0f;
-    if (hz_bvh_tri_test(&bvh->blocks[slot / HZ_BVH_W], slot % HZ_BVH_W, r, &tt, &U, &V, &W, &det)) {
+    hz_bvh_block_t tmp;
+    const hz_bvh_block_t *blk =
+        bvh->time_keys ? hz_bvh_block_at(bvh, slot / HZ_BVH_W, r, &tmp) : &bvh->blocks[slot / HZ_BVH_W];
+    if (hz_bvh_tri_test(blk, slot % HZ_BVH_W, r, &tt, &U, &V, &W, &det)) {
         const float rdet = 1.0f / det; /* the same values the closest hit would report */
         u = V * rdet, v = W * rdet;
     }
@@ -182,6 +250,13 @@ static bool any(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, hz_accel_kernel_t k, c
     return hz_bvh_scalar_any(bvh, ctx, r, id, lane);
 }
 
+/* The ray's motion segment (static trees: none). */
+HZ_INLINE void ray_time(hz_bvh_ray_t *r, const hz_bvh_t *bvh, float time)
+{
+    if (bvh->time_keys)
+        hz_accel_time_segment(time, bvh->time_keys, &r->seg, &r->f);
+}
+
 static void native_intersect1(const hz_accel_t *a, hz_accel_ctx_t *ctx, hz_rayhit_t *rh)
 {
     const hz_bvh_t *bvh = a->impl;
@@ -190,12 +265,13 @@ static void native_intersect1(const hz_accel_t *a, hz_accel_ctx_t *ctx, hz_rayhi
     if (!hz_bvh_ray_prep(&r, rh->ray.org_x, rh->ray.org_y, rh->ray.org_z, rh->ray.dir_x, rh->ray.dir_y,
                          rh->ray.dir_z, rh->ray.tnear, rh->ray.tfar))
         return;
+    ray_time(&r, bvh, rh->ray.time);
     hz_bvh_best_t best;
     closest(bvh, ctx, kernel_of(ctx), &r, &best, rh->ray.id, 0);
     if (best.slot == HZ_ACCEL_INVALID_ID)
         return;
     float ng[3];
-    hz_bvh_best_finish(bvh, &best, ng, &rh->hit.u, &rh->hit.v);
+    hz_bvh_best_finish_at(bvh, &best, &r, ng, &rh->hit.u, &rh->hit.v);
     rh->ray.tfar = r.tfar;
     rh->hit.ng_x = ng[0], rh->hit.ng_y = ng[1], rh->hit.ng_z = ng[2];
     rh->hit.prim_id = best.prim;
@@ -210,6 +286,7 @@ static void native_occluded1(const hz_accel_t *a, hz_accel_ctx_t *ctx, hz_ray_t 
     if (!hz_bvh_ray_prep(&r, ray->org_x, ray->org_y, ray->org_z, ray->dir_x, ray->dir_y, ray->dir_z, ray->tnear,
                          ray->tfar))
         return;
+    ray_time(&r, a->impl, ray->time);
     if (any(a->impl, ctx, kernel_of(ctx), &r, ray->id, 0))
         ray->tfar = -__builtin_inff();
 }
@@ -219,10 +296,12 @@ static void native_occluded1(const hz_accel_t *a, hz_accel_ctx_t *ctx, hz_ray_t 
 enum { R_OX, R_OY, R_OZ, R_TNEAR, R_DX, R_DY, R_DZ, R_TIME, R_TFAR, R_MASK, R_ID, R_FLAGS };
 enum { H_NGX, H_NGY, H_NGZ, H_U, H_V, H_PRIM, H_GEOM, H_INST };
 
-static bool lane_prep(hz_bvh_ray_t *r, const float *ray, int n, int i)
+static bool lane_prep(hz_bvh_ray_t *r, const hz_bvh_t *bvh, const float *ray, int n, int i)
 {
-    return hz_bvh_ray_prep(r, ray[R_OX * n + i], ray[R_OY * n + i], ray[R_OZ * n + i], ray[R_DX * n + i],
-                    ray[R_DY * n + i], ray[R_DZ * n + i], ray[R_TNEAR * n + i], ray[R_TFAR * n + i]);
+    bool ok = hz_bvh_ray_prep(r, ray[R_OX * n + i], ray[R_OY * n + i], ray[R_OZ * n + i], ray[R_DX * n + i],
+                              ray[R_DY * n + i], ray[R_DZ * n + i], ray[R_TNEAR * n + i], ray[R_TFAR * n + i]);
+    ray_time(r, bvh, ray[R_TIME * n + i]);
+    return ok;
 }
 
 static void loop_intersect(const int32_t *valid, const hz_accel_t *a, hz_accel_ctx_t *ctx, float *ray, float *hit,
@@ -235,14 +314,14 @@ static void loop_intersect(const int32_t *valid, const hz_accel_t *a, hz_accel_c
             continue;
         hz_bvh_ray_t r;
         count_rays(ctx, 1);
-        if (!lane_prep(&r, ray, n, i))
+        if (!lane_prep(&r, bvh, ray, n, i))
             continue;
         hz_bvh_best_t best;
         closest(bvh, ctx, k, &r, &best, ray_u[R_ID * n + i], i);
         if (best.slot == HZ_ACCEL_INVALID_ID)
             continue;
         float ng[3];
-        hz_bvh_best_finish(bvh, &best, ng, &hit[H_U * n + i], &hit[H_V * n + i]);
+        hz_bvh_best_finish_at(bvh, &best, &r, ng, &hit[H_U * n + i], &hit[H_V * n + i]);
         ray[R_TFAR * n + i] = r.tfar;
         hit[H_NGX * n + i] = ng[0], hit[H_NGY * n + i] = ng[1], hit[H_NGZ * n + i] = ng[2];
         hit_u[H_PRIM * n + i] = best.prim;
@@ -260,7 +339,7 @@ static void loop_occluded(const int32_t *valid, const hz_accel_t *a, hz_accel_ct
             continue;
         hz_bvh_ray_t r;
         count_rays(ctx, 1);
-        if (!lane_prep(&r, ray, n, i))
+        if (!lane_prep(&r, a->impl, ray, n, i))
             continue;
         if (any(a->impl, ctx, k, &r, ray_u[R_ID * n + i], i))
             ray[R_TFAR * n + i] = -__builtin_inff();
@@ -305,6 +384,10 @@ static void narrow(const float *src, int n, float *dst, int fields, int base)
 static void simd_query(const int32_t *valid, const hz_accel_t *a, hz_accel_ctx_t *ctx, float *ray, float *hit, int n)
 {
     hz_accel_kernel_t k = packet_kernel(ctx, kernel_of(ctx));
+    /* Motion: lanes may sit at different times (and key pairs), which the packet kernels' shared box tests do
+     * not model; each lane goes through the single-ray kernel at its own time. */
+    if (((const hz_bvh_t *)a->impl)->time_keys && k != HZ_ACCEL_KERNEL_SCALAR)
+        k = HZ_ACCEL_KERNEL_SIMD_SINGLE;
     if (k == HZ_ACCEL_KERNEL_SIMD_SINGLE || k == HZ_ACCEL_KERNEL_SCALAR) {
         if (hit)
             loop_intersect(valid, a, ctx, ray, hit, n, k);
@@ -384,10 +467,70 @@ static void native_occluded8(const int32_t *valid, const hz_accel_t *a, hz_accel
     PACKET_OCCLUDED(valid, a, ctx, (float *)(void *)r, 8);
 }
 
+/* The native backend's data: the tree first (a->impl points at it, the kernels read it as an hz_bvh_t), then
+ * what a motion refit needs to rebuild in place. */
+typedef struct native {
+    hz_bvh_t bvh;
+    hz_arena_t *arena;
+    hz_accel_config_t cfg;
+    size_t start, end; /* arena offsets of the tree's arrays */
+} native_t;
+
+static void info_from_tree(hz_accel_info_t *in, const hz_bvh_t *bvh, const hz_bvh_build_out_t *bo)
+{
+    in->tri_skipped = bo->tri_skipped;
+    in->ref_count = bo->ref_count;
+    in->spatial_splits = bo->spatial_splits;
+    in->node_count = bvh->node_count;
+    in->leaf_count = bvh->leaf_count;
+    in->block_count = bvh->block_count;
+    in->depth = bvh->depth;
+    in->sah_cost = bo->sah_cost;
+    in->sah_built = bo->sah_cost;
+    in->time_keys = bvh->time_keys;
+    in->blur = bvh->blur;
+}
+
+/* Builds a new motion tree above the current one and moves it down in its place; when the arena cannot hold
+ * both for the moment (or something was allocated after the accel), the refitted tree stays. */
+static void motion_rebuild(hz_accel_t *a, native_t *nt)
+{
+    hz_arena_t *ar = nt->arena;
+    if (hz_arena_mark(ar) != nt->end)
+        return;
+    hz_bvh_t nb;
+    hz_bvh_build_out_t bo;
+    hz_error_t e;
+    hz_memset(&nb, 0, sizeof nb);
+    hz_memset(&bo, 0, sizeof bo);
+    if (hz_bvh_motion_build(&nb, &a->geom, &nt->cfg, ar, &bo, &e) != HZ_OK)
+        return;
+    uint8_t *src = (uint8_t *)(void *)nb.nodes, *dst = ar->base + nt->start;
+    const size_t bytes = (size_t)(ar->base + hz_arena_mark(ar) - src);
+    hz_memmove(dst, src, bytes);
+    hz_bvh_relocate(&nb, dst - src);
+    hz_arena_reset(ar, nt->start + bytes);
+    nt->end = nt->start + bytes;
+    nt->bvh = nb;
+    info_from_tree(&a->info, &nt->bvh, &bo);
+    a->info.bytes = nt->end - nt->start + sizeof(hz_accel_t) + sizeof(native_t);
+    a->info.rebuilds++;
+}
+
 static hz_status_t native_refit(hz_accel_t *a, hz_error_t *err)
 {
     (void)err;
-    hz_bvh_refit(a->impl, &a->geom);
+    native_t *nt = a->impl;
+    if (!nt->bvh.time_keys) {
+        hz_bvh_refit(&nt->bvh, &a->geom);
+        return HZ_OK;
+    }
+    hz_bvh_motion_refit(&nt->bvh, &a->geom);
+    a->info.refits++;
+    a->info.sah_cost = hz_bvh_wide_sah(&nt->bvh);
+    const float growth = nt->cfg.rebuild_sah_growth >= 0.0f ? nt->cfg.rebuild_sah_growth : 0.0f;
+    if (a->info.sah_cost > a->info.sah_built * (1.0f + growth))
+        motion_rebuild(a, nt);
     return HZ_OK;
 }
 
@@ -412,19 +555,23 @@ hz_status_t hz_accel_build_native(hz_accel_t **out, const hz_accel_geom_t *g, co
     }
     const hz_arena_mark_t m0 = hz_arena_mark(arena);
     hz_accel_t *a = hz_arena_alloc(arena, sizeof *a, 64);
-    hz_bvh_t *bvh = hz_arena_alloc(arena, sizeof *bvh, 64);
-    if (!a || !bvh) {
+    native_t *nt = hz_arena_alloc(arena, sizeof *nt, 64);
+    if (!a || !nt) {
         hz_arena_error(arena, err);
         hz_arena_reset(arena, m0);
         return HZ_E_NO_MEMORY;
     }
+    hz_memset(nt, 0, sizeof *nt);
+    hz_bvh_t *bvh = &nt->bvh;
+    const bool motion = g->time_keys >= 2u;
     hz_bvh_build_out_t bo;
     hz_memset(&bo, 0, sizeof bo);
-    s = hz_bvh_build(bvh, g, cfg, arena, &bo, err);
+    const hz_arena_mark_t m1 = hz_arena_mark(arena);
+    s = motion ? hz_bvh_motion_build(bvh, g, cfg, arena, &bo, err) : hz_bvh_build(bvh, g, cfg, arena, &bo, err);
     if (s != HZ_OK) {
         hz_arena_reset(arena, m0);
         if (s == HZ_E_NO_MEMORY) {
-            hz_accel_bytes_t b = hz_accel_bytes_bound(g->tri_count, cfg);
+            hz_accel_bytes_t b = hz_accel_bytes_bound_geom(g, cfg);
             char inner[HZ_ERROR_MSG_BYTES];
             hz_memcpy(inner, err ? err->msg : "", err ? sizeof inner : 1);
             hz_error_set(err, s, "accel: %u triangles (bound %zu bytes): %s", g->tri_count, b.peak, inner);
@@ -444,18 +591,83 @@ hz_status_t hz_accel_build_native(hz_accel_t **out, const hz_accel_geom_t *g, co
     a->info.backend = "native-scalar";
 #endif
     a->info.tri_count = g->tri_count;
-    a->info.tri_skipped = bo.tri_skipped;
-    a->info.ref_count = bo.ref_count;
-    a->info.spatial_splits = bo.spatial_splits;
-    a->info.node_count = bvh->node_count;
-    a->info.leaf_count = bvh->leaf_count;
-    a->info.block_count = bvh->block_count;
-    a->info.depth = bvh->depth;
-    a->info.sah_cost = bo.sah_cost;
+    info_from_tree(&a->info, bvh, &bo);
     a->info.bytes = hz_arena_mark(arena) - m0;
-    a->info.bytes_peak = bo.bytes_peak + (size_t)((const uint8_t *)bvh - (arena->base + m0)) + sizeof *bvh;
+    a->info.bytes_peak = bo.bytes_peak + (m1 - m0);
+    if (a->info.bytes_peak < a->info.bytes)
+        a->info.bytes_peak = a->info.bytes;
+    nt->arena = arena;
+    nt->cfg = *cfg;
+    nt->start = (size_t)((const uint8_t *)(const void *)bvh->nodes - arena->base);
+    nt->end = hz_arena_mark(arena);
     *out = a;
     return HZ_OK;
+}
+
+/* ---- brute force (the reference of tests and --motion-check) ---- */
+static bool tri_finite(const hz_accel_geom_t *g, uint32_t t)
+{
+    const uint32_t nk = g->time_keys >= 2u ? g->time_keys : 1u;
+    for (uint32_t key = 0; key < nk; key++) {
+        const float *pos = g->time_keys >= 2u ? g->pos_keys[key] : g->pos;
+        for (int v = 0; v < 3; v++) {
+            const float *p = pos + 4u * (size_t)g->tri[3u * (size_t)t + (uint32_t)v];
+            if (!hz_isfinitef(p[0]) || !hz_isfinitef(p[1]) || !hz_isfinitef(p[2]))
+                return false;
+        }
+    }
+    return true;
+}
+
+void hz_accel_brute_intersect1(const hz_accel_geom_t *g, hz_rayhit_t *rh)
+{
+    hz_bvh_ray_t r;
+    if (!hz_bvh_ray_prep(&r, rh->ray.org_x, rh->ray.org_y, rh->ray.org_z, rh->ray.dir_x, rh->ray.dir_y,
+                         rh->ray.dir_z, rh->ray.tnear, rh->ray.tfar))
+        return;
+    const bool motion = g->time_keys >= 2u;
+    uint32_t seg = 0;
+    float f = 0.0f;
+    if (motion)
+        hz_accel_time_segment(rh->ray.time, g->time_keys, &seg, &f);
+    hz_bvh_block_t blk, hit_blk;
+    hz_memset(&blk, 0, sizeof blk);
+    uint32_t best_prim = HZ_ACCEL_INVALID_ID;
+    float bv = 0.0f, bw = 0.0f, bdet = 1.0f;
+    for (uint32_t t = 0; t < g->tri_count; t++) {
+        if (!tri_finite(g, t))
+            continue;
+        for (int v = 0; v < 3; v++) {
+            const size_t vi = 4u * (size_t)g->tri[3u * (size_t)t + (uint32_t)v];
+            for (int k = 0; k < 3; k++)
+                blk.v[v][k][0] = motion ? hz_accel_lerp_key(g->pos_keys[seg][vi + (size_t)k],
+                                                            g->pos_keys[seg + 1u][vi + (size_t)k], f)
+                                        : g->pos[vi + (size_t)k];
+        }
+        float tt, U, V, W, det;
+        if (!hz_bvh_tri_test(&blk, 0, &r, &tt, &U, &V, &W, &det))
+            continue;
+        if (!(tt >= r.tnear) || !hz_bvh_better(tt, t, r.tfar, best_prim))
+            continue;
+        r.tfar = tt;
+        best_prim = t;
+        bv = V, bw = W, bdet = det;
+        hit_blk = blk;
+    }
+    if (best_prim == HZ_ACCEL_INVALID_ID)
+        return;
+    hz_bvh_t one;
+    hz_memset(&one, 0, sizeof one);
+    one.blocks = &hit_blk;
+    hz_bvh_best_t b;
+    b.slot = 0, b.prim = best_prim, b.v = bv, b.w = bw, b.det = bdet;
+    float ng[3];
+    hz_bvh_best_finish(&one, &b, ng, &rh->hit.u, &rh->hit.v);
+    rh->ray.tfar = r.tfar;
+    rh->hit.ng_x = ng[0], rh->hit.ng_y = ng[1], rh->hit.ng_z = ng[2];
+    rh->hit.prim_id = best_prim;
+    rh->hit.geom_id = 0;
+    rh->hit.inst_id[0] = HZ_ACCEL_INVALID_ID;
 }
 
 /* ---- ray origin offset (Wächter and Binder 2019, constants scaled with the scene) ---- */

@@ -60,12 +60,36 @@ typedef struct HZ_ALIGNED(32) hz_bvh_block {
     uint32_t prim[HZ_BVH_W]; /* triangle index | HZ_BVH_PRIM_ANYHIT, or HZ_BVH_PRIM_PAD */
 } hz_bvh_block_t;
 
+/* Boxes of one node's children at one time key: the first six arrays of hz_bvh_node_t. */
+typedef struct HZ_ALIGNED(32) hz_bvh_mbox {
+    float lo_x[HZ_BVH_W], hi_x[HZ_BVH_W];
+    float lo_y[HZ_BVH_W], hi_y[HZ_BVH_W];
+    float lo_z[HZ_BVH_W], hi_z[HZ_BVH_W];
+} hz_bvh_mbox_t;
+
+/* One reference's piece of its triangle (MSBVH): the part with barycentrics lo[i] <= b_i <= hi[i] (b_0 =
+ * weight of vertex 0), in units of 1/65535, rounded outwards. Full pieces (0..65535) are whole triangles. */
+typedef struct hz_bvh_piece {
+    uint16_t lo[3], hi[3];
+} hz_bvh_piece_t;
+
 typedef struct hz_bvh {
     hz_bvh_node_t *nodes;
     hz_bvh_block_t *blocks;
     uint32_t node_count, block_count, leaf_count;
     uint32_t depth;
     bool has_anyhit; /* some triangle carries HZ_ACCEL_TRI_ANYHIT */
+    /* Motion (msbvh.c; time_keys >= 2). Static trees have time_keys 0 and the kernels never look further. The
+     * triangles at key k are in kblocks[k] (same slots as `blocks`, which is one of them); a ray at (seg, f)
+     * tests the slot-wise lerp of kblocks[seg] and kblocks[seg + 1]. With key_boxes, node i's child boxes at
+     * key k are mbox[i * time_keys + k] and traversal lerps them the same way; without (swept), the nodes'
+     * own boxes bound every key and are used as they are. */
+    uint32_t time_keys;
+    bool key_boxes;
+    hz_accel_blur_t blur;
+    hz_bvh_mbox_t *mbox;
+    hz_bvh_block_t *kblocks[HZ_ACCEL_MAX_TIME_KEYS];
+    hz_bvh_piece_t *pieces; /* per block slot (MSBVH only, else NULL: whole triangles) */
 } hz_bvh_t;
 
 /* Per-query traversal counters of every kernel (nodes visited, triangles tested), added to ctx->stats when the
@@ -84,8 +108,13 @@ HZ_INLINE void hz_bvh_counters_flush(hz_accel_ctx_t *ctx, const hz_bvh_counters_
 {
 #if HZ_FEATURE_STATS
     if (ctx && ctx->stats) {
-        ctx->stats->nodes += k->nodes;
-        ctx->stats->tris += k->tris;
+        hz_accel_stats_t *st = ctx->stats;
+        st->nodes += k->nodes;
+        st->tris += k->tris;
+        if (k->nodes > st->ray_nodes_max)
+            st->ray_nodes_max = (uint32_t)k->nodes;
+        if (k->tris > st->ray_tris_max)
+            st->ray_tris_max = (uint32_t)k->tris;
     }
 #else
     (void)ctx;
@@ -108,6 +137,8 @@ typedef struct hz_bvh_ray {
     int kx, ky, kz;  /* watertight test: kz = dominant axis, kx/ky keep the winding */
     float sx, sy, sz;
     float tnear, tfar;
+    uint32_t seg; /* motion: key pair (seg, seg + 1) and weight f of seg + 1 (hz_accel_time_segment) */
+    float f;
 } hz_bvh_ray_t;
 
 /* Returns false for a ray the contract rules out (non-finite origin or direction, zero direction,
@@ -139,6 +170,8 @@ HZ_INLINE bool hz_bvh_ray_prep(hz_bvh_ray_t *r, float ox, float oy, float oz, fl
     r->sz = r->rdir[kz];
     r->tnear = tnear;
     r->tfar = tfar;
+    r->seg = 0;
+    r->f = 0.0f;
     return hz_isfinitef(ox) && hz_isfinitef(oy) && hz_isfinitef(oz) && hz_isfinitef(dx) && hz_isfinitef(dy) &&
            hz_isfinitef(dz) && (dx != 0.0f || dy != 0.0f || dz != 0.0f) && tnear <= tfar && !hz_isnanf(tfar);
 }
@@ -208,8 +241,41 @@ HZ_INLINE void hz_bvh_best_init(hz_bvh_best_t *b)
     b->det = 1.0f;
 }
 
-/* Barycentrics and the geometric normal (v1 - v0) x (v2 - v0) of a recorded hit. */
+/* Barycentrics and the geometric normal (v1 - v0) x (v2 - v0) of a recorded hit (r: the ray, for its time). */
 void hz_bvh_best_finish(const hz_bvh_t *bvh, const hz_bvh_best_t *b, float *ng, float *u, float *v);
+void hz_bvh_best_finish_at(const hz_bvh_t *bvh, const hz_bvh_best_t *b, const hz_bvh_ray_t *r, float *ng, float *u,
+                           float *v);
+
+/* ---- motion: the node and block a ray at (r->seg, r->f) sees (scalar forms; the SIMD kernels do the same
+ * products and sums lane by lane, so every kernel sees bit-identical boxes and triangles) ---- */
+HZ_INLINE void hz_bvh_lerp_floats(float *d, const float *a, const float *b, float f, int n)
+{
+    const float g = 1.0f - f; /* as hz_accel_lerp_key */
+    for (int i = 0; i < n; i++)
+        d[i] = g * a[i] + f * b[i];
+}
+
+HZ_INLINE const hz_bvh_node_t *hz_bvh_node_at(const hz_bvh_t *bvh, uint32_t i, const hz_bvh_ray_t *r,
+                                              hz_bvh_node_t *tmp)
+{
+    if (!bvh->key_boxes)
+        return &bvh->nodes[i];
+    const hz_bvh_mbox_t *a = &bvh->mbox[(size_t)i * bvh->time_keys + r->seg];
+    hz_bvh_lerp_floats(tmp->lo_x, a[0].lo_x, a[1].lo_x, r->f, 6 * HZ_BVH_W);
+    for (int c = 0; c < HZ_BVH_W; c++)
+        tmp->child[c] = bvh->nodes[i].child[c];
+    return tmp;
+}
+
+HZ_INLINE const hz_bvh_block_t *hz_bvh_block_at(const hz_bvh_t *bvh, uint32_t blk, const hz_bvh_ray_t *r,
+                                                hz_bvh_block_t *tmp)
+{
+    const hz_bvh_block_t *a = &bvh->kblocks[r->seg][blk], *b = &bvh->kblocks[r->seg + 1u][blk];
+    hz_bvh_lerp_floats(&tmp->v[0][0][0], &a->v[0][0][0], &b->v[0][0][0], r->f, 9 * HZ_BVH_W);
+    for (int c = 0; c < HZ_BVH_W; c++)
+        tmp->prim[c] = a->prim[c];
+    return tmp;
+}
 
 /* Asks the any-hit callback about block slot `slot`; true = the hit counts. */
 bool hz_bvh_anyhit(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, uint32_t slot, const hz_bvh_ray_t *r, float t,
@@ -253,6 +319,23 @@ hz_status_t hz_bvh_build(hz_bvh_t *bvh, const hz_accel_geom_t *g, const hz_accel
                          hz_arena_t *arena, hz_bvh_build_out_t *out, hz_error_t *err);
 /* Recomputes triangle copies and boxes from g->pos (bvh_build.c). */
 void hz_bvh_refit(hz_bvh_t *bvh, const hz_accel_geom_t *g);
+
+/* Copies triangle `prim` of g (positions from `pos`) into block slot s, with its any-hit flag; a triangle with
+ * a non-finite coordinate becomes degenerate (all zeros: never hit). Returns false for that case. */
+bool hz_bvh_fill_slot(hz_bvh_block_t *bl, uint32_t s, const hz_accel_geom_t *g, const float *pos, uint32_t prim);
+
+/* ---- motion (msbvh.c) ---- */
+/* Builds the motion BVH of cfg->blur for g (time_keys >= 2) into bvh, all from `arena`. */
+hz_status_t hz_bvh_motion_build(hz_bvh_t *bvh, const hz_accel_geom_t *g, const hz_accel_config_t *cfg,
+                                hz_arena_t *arena, hz_bvh_build_out_t *out, hz_error_t *err);
+/* Re-reads g's keys: triangle copies, and boxes per key from the stored pieces (re-clipped), up the tree. */
+void hz_bvh_motion_refit(hz_bvh_t *bvh, const hz_accel_geom_t *g);
+/* SAH cost of the wide tree (boxes averaged over the keys), relative to the root; also for static trees. */
+float hz_bvh_wide_sah(const hz_bvh_t *bvh);
+/* Extra kept bytes a motion build of `refs` references with K keys needs at most beyond the static tree's. */
+uint64_t hz_bvh_motion_kept_bound(uint64_t refs, uint32_t keys, hz_accel_blur_t blur, uint32_t vertex_count);
+/* Moves every array of bvh by `delta` bytes (after the caller moved the bytes). */
+void hz_bvh_relocate(hz_bvh_t *bvh, ptrdiff_t delta);
 
 /* Upper bounds on the wide nodes and blocks a build of `refs` references produces. */
 uint64_t hz_bvh_nodes_bound(uint64_t refs);

@@ -131,15 +131,20 @@ static const float *vtx(const hz_accel_geom_t *g, uint32_t i)
     return g->pos + 4u * (size_t)i;
 }
 
-static bool tri_box(const hz_accel_geom_t *g, uint32_t t, box_t *b)
+/* The triangle's box; with `sweep`, the union of its boxes at all of g's time keys (the swept motion BVH). */
+static bool tri_box(const hz_accel_geom_t *g, uint32_t t, box_t *b, bool sweep)
 {
     box_empty(b);
-    for (int k = 0; k < 3; k++) {
-        const float *p = vtx(g, g->tri[3u * (size_t)t + (uint32_t)k]);
-        if (!(hz_absf(p[0]) <= HZ_ACCEL_MAX_COORD && hz_absf(p[1]) <= HZ_ACCEL_MAX_COORD &&
-              hz_absf(p[2]) <= HZ_ACCEL_MAX_COORD)) /* also false for NaN */
-            return false;
-        box_grow_pt(b, p[0], p[1], p[2]);
+    const uint32_t nk = sweep ? g->time_keys : 1u;
+    for (uint32_t key = 0; key < nk; key++) {
+        const float *pos = sweep ? g->pos_keys[key] : g->pos;
+        for (int k = 0; k < 3; k++) {
+            const float *p = pos + 4u * (size_t)g->tri[3u * (size_t)t + (uint32_t)k];
+            if (!(hz_absf(p[0]) <= HZ_ACCEL_MAX_COORD && hz_absf(p[1]) <= HZ_ACCEL_MAX_COORD &&
+                  hz_absf(p[2]) <= HZ_ACCEL_MAX_COORD)) /* also false for NaN */
+                return false;
+            box_grow_pt(b, p[0], p[1], p[2]);
+        }
     }
     return true;
 }
@@ -670,10 +675,15 @@ typedef struct collapse {
 
 static void fill_block_slot(hz_bvh_block_t *bl, uint32_t s, const hz_accel_geom_t *g, uint32_t prim)
 {
+    (void)hz_bvh_fill_slot(bl, s, g, g->pos, prim);
+}
+
+bool hz_bvh_fill_slot(hz_bvh_block_t *bl, uint32_t s, const hz_accel_geom_t *g, const float *pos, uint32_t prim)
+{
     const uint32_t *t = g->tri + 3u * (size_t)prim;
     bool ok = true;
     for (int v = 0; v < 3; v++) {
-        const float *p = vtx(g, t[v]);
+        const float *p = pos + 4u * (size_t)t[v];
         for (int k = 0; k < 3; k++) {
             bl->v[v][k][s] = p[k];
             ok = ok && hz_absf(p[k]) <= HZ_ACCEL_MAX_COORD;
@@ -687,6 +697,7 @@ static void fill_block_slot(hz_bvh_block_t *bl, uint32_t s, const hz_accel_geom_
     if (g->tri_flags && (g->tri_flags[prim] & HZ_ACCEL_TRI_ANYHIT))
         w |= HZ_BVH_PRIM_ANYHIT;
     bl->prim[s] = w;
+    return ok;
 }
 
 static void clear_block(hz_bvh_block_t *bl)
@@ -823,6 +834,30 @@ hz_accel_bytes_t hz_accel_bytes_bound(uint32_t tri_count, const hz_accel_config_
     return out;
 }
 
+hz_accel_bytes_t hz_accel_bytes_bound_geom(const hz_accel_geom_t *g, const hz_accel_config_t *cfg)
+{
+    hz_accel_config_t d;
+    if (!cfg) {
+        hz_accel_config_default(&d);
+        cfg = &d;
+    }
+    if (!g || g->time_keys < 2u)
+        return hz_accel_bytes_bound(g ? g->tri_count : 0u, cfg);
+    hz_accel_config_t c2 = *cfg;
+    if (cfg->blur != HZ_ACCEL_BLUR_MSBVH)
+        c2.spatial_splits = false; /* the interpolated and swept BVHs have no spatial splits */
+    hz_accel_bytes_t b = hz_accel_bytes_bound(g->tri_count, &c2);
+    const uint64_t r = refs_bound(g->tri_count, &c2);
+    const uint64_t extra = hz_bvh_motion_kept_bound(r, g->time_keys, cfg->blur, g->vertex_count);
+    /* the build's peak adds the midpoint positions (K = 2) and one byte per triangle of reference counts */
+    const uint64_t scratch = (g->time_keys == 2u ? ((uint64_t)g->vertex_count * 4u + 4u) * sizeof(float) + 64u : 0u) +
+                             (uint64_t)g->tri_count + 64u;
+    hz_accel_bytes_t out;
+    out.kept = sat_size((uint64_t)b.kept + extra);
+    out.peak = sat_size((uint64_t)b.peak + extra + scratch);
+    return out;
+}
+
 /* ---- the build ---- */
 hz_status_t hz_bvh_build(hz_bvh_t *bvh, const hz_accel_geom_t *g, const hz_accel_config_t *cfg,
                          hz_arena_t *arena, hz_bvh_build_out_t *out, hz_error_t *err)
@@ -850,13 +885,14 @@ hz_status_t hz_bvh_build(hz_bvh_t *bvh, const hz_accel_geom_t *g, const hz_accel
     bd->leaf_max = cfg->leaf_max < 1 ? 1 : (cfg->leaf_max > HZ_BVH_W ? HZ_BVH_W : cfg->leaf_max);
     bd->spatial = cfg->spatial_splits;
     const uint32_t budget = (uint32_t)(rb - g->tri_count);
+    const bool sweep = g->time_keys >= 2u && cfg->blur == HZ_ACCEL_BLUR_SWEPT;
 
     box_t root;
     box_empty(&root);
     uint32_t skipped = 0;
     for (uint32_t t = 0; t < g->tri_count; t++) {
         box_t b;
-        if (!tri_box(g, t, &b)) {
+        if (!tri_box(g, t, &b, sweep)) {
             skipped++;
             continue;
         }
@@ -952,6 +988,13 @@ hz_status_t hz_bvh_build(hz_bvh_t *bvh, const hz_accel_geom_t *g, const hz_accel
     bvh->leaf_count = c.leaf_count;
     bvh->depth = c.depth;
     bvh->has_anyhit = false;
+    bvh->time_keys = 0; /* msbvh.c adds the motion arrays */
+    bvh->key_boxes = false;
+    bvh->blur = cfg->blur;
+    bvh->mbox = 0;
+    bvh->pieces = 0;
+    for (int k = 0; k < HZ_ACCEL_MAX_TIME_KEYS; k++)
+        bvh->kblocks[k] = 0;
     if (g->tri_flags)
         for (uint32_t t = 0; t < g->tri_count && !bvh->has_anyhit; t++)
             bvh->has_anyhit = (g->tri_flags[t] & HZ_ACCEL_TRI_ANYHIT) != 0;

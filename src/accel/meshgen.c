@@ -239,10 +239,113 @@ void hz_meshgen_transform(hz_mesh_t *m, float scale, hz_vec3_t offset)
 hz_accel_geom_t hz_meshgen_geom(const hz_mesh_t *m)
 {
     hz_accel_geom_t g;
+    hz_accel_geom_init(&g);
     g.pos = m->pos;
     g.vertex_count = m->vertex_count;
     g.tri = m->tri;
     g.tri_count = m->tri_count;
     g.tri_flags = m->tri_flags;
     return g;
+}
+
+/* ---- motion keys ---- */
+static const char *const motion_names[HZ_MESHGEN_MOTION_COUNT] = { "sway", "rotate", "cross", "collapse", "rot180" };
+
+const char *hz_meshgen_motion_name(hz_meshgen_motion_kind_t k)
+{
+    return (unsigned)k < HZ_MESHGEN_MOTION_COUNT ? motion_names[k] : "unknown";
+}
+
+bool hz_meshgen_motion_parse(const char *s, hz_meshgen_motion_kind_t *out)
+{
+    for (int i = 0; s && i < HZ_MESHGEN_MOTION_COUNT; i++) {
+        const char *a = s, *b = motion_names[i];
+        while (*a && *a == *b)
+            a++, b++;
+        if (*a == *b) {
+            *out = (hz_meshgen_motion_kind_t)i;
+            return true;
+        }
+    }
+    return false;
+}
+
+static void rot_y(const float *p, hz_vec3_t c, float ang, float *o)
+{
+    float sn, cs;
+    hz_sincosf(ang, &sn, &cs);
+    const float x = p[0] - c.x, z = p[2] - c.z;
+    o[0] = c.x + cs * x + sn * z;
+    o[1] = p[1];
+    o[2] = c.z - sn * x + cs * z;
+}
+
+hz_status_t hz_meshgen_motion(hz_accel_geom_t *g, const float *pos, hz_meshgen_motion_kind_t kind, uint32_t keys,
+                              hz_vec3_t center, float size, float turns, hz_arena_t *a)
+{
+    if (!(keys == 2u || keys == 3u || keys == 5u || keys == 9u) || (unsigned)kind >= HZ_MESHGEN_MOTION_COUNT ||
+        (kind == HZ_MESHGEN_ROT180 && keys != 2u))
+        return HZ_E_INVALID_ARG;
+    const hz_arena_mark_t m0 = hz_arena_mark(a);
+    const size_t n = (size_t)g->vertex_count;
+    for (uint32_t k = 0; k < keys; k++) {
+        float *d = hz_arena_alloc_array(a, 4u * n + 4u, sizeof(float), 16);
+        if (!d) {
+            hz_arena_reset(a, m0);
+            return HZ_E_NO_MEMORY;
+        }
+        const float t = (float)k / (float)(keys - 1u);
+        for (size_t i = 0; i < n; i++) {
+            const float *p = pos + 4u * i;
+            float *o = d + 4u * i;
+            switch (kind) {
+            case HZ_MESHGEN_SWAY: {
+                const float ph = (p[0] + p[2]) * (6.2831853f / (size > 0.0f ? size : 1.0f)) + 6.2831853f * t;
+                const float h = p[1] - center.y;
+                const float amp = size * 0.02f * (h > 0.0f ? h / (size > 0.0f ? size : 1.0f) + 0.25f : 0.25f);
+                o[0] = p[0] + amp * hz_sinf(ph);
+                o[1] = p[1] + amp * 0.3f * hz_cosf(ph * 1.7f);
+                o[2] = p[2] + amp * hz_cosf(ph);
+                break;
+            }
+            case HZ_MESHGEN_ROTATE: rot_y(p, center, 6.2831853f * turns * t, o); break;
+            case HZ_MESHGEN_ROT180: rot_y(p, center, 3.14159265f * t, o); break;
+            case HZ_MESHGEN_CROSS: {
+                const float s = (i & 1u) ? 0.5f : -0.5f;
+                o[0] = p[0] + s * size * (2.0f * t - 1.0f);
+                o[1] = p[1], o[2] = p[2];
+                break;
+            }
+            default: /* COLLAPSE */
+                o[0] = hz_accel_lerp_key(p[0], center.x, t);
+                o[1] = hz_accel_lerp_key(p[1], center.y, t);
+                o[2] = hz_accel_lerp_key(p[2], center.z, t);
+                break;
+            }
+            o[3] = 0.0f;
+        }
+        g->pos_keys[k] = d;
+    }
+    for (uint32_t k = keys; k < HZ_ACCEL_MAX_TIME_KEYS; k++)
+        g->pos_keys[k] = 0;
+    g->time_keys = keys;
+    g->pos = g->pos_keys[keys & 1u ? (keys - 1u) / 2u : 0u];
+    return HZ_OK;
+}
+
+hz_vec3_t hz_meshgen_tri_point(const hz_accel_geom_t *g, uint32_t t, float time, float b1, float b2)
+{
+    uint32_t seg = 0;
+    float f = 0.0f;
+    const bool motion = g->time_keys >= 2u;
+    if (motion)
+        hz_accel_time_segment(time, g->time_keys, &seg, &f);
+    const float w[3] = { 1.0f - b1 - b2, b1, b2 };
+    float p[3] = { 0.0f, 0.0f, 0.0f };
+    for (int v = 0; v < 3; v++)
+        for (int c = 0; c < 3; c++) {
+            const size_t vi = 4u * (size_t)g->tri[3u * (size_t)t + (uint32_t)v] + (size_t)c;
+            p[c] += w[v] * (motion ? hz_accel_lerp_key(g->pos_keys[seg][vi], g->pos_keys[seg + 1u][vi], f) : g->pos[vi]);
+        }
+    return hz_v3(p[0], p[1], p[2]);
 }

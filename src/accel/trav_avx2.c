@@ -250,11 +250,44 @@ HZ_INLINE void order_children(const hz_bvh_node_t *n, unsigned m, __m256 tmin, u
 #endif
 }
 
-/* Closest hit of one ray from node word `start` on, continuing a search with best (r->tfar, *best). */
-static void closest_from(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, hz_bvh_ray_t *r, const sray_t *s,
-                         uint32_t start, hz_bvh_best_t *best, uint32_t ray_id, int lane, hz_bvh_counters_t *k)
+/* Motion: the node and the block as the ray sees them at its time, with hz_bvh_node_at / hz_bvh_block_at's
+ * operations (g = 1 - f in scalar, then g * a + f * b lane by lane: bit-identical to the scalar kernel). */
+HZ_INLINE const hz_bvh_node_t *node_at(const hz_bvh_t *bvh, uint32_t i, const hz_bvh_ray_t *r, hz_bvh_node_t *tmp)
+{
+    if (!bvh->key_boxes)
+        return &bvh->nodes[i];
+    const float *a = bvh->mbox[(size_t)i * bvh->time_keys + r->seg].lo_x, *b = a + 6 * W;
+    const __m256 f = _mm256_set1_ps(r->f), g = _mm256_set1_ps(1.0f - r->f);
+    for (int j = 0; j < 6; j++)
+        _mm256_store_ps(tmp->lo_x + W * j, _mm256_add_ps(_mm256_mul_ps(g, _mm256_load_ps(a + W * j)),
+                                                         _mm256_mul_ps(f, _mm256_load_ps(b + W * j))));
+    _mm256_store_si256((__m256i *)(void *)tmp->child,
+                       _mm256_load_si256((const __m256i *)(const void *)bvh->nodes[i].child));
+    return tmp;
+}
+
+HZ_INLINE const hz_bvh_block_t *block_at(const hz_bvh_t *bvh, uint32_t blk, const hz_bvh_ray_t *r,
+                                         hz_bvh_block_t *tmp)
+{
+    const float *a = &bvh->kblocks[r->seg][blk].v[0][0][0], *b = &bvh->kblocks[r->seg + 1u][blk].v[0][0][0];
+    const __m256 f = _mm256_set1_ps(r->f), g = _mm256_set1_ps(1.0f - r->f);
+    for (int j = 0; j < 9; j++)
+        _mm256_store_ps(&tmp->v[0][0][0] + W * j, _mm256_add_ps(_mm256_mul_ps(g, _mm256_load_ps(a + W * j)),
+                                                                _mm256_mul_ps(f, _mm256_load_ps(b + W * j))));
+    _mm256_store_si256((__m256i *)(void *)tmp->prim,
+                       _mm256_load_si256((const __m256i *)(const void *)bvh->kblocks[r->seg][blk].prim));
+    return tmp;
+}
+
+/* Closest hit of one ray from node word `start` on, continuing a search with best (r->tfar, *best); `motion`
+ * (a constant at every call) reads nodes and blocks at the ray's time. */
+HZ_INLINE void closest_core(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, hz_bvh_ray_t *r, const sray_t *s,
+                            uint32_t start, hz_bvh_best_t *best, uint32_t ray_id, int lane, hz_bvh_counters_t *k,
+                            const bool motion)
 {
     (void)k; /* counters exist only with HZ_FEATURE_STATS */
+    hz_bvh_node_t ntmp;
+    hz_bvh_block_t btmp;
     uint32_t st_c[HZ_BVH_STACK + W];
     float st_d[HZ_BVH_STACK + W];
     int sp = 0;
@@ -263,7 +296,7 @@ static void closest_from(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, hz_bvh_ray_t 
     __m256 tfar = _mm256_set1_ps(r->tfar * HZ_BVH_CULL); /* for culling nodes (see bvh.h) */
     for (;;) {
         if (!hz_bvh_is_leaf(cur)) {
-            const hz_bvh_node_t *n = &bvh->nodes[cur];
+            const hz_bvh_node_t *n = motion ? node_at(bvh, cur, r, &ntmp) : &bvh->nodes[cur];
             __m256 tmin;
             HZ_BVH_COUNT(k, nodes, 1);
             unsigned m = node_hit(n, s, tfar, &tmin);
@@ -273,7 +306,7 @@ static void closest_from(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, hz_bvh_ray_t 
             }
         } else {
             const uint32_t slot = hz_bvh_leaf_slot(cur), cnt = hz_bvh_leaf_count(cur);
-            const hz_bvh_block_t *b = &bvh->blocks[slot / W];
+            const hz_bvh_block_t *b = motion ? block_at(bvh, slot / W, r, &btmp) : &bvh->blocks[slot / W];
             __m256 t, V, Wv, det;
             HZ_BVH_COUNT(k, tris, cnt);
             unsigned m = leaf_hit(b, slot_mask(slot, cnt), s, r->tfar, &t, &V, &Wv, &det);
@@ -311,20 +344,37 @@ static void closest_from(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, hz_bvh_ray_t 
     }
 }
 
+static void closest_from(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, hz_bvh_ray_t *r, const sray_t *s,
+                         uint32_t start, hz_bvh_best_t *best, uint32_t ray_id, int lane, hz_bvh_counters_t *k)
+{
+    closest_core(bvh, ctx, r, s, start, best, ray_id, lane, k, false);
+}
+
+static void closest_motion(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, hz_bvh_ray_t *r, const sray_t *s,
+                           hz_bvh_best_t *best, uint32_t ray_id, int lane, hz_bvh_counters_t *k)
+{
+    closest_core(bvh, ctx, r, s, 0, best, ray_id, lane, k, true);
+}
+
 void hz_bvh_simd_closest(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, hz_bvh_ray_t *r, hz_bvh_best_t *best,
                          uint32_t ray_id, int lane)
 {
     sray_t s;
     hz_bvh_counters_t k = { 0, 0 };
     sray_init(&s, r);
-    closest_from(bvh, ctx, r, &s, 0, best, ray_id, lane, &k);
+    if (bvh->time_keys)
+        closest_motion(bvh, ctx, r, &s, best, ray_id, lane, &k);
+    else
+        closest_from(bvh, ctx, r, &s, 0, best, ray_id, lane, &k);
     hz_bvh_counters_flush(ctx, &k);
 }
 
-static bool any_from(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const hz_bvh_ray_t *r, const sray_t *s, uint32_t start,
-                     uint32_t ray_id, int lane, hz_bvh_counters_t *k)
+HZ_INLINE bool any_core(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const hz_bvh_ray_t *r, const sray_t *s,
+                        uint32_t start, uint32_t ray_id, int lane, hz_bvh_counters_t *k, const bool motion)
 {
     (void)k; /* counters exist only with HZ_FEATURE_STATS */
+    hz_bvh_node_t ntmp;
+    hz_bvh_block_t btmp;
     entry_t stack[HZ_BVH_STACK];
     int sp = 0;
     uint32_t cur = start;
@@ -332,7 +382,7 @@ static bool any_from(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const hz_bvh_ray_
     const __m256 tfar = _mm256_set1_ps(r->tfar * HZ_BVH_CULL); /* for culling nodes (see bvh.h) */
     for (;;) {
         if (!hz_bvh_is_leaf(cur)) {
-            const hz_bvh_node_t *n = &bvh->nodes[cur];
+            const hz_bvh_node_t *n = motion ? node_at(bvh, cur, r, &ntmp) : &bvh->nodes[cur];
             __m256 tmin;
             HZ_BVH_COUNT(k, nodes, 1);
             unsigned m = node_hit(n, s, tfar, &tmin);
@@ -347,7 +397,7 @@ static bool any_from(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const hz_bvh_ray_
             }
         } else {
             const uint32_t slot = hz_bvh_leaf_slot(cur), cnt = hz_bvh_leaf_count(cur);
-            const hz_bvh_block_t *b = &bvh->blocks[slot / W];
+            const hz_bvh_block_t *b = motion ? block_at(bvh, slot / W, r, &btmp) : &bvh->blocks[slot / W];
             __m256 t, V, Wv, det;
             HZ_BVH_COUNT(k, tris, cnt);
             unsigned m = leaf_hit(b, slot_mask(slot, cnt), s, r->tfar, &t, &V, &Wv, &det);
@@ -371,12 +421,25 @@ static bool any_from(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const hz_bvh_ray_
     }
 }
 
+static bool any_from(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const hz_bvh_ray_t *r, const sray_t *s, uint32_t start,
+                     uint32_t ray_id, int lane, hz_bvh_counters_t *k)
+{
+    return any_core(bvh, ctx, r, s, start, ray_id, lane, k, false);
+}
+
+static bool any_motion(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const hz_bvh_ray_t *r, const sray_t *s,
+                       uint32_t ray_id, int lane, hz_bvh_counters_t *k)
+{
+    return any_core(bvh, ctx, r, s, 0, ray_id, lane, k, true);
+}
+
 bool hz_bvh_simd_any(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const hz_bvh_ray_t *r, uint32_t ray_id, int lane)
 {
     sray_t s;
     hz_bvh_counters_t k = { 0, 0 };
     sray_init(&s, r);
-    bool hit = any_from(bvh, ctx, r, &s, 0, ray_id, lane, &k);
+    bool hit = bvh->time_keys ? any_motion(bvh, ctx, r, &s, ray_id, lane, &k)
+                              : any_from(bvh, ctx, r, &s, 0, ray_id, lane, &k);
     hz_bvh_counters_flush(ctx, &k);
     return hit;
 }

@@ -149,10 +149,45 @@ HZ_INLINE void order_children(const hz_bvh_node_t *n, unsigned m, float32x4_t tm
     *cur = n->child[idx[c - 1]];
 }
 
-static void closest_from(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, hz_bvh_ray_t *r, const sray_t *s, uint32_t start,
-                         hz_bvh_best_t *best, uint32_t ray_id, int lane, hz_bvh_counters_t *k)
+/* Motion: the node and the block as the ray sees them at its time, with hz_bvh_node_at / hz_bvh_block_at's
+ * operations (g = 1 - f in scalar, then g * a + f * b lane by lane with separate vmulq/vaddq, no FMA):
+ * bit-identical to the scalar kernel. */
+HZ_INLINE float32x4_t lerp4(float32x4_t g, float32x4_t f, const float *a, const float *b)
+{
+    return vaddq_f32(vmulq_f32(g, vld1q_f32(a)), vmulq_f32(f, vld1q_f32(b)));
+}
+
+HZ_INLINE const hz_bvh_node_t *node_at(const hz_bvh_t *bvh, uint32_t i, const hz_bvh_ray_t *r, hz_bvh_node_t *tmp)
+{
+    if (!bvh->key_boxes)
+        return &bvh->nodes[i];
+    const float *a = bvh->mbox[(size_t)i * bvh->time_keys + r->seg].lo_x, *b = a + 6 * W;
+    const float32x4_t f = vdupq_n_f32(r->f), g = vdupq_n_f32(1.0f - r->f);
+    for (int j = 0; j < 6; j++)
+        vst1q_f32(tmp->lo_x + W * j, lerp4(g, f, a + W * j, b + W * j));
+    vst1q_u32(tmp->child, vld1q_u32(bvh->nodes[i].child));
+    return tmp;
+}
+
+HZ_INLINE const hz_bvh_block_t *block_at(const hz_bvh_t *bvh, uint32_t blk, const hz_bvh_ray_t *r,
+                                         hz_bvh_block_t *tmp)
+{
+    const float *a = &bvh->kblocks[r->seg][blk].v[0][0][0], *b = &bvh->kblocks[r->seg + 1u][blk].v[0][0][0];
+    const float32x4_t f = vdupq_n_f32(r->f), g = vdupq_n_f32(1.0f - r->f);
+    for (int j = 0; j < 9; j++)
+        vst1q_f32(&tmp->v[0][0][0] + W * j, lerp4(g, f, a + W * j, b + W * j));
+    vst1q_u32(tmp->prim, vld1q_u32(bvh->kblocks[r->seg][blk].prim));
+    return tmp;
+}
+
+/* `motion` is a constant at every call: the static instance is the plain loop. */
+HZ_INLINE void closest_core(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, hz_bvh_ray_t *r, const sray_t *s,
+                            uint32_t start, hz_bvh_best_t *best, uint32_t ray_id, int lane, hz_bvh_counters_t *k,
+                            const bool motion)
 {
     (void)k; /* counters exist only with HZ_FEATURE_STATS */
+    hz_bvh_node_t ntmp;
+    hz_bvh_block_t btmp;
     uint32_t st_c[HZ_BVH_STACK + W];
     float st_d[HZ_BVH_STACK + W];
     int sp = 0;
@@ -161,7 +196,7 @@ static void closest_from(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, hz_bvh_ray_t 
     float32x4_t cull = vdupq_n_f32(r->tfar * HZ_BVH_CULL); /* see bvh.h */
     for (;;) {
         if (!hz_bvh_is_leaf(cur)) {
-            const hz_bvh_node_t *n = &bvh->nodes[cur];
+            const hz_bvh_node_t *n = motion ? node_at(bvh, cur, r, &ntmp) : &bvh->nodes[cur];
             float32x4_t tmin;
             HZ_BVH_COUNT(k, nodes, 1);
             unsigned m = node_hit(n, s, cull, &tmin);
@@ -171,7 +206,7 @@ static void closest_from(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, hz_bvh_ray_t 
             }
         } else {
             const uint32_t slot = hz_bvh_leaf_slot(cur), cnt = hz_bvh_leaf_count(cur);
-            const hz_bvh_block_t *b = &bvh->blocks[slot / W];
+            const hz_bvh_block_t *b = motion ? block_at(bvh, slot / W, r, &btmp) : &bvh->blocks[slot / W];
             float32x4_t t, V, Wv, det;
             HZ_BVH_COUNT(k, tris, cnt);
             unsigned m = leaf_hit(b, slot_mask(slot, cnt), s, r->tfar, &t, &V, &Wv, &det);
@@ -206,20 +241,31 @@ static void closest_from(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, hz_bvh_ray_t 
     }
 }
 
+static void closest_from(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, hz_bvh_ray_t *r, const sray_t *s, uint32_t start,
+                         hz_bvh_best_t *best, uint32_t ray_id, int lane, hz_bvh_counters_t *k)
+{
+    closest_core(bvh, ctx, r, s, start, best, ray_id, lane, k, false);
+}
+
 void hz_bvh_simd_closest(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, hz_bvh_ray_t *r, hz_bvh_best_t *best,
                          uint32_t ray_id, int lane)
 {
     sray_t s;
     hz_bvh_counters_t k = { 0, 0 };
     sray_init(&s, r);
-    closest_from(bvh, ctx, r, &s, 0, best, ray_id, lane, &k);
+    if (bvh->time_keys)
+        closest_core(bvh, ctx, r, &s, 0, best, ray_id, lane, &k, true);
+    else
+        closest_from(bvh, ctx, r, &s, 0, best, ray_id, lane, &k);
     hz_bvh_counters_flush(ctx, &k);
 }
 
-static bool any_from_node(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const hz_bvh_ray_t *r, const sray_t *s,
-                          uint32_t start, uint32_t ray_id, int lane, hz_bvh_counters_t *k)
+HZ_INLINE bool any_core(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const hz_bvh_ray_t *r, const sray_t *s,
+                        uint32_t start, uint32_t ray_id, int lane, hz_bvh_counters_t *k, const bool motion)
 {
     (void)k; /* counters exist only with HZ_FEATURE_STATS */
+    hz_bvh_node_t ntmp;
+    hz_bvh_block_t btmp;
     uint32_t stack[HZ_BVH_STACK + W];
     int sp = 0;
     uint32_t cur = start;
@@ -227,7 +273,7 @@ static bool any_from_node(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const hz_bvh
     const float32x4_t cull = vdupq_n_f32(r->tfar * HZ_BVH_CULL);
     for (;;) {
         if (!hz_bvh_is_leaf(cur)) {
-            const hz_bvh_node_t *n = &bvh->nodes[cur];
+            const hz_bvh_node_t *n = motion ? node_at(bvh, cur, r, &ntmp) : &bvh->nodes[cur];
             float32x4_t tmin;
             HZ_BVH_COUNT(k, nodes, 1);
             unsigned m = node_hit(n, s, cull, &tmin);
@@ -239,7 +285,7 @@ static bool any_from_node(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const hz_bvh
             }
         } else {
             const uint32_t slot = hz_bvh_leaf_slot(cur), cnt = hz_bvh_leaf_count(cur);
-            const hz_bvh_block_t *b = &bvh->blocks[slot / W];
+            const hz_bvh_block_t *b = motion ? block_at(bvh, slot / W, r, &btmp) : &bvh->blocks[slot / W];
             float32x4_t t, V, Wv, det;
             HZ_BVH_COUNT(k, tris, cnt);
             unsigned m = leaf_hit(b, slot_mask(slot, cnt), s, r->tfar, &t, &V, &Wv, &det);
@@ -263,12 +309,19 @@ static bool any_from_node(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const hz_bvh
     }
 }
 
+static bool any_from_node(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const hz_bvh_ray_t *r, const sray_t *s,
+                          uint32_t start, uint32_t ray_id, int lane, hz_bvh_counters_t *k)
+{
+    return any_core(bvh, ctx, r, s, start, ray_id, lane, k, false);
+}
+
 bool hz_bvh_simd_any(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const hz_bvh_ray_t *r, uint32_t ray_id, int lane)
 {
     sray_t s;
     hz_bvh_counters_t k = { 0, 0 };
     sray_init(&s, r);
-    bool hit = any_from_node(bvh, ctx, r, &s, 0, ray_id, lane, &k);
+    bool hit = bvh->time_keys ? any_core(bvh, ctx, r, &s, 0, ray_id, lane, &k, true)
+                              : any_from_node(bvh, ctx, r, &s, 0, ray_id, lane, &k);
     hz_bvh_counters_flush(ctx, &k);
     return hit;
 }

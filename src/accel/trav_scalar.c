@@ -37,9 +37,14 @@ static int node_hits(const hz_bvh_node_t *n, const hz_bvh_ray_t *r, entry_t *out
     return m;
 }
 
-void hz_bvh_scalar_closest(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, hz_bvh_ray_t *r, hz_bvh_best_t *best,
-                           uint32_t ray_id, int lane)
+/* The traversals below are written once for both kinds of tree: `motion` is a constant at each call, so the
+ * static instance is the plain loop, and the motion one reads every node and block at the ray's time (the lerp
+ * of its key pair, bvh.h). */
+HZ_INLINE void closest_core(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, hz_bvh_ray_t *r, hz_bvh_best_t *best,
+                            uint32_t ray_id, int lane, const bool motion)
 {
+    hz_bvh_node_t ntmp;
+    hz_bvh_block_t btmp;
     entry_t stack[HZ_BVH_STACK];
     hz_bvh_counters_t k = { 0, 0 };
     int sp = 0;
@@ -53,13 +58,14 @@ void hz_bvh_scalar_closest(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, hz_bvh_ray_
         if (!hz_bvh_is_leaf(e.c)) {
             entry_t hits[HZ_BVH_W];
             k.nodes++;
-            int m = node_hits(&bvh->nodes[e.c], r, hits);
+            int m = node_hits(motion ? hz_bvh_node_at(bvh, e.c, r, &ntmp) : &bvh->nodes[e.c], r, hits);
             for (int i = m; i-- > 0;) /* farthest pushed first */
                 stack[sp++] = hits[i];
             continue;
         }
         uint32_t slot = hz_bvh_leaf_slot(e.c), n = hz_bvh_leaf_count(e.c);
-        const hz_bvh_block_t *b = &bvh->blocks[slot / HZ_BVH_W];
+        const hz_bvh_block_t *b =
+            motion ? hz_bvh_block_at(bvh, slot / HZ_BVH_W, r, &btmp) : &bvh->blocks[slot / HZ_BVH_W];
         for (uint32_t s = slot % HZ_BVH_W; s < slot % HZ_BVH_W + n; s++) {
             float t, U, V, W, det;
             k.tris++;
@@ -80,8 +86,20 @@ void hz_bvh_scalar_closest(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, hz_bvh_ray_
     hz_bvh_counters_flush(ctx, &k);
 }
 
-bool hz_bvh_scalar_any(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const hz_bvh_ray_t *r, uint32_t ray_id, int lane)
+void hz_bvh_scalar_closest(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, hz_bvh_ray_t *r, hz_bvh_best_t *best,
+                           uint32_t ray_id, int lane)
 {
+    if (bvh->time_keys)
+        closest_core(bvh, ctx, r, best, ray_id, lane, true);
+    else
+        closest_core(bvh, ctx, r, best, ray_id, lane, false);
+}
+
+HZ_INLINE bool any_core(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const hz_bvh_ray_t *r, uint32_t ray_id, int lane,
+                        const bool motion)
+{
+    hz_bvh_node_t ntmp;
+    hz_bvh_block_t btmp;
     entry_t stack[HZ_BVH_STACK];
     hz_bvh_counters_t k = { 0, 0 };
     int sp = 0;
@@ -94,13 +112,14 @@ bool hz_bvh_scalar_any(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const hz_bvh_ra
         if (!hz_bvh_is_leaf(e.c)) {
             entry_t hits[HZ_BVH_W];
             k.nodes++;
-            int m = node_hits(&bvh->nodes[e.c], r, hits);
+            int m = node_hits(motion ? hz_bvh_node_at(bvh, e.c, r, &ntmp) : &bvh->nodes[e.c], r, hits);
             for (int i = m; i-- > 0;)
                 stack[sp++] = hits[i];
             continue;
         }
         uint32_t slot = hz_bvh_leaf_slot(e.c), n = hz_bvh_leaf_count(e.c);
-        const hz_bvh_block_t *b = &bvh->blocks[slot / HZ_BVH_W];
+        const hz_bvh_block_t *b =
+            motion ? hz_bvh_block_at(bvh, slot / HZ_BVH_W, r, &btmp) : &bvh->blocks[slot / HZ_BVH_W];
         for (uint32_t s = slot % HZ_BVH_W; s < slot % HZ_BVH_W + n && !hit; s++) {
             float t, U, V, W, det;
             k.tris++;
@@ -116,4 +135,9 @@ bool hz_bvh_scalar_any(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const hz_bvh_ra
     }
     hz_bvh_counters_flush(ctx, &k);
     return hit;
+}
+
+bool hz_bvh_scalar_any(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const hz_bvh_ray_t *r, uint32_t ray_id, int lane)
+{
+    return bvh->time_keys ? any_core(bvh, ctx, r, ray_id, lane, true) : any_core(bvh, ctx, r, ray_id, lane, false);
 }

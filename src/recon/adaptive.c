@@ -211,7 +211,7 @@ void hz_adaptive_extra_tile(struct hz_renderer *r, uint32_t tile, hz_worker_t *w
             jitter[slot][1] = ((float)cy + hz_u32_to_unit(hz_hash32(h))) / 4.0f - 0.5f;
         }
         hz_memset(w->radiance, 0, sizeof w->radiance);
-        hz_trace_batch(w, (const float(*)[2])jitter, false);
+        hz_trace_batch(w, (const float(*)[2])jitter, NULL, false);
         for (uint32_t slot = 0; slot < count; slot++)
             for (int c = 0; c < 3; c++)
                 acc[owner[slot] * 3u + (uint32_t)c] += w->radiance[slot * 3 + (uint32_t)c];

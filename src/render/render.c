@@ -2,6 +2,7 @@
 #include "hz/deflight.h"
 #include "hz/fixed.h"
 #include "hz/hash.h"
+#include "hz/timeseq.h"
 #include "render_internal.h"
 
 #define STACK_JOBS 4096u   /* depth-first ray queue per worker (bounded growth: see render_internal.h) */
@@ -29,6 +30,10 @@ void hz_render_opts_default(hz_render_opts_t *o)
     o->transparency = HZ_TRANSP_EXACT;
     o->hybrid_x = 0.5f;
     o->rr_shadows = false;
+    o->shutter = 0.0f;
+    o->frame_hz = HZ_DISPLAY_HZ;
+    o->keys = NULL;
+    o->tdense_cycle_keys = true;
 }
 
 const char *hz_render_mode_name(hz_render_mode_t m)
@@ -63,7 +68,16 @@ hz_status_t hz_render_opts_check(const hz_render_opts_t *o, hz_error_t *err)
         return hz_error_set(err, HZ_E_INVALID_ARG, "unknown transparency method %d", (int)o->transparency);
     if (!(o->hybrid_x >= 0.0f && o->hybrid_x <= 1.0f))
         return hz_error_set(err, HZ_E_INVALID_ARG, "hybrid visibility threshold must lie in [0, 1]");
+    if (!(o->shutter >= 0.0f && o->shutter <= 1.0f))
+        return hz_error_set(err, HZ_E_INVALID_ARG, "shutter must lie in [0, 1] (a fraction of the frame interval)");
+    if (o->shutter > 0.0f && (o->frame_hz < 1 || o->frame_hz > 1000))
+        return hz_error_set(err, HZ_E_INVALID_ARG, "shutter: frame rate %u Hz outside 1..1000", o->frame_hz);
+    if (o->shutter == 0.0f && o->keys)
+        return hz_error_set(err, HZ_E_INVALID_ARG, "pose keys given without a shutter (motion blur is off)");
     if (o->mode == HZ_MODE_ADAPTIVE) {
+        /* The subpixel pass traces at the frame's time; blurred presamples against sharp subpixels would mix. */
+        if (o->shutter > 0.0f)
+            return hz_error_set(err, HZ_E_INVALID_ARG, "motion blur (shutter > 0) is not built for adaptive mode");
         hz_amask_config_t c;
         return hz_adaptive_config(&o->adaptive, &c, err);
     }
@@ -159,6 +173,17 @@ hz_status_t hz_render_plan(const hz_scene_t *scene, const hz_render_opts_t *opts
     plan->thread_bytes = thread_bytes();
     plan->anyhit = n.mask || n.blend;
     plan->transparency = n.blend;
+    plan->time_keys = 0;
+    plan->keys_bytes = 0;
+    if (opts->shutter > 0.0f && n.motion) {
+        /* tdense with one key interval per cycle: the keys span four frames' shutters. */
+        float frames = opts->mode == HZ_MODE_TDENSE && opts->tdense_cycle_keys ? 3.0f + opts->shutter : opts->shutter;
+        uint32_t k = hz_posekeys_count(scene, frames / (float)opts->frame_hz);
+        if (k >= 2) {
+            plan->time_keys = k;
+            plan->keys_bytes = hz_posekeys_bytes(scene, k);
+        }
+    }
     return HZ_OK;
 }
 
@@ -213,6 +238,15 @@ hz_status_t hz_render_create(hz_renderer_t **out, hz_scene_t *scene, hz_accel_t 
             return hz_error_set(err, HZ_E_NO_MEMORY, "arena '%s' %u: needs %zu bytes, has %zu",
                                 thread_arenas[t].name, t, tn, th);
     }
+    if (opts->shutter > 0.0f && n.motion) {
+        const hz_posekeys_t *k = opts->keys;
+        if (!k || k->count < 2)
+            return hz_error_set(err, HZ_E_INVALID_ARG, "shutter %g on a moving scene needs pose keys (hz_render_plan)",
+                                (double)opts->shutter);
+        if (k->vertex_count != scene->vertex_count || accel->geom.time_keys != k->count ||
+            accel->geom.pos_keys[0] != k->pos[0])
+            return hz_error_set(err, HZ_E_INVALID_ARG, "shutter: the accel was not built over these pose keys");
+    }
     hz_arena_mark_t mark = hz_arena_mark(frame_arena);
     bool ok = true;
     size_t px = (size_t)opts->width * opts->height;
@@ -233,6 +267,10 @@ hz_status_t hz_render_create(hz_renderer_t **out, hz_scene_t *scene, hz_accel_t 
     /* The dither stage exists only where something is blended (hybrid:0 never leaves the exact path). */
     r->dither = n.blend && opts->transparency != HZ_TRANSP_EXACT &&
                 !(opts->transparency == HZ_TRANSP_HYBRID && opts->hybrid_x <= 0.0f);
+    r->blur = opts->shutter > 0.0f;
+    r->cam_blur = r->blur && n.camera_moves;
+    r->keys = r->blur && n.motion ? opts->keys : NULL;
+    r->tmap_a = 0.0f, r->tmap_b = 1.0f;
     const hz_hzb_header_t *hb = scene->header;
     r->offset_scale = 0.0f;
     for (int c = 0; c < 3; c++)
@@ -330,6 +368,47 @@ static float halton(uint32_t i, uint32_t base)
     return v;
 }
 
+/* Motion blur: the camera across this frame's shutter, and the pose keys (evaluated and refitted when they do
+ * not hold this frame's interval already). Times are offsets from the frame's time: the frame index tells how
+ * far apart two frames are (1 / frame_hz each), so no absolute times are subtracted. */
+static hz_status_t blur_begin(hz_renderer_t *r, uint64_t frame_index, hz_time_ns_t time, hz_error_t *err)
+{
+    const float hz = (float)r->opts.frame_hz, half = 0.5f * r->opts.shutter / hz;
+    if (r->cam_blur) {
+        for (uint32_t i = 0; i < HZ_RENDER_CAMERA_KEYS; i++) {
+            float dt = -half + 2.0f * half * ((float)i / (float)(HZ_RENDER_CAMERA_KEYS - 1));
+            hz_camera_t cam = hz_scene_camera_ns(r->scene, time + hz_time_from_s(dt));
+            hz_view_setup(&r->cam_views[i], &cam, r->opts.width, r->opts.height);
+        }
+    }
+    hz_posekeys_t *k = r->keys;
+    if (!k)
+        return HZ_OK;
+    /* tdense: one interval over the cycle's four shutters (the renderer is told frames, not cycles: the cycle's
+     * first frame is frame_index - subframe). */
+    bool cycle = r->opts.mode == HZ_MODE_TDENSE && r->opts.tdense_cycle_keys;
+    uint64_t sub = cycle ? r->td.frame % 4u : 0u;
+    bool reuse = cycle && r->key_evals > 0 && frame_index - sub == r->keys_cycle && frame_index >= r->keys_frame &&
+                 k->valid && k->time == r->keys_t && k->lo == r->keys_lo && k->hi == r->keys_hi;
+    if (!reuse) {
+        float lo = cycle ? -(float)sub / hz - half : -half, hi = cycle ? (float)(3u - sub) / hz + half : half;
+        hz_posekeys_eval_ns(k, r->scene, time, lo, hi);
+        r->keys_frame = frame_index, r->keys_cycle = frame_index - sub;
+        r->keys_t = time, r->keys_lo = lo, r->keys_hi = hi;
+        r->key_evals++;
+        r->frame_refits = 1;
+        hz_status_t s = hz_accel_refit(r->accel, err);
+        if (s != HZ_OK)
+            return s;
+    }
+    /* This frame's shutter, relative to the keys' first time. */
+    float span = r->keys_hi - r->keys_lo;
+    float start = (float)(frame_index - r->keys_frame) / hz - half - r->keys_lo;
+    r->tmap_a = span > 0.0f ? start / span : 0.0f;
+    r->tmap_b = span > 0.0f ? 2.0f * half / span : 0.0f;
+    return HZ_OK;
+}
+
 hz_status_t hz_render_begin_frame(hz_renderer_t *r, uint64_t frame_index, float time, hz_error_t *err)
 {
     if (!hz_isfinitef(time))
@@ -340,18 +419,25 @@ hz_status_t hz_render_begin_frame(hz_renderer_t *r, uint64_t frame_index, float 
 hz_status_t hz_render_begin_frame_ns(hz_renderer_t *r, uint64_t frame_index, hz_time_ns_t time_ns, hz_error_t *err)
 {
     float time = hz_time_wrap_s(time_ns, r->scene->header->duration);
+    r->frame_refits = 0;
     if (r->has_motion) {
         hz_scene_animate_ns(r->scene, time_ns);
         if (!r->have_prev)
             hz_scene_animate_ns(r->scene, time_ns); /* no history yet: previous = current, zero object motion */
-        hz_status_t s = hz_accel_refit(r->accel, err);
+        hz_status_t s = r->keys ? HZ_OK : hz_accel_refit(r->accel, err);
         if (s != HZ_OK)
             return s;
+        r->frame_refits = r->keys ? 0u : 1u;
     }
     if (r->have_prev)
         r->prev_view = r->view;
     hz_camera_t cam = hz_scene_camera_ns(r->scene, time_ns);
     hz_view_setup(&r->view, &cam, r->opts.width, r->opts.height);
+    if (r->blur) {
+        hz_status_t s = blur_begin(r, frame_index, time_ns, err);
+        if (s != HZ_OK)
+            return s;
+    }
     if (!r->have_prev)
         r->prev_view = r->view;
     r->frame = frame_index;
@@ -401,9 +487,15 @@ static void store(hz_worker_t *w, float *dst, const float *src, float scale)
     }
 }
 
+/* Motion blur: shutter time of sample `index` of `count` of pixel px (hz/timeseq.h), in [0, 1). */
+static float sample_time(const hz_renderer_t *r, uint32_t px, uint32_t index, uint32_t count)
+{
+    return hz_u32_to_unit(hz_timeseq_u32(px, index, count, r->opts.seed));
+}
+
 static void trace_tile(hz_renderer_t *r, uint32_t tile, hz_worker_t *w, hz_image_t *dst)
 {
-    float jitter[HZ_TILE_PIXELS][2];
+    float jitter[HZ_TILE_PIXELS][2], times[HZ_TILE_PIXELS];
     hz_tile_slots(r, tile, w->pixel);
     hz_memset(w->radiance, 0, sizeof w->radiance);
     uint32_t spp = r->opts.mode == HZ_MODE_FULL ? r->opts.spp : 1u;
@@ -424,9 +516,13 @@ static void trace_tile(hz_renderer_t *r, uint32_t tile, hz_worker_t *w, hz_image
                 jitter[slot][0] = (cx + hz_u32_to_unit(h)) / (float)side - 0.5f;
                 jitter[slot][1] = (cy + hz_u32_to_unit(hz_hash32(h))) / (float)side - 0.5f;
             }
+            /* Full mode stratifies time over the pixel's samples, TAA over 16 frames. */
+            if (r->blur && w->pixel[slot] != UINT32_MAX)
+                times[slot] = r->opts.mode == HZ_MODE_TAA ? sample_time(r, w->pixel[slot], (uint32_t)(r->frame % 16u), 16u)
+                                                          : sample_time(r, w->pixel[slot], k, spp);
         }
         w->dither_frame = (uint32_t)r->frame * spp + k; /* N spp walk N steps of the dither's sequence */
-        hz_trace_batch(w, (const float(*)[2])jitter, k == 0);
+        hz_trace_batch(w, (const float(*)[2])jitter, r->blur ? times : NULL, k == 0);
     }
     float scale = 1.0f / (float)spp;
     for (uint32_t slot = 0; slot < HZ_TILE_PIXELS; slot++) {
@@ -442,7 +538,7 @@ static void trace_tile(hz_renderer_t *r, uint32_t tile, hz_worker_t *w, hz_image
 static void trace_tile_tdense(hz_renderer_t *r, uint32_t tile, hz_worker_t *w)
 {
     enum { PER = HZ_RENDER_TILE / 2 };
-    float jitter[HZ_TILE_PIXELS][2];
+    float jitter[HZ_TILE_PIXELS][2], times[HZ_TILE_PIXELS];
     uint16_t where[HZ_TILE_PIXELS][2];
     hz_tdense_t *td = &r->td;
     uint32_t tx0 = (tile % r->tiles_x) * PER, ty0 = (tile / r->tiles_x) * PER, n = 0;
@@ -455,11 +551,14 @@ static void trace_tile_tdense(hz_renderer_t *r, uint32_t tile, hz_worker_t *w)
             continue;
         w->pixel[n] = py * r->opts.width + px;
         where[n][0] = (uint16_t)tx, where[n][1] = (uint16_t)ty;
+        /* A pixel is traced once per cycle: its times are stratified over 4 cycles (the static window). */
+        if (r->blur)
+            times[n] = sample_time(r, w->pixel[n], (td->frame / 4u) % 4u, 4u);
         n++;
     }
     hz_memset(w->radiance, 0, sizeof w->radiance);
     w->dither_frame = (uint32_t)r->frame;
-    hz_trace_batch(w, (const float(*)[2])jitter, true);
+    hz_trace_batch(w, (const float(*)[2])jitter, r->blur ? times : NULL, true);
     const hz_gbuffer_t *gb = &r->gb;
     static const float still[2] = { 0.0f, 0.0f };
     for (uint32_t slot = 0; slot < n; slot++) {
@@ -509,6 +608,7 @@ static void add_stats(hz_render_stats_t *a, const hz_render_stats_t *b)
     a->active_subpixels += b->active_subpixels;
     a->extra_rays += b->extra_rays;
     a->extra_packets += b->extra_packets;
+    a->refits += b->refits;
 }
 
 void hz_render_end_frame(hz_renderer_t *r)
@@ -516,6 +616,7 @@ void hz_render_end_frame(hz_renderer_t *r)
     hz_memset(&r->last, 0, sizeof r->last);
     for (uint32_t t = 0; t < r->thread_count; t++)
         add_stats(&r->last, &r->workers_by_thread[t]->stats);
+    r->last.refits = r->frame_refits;
     add_stats(&r->total, &r->last);
     if (r->opts.mode == HZ_MODE_TAA) {
         r->hist_index ^= 1u; /* the history just written becomes the previous frame's */

@@ -41,6 +41,7 @@ typedef struct ray_job {
     float cone_w, cone_s;      /* ray cone: width at o, spread angle */
     float travelled;           /* distance from the camera to o along the path */
     float vis;                 /* visibility left after the blended layers of this segment */
+    float time;                /* ray.time: normalised in the accel's key interval (frame time without blur) */
     uint16_t slot;             /* batch slot (pixel of the tile) */
     uint8_t gslot;             /* GSLOT_* */
     uint8_t bounces;           /* mirror reflections so far */
@@ -53,6 +54,7 @@ typedef struct shadow_job {
     float tmax;                /* distance to the light, shortened a little */
     float w[3];                /* radiance added to the slot if the light is visible */
     float vis;                 /* transmittance of the blended layers crossed so far */
+    float time;                /* the time of the ray whose hit casts it */
     uint16_t slot;
     uint8_t gslot;             /* counts into shadow / shadow2 of the slot's pixel when blocked */
     uint8_t light;             /* the light's index (mod 256): packets are gathered per light */
@@ -122,6 +124,17 @@ struct hz_renderer {
     hz_tdense_t td;            /* tdense: subframe placement and composite (its frames are the output) */
     hz_adaptive_state_t ad;    /* adaptive: attribute map and mask */
     hz_gbuffer_t gb;
+    /* Motion blur (opts.shutter > 0): sample times t in [0, 1) of the frame's shutter map to ray.time
+     * tmap_a + t * tmap_b in the pose keys' interval; the camera is interpolated between cam_views. */
+    bool blur, cam_blur;
+    hz_posekeys_t *keys;       /* NULL: the accel is static (no keys) */
+    float tmap_a, tmap_b;
+    hz_view_t cam_views[HZ_RENDER_CAMERA_KEYS];
+    uint64_t keys_frame, keys_cycle; /* the frame whose begin evaluated the keys (and its cycle's first frame) */
+    hz_time_ns_t keys_t;
+    float keys_lo, keys_hi;
+    uint64_t key_evals;        /* key evaluations + refits so far (tdense cycles save them) */
+    uint32_t frame_refits;     /* accel refits of this frame's begin */
     hz_worker_t *workers_by_thread[HZ_MAX_THREADS]; /* each from its thread's arena */
     uint32_t thread_count;
     hz_render_stats_t last, total;
@@ -150,7 +163,8 @@ float hz_log2_approx(float x);
  * each in [-0.5, 0.5]) and adds its radiance to w->radiance[slot]; fills the G-buffer when asked. Slots whose
  * pixel is UINT32_MAX are skipped: to trace a subset of pixels, put them in the first slots (consecutive
  * HZ_RENDER_LANES slots form a packet) and mark the rest UINT32_MAX, as tdense does. */
-void hz_trace_batch(hz_worker_t *w, const float (*jitter)[2], bool write_gbuffer);
+/* times: NULL, or with motion blur the sample time of each slot in [0, 1) of the frame's shutter. */
+void hz_trace_batch(hz_worker_t *w, const float (*jitter)[2], const float *times, bool write_gbuffer);
 /* Slot -> pixel of tile `tile`, ordered so that consecutive HZ_RENDER_LANES slots form compact packets. */
 void hz_tile_slots(const struct hz_renderer *r, uint32_t tile, uint32_t pixel[HZ_TILE_PIXELS]);
 bool hz_render_anyhit(void *user, uint32_t prim, float u, float v, float t, uint32_t ray_id, int lane);

@@ -1,6 +1,7 @@
 /* Tracing and Whitted shading of one tile batch (see render_internal.h for the work organisation). */
 #include "hz/image.h"
 #include "hz/terminator.h"
+#include "hz/posekeys.h"
 #include "render_internal.h"
 
 #define INV_PI 0.31830988618379067f
@@ -39,7 +40,6 @@ static void intersect_jobs(hz_worker_t *w, const ray_job_t *jobs, uint32_t n, hi
 {
     packet_t p;
     int32_t valid[HZ_RENDER_LANES] HZ_ALIGNED(32);
-    float time = w->r->time;
     for (uint32_t i = 0; i < HZ_RENDER_LANES; i++) {
         const ray_job_t *j = &jobs[i < n ? i : 0];
         valid[i] = i < n ? -1 : 0;
@@ -47,7 +47,7 @@ static void intersect_jobs(hz_worker_t *w, const ray_job_t *jobs, uint32_t n, hi
         p.ray.dir_x[i] = j->d[0], p.ray.dir_y[i] = j->d[1], p.ray.dir_z[i] = j->d[2];
         p.ray.tnear[i] = 0.0f;
         p.ray.tfar[i] = tmax && i < n ? tmax[i] : __builtin_inff();
-        p.ray.time[i] = time;
+        p.ray.time[i] = j->time;
         p.ray.mask[i] = 0xffffffffu;
         p.ray.id[i] = j->slot | (j->gslot == GSLOT_PRIMARY ? ID_PRIMARY : 0u) | (j->dither ? ID_DITHER : 0u);
         p.ray.flags[i] = 0;
@@ -82,6 +82,19 @@ static hz_vec3_t vtx(const float *arr, uint32_t i)
     return hz_v3(arr[(size_t)i * 4], arr[(size_t)i * 4 + 1], arr[(size_t)i * 4 + 2]);
 }
 
+/* Triangle prim's vertices at a ray's time: the pose keys interpolated with motion blur, else the frame's. */
+static void tri_at(const struct hz_renderer *r, uint32_t prim, float time, hz_vec3_t p[3])
+{
+    const uint32_t *t = r->scene->tri + (size_t)prim * 3;
+    for (int i = 0; i < 3; i++)
+        p[i] = r->keys ? hz_posekeys_lerp(r->keys, r->keys->pos, t[i], time) : vtx(r->scene->pos, t[i]);
+}
+
+static hz_vec3_t nrm_at(const struct hz_renderer *r, uint32_t v, float time)
+{
+    return r->keys && r->keys->nrm[0] ? hz_posekeys_lerp(r->keys, r->keys->nrm, v, time) : vtx(r->scene->nrm, v);
+}
+
 static hz_vec3_t bary(hz_vec3_t a, hz_vec3_t b, hz_vec3_t c, float u, float v)
 {
     float w = 1.0f - u - v;
@@ -104,7 +117,9 @@ static void surface_at(const struct hz_renderer *r, const ray_job_t *j, const hi
 {
     const hz_scene_t *s = r->scene;
     const uint32_t *t = s->tri + (size_t)h->prim * 3;
-    hz_vec3_t p0 = vtx(s->pos, t[0]), p1 = vtx(s->pos, t[1]), p2 = vtx(s->pos, t[2]);
+    hz_vec3_t pv[3];
+    tri_at(r, h->prim, j->time, pv);
+    hz_vec3_t p0 = pv[0], p1 = pv[1], p2 = pv[2];
     hz_vec3_t d = hz_v3(j->d[0], j->d[1], j->d[2]);
     sf->prim = h->prim;
     sf->p = bary(p0, p1, p2, h->u, h->v);
@@ -115,7 +130,8 @@ static void surface_at(const struct hz_renderer *r, const ray_job_t *j, const hi
     sf->ng = hz_v3_scale(ng, flip);
     sf->ns = sf->ng;
     if (s->nrm) {
-        hz_vec3_t ns = hz_v3_normalize(bary(vtx(s->nrm, t[0]), vtx(s->nrm, t[1]), vtx(s->nrm, t[2]), h->u, h->v));
+        hz_vec3_t ns = hz_v3_normalize(
+            bary(nrm_at(r, t[0], j->time), nrm_at(r, t[1], j->time), nrm_at(r, t[2], j->time), h->u, h->v));
         ns = hz_v3_scale(ns, flip);
         /* Interpolated normals can point below the surface at grazing angles: keep the geometric one then. */
         if (hz_v3_dot(ns, sf->ng) > 0.0f)
@@ -302,7 +318,7 @@ static void process_shadows(hz_worker_t *w)
         p.dir_x[i] = j->d[0], p.dir_y[i] = j->d[1], p.dir_z[i] = j->d[2];
         p.tnear[i] = 0.0f;
         p.tfar[i] = j->tmax;
-        p.time[i] = r->time;
+        p.time[i] = j->time;
         p.mask[i] = 0xffffffffu;
         p.id[i] = i | ID_SHADOW | (j->dither ? ID_SHADOW_DITHER : 0u);
         p.flags[i] = 0;
@@ -334,6 +350,7 @@ static void process_shadows(hz_worker_t *w)
         for (int c = 0; c < 3; c++)
             rj[i].o[c] = jobs[i].o[c], rj[i].d[c] = jobs[i].d[c];
         rj[i].slot = jobs[i].slot;
+        rj[i].time = jobs[i].time;
         rj[i].gslot = GSLOT_NONE;
         tmax[i] = jobs[i].tmax;
     }
@@ -356,9 +373,9 @@ static void process_shadows(hz_worker_t *w)
             continue;
         }
         /* Continue from just behind the layer. */
-        const hz_scene_t *s = r->scene;
-        const uint32_t *t = s->tri + (size_t)h[i].prim * 3;
-        hz_vec3_t p0 = vtx(s->pos, t[0]), p1 = vtx(s->pos, t[1]), p2 = vtx(s->pos, t[2]);
+        hz_vec3_t pv[3];
+        tri_at(r, h[i].prim, j->time, pv);
+        hz_vec3_t p0 = pv[0], p1 = pv[1], p2 = pv[2];
         hz_vec3_t ph = bary(p0, p1, p2, h[i].u, h[i].v);
         hz_vec3_t ng = hz_v3_cross(hz_v3_sub(p1, p0), hz_v3_sub(p2, p0));
         hz_vec3_t d = hz_v3(j->d[0], j->d[1], j->d[2]);
@@ -411,6 +428,14 @@ static hz_vec3_t prev_point(const struct hz_renderer *r, uint32_t prim, float u,
         return now;
     const uint32_t *t = s->tri + (size_t)prim * 3;
     return bary(vtx(s->prev_pos, t[0]), vtx(s->prev_pos, t[1]), vtx(s->prev_pos, t[2]), u, v);
+}
+
+/* The hit point (u, v) of prim at the frame's time. */
+static hz_vec3_t frame_point(const struct hz_renderer *r, uint32_t prim, float u, float v)
+{
+    const hz_scene_t *s = r->scene;
+    const uint32_t *t = s->tri + (size_t)prim * 3;
+    return bary(vtx(s->pos, t[0]), vtx(s->pos, t[1]), vtx(s->pos, t[2]), u, v);
 }
 
 static hz_vec3_t prev_normal(const struct hz_renderer *r, uint32_t prim)
@@ -483,8 +508,10 @@ static void shade_hit(hz_worker_t *w, const ray_job_t *j, const hitrec_t *h)
                                   (w->alpha_touched[j->slot] || m->alpha_mode != HZ_ALPHA_OPAQUE ? HZ_GB_ALPHA : 0));
         if (gb->mv) {
             float mv[2];
-            hz_vec3_t pp = prev_point(r, h->prim, h->u, h->v, sf.p);
-            point_motion(r, sf.p, pp, mv);
+            /* Motion vectors belong to the frame's time: with blur the hit is at the ray's time instead. */
+            hz_vec3_t pf = r->keys ? frame_point(r, h->prim, h->u, h->v) : sf.p;
+            hz_vec3_t pp = prev_point(r, h->prim, h->u, h->v, pf);
+            point_motion(r, pf, pp, mv);
             write_mv(gb->mv, px, mv[0], mv[1]);
             if (gb->mv_reflect)
                 write_mv(gb->mv_reflect, px, mv[0], mv[1]); /* replaced by the reflected hit's, if any */
@@ -495,7 +522,7 @@ static void shade_hit(hz_worker_t *w, const ray_job_t *j, const hitrec_t *h)
                                                           hz_v3_sub(vtx(s->pos, s->tri[h->prim * 3 + 2]),
                                                                     vtx(s->pos, s->tri[h->prim * 3]))));
                 hz_vec3_t np = prev_normal(r, h->prim);
-                mr->p[0] = sf.p.x, mr->p[1] = sf.p.y, mr->p[2] = sf.p.z;
+                mr->p[0] = pf.x, mr->p[1] = pf.y, mr->p[2] = pf.z;
                 mr->n[0] = n.x, mr->n[1] = n.y, mr->n[2] = n.z;
                 mr->pp[0] = pp.x, mr->pp[1] = pp.y, mr->pp[2] = pp.z;
                 mr->np[0] = np.x, mr->np[1] = np.y, mr->np[2] = np.z;
@@ -509,8 +536,9 @@ static void shade_hit(hz_worker_t *w, const ray_job_t *j, const hitrec_t *h)
                                    (m->alpha_mode != HZ_ALPHA_OPAQUE ? HZ_GB_ALPHA : 0));
         if (gb->mv_reflect) {
             const mirror_rec_t *mr = &w->mirror[j->slot];
-            hz_vec3_t pp = prev_point(r, h->prim, h->u, h->v, sf.p);
-            hz_vec3_t v = mirror_point(sf.p, hz_v3(mr->p[0], mr->p[1], mr->p[2]), hz_v3(mr->n[0], mr->n[1], mr->n[2]));
+            hz_vec3_t pf = r->keys ? frame_point(r, h->prim, h->u, h->v) : sf.p;
+            hz_vec3_t pp = prev_point(r, h->prim, h->u, h->v, pf);
+            hz_vec3_t v = mirror_point(pf, hz_v3(mr->p[0], mr->p[1], mr->p[2]), hz_v3(mr->n[0], mr->n[1], mr->n[2]));
             hz_vec3_t vp = mirror_point(pp, hz_v3(mr->pp[0], mr->pp[1], mr->pp[2]),
                                         hz_v3(mr->np[0], mr->np[1], mr->np[2]));
             float mv[2];
@@ -575,6 +603,7 @@ static void shade_hit(hz_worker_t *w, const ray_job_t *j, const hitrec_t *h)
         }
         sj.w[0] = kd[0] * lt->color[0] * k, sj.w[1] = kd[1] * lt->color[1] * k, sj.w[2] = kd[2] * lt->color[2] * k;
         sj.vis = 1.0f;
+        sj.time = j->time;
         sj.slot = j->slot;
         sj.gslot = j->gslot;
         sj.layers = 0;
@@ -646,10 +675,28 @@ static void drain(hz_worker_t *w)
     }
 }
 
-void hz_trace_batch(hz_worker_t *w, const float (*jitter)[2], bool write_gbuffer)
+/* Motion blur: the camera at shutter time t in [0, 1), between the two nearest of the shutter's views. */
+static void view_at(const struct hz_renderer *r, float t, hz_view_t *v)
+{
+    float fs = t * (float)(HZ_RENDER_CAMERA_KEYS - 1);
+    uint32_t i = (uint32_t)fs;
+    if (i > HZ_RENDER_CAMERA_KEYS - 2)
+        i = HZ_RENDER_CAMERA_KEYS - 2;
+    float f = fs - (float)i;
+    const hz_view_t *a = &r->cam_views[i], *b = &r->cam_views[i + 1];
+    *v = *a;
+    v->eye = hz_v3_lerp(a->eye, b->eye, f);
+    v->fwd = hz_v3_lerp(a->fwd, b->fwd, f);
+    v->right = hz_v3_lerp(a->right, b->right, f);
+    v->up = hz_v3_lerp(a->up, b->up, f);
+    v->spread = a->spread + (b->spread - a->spread) * f;
+}
+
+void hz_trace_batch(hz_worker_t *w, const float (*jitter)[2], const float *times, bool write_gbuffer)
 {
     struct hz_renderer *r = w->r;
     const hz_view_t *v = &r->view;
+    hz_view_t vt;
     ray_job_t jobs[HZ_RENDER_LANES];
     hitrec_t hits[HZ_RENDER_LANES];
     hz_memset(w->alpha_touched, 0, sizeof w->alpha_touched);
@@ -664,6 +711,14 @@ void hz_trace_batch(hz_worker_t *w, const float (*jitter)[2], bool write_gbuffer
             if (px == UINT32_MAX)
                 continue;
             ray_job_t *j = &jobs[n++];
+            j->time = r->time;
+            if (times) {
+                j->time = r->tmap_a + times[slot] * r->tmap_b;
+                if (r->cam_blur) {
+                    view_at(r, times[slot], &vt);
+                    v = &vt;
+                }
+            }
             float x = (float)(px % v->width) + 0.5f + jitter[slot][0];
             float y = (float)(px / v->width) + 0.5f + jitter[slot][1];
             hz_vec3_t d = hz_view_ray_dir(v, x, y);
@@ -679,6 +734,7 @@ void hz_trace_batch(hz_worker_t *w, const float (*jitter)[2], bool write_gbuffer
             j->bounces = 0;
             j->layers = 0;
             j->dither = dither;
+            v = &r->view;
         }
         if (n == 0)
             continue;

@@ -117,8 +117,25 @@ void hz_object_vertex_frames(const hz_hzb_object_t *o, float t, uint32_t *f0, ui
     *w = n > 1 ? f - (float)i : 0.0f;
 }
 
-/* Writes the state of object `o` at time t into pos/nrm (full-size arrays indexed by vertex). */
-static void animate_object(hz_scene_t *s, const hz_hzb_object_t *o, float t)
+/* HZ_MOTION_SWAY (hz/hzb.h): rest position plus a h^2 sin(w t + pi (u.x + u.y + u.z)); rest normals. */
+static void sway_object(const hz_scene_t *s, const hz_hzb_object_t *o, float t, float *pos, float *nrm)
+{
+    const float *c = o->params, *a = o->params + 3, w = o->params[6], r0 = o->params[7];
+    for (uint32_t i = o->first_vertex; i < o->first_vertex + o->vertex_count; i++) {
+        const float *r = s->rest_pos + (size_t)i * 4;
+        float dx = r[0] - c[0], dy = r[1] - c[1], dz = r[2] - c[2];
+        float len = hz_sqrtf(dx * dx + dy * dy + dz * dz), h = len > r0 ? len - r0 : 0.0f;
+        float u = len > 0.0f ? (dx + dy + dz) / len : 0.0f;
+        float k = h * h * hz_sinf(w * t + HZ_PI * u);
+        float *dst = pos + (size_t)i * 4;
+        dst[0] = r[0] + a[0] * k, dst[1] = r[1] + a[1] * k, dst[2] = r[2] + a[2] * k, dst[3] = 0.0f;
+        if (nrm)
+            hz_memcpy(nrm + (size_t)i * 4, s->rest_nrm + (size_t)i * 4, 4 * sizeof(float));
+    }
+}
+
+/* Writes the state of object `o` at time t into pos/nrm (full-size arrays indexed by vertex; nrm may be NULL). */
+static void animate_object(const hz_scene_t *s, const hz_hzb_object_t *o, float t, float *pos, float *nrm)
 {
     uint32_t v0 = o->first_vertex, vn = o->vertex_count;
     if (o->motion == HZ_MOTION_VERTEX) {
@@ -129,38 +146,42 @@ static void animate_object(hz_scene_t *s, const hz_hzb_object_t *o, float t)
         const float *b = s->vertex_keys + ((size_t)o->key_first + (size_t)f1 * vn) * 4;
         for (uint32_t i = 0; i < vn; i++)
             for (int c = 0; c < 4; c++)
-                s->pos[(size_t)(v0 + i) * 4 + c] = a[i * 4 + c] + (b[i * 4 + c] - a[i * 4 + c]) * w;
-        if (s->nrm && s->vertex_key_normals) {
+                pos[(size_t)(v0 + i) * 4 + c] = a[i * 4 + c] + (b[i * 4 + c] - a[i * 4 + c]) * w;
+        if (nrm && s->vertex_key_normals) {
             const float *na = s->vertex_key_normals + ((size_t)o->key_first + (size_t)f0 * vn) * 4;
             const float *nb = s->vertex_key_normals + ((size_t)o->key_first + (size_t)f1 * vn) * 4;
             for (uint32_t i = 0; i < vn; i++) {
                 hz_vec3_t n = hz_v3_lerp(hz_v3(na[i * 4], na[i * 4 + 1], na[i * 4 + 2]),
                                          hz_v3(nb[i * 4], nb[i * 4 + 1], nb[i * 4 + 2]), w);
                 n = hz_v3_normalize(n);
-                float *dst = s->nrm + (size_t)(v0 + i) * 4;
+                float *dst = nrm + (size_t)(v0 + i) * 4;
                 dst[0] = n.x, dst[1] = n.y, dst[2] = n.z, dst[3] = 0.0f;
             }
         }
+        return;
+    }
+    if (o->motion == HZ_MOTION_SWAY) {
+        sway_object(s, o, t, pos, nrm);
         return;
     }
     hz_mat4_t m, inv, nm;
     if (!hz_object_matrix(o, s->rigid_keys, t, &m))
         return;
     /* Normals transform by the inverse transpose; a degenerate (zero-scale) key keeps the rest normals. */
-    int have_nm = s->nrm && hz_mat4_inverse(&m, &inv) == HZ_OK;
+    int have_nm = nrm && hz_mat4_inverse(&m, &inv) == HZ_OK;
     if (have_nm)
         nm = hz_mat4_transpose(&inv);
     for (uint32_t i = 0; i < vn; i++) {
         const float *r = s->rest_pos + (size_t)(v0 + i) * 4;
         hz_vec3_t p = hz_mat4_mul_point(&m, hz_v3(r[0], r[1], r[2]));
-        float *dst = s->pos + (size_t)(v0 + i) * 4;
+        float *dst = pos + (size_t)(v0 + i) * 4;
         dst[0] = p.x, dst[1] = p.y, dst[2] = p.z, dst[3] = 0.0f;
-        if (s->nrm) {
+        if (nrm) {
             const float *rn = s->rest_nrm + (size_t)(v0 + i) * 4;
             hz_vec3_t n = hz_v3(rn[0], rn[1], rn[2]);
             if (have_nm)
                 n = hz_v3_normalize(hz_mat4_mul_dir(&nm, n));
-            float *dn = s->nrm + (size_t)(v0 + i) * 4;
+            float *dn = nrm + (size_t)(v0 + i) * 4;
             dn[0] = n.x, dn[1] = n.y, dn[2] = n.z, dn[3] = 0.0f;
         }
     }
@@ -176,6 +197,7 @@ static float object_time(const hz_hzb_object_t *o, const hz_hzb_rigid_key_t *key
         return hz_time_wrap_s(t, duration);
     switch (o->motion) {
     case HZ_MOTION_SPIN:
+    case HZ_MOTION_SWAY: /* both: angular frequency in params[6] */
         return o->params[6] != 0.0f ? hz_time_wrap_s(t, 2.0 * HZ_PI / hz_absf(o->params[6])) : 0.0f;
     case HZ_MOTION_OSCILLATE:
         return o->params[3] != 0.0f ? hz_time_wrap_s(t, 1.0 / hz_absf(o->params[3])) : 0.0f;
@@ -194,7 +216,8 @@ void hz_scene_pose_ns(hz_scene_t *s, hz_time_ns_t t)
 {
     for (uint32_t i = 0; i < s->object_count; i++)
         if (s->objects[i].motion != HZ_MOTION_NONE)
-            animate_object(s, &s->objects[i], object_time(&s->objects[i], s->rigid_keys, t, s->header->duration));
+            animate_object(s, &s->objects[i], object_time(&s->objects[i], s->rigid_keys, t, s->header->duration),
+                           s->pos, s->nrm);
     s->time = hz_time_wrap_s(t, s->header->duration);
     s->time_ns = t;
 }
@@ -202,6 +225,20 @@ void hz_scene_pose_ns(hz_scene_t *s, hz_time_ns_t t)
 void hz_scene_pose(hz_scene_t *s, float t)
 {
     hz_scene_pose_ns(s, hz_time_from_s(t));
+}
+
+void hz_scene_pose_at_ns(const hz_scene_t *s, hz_time_ns_t t, float dt, float *pos, float *nrm)
+{
+    hz_time_ns_t at = t + hz_time_from_s(dt);
+    for (uint32_t i = 0; i < s->object_count; i++)
+        if (s->objects[i].motion != HZ_MOTION_NONE)
+            animate_object(s, &s->objects[i], object_time(&s->objects[i], s->rigid_keys, at, s->header->duration),
+                           pos, s->nrm ? nrm : NULL);
+}
+
+void hz_scene_pose_at(const hz_scene_t *s, float t, float dt, float *pos, float *nrm)
+{
+    hz_scene_pose_at_ns(s, hz_time_from_s(t), dt, pos, nrm);
 }
 
 void hz_scene_animate(hz_scene_t *s, float t)

@@ -341,6 +341,10 @@ static hz_status_t check_objects(view_t *v)
             if (o->params[3] < 0.0f)
                 return fail(v, HZ_E_RANGE, "object %u: oscillation frequency is negative", i);
             break;
+        case HZ_MOTION_SWAY:
+            if (o->params[7] < 0.0f)
+                return fail(v, HZ_E_RANGE, "object %u: sway root radius is negative", i);
+            break;
         default:
             return fail(v, HZ_E_RANGE, "object %u: unknown motion kind %u", i, o->motion);
         }

@@ -224,7 +224,7 @@ hz_status_t su_accel(hz_accel_t **a, const float *pos, uint32_t nv, const uint32
         return hz_arena_error(&p->scene, err);
     memcpy(pp, pos, (size_t)nv * 4 * sizeof(float));
     memcpy(tt, tri, (size_t)nt * 3 * sizeof(uint32_t));
-    hz_accel_geom_t g = { pp, nv, tt, nt, NULL };
+    hz_accel_geom_t g = { .pos = pp, .vertex_count = nv, .tri = tt, .tri_count = nt };
     return hz_accel_build_native(a, &g, NULL, &p->accel, err);
 }
 

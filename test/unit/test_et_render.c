@@ -137,6 +137,38 @@ static void test_full_frame_error_falls_as_rays_grow(void **state)
     }
 }
 
+/* Motion blur rows: every accel kind renders the same images at equal spp (same rays at the same times), error
+ * falls with spp, and each run gives its pose keys and accel back. */
+static void test_blur_rows_agree_and_give_back(void **state)
+{
+    (void)state;
+    const hz_et_scene_t *sc = hz_et_scene_find("builtin-blur");
+    assert_non_null(sc);
+    assert_true(sc->reference == &hz_et_blur_reference);
+    hz_et_env_t env = { scene_dir(), 2 };
+    hz_et_sequence_t seq = { sc->name, 0, NULL, NULL, 32, 18, 4, 0, 30, NULL };
+    hz_error_t err;
+    size_t used = pools_used();
+    if (sc->open(sc, &env, &seq, &arena, &err) != HZ_OK)
+        fail_msg("%s", err.msg);
+    assert_non_null(strstr(seq.settings, "shutter 1"));
+    hz_et_config_t cfg = { cache, HZ_FLIP_DEFAULT_PPD, &arena, NULL, false, NULL };
+    hz_et_row_t rows[HZ_ET_BLUR_METHOD_COUNT];
+    hz_status_t s = hz_et_run(&seq, sc->reference, sc->methods, sc->method_count, &cfg, rows, &err);
+    sc->close();
+    if (s != HZ_OK)
+        fail_msg("%s", err.msg);
+    assert_int_equal(pools_used(), used);
+    for (size_t i = 0; i < sc->method_count; i++) {
+        const hz_et_row_t *r = &rows[i];
+        print_message("%-7s %2g spp: PSNR %.2f dB (msbvh at this spp: %.2f dB)\n", sc->methods[i].name, r->value,
+                      r->psnr_srgb8, rows[i % 3].psnr_srgb8);
+        if (i % 3)
+            assert_true(r->psnr_srgb8 > rows[i - 1].psnr_srgb8);
+        assert_true(fabs(r->psnr_srgb8 - rows[i % 3].psnr_srgb8) < 0.5);
+    }
+}
+
 static void test_taa_runs_one_ray_per_pixel(void **state)
 {
     (void)state;
@@ -293,6 +325,7 @@ int main(void)
         cmocka_unit_test(test_tables_are_well_formed),
         cmocka_unit_test(test_full_frame_error_falls_as_rays_grow),
         cmocka_unit_test(test_taa_runs_one_ray_per_pixel),
+        cmocka_unit_test(test_blur_rows_agree_and_give_back),
         cmocka_unit_test(test_cache_key_is_content_and_renderer),
         cmocka_unit_test(test_missing_scene_is_refused_and_pools_given_back),
         cmocka_unit_test(test_adaptive_rows_and_scene_file),

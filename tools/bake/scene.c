@@ -302,6 +302,26 @@ static hz_status_t apply_object(hz_bake_scene_t *s, hz_bake_object_t *o, const h
             ob->params[k] = so->amplitude[k];
         ob->params[3] = so->frequency;
         ob->params[4] = (float)(so->phase_deg * HZ_BAKE_PI / 180.0);
+    } else if (so->motion == HZ_MOTION_SWAY) {
+        /* Centre (pivot or the object's centre), amplitude, angular frequency and the root radius: the nearest
+         * vertex's distance from the centre, so strands are rooted where the surface begins (hz/hzb.h). */
+        float c[3];
+        if (so->pivot_center)
+            object_center(s, o, c);
+        else
+            memcpy(c, so->pivot, sizeof c);
+        double r0 = INFINITY;
+        for (uint32_t v = 0; v < o->o.vertex_count; v++) {
+            const float *p = HZ_BAKE_AT(s->pos, float, (size_t)(o->o.first_vertex + v) * 4);
+            double dx = p[0] - c[0], dy = p[1] - c[1], dz = p[2] - c[2];
+            r0 = fmin(r0, sqrt(dx * dx + dy * dy + dz * dz));
+        }
+        for (int k = 0; k < 3; k++) {
+            ob->params[k] = c[k];
+            ob->params[3 + k] = so->amplitude[k];
+        }
+        ob->params[6] = (float)(2.0 * HZ_BAKE_PI * so->frequency);
+        ob->params[7] = o->o.vertex_count ? (float)r0 : 0.0f;
     } else if (so->motion == HZ_MOTION_RIGID) {
         /* Object space = the baked world positions: keys move the object from where the model put it. */
         ob->key_first = (uint32_t)s->rkeys.len;

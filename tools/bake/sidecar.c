@@ -30,8 +30,9 @@ typedef struct keydef {
 
 static const char *const alpha_modes[] = { "opaque", "mask", "blend", NULL };
 static const char *const normal_modes[] = { "smooth", "none", NULL };
-static const char *const motions[] = { "none", "spin", "oscillate", "keys", NULL };
-static const uint32_t motion_values[] = { HZ_MOTION_NONE, HZ_MOTION_SPIN, HZ_MOTION_OSCILLATE, HZ_MOTION_RIGID };
+static const char *const motions[] = { "none", "spin", "oscillate", "keys", "sway", NULL };
+static const uint32_t motion_values[] = { HZ_MOTION_NONE, HZ_MOTION_SPIN, HZ_MOTION_OSCILLATE, HZ_MOTION_RIGID,
+                                          HZ_MOTION_SWAY };
 
 #define SC(f) offsetof(hz_bake_sidecar_t, f)
 #define MT(f) offsetof(hz_bake_sc_material_t, f)
@@ -62,7 +63,7 @@ static const keydef_t keys[] = {
     { "mirror", SEC_MATERIAL, K_FLOAT, HZ_BAKE_SC_MIRROR, MT(mirror), 0, 1, NULL, NULL, "reflectance in [0, 1]" },
 
     { "motion", SEC_OBJECT, K_ENUM, HZ_BAKE_SC_MOTION, OB(motion), 0, 0, motions, motion_values,
-      "none, spin, oscillate or keys" },
+      "none, spin, oscillate, keys or sway" },
     { "pivot", SEC_OBJECT, K_VEC3, HZ_BAKE_SC_PIVOT, OB(pivot), -1e9, 1e9, NULL, NULL, "X Y Z or center" },
     { "axis", SEC_OBJECT, K_VEC3, HZ_BAKE_SC_AXIS, OB(axis), -1e9, 1e9, NULL, NULL, "X Y Z" },
     { "speed", SEC_OBJECT, K_FLOAT, HZ_BAKE_SC_SPEED, OB(speed_deg), -1e6, 1e6, NULL, NULL, "degrees/s" },
@@ -440,6 +441,12 @@ static hz_status_t close_section(parser_t *p)
                      o->pattern);
         else if ((given & spin) || o->keys.len)
             s = perr(p, HZ_E_FORMAT, "[object \"%s\"]: spin parameters or keys given for motion = oscillate",
+                     o->pattern);
+    } else if (o->motion == HZ_MOTION_SWAY) {
+        if (!(o->set & HZ_BAKE_SC_AMPLITUDE) || !(o->set & HZ_BAKE_SC_FREQUENCY))
+            s = perr(p, HZ_E_FORMAT, "[object \"%s\"]: motion = sway needs 'amplitude' and 'frequency'", o->pattern);
+        else if ((given & (HZ_BAKE_SC_AXIS | HZ_BAKE_SC_SPEED | HZ_BAKE_SC_PHASE)) || o->keys.len)
+            s = perr(p, HZ_E_FORMAT, "[object \"%s\"]: motion = sway takes pivot, amplitude and frequency only",
                      o->pattern);
     } else if (o->motion == HZ_MOTION_RIGID) {
         if (!o->keys.len)

@@ -12,7 +12,9 @@
 #include <unistd.h>
 
 #include "bench_adaptive.h"
+#include "bench_blur.h"
 #include "bench_tdense.h"
+#include "bench_util.h"
 #include "cli.h"
 #include "clock.h"
 #include "fileio.h"
@@ -23,6 +25,7 @@
 
 #include "bench_accel.h"
 #include "bench_transp.h"
+#include "bench_motion.h"
 
 #define ROUNDS 7
 
@@ -167,12 +170,16 @@ int main(int argc, char **argv)
 {
     hz_cli_prog = "hzbench";
     const char *csv_path = NULL;
-    bool core = true, accel = true, tdense = true, transp = true, adaptive = true, only_given = false;
+    bool core = true, accel = true, tdense = true, transp = true, adaptive = true, blur = true, motion = true;
+    bool only_given = false;
     const char *transp_csv = NULL;
     hz_bench_transp_opts_t tp = { NULL, 192, 108, 0, 3, 24, false };
     hz_bench_adaptive_opts_t ad = { NULL, NULL, 640, 360, 2, 5, 1, 3, 1.0f, 256, false };
+    hz_bench_blur_opts_t bo = { NULL, 320, 180, 0, 5, 4, 12, 1.0f, 1.0f, 240, HZ_ACCEL_BLUR_MSBVH, false };
     hz_bench_accel_opts_t ao;
     memset(&ao, 0, sizeof ao);
+    hz_bench_motion_opts_t mo;
+    memset(&mo, 0, sizeof mo);
     hz_bench_tdense_opts_t td = { NULL, 640, 360, 0, 5, 4, 12, 1.0f, 240, false };
     for (int i = 1; i < argc; i++) {
         long v;
@@ -185,10 +192,12 @@ int main(int argc, char **argv)
         } else if (!strcmp(argv[i], "--only") && i + 1 < argc) {
             const char *what = argv[++i];
             if (!only_given)
-                core = accel = tdense = transp = adaptive = false;
+                core = accel = tdense = transp = adaptive = blur = motion = false;
             only_given = true;
             if (!strcmp(what, "kernels"))
                 core = true;
+            else if (!strcmp(what, "motion"))
+                motion = true;
             else if (!strcmp(what, "accel"))
                 accel = true;
             else if (!strcmp(what, "tdense"))
@@ -197,12 +206,35 @@ int main(int argc, char **argv)
                 transp = true;
             else if (!strcmp(what, "adaptive"))
                 adaptive = true;
+            else if (!strcmp(what, "blur"))
+                blur = true;
             else {
-                hz_cli_error("--only: '%s' is not kernels, accel, tdense, transparency or adaptive", what);
+                hz_cli_error("--only: '%s' is not kernels, accel, tdense, transparency, adaptive, blur or motion", what);
                 return HZ_EXIT_USAGE;
             }
+        } else if (!strcmp(argv[i], "--motion-csv") && i + 1 < argc) {
+            mo.csv_path = argv[++i];
+        } else if (!strcmp(argv[i], "--motion-scene") && i + 1 < argc) {
+            if (mo.scene_count == HZ_BENCH_MOTION_MAX_SCENES) {
+                hz_cli_error("--motion-scene: at most %d scenes", HZ_BENCH_MOTION_MAX_SCENES);
+                return HZ_EXIT_USAGE;
+            }
+            mo.scenes[mo.scene_count++] = argv[++i];
+        } else if (!strcmp(argv[i], "--motion-size") && i + 1 < argc) {
+            int w, h;
+            if (!hz_cli_parse_size("--motion-size", argv[++i], 8, 8192, &w, &h))
+                return HZ_EXIT_USAGE;
+            mo.width = (uint32_t)w, mo.height = (uint32_t)h;
+        } else if (!strcmp(argv[i], "--motion-interval") && i + 1 < argc) {
+            char *end;
+            double t = strtod(argv[++i], &end);
+            if (*end || end == argv[i] || !(t > 0.0 && t <= 10.0)) {
+                hz_cli_error("--motion-interval: '%s' is not a number of seconds in (0, 10]", argv[i]);
+                return HZ_EXIT_USAGE;
+            }
+            mo.interval = (float)t;
         } else if (!strcmp(argv[i], "--scenes") && i + 1 < argc) {
-            ao.scenes_dir = td.scenes_dir = tp.scenes_dir = ad.scenes_dir = argv[++i];
+            ao.scenes_dir = td.scenes_dir = tp.scenes_dir = ad.scenes_dir = bo.scenes_dir = mo.scenes_dir = argv[++i];
         } else if (!strcmp(argv[i], "--scene") && i + 1 < argc) {
             if (ao.scene_count == HZ_BENCH_MAX_SCENES) {
                 hz_cli_error("--scene: at most %d scenes", HZ_BENCH_MAX_SCENES);
@@ -212,11 +244,11 @@ int main(int argc, char **argv)
         } else if (!strcmp(argv[i], "--rounds") && i + 1 < argc) {
             if (!hz_cli_parse_long("--rounds", argv[++i], 1, HZ_BENCH_TDENSE_MAX_ROUNDS < 15 ? HZ_BENCH_TDENSE_MAX_ROUNDS : 15, &v))
                 return HZ_EXIT_USAGE;
-            ao.rounds = td.rounds = tp.rounds = ad.rounds = (int)v;
+            ao.rounds = td.rounds = tp.rounds = ad.rounds = bo.rounds = mo.rounds = (int)v;
         } else if (!strcmp(argv[i], "--threads") && i + 1 < argc) {
             if (!hz_cli_parse_long("--threads", argv[++i], 0, HZ_MAX_THREADS, &v))
                 return HZ_EXIT_USAGE;
-            ao.threads = td.threads = tp.threads = (int)v;
+            ao.threads = td.threads = tp.threads = bo.threads = (int)v;
             ad.threads = v ? (int)v : 2;
         } else if (!strcmp(argv[i], "--size") && i + 1 < argc) {
             int w, h;
@@ -243,14 +275,29 @@ int main(int argc, char **argv)
             if (!hz_cli_parse_long("--transparency-frames", argv[++i], 1, HZ_BENCH_TRANSP_MAX_FRAMES, &v))
                 return HZ_EXIT_USAGE;
             tp.frames = (uint32_t)v;
+        } else if (!strcmp(argv[i], "--shutter") && i + 1 < argc) {
+            char *end;
+            const char *a = argv[++i];
+            double d = strtod(a, &end);
+            if (end == a || *end || !(d > 0.0 && d <= 1.0)) {
+                hz_cli_error("--shutter: '%s' is not a fraction in (0, 1]", a);
+                return HZ_EXIT_USAGE;
+            }
+            bo.shutter = (float)d;
+        } else if (!strcmp(argv[i], "--blur-size") && i + 1 < argc) {
+            int w, h;
+            if (!hz_cli_parse_size("--blur-size", argv[++i], 16, 8192, &w, &h))
+                return HZ_EXIT_USAGE;
+            bo.width = (uint32_t)w, bo.height = (uint32_t)h;
         } else if (!strcmp(argv[i], "--embree-config") && i + 1 < argc) {
             ao.embree_config = argv[++i];
         } else if (!strcmp(argv[i], "-h") || !strcmp(argv[i], "--help")) {
-            printf("usage: hzbench [--only kernels|accel|tdense|transparency|adaptive]... [--csv FILE]\n"
-                   "               [--accel-csv FILE] [--adaptive-csv FILE] [--scenes DIR] [--scene NAME]...\n"
-                   "               [--rounds N] [--threads N] [--size WxH] [--tdense-size WxH] [--frames N]\n"
-                   "               [--embree-config S] [--transparency-csv FILE] [--transparency-size WxH]\n"
-                   "               [--transparency-frames N]\n"
+            printf("usage: hzbench [--only kernels|accel|tdense|transparency|adaptive|blur|motion]... [--csv FILE]\n"
+                   "               [--accel-csv FILE] [--adaptive-csv FILE] [--motion-csv FILE] [--scenes DIR]\n"
+                   "               [--scene NAME]... [--rounds N] [--threads N] [--size WxH] [--tdense-size WxH]\n"
+                   "               [--frames N] [--embree-config S] [--transparency-csv FILE]\n"
+                   "               [--transparency-size WxH] [--transparency-frames N] [--shutter S] [--blur-size WxH]\n"
+                   "               [--motion-scene NAME]... [--motion-size WxH] [--motion-interval S]\n"
                    "\nMeasures hzrt's kernels side by side and prints medians of interleaved rounds, in these parts\n"
                    "(all by default, or those --only names):\n"
                    "  kernels  core kernels (%d rounds)\n"
@@ -261,9 +308,15 @@ int main(int argc, char **argv)
                    "           --transparency-frames, default 24; min over 3 rounds; CSV with --transparency-csv)\n"
                    "  adaptive fixed 9 spp against --mode adaptive (tau 0.3, 0.6, 1) at 640x360 on 2 threads (or\n"
                    "           --threads): presample / test / extra ms, live lanes per packet, PSNR vs 256 spp\n"
+                   "  blur     motion blur in tdense (--shutter, default 1; --blur-size, default 320x180): one MSBVH\n"
+                   "           key interval and refit per 4-subframe cycle against posing and refitting every\n"
+                   "           subframe, on the built-in scene, sponza-rotated and furball-sway\n"
                    "  accel    native BVH against Embree on the baked scenes (--scene picks them, default\n"
                    "           conference sponza lost-empire furball dragon-res4 dragon-res3 dragon-res2 dragon;\n"
                    "           --size the primary rays, default 1024x1024; --embree-config Embree's device config)\n"
+                   "  motion   motion-blur BVHs (seed 002: msbvh, interp, swept) against Embree's motion blur on the\n"
+                   "           moving furball and the rotated Sponza (--motion-scene picks others; --motion-size the\n"
+                   "           frame, default 512x512; --motion-interval the shutter interval, default 1/24 s)\n"
                    "--scenes: the baked scenes (default $HZ_SCENES_DIR or build/scenes; `make scenes` bakes them),\n"
                    "--rounds: rounds of the accel and tdense parts (5), --threads: pool size (0: every CPU).\n",
                    ROUNDS);
@@ -303,10 +356,7 @@ int main(int argc, char **argv)
     if (tdense) {
         hz_error_t err;
         td.progress = hz_cli_stderr_is_tty();
-        if (td.threads == 0) {
-            long c = sysconf(_SC_NPROCESSORS_ONLN);
-            td.threads = c < 1 ? 1 : c > HZ_MAX_THREADS ? HZ_MAX_THREADS : (int)c;
-        }
+        td.threads = hz_bench_threads(td.threads);
         printf("\ntdense vs full-frame 1 spp + TAA: %ux%u, %d threads, %u frames after %u from t = %.1f s at %u Hz, "
                "median of %d rounds\n", td.width, td.height, td.threads, td.frames, td.warm, td.start, td.hz,
                td.rounds);
@@ -365,6 +415,28 @@ int main(int argc, char **argv)
             printf("wrote %s\n", transp_csv);
         }
     }
+    hz_bench_blur_row_t brows[4];
+    int nb = 0;
+    if (blur) {
+        hz_error_t err;
+        bo.progress = hz_cli_stderr_is_tty();
+        bo.threads = hz_bench_threads(bo.threads);
+        printf("\nmotion blur in tdense, shutter %.2f: one key interval per 4-subframe cycle vs per subframe (%s); "
+               "%ux%u, %d threads, %u frames after %u from t = %.1f s at %u Hz, median of %d rounds\n",
+               (double)bo.shutter, hz_accel_blur_name(bo.blur), bo.width, bo.height, bo.threads, bo.frames, bo.warm,
+               (double)bo.start, bo.hz, bo.rounds);
+        nb = hz_bench_blur(&bo, brows, 4, &err);
+        if (nb < 0)
+            return hz_cli_report(&err);
+        printf("%-14s %3s %10s %10s %7s %11s %11s %11s %11s %9s\n", "scene", "K", "cycle ms", "subfr ms",
+               "ratio", "cycle begin", "subfr begin", "cycle trace", "subfr trace", "refits/f");
+        for (int k = 0; k < nb; k++) {
+            const hz_bench_blur_row_t *b = &brows[k];
+            printf("%-14s %3u %10.2f %10.2f %6.2fx %11.2f %11.2f %11.2f %11.2f %4.2f/%4.2f\n", b->scene, b->time_keys,
+                   b->ms[0], b->ms[1], b->ratio, b->begin_ms[0], b->begin_ms[1], b->trace_ms[0], b->trace_ms[1],
+                   b->refits[0], b->refits[1]);
+        }
+    }
     if (csv_path) {
         hz_out_t out;
         hz_error_t err;
@@ -386,6 +458,19 @@ int main(int argc, char **argv)
                 for (int q = 0; q < 3; q++)
                     fprintf(out.f, "tdense,%s %ux%u %s %s,%.3f,,,ms/frame\n", trows[k].scene, td.width, td.height,
                             m ? "full 1 spp + taa" : "tdense", part[q], trows[k].part_ms[m][q]);
+        }
+        for (int k = 0; k < nb; k++) {
+            static const char *const how[2] = { "keys per cycle", "keys per subframe" };
+            for (int m = 0; m < 2; m++) {
+                fprintf(out.f, "blur,%s %ux%u tdense %s,%.3f,,,ms/frame\n", brows[k].scene, bo.width, bo.height,
+                        how[m], brows[k].ms[m]);
+                fprintf(out.f, "blur,%s %ux%u tdense %s begin_frame,%.3f,,,ms/frame\n", brows[k].scene, bo.width,
+                        bo.height, how[m], brows[k].begin_ms[m]);
+                fprintf(out.f, "blur,%s %ux%u tdense %s trace pass,%.3f,,,ms/frame\n", brows[k].scene, bo.width,
+                        bo.height, how[m], brows[k].trace_ms[m]);
+            }
+            fprintf(out.f, "blur,%s %ux%u per subframe/per cycle,%.3f,,,ratio\n", brows[k].scene, bo.width,
+                    bo.height, brows[k].ratio);
         }
         if (hz_out_commit(&out, &err) != HZ_OK)
             return hz_cli_report(&err);
@@ -419,5 +504,8 @@ int main(int argc, char **argv)
         if (ad.csv_path)
             printf("wrote %s\n", ad.csv_path);
     }
-    return accel ? hz_bench_accel(&ao) : 0;
+    int status = accel ? hz_bench_accel(&ao) : 0;
+    if (status == 0 && motion)
+        status = hz_bench_motion(&mo);
+    return status;
 }

@@ -97,30 +97,18 @@ static hz_status_t bench_scene(const char *label, const char *path, const hz_ben
     return s;
 }
 
+static hz_status_t scene_fn(const char *label, const char *path, void *ctx, int row, hz_error_t *err)
+{
+    const hz_bench_tdense_opts_t *o = ((void **)ctx)[0];
+    hz_bench_tdense_row_t *rows = ((void **)ctx)[1];
+    return bench_scene(label, path, o, &rows[row], err);
+}
+
 int hz_bench_tdense(const hz_bench_tdense_opts_t *o, hz_bench_tdense_row_t *rows, int max_rows, hz_error_t *err)
 {
     static const char *const scenes[][2] = { { "builtin", NULL }, { "sponza", "sponza.hzb" },
                                              { "conference", "conference.hzb" } };
-    int n = 0;
-    if (hz_threads_start(o->threads, err) != HZ_OK)
-        return -1;
-    for (size_t i = 0; i < sizeof scenes / sizeof scenes[0] && n < max_rows; i++) {
-        char path[4096];
-        if (scenes[i][1]) {
-            snprintf(path, sizeof path, "%s/%s", o->scenes_dir ? o->scenes_dir : ".", scenes[i][1]);
-            if (access(path, R_OK) != 0) {
-                printf("tdense   %-12s skipped: %s missing (make scenes)\n", scenes[i][0], path);
-                continue;
-            }
-        } else {
-            snprintf(path, sizeof path, "builtin");
-        }
-        if (bench_scene(scenes[i][0], path, o, &rows[n], err) != HZ_OK) {
-            hz_threads_stop();
-            return -1;
-        }
-        n++;
-    }
-    hz_threads_stop();
-    return n;
+    void *ctx[2] = { (void *)o, rows };
+    return hz_bench_scenes("tdense", scenes, sizeof scenes / sizeof scenes[0], o->scenes_dir, o->threads, scene_fn,
+                           ctx, max_rows, err);
 }

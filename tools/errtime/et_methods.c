@@ -27,6 +27,13 @@ static hz_status_t render_open(const hz_et_scene_t *scene, const hz_et_env_t *en
     return hz_et_render_open(scene->file, env, seq, err);
 }
 
+static hz_status_t blur_open(const hz_et_scene_t *scene, const hz_et_env_t *env, hz_et_sequence_t *seq,
+                             hz_arena_t *arena, hz_error_t *err)
+{
+    (void)arena;
+    return hz_et_render_open_blur(scene->file, env, seq, err);
+}
+
 #define RENDERED(name, about, file, w, h, frames, warmup)                                                       \
     { name, about, file, render_open, hz_et_render_close, hz_et_render_methods, HZ_ET_RENDER_METHOD_COUNT,     \
       &hz_et_render_reference, w, h, frames, warmup, 0, 0 }
@@ -42,6 +49,11 @@ static hz_status_t render_open(const hz_et_scene_t *scene, const hz_et_env_t *en
 #define TRANSP240(name, about, file, w, h, frames, warmup)                                                      \
     { name, about, file, render_open, hz_et_render_close, hz_et_transp_display_methods,                        \
       HZ_ET_TRANSP_DISPLAY_METHOD_COUNT, &hz_et_display_reference, w, h, frames, warmup, 240, 0 }
+
+/* Motion blur (seed 002) on a 30 Hz display: msbvh, interp and Embree at equal time budget. */
+#define BLURRED(name, about, file, w, h, frames, warmup)                                                        \
+    { name, about, file, blur_open, hz_et_render_close, hz_et_blur_methods, HZ_ET_BLUR_METHOD_COUNT,            \
+      &hz_et_blur_reference, w, h, frames, warmup, 30, 0 }
 
 /* The standard set (`make report`): sizes and lengths keep a cold run (256-spp references included) within
  * ~15 minutes on 2 cores; see README "Error against run time". */
@@ -72,6 +84,10 @@ const hz_et_scene_t hz_et_scenes[] = {
               "sponza-smoke.hzb", 64, 36, 32, 16),
     TRANSP240("AlphaBlendModeTest@240", "AlphaBlendModeTest on a 240 Hz display: std and exact under tdense vs "
               "+ TAA at 60 Hz", "AlphaBlendModeTest.hzb", 160, 90, 48, 16),
+    BLURRED("builtin-blur", "built-in scene, motion blur (shutter 1 at 30 Hz): msbvh vs interp vs Embree", "builtin",
+            160, 90, 24, 8),
+    BLURRED("sponza-rotated-blur", "Rotated Sponza (sponza-rotated.hzb), motion blur (shutter 1 at 30 Hz)",
+            "sponza-rotated.hzb", 160, 90, 24, 8),
     { "synthetic", "built-in analytic animation (rotating checkerboard, sweeping disc); needs no renderer", NULL,
       synthetic_open, NULL, hz_synth_methods, HZ_SYNTH_METHOD_COUNT, &hz_synth_reference, 0, 0, 0, 0, 0, 0 },
 };

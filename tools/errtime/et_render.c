@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include "accel_backend.h"
+#include "blur_setup.h"
 #include "hz/config.h"
 #include "pools.h"
 #include "scenefile.h"
@@ -32,7 +33,23 @@ typedef struct et_state {
     bool still;        /* a still view: every frame at scene time 0 (et_stability.h) */
     uint64_t rendered; /* frames this renderer drew: its own frame index (TAA's jitter phase, tdense's subframe),
                         * which differs from the displayed frame's for held methods */
+    /* motion blur: the run's own pose keys and accel, above these marks */
+    hz_posekeys_t keys;
+    hz_accel_t *accel;
+    hz_arena_mark_t scene_mark, accel_mark;
 } et_state_t;
+
+static float g_shutter = -1.0f; /* --shutter override (< 0: the methods' own) */
+
+void hz_et_render_set_shutter(float shutter)
+{
+    g_shutter = shutter;
+}
+
+static float shutter_of(const hz_et_render_params_t *p)
+{
+    return p->shutter > 0.0f && g_shutter > 0.0f ? g_shutter : p->shutter;
+}
 
 static void give_back_threads(et_scene_t *sc)
 {
@@ -54,6 +71,17 @@ static void opts_for(const hz_et_render_params_t *p, uint32_t w, uint32_t h, hz_
         o->adaptive.tau[HZ_TAU_COL] = o->adaptive.tau[HZ_TAU_PTE] = o->adaptive.tau[HZ_TAU_STE] = p->adaptive_tau;
     o->transparency = p->transparency;
     o->hybrid_x = p->hybrid_x;
+    o->shutter = shutter_of(p);
+}
+
+static void give_back_blur(et_state_t *st)
+{
+    if (!st->accel)
+        return;
+    hz_accel_release(st->accel);
+    st->accel = NULL;
+    hz_arena_reset(&st->sc->pools->accel, st->accel_mark);
+    hz_arena_reset(&st->sc->pools->scene, st->scene_mark);
 }
 
 static hz_status_t rbegin(const hz_et_method_t *m, const hz_et_sequence_t *seq, hz_arena_t *arena, void **state,
@@ -71,9 +99,23 @@ static hz_status_t rbegin(const hz_et_method_t *m, const hz_et_sequence_t *seq, 
     st->rendered = 0;
     st->refresh_hz = (float)seq->refresh_hz;
     st->still = seq->camera && !strcmp(seq->camera, "still");
-    hz_status_t s = hz_render_create(&st->r, &sc->scene, sc->accel, &o, arena, sc->pools->thread, sc->threads, err);
+    st->accel = NULL;
+    const hz_et_render_params_t *p = m->params;
+    hz_status_t s = HZ_OK;
+    if (o.shutter > 0.0f) {
+        /* A motion accel of the method's kind over pose keys, both above the scene's own; rend gives them back. */
+        o.frame_hz = seq->refresh_hz;
+        st->scene_mark = hz_arena_mark(&sc->pools->scene);
+        st->accel_mark = hz_arena_mark(&sc->pools->accel);
+        s = hz_blur_build(&sc->scene, &o, p->embree ? HZ_ACCEL_EMBREE : HZ_ACCEL_NATIVE, p->blur, sc->pools,
+                          &st->keys, &st->accel, err);
+    }
+    if (s == HZ_OK)
+        s = hz_render_create(&st->r, &sc->scene, st->accel ? st->accel : sc->accel, &o, arena, sc->pools->thread,
+                             sc->threads, err);
     if (s != HZ_OK) {
         give_back_threads(sc);
+        give_back_blur(st);
         return s;
     }
     *state = st;
@@ -109,6 +151,7 @@ static void rend(void *state)
 {
     et_state_t *st = state;
     give_back_threads(st->sc);
+    give_back_blur(st);
 }
 
 /* ---- the table ---- */
@@ -147,6 +190,28 @@ const hz_et_method_t hz_et_render_methods[HZ_ET_RENDER_METHOD_COUNT] = {
     METHOD("adaptive", "tau", 0.3, &p_ad03),
     METHOD("adaptive", "tau", 0.6, &p_ad06),
     METHOD("adaptive", "tau", 1.0, &p_ad10),
+};
+
+/* Motion blur (see et_render.h). */
+#define BLUR(n, kind, emb) { .mode = HZ_MODE_FULL, .spp = n, .shutter = HZ_ET_BLUR_SHUTTER, .blur = kind, .embree = emb }
+static const hz_et_render_params_t p_ms1 = BLUR(1, HZ_ACCEL_BLUR_MSBVH, false), p_ms4 = BLUR(4, HZ_ACCEL_BLUR_MSBVH, false),
+                                   p_ms16 = BLUR(16, HZ_ACCEL_BLUR_MSBVH, false);
+static const hz_et_render_params_t p_in1 = BLUR(1, HZ_ACCEL_BLUR_INTERP, false),
+                                   p_in4 = BLUR(4, HZ_ACCEL_BLUR_INTERP, false),
+                                   p_in16 = BLUR(16, HZ_ACCEL_BLUR_INTERP, false);
+static const hz_et_render_params_t p_mb_ref = { .mode = HZ_MODE_FULL, .spp = 256, .seed = 0x5eed,
+                                                .shutter = HZ_ET_BLUR_SHUTTER, .blur = HZ_ACCEL_BLUR_MSBVH };
+const hz_et_method_t hz_et_blur_reference = METHOD("full-frame-mb", "spp", 256, &p_mb_ref);
+#if HZ_HAVE_EMBREE
+static const hz_et_render_params_t p_em1 = BLUR(1, HZ_ACCEL_BLUR_MSBVH, true), p_em4 = BLUR(4, HZ_ACCEL_BLUR_MSBVH, true),
+                                   p_em16 = BLUR(16, HZ_ACCEL_BLUR_MSBVH, true);
+#endif
+const hz_et_method_t hz_et_blur_methods[HZ_ET_BLUR_METHOD_COUNT] = {
+    METHOD("msbvh", "spp", 1, &p_ms1),  METHOD("msbvh", "spp", 4, &p_ms4),  METHOD("msbvh", "spp", 16, &p_ms16),
+    METHOD("interp", "spp", 1, &p_in1), METHOD("interp", "spp", 4, &p_in4), METHOD("interp", "spp", 16, &p_in16),
+#if HZ_HAVE_EMBREE
+    METHOD("embree", "spp", 1, &p_em1), METHOD("embree", "spp", 4, &p_em4), METHOD("embree", "spp", 16, &p_em16),
+#endif
 };
 
 static const hz_et_render_params_t p_tdense = { .mode = HZ_MODE_TDENSE, .spp = 1 };
@@ -311,6 +376,17 @@ hz_status_t hz_et_render_open(const char *file, const hz_et_env_t *env, hz_et_se
     seq->scene_hash = fnv1a64(0xcbf29ce484222325ull, sc->scene.header, (size_t)sc->scene.header->file_bytes);
     seq->camera = "baked path from t = 0";
     seq->settings = sc->settings;
+    return HZ_OK;
+}
+
+hz_status_t hz_et_render_open_blur(const char *file, const hz_et_env_t *env, hz_et_sequence_t *seq, hz_error_t *err)
+{
+    hz_status_t s = hz_et_render_open(file, env, seq, err);
+    if (s != HZ_OK)
+        return s;
+    size_t n = strlen(g_scene.settings);
+    snprintf(g_scene.settings + n, sizeof g_scene.settings - n, ", shutter %.9g",
+             (double)shutter_of(&p_mb_ref));
     return HZ_OK;
 }
 

@@ -49,6 +49,10 @@ typedef struct hz_et_render_params {
     float adaptive_tau;   /* adaptive: tau_col = tau_pte = tau_ste (the paper's tau_alpha); the rest Table 2's */
     hz_transp_t transparency; /* blended surfaces (hz/dither.h); 0 = exact */
     float hybrid_x;
+    /* motion blur (hz/render.h "Motion blur"): shutter > 0 builds pose keys and a motion accel for the run */
+    float shutter;        /* fraction of the frame interval 1 / refresh_hz (hz_et_render_set_shutter overrides) */
+    hz_accel_blur_t blur; /* native motion BVH: msbvh, interp, swept */
+    bool embree;          /* Embree's motion blur instead of the native BVH */
 } hz_et_render_params_t;
 
 /* The renderer's methods (full-frame, TAA, adaptive supersampling at tau_alpha 0.1, 0.3, 0.6 and 1; later modes
@@ -80,8 +84,29 @@ extern const hz_et_method_t hz_et_transp_methods[HZ_ET_TRANSP_METHOD_COUNT];
  * 60 Hz (held for 4 displayed frames), scored display-integrated against hz_et_display_reference. */
 #define HZ_ET_TRANSP_DISPLAY_METHOD_COUNT 4
 extern const hz_et_method_t hz_et_transp_display_methods[HZ_ET_TRANSP_DISPLAY_METHOD_COUNT];
+/* Motion blur at equal time budget (seed 002): the same renderer (full frame, 1, 4 and 16 spp) with the shutter
+ * open (default 1: the whole frame interval) over three accels built for the run beside the scene's own:
+ *   msbvh      the native MSBVH
+ *   interp     the native interpolated BVH (the paper's baseline)
+ *   embree     Embree's motion blur (host builds with Embree; absent elsewhere)
+ * against the full-frame renderer at 256 spp with the same shutter (MSBVH). The images of the three at equal
+ * spp agree (same rays at the same times): their error at equal time is what the accel's speed buys. */
+#if HZ_HAVE_EMBREE
+#define HZ_ET_BLUR_METHOD_COUNT 9
+#else
+#define HZ_ET_BLUR_METHOD_COUNT 6
+#endif
+extern const hz_et_method_t hz_et_blur_methods[HZ_ET_BLUR_METHOD_COUNT];
+extern const hz_et_method_t hz_et_blur_reference;
+#define HZ_ET_BLUR_SHUTTER 1.0f
+
+/* --shutter: the shutter of every motion-blur method and reference (in (0, 1]); < 0 restores their own. */
+void hz_et_render_set_shutter(float shutter);
 
 hz_status_t hz_et_render_open(const char *file, const hz_et_env_t *env, hz_et_sequence_t *seq, hz_error_t *err);
+/* hz_et_render_open, with the shutter in the sequence's settings (so references of different shutters are
+ * cached apart). */
+hz_status_t hz_et_render_open_blur(const char *file, const hz_et_env_t *env, hz_et_sequence_t *seq, hz_error_t *err);
 void hz_et_render_close(void);
 
 #endif

@@ -30,6 +30,8 @@ static void usage(FILE *f)
             "  --warmup N         leading frames neither timed nor scored (default: the scene's, else 8)\n"
             "  --refresh HZ       display refresh rate (default the board's, %d Hz)\n"
             "  --methods A,B      only these methods (names as in --list)\n"
+            "  --shutter S        motion-blur scenes (*-blur): shutter open for S in (0, 1] of each frame\n"
+            "                     interval (default 1)\n"
             "  --skip A,B         all but these methods\n"
             "  --ppd X            FLIP observer, pixels per degree (default 67.02)\n"
             "  --cache DIR        reference cache (default build/errtime-cache)\n"
@@ -133,6 +135,14 @@ int main(int argc, char **argv)
                 return HZ_EXIT_USAGE;
             }
             ppd = (float)d;
+        } else if (!strcmp(a, "--shutter")) {
+            char *end;
+            double d = strtod(v, &end);
+            if (end == v || *end || !(d > 0.0 && d <= 1.0)) {
+                hz_cli_error("--shutter: '%s' is not a fraction in (0, 1]", v);
+                return HZ_EXIT_USAGE;
+            }
+            hz_et_render_set_shutter((float)d);
         } else if (!strcmp(a, "--methods")) {
             methods = v;
         } else if (!strcmp(a, "--skip")) {

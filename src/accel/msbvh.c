@@ -1,0 +1,554 @@
+/*
+ * Motion-blur BVHs (seed 002, Grünschloß, Stich, Nawaz, Keller 2011) over geometry with K = 2, 3, 5 or 9 time
+ * keys: the topology comes from bvh_build.c at the midpoint time (MSBVH: SBVH with spatial splits; interpolated
+ * BVH: the same builder without them; swept: a binned-SAH BVH over the triangles' boxes united over all keys),
+ * then this file adds the triangle copies at every key and the node boxes at every key.
+ *
+ * MSBVH leaf boxes (paper section 3.1): every reference of a triangle that spatial splits cut into several
+ * references is clipped (Sutherland-Hodgman) against its leaf's midpoint box; the piece is kept as the range of
+ * each barycentric coordinate over the clipped polygon (hz_bvh_piece_t, 12 bytes per slot, rounded outwards),
+ * and at each key the piece (the triangle's barycentric domain clipped to those ranges) is carried by its
+ * barycentrics to that key's vertices; its bounds, widened by the margin of the accel.h contract, extend the
+ * leaf's box at the key. Boxes then propagate up. Keeping the piece in barycentric form instead of a box in
+ * space is what makes refit safe: after the keys move (a new shutter interval) the same pieces still cover the
+ * triangle, so refit re-clips them against nothing but the triangle itself, at any motion. References of
+ * unsplit triangles are whole triangles: their key boxes are the vertices' exact bounds, as in the interpolated
+ * BVH (which, like the swept one, needs no margin: see accel.h).
+ *
+ * Everything is scalar C with a fixed operation order: a build is bit-identical on every ISA.
+ */
+#include "bvh.h"
+
+#define PIECE_ONE 65535u
+#define COST_NODE 1.0f
+#define SAH_BLOCK 4u
+
+typedef struct box {
+    float lo[3], hi[3];
+} box_t;
+
+static void box_empty(box_t *b)
+{
+    for (int k = 0; k < 3; k++)
+        b->lo[k] = __builtin_inff(), b->hi[k] = -__builtin_inff();
+}
+
+static void box_pt(box_t *b, const float *p)
+{
+    for (int k = 0; k < 3; k++)
+        b->lo[k] = hz_minf(b->lo[k], p[k]), b->hi[k] = hz_maxf(b->hi[k], p[k]);
+}
+
+static void box_grow(box_t *b, const box_t *o)
+{
+    for (int k = 0; k < 3; k++)
+        b->lo[k] = hz_minf(b->lo[k], o->lo[k]), b->hi[k] = hz_maxf(b->hi[k], o->hi[k]);
+}
+
+static float box_area(const box_t *b)
+{
+    if (!(b->lo[0] <= b->hi[0] && b->lo[1] <= b->hi[1] && b->lo[2] <= b->hi[2]))
+        return 0.0f;
+    float dx = b->hi[0] - b->lo[0], dy = b->hi[1] - b->lo[1], dz = b->hi[2] - b->lo[2];
+    return 2.0f * (dx * dy + dy * dz + dz * dx);
+}
+
+/* The contract's margin for a triangle whose key box is t: 2^-14 of its largest extent plus 2^-18 of its
+ * largest absolute coordinate (`extra`: further coordinates that take part, e.g. the clip box). */
+static float margin(const box_t *t, float extra)
+{
+    float e = 0.0f, m = extra;
+    for (int k = 0; k < 3; k++) {
+        e = hz_maxf(e, t->hi[k] - t->lo[k]);
+        m = hz_maxf(m, hz_maxf(hz_absf(t->lo[k]), hz_absf(t->hi[k])));
+    }
+    return e * (1.0f / 16384.0f) + m * (1.0f / 262144.0f);
+}
+
+static void box_node_get(const float *lo_x, uint32_t c, box_t *b)
+{
+    /* lo_x points at the first of the six arrays of an hz_bvh_node_t or hz_bvh_mbox_t */
+    for (int k = 0; k < 3; k++) {
+        b->lo[k] = lo_x[(2 * k) * HZ_BVH_W + (int)c];
+        b->hi[k] = lo_x[(2 * k + 1) * HZ_BVH_W + (int)c];
+    }
+}
+
+static void box_node_set(float *lo_x, uint32_t c, const box_t *b)
+{
+    for (int k = 0; k < 3; k++) {
+        lo_x[(2 * k) * HZ_BVH_W + (int)c] = b->lo[k];
+        lo_x[(2 * k + 1) * HZ_BVH_W + (int)c] = b->hi[k];
+    }
+}
+
+/* ---- clipping ---- */
+#define POLY_MAX 12 /* a triangle cut by 6 half-planes has at most 9 vertices */
+
+typedef struct pvert {
+    float b[3]; /* barycentrics (weights of vertices 0, 1, 2) */
+    float p[3]; /* position at the clip time */
+} pvert_t;
+
+/* Keeps the part of polygon in[0..n) where d(v) <= 0, d given per vertex; returns the new count. */
+static int clip_poly(const pvert_t *in, int n, const float *d, pvert_t *out)
+{
+    int m = 0;
+    for (int i = 0; i < n; i++) {
+        int j = i + 1 == n ? 0 : i + 1;
+        if (d[i] <= 0.0f)
+            out[m++] = in[i];
+        if ((d[i] < 0.0f && d[j] > 0.0f) || (d[i] > 0.0f && d[j] < 0.0f)) {
+            float s = d[i] / (d[i] - d[j]);
+            s = hz_clampf(s, 0.0f, 1.0f);
+            pvert_t *v = &out[m++];
+            for (int k = 0; k < 3; k++) {
+                v->b[k] = in[i].b[k] + (in[j].b[k] - in[i].b[k]) * s;
+                v->p[k] = in[i].p[k] + (in[j].p[k] - in[i].p[k]) * s;
+            }
+        }
+    }
+    return m;
+}
+
+/* Cuts polygon a[0..n) to lo[k] <= x[k] <= hi[k] for k = 0..2, x = the vertices' barycentrics (`bary`) or
+ * positions; returns the new count. */
+static int clip_to_box(pvert_t *a, int n, const float *lo, const float *hi, bool bary)
+{
+    pvert_t b[POLY_MAX];
+    for (int plane = 0; plane < 6 && n > 0; plane++) {
+        const int k = plane >> 1;
+        const bool up = plane & 1;
+        float d[POLY_MAX];
+        for (int i = 0; i < n; i++) {
+            const float x = bary ? a[i].b[k] : a[i].p[k];
+            d[i] = up ? x - hi[k] : lo[k] - x;
+        }
+        n = clip_poly(a, n, d, b);
+        for (int i = 0; i < n; i++)
+            a[i] = b[i];
+    }
+    return n;
+}
+
+static void tri_poly(pvert_t *v, const float *const *tv)
+{
+    for (int i = 0; i < 3; i++)
+        for (int k = 0; k < 3; k++) {
+            v[i].b[k] = i == k ? 1.0f : 0.0f;
+            v[i].p[k] = tv[i][k];
+        }
+}
+
+static const float *key_vtx(const hz_accel_geom_t *g, const float *pos, uint32_t prim, int i)
+{
+    return pos + 4u * (size_t)g->tri[3u * (size_t)prim + (uint32_t)i];
+}
+
+static void piece_full(hz_bvh_piece_t *p)
+{
+    for (int k = 0; k < 3; k++)
+        p->lo[k] = 0, p->hi[k] = (uint16_t)PIECE_ONE;
+}
+
+static bool piece_is_full(const hz_bvh_piece_t *p)
+{
+    return p->lo[0] == 0 && p->lo[1] == 0 && p->lo[2] == 0 && p->hi[0] == PIECE_ONE && p->hi[1] == PIECE_ONE &&
+           p->hi[2] == PIECE_ONE;
+}
+
+/* The piece of triangle prim (positions `mid`) inside box cb widened by the margin (section 3.1: Sutherland-
+ * Hodgman against the leaf's midpoint box), as barycentric ranges rounded out by one unit. */
+static void piece_of(const hz_accel_geom_t *g, const float *mid, uint32_t prim, const box_t *cb, hz_bvh_piece_t *out)
+{
+    const float *tv[3] = { key_vtx(g, mid, prim, 0), key_vtx(g, mid, prim, 1), key_vtx(g, mid, prim, 2) };
+    box_t tb;
+    box_empty(&tb);
+    for (int i = 0; i < 3; i++)
+        box_pt(&tb, tv[i]);
+    float cm = 0.0f;
+    for (int k = 0; k < 3; k++)
+        cm = hz_maxf(cm, hz_maxf(hz_absf(cb->lo[k]), hz_absf(cb->hi[k])));
+    const float mg = margin(&tb, hz_isfinitef(cm) ? cm : 0.0f);
+    pvert_t a[POLY_MAX];
+    tri_poly(a, tv);
+    float lo[3], hi[3];
+    for (int k = 0; k < 3; k++)
+        lo[k] = cb->lo[k] - mg, hi[k] = cb->hi[k] + mg;
+    const int n = clip_to_box(a, 3, lo, hi, false);
+    if (n == 0) { /* rounding at a touching plane: stay conservative */
+        piece_full(out);
+        return;
+    }
+    for (int k = 0; k < 3; k++) {
+        float lo = 1.0f, hi = 0.0f;
+        for (int i = 0; i < n; i++)
+            lo = hz_minf(lo, a[i].b[k]), hi = hz_maxf(hi, a[i].b[k]);
+        float ql = lo * (float)PIECE_ONE - 1.0f, qh = hi * (float)PIECE_ONE + 2.0f;
+        out->lo[k] = (uint16_t)hz_clampf(ql, 0.0f, (float)PIECE_ONE); /* truncation of a value >= 0: floor */
+        out->hi[k] = (uint16_t)hz_clampf(qh, 0.0f, (float)PIECE_ONE);
+    }
+}
+
+/* The piece's polygon in the barycentric domain (the triangle cut to the piece's ranges). */
+static int piece_poly(const hz_bvh_piece_t *pc, float (*bo)[3])
+{
+    pvert_t a[POLY_MAX];
+    const float e0[3] = { 1, 0, 0 }, e1[3] = { 0, 1, 0 }, e2[3] = { 0, 0, 1 };
+    const float *tv[3] = { e0, e1, e2 };
+    tri_poly(a, tv);
+    float lo[3], hi[3];
+    for (int k = 0; k < 3; k++) { /* full ranges cut nothing: the triangle's own sides stay exact */
+        lo[k] = pc->lo[k] == 0 ? -FLT_MAX : (float)pc->lo[k] * (1.0f / (float)PIECE_ONE);
+        hi[k] = pc->hi[k] == PIECE_ONE ? FLT_MAX : (float)pc->hi[k] * (1.0f / (float)PIECE_ONE);
+    }
+    const int n = clip_to_box(a, 3, lo, hi, true);
+    for (int i = 0; i < n; i++)
+        for (int k = 0; k < 3; k++)
+            bo[i][k] = a[i].b[k];
+    return n;
+}
+
+/* ---- fitting boxes at the keys ---- */
+typedef struct fit {
+    const hz_accel_geom_t *g;
+    hz_bvh_t *bvh;
+    uint32_t keys;
+} fit_t;
+
+/* Boxes of block slot `slot` at every key (empty for a slot that never hits). */
+static void slot_boxes(const fit_t *ft, uint32_t slot, box_t *kb)
+{
+    const hz_bvh_t *bvh = ft->bvh;
+    const uint32_t blk = slot / HZ_BVH_W, s = slot % HZ_BVH_W;
+    bool point = true; /* the same point at every key: never hit, adds nothing */
+    for (uint32_t key = 0; key < ft->keys && point; key++) {
+        const hz_bvh_block_t *bl = &bvh->kblocks[key][blk];
+        for (int k = 0; k < 3; k++)
+            point = point && bl->v[0][k][s] == bl->v[1][k][s] && bl->v[0][k][s] == bl->v[2][k][s] &&
+                    bl->v[0][k][s] == bvh->kblocks[0][blk].v[0][k][s];
+    }
+    for (uint32_t key = 0; key < ft->keys; key++) {
+        box_empty(&kb[key]);
+        if (point)
+            continue;
+        const hz_bvh_block_t *bl = &bvh->kblocks[key][blk];
+        for (int v = 0; v < 3; v++) {
+            const float p[3] = { bl->v[v][0][s], bl->v[v][1][s], bl->v[v][2][s] };
+            box_pt(&kb[key], p);
+        }
+    }
+    if (point || !bvh->pieces || piece_is_full(&bvh->pieces[slot]))
+        return;
+    float poly[POLY_MAX][3];
+    const int n = piece_poly(&bvh->pieces[slot], poly);
+    if (n == 0)
+        return;
+    for (uint32_t key = 0; key < ft->keys; key++) {
+        const hz_bvh_block_t *bl = &bvh->kblocks[key][blk];
+        const box_t tb = kb[key];
+        const float mg = margin(&tb, 0.0f);
+        box_t pb;
+        box_empty(&pb);
+        for (int i = 0; i < n; i++) {
+            float p[3];
+            for (int k = 0; k < 3; k++) /* barycentric transfer to this key */
+                p[k] = poly[i][0] * bl->v[0][k][s] + poly[i][1] * bl->v[1][k][s] + poly[i][2] * bl->v[2][k][s];
+            box_pt(&pb, p);
+        }
+        for (int k = 0; k < 3; k++) {
+            kb[key].lo[k] = hz_maxf(pb.lo[k] - mg, tb.lo[k] - mg);
+            kb[key].hi[k] = hz_minf(pb.hi[k] + mg, tb.hi[k] + mg);
+        }
+    }
+}
+
+/* Child boxes at every key, leaves from their slots, inner nodes from their children (reverse pre-order: a
+ * child's boxes are final before its parent reads them). Without key boxes (swept) the nodes' own boxes get
+ * the union over the keys. */
+static void fit_boxes(const fit_t *ft)
+{
+    hz_bvh_t *bvh = ft->bvh;
+    const uint32_t K = ft->keys;
+    for (uint32_t i = bvh->node_count; i-- > 0;) {
+        hz_bvh_node_t *w = &bvh->nodes[i];
+        for (uint32_t c = 0; c < HZ_BVH_W; c++) {
+            const uint32_t cw = w->child[c];
+            box_t kb[HZ_ACCEL_MAX_TIME_KEYS];
+            for (uint32_t key = 0; key < K; key++)
+                box_empty(&kb[key]);
+            if (cw == HZ_BVH_EMPTY) {
+                /* stays empty */
+            } else if (hz_bvh_is_leaf(cw)) {
+                const uint32_t slot = hz_bvh_leaf_slot(cw), n = hz_bvh_leaf_count(cw);
+                for (uint32_t s = slot; s < slot + n; s++) {
+                    box_t sb[HZ_ACCEL_MAX_TIME_KEYS];
+                    slot_boxes(ft, s, sb);
+                    for (uint32_t key = 0; key < K; key++)
+                        box_grow(&kb[key], &sb[key]);
+                }
+            } else {
+                for (uint32_t key = 0; key < K; key++)
+                    for (uint32_t j = 0; j < HZ_BVH_W; j++) {
+                        box_t b;
+                        if (bvh->key_boxes)
+                            box_node_get(bvh->mbox[(size_t)cw * K + key].lo_x, j, &b);
+                        else
+                            box_node_get(bvh->nodes[cw].lo_x, j, &b);
+                        box_grow(&kb[key], &b);
+                    }
+            }
+            box_t all;
+            box_empty(&all);
+            for (uint32_t key = 0; key < K; key++) {
+                box_grow(&all, &kb[key]);
+                if (bvh->key_boxes) {
+                    /* empty: +-FLT_MAX, not +-inf, so that the lerp (0 * inf = NaN) stays an empty box */
+                    box_t e = kb[key];
+                    if (!(e.lo[0] <= e.hi[0] && e.lo[1] <= e.hi[1] && e.lo[2] <= e.hi[2]))
+                        for (int k = 0; k < 3; k++)
+                            e.lo[k] = FLT_MAX, e.hi[k] = -FLT_MAX;
+                    box_node_set(bvh->mbox[(size_t)i * K + key].lo_x, c, &e);
+                }
+            }
+            box_node_set(w->lo_x, c, &all);
+        }
+    }
+}
+
+/* Triangle copies at every key; a triangle with a non-finite coordinate at some key is zeroed at all keys. */
+static void fill_keys(const fit_t *ft)
+{
+    hz_bvh_t *bvh = ft->bvh;
+    for (uint32_t b = 0; b < bvh->block_count; b++)
+        for (uint32_t s = 0; s < HZ_BVH_W; s++) {
+            const uint32_t pw = bvh->kblocks[0][b].prim[s];
+            if (pw == HZ_BVH_PRIM_PAD) {
+                for (uint32_t key = 1; key < ft->keys; key++)
+                    bvh->kblocks[key][b].prim[s] = HZ_BVH_PRIM_PAD;
+                continue;
+            }
+            bool ok = true;
+            for (uint32_t key = 0; key < ft->keys; key++)
+                ok = hz_bvh_fill_slot(&bvh->kblocks[key][b], s, ft->g, ft->g->pos_keys[key], pw & HZ_BVH_PRIM_MASK) &&
+                     ok;
+            if (!ok)
+                for (uint32_t key = 0; key < ft->keys; key++)
+                    for (int v = 0; v < 3; v++)
+                        for (int k = 0; k < 3; k++)
+                            bvh->kblocks[key][b].v[v][k][s] = 0.0f;
+        }
+}
+
+/* ---- SAH of the wide tree ---- */
+static float child_area(const hz_bvh_t *bvh, uint32_t node, uint32_t c)
+{
+    box_t b;
+    if (!bvh->key_boxes) {
+        box_node_get(bvh->nodes[node].lo_x, c, &b);
+        return box_area(&b);
+    }
+    float sum = 0.0f;
+    for (uint32_t key = 0; key < bvh->time_keys; key++) {
+        box_node_get(bvh->mbox[(size_t)node * bvh->time_keys + key].lo_x, c, &b);
+        sum += box_area(&b);
+    }
+    return sum / (float)bvh->time_keys;
+}
+
+float hz_bvh_wide_sah(const hz_bvh_t *bvh)
+{
+    /* root area: of the union of node 0's children, averaged over keys */
+    float root = 0.0f;
+    const uint32_t nk = bvh->key_boxes ? bvh->time_keys : 1u;
+    for (uint32_t key = 0; key < nk; key++) {
+        box_t r, b;
+        box_empty(&r);
+        for (uint32_t c = 0; c < HZ_BVH_W; c++) {
+            if (bvh->key_boxes)
+                box_node_get(bvh->mbox[key].lo_x, c, &b);
+            else
+                box_node_get(bvh->nodes[0].lo_x, c, &b);
+            box_grow(&r, &b);
+        }
+        root += box_area(&r);
+    }
+    root /= (float)nk;
+    if (!(root > 0.0f))
+        return 0.0f;
+    double cost = (double)root * COST_NODE;
+    for (uint32_t i = 0; i < bvh->node_count; i++)
+        for (uint32_t c = 0; c < HZ_BVH_W; c++) {
+            const uint32_t cw = bvh->nodes[i].child[c];
+            if (cw == HZ_BVH_EMPTY)
+                continue;
+            const float a = child_area(bvh, i, c);
+            if (hz_bvh_is_leaf(cw))
+                cost += (double)a * (double)((hz_bvh_leaf_count(cw) + SAH_BLOCK - 1u) / SAH_BLOCK);
+            else
+                cost += (double)a * COST_NODE;
+        }
+    return (float)(cost / (double)root);
+}
+
+/* ---- memory ---- */
+uint64_t hz_bvh_motion_kept_bound(uint64_t refs, uint32_t keys, hz_accel_blur_t blur, uint32_t vertex_count)
+{
+    (void)vertex_count;
+    if (keys < 2u)
+        return 0;
+    const uint64_t nodes = hz_bvh_nodes_bound(refs), blocks = hz_bvh_blocks_bound(refs);
+    uint64_t b = (uint64_t)(keys - 1u) * blocks * sizeof(hz_bvh_block_t) + 8u * 64u;
+    if (blur != HZ_ACCEL_BLUR_SWEPT)
+        b += nodes * keys * sizeof(hz_bvh_mbox_t);
+    if (blur == HZ_ACCEL_BLUR_MSBVH)
+        b += blocks * HZ_BVH_W * sizeof(hz_bvh_piece_t);
+    return b;
+}
+
+void hz_bvh_relocate(hz_bvh_t *bvh, ptrdiff_t delta)
+{
+#define MOVE(p) ((p) = (p) ? (void *)((uint8_t *)(void *)(p) + delta) : (p))
+    MOVE(bvh->nodes);
+    MOVE(bvh->blocks);
+    MOVE(bvh->mbox);
+    MOVE(bvh->pieces);
+    for (int k = 0; k < HZ_ACCEL_MAX_TIME_KEYS; k++)
+        MOVE(bvh->kblocks[k]);
+#undef MOVE
+}
+
+/* ---- build and refit ---- */
+static bool keys_valid(uint32_t k)
+{
+    return k == 2u || k == 3u || k == 5u || k == 9u;
+}
+
+hz_status_t hz_bvh_motion_build(hz_bvh_t *bvh, const hz_accel_geom_t *g, const hz_accel_config_t *cfg,
+                                hz_arena_t *arena, hz_bvh_build_out_t *out, hz_error_t *err)
+{
+    const uint32_t K = g->time_keys;
+    if (!keys_valid(K))
+        return hz_error_set(err, HZ_E_RANGE, "accel: %u time keys, supported: 2, 3, 5 or 9", K);
+    if ((unsigned)cfg->blur >= HZ_ACCEL_BLUR_COUNT)
+        return hz_error_set(err, HZ_E_INVALID_ARG, "accel: unknown motion BVH %d", (int)cfg->blur);
+    const hz_arena_mark_t m0 = hz_arena_mark(arena);
+    /* topology at time 0.5: key (K - 1) / 2 for odd K, the lerp of keys 0 and 1 for K = 2 */
+    const float *mid = g->pos_keys[(K - 1u) / 2u];
+    if (K == 2u) {
+        float *m = hz_arena_alloc_array(arena, (size_t)g->vertex_count * 4u + 4u, sizeof(float), 64);
+        if (!m) {
+            hz_arena_error(arena, err);
+            hz_error_prefix(err, "accel: motion midpoint positions");
+            return HZ_E_NO_MEMORY;
+        }
+        for (size_t i = 0; i < (size_t)g->vertex_count * 4u; i++)
+            m[i] = hz_accel_lerp_key(g->pos_keys[0][i], g->pos_keys[1][i], 0.5f);
+        mid = m;
+    }
+    const size_t mid_bytes = hz_arena_mark(arena) - m0;
+    hz_accel_geom_t gm = *g;
+    gm.pos = mid;
+    hz_accel_config_t c2 = *cfg;
+    if (cfg->blur != HZ_ACCEL_BLUR_MSBVH)
+        c2.spatial_splits = false;
+    hz_status_t s = hz_bvh_build(bvh, &gm, &c2, arena, out, err);
+    if (s != HZ_OK) {
+        hz_arena_reset(arena, m0);
+        return s;
+    }
+    out->bytes_peak += mid_bytes;
+    const uint32_t alias = K & 1u ? (K - 1u) / 2u : 0u; /* the key whose copies live in bvh->blocks */
+    bvh->time_keys = K;
+    bvh->blur = cfg->blur;
+    bvh->key_boxes = cfg->blur != HZ_ACCEL_BLUR_SWEPT;
+    const size_t nb = bvh->block_count ? bvh->block_count : 1u;
+    bool ok = true;
+    for (uint32_t k = 0; k < K; k++) {
+        if (k == alias) {
+            bvh->kblocks[k] = bvh->blocks;
+            continue;
+        }
+        bvh->kblocks[k] = hz_arena_alloc_array(arena, nb, sizeof(hz_bvh_block_t), 64);
+        ok = ok && bvh->kblocks[k];
+    }
+    if (!bvh->blocks) { /* empty geometry: one padding block per key keeps the kernels' reads valid */
+        for (uint32_t k = 0; k < K && ok; k++)
+            if (!bvh->kblocks[k]) {
+                bvh->kblocks[k] = hz_arena_alloc_array(arena, 1, sizeof(hz_bvh_block_t), 64);
+                ok = bvh->kblocks[k] != 0;
+            }
+    }
+    if (ok && bvh->key_boxes) {
+        bvh->mbox = hz_arena_alloc_array(arena, (size_t)bvh->node_count * K, sizeof(hz_bvh_mbox_t), 64);
+        ok = bvh->mbox != 0;
+    }
+    if (ok && cfg->blur == HZ_ACCEL_BLUR_MSBVH && bvh->block_count) {
+        bvh->pieces = hz_arena_alloc_array(arena, (size_t)bvh->block_count * HZ_BVH_W, sizeof(hz_bvh_piece_t), 16);
+        ok = bvh->pieces != 0;
+    }
+    const hz_arena_mark_t m2 = hz_arena_mark(arena);
+    uint8_t *refs = ok && bvh->pieces ? hz_arena_calloc(arena, g->tri_count ? g->tri_count : 1u, 1, 16) : 0;
+    if (!ok || (bvh->pieces && !refs)) {
+        hz_arena_error(arena, err);
+        hz_error_prefix(err, "accel: motion boxes");
+        hz_arena_reset(arena, m0);
+        return HZ_E_NO_MEMORY;
+    }
+    for (uint32_t k = 0; k < K; k++)
+        if (k != alias || !bvh->blocks)
+            for (size_t b = 0; b < nb; b++) {
+                hz_memset(&bvh->kblocks[k][b], 0, sizeof(hz_bvh_block_t));
+                for (int i = 0; i < HZ_BVH_W; i++)
+                    bvh->kblocks[k][b].prim[i] = bvh->blocks ? bvh->blocks[b].prim[i] : HZ_BVH_PRIM_PAD;
+            }
+    if (bvh->pieces) {
+        /* pieces: clipped only for triangles that spatial splits put in several leaves */
+        const uint32_t nslots = bvh->block_count * HZ_BVH_W;
+        for (uint32_t sl = 0; sl < nslots; sl++) {
+            uint32_t pw = bvh->blocks[sl / HZ_BVH_W].prim[sl % HZ_BVH_W];
+            piece_full(&bvh->pieces[sl]);
+            if (pw != HZ_BVH_PRIM_PAD && refs[pw & HZ_BVH_PRIM_MASK] < 2u)
+                refs[pw & HZ_BVH_PRIM_MASK]++;
+        }
+        for (uint32_t i = 0; i < bvh->node_count; i++)
+            for (uint32_t c = 0; c < HZ_BVH_W; c++) {
+                const uint32_t cw = bvh->nodes[i].child[c];
+                if (cw == HZ_BVH_EMPTY || !hz_bvh_is_leaf(cw))
+                    continue;
+                box_t cb; /* the leaf's box at the midpoint, from the SBVH build */
+                box_node_get(bvh->nodes[i].lo_x, c, &cb);
+                const uint32_t slot = hz_bvh_leaf_slot(cw), n = hz_bvh_leaf_count(cw);
+                for (uint32_t sl = slot; sl < slot + n; sl++) {
+                    const uint32_t prim = bvh->blocks[sl / HZ_BVH_W].prim[sl % HZ_BVH_W] & HZ_BVH_PRIM_MASK;
+                    if (refs[prim] >= 2u)
+                        piece_of(g, mid, prim, &cb, &bvh->pieces[sl]);
+                }
+            }
+    }
+    if (hz_arena_mark(arena) - m0 > out->bytes_peak)
+        out->bytes_peak = hz_arena_mark(arena) - m0;
+    hz_arena_reset(arena, m2); /* the reference counts */
+    fit_t ft = { g, bvh, K };
+    fill_keys(&ft);
+    fit_boxes(&ft);
+    /* K = 2: move the structure down over the midpoint positions */
+    if (K == 2u) {
+        uint8_t *src = (uint8_t *)(void *)bvh->nodes;
+        uint8_t *dst = (uint8_t *)hz_align_up((size_t)(arena->base + m0), 64);
+        const size_t end = hz_arena_mark(arena);
+        const size_t bytes = (size_t)(arena->base + end - src);
+        hz_memmove(dst, src, bytes);
+        hz_bvh_relocate(bvh, dst - src);
+        hz_arena_reset(arena, (size_t)(dst + bytes - arena->base));
+    }
+    out->sah_cost = hz_bvh_wide_sah(bvh);
+    return HZ_OK;
+}
+
+void hz_bvh_motion_refit(hz_bvh_t *bvh, const hz_accel_geom_t *g)
+{
+    fit_t ft = { g, bvh, bvh->time_keys };
+    fill_keys(&ft);
+    fit_boxes(&ft);
+}

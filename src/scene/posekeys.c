@@ -1,0 +1,118 @@
+/* The scene's pose at a shutter interval's key times (see hz/posekeys.h). */
+#include "hz/posekeys.h"
+
+#include "scene_internal.h"
+
+/* Segments object o needs over interval_s seconds (at least 1; may exceed 8, the caller caps). */
+static float object_segments(const hz_scene_t *s, const hz_hzb_object_t *o, float interval_s)
+{
+    const float per = HZ_POSEKEYS_SEGMENT_RAD;
+    switch (o->motion) {
+    case HZ_MOTION_SPIN:
+        return hz_absf(o->params[6]) * interval_s / per;
+    case HZ_MOTION_OSCILLATE:
+        return 2.0f * HZ_PI * hz_absf(o->params[3]) * interval_s / per;
+    case HZ_MOTION_SWAY:
+        return hz_absf(o->params[6]) * interval_s / per;
+    case HZ_MOTION_VERTEX:
+        return o->key_rate * interval_s;
+    case HZ_MOTION_RIGID: {
+        /* Fastest rotation between two keys (angle <= pi * |qa - qb| on the shorter arc: the chord bounds the
+         * arc, no trigonometry needed) and the shortest key interval (one knot per segment at most). */
+        float need = 0.0f;
+        const hz_hzb_rigid_key_t *k = s->rigid_keys + o->key_first;
+        for (uint32_t i = 0; i + 1 < o->key_count; i++) {
+            float dt = k[i + 1].time - k[i].time, d = 0.0f, dm = 0.0f;
+            for (int c = 0; c < 4; c++) {
+                float a = k[i].rotation[c] - k[i + 1].rotation[c], b = k[i].rotation[c] + k[i + 1].rotation[c];
+                d += a * a, dm += b * b;
+            }
+            float angle = HZ_PI * hz_sqrtf(hz_minf(d, dm));
+            if (dt > 0.0f)
+                need = hz_maxf(need, hz_maxf(angle / dt * interval_s / per, interval_s / dt));
+        }
+        return need;
+    }
+    default:
+        return 0.0f;
+    }
+}
+
+uint32_t hz_posekeys_count(const hz_scene_t *s, float interval_s)
+{
+    if (!s->prev_pos)
+        return 1; /* nothing moves */
+    float need = 1.0f;
+    for (uint32_t i = 0; i < s->object_count; i++)
+        need = hz_maxf(need, object_segments(s, &s->objects[i], hz_absf(interval_s)));
+    uint32_t n = 1;
+    while (n < 8 && (float)n < need)
+        n *= 2;
+    return n + 1;
+}
+
+static bool valid_count(uint32_t k)
+{
+    return k == 2 || k == 3 || k == 5 || k == 9;
+}
+
+size_t hz_posekeys_bytes(const hz_scene_t *s, uint32_t count)
+{
+    if (count < 2)
+        return 0;
+    size_t one = hz_align_up((size_t)s->vertex_count * 16u, 64) + 64;
+    return (size_t)count * one * (s->nrm ? 2u : 1u);
+}
+
+hz_status_t hz_posekeys_init(hz_posekeys_t *k, const hz_scene_t *s, uint32_t count, hz_arena_t *arena,
+                             hz_error_t *err)
+{
+    hz_memset(k, 0, sizeof *k);
+    if (!valid_count(count))
+        return hz_error_set(err, HZ_E_INVALID_ARG, "pose keys: %u time keys (must be 2, 3, 5 or 9)", count);
+    size_t need = hz_posekeys_bytes(s, count), have = hz_arena_available(arena, 64);
+    if (need > have)
+        return hz_error_set(err, HZ_E_NO_MEMORY, "arena '%s': %u pose keys of %u vertices need %zu bytes, has %zu",
+                            arena->name, count, s->vertex_count, need, have);
+    hz_arena_mark_t mark = hz_arena_mark(arena);
+    size_t bytes = (size_t)s->vertex_count * 16u;
+    for (uint32_t i = 0; i < count; i++) {
+        k->pos[i] = hz_arena_alloc(arena, bytes ? bytes : 16u, 64);
+        k->nrm[i] = s->nrm ? hz_arena_alloc(arena, bytes ? bytes : 16u, 64) : NULL;
+        if (!k->pos[i] || (s->nrm && !k->nrm[i])) {
+            hz_arena_reset(arena, mark);
+            hz_memset(k, 0, sizeof *k);
+            return hz_arena_error(arena, err);
+        }
+        hz_memcpy(k->pos[i], s->pos, bytes);
+        if (s->nrm)
+            hz_memcpy(k->nrm[i], s->nrm, bytes);
+    }
+    k->count = count;
+    k->vertex_count = s->vertex_count;
+    return HZ_OK;
+}
+
+void hz_posekeys_eval_ns(hz_posekeys_t *k, const hz_scene_t *s, hz_time_ns_t t, float lo, float hi)
+{
+    for (uint32_t i = 0; i < k->count; i++) {
+        /* The ends exactly at lo and hi; in between lo + (hi - lo) i / (K - 1). */
+        float dt = i + 1 == k->count ? hi : lo + (hi - lo) * ((float)i / (float)(k->count - 1u));
+        hz_scene_pose_at_ns(s, t, dt, k->pos[i], k->nrm[i]);
+    }
+    k->time = t, k->lo = lo, k->hi = hi;
+    k->valid = true;
+}
+
+void hz_posekeys_eval(hz_posekeys_t *k, const hz_scene_t *s, float t, float lo, float hi)
+{
+    hz_posekeys_eval_ns(k, s, hz_time_from_s(t), lo, hi);
+}
+
+void hz_posekeys_geom(const hz_posekeys_t *k, hz_accel_geom_t *g)
+{
+    g->time_keys = k->count;
+    for (uint32_t i = 0; i < HZ_ACCEL_MAX_TIME_KEYS; i++)
+        g->pos_keys[i] = i < k->count ? k->pos[i] : NULL;
+    g->pos = k->pos[(k->count - 1u) / 2u];
+}

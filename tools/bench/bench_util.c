@@ -1,0 +1,57 @@
+/* Shared by hzbench's scene groups (see bench_util.h). */
+#include "bench_util.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <unistd.h>
+
+#include "hz/config.h"
+#include "threads.h"
+
+static int cmp_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return x < y ? -1 : x > y;
+}
+
+double hz_bench_median(double *v, int n)
+{
+    qsort(v, (size_t)n, sizeof *v, cmp_double);
+    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+int hz_bench_scenes(const char *group, const char *const (*scenes)[2], size_t count, const char *dir, int threads,
+                    hz_bench_scene_fn fn, void *ctx, int max_rows, hz_error_t *err)
+{
+    int n = 0;
+    if (hz_threads_start(threads, err) != HZ_OK)
+        return -1;
+    for (size_t i = 0; i < count && n < max_rows; i++) {
+        char path[4096];
+        if (scenes[i][1]) {
+            snprintf(path, sizeof path, "%s/%s", dir ? dir : ".", scenes[i][1]);
+            if (access(path, R_OK) != 0) {
+                printf("%-8s %-14s skipped: %s missing (make scenes)\n", group, scenes[i][0], path);
+                continue;
+            }
+        } else {
+            snprintf(path, sizeof path, "builtin");
+        }
+        if (fn(scenes[i][0], path, ctx, n, err) != HZ_OK) {
+            hz_error_prefix(err, scenes[i][0]);
+            hz_threads_stop();
+            return -1;
+        }
+        n++;
+    }
+    hz_threads_stop();
+    return n;
+}
+
+int hz_bench_threads(int n)
+{
+    if (n != 0)
+        return n;
+    long c = sysconf(_SC_NPROCESSORS_ONLN);
+    return c < 1 ? 1 : c > HZ_MAX_THREADS ? HZ_MAX_THREADS : (int)c;
+}
