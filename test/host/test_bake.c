@@ -1267,6 +1267,11 @@ static void test_obj_glass_and_bump_maps(void **state)
     for (size_t i = 0; i < sizeof codes / sizeof codes[0]; i++)
         if (!strstr(r.out, codes[i]))
             fail_msg("hzbake --help does not list exit status '%s'", codes[i]);
+    char cmd[128];
+    snprintf(cmd, sizeof cmd, "rm -rf %s", tmpdir);
+    assert_int_equal(system(cmd), 0);
+}
+
 /* A bake that no board can load (its scene arena need exceeds every board's) gets a warning naming the
  * largest board and what to change (skinned vertex keys: skin_rate); one that fits gets none. The board list is
  * replaced by a test hook so a small scene stands in for a huge one. */
