@@ -525,7 +525,7 @@ int hz_cmd_render(int argc, char **argv)
         .note = dl ? note : NULL,
         .scene = a.scene, .mode = hz_render_mode_name(a.opts.mode),
         .spp = (double)total.primary_rays / ((double)a.opts.width * a.opts.height * a.frames),
-        .start = a.start, .width = a.opts.width, .height = a.opts.height, .hz = a.hz, .frames = a.frames, .threads = a.threads,
+        .start = (double)a.start * 1e-9, .width = a.opts.width, .height = a.opts.height, .hz = a.hz, .frames = a.frames, .threads = a.threads,
         .backend = accel->info.backend, .build_ms = build_ms, .ms_p50 = percentile(sorted_ms, n, 0.5),
         .ms_p99 = percentile(sorted_ms, n, 0.99), .ms_mean = n ? sum / n : 0, .ms_max = n ? sorted_ms[n - 1] : 0,
         .frames_timed = n, .rays = rays, .rays_per_frame = (double)rays / a.frames,

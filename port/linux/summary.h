@@ -24,7 +24,7 @@ typedef struct hz_summary {
     const char *scene, *mode, *backend, *features;
     double spp; /* samples traced per pixel per frame: primary rays / (pixels x frames), what was done */
     uint32_t width, height, hz, frames, frames_timed;
-    float start; /* scene time of the first frame, seconds */
+    double start; /* scene time of the first frame, seconds */
     const char *note; /* one line on what the renderer added (e.g. a default light), or NULL */
     int threads;
     double build_ms, ms_p50, ms_p99, ms_mean, ms_max, run_s;

@@ -81,7 +81,7 @@ static void test_keys_span_the_interval(void **state)
     size_t n = (size_t)sc.vertex_count * 4;
     for (uint32_t i = 0; i < 5; i++) {
         float dt = i == 4 ? 0.3f : -0.1f + 0.4f * ((float)i / 4.0f);
-        hz_scene_animate(&sc, 1.0f + dt);
+        hz_scene_animate_ns(&sc, hz_time_from_s(1.0) + hz_time_from_s(dt)); /* t + dt, summed in ns */
         assert_memory_equal(k.pos[i], sc.pos, n * sizeof(float));
         assert_memory_equal(k.nrm[i], sc.nrm, n * sizeof(float));
     }
