@@ -222,7 +222,7 @@ HZRT := $(O)/bin/hzrt
 
 BENCH_SRCS := tools/bench/bench.c tools/bench/bench_accel.c tools/bench/bench_tdense.c tools/bench/bench_transp.c \
               tools/bench/bench_scene.c tools/bench/bench_adaptive.c tools/bench/bench_blur.c tools/bench/bench_util.c \
-              tools/bench/bench_motion.c
+              tools/bench/bench_motion.c tools/bench/bench_realtime.c
 BENCH_OBJS := $(BENCH_SRCS:%.c=$(O)/%.o)
 BENCH := $(O)/bin/hzbench
 
@@ -575,7 +575,7 @@ bench: deps $(BENCH) scenes ## measure (side by side, in one run) and print a ta
 	$(Q)mkdir -p $(O)/bench
 	$(Q)$(BENCH) --csv $(O)/bench/bench.csv --accel-csv $(O)/bench/accel.csv --scenes $(SCENES_O) \
 		--transparency-csv $(O)/bench/transparency.csv --adaptive-csv $(O)/bench/adaptive.csv \
-		--motion-csv $(O)/bench/motion.csv $(BENCH_ARGS)
+		--motion-csv $(O)/bench/motion.csv --realtime-csv $(O)/bench/realtime.csv $(BENCH_ARGS)
 
 size: $(HZRT) ## section sizes of hzrt, its largest symbols and the board's static arenas
 	$(Q)$(SIZE) $(HZRT) $(LIB)

@@ -12,6 +12,7 @@
 #include <unistd.h>
 
 #include "bench_adaptive.h"
+#include "bench_realtime.h"
 #include "bench_blur.h"
 #include "bench_tdense.h"
 #include "bench_util.h"
@@ -171,7 +172,9 @@ int main(int argc, char **argv)
     hz_cli_prog = "hzbench";
     const char *csv_path = NULL;
     bool core = true, accel = true, tdense = true, transp = true, adaptive = true, blur = true, motion = true;
-    bool only_given = false;
+    bool realtime = true, only_given = false;
+    const char *realtime_csv = NULL;
+    hz_bench_realtime_opts_t rt = { NULL, 640, 360, 2, 3, 8, 96, 1.0f, 240, false };
     const char *transp_csv = NULL;
     hz_bench_transp_opts_t tp = { NULL, 192, 108, 0, 3, 24, false };
     hz_bench_adaptive_opts_t ad = { NULL, NULL, 640, 360, 2, 5, 1, 3, 1.0f, 256, false };
@@ -187,12 +190,23 @@ int main(int argc, char **argv)
             csv_path = argv[++i];
         } else if (!strcmp(argv[i], "--accel-csv") && i + 1 < argc) {
             ao.csv_path = argv[++i];
+        } else if (!strcmp(argv[i], "--realtime-csv") && i + 1 < argc) {
+            realtime_csv = argv[++i];
+        } else if (!strcmp(argv[i], "--realtime-frames") && i + 1 < argc) {
+            if (!hz_cli_parse_long("--realtime-frames", argv[++i], 1, HZ_BENCH_REALTIME_MAX_FRAMES, &v))
+                return HZ_EXIT_USAGE;
+            rt.frames = (uint32_t)v;
+        } else if (!strcmp(argv[i], "--realtime-size") && i + 1 < argc) {
+            int w, h;
+            if (!hz_cli_parse_size("--realtime-size", argv[++i], 16, 8192, &w, &h))
+                return HZ_EXIT_USAGE;
+            rt.width = (uint32_t)w, rt.height = (uint32_t)h;
         } else if (!strcmp(argv[i], "--adaptive-csv") && i + 1 < argc) {
             ad.csv_path = argv[++i];
         } else if (!strcmp(argv[i], "--only") && i + 1 < argc) {
             const char *what = argv[++i];
             if (!only_given)
-                core = accel = tdense = transp = adaptive = blur = motion = false;
+                core = accel = tdense = transp = adaptive = blur = motion = realtime = false;
             only_given = true;
             if (!strcmp(what, "kernels"))
                 core = true;
@@ -206,10 +220,13 @@ int main(int argc, char **argv)
                 transp = true;
             else if (!strcmp(what, "adaptive"))
                 adaptive = true;
+            else if (!strcmp(what, "realtime"))
+                realtime = true;
             else if (!strcmp(what, "blur"))
                 blur = true;
             else {
-                hz_cli_error("--only: '%s' is not kernels, accel, tdense, transparency, adaptive, blur or motion", what);
+                hz_cli_error("--only: '%s' is not kernels, accel, tdense, transparency, adaptive, blur, motion or "
+                             "realtime", what);
                 return HZ_EXIT_USAGE;
             }
         } else if (!strcmp(argv[i], "--motion-csv") && i + 1 < argc) {
@@ -234,7 +251,7 @@ int main(int argc, char **argv)
             }
             mo.interval = (float)t;
         } else if (!strcmp(argv[i], "--scenes") && i + 1 < argc) {
-            ao.scenes_dir = td.scenes_dir = tp.scenes_dir = ad.scenes_dir = bo.scenes_dir = mo.scenes_dir = argv[++i];
+            ao.scenes_dir = td.scenes_dir = tp.scenes_dir = ad.scenes_dir = bo.scenes_dir = mo.scenes_dir = rt.scenes_dir = argv[++i];
         } else if (!strcmp(argv[i], "--scene") && i + 1 < argc) {
             if (ao.scene_count == HZ_BENCH_MAX_SCENES) {
                 hz_cli_error("--scene: at most %d scenes", HZ_BENCH_MAX_SCENES);
@@ -245,11 +262,12 @@ int main(int argc, char **argv)
             if (!hz_cli_parse_long("--rounds", argv[++i], 1, HZ_BENCH_TDENSE_MAX_ROUNDS < 15 ? HZ_BENCH_TDENSE_MAX_ROUNDS : 15, &v))
                 return HZ_EXIT_USAGE;
             ao.rounds = td.rounds = tp.rounds = ad.rounds = bo.rounds = mo.rounds = (int)v;
+            rt.rounds = v < HZ_BENCH_REALTIME_MAX_ROUNDS ? (int)v : HZ_BENCH_REALTIME_MAX_ROUNDS;
         } else if (!strcmp(argv[i], "--threads") && i + 1 < argc) {
             if (!hz_cli_parse_long("--threads", argv[++i], 0, HZ_MAX_THREADS, &v))
                 return HZ_EXIT_USAGE;
             ao.threads = td.threads = tp.threads = bo.threads = (int)v;
-            ad.threads = v ? (int)v : 2;
+            ad.threads = rt.threads = v ? (int)v : 2;
         } else if (!strcmp(argv[i], "--size") && i + 1 < argc) {
             int w, h;
             if (!hz_cli_parse_size("--size", argv[++i], 8, 8192, &w, &h))
@@ -292,7 +310,8 @@ int main(int argc, char **argv)
         } else if (!strcmp(argv[i], "--embree-config") && i + 1 < argc) {
             ao.embree_config = argv[++i];
         } else if (!strcmp(argv[i], "-h") || !strcmp(argv[i], "--help")) {
-            printf("usage: hzbench [--only kernels|accel|tdense|transparency|adaptive|blur|motion]... [--csv FILE]\n"
+            printf("usage: hzbench [--only kernels|accel|tdense|transparency|adaptive|blur|motion|realtime]...\n"
+                   "               [--csv FILE] [--realtime-csv FILE] [--realtime-size WxH] [--realtime-frames N]\n"
                    "               [--accel-csv FILE] [--adaptive-csv FILE] [--motion-csv FILE] [--scenes DIR]\n"
                    "               [--scene NAME]... [--rounds N] [--threads N] [--size WxH] [--tdense-size WxH]\n"
                    "               [--frames N] [--embree-config S] [--transparency-csv FILE]\n"
@@ -306,6 +325,10 @@ int main(int argc, char **argv)
                    "  transparency  per-frame time along sponza-smoke's camera path of exact, rr, std, dtaa and\n"
                    "           hybrid:0.25/0.5/0.75 with TAA (--transparency-size, default 192x108;\n"
                    "           --transparency-frames, default 24; min over 3 rounds; CSV with --transparency-csv)\n"
+                   "  realtime tdense and TAA at 640x360 (--realtime-size) on 2 threads (or --threads) on the built-in\n"
+                   "           scene, Sponza and Conference, 96 frames from t = 1 s (--realtime-frames): p50/p99 ms,\n"
+                   "           begin/trace/shade/resolve, the same rays through Embree alone (8-ray packets, no\n"
+                   "           shading) and overhead = p50 / that; CSV with --realtime-csv\n"
                    "  adaptive fixed 9 spp against --mode adaptive (tau 0.3, 0.6, 1) at 640x360 on 2 threads (or\n"
                    "           --threads): presample / test / extra ms, live lanes per packet, PSNR vs 256 spp\n"
                    "  blur     motion blur in tdense (--shutter, default 1; --blur-size, default 320x180): one MSBVH\n"
@@ -475,6 +498,49 @@ int main(int argc, char **argv)
         if (hz_out_commit(&out, &err) != HZ_OK)
             return hz_cli_report(&err);
         printf("wrote %s\n", csv_path);
+    }
+    if (realtime) {
+        hz_error_t err;
+        hz_bench_realtime_row_t rrows[6];
+        rt.progress = hz_cli_stderr_is_tty();
+        printf("\nreal time: %ux%u, %d threads, %u frames after %u from t = %.1f s at %u Hz, %d rounds; budget %.2f ms "
+               "per frame at %u Hz\n", rt.width, rt.height, rt.threads, rt.frames, rt.warm, (double)rt.start, rt.hz,
+               rt.rounds, 1000.0 / rt.hz, rt.hz);
+        int nr = hz_bench_realtime(&rt, rrows, 6, &err);
+        if (nr < 0)
+            return hz_cli_report(&err);
+        printf("%-11s %-6s %8s %8s %7s %7s %7s %8s %9s %8s %9s %9s %9s\n", "scene", "mode", "p50 ms", "p99 ms",
+               "begin", "trace", "shade", "resolve", "embree ms", "overhead", "primary", "shadow", "secondary");
+        for (int k = 0; k < nr; k++) {
+            const hz_bench_realtime_row_t *w = &rrows[k];
+            printf("%-11s %-6s %8.2f %8.2f %7.2f %7.2f %7.2f %8.2f %9.2f %8.2f %9.0f %9.0f %9.0f\n", w->scene, w->mode,
+                   w->p50_ms, w->p99_ms, w->begin_ms, w->trace_ms, w->shade_ms, w->resolve_ms, w->embree_trace_ms,
+                   w->overhead, w->primary, w->shadow, w->secondary);
+        }
+        for (int k = 0; k + 1 < nr; k += 2)
+            printf("%-11s TAA / tdense p50 %.2fx; tdense p99 %.2f ms against the %.2f ms budget (%.1fx over)\n",
+                   rrows[k].scene, rrows[k + 1].p50_ms / rrows[k].p50_ms, rrows[k].p99_ms, 1000.0 / rt.hz,
+                   rrows[k].p99_ms * rt.hz / 1000.0);
+        printf("(goals, issue 16: Sponza tdense p99 <= 4.17 ms on 2 cores, overhead <= 1.5, TAA / tdense >= 3.7x)\n");
+        if (realtime_csv && nr > 0) {
+            hz_out_t out;
+            if (hz_out_open(&out, realtime_csv, &err) != HZ_OK)
+                return hz_cli_report(&err);
+            fprintf(out.f, "scene,threads,mode,p50_ms,p99_ms,begin_ms,trace_ms,shade_ms,resolve_ms,embree_trace_ms,"
+                           "overhead\n");
+            for (int k = 0; k < nr; k++) {
+                const hz_bench_realtime_row_t *w = &rrows[k];
+                fprintf(out.f, "%s,%d,%s,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,", w->scene, w->threads, w->mode, w->p50_ms,
+                        w->p99_ms, w->begin_ms, w->trace_ms, w->shade_ms, w->resolve_ms);
+                if (isnan(w->embree_trace_ms))
+                    fprintf(out.f, ",\n");
+                else
+                    fprintf(out.f, "%.3f,%.3f\n", w->embree_trace_ms, w->overhead);
+            }
+            if (hz_out_commit(&out, &err) != HZ_OK)
+                return hz_cli_report(&err);
+            printf("wrote %s\n", realtime_csv);
+        }
     }
     if (adaptive) {
         hz_error_t err;

@@ -1,0 +1,58 @@
+/*
+ * bench_realtime.h — hzbench's real-time group (issue 16): where a displayed frame's time goes at a real size,
+ * and how far the whole frame is from the cost of its traversal alone.
+ *
+ * Contract: for each scene (the built-in one, then sponza.hzb and conference.hzb from scenes_dir; missing ones
+ * are reported and skipped) and each mode (tdense, then TAA) a renderer is created from the board pools over a
+ * recording wrapper around the scene's native accel. A round renders `warm` untimed, then `frames` timed
+ * frames from scene time `start` at `hz` on `threads` threads (history reset first, so every round sees the
+ * same frames); the modes take turns at going first. Per frame it measures begin_frame (animation, refit,
+ * camera), the trace pass and the resolve pass (hz_render_run_frame_parts); inside the trace pass, the time the
+ * wrapper saw inside accel calls (summed over threads, divided by the thread count) is `trace`, the rest of the
+ * pass `shade` (ray generation, shading, G-buffer writes). p50 and p99 are over every timed frame of every
+ * round; the parts are medians over rounds of their per-frame means.
+ *
+ * The last timed frame of the first round is also recorded: every ray packet the renderer traced, as it was
+ * given (lanes, coherence flag). `embree_trace_ms` replays them through Embree (8-ray packets, no any-hit
+ * callback, no shading) built over the same pose, spread over the same threads, median of `rounds` replays;
+ * `overhead` = frame p50 / embree_trace_ms. Boards without Embree leave both NaN. The wrapper's clock reads
+ * cost the frame a little (two per packet); both modes pay them alike.
+ *
+ * Returns the rows written (2 per scene), or -1 with err set.
+ */
+#ifndef HZ_BENCH_REALTIME_H
+#define HZ_BENCH_REALTIME_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "hz/status.h"
+
+#define HZ_BENCH_REALTIME_MAX_ROUNDS 9
+#define HZ_BENCH_REALTIME_MAX_FRAMES 512
+
+typedef struct hz_bench_realtime_opts {
+    const char *scenes_dir;
+    uint32_t width, height;
+    int threads;
+    int rounds;             /* 1..HZ_BENCH_REALTIME_MAX_ROUNDS */
+    uint32_t warm, frames;  /* frames 1..HZ_BENCH_REALTIME_MAX_FRAMES */
+    float start;
+    uint32_t hz;
+    bool progress;
+} hz_bench_realtime_opts_t;
+
+typedef struct hz_bench_realtime_row {
+    char scene[32];
+    const char *mode;      /* "tdense" or "taa" */
+    int threads;
+    double p50_ms, p99_ms;
+    double begin_ms, trace_ms, shade_ms, resolve_ms;
+    double embree_trace_ms, overhead;
+    double primary, shadow, secondary; /* rays of the recorded frame */
+} hz_bench_realtime_row_t;
+
+int hz_bench_realtime(const hz_bench_realtime_opts_t *o, hz_bench_realtime_row_t *rows, int max_rows,
+                      hz_error_t *err);
+
+#endif
