@@ -10,6 +10,7 @@
 #include <unistd.h>
 
 #include "cli.h"
+#include "bench_util.h"
 #include "clock.h"
 #include "fileio.h"
 #include "hz/accel.h"
@@ -291,17 +292,11 @@ static int bench_scene(const hz_bench_accel_opts_t *o, const char *name, FILE *c
 {
     hz_pools_t *P = hz_pools_get();
     hz_error_t err;
-    hz_pools_init(P);
-    char path[4096];
-    snprintf(path, sizeof path, "%s/%s.hzb", o->scenes_dir, name);
     hz_scene_t sc;
-    if (hz_scenefile_open(path, P, &sc, &err) != HZ_OK) {
-        hz_cli_error("bench: %s (run `make scenes` first)", err.msg);
-        return hz_status_exit_code(err.code);
-    }
     hz_accel_geom_t g;
-    if (hz_accel_geom_from_scene(&g, &sc, &P->scene, &err) != HZ_OK)
-        return hz_cli_report(&err);
+    int rc = hz_bench_open_named(o->scenes_dir, name, P, &sc, &g);
+    if (rc)
+        return rc;
     snprintf(sum->name, sizeof sum->name, "%s", name);
     sum->tris = g.tri_count;
 

@@ -188,20 +188,6 @@ static hz_status_t embree_replay(hz_bench_scene_t *bs, int rounds, double *ms, h
 
 /* ---- one scene ---- */
 
-static int cmp_double(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return x < y ? -1 : x > y;
-}
-
-/* The q-quantile (nearest rank) of v[0..n), sorted in place. */
-static double quantile(double *v, size_t n, double q)
-{
-    qsort(v, n, sizeof *v, cmp_double);
-    size_t k = (size_t)ceil(q * (double)n);
-    return v[k > 0 ? k - 1 : 0];
-}
-
 typedef struct mode_acc {
     double frame_ms[HZ_BENCH_REALTIME_MAX_ROUNDS * HZ_BENCH_REALTIME_MAX_FRAMES];
     size_t nframes;
@@ -290,8 +276,8 @@ static hz_status_t bench_scene(const char *label, const char *path, const hz_ben
         snprintf(w->scene, sizeof w->scene, "%s", label);
         w->mode = hz_render_mode_name(modes[m]);
         w->threads = o->threads;
-        w->p50_ms = quantile(acc[m].frame_ms, acc[m].nframes, 0.50);
-        w->p99_ms = quantile(acc[m].frame_ms, acc[m].nframes, 0.99);
+        w->p50_ms = hz_bench_quantile(acc[m].frame_ms, acc[m].nframes, 0.50);
+        w->p99_ms = hz_bench_quantile(acc[m].frame_ms, acc[m].nframes, 0.99);
         w->begin_ms = hz_bench_median(acc[m].part[0], o->rounds);
         w->trace_ms = hz_bench_median(acc[m].part[1], o->rounds);
         w->shade_ms = hz_bench_median(acc[m].part[2], o->rounds);

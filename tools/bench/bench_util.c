@@ -1,11 +1,14 @@
 /* Shared by hzbench's scene groups (see bench_util.h). */
 #include "bench_util.h"
 
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <unistd.h>
 
+#include "cli.h"
 #include "hz/config.h"
+#include "scenefile.h"
 #include "threads.h"
 
 static int cmp_double(const void *a, const void *b)
@@ -18,6 +21,13 @@ double hz_bench_median(double *v, int n)
 {
     qsort(v, (size_t)n, sizeof *v, cmp_double);
     return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+double hz_bench_quantile(double *v, size_t n, double q)
+{
+    qsort(v, n, sizeof *v, cmp_double);
+    size_t k = (size_t)ceil(q * (double)n);
+    return v[k > 0 ? k - 1 : 0];
 }
 
 int hz_bench_scenes(const char *group, const char *const (*scenes)[2], size_t count, const char *dir, int threads,
@@ -54,4 +64,20 @@ int hz_bench_threads(int n)
         return n;
     long c = sysconf(_SC_NPROCESSORS_ONLN);
     return c < 1 ? 1 : c > HZ_MAX_THREADS ? HZ_MAX_THREADS : (int)c;
+}
+
+int hz_bench_open_named(const char *dir, const char *name, hz_pools_t *pools, hz_scene_t *scene,
+                        hz_accel_geom_t *geom)
+{
+    hz_error_t err;
+    hz_pools_init(pools);
+    char path[4096];
+    snprintf(path, sizeof path, "%s/%s.hzb", dir, name);
+    if (hz_scenefile_open(path, pools, scene, &err) != HZ_OK) {
+        hz_cli_error("bench: %s (run `make scenes` first)", err.msg);
+        return hz_status_exit_code(err.code);
+    }
+    if (hz_accel_geom_from_scene(geom, scene, &pools->scene, &err) != HZ_OK)
+        return hz_cli_report(&err);
+    return 0;
 }
