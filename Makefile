@@ -354,6 +354,7 @@ $(ERRTIME_TEST_BINS): $(O)/test/unit/test_%: test/unit/test_%.c $(ERRTIME_LIB) $
 STAB_SRCS := test/stability/main.c test/stability/stab_util.c test/stability/geometry.c test/stability/rays.c \
              test/stability/motion.c test/stability/transparency.c test/stability/recon.c \
              test/stability/timing.c test/stability/fixed.c test/stability/memory.c
+STAB_SRCS += test/stability/blur.c test/stability/dither.c test/stability/adaptive.c
 STAB_OBJS := $(STAB_SRCS:%.c=$(O)/%.o)
 STAB := $(O)/test/stability/hzstab
 STAB_O := $(BUILD_ROOT)/stability$(SAN_SUFFIX)

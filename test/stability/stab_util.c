@@ -7,6 +7,7 @@
 
 #include "hz/hzb_write.h"
 #include "hz/meshgen.h"
+#include "blur_setup.h"
 #include "render_run.h"
 
 static void *grow(void *p, uint32_t *cap, uint32_t need, size_t elem)
@@ -167,15 +168,45 @@ void su_render_close(su_render_t *s)
     hz_arena_reset(&p->scene, s->marks[0]);
 }
 
+hz_status_t su_render_open_blur(su_render_t *s, const su_scene_t *b, const hz_render_opts_t *o,
+                                hz_accel_blur_t blur, hz_error_t *err)
+{
+    memset(s, 0, sizeof *s);
+    s->opts = *o;
+    hz_pools_t *p = hz_pools_get();
+    s->marks[0] = hz_arena_mark(&p->scene), s->marks[1] = hz_arena_mark(&p->accel);
+    s->marks[2] = hz_arena_mark(&p->frame), s->marks[3] = hz_arena_mark(&p->thread[0]);
+    hz_status_t st = su_load(b, &s->scene, err);
+    if (st != HZ_OK)
+        return st;
+    if ((st = hz_blur_build(&s->scene, &s->opts, HZ_ACCEL_NATIVE, blur, p, &s->keys, &s->accel, err)) != HZ_OK)
+        return st;
+    return hz_render_create(&s->r, &s->scene, s->accel, &s->opts, &p->frame, p->thread, 1, err);
+}
+
+static void su_frame_stats(su_render_t *s);
+
+hz_status_t su_render_frame_ns(su_render_t *s, uint64_t index, hz_time_ns_t t, hz_error_t *err)
+{
+    hz_status_t st = hz_render_run_frame_ns(s->r, index, t, err);
+    su_frame_stats(s);
+    return st;
+}
+
 hz_status_t su_render_frame(su_render_t *s, uint64_t index, float t, hz_error_t *err)
 {
     hz_status_t st = hz_render_run_frame(s->r, index, t, err);
+    su_frame_stats(s);
+    return st;
+}
+
+static void su_frame_stats(su_render_t *s)
+{
     hz_render_stats_t last;
     hz_render_frame_stats(s->r, &last, NULL);
     s->nonfinite_stat += last.nonfinite;
     s->queue_full += last.queue_full;
     s->layer_cap += last.layer_cap;
-    return st;
 }
 
 void su_render_check(stab_result_t *r, su_render_t *s)
