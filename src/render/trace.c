@@ -347,6 +347,7 @@ static void process_shadows(hz_worker_t *w)
     hitrec_t h[HZ_RENDER_LANES];
     float tmax[HZ_RENDER_LANES];
     for (uint32_t i = 0; i < n; i++) {
+        hz_memset(&rj[i], 0, sizeof rj[i]); /* dither 0: the exact path sees every layer */
         for (int c = 0; c < 3; c++)
             rj[i].o[c] = jobs[i].o[c], rj[i].d[c] = jobs[i].d[c];
         rj[i].slot = jobs[i].slot;
