@@ -445,7 +445,8 @@ static void c_render_flat(stab_result_t *r)
         const float w0[3] = { -50, -50, 0 }, w1[3] = { 50, -50, 0 }, w2[3] = { 50, 50, 0 }, w3[3] = { -50, 50, 0 };
         su_quad(&b, w0, w1, w2, w3, m);
         su_object(&b);
-        su_light(&b, 0, 0, 5, 0.0f); /* dark: a scene without lights would get the default key light */
+        /* dark and behind every surface (no shadow rays): without lights the scene would get the default key light */
+        su_light(&b, 0, 0, -100, 0.0f);
         const float eye[3] = { 0, 0, 5 }, target[3] = { 0, 0, 0 };
         su_camera(&b, 0, eye, target, 0.8f);
         hz_render_opts_t o;

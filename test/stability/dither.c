@@ -149,7 +149,8 @@ static void stack_case(stab_result_t *r, uint32_t n, float a, uint32_t shrink)
         su_quad(&b, q0, q1, q2, q3, mat);
     }
     su_object(&b);
-    su_light(&b, 0, 0, 5, 0.0f); /* dark: a scene without lights would get the default key light */
+    /* dark and behind every surface (no shadow rays): without lights the scene would get the default key light */
+    su_light(&b, 0, 0, -100, 0.0f);
     const float eye[3] = { 0, 0, 5 }, target[3] = { 0, 0, 0 };
     su_camera(&b, 0, eye, target, 0.3f);
     const float min_vis = 0.001f;

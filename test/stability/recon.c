@@ -238,7 +238,8 @@ static void c_taa_zero_variance(stab_result_t *r)
     const float w0[3] = { -50, -50, 0 }, w1[3] = { 50, -50, 0 }, w2[3] = { 50, 50, 0 }, w3[3] = { -50, 50, 0 };
     su_quad(&b, w0, w1, w2, w3, m);
     su_object(&b);
-    su_light(&b, 0, 0, 5, 0.0f); /* a dark light: a scene without lights would get the default key light */
+    /* dark and behind every surface (no shadow rays): without lights the scene would get the default key light */
+    su_light(&b, 0, 0, -100, 0.0f);
     const float e0[3] = { 0, 0, 5 }, e1[3] = { 2, 1, 4 }, t0[3] = { 0, 0, 0 }, t1[3] = { 1, 0, 0 };
     su_camera(&b, 0, e0, t0, 0.8f);
     su_camera(&b, 1, e1, t1, 0.8f);

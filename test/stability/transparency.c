@@ -99,7 +99,8 @@ static void stack_case(stab_result_t *r, uint32_t n, float a, float min_vis, boo
         su_quad(&b, q0, q1, q2, q3, m);
     }
     su_object(&b);
-    su_light(&b, 0, 0, 5, 0.0f); /* a dark light: a scene without lights would get the default key light */
+    /* dark and behind every surface (no shadow rays): without lights the scene would get the default key light */
+    su_light(&b, 0, 0, -100, 0.0f);
     const float eye[3] = { 0, 0, 5 }, target[3] = { 0, 0, 0 };
     su_camera(&b, 0, eye, target, 0.3f);
     /* the rule, in double */
