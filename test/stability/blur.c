@@ -18,8 +18,8 @@
             return;                                                                                               \
     } while (0)
 
-#define W 48
-#define H 32
+#define W 32
+#define H 24
 
 static const hz_accel_blur_t blurs[HZ_ACCEL_BLUR_COUNT] = { HZ_ACCEL_BLUR_MSBVH, HZ_ACCEL_BLUR_INTERP,
                                                             HZ_ACCEL_BLUR_SWEPT };
@@ -55,13 +55,34 @@ static void mcheck_all(stab_result_t *r, const hz_accel_geom_t *g, uint64_t n, u
               (unsigned long long)n, (unsigned long long)hits);
 }
 
-/* The room (floor, wall, sphere: shared vertices) as a geometry view with procedural keys of `kind`. */
+/* A small room: floor and wall (object 0), a coarse sphere (object 1: 120 triangles sharing vertices), a light.
+ * Brute force over every triangle per ray is what the checks cost (qemu: keep it small). */
+static void small_room(su_scene_t *b)
+{
+    su_begin(b);
+    uint32_t grey = su_material(b, 0.7f, 0.7f, 0.7f), red = su_material(b, 0.8f, 0.2f, 0.1f);
+    const float f0[3] = { -5, 0, -5 }, f1[3] = { 5, 0, -5 }, f2[3] = { 5, 0, 5 }, f3[3] = { -5, 0, 5 };
+    su_quad(b, f3, f2, f1, f0, grey);
+    const float w0[3] = { -5, 0, -5 }, w1[3] = { 5, 0, -5 }, w2[3] = { 5, 5, -5 }, w3[3] = { -5, 5, -5 };
+    su_quad(b, w0, w1, w2, w3, grey);
+    su_object(b);
+    hz_mesh_t m;
+    hz_arena_mark_t mk = hz_arena_mark(&hz_pools_get()->frame);
+    if (hz_meshgen_sphere(&m, &hz_pools_get()->frame, 6, 10, 1.0f, NULL) == HZ_OK) {
+        const float off[3] = { 0, 1.2f, 0 };
+        su_mesh(b, m.pos, m.vertex_count, m.tri, m.tri_count, red, 1.0f, off);
+        su_object(b);
+    }
+    hz_arena_reset(&hz_pools_get()->frame, mk);
+    su_light(b, 1, 4, 3, 20.0f);
+}
+
+/* The small room as a geometry view with procedural keys of `kind`. */
 static void room_keys(stab_result_t *r, hz_scene_t *sc, hz_accel_geom_t *g, hz_meshgen_motion_kind_t kind,
                       uint32_t keys)
 {
     su_scene_t b;
-    su_begin(&b);
-    su_room(&b, 1.0f);
+    small_room(&b);
     const float eye[3] = { 0, 1, 5 }, target[3] = { 0, 1, 0 };
     su_camera(&b, 0, eye, target, 1.0f);
     hz_pools_t *p = hz_pools_get();
@@ -179,7 +200,7 @@ static void c_blur_equal_key_times(stab_result_t *r)
     hz_accel_geom_t g;
     STAB_OK(r, hz_accel_geom_from_scene(&g, &sc, &hz_pools_get()->accel, &err), &err);
     hz_posekeys_geom(&keys, &g);
-    mcheck_all(r, &g, 2000, 11);
+    mcheck_all(r, &g, 800, 11);
     r->status = status;
 }
 
@@ -193,7 +214,7 @@ static void c_blur_rotation_180(stab_result_t *r)
     hz_accel_geom_t g;
     room_keys(r, &sc, &g, HZ_MESHGEN_ROT180, 2);
     BAIL(r);
-    mcheck_all(r, &g, r->full ? 40000 : 3000, 21);
+    mcheck_all(r, &g, r->full ? 40000 : 1200, 21);
     BAIL(r);
     su_scene_t b;
     hz_hzb_object_t *o = wall_and_quad(&b, 1.5f);
@@ -214,7 +235,7 @@ static void c_blur_rotation_180(stab_result_t *r)
  * (through the opposite edge's midpoint at t = 0.5: zero area, then flipped winding). */
 static void c_blur_triangle_flip(stab_result_t *r)
 {
-    const uint32_t n = 400;
+    const uint32_t n = 200;
     float *k0 = malloc(sizeof(float) * 4 * 3 * n), *k1 = malloc(sizeof(float) * 4 * 3 * n);
     uint32_t *tri = malloc(sizeof(uint32_t) * 3 * n);
     STAB_CHECK(r, k0 && k1 && tri, "malloc");
@@ -237,13 +258,13 @@ static void c_blur_triangle_flip(stab_result_t *r)
     }
     hz_accel_geom_t g = { .pos = k0, .vertex_count = 3 * n, .tri = tri, .tri_count = n };
     g.time_keys = 2, g.pos_keys[0] = k0, g.pos_keys[1] = k1;
-    mcheck_all(r, &g, r->full ? 40000 : 4000, 31);
+    mcheck_all(r, &g, r->full ? 40000 : 1000, 31);
     BAIL(r);
     /* CROSS: shared vertices of the room cross one another and the split planes */
     hz_scene_t sc;
     room_keys(r, &sc, &g, HZ_MESHGEN_CROSS, 3);
     BAIL(r);
-    mcheck_all(r, &g, 2000, 33);
+    mcheck_all(r, &g, r->full ? 20000 : 800, 33);
     BAIL(r);
     /* rendered: vertex keys flattening the quad to a line and mirroring it, under shutter 1 */
     su_scene_t b;
@@ -259,7 +280,7 @@ static void c_blur_triangle_flip(stab_result_t *r)
             float *kk = b.vkeys + 4 * (size_t)(f * nv + v);
             kk[0] = p[0], kk[1] = f == 1 ? 0.0f : f == 2 ? -p[1] : p[1], kk[2] = p[2], kk[3] = 0;
         }
-    uint32_t k = render_blurred(r, &b, 0, HZ_NS_PER_S / 120, 6);
+    uint32_t k = render_blurred(r, &b, 0, HZ_NS_PER_S / 120, 4);
     BAIL(r);
     stab_note(r, "rendered flip through a line: %u pose keys; finite", k);
     free(b.vkeys), free(k0), free(k1), free(tri);
@@ -277,7 +298,7 @@ static void c_blur_collapse(stab_result_t *r)
         hz_arena_mark_t m0 = hz_arena_mark(&p->scene), m1 = hz_arena_mark(&p->accel);
         room_keys(r, &sc, &g, HZ_MESHGEN_COLLAPSE, ks[i]);
         BAIL(r);
-        mcheck_all(r, &g, 1500, 41 + (uint32_t)i);
+        mcheck_all(r, &g, r->full ? 20000 : 600, 41 + (uint32_t)i);
         BAIL(r);
         hz_arena_reset(&p->accel, m1), hz_arena_reset(&p->scene, m0);
     }
@@ -294,7 +315,7 @@ static void c_blur_collapse(stab_result_t *r)
             float *kk = b.vkeys + 4 * (size_t)(f * nv + v);
             kk[0] = f ? 0.25f : p[0], kk[1] = f ? -0.5f : p[1], kk[2] = f ? 0.5f : p[2], kk[3] = 0;
         }
-    uint32_t k = render_blurred(r, &b, 0, HZ_NS_PER_S / 240, 8);
+    uint32_t k = render_blurred(r, &b, 0, HZ_NS_PER_S / 240, 4);
     BAIL(r);
     stab_note(r, "rendered collapse to a point: %u pose keys; finite", k);
     free(b.vkeys);
@@ -519,7 +540,7 @@ static void c_blur_time_edges(stab_result_t *r)
         memset(&c, 0, sizeof c);
         hz_accel_ctx_t ctx;
         hz_accel_ctx_init(&ctx);
-        for (uint64_t i = 0; i < 256; i++) {
+        for (uint64_t i = 0; i < (r->full ? 1024u : 64u); i++) {
             hz_rayhit_t rays[8], clamp[8];
             for (int l = 0; l < 8; l++) {
                 hz_mcheck_ray(&g, lo, hi, 8 * i + (uint64_t)l, 61, &rays[l]);
