@@ -11,12 +11,6 @@
 #include "hz/hash.h"
 #include "stab_util.h"
 
-#define BAIL(r)                                                                                                   \
-    do {                                                                                                          \
-        if ((r)->fail[0])                                                                                         \
-            return;                                                                                               \
-    } while (0)
-
 static uint32_t fbits(float f)
 {
     uint32_t u;
@@ -237,7 +231,7 @@ static void c_flat_frames(stab_result_t *r)
             hz_amask_config_t c;
             cfg_col(&c, taus[t]);
             uint32_t n = check_frame(r, &f, &c, mask);
-            BAIL(r);
+            STAB_BAIL(r);
             uint32_t want = taus[t] == 0.0f ? 4u * 9u * 7u : 0u;
             STAB_CHECK(r, n == want, "flat %g at tau %g: %u active, want %u", (double)vals[v], (double)taus[t], n,
                        want);
@@ -262,7 +256,7 @@ static void c_one_bright_pixel(stab_result_t *r)
         hz_amask_config_t cfg;
         cfg_col(&cfg, 0.6f);
         counts[v] = check_frame(r, &f, &cfg, mask);
-        BAIL(r);
+        STAB_BAIL(r);
         free(f.px);
     }
     /* finite bright: its own 4 subpixels and the 12 of the 8 neighbours that face it (3 edge pairs x 2 + 4 corners
@@ -302,7 +296,7 @@ static void c_odd_sizes(stab_result_t *r)
             hz_amask_config_t cfg;
             cfg_col(&cfg, taus[t]);
             total += check_frame(r, &f, &cfg, mask);
-            BAIL(r);
+            STAB_BAIL(r);
             if (f.w <= HZ_AMASK_MAX_TILE && f.h <= HZ_AMASK_MAX_TILE) {
                 static uint16_t list[4 * 16 * 16];
                 uint32_t n = hz_amask_pack(mask, f.w, f.w, f.h, list), want = 0, last = 0;
@@ -353,7 +347,7 @@ static void render1(stab_result_t *r, const su_scene_t *b, hz_render_opts_t *o, 
     STAB_OK(r, su_render_open(&s, b, o, &err), &err);
     STAB_OK(r, su_render_frame(&s, 0, 0.0f, &err), &err);
     su_render_check(r, &s);
-    BAIL(r);
+    STAB_BAIL(r);
     size_t n = (size_t)o->width * o->height;
     memcpy(out, hz_render_output(s.r)->rgb, sizeof(float) * 3 * n);
     if (mask) {
@@ -403,7 +397,7 @@ static void c_render_sizes(stab_result_t *r)
                 o.adaptive.tau[t] = k == 0 ? 1.0f : 0.0f;
             uint64_t act = 0;
             render1(r, &b, &o, a, mask, &act);
-            BAIL(r);
+            STAB_BAIL(r);
             if (k == 2) {
                 act_default += act;
                 continue;
@@ -414,7 +408,7 @@ static void c_render_sizes(stab_result_t *r)
             hz_render_opts_default(&of);
             of.width = o.width, of.height = o.height, of.mode = HZ_MODE_FULL, of.spp = k == 0 ? 1 : 16;
             render1(r, &b, &of, f, NULL, NULL);
-            BAIL(r);
+            STAB_BAIL(r);
             if (k == 0)
                 STAB_CHECK(r, memcmp(a, f, sizeof(float) * 3 * n) == 0, "%ux%u: nothing active differs from 1 spp",
                            o.width, o.height);
@@ -453,7 +447,7 @@ static void c_render_flat(stab_result_t *r)
         hz_render_opts_default(&o);
         o.width = RW, o.height = RH, o.mode = HZ_MODE_ADAPTIVE;
         render1(r, &b, &o, a, mask, &act[k]);
-        BAIL(r);
+        STAB_BAIL(r);
         for (size_t i = 0; i < 3 * RW * RH; i++)
             stab_error(r, fabs(a[i] - (double)k));
         STAB_CHECK(r, act[k] == 0, "%s frame: %llu subpixels active", k ? "white" : "black",
@@ -479,7 +473,7 @@ static void c_render_bright(stab_result_t *r)
         hz_render_opts_default(&o);
         o.width = RW, o.height = RH, o.mode = HZ_MODE_ADAPTIVE;
         render1(r, &b, &o, a, k == 0 ? m1 : m2, &act[k]);
-        BAIL(r);
+        STAB_BAIL(r);
         if (k == 1) {
             uint32_t diff = 0;
             for (size_t i = 0; i < RW * RH; i++)

@@ -12,12 +12,6 @@
 #include "motion_check.h"
 #include "stab_util.h"
 
-#define BAIL(r)                                                                                                   \
-    do {                                                                                                          \
-        if ((r)->fail[0])                                                                                         \
-            return;                                                                                               \
-    } while (0)
-
 #define W 32
 #define H 24
 
@@ -93,24 +87,6 @@ static void room_keys(stab_result_t *r, hz_scene_t *sc, hz_accel_geom_t *g, hz_m
     STAB_CHECK(r, s == HZ_OK, "meshgen motion %s: %s", hz_meshgen_motion_name(kind), hz_status_str(s));
 }
 
-/* A wall behind (object 0), a quad in front (object 1, the caller sets its motion), a light, a camera. */
-static hz_hzb_object_t *wall_and_quad(su_scene_t *b, float size)
-{
-    su_begin(b);
-    uint32_t m0 = su_material(b, 0.6f, 0.6f, 0.6f), m1 = su_material(b, 0.2f, 0.7f, 0.3f);
-    const float w0[3] = { -8, -8, -3 }, w1[3] = { 8, -8, -3 }, w2[3] = { 8, 8, -3 }, w3[3] = { -8, 8, -3 };
-    su_quad(b, w0, w1, w2, w3, m0);
-    su_object(b);
-    const float q0[3] = { -size, -size, 0 }, q1[3] = { size, -size, 0 }, q2[3] = { size, size, 0 },
-                q3[3] = { -size, size, 0 };
-    su_quad(b, q0, q1, q2, q3, m1);
-    hz_hzb_object_t *o = su_object(b);
-    su_light(b, 2, 3, 6, 60);
-    const float eye[3] = { 0, 0, 6 }, target[3] = { 0, 0, 0 };
-    su_camera(b, 0, eye, target, 1.0f);
-    return o;
-}
-
 static hz_render_opts_t blur_opts(hz_render_mode_t mode, float shutter)
 {
     hz_render_opts_t o;
@@ -161,6 +137,39 @@ static uint32_t render_blurred(stab_result_t *r, const su_scene_t *b, hz_time_ns
     return k;
 }
 
+/* The quad of su_wall_and_quad (half-size 1.5) with `n` vertex keys at 60 keys/s, key f of vertex p from fn. */
+typedef void (*key_fn)(uint32_t f, const float *p, float *k);
+
+static bool quad_vertex_keys(su_scene_t *b, uint32_t n, key_fn fn)
+{
+    hz_hzb_object_t *o = su_wall_and_quad(b, 1.5f);
+    uint32_t nv = o->vertex_count, first = o->first_vertex;
+    o->motion = HZ_MOTION_VERTEX, o->key_first = 0, o->key_count = n, o->key_rate = 60.0f;
+    b->vkeys = malloc(sizeof(float) * 4 * nv * n);
+    if (!b->vkeys)
+        return false;
+    b->nvkeys = n * nv;
+    for (uint32_t f = 0; f < n; f++)
+        for (uint32_t v = 0; v < nv; v++) {
+            float *k = b->vkeys + 4 * (size_t)(f * nv + v);
+            fn(f, b->pos + 4 * (size_t)(first + v), k);
+            k[3] = 0;
+        }
+    return true;
+}
+
+/* Flattened to a line (key 1), then mirrored: winding flipped (key 2). */
+static void key_flip(uint32_t f, const float *p, float *k)
+{
+    k[0] = p[0], k[1] = f == 1 ? 0.0f : f == 2 ? -p[1] : p[1], k[2] = p[2];
+}
+
+/* Every vertex on one point (key 1). */
+static void key_collapse(uint32_t f, const float *p, float *k)
+{
+    k[0] = f ? 0.25f : p[0], k[1] = f ? -0.5f : p[1], k[2] = f ? 0.5f : p[2];
+}
+
 /* ---- equal key times ---- */
 
 /* Rigid keys with equal times under shutter 1: the loader refuses them before any key or BVH is built; pose keys
@@ -169,7 +178,7 @@ static uint32_t render_blurred(stab_result_t *r, const su_scene_t *b, hz_time_ns
 static void c_blur_equal_key_times(stab_result_t *r)
 {
     su_scene_t b;
-    hz_hzb_object_t *o = wall_and_quad(&b, 1.0f);
+    hz_hzb_object_t *o = su_wall_and_quad(&b, 1.0f);
     o->motion = HZ_MOTION_RIGID, o->key_first = 0, o->key_count = 2;
     for (int i = 0; i < 2; i++) {
         memset(&b.rkey[i], 0, sizeof b.rkey[i]);
@@ -213,11 +222,11 @@ static void c_blur_rotation_180(stab_result_t *r)
     hz_scene_t sc;
     hz_accel_geom_t g;
     room_keys(r, &sc, &g, HZ_MESHGEN_ROT180, 2);
-    BAIL(r);
+    STAB_BAIL(r);
     mcheck_all(r, &g, r->full ? 40000 : 1200, 21);
-    BAIL(r);
+    STAB_BAIL(r);
     su_scene_t b;
-    hz_hzb_object_t *o = wall_and_quad(&b, 1.5f);
+    hz_hzb_object_t *o = su_wall_and_quad(&b, 1.5f);
     o->motion = HZ_MOTION_RIGID, o->key_first = 0, o->key_count = 2;
     for (int i = 0; i < 2; i++) {
         memset(&b.rkey[i], 0, sizeof b.rkey[i]);
@@ -227,7 +236,7 @@ static void c_blur_rotation_180(stab_result_t *r)
     b.rkey[0].rotation[3] = 1, b.rkey[1].rotation[2] = 1; /* about z: the quad turns in the image plane */
     b.nrkey = 2;
     uint32_t k = render_blurred(r, &b, HZ_NS_PER_S / 120, HZ_NS_PER_S / 240, 4);
-    BAIL(r);
+    STAB_BAIL(r);
     stab_note(r, "half turn in one rigid segment under shutter 1: %u pose keys; finite", k);
 }
 
@@ -259,29 +268,18 @@ static void c_blur_triangle_flip(stab_result_t *r)
     hz_accel_geom_t g = { .pos = k0, .vertex_count = 3 * n, .tri = tri, .tri_count = n };
     g.time_keys = 2, g.pos_keys[0] = k0, g.pos_keys[1] = k1;
     mcheck_all(r, &g, r->full ? 40000 : 1000, 31);
-    BAIL(r);
+    STAB_BAIL(r);
     /* CROSS: shared vertices of the room cross one another and the split planes */
     hz_scene_t sc;
     room_keys(r, &sc, &g, HZ_MESHGEN_CROSS, 3);
-    BAIL(r);
+    STAB_BAIL(r);
     mcheck_all(r, &g, r->full ? 20000 : 800, 33);
-    BAIL(r);
+    STAB_BAIL(r);
     /* rendered: vertex keys flattening the quad to a line and mirroring it, under shutter 1 */
     su_scene_t b;
-    hz_hzb_object_t *o = wall_and_quad(&b, 1.5f);
-    uint32_t nv = o->vertex_count, first = o->first_vertex;
-    o->motion = HZ_MOTION_VERTEX, o->key_first = 0, o->key_count = 3, o->key_rate = 60.0f;
-    b.vkeys = malloc(sizeof(float) * 4 * nv * 3);
-    STAB_CHECK(r, b.vkeys != NULL, "malloc");
-    b.nvkeys = 3 * nv;
-    for (uint32_t f = 0; f < 3; f++)
-        for (uint32_t v = 0; v < nv; v++) {
-            const float *p = b.pos + 4 * (size_t)(first + v);
-            float *kk = b.vkeys + 4 * (size_t)(f * nv + v);
-            kk[0] = p[0], kk[1] = f == 1 ? 0.0f : f == 2 ? -p[1] : p[1], kk[2] = p[2], kk[3] = 0;
-        }
+    STAB_CHECK(r, quad_vertex_keys(&b, 3, key_flip), "malloc");
     uint32_t k = render_blurred(r, &b, 0, HZ_NS_PER_S / 120, 4);
-    BAIL(r);
+    STAB_BAIL(r);
     stab_note(r, "rendered flip through a line: %u pose keys; finite", k);
     free(b.vkeys), free(k0), free(k1), free(tri);
 }
@@ -297,26 +295,15 @@ static void c_blur_collapse(stab_result_t *r)
         hz_pools_t *p = hz_pools_get();
         hz_arena_mark_t m0 = hz_arena_mark(&p->scene), m1 = hz_arena_mark(&p->accel);
         room_keys(r, &sc, &g, HZ_MESHGEN_COLLAPSE, ks[i]);
-        BAIL(r);
+        STAB_BAIL(r);
         mcheck_all(r, &g, r->full ? 20000 : 600, 41 + (uint32_t)i);
-        BAIL(r);
+        STAB_BAIL(r);
         hz_arena_reset(&p->accel, m1), hz_arena_reset(&p->scene, m0);
     }
     su_scene_t b;
-    hz_hzb_object_t *o = wall_and_quad(&b, 1.5f);
-    uint32_t nv = o->vertex_count, first = o->first_vertex;
-    o->motion = HZ_MOTION_VERTEX, o->key_first = 0, o->key_count = 2, o->key_rate = 60.0f;
-    b.vkeys = malloc(sizeof(float) * 4 * nv * 2);
-    STAB_CHECK(r, b.vkeys != NULL, "malloc");
-    b.nvkeys = 2 * nv;
-    for (uint32_t f = 0; f < 2; f++)
-        for (uint32_t v = 0; v < nv; v++) {
-            const float *p = b.pos + 4 * (size_t)(first + v);
-            float *kk = b.vkeys + 4 * (size_t)(f * nv + v);
-            kk[0] = f ? 0.25f : p[0], kk[1] = f ? -0.5f : p[1], kk[2] = f ? 0.5f : p[2], kk[3] = 0;
-        }
+    STAB_CHECK(r, quad_vertex_keys(&b, 2, key_collapse), "malloc");
     uint32_t k = render_blurred(r, &b, 0, HZ_NS_PER_S / 240, 4);
-    BAIL(r);
+    STAB_BAIL(r);
     stab_note(r, "rendered collapse to a point: %u pose keys; finite", k);
     free(b.vkeys);
 }
@@ -375,7 +362,7 @@ static void keys_at(stab_result_t *r, su_scene_t *b, hz_time_ns_t T, double hz, 
 
 static void osc_scene(su_scene_t *b, float hz, float duration)
 {
-    hz_hzb_object_t *o = wall_and_quad(b, 1.0f);
+    hz_hzb_object_t *o = su_wall_and_quad(b, 1.0f);
     o->motion = HZ_MOTION_OSCILLATE, o->params[0] = 1.0f, o->params[3] = hz;
     b->duration = duration;
 }
@@ -389,11 +376,11 @@ static void c_blur_loop_end(stab_result_t *r)
     const hz_time_ns_t ts[] = { 2 * HZ_NS_PER_S, 2 * HZ_NS_PER_S - 1, ((hz_time_ns_t)1 << 21) * HZ_NS_PER_S, 0 };
     for (size_t i = 0; i < sizeof ts / sizeof ts[0]; i++) {
         keys_at(r, &b, ts[i], 0.5, 2 * HZ_NS_PER_S, 1.0f / 60.0f);
-        BAIL(r);
+        STAB_BAIL(r);
     }
     r->note[0] = 0;
     uint32_t k = render_blurred(r, &b, 2 * HZ_NS_PER_S - HZ_NS_PER_S / 60, HZ_NS_PER_S / 120, 4);
-    BAIL(r);
+    STAB_BAIL(r);
     stab_note(r, "keys at 2 s; 2 s - 1 ns; 2^21 s; 0 within %.2g of the analytic oscillation; 3 BVHs exact; "
                  "renders across the wrap (%u keys) finite", r->max_error, k);
 }
@@ -407,13 +394,13 @@ static void c_blur_time_1e6s(stab_result_t *r)
     const hz_time_ns_t ts[] = { 1000000 * HZ_NS_PER_S + 300000000, ((hz_time_ns_t)1 << 62) + 300000000 };
     for (size_t i = 0; i < 2; i++) {
         keys_at(r, &b, ts[i], 0.25, 4 * HZ_NS_PER_S, 1.0f / 60.0f);
-        BAIL(r);
+        STAB_BAIL(r);
     }
     r->note[0] = 0;
     uint32_t k = render_blurred(r, &b, ts[0], HZ_NS_PER_S / 60, 3);
-    BAIL(r);
+    STAB_BAIL(r);
     k = render_blurred(r, &b, ts[1], HZ_NS_PER_S / 60, 3);
-    BAIL(r);
+    STAB_BAIL(r);
     stab_note(r, "1e6 s and 2^62 ns: keys within %.2g of the analytic oscillation; 3 BVHs exact; blurred renders "
                  "(%u keys) finite", r->max_error, k);
 }
@@ -436,7 +423,7 @@ static void c_clock_1e6s_2p62(stab_result_t *r)
             STAB_OK(r, su_render_open(&s, &b, &o, &err), &err);
             STAB_OK(r, su_render_frame_ns(&s, 0, at[j], &err), &err);
             su_render_check(r, &s);
-            BAIL(r);
+            STAB_BAIL(r);
             memcpy(img[j], hz_render_output(s.r)->rgb, sizeof img[j]);
             su_render_close(&s);
         }
@@ -478,7 +465,7 @@ static void c_blur_shutter0_identical(stab_result_t *r)
             memcpy(refs + (size_t)f * W * H * 3, hz_render_output(a.r)->rgb, sizeof ref);
         }
         su_render_close(&a);
-        BAIL(r);
+        STAB_BAIL(r);
         STAB_OK(r, su_render_open_blur(&c, &b, &o1, HZ_ACCEL_BLUR_MSBVH, &err), &err);
         STAB_CHECK(r, c.opts.keys == NULL, "shutter 0 took pose keys");
         for (uint32_t f = 0; f < 6; f++) {
@@ -500,7 +487,7 @@ static void c_blur_time_edges(stab_result_t *r)
     hz_scene_t sc;
     hz_accel_geom_t g;
     room_keys(r, &sc, &g, HZ_MESHGEN_SWAY, 5);
-    BAIL(r);
+    STAB_BAIL(r);
     hz_posekeys_t keys;
     memset(&keys, 0, sizeof keys);
     keys.count = g.time_keys, keys.vertex_count = g.vertex_count;

@@ -11,12 +11,6 @@
 #include "hz/hash.h"
 #include "stab_util.h"
 
-#define BAIL(r)                                                                                                   \
-    do {                                                                                                          \
-        if ((r)->fail[0])                                                                                         \
-            return;                                                                                               \
-    } while (0)
-
 #define W 32
 #define H 24
 
@@ -53,29 +47,10 @@ static void render_m(stab_result_t *r, const su_scene_t *b, const method_t *m, h
     for (uint32_t f = 0; f < frames; f++) {
         STAB_OK(r, su_render_frame(&s, f, (float)f / 60.0f, &err), &err);
         su_render_check(r, &s);
-        BAIL(r);
+        STAB_BAIL(r);
     }
     memcpy(out, hz_render_output(s.r)->rgb, sizeof(float) * img_w * img_h * 3);
     su_render_close(&s);
-}
-
-/* A lit opaque wall and, when layer_mode >= 0, a quad in front of it with that alpha mode and alpha. */
-static void wall_scene(su_scene_t *b, int layer_mode, float alpha)
-{
-    su_begin(b);
-    uint32_t wall = su_material(b, 0.7f, 0.6f, 0.5f);
-    const float w0[3] = { -4, -4, -1 }, w1[3] = { 4, -4, -1 }, w2[3] = { 4, 4, -1 }, w3[3] = { -4, 4, -1 };
-    su_quad(b, w0, w1, w2, w3, wall);
-    su_object(b);
-    if (layer_mode >= 0) {
-        uint32_t m = su_material_alpha(b, 0.2f, 0.4f, 0.9f, alpha, (uint32_t)layer_mode);
-        const float q0[3] = { -4, -4, 0 }, q1[3] = { 4, -4, 0 }, q2[3] = { 4, 4, 0 }, q3[3] = { -4, 4, 0 };
-        su_quad(b, q0, q1, q2, q3, m);
-        su_object(b);
-    }
-    su_light(b, 0.5f, 0.5f, 2.0f, 8.0f);
-    const float eye[3] = { 0, 0, 4 }, target[3] = { 0, 0, 0 };
-    su_camera(b, 0, eye, target, 0.8f);
 }
 
 /* A blended layer of alpha `alpha` under every stochastic method against the reference scene (no layer: the
@@ -86,17 +61,17 @@ static void alpha_case(stab_result_t *r, float alpha, int ref_mode, double bound
 {
     static float img[W * H * 3], ref[W * H * 3], exact[W * H * 3];
     su_scene_t b;
-    wall_scene(&b, ref_mode, 1.0f);
+    su_wall_layer(&b, ref_mode, 1.0f);
     render_m(r, &b, NULL, HZ_MODE_FULL, 1, ref);
-    BAIL(r);
-    wall_scene(&b, HZ_ALPHA_BLEND, alpha);
+    STAB_BAIL(r);
+    su_wall_layer(&b, HZ_ALPHA_BLEND, alpha);
     render_m(r, &b, NULL, HZ_MODE_FULL, 1, exact);
-    BAIL(r);
+    STAB_BAIL(r);
     double worst = 0;
     const char *worst_m = "";
     for (size_t m = 0; m < NMETHODS; m++) {
         render_m(r, &b, &methods[m], HZ_MODE_FULL, 1, img);
-        BAIL(r);
+        STAB_BAIL(r);
         /* hybrid:X with X < 1 meets the first layer at visibility 1 > X: exact compositing (render.h); the
          * exact method itself is checked against these references in the transparency stage */
         const bool first_exact = methods[m].t == HZ_TRANSP_HYBRID && methods[m].x < 1.0f;
@@ -112,7 +87,7 @@ static void alpha_case(stab_result_t *r, float alpha, int ref_mode, double bound
         if (e >= worst)
             worst = e, worst_m = methods[m].name;
         render_m(r, &b, &methods[m], HZ_MODE_TAA, 4, img);
-        BAIL(r);
+        STAB_BAIL(r);
     }
     stab_note(r, "alpha %.9g: rr/std/dtaa/dtaa-star/hybrid:1 = %s; hybrid:0/0.5 = exact; within %.3g (worst %s); "
                  "TAA finite", (double)alpha, ref_mode < 0 ? "no layer" : "opaque layer", worst, worst_m);
@@ -180,7 +155,7 @@ static void stack_case(stab_result_t *r, uint32_t n, float a, uint32_t shrink)
             dither = me->t == HZ_TRANSP_HYBRID && me->x > 0.0f && !(visf > me->x);
         }
         render_m(r, &b, me, HZ_MODE_FULL, 1, img);
-        BAIL(r);
+        STAB_BAIL(r);
         uint32_t kept = 0;
         double e = 0;
         for (size_t p = 0; p < npx; p++) {
@@ -355,7 +330,7 @@ static void c_dither_huge_motion(stab_result_t *r)
         su_camera(&b, 0, eye, target, 1.0f);
         for (size_t m = 0; m < NMETHODS; m++) {
             render_m(r, &b, &methods[m], HZ_MODE_TAA, 4, img);
-            BAIL(r);
+            STAB_BAIL(r);
         }
     }
     stab_note(r, "oscillation amplitude 1e7 and 1e30 under 7 methods x 4 TAA frames: finite");

@@ -8,12 +8,6 @@
 #include "hz/tdense.h"
 #include "stab_util.h"
 
-#define BAIL(r)                                                                                                   \
-    do {                                                                                                          \
-        if ((r)->fail[0])                                                                                         \
-            return;                                                                                               \
-    } while (0)
-
 #define TW 24
 #define TH 18
 
@@ -283,7 +277,7 @@ static void bright_case(stab_result_t *r, float power)
         for (uint32_t f = 0; f < 8; f++) {
             STAB_OK(r, su_render_frame(&s, f, (float)f / 30.0f, &err), &err);
             su_render_check(r, &s);
-            BAIL(r);
+            STAB_BAIL(r);
         }
         const hz_image_t *img = hz_render_output(s.r);
         for (size_t i = 0; i < 3 * hz_image_pixels(img); i++)

@@ -64,6 +64,12 @@ void su_mesh(su_scene_t *b, const float *pos, uint32_t nv, const uint32_t *tri, 
 /* A test room at scale s: floor and back wall (object 0), a sphere of radius s at height 1.2 s (object 1), one
  * light. The caller adds the camera. */
 void su_room(su_scene_t *b, float s);
+/* A lit wall behind (object 0, z = -3) and a quad of half-size `size` in front (object 1, the caller sets its
+ * motion), a light and a camera at z = 6: the motion stages' scene. */
+hz_hzb_object_t *su_wall_and_quad(su_scene_t *b, float size);
+/* A lit opaque wall (z = -1) and, when layer_mode >= 0, a quad in front of it (z = 0) with that alpha mode and
+ * alpha; camera at z = 4: the transparency stages' scene. */
+void su_wall_layer(su_scene_t *b, int layer_mode, float alpha);
 /* The .hzb image (64-byte aligned, from pools->scene) and its size. */
 hz_status_t su_image(const su_scene_t *b, const void **img, size_t *size, hz_error_t *err);
 /* su_image + hz_scene_load with pools->scene. */
