@@ -323,6 +323,58 @@ static void c_odd_sizes(stab_result_t *r)
                  "Morton-ordered; 17x17 refused", total);
 }
 
+/* Quantised normals at the int8 ends (-128, 127, the zero vector of a miss) and random ones: the primary normal
+ * class disagrees exactly when the angle exceeds the agreeing angle (double reference), two misses agree, a miss
+ * and a hit do not; at cos 0 (90 degrees) only obtuse pairs differ. */
+static void c_normals_extreme(stab_result_t *r)
+{
+    static const int8_t ends[6] = { -128, -127, 0, 1, 126, 127 };
+    uint32_t st = 21;
+    uint64_t pairs = 0, ties = 0;
+    for (int cfgk = 0; cfgk < 2; cfgk++) {
+        hz_amask_config_t c;
+        hz_amask_config_default(&c);
+        if (cfgk)
+            c.normal_cos = 0;
+        const double cosv = c.normal_cos / 32768.0;
+        for (uint32_t i = 0; i < 216 * 216 + 20000; i++) {
+            hz_amask_px_t p, q;
+            memset(&p, 0, sizeof p), memset(&q, 0, sizeof q);
+            p.hit[1].object = q.hit[1].object = 0xffff;
+            for (int k = 0; k < 3; k++) {
+                st = hz_hash32(st);
+                p.hit[0].n[k] = i < 216 * 216 ? ends[(i / (k == 0 ? 1 : k == 1 ? 6 : 36)) % 6] : (int8_t)(st & 0xff);
+                q.hit[0].n[k] = i < 216 * 216 ? ends[(i / (216 * (k == 0 ? 1 : k == 1 ? 6 : 36))) % 6]
+                                              : (int8_t)(st >> 8);
+            }
+            const hz_amask_px_t *nb[3] = { &q, &q, &q };
+            uint32_t bits = hz_amask_disagree(&c, &p, nb, NULL) & HZ_AMASK_BIT(HZ_TAU_PSN);
+            double aa = 0, bb = 0, dot = 0;
+            for (int k = 0; k < 3; k++)
+                aa += (double)p.hit[0].n[k] * p.hit[0].n[k], bb += (double)q.hit[0].n[k] * q.hit[0].n[k],
+                    dot += (double)p.hit[0].n[k] * q.hit[0].n[k];
+            bool want;
+            if (aa == 0 || bb == 0)
+                want = aa != bb;
+            else {
+                double lim = cosv * sqrt(aa) * sqrt(bb);
+                if (fabs(dot - lim) <= 1e-9 * sqrt(aa * bb)) {
+                    ties++;
+                    continue;
+                }
+                want = dot < lim;
+            }
+            STAB_CHECK(r, (bits != 0) == want, "normals (%d %d %d) and (%d %d %d) at cos %.5f: differ %d, want %d",
+                       p.hit[0].n[0], p.hit[0].n[1], p.hit[0].n[2], q.hit[0].n[0], q.hit[0].n[1], q.hit[0].n[2],
+                       cosv, bits != 0, want);
+            pairs++;
+        }
+    }
+    r->status = HZ_OK;
+    stab_note(r, "%llu normal pairs (int8 ends and random) at 15 and 90 degrees = double angle test; %llu ties",
+              (unsigned long long)pairs, (unsigned long long)ties);
+}
+
 /* ---- --mode adaptive renders ---- */
 
 #define RW 33
@@ -505,6 +557,8 @@ static const stab_case_t cases[] = {
       c_one_bright_pixel, 0 },
     { "amask_odd_sizes", "1x1 to 33x17 random frames = double reference; packing in Morton order", c_odd_sizes,
       0 },
+    { "amask_normals_extreme", "int8 normals at -128/127/0 and random: class disagrees = double angle test",
+      c_normals_extreme, 0 },
     { "adaptive_render_sizes", "--mode adaptive 1x1/7x5/33x17: tau 1 = 1 spp exactly; tau 0 = 16 spp (1e-5)",
       c_render_sizes, 0 },
     { "adaptive_render_flat", "--mode adaptive on black and white frames: 0 active; exact values", c_render_flat,
