@@ -353,7 +353,6 @@ static void process_shadows(hz_worker_t *w)
         rj[i].slot = jobs[i].slot;
         rj[i].time = jobs[i].time;
         rj[i].gslot = GSLOT_NONE;
-        rj[i].dither = 0; /* read by intersect_jobs: a deep shadow ray composites every layer, it never dithers */
         tmax[i] = jobs[i].tmax;
     }
     intersect_jobs(w, rj, n, h, false, tmax);
