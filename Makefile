@@ -196,7 +196,7 @@ KNOWN_PORTS := linux timing fbdev v4l2 gpio drm
 PORT_SRCS_linux := port/linux/pools.c port/linux/cli.c port/linux/clock.c port/linux/fileio.c port/linux/scenefile.c \
                    port/linux/threads.c port/linux/render_cmd.c port/linux/summary.c port/linux/accel_backend.c \
                    port/linux/render_run.c port/linux/adaptive_cli.c port/linux/transp_opt.c
-PORT_SRCS_linux += port/linux/phase.c port/linux/modeplan.c port/linux/blur_setup.c
+PORT_SRCS_linux += port/linux/phase.c port/linux/modeplan.c port/linux/blur_setup.c port/linux/motion_check.c
 $(foreach p,$(BOARD_PORTS),$(if $(filter $(p),$(KNOWN_PORTS)),,$(error $(BOARD_DIR)/board.mk: unknown port '$(p)' (known: $(KNOWN_PORTS)))))
 # Image files (port/linux/imageio.c): PNG needs libpng for the target. It is on when the target's compiler links
 # -lpng (host builds: libpng-dev is in host-sim's BOARD_DEPS); elsewhere the PNG calls report "not built in".
@@ -354,6 +354,7 @@ $(ERRTIME_TEST_BINS): $(O)/test/unit/test_%: test/unit/test_%.c $(ERRTIME_LIB) $
 STAB_SRCS := test/stability/main.c test/stability/stab_util.c test/stability/geometry.c test/stability/rays.c \
              test/stability/motion.c test/stability/transparency.c test/stability/recon.c \
              test/stability/timing.c test/stability/fixed.c test/stability/memory.c
+STAB_SRCS += test/stability/blur.c test/stability/dither.c test/stability/adaptive.c
 STAB_OBJS := $(STAB_SRCS:%.c=$(O)/%.o)
 STAB := $(O)/test/stability/hzstab
 STAB_O := $(BUILD_ROOT)/stability$(SAN_SUFFIX)

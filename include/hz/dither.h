@@ -100,7 +100,8 @@ HZ_INLINE bool hz_dither_keep(uint32_t alpha_q16, uint32_t t_q16)
 }
 
 /* Aligns the Q16 motion vector mv (pixels, each within +-2^30) to multiples of `align` pixels (1..15) by a
- * stochastic bilinear choice driven by the hash word h. */
+ * stochastic bilinear choice driven by the hash word h. Any int32 input is safe: where the chosen multiple would
+ * not fit 32 bits (past +-2^30, near INT32_MIN/INT32_MAX) the other one is returned (saturation). */
 void hz_dither_align_mv(int32_t mv_q16[2], unsigned align, uint32_t h);
 
 #endif /* HZ_DITHER_H */

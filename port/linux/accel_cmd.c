@@ -8,10 +8,10 @@
 #include "cli.h"
 #include "clock.h"
 #include "hz/accel.h"
-#include "hz/hash.h"
 #include "hz/meshgen.h"
 #include "hz/posekeys.h"
 #include "hz/scene.h"
+#include "motion_check.h"
 #include "pools.h"
 #include "phase.h"
 #include "scenefile.h"
@@ -31,139 +31,24 @@ typedef struct mcheck {
     float time, interval; /* scenes that move: the keys span [time - interval / 2, time + interval / 2] s */
 } mcheck_t;
 
-static float rnd01(uint32_t *st)
-{
-    *st = hz_hash32(*st + 0x9e3779b9u);
-    return (float)(*st >> 8) * (1.0f / 16777216.0f);
-}
-
-/* Ray r of the check: even rays aim at a random point of a random triangle at the ray's time, odd rays are
- * random lines through the scene's box; one in eight sits exactly on a key time. */
-static void mc_ray(const hz_accel_geom_t *g, const float *lo, const float *hi, uint64_t i, uint32_t seed,
-                   hz_rayhit_t *rh)
-{
-    uint32_t st = hz_hash2((uint32_t)i ^ seed, (uint32_t)(i >> 32) + 17u);
-    float time = rnd01(&st);
-    if ((i & 7u) == 5u)
-        time = (float)(uint32_t)(rnd01(&st) * (float)g->time_keys) / (float)(g->time_keys - 1u);
-    float o[3], d[3];
-    for (int k = 0; k < 3; k++) {
-        float ext = hi[k] - lo[k];
-        o[k] = lo[k] - 0.1f * ext + 1.2f * ext * rnd01(&st);
-    }
-    if ((i & 1u) == 0 && g->tri_count) {
-        uint32_t t = (uint32_t)(rnd01(&st) * (float)g->tri_count);
-        if (t >= g->tri_count)
-            t = g->tri_count - 1u;
-        float b1 = rnd01(&st), b2 = rnd01(&st);
-        if (b1 + b2 > 1.0f)
-            b1 = 1.0f - b1, b2 = 1.0f - b2;
-        const hz_vec3_t p = hz_meshgen_tri_point(g, t, time, b1, b2);
-        d[0] = p.x - o[0], d[1] = p.y - o[1], d[2] = p.z - o[2];
-    } else {
-        for (int k = 0; k < 3; k++)
-            d[k] = 2.0f * rnd01(&st) - 1.0f;
-    }
-    if (d[0] == 0.0f && d[1] == 0.0f && d[2] == 0.0f)
-        d[2] = 1.0f;
-    memset(rh, 0, sizeof *rh);
-    rh->ray.org_x = o[0], rh->ray.org_y = o[1], rh->ray.org_z = o[2];
-    rh->ray.dir_x = d[0], rh->ray.dir_y = d[1], rh->ray.dir_z = d[2];
-    rh->ray.tnear = 0.0f;
-    rh->ray.tfar = __builtin_inff();
-    rh->ray.time = time;
-    rh->ray.mask = 0xFFFFFFFFu;
-    rh->ray.id = (uint32_t)i;
-    rh->hit.geom_id = HZ_ACCEL_INVALID_ID;
-    rh->hit.prim_id = HZ_ACCEL_INVALID_ID;
-}
-
-static bool same_hit(const hz_rayhit_t *a, const hz_rayhit_t *b)
-{
-    return a->ray.tfar == b->ray.tfar && a->hit.prim_id == b->hit.prim_id && a->hit.u == b->hit.u &&
-           a->hit.v == b->hit.v && a->hit.ng_x == b->hit.ng_x && a->hit.ng_y == b->hit.ng_y && a->hit.ng_z == b->hit.ng_z;
-}
-
 /* Runs the check on a built motion accel; prints the one result line; returns the exit status. */
 static int motion_check(const hz_accel_t *a, const hz_accel_geom_t *g, const mcheck_t *mc)
 {
-    float lo[3] = { __builtin_inff(), __builtin_inff(), __builtin_inff() };
-    float hi[3] = { -__builtin_inff(), -__builtin_inff(), -__builtin_inff() };
-    for (uint32_t k = 0; k < g->time_keys; k++)
-        for (uint32_t v = 0; v < g->vertex_count; v++)
-            for (int c = 0; c < 3; c++) {
-                float x = g->pos_keys[k][4u * (size_t)v + (size_t)c];
-                if (x == x && x - x == 0.0f) {
-                    lo[c] = x < lo[c] ? x : lo[c];
-                    hi[c] = x > hi[c] ? x : hi[c];
-                }
-            }
-    uint64_t misses = 0, mismatches = 0, hits = 0;
-    int64_t t0 = hz_clock_ns(), last = t0;
-    hz_accel_ctx_t ctx;
-    hz_accel_ctx_init(&ctx);
+    int64_t t0 = hz_clock_ns();
     hz_accel_stats_t st;
     memset(&st, 0, sizeof st);
-    for (uint64_t i0 = 0; i0 < mc->n; i0 += 8) {
-        hz_rayhit_t ref[8], got[8];
-        hz_rayhit8_t pk;
-        int32_t valid[8];
-        memset(&pk, 0, sizeof pk);
-        const int lanes = mc->n - i0 < 8 ? (int)(mc->n - i0) : 8;
-        for (int l = 0; l < 8; l++) {
-            valid[l] = l < lanes ? -1 : 0;
-            if (l >= lanes)
-                continue;
-            mc_ray(g, lo, hi, i0 + (uint64_t)l, mc->seed, &ref[l]);
-            got[l] = ref[l];
-            hz_ray_t occ = ref[l].ray;
-            hz_accel_brute_intersect1(g, &ref[l]);
-            ctx.stats = &st; /* per-ray figures of the closest-hit queries */
-            hz_accel_intersect1(a, &ctx, &got[l]);
-            ctx.stats = NULL;
-            hz_accel_occluded1(a, &ctx, &occ);
-            const bool rh = ref[l].hit.prim_id != HZ_ACCEL_INVALID_ID, gh = got[l].hit.prim_id != HZ_ACCEL_INVALID_ID;
-            const bool oh = occ.tfar == -__builtin_inff();
-            hits += rh;
-            if (rh && !gh)
-                misses++;
-            else if (rh != gh || (rh && !same_hit(&ref[l], &got[l])))
-                mismatches++;
-            else if (rh != oh)
-                rh ? misses++ : mismatches++;
-            /* the same ray in an 8-wide packet */
-            pk.ray.org_x[l] = got[l].ray.org_x, pk.ray.org_y[l] = got[l].ray.org_y, pk.ray.org_z[l] = got[l].ray.org_z;
-            pk.ray.dir_x[l] = got[l].ray.dir_x, pk.ray.dir_y[l] = got[l].ray.dir_y, pk.ray.dir_z[l] = got[l].ray.dir_z;
-            pk.ray.tnear[l] = 0.0f, pk.ray.tfar[l] = __builtin_inff(), pk.ray.time[l] = got[l].ray.time;
-            pk.ray.mask[l] = 0xFFFFFFFFu, pk.ray.id[l] = got[l].ray.id;
-            pk.hit.geom_id[l] = HZ_ACCEL_INVALID_ID, pk.hit.prim_id[l] = HZ_ACCEL_INVALID_ID;
-        }
-        hz_accel_intersect8(valid, a, &ctx, &pk);
-        for (int l = 0; l < lanes; l++) {
-            hz_rayhit_t p1 = ref[l];
-            p1.ray.tfar = pk.ray.tfar[l], p1.hit.prim_id = pk.hit.prim_id[l], p1.hit.u = pk.hit.u[l];
-            p1.hit.v = pk.hit.v[l], p1.hit.ng_x = pk.hit.ng_x[l], p1.hit.ng_y = pk.hit.ng_y[l];
-            p1.hit.ng_z = pk.hit.ng_z[l];
-            if (ref[l].hit.prim_id != HZ_ACCEL_INVALID_ID ? !same_hit(&ref[l], &p1)
-                                                          : p1.hit.prim_id != HZ_ACCEL_INVALID_ID)
-                mismatches++;
-        }
-        int64_t now = hz_clock_ns();
-        if (now - last > 2000000000LL) {
-            fprintf(stderr, "motion-check: %llu of %llu rays ...\n", (unsigned long long)(i0 + 8),
-                    (unsigned long long)mc->n);
-            last = now;
-        }
-    }
-    fprintf(stderr, "motion-check: %llu of the rays hit (brute force), %.1f s\n", (unsigned long long)hits,
+    hz_mcheck_counts_t c;
+    memset(&c, 0, sizeof c);
+    hz_mcheck_run(a, g, mc->n, mc->seed, true, &st, &c);
+    fprintf(stderr, "motion-check: %llu of the rays hit (brute force), %.1f s\n", (unsigned long long)c.hits,
             (double)(hz_clock_ns() - t0) * 1e-9);
     if (HZ_FEATURE_STATS && st.rays)
         fprintf(stderr, "motion-check: per ray %.1f nodes traversed (max %u), %.1f triangles intersected (max %u)\n",
                 (double)st.nodes / (double)st.rays, st.ray_nodes_max, (double)st.tris / (double)st.rays,
                 st.ray_tris_max);
     printf("motion-check: %llu rays, %llu misses, %llu mismatches\n", (unsigned long long)mc->n,
-           (unsigned long long)misses, (unsigned long long)mismatches);
-    return misses || mismatches ? 1 : 0;
+           (unsigned long long)c.misses, (unsigned long long)c.mismatches);
+    return c.misses || c.mismatches ? 1 : 0;
 }
 
 static void usage(FILE *f)

@@ -124,7 +124,13 @@ static int32_t align_axis(int32_t m, unsigned align, uint32_t u)
     uint32_t frac = (uint32_t)((rem << 16) / step);             /* Q16 fraction of a step */
     if (u < frac)
         q++;
-    return (int32_t)(q * step);
+    int64_t out = q * step;
+    /* Past the documented +-2^30 the chosen multiple may not fit 32 bits: saturate to the other one, which does. */
+    if (out > INT32_MAX)
+        out -= step;
+    if (out < INT32_MIN)
+        out += step;
+    return (int32_t)out;
 }
 
 void hz_dither_align_mv(int32_t mv_q16[2], unsigned align, uint32_t h)

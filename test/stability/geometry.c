@@ -10,12 +10,6 @@
 #include "scenefile.h"
 #include "stab_util.h"
 
-#define BAIL(r)                                                                                                   \
-    do {                                                                                                          \
-        if ((r)->fail[0])                                                                                         \
-            return;                                                                                               \
-    } while (0)
-
 static void sphere_case(stab_result_t *r, float radius, hz_vec3_t offset, uint32_t n, double t_bound)
 {
     hz_error_t err;
@@ -74,7 +68,7 @@ static void c_near_float_max(stab_result_t *r)
     hz_rayhit_t *rays = su_inside_rays(2000, c, 1e10, 5);
     hz_rayhit_t *out = malloc(sizeof *out * 2000);
     su_check_kernels(r, a, rays, 2000, out);
-    BAIL(r);
+    STAB_BAIL(r);
     for (uint32_t i = 0; i < 2000; i++)
         STAB_CHECK(r, out[i].hit.geom_id == HZ_ACCEL_INVALID_ID, "ray %u hit an out-of-range triangle", i);
     const float cost = a->info.sah_cost;
@@ -215,7 +209,7 @@ static void c_coplanar_overlap(stab_result_t *r)
     r->status = HZ_OK;
     hz_rayhit_t *out = malloc(sizeof *out * n);
     su_check_kernels(r, a, rays, n, out);
-    BAIL(r);
+    STAB_BAIL(r);
     for (uint32_t i = 0; i < n; i++) {
         if (out[i].hit.geom_id == HZ_ACCEL_INVALID_ID) {
             leaks++;
@@ -249,7 +243,7 @@ static void c_identical_leaf(stab_result_t *r)
         su_ray(&rays[i], x, y, -2.0, 0, 0, 1);
     }
     su_check_kernels(r, a, rays, n, out);
-    BAIL(r);
+    STAB_BAIL(r);
     for (uint32_t i = 0; i < n; i++) {
         double x = rays[i].ray.org_x, y = rays[i].ray.org_y;
         bool in = x > 0 && y > 0 && x + y < 1;
@@ -308,7 +302,7 @@ static void c_one_triangle(stab_result_t *r)
     for (uint32_t i = 0; i < n; i++)
         su_ray(&rays[i], -1.5 + 3.0 * (i % G + 0.5) / G, -1.5 + 3.2 * (i / G + 0.5) / G, 3.0, 0.01, -0.02, -1.0);
     su_check_kernels(r, a, rays, n, out);
-    BAIL(r);
+    STAB_BAIL(r);
     uint32_t hits = 0;
     for (uint32_t i = 0; i < n; i++) {
         /* the oracle's signed margin: barycentrics of the ray's crossing of z = 0 */
@@ -351,7 +345,7 @@ static void c_empty_accel(stab_result_t *r)
         su_ray(&rays[i], 0, 0, 0, d[0], d[1], d[2]);
     }
     su_check_kernels(r, a, rays, 64, out);
-    BAIL(r);
+    STAB_BAIL(r);
     for (uint32_t i = 0; i < 64; i++)
         STAB_CHECK(r, out[i].hit.geom_id == HZ_ACCEL_INVALID_ID, "ray %u hit an empty accel", i);
     stab_note(r, "64 rays, all miss");

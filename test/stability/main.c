@@ -20,11 +20,14 @@
 
 extern const stab_stage_t stab_stage_geometry, stab_stage_rays, stab_stage_motion, stab_stage_transparency,
     stab_stage_recon, stab_stage_timing, stab_stage_fixed, stab_stage_memory;
+extern const stab_stage_t stab_stage_blur, stab_stage_dither, stab_stage_adaptive;
 
 /* Report order: the data flow of a frame, then the numeric kernels and memory. */
 static const stab_stage_t *const stages[] = {
     &stab_stage_geometry, &stab_stage_rays,   &stab_stage_motion, &stab_stage_transparency,
     &stab_stage_recon,    &stab_stage_timing, &stab_stage_fixed,  &stab_stage_memory,
+    /* the techniques: motion blur and the 64-bit clock, stochastic transparency, adaptive supersampling */
+    &stab_stage_blur,     &stab_stage_dither, &stab_stage_adaptive,
 };
 
 void stab_failf(stab_result_t *r, const char *file, int line, const char *fmt, ...)

@@ -10,12 +10,6 @@
 #include "scenefile.h"
 #include "stab_util.h"
 
-#define BAIL(r)                                                                                                   \
-    do {                                                                                                          \
-        if ((r)->fail[0])                                                                                         \
-            return;                                                                                               \
-    } while (0)
-
 static void *abuf(size_t n)
 {
     void *p = NULL;
@@ -66,7 +60,7 @@ static void c_arena_one_short(stab_result_t *r)
     STAB_CHECK(r, hz_arena_alloc(&a, CAP - 1, 64) == NULL && a.used == 1, "padding not counted");
     s = hz_arena_error(&a, &err);
     check_counts(r, &err, 63 + CAP - 1, CAP - 1);
-    BAIL(r);
+    STAB_BAIL(r);
     /* sizes that wrap */
     STAB_CHECK(r, hz_arena_alloc(&a, SIZE_MAX, 16) == NULL && a.used == 1, "SIZE_MAX granted");
     STAB_CHECK(r, hz_arena_alloc_array(&a, SIZE_MAX / 2, 3, 16) == NULL, "overflowing array granted");

@@ -7,30 +7,6 @@
 #include "hz/meshgen.h"
 #include "stab_util.h"
 
-#define BAIL(r)                                                                                                   \
-    do {                                                                                                          \
-        if ((r)->fail[0])                                                                                         \
-            return;                                                                                               \
-    } while (0)
-
-/* A wall behind (object 0), a quad in front (object 1, the caller sets its motion), a light, a camera. */
-static hz_hzb_object_t *wall_and_quad(su_scene_t *b, float size)
-{
-    su_begin(b);
-    uint32_t m0 = su_material(b, 0.6f, 0.6f, 0.6f), m1 = su_material(b, 0.2f, 0.7f, 0.3f);
-    const float w0[3] = { -8, -8, -3 }, w1[3] = { 8, -8, -3 }, w2[3] = { 8, 8, -3 }, w3[3] = { -8, 8, -3 };
-    su_quad(b, w0, w1, w2, w3, m0);
-    su_object(b);
-    const float q0[3] = { -size, -size, 0 }, q1[3] = { size, -size, 0 }, q2[3] = { size, size, 0 },
-                q3[3] = { -size, size, 0 };
-    su_quad(b, q0, q1, q2, q3, m1);
-    hz_hzb_object_t *o = su_object(b);
-    su_light(b, 2, 3, 6, 60);
-    const float eye[3] = { 0, 0, 6 }, target[3] = { 0, 0, 0 };
-    su_camera(b, 0, eye, target, 1.0f);
-    return o;
-}
-
 /* Renders `frames` frames at times t0 + i dt in TAA and tdense; returns the largest |mv| seen. */
 static void render_modes(stab_result_t *r, const su_scene_t *b, float t0, float dt, uint32_t frames, double *max_mv)
 {
@@ -46,7 +22,7 @@ static void render_modes(stab_result_t *r, const su_scene_t *b, float t0, float 
         for (uint32_t f = 0; f < frames; f++) {
             STAB_OK(r, su_render_frame(&s, f, t0 + dt * (float)f, &err), &err);
             su_render_check(r, &s);
-            BAIL(r);
+            STAB_BAIL(r);
             const hz_gbuffer_t *gb = hz_render_gbuffer(s.r);
             for (size_t i = 0; gb->mv && i < 48 * 32; i++)
                 if (isfinite(gb->mv[2 * i]))
@@ -61,12 +37,12 @@ static void render_modes(stab_result_t *r, const su_scene_t *b, float t0, float 
 static void c_mv_1e6px(stab_result_t *r)
 {
     su_scene_t b;
-    hz_hzb_object_t *o = wall_and_quad(&b, 1e8f);
+    hz_hzb_object_t *o = su_wall_and_quad(&b, 1e8f);
     o->motion = HZ_MOTION_OSCILLATE;
     o->params[0] = 1e7f, o->params[3] = 0.76f;
     double mv;
     render_modes(r, &b, 0.0f, 1.0f / 240.0f, 6, &mv);
-    BAIL(r);
+    STAB_BAIL(r);
     stab_note(r, "largest |mv| %.3g px; full/TAA/tdense outputs finite", mv);
     STAB_CHECK(r, mv >= 1e5, "the case did not produce huge motion (%g px)", mv);
 }
@@ -76,7 +52,7 @@ static void c_mv_1e6px(stab_result_t *r)
 static void c_camera_teleport(stab_result_t *r)
 {
     su_scene_t b;
-    wall_and_quad(&b, 1.0f);
+    su_wall_and_quad(&b, 1.0f);
     b.ncam = 0;
     const float e0[3] = { 0, 0, 6 }, e1[3] = { 1e4f, 0, 6 }, t0[3] = { 0, 0, 0 }, t1[3] = { 1e4f, 0, 0 };
     su_camera(&b, 0.0f, e0, t0, 1.0f);
@@ -86,7 +62,7 @@ static void c_camera_teleport(stab_result_t *r)
     su_camera(&b, 0.031f, e0, t0, 1.0f);
     double mv;
     render_modes(r, &b, 0.0f, 0.005f, 10, &mv);
-    BAIL(r);
+    STAB_BAIL(r);
     stab_note(r, "teleports of 1e4 units; largest |mv| %.3g px", mv);
 }
 
@@ -94,7 +70,7 @@ static void c_camera_teleport(stab_result_t *r)
 static void c_rigid_equal_times(stab_result_t *r)
 {
     su_scene_t b;
-    hz_hzb_object_t *o = wall_and_quad(&b, 1.0f);
+    hz_hzb_object_t *o = su_wall_and_quad(&b, 1.0f);
     o->motion = HZ_MOTION_RIGID, o->key_first = 0, o->key_count = 2;
     for (int i = 0; i < 2; i++) {
         memset(&b.rkey[i], 0, sizeof b.rkey[i]);
@@ -113,7 +89,7 @@ static void c_rigid_equal_times(stab_result_t *r)
 static void c_camera_equal_times(stab_result_t *r)
 {
     su_scene_t b;
-    wall_and_quad(&b, 1.0f);
+    su_wall_and_quad(&b, 1.0f);
     const float eye[3] = { 1, 0, 6 }, target[3] = { 0, 0, 0 };
     su_camera(&b, 0.0f, eye, target, 1.0f);
     hz_scene_t sc;
@@ -127,7 +103,7 @@ static void c_camera_equal_times(stab_result_t *r)
 static void c_rotation_180(stab_result_t *r)
 {
     su_scene_t b;
-    hz_hzb_object_t *o = wall_and_quad(&b, 1.0f);
+    hz_hzb_object_t *o = su_wall_and_quad(&b, 1.0f);
     o->motion = HZ_MOTION_RIGID, o->key_first = 0, o->key_count = 2;
     for (int i = 0; i < 2; i++) {
         memset(&b.rkey[i], 0, sizeof b.rkey[i]);
@@ -178,7 +154,7 @@ static void c_rotation_180(stab_result_t *r)
 static void vertex_key_case(stab_result_t *r, int flip)
 {
     su_scene_t b;
-    hz_hzb_object_t *o = wall_and_quad(&b, 1.5f);
+    hz_hzb_object_t *o = su_wall_and_quad(&b, 1.5f);
     uint32_t nv = o->vertex_count, first = o->first_vertex;
     o->motion = HZ_MOTION_VERTEX, o->key_first = 0, o->key_count = 3, o->key_rate = 10.0f;
     b.vkeys = malloc(sizeof(float) * 4 * nv * 3);
@@ -208,7 +184,7 @@ static void vertex_key_case(stab_result_t *r, int flip)
         float t = (float)f / 100.0f; /* frames 0, 1, 2 at t = 0, 0.1, 0.2 */
         STAB_OK(r, su_render_frame(&s, f, t, &err), &err);
         su_render_check(r, &s);
-        BAIL(r);
+        STAB_BAIL(r);
         if (f == 10) {
             const hz_gbuffer_t *gb = hz_render_gbuffer(s.r);
             for (size_t i = 0; i < 48 * 32; i++)
@@ -230,7 +206,7 @@ static void c_triangle_flip(stab_result_t *r) { vertex_key_case(r, 1); }
 static void c_loop_end(stab_result_t *r)
 {
     su_scene_t b;
-    hz_hzb_object_t *o = wall_and_quad(&b, 1.0f);
+    hz_hzb_object_t *o = su_wall_and_quad(&b, 1.0f);
     o->motion = HZ_MOTION_OSCILLATE, o->params[0] = 1.0f, o->params[3] = 0.5f;
     b.duration = 2.0f;
     b.camera_flags = 1;
@@ -268,11 +244,11 @@ static void c_loop_end(stab_result_t *r)
 static void c_spin_and_zero_scale(stab_result_t *r)
 {
     su_scene_t b;
-    hz_hzb_object_t *o = wall_and_quad(&b, 1.0f);
+    hz_hzb_object_t *o = su_wall_and_quad(&b, 1.0f);
     o->motion = HZ_MOTION_SPIN, o->params[4] = 1.0f, o->params[6] = 1e6f;
     double mv;
     render_modes(r, &b, 0.3f, 1.0f / 240.0f, 4, &mv);
-    BAIL(r);
+    STAB_BAIL(r);
     o = &b.obj[1];
     o->motion = HZ_MOTION_RIGID, o->key_first = 0, o->key_count = 2;
     for (int i = 0; i < 2; i++) {
@@ -283,7 +259,7 @@ static void c_spin_and_zero_scale(stab_result_t *r)
     b.nrkey = 2;
     double mv2;
     render_modes(r, &b, 0.0f, 1.0f / 60.0f, 6, &mv2);
-    BAIL(r);
+    STAB_BAIL(r);
     stab_note(r, "spin 1e6 rad/s: |mv| up to %.3g px; scale 1 -> 0: finite", mv);
 }
 
@@ -291,7 +267,7 @@ static void c_spin_and_zero_scale(stab_result_t *r)
 static void c_time_nonfinite(stab_result_t *r)
 {
     su_scene_t b;
-    wall_and_quad(&b, 1.0f);
+    su_wall_and_quad(&b, 1.0f);
     su_render_t s;
     hz_render_opts_t o;
     hz_render_opts_default(&o);

@@ -7,12 +7,6 @@
 #include "hz/meshgen.h"
 #include "stab_util.h"
 
-#define BAIL(r)                                                                                                   \
-    do {                                                                                                          \
-        if ((r)->fail[0])                                                                                         \
-            return;                                                                                               \
-    } while (0)
-
 /* Axis-parallel rays (two zero direction components) and rays with one zero component from inside a cube
  * (cube_sphere, not rounded): the faces are at +-1, so t is known exactly. */
 static void c_zero_dir_components(stab_result_t *r)
@@ -61,14 +55,14 @@ static void c_invalid_rays(stab_result_t *r)
     /* a subnormal direction: the hit's t (1e45) is beyond float, so it misses, never with a non-finite t */
     su_ray(&rays[9], 0, 0, 0, 1e-45, 0, 0);
     su_check_kernels(r, a, rays, N, out);
-    BAIL(r);
+    STAB_BAIL(r);
     for (int i = 0; i < N; i++)
         STAB_CHECK(r, out[i].hit.geom_id == HZ_ACCEL_INVALID_ID, "invalid ray %d hit", i);
     /* a tiny but normal direction: t = 1e30 is representable, so it hits */
     hz_rayhit_t tiny, tout;
     su_ray(&tiny, 0, 0, 0, 0, 1e-30, 0);
     su_check_kernels(r, a, &tiny, 1, &tout);
-    BAIL(r);
+    STAB_BAIL(r);
     STAB_CHECK(r, tout.hit.geom_id != HZ_ACCEL_INVALID_ID, "ray with a 1e-30 direction missed");
     stab_error(r, su_relerr(tout.ray.tfar * 1e-30, 1.0, 1.0));
     STAB_CHECK(r, r->max_error < 1e-2, "distance along a 1e-30 direction off by %g", r->max_error);
@@ -91,7 +85,7 @@ static void c_tnear_equals_tfar(stab_result_t *r)
     rays[2].ray.tnear = rays[2].ray.tfar = nextafterf(1.0f, 0.0f);        /* just before */
     rays[3].ray.tnear = 0.0f, rays[3].ray.tfar = 1.0f;                    /* tfar exactly at the plane */
     su_check_kernels(r, a, rays, 4, out);
-    BAIL(r);
+    STAB_BAIL(r);
     STAB_CHECK(r, out[0].hit.geom_id != HZ_ACCEL_INVALID_ID && out[0].ray.tfar == 1.0f, "t = tnear = tfar missed");
     STAB_CHECK(r, out[1].hit.geom_id == HZ_ACCEL_INVALID_ID, "hit outside [tnear, tfar] (behind)");
     STAB_CHECK(r, out[2].hit.geom_id == HZ_ACCEL_INVALID_ID, "hit outside [tnear, tfar] (before)");
@@ -178,7 +172,7 @@ static void c_grazing(stab_result_t *r)
         su_ray(&rays[i], -50.0 + (double)(i % 7), -50.0 + (double)(i % 11), 1e-2, cos(phi), sin(phi), -slope);
     }
     su_check_kernels(r, a, rays, n, out);
-    BAIL(r);
+    STAB_BAIL(r);
     for (uint32_t i = 0; i < n; i++) {
         double dz = rays[i].ray.dir_z, t = -rays[i].ray.org_z / dz;
         double x = rays[i].ray.org_x + t * rays[i].ray.dir_x, y = rays[i].ray.org_y + t * rays[i].ray.dir_y;
@@ -256,7 +250,7 @@ static void fov_case(stab_result_t *r, float degrees)
     static const hz_render_mode_t modes[3] = { HZ_MODE_FULL, HZ_MODE_TAA, HZ_MODE_TDENSE };
     for (int m = 0; m < 3; m++) {
         render_seq(r, &b, 64, 36, modes[m], m ? 1 : 4, m ? 6 : 1, &frac);
-        BAIL(r);
+        STAB_BAIL(r);
     }
     stab_note(r, "fov %g deg: %.0f%% of pixels hit; full 4 spp / TAA / tdense finite", (double)degrees, 100 * frac);
     STAB_CHECK(r, frac == 1.0, "%.2f%% of pixels saw out of a closed sphere", 100 * (1 - frac));
@@ -298,7 +292,7 @@ static void c_up_parallel_view(stab_result_t *r)
     room_with_camera(&b, eye, target, 1.0f);
     double frac = 0;
     render_seq(r, &b, 48, 48, HZ_MODE_FULL, 1, 1, &frac);
-    BAIL(r);
+    STAB_BAIL(r);
     stab_note(r, "looking along up: %.0f%% hit", 100 * frac);
     STAB_CHECK(r, frac > 0.9, "only %.1f%% of pixels hit the floor below", 100 * frac);
 }
@@ -312,7 +306,7 @@ static void c_camera_inside(stab_result_t *r)
     STAB_OK(r, enclosed(&b, eye, target, 2.0f, &err), &err);
     double frac = 0;
     render_seq(r, &b, 64, 48, HZ_MODE_FULL, 1, 1, &frac);
-    BAIL(r);
+    STAB_BAIL(r);
     stab_note(r, "%.1f%% of pixels hit the enclosing sphere", 100 * frac);
     STAB_CHECK(r, frac == 1.0, "%.3f%% of pixels saw out of a closed sphere", 100 * (1 - frac));
 }
@@ -325,7 +319,7 @@ static void size_case(stab_result_t *r, uint32_t w, uint32_t h)
     static const hz_render_mode_t modes[3] = { HZ_MODE_FULL, HZ_MODE_TAA, HZ_MODE_TDENSE };
     for (int m = 0; m < 3; m++) {
         render_seq(r, &b, w, h, modes[m], 1, m ? 5 : 1, NULL);
-        BAIL(r);
+        STAB_BAIL(r);
     }
     stab_note(r, "%ux%u in full / TAA / tdense: finite", w, h);
 }

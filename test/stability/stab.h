@@ -71,6 +71,12 @@ void stab_failf(stab_result_t *r, const char *file, int line, const char *fmt, .
             return;                                                                                               \
         }                                                                                                         \
     } while (0)
+/* Returns from the case when a helper it called has failed it. */
+#define STAB_BAIL(r)                                                                                              \
+    do {                                                                                                          \
+        if ((r)->fail[0])                                                                                         \
+            return;                                                                                               \
+    } while (0)
 /* An hz call that must succeed. */
 #define STAB_OK(r, call, err)                                                                                     \
     do {                                                                                                          \

@@ -7,6 +7,7 @@
 
 #include "hz/hzb_write.h"
 #include "hz/meshgen.h"
+#include "blur_setup.h"
 #include "render_run.h"
 
 static void *grow(void *p, uint32_t *cap, uint32_t need, size_t elem)
@@ -141,16 +142,23 @@ hz_status_t su_load(const su_scene_t *b, hz_scene_t *scene, hz_error_t *err)
     return hz_scene_load(scene, img, n, &hz_pools_get()->scene, err);
 }
 
-hz_status_t su_render_open(su_render_t *s, const su_scene_t *b, const hz_render_opts_t *o, hz_error_t *err)
+/* The pools' marks (for su_render_close) and the scene. */
+static hz_status_t open_scene(su_render_t *s, const su_scene_t *b, const hz_render_opts_t *o, hz_error_t *err)
 {
     memset(s, 0, sizeof *s);
     s->opts = *o;
     hz_pools_t *p = hz_pools_get();
     s->marks[0] = hz_arena_mark(&p->scene), s->marks[1] = hz_arena_mark(&p->accel);
     s->marks[2] = hz_arena_mark(&p->frame), s->marks[3] = hz_arena_mark(&p->thread[0]);
-    hz_status_t st = su_load(b, &s->scene, err);
+    return su_load(b, &s->scene, err);
+}
+
+hz_status_t su_render_open(su_render_t *s, const su_scene_t *b, const hz_render_opts_t *o, hz_error_t *err)
+{
+    hz_status_t st = open_scene(s, b, o, err);
     if (st != HZ_OK)
         return st;
+    hz_pools_t *p = hz_pools_get();
     hz_accel_geom_t g;
     if ((st = hz_accel_geom_from_scene(&g, &s->scene, &p->accel, err)) != HZ_OK ||
         (st = hz_accel_build_native(&s->accel, &g, NULL, &p->accel, err)) != HZ_OK)
@@ -167,15 +175,41 @@ void su_render_close(su_render_t *s)
     hz_arena_reset(&p->scene, s->marks[0]);
 }
 
+hz_status_t su_render_open_blur(su_render_t *s, const su_scene_t *b, const hz_render_opts_t *o,
+                                hz_accel_blur_t blur, hz_error_t *err)
+{
+    hz_status_t st = open_scene(s, b, o, err);
+    if (st != HZ_OK)
+        return st;
+    hz_pools_t *p = hz_pools_get();
+    if ((st = hz_blur_build(&s->scene, &s->opts, HZ_ACCEL_NATIVE, blur, p, &s->keys, &s->accel, err)) != HZ_OK)
+        return st;
+    return hz_render_create(&s->r, &s->scene, s->accel, &s->opts, &p->frame, p->thread, 1, err);
+}
+
+static void su_frame_stats(su_render_t *s);
+
+hz_status_t su_render_frame_ns(su_render_t *s, uint64_t index, hz_time_ns_t t, hz_error_t *err)
+{
+    hz_status_t st = hz_render_run_frame_ns(s->r, index, t, err);
+    su_frame_stats(s);
+    return st;
+}
+
 hz_status_t su_render_frame(su_render_t *s, uint64_t index, float t, hz_error_t *err)
 {
     hz_status_t st = hz_render_run_frame(s->r, index, t, err);
+    su_frame_stats(s);
+    return st;
+}
+
+static void su_frame_stats(su_render_t *s)
+{
     hz_render_stats_t last;
     hz_render_frame_stats(s->r, &last, NULL);
     s->nonfinite_stat += last.nonfinite;
     s->queue_full += last.queue_full;
     s->layer_cap += last.layer_cap;
-    return st;
 }
 
 void su_render_check(stab_result_t *r, su_render_t *s)
@@ -490,4 +524,39 @@ void su_room(su_scene_t *b, float s)
 void su_check_image(stab_result_t *r, const hz_image_t *img)
 {
     stab_count_nonfinite(r, img->rgb, 3 * hz_image_pixels(img));
+}
+
+hz_hzb_object_t *su_wall_and_quad(su_scene_t *b, float size)
+{
+    su_begin(b);
+    uint32_t m0 = su_material(b, 0.6f, 0.6f, 0.6f), m1 = su_material(b, 0.2f, 0.7f, 0.3f);
+    const float w0[3] = { -8, -8, -3 }, w1[3] = { 8, -8, -3 }, w2[3] = { 8, 8, -3 }, w3[3] = { -8, 8, -3 };
+    su_quad(b, w0, w1, w2, w3, m0);
+    su_object(b);
+    const float q0[3] = { -size, -size, 0 }, q1[3] = { size, -size, 0 }, q2[3] = { size, size, 0 },
+                q3[3] = { -size, size, 0 };
+    su_quad(b, q0, q1, q2, q3, m1);
+    hz_hzb_object_t *o = su_object(b);
+    su_light(b, 2, 3, 6, 60);
+    const float eye[3] = { 0, 0, 6 }, target[3] = { 0, 0, 0 };
+    su_camera(b, 0, eye, target, 1.0f);
+    return o;
+}
+
+void su_wall_layer(su_scene_t *b, int layer_mode, float alpha)
+{
+    su_begin(b);
+    uint32_t wall = su_material(b, 0.7f, 0.6f, 0.5f);
+    const float w0[3] = { -4, -4, -1 }, w1[3] = { 4, -4, -1 }, w2[3] = { 4, 4, -1 }, w3[3] = { -4, 4, -1 };
+    su_quad(b, w0, w1, w2, w3, wall);
+    su_object(b);
+    if (layer_mode >= 0) {
+        uint32_t m = su_material_alpha(b, 0.2f, 0.4f, 0.9f, alpha, (uint32_t)layer_mode);
+        const float q0[3] = { -4, -4, 0 }, q1[3] = { 4, -4, 0 }, q2[3] = { 4, 4, 0 }, q3[3] = { -4, 4, 0 };
+        su_quad(b, q0, q1, q2, q3, m);
+        su_object(b);
+    }
+    su_light(b, 0.5f, 0.5f, 2.0f, 8.0f);
+    const float eye[3] = { 0, 0, 4 }, target[3] = { 0, 0, 0 };
+    su_camera(b, 0, eye, target, 0.8f);
 }

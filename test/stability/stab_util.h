@@ -15,6 +15,7 @@
 
 #include "hz/accel.h"
 #include "hz/hzb.h"
+#include "hz/posekeys.h"
 #include "hz/render.h"
 #include "hz/scene.h"
 #include "pools.h"
@@ -63,6 +64,12 @@ void su_mesh(su_scene_t *b, const float *pos, uint32_t nv, const uint32_t *tri, 
 /* A test room at scale s: floor and back wall (object 0), a sphere of radius s at height 1.2 s (object 1), one
  * light. The caller adds the camera. */
 void su_room(su_scene_t *b, float s);
+/* A lit wall behind (object 0, z = -3) and a quad of half-size `size` in front (object 1, the caller sets its
+ * motion), a light and a camera at z = 6: the motion stages' scene. */
+hz_hzb_object_t *su_wall_and_quad(su_scene_t *b, float size);
+/* A lit opaque wall (z = -1) and, when layer_mode >= 0, a quad in front of it (z = 0) with that alpha mode and
+ * alpha; camera at z = 4: the transparency stages' scene. */
+void su_wall_layer(su_scene_t *b, int layer_mode, float alpha);
 /* The .hzb image (64-byte aligned, from pools->scene) and its size. */
 hz_status_t su_image(const su_scene_t *b, const void **img, size_t *size, hz_error_t *err);
 /* su_image + hz_scene_load with pools->scene. */
@@ -76,12 +83,19 @@ typedef struct su_render {
     hz_render_opts_t opts;
     uint64_t nonfinite_stat, queue_full, layer_cap;
     hz_arena_mark_t marks[4];
+    hz_posekeys_t keys;            /* su_render_open_blur: the pose keys of a shutter (opts.keys points here) */
 } su_render_t;
 
 hz_status_t su_render_open(su_render_t *s, const su_scene_t *b, const hz_render_opts_t *o, hz_error_t *err);
 /* Releases what su_render_open took from the pools. */
 void su_render_close(su_render_t *s);
 hz_status_t su_render_frame(su_render_t *s, uint64_t index, float t, hz_error_t *err);
+/* Motion blur: like su_render_open, but the accel comes from the port's hz_blur_build (native backend, motion
+ * BVH `blur`): with o->shutter > 0 on a moving scene it is built over pose keys (s->keys, s->opts.keys). */
+hz_status_t su_render_open_blur(su_render_t *s, const su_scene_t *b, const hz_render_opts_t *o,
+                                hz_accel_blur_t blur, hz_error_t *err);
+/* su_render_frame at a scene time in nanoseconds (the 64-bit clock, hz/scenetime.h). */
+hz_status_t su_render_frame_ns(su_render_t *s, uint64_t index, hz_time_ns_t t, hz_error_t *err);
 /* Counts non-finite values of the output, the G-buffer's normals and motion vectors (and depth values that
  * are NaN or -inf) into r->nonfinite, and the renderer's own nonfinite counter of the last frame as well. */
 void su_render_check(stab_result_t *r, su_render_t *s);

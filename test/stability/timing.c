@@ -13,12 +13,6 @@
 #include "hz/vsynth.h"
 #include "stab_util.h"
 
-#define BAIL(r)                                                                                                   \
-    do {                                                                                                          \
-        if ((r)->fail[0])                                                                                         \
-            return;                                                                                               \
-    } while (0)
-
 #define HZ240_Q16 (((int64_t)1000000000 * 65536) / 240)
 
 typedef struct run {
@@ -91,7 +85,7 @@ static void clean_trace_from(stab_result_t *r, int64_t t0, uint64_t slots, const
     static hz_vsync_t v;
     static hz_vsynth_t g;
     synth_run(r, &c, 4166667, &u, &v, &g);
-    BAIL(r);
+    STAB_BAIL(r);
     double ppm = period_ppm(&v, &g, slots - 1);
     stab_error(r, ppm * 1e-6);
     const hz_vsync_counts_t *k = hz_vsync_counts(&v);
@@ -110,7 +104,7 @@ static void clean_trace_from(stab_result_t *r, int64_t t0, uint64_t slots, const
 static void c_ts_32bit_wrap(stab_result_t *r)
 {
     clean_trace_from(r, ((int64_t)1 << 31) - 200LL * 4166667, 400, "across 2^31 ns");
-    BAIL(r);
+    STAB_BAIL(r);
     r->note[0] = 0;
     clean_trace_from(r, ((int64_t)1 << 32) - 200LL * 4166667, 400, "across 2^32 ns");
 }
@@ -120,7 +114,7 @@ static void c_ts_32bit_wrap(stab_result_t *r)
 static void c_ts_64bit_near_max(stab_result_t *r)
 {
     clean_trace_from(r, INT64_MAX - 3000LL * 4166667, 2000, "up to 2^63 - 4e9 ns");
-    BAIL(r);
+    STAB_BAIL(r);
     /* and far ahead: slot numbers beyond the range saturate instead of wrapping */
     static hz_vsync_t v;
     hz_vsync_cfg_t vc = { 4166667, 0, 0 };
@@ -276,7 +270,7 @@ static void drift_case(stab_result_t *r, int32_t ppb)
     static hz_vsync_t v;
     static hz_vsynth_t g;
     synth_run(r, &c, 4166667, &u, &v, &g);
-    BAIL(r);
+    STAB_BAIL(r);
     double ppm = period_ppm(&v, &g, c.slots - 1);
     int64_t off = hz_vsync_offset_ppb(&v);
     stab_error(r, ppm * 1e-6);

@@ -6,12 +6,6 @@
 
 #include "stab_util.h"
 
-#define BAIL(r)                                                                                                   \
-    do {                                                                                                          \
-        if ((r)->fail[0])                                                                                         \
-            return;                                                                                               \
-    } while (0)
-
 #define W 32
 #define H 24
 
@@ -32,25 +26,6 @@ static void render_full(stab_result_t *r, const su_scene_t *b, float min_vis, fl
     su_render_close(&s);
 }
 
-/* A lit opaque wall and, when layer_mode >= 0, a quad in front of it with that alpha mode and alpha. */
-static void wall_scene(su_scene_t *b, int layer_mode, float alpha)
-{
-    su_begin(b);
-    uint32_t wall = su_material(b, 0.7f, 0.6f, 0.5f);
-    const float w0[3] = { -4, -4, -1 }, w1[3] = { 4, -4, -1 }, w2[3] = { 4, 4, -1 }, w3[3] = { -4, 4, -1 };
-    su_quad(b, w0, w1, w2, w3, wall);
-    su_object(b);
-    if (layer_mode >= 0) {
-        uint32_t m = su_material_alpha(b, 0.2f, 0.4f, 0.9f, alpha, (uint32_t)layer_mode);
-        const float q0[3] = { -4, -4, 0 }, q1[3] = { 4, -4, 0 }, q2[3] = { 4, 4, 0 }, q3[3] = { -4, 4, 0 };
-        su_quad(b, q0, q1, q2, q3, m);
-        su_object(b);
-    }
-    su_light(b, 0.5f, 0.5f, 2.0f, 8.0f);
-    const float eye[3] = { 0, 0, 4 }, target[3] = { 0, 0, 0 };
-    su_camera(b, 0, eye, target, 0.8f);
-}
-
 static double max_rel_diff(const float *a, const float *b, size_t n)
 {
     double e = 0;
@@ -64,12 +39,12 @@ static void alpha_case(stab_result_t *r, float alpha, int ref_mode, double bound
 {
     static float img[W * H * 3], ref[W * H * 3];
     su_scene_t b;
-    wall_scene(&b, HZ_ALPHA_BLEND, alpha);
+    su_wall_layer(&b, HZ_ALPHA_BLEND, alpha);
     render_full(r, &b, 0.001f, img, NULL);
-    BAIL(r);
-    wall_scene(&b, ref_mode, 1.0f);
+    STAB_BAIL(r);
+    su_wall_layer(&b, ref_mode, 1.0f);
     render_full(r, &b, 0.001f, ref, NULL);
-    BAIL(r);
+    STAB_BAIL(r);
     stab_error(r, max_rel_diff(img, ref, W * H * 3));
     stab_note(r, "alpha %.9g against %s: max relative difference %.3g", (double)alpha,
               ref_mode < 0 ? "no layer" : "an opaque layer", r->max_error);
@@ -99,8 +74,8 @@ static void stack_case(stab_result_t *r, uint32_t n, float a, float min_vis, boo
         su_quad(&b, q0, q1, q2, q3, m);
     }
     su_object(&b);
-    /* A black light: ambient alone lights the layers (a scene without lights would get the default key light). */
-    su_light(&b, 0, 0, 10, 0.0f);
+    /* dark and behind every surface (no shadow rays): without lights the scene would get the default key light */
+    su_light(&b, 0, 0, -100, 0.0f);
     const float eye[3] = { 0, 0, 5 }, target[3] = { 0, 0, 0 };
     su_camera(&b, 0, eye, target, 0.3f);
     /* the rule, in double */
@@ -122,7 +97,7 @@ static void stack_case(stab_result_t *r, uint32_t n, float a, float min_vis, boo
     static float img[W * H * 3];
     uint64_t cap = 0;
     render_full(r, &b, min_vis, img, &cap);
-    BAIL(r);
+    STAB_BAIL(r);
     for (size_t i = 0; i < W * H * 3; i++)
         stab_error(r, fabs(img[i] - want) / fmax(want, 1e-30));
     stab_note(r, "%u layers of alpha %g: %u composited%s; value %.6g (double rule %.6g); layer_cap %llu", n,
@@ -166,7 +141,7 @@ static void shadow_case(stab_result_t *r, uint32_t n, float a)
         const float eye[3] = { 0, 0, 5 }, target[3] = { 0, 0, 0 };
         su_camera(&b, 0, eye, target, 0.3f);
         render_full(r, &b, 0.001f, pass ? img : lit, NULL);
-        BAIL(r);
+        STAB_BAIL(r);
     }
     double t = pow(1.0 - (double)a, (double)n);
     bool blocked = t < 0.001;
