@@ -138,9 +138,11 @@ static void test_builtin_corruptions(void **state)
 
 /* Real baked scenes small enough to corrupt exhaustively in seconds; bigger ones are covered by the fuzzer.
  * Together they hold every section type: BoxAnimated has rigid keys; CesiumMan-small (CesiumMan with 16-texel
- * textures and two skinning frames) has UVs, textures, texels, vertex keys and key normals; both have
- * positions, normals, triangles, tri_info, materials, objects, lights and camera keys. */
-static const char *const real_scenes[] = { "BoxAnimated.hzb", "CesiumMan-small.hzb", NULL };
+ * textures and two skinning frames) has UVs, textures, texels, vertex keys and key normals; CesiumMan-skin-small
+ * (the same, skinned at run time) has joints, skin binds and skin weights; all have positions, normals,
+ * triangles, tri_info, materials, objects, lights and camera keys. */
+static const char *const real_scenes[] = { "BoxAnimated.hzb", "CesiumMan-small.hzb", "CesiumMan-skin-small.hzb",
+                                           NULL };
 
 static void test_real_scene_corruptions(void **state)
 {
