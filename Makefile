@@ -546,7 +546,7 @@ fuzz: deps $(FUZZ) $(FUZZ_O)/seeds/.stamp ## fuzz the .hzb loader for FUZZ_SECON
 test-host: $(HOST_TEST_BINS) $(HOST_O)/bin/hzbake $(FUZZ) $(FUZZ_O)/seeds/.stamp scenes
 	$(Q)rm -rf $(HOST_O)/test-results && mkdir -p $(HOST_O)/test-results
 	$(Q)HZ_BAKE=$(abspath $(HOST_O)/bin/hzbake) HZ_SCENES_SRC=$(abspath $(SCENES_SRC)) \
-		HZ_SCENES_UNPACK=$(abspath $(SCENES_UNPACK)) \
+		HZ_SCENES_UNPACK=$(abspath $(SCENES_UNPACK)) HZ_SCENES_GEN=$(abspath $(BUILD_ROOT)/scenes-gen) \
 		sh test/run-tests.sh $(HOST_O)/test-results host "" $(HOST_TEST_BINS)
 	$(Q)sh test/fuzz/run-fuzz.sh $(HOST_O)/test-results $(FUZZ) $(FUZZ_O)/seeds $(FUZZ_RUNS)
 

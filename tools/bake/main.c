@@ -196,7 +196,8 @@ static void warn_if_no_board_fits(const char *out, const hz_scene_plan_t *plan, 
     if (keys > need / 4)
         hz_bake_warn("%s: needs %zu bytes of scene arena, more than any board has (the largest, %s, has %llu "
                      "MiB): no board can load it. Vertex keys (skinned meshes sampled at skin_rate %.3g frames/s) "
-                     "take about %zu bytes: lower skin_rate in the sidecar, or shorten the animation",
+                     "take about %zu bytes: skin at run time (`skinning = runtime` in the sidecar, the default), lower "
+                     "skin_rate, or shorten the animation",
                      out, need, best, best_mib, (double)sc->skin_rate, keys);
     else
         hz_bake_warn("%s: needs %zu bytes of scene arena, more than any board has (the largest, %s, has %llu "
