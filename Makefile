@@ -602,11 +602,11 @@ $(GEN_BIN)/srgb_tables: tools/gen/srgb_tables.c
 gen-srgb: $(GEN_BIN)/srgb_tables ## regenerate src/core/srgb_tables.c (exact sRGB 8-bit tables; test_image checks them)
 	$(Q)$(GEN_BIN)/srgb_tables src/core/srgb_tables.c
 
-$(GEN_BIN)/smoke_scene: tools/gen/smoke_scene.c
+$(GEN_BIN)/smoke_scene: tools/gen/smoke_scene.c tools/gen/genio.h
 	@mkdir -p $(dir $@)
 	$(call msg,HOSTCC,$@)$(HOSTCC) $(WARN) -D_POSIX_C_SOURCE=200809L -O2 -o $@ $< -lm
 
-$(GEN_BIN)/skinned_gltf: tools/gen/skinned_gltf.c
+$(GEN_BIN)/skinned_gltf: tools/gen/skinned_gltf.c tools/gen/genio.h
 	@mkdir -p $(dir $@)
 	$(call msg,HOSTCC,$@)$(HOSTCC) $(WARN) -D_POSIX_C_SOURCE=200809L -O2 -o $@ $< -lm
 

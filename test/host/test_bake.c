@@ -1295,6 +1295,16 @@ static void test_obj_glass_and_bump_maps(void **state)
     assert_int_equal(system(cmd), 0);
 }
 
+/* Writes `text` as tmpdir/keys.hzs; its path goes to path. */
+static void write_sidecar(char *path, size_t size, const char *text)
+{
+    snprintf(path, size, "%s/keys.hzs", tmpdir);
+    FILE *f = fopen(path, "w");
+    assert_non_null(f);
+    fputs(text, f);
+    assert_int_equal(fclose(f), 0);
+}
+
 /* A bake that no board can load (its scene arena need exceeds every board's) gets a warning naming the
  * largest board and what to change (skinned vertex keys: skin_rate); one that fits gets none. The board list is
  * replaced by a test hook so a small scene stands in for a huge one. */
@@ -1307,11 +1317,7 @@ static void test_warns_when_no_board_can_load_it(void **state)
     source_path(model, sizeof model, "HZ_SCENES_SRC", "gltf/CesiumMan/glTF/CesiumMan.gltf");
     snprintf(out, sizeof out, "%s/cm.hzb", tmpdir);
     char keys_sc[300];
-    snprintf(keys_sc, sizeof keys_sc, "%s/keys.hzs", tmpdir);
-    FILE *f = fopen(keys_sc, "w");
-    assert_non_null(f);
-    fputs("skinning = keys\n", f);
-    assert_int_equal(fclose(f), 0);
+    write_sidecar(keys_sc, sizeof keys_sc, "skinning = keys\n");
     const char *keys_args[] = { "-q", "-s", keys_sc, model, out, NULL };
     run_t r;
     setenv("HZ_BAKE_TEST_BOARDS", "big-board=4 small-board=2", 1);
@@ -1363,11 +1369,7 @@ static void test_long_skinned_model_bakes_small(void **state)
     assert_int_equal(h->vertex_key_count, 0);
     assert_true(h->duration == 35.0f);
     free(img);
-    snprintf(sc, sizeof sc, "%s/keys.hzs", tmpdir);
-    FILE *f = fopen(sc, "w");
-    assert_non_null(f);
-    fputs("skinning = keys\nskin_rate = 1\n", f);
-    assert_int_equal(fclose(f), 0);
+    write_sidecar(sc, sizeof sc, "skinning = keys\nskin_rate = 1\n");
     const char *keys[] = { "-q", "-s", sc, model, out, NULL };
     bake(&r, NULL, keys);
     if (r.status != 0)

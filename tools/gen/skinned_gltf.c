@@ -13,12 +13,15 @@
  * influences. Each joint rotates about a horizontal axis by a sum of two sines (periods 3.1 s and 7.3 s, phase
  * along the chain) sampled at KEY_RATE keys per second (LINEAR rotation samplers), so the motion never repeats
  * inside the animation. The scene is the same on every machine (no randomness). */
-#include <errno.h>
 #include <math.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+
+#define GEN_PROG "skinned_gltf"
+#define GEN_EXIT 74
+#include "genio.h"
 
 #define SIDES 16
 #define RINGS 321 /* 320 segments per tentacle: 16 * 320 * 2 = 10240 triangles */
@@ -27,32 +30,6 @@
 #define RADIUS 0.12
 #define RING_R 0.9 /* tentacle bases on a circle of this radius */
 #define PI 3.14159265358979323846
-
-static void fail(const char *what, const char *path)
-{
-    fprintf(stderr, "skinned_gltf: %s '%s': %s\n", what, path, strerror(errno));
-    exit(74);
-}
-
-static FILE *open_tmp(const char *path, char *tmp, size_t size)
-{
-    if (snprintf(tmp, size, "%s.tmp", path) >= (int)size) {
-        fprintf(stderr, "skinned_gltf: path too long: %s\n", path);
-        exit(64);
-    }
-    FILE *f = fopen(tmp, "wb");
-    if (!f)
-        fail("cannot create", tmp);
-    return f;
-}
-
-static void finish(FILE *f, const char *tmp, const char *path)
-{
-    if (ferror(f) || fclose(f) != 0 || rename(tmp, path) != 0) {
-        remove(tmp);
-        fail("cannot write", path);
-    }
-}
 
 /* The .bin is built in memory: views are appended 4-byte aligned. */
 static unsigned char *bin;
@@ -229,12 +206,12 @@ int main(int argc, char **argv)
 
     char path[8192], tmp[8300];
     snprintf(path, sizeof path, "%s/tentacles.bin", argv[1]);
-    FILE *f = open_tmp(path, tmp, sizeof tmp);
+    FILE *f = gen_open_tmp(path, tmp, sizeof tmp);
     fwrite(bin, 1, bin_len, f);
-    finish(f, tmp, path);
+    gen_finish(f, tmp, path);
 
     snprintf(path, sizeof path, "%s/tentacles.gltf", argv[1]);
-    f = open_tmp(path, tmp, sizeof tmp);
+    f = gen_open_tmp(path, tmp, sizeof tmp);
     fprintf(f, "{\"asset\":{\"version\":\"2.0\",\"generator\":\"hzrt tools/gen/skinned_gltf\"},\n");
     fprintf(f, "\"scene\":0,\"scenes\":[{\"nodes\":[");
     /* Nodes: joints first (tentacle t's chain is t*nj .. t*nj+nj-1), then one mesh node per tentacle. */
@@ -271,7 +248,7 @@ int main(int argc, char **argv)
         fprintf(f, "{\"sampler\":%d,\"target\":{\"node\":%d,\"path\":\"rotation\"}}%s", j, j, j + 1 < njt ? "," : "");
     fprintf(f, "]}],\n\"accessors\":[%s],\n\"bufferViews\":[%s],\n", acc_json, view_json);
     fprintf(f, "\"buffers\":[{\"uri\":\"tentacles.bin\",\"byteLength\":%zu}]}\n", bin_len);
-    finish(f, tmp, path);
+    gen_finish(f, tmp, path);
     printf("skinned_gltf: %s: %d meshes, %d triangles, %d joints, %d keys per joint over %.3g s\n", path, nt,
            nt * ntri, njt, nk, seconds);
     free(pos), free(nrm), free(wgt), free(jnt), free(idx), free(ibm), free(times), free(rot), free(acc_rot);
