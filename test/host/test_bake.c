@@ -1340,6 +1340,18 @@ static void test_warns_when_no_board_can_load_it(void **state)
     assert_int_equal(system(cmd), 0);
 }
 
+/* Bakes args (which write `out`) and returns the output's size. */
+static long long bake_size(const char *const *args, const char *out)
+{
+    run_t r;
+    bake(&r, NULL, args);
+    if (r.status != 0)
+        fail_msg("%s", r.out);
+    struct stat st;
+    assert_int_equal(stat(out, &st), 0);
+    return (long long)st.st_size;
+}
+
 /* The long skinned model (tools/gen/skinned_gltf.c, written by `make scenes`: 61,440 triangles, 48 joints, 35 s)
  * bakes small with runtime skinning, the default; the old per-vertex keys are far larger even at 1 frame/s. */
 static void test_long_skinned_model_bakes_small(void **state)
@@ -1351,14 +1363,9 @@ static void test_long_skinned_model_bakes_small(void **state)
     source_path(model, sizeof model, "HZ_SCENES_GEN", "tentacles.gltf");
     snprintf(out, sizeof out, "%s/t.hzb", tmpdir);
     const char *args[] = { "-q", "-s", "tools/bake/scenes/tentacles.hzs", model, out, NULL };
-    run_t r;
-    bake(&r, NULL, args);
-    if (r.status != 0)
-        fail_msg("%s", r.out);
-    struct stat st;
-    assert_int_equal(stat(out, &st), 0);
-    print_message("tentacles, skinned at run time: %lld bytes\n", (long long)st.st_size);
-    assert_true(st.st_size < 20 << 20);
+    long long rt = bake_size(args, out);
+    print_message("tentacles, skinned at run time: %lld bytes\n", rt);
+    assert_true(rt < 20 << 20);
     size_t size;
     void *img = read_all(out, &size, 1);
     hz_scene_plan_t plan;
@@ -1371,13 +1378,9 @@ static void test_long_skinned_model_bakes_small(void **state)
     free(img);
     write_sidecar(sc, sizeof sc, "skinning = keys\nskin_rate = 1\n");
     const char *keys[] = { "-q", "-s", sc, model, out, NULL };
-    bake(&r, NULL, keys);
-    if (r.status != 0)
-        fail_msg("%s", r.out);
-    struct stat sk;
-    assert_int_equal(stat(out, &sk), 0);
-    print_message("tentacles, per-vertex keys at 1 frame/s: %lld bytes\n", (long long)sk.st_size);
-    assert_true(sk.st_size > 4 * st.st_size);
+    long long kb = bake_size(keys, out);
+    print_message("tentacles, per-vertex keys at 1 frame/s: %lld bytes\n", kb);
+    assert_true(kb > 4 * rt);
     char cmd[128];
     snprintf(cmd, sizeof cmd, "rm -rf %s", tmpdir);
     assert_int_equal(system(cmd), 0);

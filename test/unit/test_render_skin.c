@@ -43,6 +43,18 @@ static double max_rel_diff(hz_scene_t *a, hz_scene_t *b, float t)
     return worst / diag;
 }
 
+/* Largest coordinate change of any vertex from time t0 to t1. */
+static double largest_move(hz_scene_t *s, float t0, float t1)
+{
+    hz_scene_animate(s, t0);
+    hz_scene_animate(s, t1);
+    double moved = 0;
+    for (uint32_t v = 0; v < s->vertex_count; v++)
+        for (int c = 0; c < 3; c++)
+            moved = fmax(moved, fabs((double)s->pos[v * 4 + c] - s->prev_pos[v * 4 + c]));
+    return moved;
+}
+
 static void test_cesiumman_positions_match_keys(void **state)
 {
     (void)state;
@@ -75,12 +87,7 @@ static void test_cesiumman_positions_match_keys(void **state)
         assert_true(d < 5e-4);
     }
     /* The motion is real: the walker moves by far more than that. */
-    hz_scene_animate(&f.scene, 0.0f);
-    hz_scene_animate(&f.scene, 0.5f);
-    double moved = 0;
-    for (uint32_t v = 0; v < f.scene.vertex_count; v++)
-        for (int c = 0; c < 3; c++)
-            moved = fmax(moved, fabs((double)f.scene.pos[v * 4 + c] - f.scene.prev_pos[v * 4 + c]));
+    double moved = largest_move(&f.scene, 0.0f, 0.5f);
     print_message("largest vertex move from 0 s to 0.5 s: %.3f\n", moved);
     assert_true(moved > 0.05);
     rfix_close(&f);
@@ -150,12 +157,7 @@ static void test_long_model_is_small_and_moves(void **state)
     /* Moving at the end of the loop as at its start: the joints' keys cover all 35 s. */
     static const float times[] = { 1.0f, 17.0f, 33.5f };
     for (size_t i = 0; i < HZ_ARRAY_LEN(times); i++) {
-        hz_scene_animate(&f.scene, times[i]);
-        hz_scene_animate(&f.scene, times[i] + 0.25f);
-        double moved = 0;
-        for (uint32_t v = 0; v < f.scene.vertex_count; v++)
-            for (int c = 0; c < 3; c++)
-                moved = fmax(moved, fabs((double)f.scene.pos[v * 4 + c] - f.scene.prev_pos[v * 4 + c]));
+        double moved = largest_move(&f.scene, times[i], times[i] + 0.25f);
         print_message("t = %.1f s: largest move in 0.25 s %.3f\n", (double)times[i], moved);
         assert_true(moved > 0.01);
         for (uint32_t v = 0; v < f.scene.vertex_count; v++) {

@@ -95,6 +95,8 @@ static int info(const char *path)
     printf("animation    %u camera keys, %u rigid keys, %u vertex keys, loop %g s%s\n", h->camera_key_count,
            h->rigid_key_count, h->vertex_key_count, (double)h->duration,
            (h->camera_flags & 1u) ? ", camera loops" : "");
+    if (h->joint_count)
+        printf("skinning     %u joints, %u binds (skinned at run time)\n", h->joint_count, h->skin_bind_count);
     printf("bounds       (%g %g %g) .. (%g %g %g)\n", (double)h->bounds_min[0], (double)h->bounds_min[1],
            (double)h->bounds_min[2], (double)h->bounds_max[0], (double)h->bounds_max[1], (double)h->bounds_max[2]);
     printf("sections\n");
