@@ -107,8 +107,10 @@ CORE_PORT_TESTS := zero_alloc imageio config
 
 # scene (src/scene): baked format, validating loader, built-in scene
 SCENE_SRCS := src/scene/hzb.c src/scene/write.c src/scene/load.c src/scene/animate.c src/scene/builtin.c \
-              src/scene/posekeys.c
-SCENE_TESTS := scene scene_corrupt posekeys
+              src/scene/posekeys.c src/scene/skin.c
+SCENE_SRCS_avx2 := src/scene/skin_avx2.c
+SCENE_SRCS_neon := src/scene/skin_neon.c
+SCENE_TESTS := scene scene_corrupt posekeys skin
 SCENE_PORT_TESTS :=
 
 # accel (src/accel): BVH build and traversal; the Embree backend lives in port/embree
@@ -127,7 +129,7 @@ RENDER_SRCS := src/render/camera.c src/render/texture.c src/render/trace.c src/r
                src/recon/tdense.c src/recon/adaptive.c
 RENDER_TESTS := tdense
 RENDER_PORT_TESTS := render render_tdense render_speckles render_adaptive render_transp leaveout scene_clock \
-                     render_blur
+                     render_blur render_skin
 RENDER_PORT_TESTS_embree := render_backends
 # Heavy render tests for boards whose tests run natively (not under emulation).
 RENDER_PORT_TESTS_native := render_taa
@@ -471,12 +473,17 @@ SCENE_MODEL_BoxAnimated := $(SCENES_SRC)/gltf/BoxAnimated/glTF/BoxAnimated.gltf
 SCENE_MODEL_CesiumMan := $(SCENES_SRC)/gltf/CesiumMan/glTF/CesiumMan.gltf
 SCENE_MODEL_AlphaBlendModeTest := $(SCENES_SRC)/gltf/AlphaBlendModeTest/glTF/AlphaBlendModeTest.gltf
 SCENE_MODEL_CesiumMan-small := $(SCENE_MODEL_CesiumMan)
+SCENE_MODEL_CesiumMan-keys := $(SCENE_MODEL_CesiumMan)
+SCENE_MODEL_CesiumMan-skin-small := $(SCENE_MODEL_CesiumMan)
+# tentacles: the long skinned test model (48 joints, 61,440 triangles, 35 s), written by tools/gen/skinned_gltf.c.
+SCENE_MODEL_tentacles := $(BUILD_ROOT)/scenes-gen/tentacles.gltf
 SCENE_MODEL_AlphaBlendModeTest-small := $(SCENE_MODEL_AlphaBlendModeTest)
 SCENE_MODEL_furball-sway := $(SCENE_MODEL_furball)
 SCENE_MODEL_sponza-rotated := $(SCENE_MODEL_sponza)
 SCENES := CornellBox-Original CornellBox-Mirror conference sponza lost-empire pine dragon-res4 dragon-res3 \
           dragon-res2 dragon furball BoxAnimated CesiumMan AlphaBlendModeTest CesiumMan-small \
-          AlphaBlendModeTest-small sponza-smoke dragon-res4-still furball-sway sponza-rotated
+          AlphaBlendModeTest-small sponza-smoke dragon-res4-still furball-sway sponza-rotated \
+          CesiumMan-keys CesiumMan-skin-small tentacles
 SCENE_FILES := $(SCENES:%=$(SCENES_O)/%.hzb)
 # What each scene reads besides its model: the unpacked zip (its stamp) or every file beside the model.
 scene_inputs = $(if $(filter $(SCENES_UNPACK)/%,$(1)),$(dir $(1)).unpacked,$(1) $(wildcard $(dir $(1))*))
@@ -492,6 +499,10 @@ $(foreach s,$(SCENES),$(eval $(SCENES_O)/$(s).hzb: $(call scene_inputs,$(SCENE_M
 $(SCENE_MODEL_sponza-smoke): $(SCENES_UNPACK)/sponza/.unpacked $(BUILD_ROOT)/host/tools/gen/smoke_scene
 	$(call msg,GEN,$@)$(BUILD_ROOT)/host/tools/gen/smoke_scene $(SCENES_UNPACK)/sponza
 $(SCENES_O)/sponza-smoke.hzb: $(SCENE_MODEL_sponza-smoke)
+$(SCENE_MODEL_tentacles): $(BUILD_ROOT)/host/tools/gen/skinned_gltf
+	@mkdir -p $(dir $@)
+	$(call msg,GEN,$@)$(BUILD_ROOT)/host/tools/gen/skinned_gltf $(dir $@)
+$(SCENES_O)/tentacles.hzb: $(SCENE_MODEL_tentacles)
 
 ifeq ($(wildcard $(SCENES_SRC)/SOURCES.md),)
 scenes:
@@ -517,7 +528,7 @@ FUZZ := $(FUZZ_O)/fuzz_hzb
 FUZZ_SECONDS ?= 60
 FUZZ_RUNS ?= 4000
 FUZZ_SEEDS := CornellBox-Original CornellBox-Mirror BoxAnimated dragon-res4 CesiumMan-small \
-              AlphaBlendModeTest-small
+              AlphaBlendModeTest-small CesiumMan-skin-small
 FUZZ_FLAGS := -std=c99 -O1 -g -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=undefined \
               -ffp-contract=off -fno-math-errno -fno-strict-aliasing -Iinclude -Itools/host
 $(FUZZ): test/fuzz/fuzz_hzb.c $(CORE_SRCS) $(SCENE_SRCS) $(wildcard include/hz/*.h src/scene/*.h)
@@ -536,7 +547,7 @@ fuzz: deps $(FUZZ) $(FUZZ_O)/seeds/.stamp ## fuzz the .hzb loader for FUZZ_SECON
 test-host: $(HOST_TEST_BINS) $(HOST_O)/bin/hzbake $(FUZZ) $(FUZZ_O)/seeds/.stamp scenes
 	$(Q)rm -rf $(HOST_O)/test-results && mkdir -p $(HOST_O)/test-results
 	$(Q)HZ_BAKE=$(abspath $(HOST_O)/bin/hzbake) HZ_SCENES_SRC=$(abspath $(SCENES_SRC)) \
-		HZ_SCENES_UNPACK=$(abspath $(SCENES_UNPACK)) \
+		HZ_SCENES_UNPACK=$(abspath $(SCENES_UNPACK)) HZ_SCENES_GEN=$(abspath $(BUILD_ROOT)/scenes-gen) \
 		sh test/run-tests.sh $(HOST_O)/test-results host "" $(HOST_TEST_BINS)
 	$(Q)sh test/fuzz/run-fuzz.sh $(HOST_O)/test-results $(FUZZ) $(FUZZ_O)/seeds $(FUZZ_RUNS)
 
@@ -592,7 +603,11 @@ $(GEN_BIN)/srgb_tables: tools/gen/srgb_tables.c
 gen-srgb: $(GEN_BIN)/srgb_tables ## regenerate src/core/srgb_tables.c (exact sRGB 8-bit tables; test_image checks them)
 	$(Q)$(GEN_BIN)/srgb_tables src/core/srgb_tables.c
 
-$(GEN_BIN)/smoke_scene: tools/gen/smoke_scene.c
+$(GEN_BIN)/smoke_scene: tools/gen/smoke_scene.c tools/gen/genio.h
+	@mkdir -p $(dir $@)
+	$(call msg,HOSTCC,$@)$(HOSTCC) $(WARN) -D_POSIX_C_SOURCE=200809L -O2 -o $@ $< -lm
+
+$(GEN_BIN)/skinned_gltf: tools/gen/skinned_gltf.c tools/gen/genio.h
 	@mkdir -p $(dir $@)
 	$(call msg,HOSTCC,$@)$(HOSTCC) $(WARN) -D_POSIX_C_SOURCE=200809L -O2 -o $@ $< -lm
 
@@ -688,7 +703,7 @@ VM_TEST_ENV := HZ_SCENES_DIR HZ_SCENES_UNPACK
 # and take seconds; the heavy ones (BVH builds over 10^5..10^6 triangles, whole-image corruption sweeps,
 # rendered sequences) already run on the same AArch64 binaries under qemu-aarch64 in the board stage.
 VM_HEAVY_TESTS := scene_corrupt accel_build accel_trav accel_water zero_alloc render render_transp errtime et_render \
-                  render_speckles pack leaveout scene_clock accel_motion accel_motion_cli render_blur
+                  render_speckles pack leaveout scene_clock accel_motion accel_motion_cli render_blur render_skin
 VM_TEST_BINS := $(filter-out $(VM_HEAVY_TESTS:%=$(O)/test/unit/test_%),$(TEST_BINS))
 
 vmtest: deps ## boot Debian's arm64 kernel in qemu-system-aarch64: AArch64 unit tests, V4L2 loop-back, GPIO capture

@@ -1,5 +1,5 @@
 /*
- * hz/hzb.h — the baked scene format (.hzb), version 1, field by field.
+ * hz/hzb.h — the baked scene format (.hzb), version 2, field by field.
  *
  * A firmware-like renderer never parses text formats: scenes are imported on the host (tools/bake) and stored
  * in this compact binary form, which the core validates completely (src/scene/load.c) before using it in place.
@@ -12,7 +12,8 @@
  *
  * Every section is an array of fixed-size elements (elem_bytes); its size is a whole number of elements. Each
  * section carries a CRC-32 (IEEE 802.3, as zlib's crc32) of its bytes; the header carries a CRC-32 of its own
- * first 252 bytes. A section id appears at most once; unknown ids are an error in version 1. A buffer holding a
+ * first 252 bytes. A section id appears at most once; unknown ids are an error. Version 1 files (no skinning
+ * sections, header words 164..251 zero) still load; a version 1 file with a version 2 section is refused. A buffer holding a
  * whole .hzb file at a 64-byte aligned address gives 16-byte aligned float4 arrays for direct SIMD loads.
  *
  * Geometry is flattened into world space at bake time: objects are ranges of triangles and vertices (instanced
@@ -31,6 +32,14 @@
  *    rest position p moves to p + a h^2 sin(w t + pi (u.x + u.y + u.z)), with centre c = params[0..2],
  *    a = params[3..5], w = params[6] (rad/s), r0 = params[7] >= 0, d = p - c, h = max(0, |d| - r0) (height above
  *    the root sphere) and u = d / |d| (0 at c). Normals keep their rest values (thin strands bend slowly).
+ *  - HZ_MOTION_SKIN: linear-blend skinning at run time (version 2). The object's POSITIONS/NORMALS are the
+ *    mesh in its bind pose; key_first/key_count index SKIN_BINDS (the object's joints, key_count >= 1);
+ *    SKIN_WEIGHTS holds, per vertex, up to 4 of those binds with unorm16 weights summing to exactly 65535.
+ *    A bind names a JOINTS entry (its world transform J(t) as rigid keys in RIGID_KEYS, interpolated like a
+ *    RIGID object's) and the bind's inverse bind matrix B; the vertex moves to sum_k w_k J_k(t) B_k p and its
+ *    normal to normalise(sum_k w_k J_k(t) B_k n) (the blended matrix, not its inverse transpose). Joints are
+ *    shared by every object skinned to them, so a skeleton's keys are stored once however many meshes use it.
+ *    Without a loop (duration 0) the pose holds after each joint's last key, as for RIGID.
  *  For rigid, spin and oscillate, POSITIONS are world positions at t = 0 (spin/oscillate) or in object space (rigid).
  *
  * Texture coordinates (UVS): (0, 0) is the top-left corner of a texture's level 0, u grows to the right and v
@@ -45,7 +54,8 @@
 #include "hz/base.h"
 
 #define HZ_HZB_MAGIC "HZB\0\r\n\x1a\n" /* 8 bytes; catches text-mode transfers like PNG's signature */
-#define HZ_HZB_VERSION 1u
+#define HZ_HZB_VERSION 2u
+#define HZ_HZB_VERSION_MIN 1u /* oldest version the loader reads */
 #define HZ_HZB_ALIGN 64u
 #define HZ_HZB_NAME_BYTES 32u /* names are NUL-padded UTF-8, always NUL-terminated within 32 bytes */
 
@@ -59,7 +69,7 @@ enum hz_feature {
     HZ_FEAT_TEXTURES = 1u << 4,    /* some material samples a texture */
     HZ_FEAT_INSTANCING = 1u << 5,  /* the source instanced meshes (expanded at bake time) */
     HZ_FEAT_CAMERA_PATH = 1u << 6, /* more than one camera key */
-    HZ_FEAT_SKINNING = 1u << 7,    /* some object uses per-vertex keys */
+    HZ_FEAT_SKINNING = 1u << 7,    /* some object uses per-vertex keys or runtime skinning */
     HZ_FEAT_NORMALS = 1u << 8,     /* per-vertex shading normals present */
 };
 #define HZ_FEAT_ALL 0x1ffu
@@ -79,7 +89,10 @@ enum hz_hzb_section_id {
     HZ_SEC_VERTEX_KEY_NORMALS = 12,/* float[4] per keyed vertex per frame (normals; optional) */
     HZ_SEC_LIGHTS = 13,            /* hz_hzb_light_t */
     HZ_SEC_CAMERA_KEYS = 14,       /* hz_hzb_camera_key_t */
-    HZ_SEC_ID_MAX = 14
+    HZ_SEC_JOINTS = 15,            /* hz_hzb_joint_t (version 2) */
+    HZ_SEC_SKIN_BINDS = 16,        /* hz_hzb_skin_bind_t (version 2) */
+    HZ_SEC_SKIN_WEIGHTS = 17,      /* hz_hzb_skin_weight_t per vertex (version 2; all zero outside SKIN objects) */
+    HZ_SEC_ID_MAX = 17
 };
 
 typedef struct hz_hzb_header {
@@ -107,7 +120,9 @@ typedef struct hz_hzb_header {
     float camera_fov_y;         /* 124: default vertical field of view (radians) when no camera keys */
     uint32_t camera_flags;      /* 128: bit 0: camera path loops with duration */
     uint8_t name[HZ_HZB_NAME_BYTES]; /* 132: scene name */
-    uint32_t reserved[22];      /* 164: zero */
+    uint32_t joint_count;       /* 164: entries in JOINTS (version 2; 0 in version 1) */
+    uint32_t skin_bind_count;   /* 168: entries in SKIN_BINDS (version 2; 0 in version 1) */
+    uint32_t reserved[20];      /* 172: zero */
     uint32_t header_crc;        /* 252: CRC-32 of bytes 0..251 */
 } hz_hzb_header_t;
 
@@ -157,6 +172,7 @@ enum hz_motion_kind {
     HZ_MOTION_SPIN = 3,
     HZ_MOTION_OSCILLATE = 4,
     HZ_MOTION_SWAY = 5,         /* params: centre, amplitude, angular frequency, root radius (see the top) */
+    HZ_MOTION_SKIN = 6,         /* key_first/key_count index SKIN_BINDS; weights in SKIN_WEIGHTS (version 2) */
 };
 
 typedef struct hz_hzb_object {
@@ -198,7 +214,29 @@ typedef struct hz_hzb_camera_key {
     float reserved;             /* 44: zero */
 } hz_hzb_camera_key_t;          /* 48 bytes: eye/target are interpolated by Catmull-Rom, fov linearly */
 
+typedef struct hz_hzb_joint {
+    uint8_t name[HZ_HZB_NAME_BYTES]; /*  0: the skeleton node's name */
+    uint32_t key_first;         /* 32: its world transform: key_count rigid keys from key_first in RIGID_KEYS */
+    uint32_t key_count;         /* 36: >= 1 */
+    uint32_t reserved[2];       /* 40: zero */
+} hz_hzb_joint_t;               /* 48 bytes */
+
+typedef struct hz_hzb_skin_bind {
+    uint32_t joint;             /*  0: index into JOINTS */
+    uint32_t reserved[3];       /*  4: zero */
+    float inv_bind[12];         /* 16: inverse bind matrix, column-major 3x4 (columns x, y, z, translation; the
+                                 *     bottom row is 0 0 0 1) */
+} hz_hzb_skin_bind_t;           /* 64 bytes */
+
+typedef struct hz_hzb_skin_weight {
+    uint16_t bind[4];           /* 0: indices into the object's binds (< its key_count) */
+    uint16_t weight[4];         /* 8: unorm16 weights, summing to exactly 65535 in a SKIN object */
+} hz_hzb_skin_weight_t;         /* 16 bytes */
+
 HZ_STATIC_ASSERT(sizeof(hz_hzb_header_t) == 256, hzb_header_size);
+HZ_STATIC_ASSERT(sizeof(hz_hzb_joint_t) == 48, hzb_joint_size);
+HZ_STATIC_ASSERT(sizeof(hz_hzb_skin_bind_t) == 64, hzb_skin_bind_size);
+HZ_STATIC_ASSERT(sizeof(hz_hzb_skin_weight_t) == 16, hzb_skin_weight_size);
 HZ_STATIC_ASSERT(sizeof(hz_hzb_section_t) == 32, hzb_section_size);
 HZ_STATIC_ASSERT(sizeof(hz_hzb_material_t) == 96, hzb_material_size);
 HZ_STATIC_ASSERT(sizeof(hz_hzb_texture_t) == 64, hzb_texture_size);

@@ -43,6 +43,11 @@ typedef struct hz_hzb_source {
     const hz_hzb_light_t *lights;
     uint32_t camera_key_count;
     const hz_hzb_camera_key_t *camera_keys;
+    uint32_t joint_count;             /* runtime skinning (HZ_MOTION_SKIN objects) */
+    const hz_hzb_joint_t *joints;
+    uint32_t skin_bind_count;
+    const hz_hzb_skin_bind_t *skin_binds;
+    const hz_hzb_skin_weight_t *skin_weights; /* vertex_count entries, or NULL when no object is SKIN */
     float duration;
     float background[3];
     float ambient[3];

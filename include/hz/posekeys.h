@@ -8,7 +8,8 @@
  *    motion: 1 when nothing moves (no keys needed), else K = n + 1 with n = 2^m segments (m = 0..3), the
  *    smallest power of two that keeps every object's motion within one segment nearly linear: rotation (spin,
  *    rigid keys) and phase (oscillate, sway) at most HZ_POSEKEYS_SEGMENT_RAD radians per segment, vertex keys
- *    (baked skinning) and rigid-key knots at most one key interval per segment. Linear motion gives K = 2.
+ *    (baked skinning) and rigid-key knots (rigid objects, and the joints of runtime-skinned objects: their
+ *    fastest) at most one key interval per segment. Linear motion gives K = 2.
  *  - hz_posekeys_bytes(scene, K) is what hz_posekeys_init takes from its arena: K float4 position arrays of
  *    vertex_count entries and, when the scene has normals, K normal arrays (64-byte aligned each); 0 for K < 2.
  *  - hz_posekeys_init takes them (HZ_E_NO_MEMORY naming the arena and both byte counts, arena left as it was

@@ -13,7 +13,8 @@
  *    counts) a scene whose mutable state does not fit `arena`, and otherwise sets up `scene`. The scene points
  *    into buf, which must stay alive and unchanged while the scene is used, and be 64-byte aligned (so float4
  *    arrays can be loaded with aligned SIMD loads). Only animated scenes take memory from the arena: current
- *    and previous positions and normals of the moving vertices' arrays; a static scene takes none.
+ *    and previous positions and normals of the moving vertices' arrays, and for runtime skinning (hz/skin.h)
+ *    one 64-byte matrix per joint of the largest skinned object; a static scene takes none.
  *  - hz_scene_animate_ns(scene, t) moves every animated object to scene time t (hz/scenetime.h: int64
  *    nanoseconds, exact for centuries): prev_pos/prev_nrm receive the old state, pos/nrm the new one. Static
  *    scenes ignore it. It allocates nothing. Motion is evaluated at t wrapped into the scene's loop (duration),
@@ -24,7 +25,8 @@
  *  - hz_scene_pose_at_ns(scene, t, dt, pos, nrm) writes the pose at time t + dt (dt: a small offset in seconds,
  *    e.g. inside a shutter interval) of every animated object's vertices into pos (float4 per vertex, full-size
  *    array) and, when the scene has normals, nrm; other vertices are left as they are. It reads the scene, never
- *    changes it, and allocates nothing: motion blur evaluates the shutter's key times with it (hz/posekeys.h).
+ *    changes it (skinning passes its joint matrices through the scene's scratch skin_mats, so calls on one
+ *    scene must not run concurrently), and allocates nothing: motion blur evaluates the shutter's key times with it (hz/posekeys.h).
  *    hz_scene_pose_at takes t in float seconds.
  *  - hz_scene_animate / hz_scene_camera take float seconds: conveniences for short times (tests, tools), the
  *    same as the _ns functions at the nearest nanosecond.
@@ -51,6 +53,7 @@ typedef struct hz_scene_plan {
     size_t file_bytes;          /* the image itself (resident: the scene is used in place) */
     size_t arena_bytes;         /* what hz_scene_load takes from its arena (0 for static scenes) */
     uint32_t animated_vertices; /* vertices rewritten by animation */
+    size_t skin_bytes;          /* of arena_bytes: joint matrices for runtime skinning (largest object's binds) */
 } hz_scene_plan_t;
 
 typedef struct hz_scene {
@@ -77,6 +80,10 @@ typedef struct hz_scene {
     const float *vertex_key_normals;
     const hz_light_t *lights;
     const hz_hzb_camera_key_t *camera_keys;
+    const hz_hzb_joint_t *joints;               /* runtime skinning (NULL when no object is HZ_MOTION_SKIN) */
+    const hz_hzb_skin_bind_t *skin_binds;
+    const hz_hzb_skin_weight_t *skin_weights;   /* per vertex */
+    float *skin_mats;           /* scratch: one skinning matrix per bind of the largest SKIN object (arena) */
 
     float time;                 /* time of pos/nrm inside the scene's loop (seconds) */
     hz_time_ns_t time_ns;       /* time of pos/nrm */

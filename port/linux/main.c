@@ -9,6 +9,7 @@
 #include "latency.h"
 #include "modeplan.h"
 #include "hz/render.h"
+#include "hz/skin.h"
 #include "pools.h"
 #include "render_cmd.h"
 #include "scenefile.h"
@@ -135,11 +136,15 @@ static int cmd_info(int argc, char **argv)
     printf("lights       %u\n", h->light_count);
     printf("animation    %u camera keys, %u rigid keys, %u vertex keys, loop %.3g s\n", h->camera_key_count,
            h->rigid_key_count, h->vertex_key_count, (double)h->duration);
+    if (h->joint_count)
+        printf("skinning     %u joints, %u binds, skinned at run time (%s)\n", h->joint_count, h->skin_bind_count,
+               hz_skin_blend_path());
     printf("bounds       (%.4g %.4g %.4g) .. (%.4g %.4g %.4g)\n", (double)h->bounds_min[0],
            (double)h->bounds_min[1], (double)h->bounds_min[2], (double)h->bounds_max[0],
            (double)h->bounds_max[1], (double)h->bounds_max[2]);
     for (uint32_t i = 0; i < scene.object_count; i++) {
-        static const char *const kinds[] = { "static", "rigid keys", "vertex keys", "spin", "oscillate", "sway" };
+        static const char *const kinds[] = { "static", "rigid keys", "vertex keys", "spin", "oscillate", "sway",
+                                             "skinned" };
         const hz_object_t *o = &scene.objects[i];
         printf("  object %-3u %-24s %8u tris %8u verts  %s\n", i, (const char *)o->name, o->triangle_count,
                o->vertex_count, kinds[o->motion]);
@@ -149,6 +154,8 @@ static int cmd_info(int argc, char **argv)
            HZ_DISPLAY_HEIGHT);
     print_mib("scene image", scene.plan.file_bytes);
     print_mib("animation state", scene.plan.arena_bytes);
+    if (scene.plan.skin_bytes)
+        print_mib("of it joint matrices", scene.plan.skin_bytes);
     print_mib("scene arena used", pools->scene.used);
     print_mib("scene arena size", pools->scene.cap);
     hz_accel_config_t acfg;

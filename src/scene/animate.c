@@ -1,4 +1,5 @@
 /* Object animation and the camera path (see hz/scene.h, hz/hzb.h for the motion model). */
+#include "hz/skin.h"
 #include "scene_internal.h"
 
 float hz_scene_wrap_time(float t, float period)
@@ -37,7 +38,7 @@ static hz_mat4_t trs(const float t[3], const float q[4], const float s[3])
     return r;
 }
 
-static hz_mat4_t rigid_at(const hz_hzb_rigid_key_t *k, uint32_t n, float t)
+hz_mat4_t hz_rigid_keys_matrix(const hz_hzb_rigid_key_t *k, uint32_t n, float t)
 {
     if (n == 1 || t <= k[0].time)
         return trs(k[0].translation, k[0].rotation, k[0].scale);
@@ -78,7 +79,7 @@ int hz_object_matrix(const hz_hzb_object_t *o, const hz_hzb_rigid_key_t *keys, f
 {
     switch (o->motion) {
     case HZ_MOTION_RIGID:
-        *m = rigid_at(keys + o->key_first, o->key_count, t);
+        *m = hz_rigid_keys_matrix(keys + o->key_first, o->key_count, t);
         return 1;
     case HZ_MOTION_SPIN: {
         hz_vec3_t pivot = hz_v3(o->params[0], o->params[1], o->params[2]);
@@ -164,6 +165,15 @@ static void animate_object(const hz_scene_t *s, const hz_hzb_object_t *o, float 
         sway_object(s, o, t, pos, nrm);
         return;
     }
+    if (o->motion == HZ_MOTION_SKIN) {
+        /* skin_mats is the scene's scratch (planned for the largest object): the pose is a pure function of t,
+         * the matrices only pass through it. */
+        hz_skin_matrices(o, s->skin_binds, s->joints, s->rigid_keys, t, s->skin_mats);
+        hz_skin_blend(s->skin_mats, s->skin_weights + v0, s->rest_pos + (size_t)v0 * 4,
+                      nrm ? s->rest_nrm + (size_t)v0 * 4 : NULL, vn, pos + (size_t)v0 * 4,
+                      nrm ? nrm + (size_t)v0 * 4 : NULL);
+        return;
+    }
     hz_mat4_t m, inv, nm;
     if (!hz_object_matrix(o, s->rigid_keys, t, &m))
         return;
@@ -190,9 +200,9 @@ static void animate_object(const hz_scene_t *s, const hz_hzb_object_t *o, float 
 /* Time of object o at scene time t, as float seconds small enough to keep float's precision: inside the scene's
  * loop when it has one; otherwise inside the object's own period (spin: one turn, oscillate: one cycle, vertex
  * keys: the key range), or clamped after the last rigid key (the pose stays there). */
-static float object_time(const hz_hzb_object_t *o, const hz_hzb_rigid_key_t *keys, hz_time_ns_t t,
-                         float duration)
+static float object_time(const hz_scene_t *s, const hz_hzb_object_t *o, hz_time_ns_t t, float duration)
 {
+    const hz_hzb_rigid_key_t *keys = s->rigid_keys;
     if (duration > 0.0f)
         return hz_time_wrap_s(t, duration);
     switch (o->motion) {
@@ -207,6 +217,10 @@ static float object_time(const hz_hzb_object_t *o, const hz_hzb_rigid_key_t *key
         float last = keys[o->key_first + o->key_count - 1].time;
         return t >= hz_time_from_s(last) ? last : hz_time_wrap_s(t, 0.0);
     }
+    case HZ_MOTION_SKIN: {
+        float last = hz_skin_last_key_time(o, s->skin_binds, s->joints, keys);
+        return t >= hz_time_from_s(last) ? last : hz_time_wrap_s(t, 0.0);
+    }
     default:
         return 0.0f;
     }
@@ -216,7 +230,7 @@ void hz_scene_pose_ns(hz_scene_t *s, hz_time_ns_t t)
 {
     for (uint32_t i = 0; i < s->object_count; i++)
         if (s->objects[i].motion != HZ_MOTION_NONE)
-            animate_object(s, &s->objects[i], object_time(&s->objects[i], s->rigid_keys, t, s->header->duration),
+            animate_object(s, &s->objects[i], object_time(s, &s->objects[i], t, s->header->duration),
                            s->pos, s->nrm);
     s->time = hz_time_wrap_s(t, s->header->duration);
     s->time_ns = t;
@@ -232,7 +246,7 @@ void hz_scene_pose_at_ns(const hz_scene_t *s, hz_time_ns_t t, float dt, float *p
     hz_time_ns_t at = t + hz_time_from_s(dt);
     for (uint32_t i = 0; i < s->object_count; i++)
         if (s->objects[i].motion != HZ_MOTION_NONE)
-            animate_object(s, &s->objects[i], object_time(&s->objects[i], s->rigid_keys, at, s->header->duration),
+            animate_object(s, &s->objects[i], object_time(s, &s->objects[i], at, s->header->duration),
                            pos, s->nrm ? nrm : NULL);
 }
 

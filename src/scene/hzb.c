@@ -18,6 +18,9 @@ uint32_t hz_hzb_elem_bytes(uint32_t id)
     case HZ_SEC_VERTEX_KEY_NORMALS: return 16;
     case HZ_SEC_LIGHTS: return (uint32_t)sizeof(hz_hzb_light_t);
     case HZ_SEC_CAMERA_KEYS: return (uint32_t)sizeof(hz_hzb_camera_key_t);
+    case HZ_SEC_JOINTS: return (uint32_t)sizeof(hz_hzb_joint_t);
+    case HZ_SEC_SKIN_BINDS: return (uint32_t)sizeof(hz_hzb_skin_bind_t);
+    case HZ_SEC_SKIN_WEIGHTS: return (uint32_t)sizeof(hz_hzb_skin_weight_t);
     default: return 0;
     }
 }
@@ -26,7 +29,8 @@ const char *hz_hzb_section_name(uint32_t id)
 {
     static const char *const names[HZ_SEC_ID_MAX + 1] = {
         "unknown", "positions", "normals", "uvs", "triangles", "tri_info", "materials", "textures", "texels",
-        "objects", "rigid_keys", "vertex_keys", "vertex_key_normals", "lights", "camera_keys",
+        "objects", "rigid_keys", "vertex_keys", "vertex_key_normals", "lights", "camera_keys", "joints",
+        "skin_binds", "skin_weights",
     };
     return id <= HZ_SEC_ID_MAX ? names[id] : "unknown";
 }
@@ -50,7 +54,7 @@ uint32_t hz_hzb_content_features(const hz_hzb_material_t *materials, uint32_t ma
     for (uint32_t i = 0; i < object_count; i++) {
         if (objects[i].motion != HZ_MOTION_NONE)
             f |= HZ_FEAT_MOTION;
-        if (objects[i].motion == HZ_MOTION_VERTEX)
+        if (objects[i].motion == HZ_MOTION_VERTEX || objects[i].motion == HZ_MOTION_SKIN)
             f |= HZ_FEAT_SKINNING;
     }
     if (camera_key_count > 1)

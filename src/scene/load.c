@@ -3,6 +3,7 @@
  * Nothing here depends on the data being trustworthy. */
 #include "hz/accel.h" /* HZ_ACCEL_MAX_COORD: positions the accel can trace */
 #include "hz/crc32.h"
+#include "hz/skin.h"
 #include "scene_internal.h"
 
 #if defined(__BYTE_ORDER__) && __BYTE_ORDER__ != __ORDER_LITTLE_ENDIAN__
@@ -71,9 +72,9 @@ static hz_status_t check_header(view_t *v)
     if (!(h->magic[0] == 'H' && h->magic[1] == 'Z' && h->magic[2] == 'B' && h->magic[3] == 0 &&
           h->magic[4] == '\r' && h->magic[5] == '\n' && h->magic[6] == 0x1a && h->magic[7] == '\n'))
         return fail(v, HZ_E_FORMAT, "not a .hzb file (bad magic)");
-    if (h->version != HZ_HZB_VERSION)
-        return fail(v, HZ_E_VERSION, "format version %u, this build reads version %u", h->version,
-                    HZ_HZB_VERSION);
+    if (h->version < HZ_HZB_VERSION_MIN || h->version > HZ_HZB_VERSION)
+        return fail(v, HZ_E_VERSION, "format version %u, this build reads versions %u to %u", h->version,
+                    HZ_HZB_VERSION_MIN, HZ_HZB_VERSION);
     if (h->header_bytes != sizeof(hz_hzb_header_t))
         return fail(v, HZ_E_FORMAT, "header size %u, expected %zu", h->header_bytes, sizeof(hz_hzb_header_t));
     uint32_t crc = hz_crc32(0, v->base, offsetof(hz_hzb_header_t, header_crc));
@@ -107,6 +108,9 @@ static hz_status_t check_header(view_t *v)
         return fail(v, HZ_E_FORMAT, "unknown camera flags %08x", h->camera_flags);
     if (!name_ok(h->name) || !all_zero(h->reserved, sizeof h->reserved))
         return fail(v, HZ_E_FORMAT, "header name not terminated or reserved fields not zero");
+    if (h->version < 2 && (h->joint_count || h->skin_bind_count))
+        return fail(v, HZ_E_FORMAT, "a version %u header with skinning counts (words 164..171 are reserved there)",
+                    h->version);
     return HZ_OK;
 }
 
@@ -122,6 +126,9 @@ static hz_status_t check_table(view_t *v)
         if (elem == 0)
             return fail(v, HZ_E_FORMAT, "section table entry %u: unknown section id %u", i, e->id);
         const char *name = hz_hzb_section_name(e->id);
+        if (v->h.version < 2 && e->id >= HZ_SEC_JOINTS)
+            return fail(v, HZ_E_FORMAT, "section '%s' needs format version 2, the file says version %u", name,
+                        v->h.version);
         if (v->sec[e->id])
             return fail(v, HZ_E_FORMAT, "section '%s' appears twice", name);
         if (e->elem_bytes != elem)
@@ -193,7 +200,10 @@ static hz_status_t check_counts(view_t *v)
         (s = expect_count(v, HZ_SEC_VERTEX_KEYS, h->vertex_key_count, 0)) ||
         (s = expect_count(v, HZ_SEC_VERTEX_KEY_NORMALS, h->vertex_key_count, 1)) ||
         (s = expect_count(v, HZ_SEC_LIGHTS, h->light_count, 0)) ||
-        (s = expect_count(v, HZ_SEC_CAMERA_KEYS, h->camera_key_count, 0)))
+        (s = expect_count(v, HZ_SEC_CAMERA_KEYS, h->camera_key_count, 0)) ||
+        (s = expect_count(v, HZ_SEC_JOINTS, h->joint_count, 0)) ||
+        (s = expect_count(v, HZ_SEC_SKIN_BINDS, h->skin_bind_count, 0)) ||
+        (s = expect_count(v, HZ_SEC_SKIN_WEIGHTS, h->vertex_count, 1)))
         return s;
     return HZ_OK;
 }
@@ -274,21 +284,97 @@ static hz_status_t check_textures(view_t *v)
     return HZ_OK;
 }
 
-static hz_status_t check_rigid_keys(view_t *v, uint32_t obj, const hz_hzb_object_t *o)
+/* Rigid keys key_first..+key_count of `what` (an object or a joint) `idx`. */
+static hz_status_t check_key_range(view_t *v, const char *what, uint32_t idx, uint32_t key_first, uint32_t key_count)
 {
     const hz_hzb_rigid_key_t *k = (const hz_hzb_rigid_key_t *)sec_data(v, HZ_SEC_RIGID_KEYS);
-    if (o->key_count == 0 || (uint64_t)o->key_first + o->key_count > v->h.rigid_key_count)
-        return fail(v, HZ_E_RANGE, "object %u: rigid keys %u..%llu outside the %u in 'rigid_keys'", obj,
-                    o->key_first, (unsigned long long)o->key_first + o->key_count, v->h.rigid_key_count);
-    for (uint32_t i = 0; i < o->key_count; i++) {
-        const hz_hzb_rigid_key_t *e = &k[o->key_first + i];
+    if (key_count == 0 || (uint64_t)key_first + key_count > v->h.rigid_key_count)
+        return fail(v, HZ_E_RANGE, "%s %u: rigid keys %u..%llu outside the %u in 'rigid_keys'", what, idx,
+                    key_first, (unsigned long long)key_first + key_count, v->h.rigid_key_count);
+    for (uint32_t i = 0; i < key_count; i++) {
+        const hz_hzb_rigid_key_t *e = &k[key_first + i];
         float q2 = e->rotation[0] * e->rotation[0] + e->rotation[1] * e->rotation[1] +
                    e->rotation[2] * e->rotation[2] + e->rotation[3] * e->rotation[3];
         if (!hz_isfinitef(e->time) || !finite3(e->translation) || !finite3(e->scale) || !(q2 > 0.998f) ||
             !(q2 < 1.002f) || e->reserved != 0.0f)
-            return fail(v, HZ_E_RANGE, "object %u: rigid key %u is not finite or its rotation is not unit", obj, i);
-        if (i > 0 && !(e->time > k[o->key_first + i - 1].time))
-            return fail(v, HZ_E_RANGE, "object %u: rigid key times do not increase at key %u", obj, i);
+            return fail(v, HZ_E_RANGE, "%s %u: rigid key %u is not finite or its rotation is not unit", what, idx, i);
+        if (i > 0 && !(e->time > k[key_first + i - 1].time))
+            return fail(v, HZ_E_RANGE, "%s %u: rigid key times do not increase at key %u", what, idx, i);
+    }
+    return HZ_OK;
+}
+
+static hz_status_t check_rigid_keys(view_t *v, uint32_t obj, const hz_hzb_object_t *o)
+{
+    return check_key_range(v, "object", obj, o->key_first, o->key_count);
+}
+
+/* ---- runtime skinning (format version 2) ---- */
+
+static hz_status_t check_joints_binds(view_t *v)
+{
+    const hz_hzb_joint_t *j = (const hz_hzb_joint_t *)sec_data(v, HZ_SEC_JOINTS);
+    for (uint32_t i = 0; i < v->h.joint_count; i++, j++) {
+        if (!name_ok(j->name) || !all_zero(j->reserved, sizeof j->reserved))
+            return fail(v, HZ_E_FORMAT, "joint %u: name not terminated or reserved fields not zero", i);
+        hz_status_t s = check_key_range(v, "joint", i, j->key_first, j->key_count);
+        if (s)
+            return s;
+    }
+    const hz_hzb_skin_bind_t *b = (const hz_hzb_skin_bind_t *)sec_data(v, HZ_SEC_SKIN_BINDS);
+    for (uint32_t i = 0; i < v->h.skin_bind_count; i++, b++) {
+        if (b->joint >= v->h.joint_count)
+            return fail(v, HZ_E_RANGE, "skin bind %u: joint %u, the scene has %u", i, b->joint, v->h.joint_count);
+        if (!all_zero(b->reserved, sizeof b->reserved))
+            return fail(v, HZ_E_FORMAT, "skin bind %u: reserved fields not zero", i);
+        for (int c = 0; c < 12; c++)
+            if (!hz_isfinitef(b->inv_bind[c]) || hz_absf(b->inv_bind[c]) > HZ_ACCEL_MAX_COORD)
+                return fail(v, HZ_E_RANGE, "skin bind %u: inverse bind matrix element %d is not finite or beyond "
+                            "+-2^36", i, c);
+    }
+    return HZ_OK;
+}
+
+static hz_status_t check_skin_object(view_t *v, uint32_t obj, const hz_hzb_object_t *o)
+{
+    if (o->key_count == 0 || o->key_count > 65536u || (uint64_t)o->key_first + o->key_count > v->h.skin_bind_count)
+        return fail(v, HZ_E_RANGE, "object %u: skin binds %u..%llu outside the %u in 'skin_binds' (or more than "
+                    "65536)", obj, o->key_first, (unsigned long long)o->key_first + o->key_count, v->h.skin_bind_count);
+    if (!v->sec[HZ_SEC_SKIN_WEIGHTS])
+        return fail(v, HZ_E_FORMAT, "object %u is skinned but section 'skin_weights' is missing", obj);
+    return HZ_OK;
+}
+
+/* Weights: inside a SKIN object every vertex names binds of its object and its weights sum to 65535 (so the
+ * blend needs no division); elsewhere they are zero. Runs after check_objects (ranges are valid). */
+static hz_status_t check_skin_weights(view_t *v)
+{
+    const hz_hzb_skin_weight_t *w = (const hz_hzb_skin_weight_t *)sec_data(v, HZ_SEC_SKIN_WEIGHTS);
+    const hz_hzb_object_t *o = (const hz_hzb_object_t *)sec_data(v, HZ_SEC_OBJECTS);
+    int any_skin = 0;
+    for (uint32_t i = 0; i < v->h.object_count; i++)
+        any_skin |= o[i].motion == HZ_MOTION_SKIN;
+    if (!w) /* check_skin_object refused skinned objects without weights */
+        return HZ_OK;
+    if (!any_skin)
+        return fail(v, HZ_E_FORMAT, "section 'skin_weights' is present but no object is skinned");
+    for (uint32_t i = 0; i < v->h.object_count; i++) {
+        int skin = o[i].motion == HZ_MOTION_SKIN;
+        for (uint32_t k = o[i].first_vertex; k < o[i].first_vertex + o[i].vertex_count; k++) {
+            const hz_hzb_skin_weight_t *e = &w[k];
+            uint32_t sum = 0;
+            for (int c = 0; c < 4; c++) {
+                sum += e->weight[c];
+                if (skin && e->bind[c] >= o[i].key_count)
+                    return fail(v, HZ_E_RANGE, "skin weights of vertex %u: bind %u, its object %u has %u", k,
+                                e->bind[c], i, o[i].key_count);
+                if (!skin && (e->bind[c] || e->weight[c]))
+                    return fail(v, HZ_E_FORMAT, "skin weights of vertex %u are not zero, its object %u is not "
+                                "skinned", k, i);
+            }
+            if (skin && sum != 65535u)
+                return fail(v, HZ_E_RANGE, "skin weights of vertex %u sum to %u, not 65535", k, sum);
+        }
     }
     return HZ_OK;
 }
@@ -344,6 +430,10 @@ static hz_status_t check_objects(view_t *v)
         case HZ_MOTION_SWAY:
             if (o->params[7] < 0.0f)
                 return fail(v, HZ_E_RANGE, "object %u: sway root radius is negative", i);
+            break;
+        case HZ_MOTION_SKIN:
+            if ((s = check_skin_object(v, i, o)))
+                return s;
             break;
         default:
             return fail(v, HZ_E_RANGE, "object %u: unknown motion kind %u", i, o->motion);
@@ -421,7 +511,8 @@ static hz_status_t validate(view_t *v, hz_scene_plan_t *plan)
     if ((s = check_float4s(v, HZ_SEC_POSITIONS, 0)) || (s = check_float4s(v, HZ_SEC_NORMALS, 1)) ||
         (s = check_float4s(v, HZ_SEC_VERTEX_KEYS, 0)) || (s = check_float4s(v, HZ_SEC_VERTEX_KEY_NORMALS, 1)) ||
         (s = check_uvs(v)) || (s = check_textures(v)) || (s = check_materials(v)) || (s = check_objects(v)) ||
-        (s = check_triangles(v)) || (s = check_lights_camera(v)))
+        (s = check_triangles(v)) || (s = check_lights_camera(v)) || (s = check_joints_binds(v)) ||
+        (s = check_skin_weights(v)))
         return s;
     const hz_hzb_header_t *h = &v->h;
     uint32_t content = hz_hzb_content_features((const hz_hzb_material_t *)sec_data(v, HZ_SEC_MATERIALS),
@@ -438,11 +529,19 @@ static hz_status_t validate(view_t *v, hz_scene_plan_t *plan)
     plan->file_bytes = v->size;
     plan->animated_vertices = 0;
     plan->arena_bytes = 0;
+    plan->skin_bytes = 0;
     if (h->features & HZ_FEAT_MOTION) {
         const hz_hzb_object_t *o = (const hz_hzb_object_t *)sec_data(v, HZ_SEC_OBJECTS);
-        for (uint32_t i = 0; i < h->object_count; i++)
+        uint32_t max_binds = 0;
+        for (uint32_t i = 0; i < h->object_count; i++) {
             if (o[i].motion != HZ_MOTION_NONE)
                 plan->animated_vertices += o[i].vertex_count;
+            if (o[i].motion == HZ_MOTION_SKIN && o[i].key_count > max_binds)
+                max_binds = o[i].key_count;
+        }
+        /* One matrix per bind of the largest skinned object (<= 65536 * 64 bytes): objects skin one by one. */
+        if (max_binds)
+            plan->skin_bytes = (size_t)max_binds * HZ_SKIN_MAT_BYTES + HZ_HZB_ALIGN;
         /* Current and previous positions (and normals): whole arrays, so the accel and the shader index them
          * like the static ones. vertex_count < 2^32, so this cannot overflow a 64-bit size_t; on 32-bit
          * targets the checks below catch it. */
@@ -451,7 +550,10 @@ static hz_status_t validate(view_t *v, hz_scene_plan_t *plan)
         if (bytes > (uint64_t)SIZE_MAX)
             return fail(v, HZ_E_OVERFLOW, "animated state of %u vertices does not fit the address space",
                         h->vertex_count);
-        plan->arena_bytes = (size_t)bytes;
+        if (bytes > (uint64_t)SIZE_MAX - plan->skin_bytes)
+            return fail(v, HZ_E_OVERFLOW, "animated state of %u vertices does not fit the address space",
+                        h->vertex_count);
+        plan->arena_bytes = (size_t)bytes + plan->skin_bytes;
     }
     return HZ_OK;
 }
@@ -521,6 +623,9 @@ hz_status_t hz_scene_load(hz_scene_t *scene, const void *buf, size_t size, hz_ar
     sc->vertex_key_normals = (const float *)sec_data(&v, HZ_SEC_VERTEX_KEY_NORMALS);
     sc->lights = (const hz_light_t *)sec_data(&v, HZ_SEC_LIGHTS);
     sc->camera_keys = (const hz_hzb_camera_key_t *)sec_data(&v, HZ_SEC_CAMERA_KEYS);
+    sc->joints = (const hz_hzb_joint_t *)sec_data(&v, HZ_SEC_JOINTS);
+    sc->skin_binds = (const hz_hzb_skin_bind_t *)sec_data(&v, HZ_SEC_SKIN_BINDS);
+    sc->skin_weights = (const hz_hzb_skin_weight_t *)sec_data(&v, HZ_SEC_SKIN_WEIGHTS);
     sc->plan = plan;
     /* Static data is used in place and never written: the casts below drop const only for the API's sake. */
     sc->pos = (float *)(uintptr_t)sc->rest_pos;
@@ -533,7 +638,10 @@ hz_status_t hz_scene_load(hz_scene_t *scene, const void *buf, size_t size, hz_ar
             sc->nrm = hz_arena_alloc(arena, bytes, HZ_HZB_ALIGN);
             sc->prev_nrm = hz_arena_alloc(arena, bytes, HZ_HZB_ALIGN);
         }
-        if (!sc->pos || !sc->prev_pos || (sc->rest_nrm && (!sc->nrm || !sc->prev_nrm)))
+        if (plan.skin_bytes)
+            sc->skin_mats = hz_arena_alloc(arena, plan.skin_bytes - HZ_HZB_ALIGN, HZ_HZB_ALIGN);
+        if (!sc->pos || !sc->prev_pos || (sc->rest_nrm && (!sc->nrm || !sc->prev_nrm)) ||
+            (plan.skin_bytes && !sc->skin_mats))
             return hz_arena_error(arena, err); /* cannot happen after the check above; kept as a guard */
         hz_memcpy(sc->pos, sc->rest_pos, bytes);
         if (sc->rest_nrm)

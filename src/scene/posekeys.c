@@ -3,6 +3,26 @@
 
 #include "scene_internal.h"
 
+/* Segments n rigid keys need over interval_s seconds: the fastest rotation between two keys (angle <=
+ * pi * |qa - qb| on the shorter arc: the chord bounds the arc, no trigonometry needed) and the shortest key
+ * interval (one knot per segment at most). */
+static float key_segments(const hz_hzb_rigid_key_t *k, uint32_t n, float interval_s)
+{
+    const float per = HZ_POSEKEYS_SEGMENT_RAD;
+    float need = 0.0f;
+    for (uint32_t i = 0; i + 1 < n; i++) {
+        float dt = k[i + 1].time - k[i].time, d = 0.0f, dm = 0.0f;
+        for (int c = 0; c < 4; c++) {
+            float a = k[i].rotation[c] - k[i + 1].rotation[c], b = k[i].rotation[c] + k[i + 1].rotation[c];
+            d += a * a, dm += b * b;
+        }
+        float angle = HZ_PI * hz_sqrtf(hz_minf(d, dm));
+        if (dt > 0.0f)
+            need = hz_maxf(need, hz_maxf(angle / dt * interval_s / per, interval_s / dt));
+    }
+    return need;
+}
+
 /* Segments object o needs over interval_s seconds (at least 1; may exceed 8, the caller caps). */
 static float object_segments(const hz_scene_t *s, const hz_hzb_object_t *o, float interval_s)
 {
@@ -16,20 +36,14 @@ static float object_segments(const hz_scene_t *s, const hz_hzb_object_t *o, floa
         return hz_absf(o->params[6]) * interval_s / per;
     case HZ_MOTION_VERTEX:
         return o->key_rate * interval_s;
-    case HZ_MOTION_RIGID: {
-        /* Fastest rotation between two keys (angle <= pi * |qa - qb| on the shorter arc: the chord bounds the
-         * arc, no trigonometry needed) and the shortest key interval (one knot per segment at most). */
+    case HZ_MOTION_RIGID:
+        return key_segments(s->rigid_keys + o->key_first, o->key_count, interval_s);
+    case HZ_MOTION_SKIN: {
+        /* The fastest joint's (joints shared by many binds are visited once per bind: cheap, at plan time). */
         float need = 0.0f;
-        const hz_hzb_rigid_key_t *k = s->rigid_keys + o->key_first;
-        for (uint32_t i = 0; i + 1 < o->key_count; i++) {
-            float dt = k[i + 1].time - k[i].time, d = 0.0f, dm = 0.0f;
-            for (int c = 0; c < 4; c++) {
-                float a = k[i].rotation[c] - k[i + 1].rotation[c], b = k[i].rotation[c] + k[i + 1].rotation[c];
-                d += a * a, dm += b * b;
-            }
-            float angle = HZ_PI * hz_sqrtf(hz_minf(d, dm));
-            if (dt > 0.0f)
-                need = hz_maxf(need, hz_maxf(angle / dt * interval_s / per, interval_s / dt));
+        for (uint32_t i = 0; i < o->key_count; i++) {
+            const hz_hzb_joint_t *j = &s->joints[s->skin_binds[o->key_first + i].joint];
+            need = hz_maxf(need, key_segments(s->rigid_keys + j->key_first, j->key_count, interval_s));
         }
         return need;
     }

@@ -31,6 +31,10 @@ void hz_object_vertex_frames(const hz_hzb_object_t *o, float t, uint32_t *f0, ui
 void hz_scene_pose_ns(hz_scene_t *s, hz_time_ns_t t);
 void hz_scene_pose(hz_scene_t *s, float t);
 
+/* Transform of n >= 1 rigid keys at time t (clamped outside their range; see hz/hzb.h): rigid objects and
+ * skinning joints. */
+hz_mat4_t hz_rigid_keys_matrix(const hz_hzb_rigid_key_t *k, uint32_t n, float t);
+
 /* Rotation matrix of a unit quaternion (x, y, z, w). */
 hz_mat4_t hz_quat_matrix(const float q[4]);
 

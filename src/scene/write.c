@@ -2,6 +2,7 @@
 #include "hz/hzb_write.h"
 
 #include "hz/crc32.h"
+#include "hz/skin.h"
 #include "scene_internal.h"
 
 typedef struct sec {
@@ -27,6 +28,9 @@ static uint32_t collect(const hz_hzb_source_t *s, sec_t out[HZ_SEC_ID_MAX])
         { HZ_SEC_VERTEX_KEY_NORMALS, s->vertex_key_normals, s->vertex_key_normals ? s->vertex_key_count : 0 },
         { HZ_SEC_LIGHTS, s->lights, s->light_count },
         { HZ_SEC_CAMERA_KEYS, s->camera_keys, s->camera_key_count },
+        { HZ_SEC_JOINTS, s->joints, s->joint_count },
+        { HZ_SEC_SKIN_BINDS, s->skin_binds, s->skin_bind_count },
+        { HZ_SEC_SKIN_WEIGHTS, s->skin_weights, s->skin_weights ? s->vertex_count : 0 },
     };
     uint32_t n = 0;
     for (size_t i = 0; i < HZ_ARRAY_LEN(all); i++)
@@ -76,6 +80,7 @@ static void bounds_at_zero(const hz_hzb_source_t *s, float lo[3], float hi[3])
         const hz_hzb_object_t *ob = &s->objects[o];
         hz_mat4_t m;
         int moved = ob->motion != HZ_MOTION_VERTEX && hz_object_matrix(ob, s->rigid_keys, 0.0f, &m);
+        int skinned = ob->motion == HZ_MOTION_SKIN && s->skin_weights && s->skin_binds && s->joints;
         for (uint32_t v = ob->first_vertex; v < ob->first_vertex + ob->vertex_count && v < s->vertex_count; v++) {
             const float *p = s->positions + (size_t)v * 4;
             if (ob->motion == HZ_MOTION_VERTEX && s->vertex_keys) {
@@ -86,7 +91,10 @@ static void bounds_at_zero(const hz_hzb_source_t *s, float lo[3], float hi[3])
                                       (v - ob->first_vertex)) * 4;
             }
             hz_vec3_t q = hz_v3(p[0], p[1], p[2]);
-            if (moved)
+            if (skinned)
+                q = hz_skin_point(ob, s->skin_binds, s->skin_bind_count, s->joints, s->joint_count, s->rigid_keys,
+                                  s->rigid_key_count, &s->skin_weights[v], q, 0.0f);
+            else if (moved)
                 q = hz_mat4_mul_point(&m, q);
             for (int c = 0; c < 3; c++) {
                 float x = hz_v3_get(q, c);
@@ -136,6 +144,8 @@ hz_status_t hz_hzb_write(const hz_hzb_source_t *src, void *out, size_t cap, size
     h.rigid_key_count = src->rigid_key_count;
     h.vertex_key_count = src->vertex_key_count;
     h.texel_count = src->texel_count;
+    h.joint_count = src->joint_count;
+    h.skin_bind_count = src->skin_bind_count;
     bounds_at_zero(src, h.bounds_min, h.bounds_max);
     h.duration = src->duration;
     for (int c = 0; c < 3; c++) {

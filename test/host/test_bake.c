@@ -143,6 +143,8 @@ static const expect_t expected[] = {
     { "AlphaBlendModeTest", 61, HZ_FEAT_BLEND | HZ_FEAT_CUTOUT | HZ_FEAT_TEXTURES | F_CP | F_N },
     { "BoxAnimated", 254, HZ_FEAT_MOTION | F_N },
     { "CesiumMan", 4672, HZ_FEAT_MOTION | HZ_FEAT_SKINNING | HZ_FEAT_TEXTURES | F_CP | F_N },
+    { "CesiumMan-keys", 4672, HZ_FEAT_MOTION | HZ_FEAT_SKINNING | HZ_FEAT_TEXTURES | F_CP | F_N },
+    { "tentacles", 61440, HZ_FEAT_MOTION | HZ_FEAT_SKINNING | F_CP | F_N },
     { "pine", 527, HZ_FEAT_CUTOUT | HZ_FEAT_TEXTURES | F_CP | F_N },
     { "CornellBox-Original", 36, F_CP | F_N },
     { "CornellBox-Mirror", 36, HZ_FEAT_MIRROR | F_CP | F_N },
@@ -571,9 +573,11 @@ static const struct aiNode *node_named(const struct aiNode *n, const char *name)
     return NULL;
 }
 
-static void test_skinning_matches_joint_transforms(void **state)
+/* Skinned vertices of CesiumMan at its frames 0 and 30 (t = 0 and 1 s, where the source has keys), computed
+ * here in double precision from assimp's bones and node animation, against the baked scene `name`: per-vertex
+ * keys (CesiumMan-keys: the key frames themselves) or runtime skinning (CesiumMan: the scene animated to t). */
+static void check_skinning(const char *name, int runtime)
 {
-    (void)state;
     char path[4096];
     source_path(path, sizeof path, "HZ_SCENES_SRC", "gltf/CesiumMan/glTF/CesiumMan.gltf");
     const struct aiScene *ai = import(path);
@@ -581,13 +585,20 @@ static void test_skinning_matches_joint_transforms(void **state)
     const struct aiMesh *mesh = ai->mMeshes[0];
     const struct aiAnimation *a = ai->mAnimations[0];
     loaded_t l;
-    load("CesiumMan", &l);
+    load(name, &l);
     assert_int_equal(l.s.object_count, 1);
     const hz_object_t *o = &l.s.objects[0];
-    assert_int_equal(o->motion, HZ_MOTION_VERTEX);
     assert_int_equal(o->vertex_count, mesh->mNumVertices); /* skinned meshes keep the source's vertices */
-    assert_true(o->key_rate == 30.0f);
-    assert_int_equal(o->key_count, 60); /* 2 s at 30 frames/s */
+    if (runtime) {
+        assert_int_equal(o->motion, HZ_MOTION_SKIN);
+        assert_int_equal(o->key_count, mesh->mNumBones); /* every vertex is weighted: no bind for the node */
+        assert_int_equal(l.s.header->joint_count, mesh->mNumBones);
+        assert_int_equal(l.s.header->vertex_key_count, 0);
+    } else {
+        assert_int_equal(o->motion, HZ_MOTION_VERTEX);
+        assert_true(o->key_rate == 30.0f);
+        assert_int_equal(o->key_count, 60); /* 2 s at 30 frames/s */
+    }
     /* Frame 0 (t = 0) and frame 30 (t = 1 s, where the source has keys): skin every vertex here. */
     static const uint32_t frames[] = { 0, 30 };
     double worst = 0;
@@ -620,9 +631,14 @@ static void test_skinning_matches_joint_transforms(void **state)
                     acc[vw->mVertexId * 4 + k] += vw->mWeight * p[k];
                 acc[vw->mVertexId * 4 + 3] += vw->mWeight;
             }
-        const float *baked = fi == 0
-            ? l.s.rest_pos + (size_t)o->first_vertex * 4
-            : l.s.vertex_keys + ((size_t)o->key_first + (size_t)frames[fi] * o->vertex_count) * 4;
+        const float *baked;
+        if (runtime) {
+            hz_scene_animate(&l.s, (float)frames[fi] / 30.0f);
+            baked = l.s.pos + (size_t)o->first_vertex * 4;
+        } else {
+            baked = fi == 0 ? l.s.rest_pos + (size_t)o->first_vertex * 4
+                            : l.s.vertex_keys + ((size_t)o->key_first + (size_t)frames[fi] * o->vertex_count) * 4;
+        }
         for (unsigned v = 0; v < mesh->mNumVertices; v++) {
             assert_true(acc[v * 4 + 3] > 0);
             for (int k = 0; k < 3; k++)
@@ -631,10 +647,17 @@ static void test_skinning_matches_joint_transforms(void **state)
         free(acc);
         free(bm);
     }
-    print_message("CesiumMan: largest skinning difference %.3g (figure is 1.44 units tall)\n", worst);
+    print_message("%s: largest skinning difference %.3g (figure is 1.44 units tall)\n", name, worst);
     assert_true(worst < 1e-4);
     unload(&l);
     aiReleaseImport(ai);
+}
+
+static void test_skinning_matches_joint_transforms(void **state)
+{
+    (void)state;
+    check_skinning("CesiumMan-keys", 0);
+    check_skinning("CesiumMan", 1);
 }
 
 static void test_rigid_keys_follow_node_animation(void **state)
@@ -1272,6 +1295,16 @@ static void test_obj_glass_and_bump_maps(void **state)
     assert_int_equal(system(cmd), 0);
 }
 
+/* Writes `text` as tmpdir/keys.hzs; its path goes to path. */
+static void write_sidecar(char *path, size_t size, const char *text)
+{
+    snprintf(path, size, "%s/keys.hzs", tmpdir);
+    FILE *f = fopen(path, "w");
+    assert_non_null(f);
+    fputs(text, f);
+    assert_int_equal(fclose(f), 0);
+}
+
 /* A bake that no board can load (its scene arena need exceeds every board's) gets a warning naming the
  * largest board and what to change (skinned vertex keys: skin_rate); one that fits gets none. The board list is
  * replaced by a test hook so a small scene stands in for a huge one. */
@@ -1283,18 +1316,71 @@ static void test_warns_when_no_board_can_load_it(void **state)
     char model[4096], out[256];
     source_path(model, sizeof model, "HZ_SCENES_SRC", "gltf/CesiumMan/glTF/CesiumMan.gltf");
     snprintf(out, sizeof out, "%s/cm.hzb", tmpdir);
-    const char *args[] = { "-q", model, out, NULL };
+    char keys_sc[300];
+    write_sidecar(keys_sc, sizeof keys_sc, "skinning = keys\n");
+    const char *keys_args[] = { "-q", "-s", keys_sc, model, out, NULL };
     run_t r;
     setenv("HZ_BAKE_TEST_BOARDS", "big-board=4 small-board=2", 1);
-    bake(&r, NULL, args);
-    unsetenv("HZ_BAKE_TEST_BOARDS");
+    bake(&r, NULL, keys_args); /* per-vertex keys: 12 MB, most of it keys */
     assert_int_equal(r.status, 0); /* a warning, not an error: the file is written */
     if (!strstr(r.out, "no board can load it") || !strstr(r.out, "big-board, has 4 MiB") ||
-        !strstr(r.out, "skin_rate 30"))
+        !strstr(r.out, "skin_rate 30") || !strstr(r.out, "skinning = runtime"))
         fail_msg("no or wrong warning: %s", r.out);
+    const char *args[] = { "-q", model, out, NULL };
+    bake(&r, NULL, args); /* skinned at run time: 5.9 MB, most of it the texture */
+    assert_int_equal(r.status, 0);
+    if (!strstr(r.out, "no board can load it") || !strstr(r.out, "lower texture_max") || strstr(r.out, "skin_rate"))
+        fail_msg("no or wrong warning: %s", r.out);
+    unsetenv("HZ_BAKE_TEST_BOARDS");
     bake(&r, NULL, args); /* the real boards: CesiumMan fits them all */
     assert_int_equal(r.status, 0);
     assert_null(strstr(r.out, "no board can load it"));
+    char cmd[128];
+    snprintf(cmd, sizeof cmd, "rm -rf %s", tmpdir);
+    assert_int_equal(system(cmd), 0);
+}
+
+/* Bakes args (which write `out`) and returns the output's size. */
+static long long bake_size(const char *const *args, const char *out)
+{
+    run_t r;
+    bake(&r, NULL, args);
+    if (r.status != 0)
+        fail_msg("%s", r.out);
+    struct stat st;
+    assert_int_equal(stat(out, &st), 0);
+    return (long long)st.st_size;
+}
+
+/* The long skinned model (tools/gen/skinned_gltf.c, written by `make scenes`: 61,440 triangles, 48 joints, 35 s)
+ * bakes small with runtime skinning, the default; the old per-vertex keys are far larger even at 1 frame/s. */
+static void test_long_skinned_model_bakes_small(void **state)
+{
+    (void)state;
+    snprintf(tmpdir, sizeof tmpdir, "/tmp/hzbake-test.XXXXXX");
+    assert_non_null(mkdtemp(tmpdir));
+    char model[4096], out[256], sc[300];
+    source_path(model, sizeof model, "HZ_SCENES_GEN", "tentacles.gltf");
+    snprintf(out, sizeof out, "%s/t.hzb", tmpdir);
+    const char *args[] = { "-q", "-s", "tools/bake/scenes/tentacles.hzs", model, out, NULL };
+    long long rt = bake_size(args, out);
+    print_message("tentacles, skinned at run time: %lld bytes\n", rt);
+    assert_true(rt < 20 << 20);
+    size_t size;
+    void *img = read_all(out, &size, 1);
+    hz_scene_plan_t plan;
+    hz_error_t err;
+    assert_int_equal(hz_scene_plan(img, size, &plan, &err), HZ_OK);
+    const hz_hzb_header_t *h = img;
+    assert_int_equal(h->joint_count, 48);
+    assert_int_equal(h->vertex_key_count, 0);
+    assert_true(h->duration == 35.0f);
+    free(img);
+    write_sidecar(sc, sizeof sc, "skinning = keys\nskin_rate = 1\n");
+    const char *keys[] = { "-q", "-s", sc, model, out, NULL };
+    long long kb = bake_size(keys, out);
+    print_message("tentacles, per-vertex keys at 1 frame/s: %lld bytes\n", kb);
+    assert_true(kb > 4 * rt);
     char cmd[128];
     snprintf(cmd, sizeof cmd, "rm -rf %s", tmpdir);
     assert_int_equal(system(cmd), 0);
@@ -1316,6 +1402,7 @@ int main(void)
         cmocka_unit_test(test_obj_glass_and_bump_maps),
         cmocka_unit_test(test_scan_normals_follow_the_surface),
         cmocka_unit_test(test_warns_when_no_board_can_load_it),
+        cmocka_unit_test(test_long_skinned_model_bakes_small),
     };
     return HZ_RUN(tests);
 }

@@ -267,9 +267,9 @@ static void test_refuses_bad_headers(void **state)
     tiny_buf[0] = 'X';
     EXPECT_REFUSED(n, HZ_E_FORMAT, "bad magic");
     write_tiny(tiny_buf, sizeof tiny_buf, &m, &o);
-    h->version = 2;
+    h->version = 3;
     reseal(tiny_buf);
-    EXPECT_REFUSED(n, HZ_E_VERSION, "version 2");
+    EXPECT_REFUSED(n, HZ_E_VERSION, "version 3");
     write_tiny(tiny_buf, sizeof tiny_buf, &m, &o);
     h->vertex_count ^= 1; /* not resealed */
     EXPECT_REFUSED(n, HZ_E_CORRUPT, "header CRC");

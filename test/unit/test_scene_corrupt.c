@@ -17,27 +17,12 @@
 #include "hz/builtin.h"
 #include "hz/crc32.h"
 #include "hz/scene.h"
+#include "hzb_reseal.h"
 
 static uint8_t image_mem[64 << 20] HZ_ALIGNED(64);
 static uint8_t work_mem[64 << 20] HZ_ALIGNED(64);
 static uint8_t scratch_mem[8 << 20] HZ_ALIGNED(64);
 static uint8_t state_mem[64 << 20] HZ_ALIGNED(64);
-
-static void reseal(uint8_t *img, size_t size)
-{
-    hz_hzb_header_t h;
-    memcpy(&h, img, sizeof h);
-    for (uint32_t i = 0; i < h.section_count && i < HZ_SEC_ID_MAX; i++) {
-        hz_hzb_section_t e;
-        memcpy(&e, img + sizeof h + i * sizeof e, sizeof e);
-        if (e.offset <= size && e.size <= size - e.offset) {
-            e.crc32 = hz_crc32(0, img + e.offset, (size_t)e.size);
-            memcpy(img + sizeof h + i * sizeof e, &e, sizeof e);
-        }
-    }
-    h.header_crc = hz_crc32(0, &h, offsetof(hz_hzb_header_t, header_crc));
-    memcpy(img, &h, sizeof h);
-}
 
 /* Every index of an accepted scene must be in range: the loader's promise to the renderer. */
 static void assert_consistent(const hz_scene_t *s)
@@ -138,9 +123,11 @@ static void test_builtin_corruptions(void **state)
 
 /* Real baked scenes small enough to corrupt exhaustively in seconds; bigger ones are covered by the fuzzer.
  * Together they hold every section type: BoxAnimated has rigid keys; CesiumMan-small (CesiumMan with 16-texel
- * textures and two skinning frames) has UVs, textures, texels, vertex keys and key normals; both have
- * positions, normals, triangles, tri_info, materials, objects, lights and camera keys. */
-static const char *const real_scenes[] = { "BoxAnimated.hzb", "CesiumMan-small.hzb", NULL };
+ * textures and two skinning frames) has UVs, textures, texels, vertex keys and key normals; CesiumMan-skin-small
+ * (the same, skinned at run time) has joints, skin binds and skin weights; all have positions, normals,
+ * triangles, tri_info, materials, objects, lights and camera keys. */
+static const char *const real_scenes[] = { "BoxAnimated.hzb", "CesiumMan-small.hzb", "CesiumMan-skin-small.hzb",
+                                           NULL };
 
 static void test_real_scene_corruptions(void **state)
 {

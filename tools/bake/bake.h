@@ -117,6 +117,10 @@ typedef struct hz_bake_scene {
     hz_bake_vec_t vkey_nrm;  /* float[4] */
     hz_bake_vec_t lights;    /* hz_hzb_light_t */
     hz_bake_vec_t cams;      /* hz_hzb_camera_key_t */
+    hz_bake_vec_t joints;    /* hz_hzb_joint_t (runtime skinning) */
+    hz_bake_vec_t joint_src; /* const void *: the source node of each joint (shared by every mesh it skins) */
+    hz_bake_vec_t binds;     /* hz_hzb_skin_bind_t */
+    hz_bake_vec_t weights;   /* hz_hzb_skin_weight_t, indexed by vertex (may be shorter than pos: zero-padded) */
     int any_uv;              /* some object has UVs */
     float anim_duration;     /* longest source animation in seconds (0 if none) */
     uint32_t extra_features; /* HZ_FEAT_INSTANCING */

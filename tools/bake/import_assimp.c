@@ -6,8 +6,11 @@
  *  - rigid: some node on its path is animated: positions stay in mesh space and the object's world transform is
  *    sampled into rigid keys (decomposed into T, R, S) at every source key time plus rigid_rate samples per
  *    second, so the runtime's linear interpolation follows nested animations and slerps closely;
- *  - skinned: the mesh has bones and the animation moves them: skin_rate frames per second of world positions
- *    and normals (per-vertex keys); frame 0 is also the rest geometry.
+ *  - skinned: the mesh has bones and the animation moves them. By default (sidecar `skinning = runtime`) the
+ *    mesh keeps its bind pose and is skinned at run time (HZ_MOTION_SKIN): each bone becomes a bind (joint +
+ *    offset matrix), each bone node a joint whose world transform is sampled at skin_rate (shared by all
+ *    meshes), each vertex keeps its 4 largest weights. With `skinning = keys`: skin_rate frames per second of
+ *    world positions and normals (per-vertex keys); frame 0 is also the rest geometry.
  * Triangles keep the source order; OBJ-style repeated vertices are welded. */
 #include "scene.h"
 
@@ -327,6 +330,36 @@ static int cmp_double(const void *a, const void *b)
 
 /* ---- meshes ---- */
 
+/* Appends matrix g as a rigid key at `time` (T, R, S decomposed; the quaternion's sign continues prev_q's so
+ * interpolation takes the short way); *worst grows to the relative error of T R S against g (shear the keys
+ * cannot hold). Returns 1 for a degenerate matrix (nothing appended). */
+static int push_matrix_key(ctx_t *c, const struct aiMatrix4x4 *g, float time, float prev_q[4], double *worst)
+{
+    struct aiMatrix4x4 back;
+    struct aiVector3D s, t;
+    struct aiQuaternion r;
+    aiDecomposeMatrix(g, &s, &r, &t);
+    double ql = sqrt((double)r.x * r.x + (double)r.y * r.y + (double)r.z * r.z + (double)r.w * r.w);
+    if (!(ql > 0) || !isfinite(ql) || !isfinite(t.x + t.y + t.z) || !isfinite(s.x + s.y + s.z))
+        return 1;
+    float q[4] = { (float)(r.x / ql), (float)(r.y / ql), (float)(r.z / ql), (float)(r.w / ql) };
+    if (q[0] * prev_q[0] + q[1] * prev_q[1] + q[2] * prev_q[2] + q[3] * prev_q[3] < 0)
+        for (int k = 0; k < 4; k++)
+            q[k] = -q[k];
+    memcpy(prev_q, q, 4 * sizeof(float));
+    struct aiQuaternion rq = { q[3], q[0], q[1], q[2] };
+    aiMatrix4FromScalingQuaternionPosition(&back, &s, &rq, &t);
+    const float *a = &g->a1, *b = &back.a1;
+    for (int k = 0; k < 16; k++)
+        *worst = fmax(*worst, fabs((double)a[k] - b[k]) / (1.0 + fabs((double)a[k])));
+    hz_hzb_rigid_key_t *key = hz_bake_vec_push(&c->s->rkeys, 1);
+    key->time = time;
+    key->translation[0] = t.x, key->translation[1] = t.y, key->translation[2] = t.z;
+    memcpy(key->rotation, q, sizeof q);
+    key->scale[0] = s.x, key->scale[1] = s.y, key->scale[2] = s.z;
+    return 0;
+}
+
 static hz_status_t rigid_keys(ctx_t *c, const struct aiNode *node, hz_bake_object_t *o)
 {
     hz_bake_vec_t times;
@@ -359,32 +392,13 @@ static hz_status_t rigid_keys(ctx_t *c, const struct aiNode *node, hz_bake_objec
         float time = (float)(tv[i] / c->tps);
         if (!(time > prev_time + 1e-6f))
             continue; /* duplicates, and keys too close to be strictly increasing in float */
-        struct aiMatrix4x4 g, back;
+        struct aiMatrix4x4 g;
         global_at(c, node, tv[i], &g);
-        struct aiVector3D s, t;
-        struct aiQuaternion r;
-        aiDecomposeMatrix(&g, &s, &r, &t);
-        double ql = sqrt((double)r.x * r.x + (double)r.y * r.y + (double)r.z * r.z + (double)r.w * r.w);
-        if (!(ql > 0) || !isfinite(ql) || !isfinite(t.x + t.y + t.z) || !isfinite(s.x + s.y + s.z)) {
+        if (push_matrix_key(c, &g, time, prev_q, &worst)) {
             hz_bake_vec_free(&times);
             return hz_bake_err(c->err, HZ_E_RANGE, "%s: object '%s': its transform at %g s is degenerate", c->s->model,
                                o->name, (double)time);
         }
-        float q[4] = { (float)(r.x / ql), (float)(r.y / ql), (float)(r.z / ql), (float)(r.w / ql) };
-        if (q[0] * prev_q[0] + q[1] * prev_q[1] + q[2] * prev_q[2] + q[3] * prev_q[3] < 0)
-            for (int k = 0; k < 4; k++)
-                q[k] = -q[k]; /* same rotation, continuous sign: interpolation takes the short way */
-        memcpy(prev_q, q, sizeof q);
-        struct aiQuaternion rq = { q[3], q[0], q[1], q[2] };
-        aiMatrix4FromScalingQuaternionPosition(&back, &s, &rq, &t);
-        const float *a = &g.a1, *b = &back.a1;
-        for (int k = 0; k < 16; k++)
-            worst = fmax(worst, fabs((double)a[k] - b[k]) / (1.0 + fabs((double)a[k])));
-        hz_hzb_rigid_key_t *key = hz_bake_vec_push(&c->s->rkeys, 1);
-        key->time = time;
-        key->translation[0] = t.x, key->translation[1] = t.y, key->translation[2] = t.z;
-        memcpy(key->rotation, q, sizeof q);
-        key->scale[0] = s.x, key->scale[1] = s.y, key->scale[2] = s.z;
         prev_time = time;
     }
     hz_bake_vec_free(&times);
@@ -444,6 +458,137 @@ static void skin_pose(ctx_t *c, const struct aiNode *node, const struct aiMesh *
     free(bm);
 }
 
+/* ---- runtime skinning (HZ_MOTION_SKIN) ---- */
+
+/* Index of node n's joint, created on first use: its world transform sampled at skin_rate over the animation
+ * (one key when nothing on its path moves). Joints are shared by every mesh skinned to them. */
+static hz_status_t joint_of(ctx_t *c, const struct aiNode *n, uint32_t *out)
+{
+    const void *const *src = c->s->joint_src.data;
+    for (size_t i = 0; i < c->s->joint_src.len; i++)
+        if (src[i] == (const void *)n) {
+            *out = (uint32_t)i;
+            return HZ_OK;
+        }
+    hz_hzb_joint_t *j = hz_bake_vec_push(&c->s->joints, 1);
+    *(const void **)hz_bake_vec_push(&c->s->joint_src, 1) = n;
+    hz_bake_set_name(j->name, n->mName.data);
+    j->key_first = (uint32_t)c->s->rkeys.len;
+    double dur_s = c->anim ? c->anim->mDuration / c->tps : 0.0;
+    uint32_t frames = 1;
+    if (c->anim && path_animated(c, n)) {
+        double f = ceil(dur_s * c->sc->skin_rate - 1e-6);
+        frames = f < 1 ? 1 : f > 1000000 ? 1000000 : (uint32_t)f;
+    }
+    float prev_q[4] = { 0, 0, 0, 1 }, prev_time = -INFINITY;
+    double worst = 0;
+    for (uint32_t f = 0; f <= frames; f++) {
+        /* Frames at skin_rate, then the animation's end (a loop lands there exactly). */
+        double t_s = f < frames ? (double)f / c->sc->skin_rate : dur_s;
+        float time = (float)t_s;
+        if (!(time > prev_time + 1e-6f) || (frames == 1 && f == 1))
+            continue;
+        struct aiMatrix4x4 g;
+        global_at(c, n, t_s * c->tps, &g);
+        if (push_matrix_key(c, &g, time, prev_q, &worst))
+            return hz_bake_err(c->err, HZ_E_RANGE, "%s: joint '%s': its transform at %g s is degenerate", c->s->model,
+                               n->mName.data, t_s);
+        prev_time = time;
+    }
+    j = HZ_BAKE_AT(c->s->joints, hz_hzb_joint_t, c->s->joints.len - 1);
+    j->key_count = (uint32_t)c->s->rkeys.len - j->key_first;
+    if (worst > 1e-3)
+        hz_bake_warn("%s: joint '%s': its animated transform has shear the joint keys cannot hold (error %.2g)",
+                     c->s->model, n->mName.data, worst);
+    *out = (uint32_t)(c->s->joints.len - 1);
+    return HZ_OK;
+}
+
+static int cmp_influence(const void *a, const void *b)
+{
+    float x = ((const influence_t *)a)->weight, y = ((const influence_t *)b)->weight;
+    return x > y ? -1 : x < y;
+}
+
+/* Binds (one per bone, plus the mesh's own node for vertices without weights) and per-vertex weights: the 4
+ * largest influences, quantised to unorm16 summing to exactly 65535. */
+static hz_status_t runtime_skin(ctx_t *c, const struct aiNode *node, const struct aiMesh *mesh,
+                                const struct aiNode **bones, const uint32_t *inf_first, influence_t *inf,
+                                hz_bake_object_t *o, uint32_t first)
+{
+    unsigned nv = mesh->mNumVertices, nb = mesh->mNumBones;
+    int need_self = 0;
+    for (unsigned v = 0; v < nv; v++) {
+        double sum = 0;
+        for (uint32_t k = inf_first[v]; k < inf_first[v + 1]; k++)
+            sum += inf[k].weight;
+        need_self |= !(sum > 0);
+    }
+    if (nb + (unsigned)need_self > 65536u)
+        return hz_bake_err(c->err, HZ_E_UNSUPPORTED, "%s: mesh '%s' has %u bones, runtime skinning takes 65536",
+                           c->s->model, mesh->mName.data, nb);
+    hz_bake_phase("skinning mesh '%s' at run time (%u vertices, %u bones)", mesh->mName.data, nv, nb);
+    o->o.motion = HZ_MOTION_SKIN;
+    o->o.key_first = (uint32_t)c->s->binds.len;
+    o->o.key_count = nb + (unsigned)need_self;
+    for (unsigned b = 0; b <= nb; b++) {
+        if (b == nb && !need_self)
+            break;
+        uint32_t joint = 0;
+        hz_status_t st = joint_of(c, b < nb ? bones[b] : node, &joint);
+        if (st)
+            return st;
+        hz_hzb_skin_bind_t *e = hz_bake_vec_push(&c->s->binds, 1);
+        e->joint = joint;
+        if (b == nb) { /* identity: the vertex follows its node */
+            e->inv_bind[0] = e->inv_bind[4] = e->inv_bind[8] = 1.0f;
+            continue;
+        }
+        const struct aiMatrix4x4 *m = &mesh->mBones[b]->mOffsetMatrix;
+        const float rows[3][4] = { { m->a1, m->a2, m->a3, m->a4 }, { m->b1, m->b2, m->b3, m->b4 },
+                                   { m->c1, m->c2, m->c3, m->c4 } };
+        for (int col = 0; col < 4; col++)
+            for (int r = 0; r < 3; r++) {
+                e->inv_bind[col * 3 + r] = rows[r][col];
+                if (!isfinite(rows[r][col]))
+                    return hz_bake_err(c->err, HZ_E_RANGE, "%s: mesh '%s': bone '%s' has a non-finite offset matrix",
+                                       c->s->model, mesh->mName.data, mesh->mBones[b]->mName.data);
+            }
+    }
+    if (c->s->weights.len < (size_t)first + nv)
+        hz_bake_vec_push(&c->s->weights, (size_t)first + nv - c->s->weights.len);
+    uint32_t dropped = 0;
+    for (unsigned v = 0; v < nv; v++) {
+        hz_hzb_skin_weight_t *w = HZ_BAKE_AT(c->s->weights, hz_hzb_skin_weight_t, (size_t)first + v);
+        uint32_t k0 = inf_first[v], count = inf_first[v + 1] - k0;
+        qsort(inf + k0, count, sizeof *inf, cmp_influence);
+        while (count > 0 && !(inf[k0 + count - 1].weight > 0))
+            count--; /* zero weights (glTF pads JOINTS_0/WEIGHTS_0 with them) are no influence */
+        if (count > 4)
+            dropped++, count = 4;
+        double sum = 0;
+        for (uint32_t k = 0; k < count; k++)
+            sum += inf[k0 + k].weight;
+        memset(w, 0, sizeof *w);
+        if (!(sum > 0)) {
+            w->bind[0] = (uint16_t)nb, w->weight[0] = 65535;
+            continue;
+        }
+        uint32_t total = 0;
+        for (uint32_t k = 0; k < count; k++) {
+            w->bind[k] = (uint16_t)inf[k0 + k].bone;
+            w->weight[k] = (uint16_t)floor(inf[k0 + k].weight / sum * 65535.0 + 0.5);
+            total += w->weight[k];
+        }
+        /* Rounding leaves the sum within +-2 of 65535: the largest weight takes the difference. */
+        w->weight[0] = (uint16_t)((int32_t)w->weight[0] + 65535 - (int32_t)total);
+    }
+    if (dropped)
+        hz_bake_warn("%s: mesh '%s': %u vertices have more than 4 bone weights; the 4 largest are kept",
+                     c->s->model, mesh->mName.data, dropped);
+    return HZ_OK;
+}
+
 static hz_status_t skinned_mesh(ctx_t *c, const struct aiNode *node, const struct aiMesh *mesh, hz_bake_object_t **po,
                                 uint32_t first, int animated)
 {
@@ -484,6 +629,13 @@ static hz_status_t skinned_mesh(ctx_t *c, const struct aiNode *node, const struc
         }
     free(fill);
 
+    if (animated && c->sc->skinning == HZ_BAKE_SKINNING_RUNTIME) {
+        hz_status_t rst = runtime_skin(c, node, mesh, bones, inf_first, inf, *po, first);
+        free(inf);
+        free(inf_first);
+        free(bones);
+        return rst;
+    }
     double dur_s = c->anim ? c->anim->mDuration / c->tps : 0.0;
     uint32_t frames = 1;
     if (animated) {

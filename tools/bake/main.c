@@ -95,6 +95,8 @@ static int info(const char *path)
     printf("animation    %u camera keys, %u rigid keys, %u vertex keys, loop %g s%s\n", h->camera_key_count,
            h->rigid_key_count, h->vertex_key_count, (double)h->duration,
            (h->camera_flags & 1u) ? ", camera loops" : "");
+    if (h->joint_count)
+        printf("skinning     %u joints, %u binds (skinned at run time)\n", h->joint_count, h->skin_bind_count);
     printf("bounds       (%g %g %g) .. (%g %g %g)\n", (double)h->bounds_min[0], (double)h->bounds_min[1],
            (double)h->bounds_min[2], (double)h->bounds_max[0], (double)h->bounds_max[1], (double)h->bounds_max[2]);
     printf("sections\n");
@@ -196,7 +198,8 @@ static void warn_if_no_board_fits(const char *out, const hz_scene_plan_t *plan, 
     if (keys > need / 4)
         hz_bake_warn("%s: needs %zu bytes of scene arena, more than any board has (the largest, %s, has %llu "
                      "MiB): no board can load it. Vertex keys (skinned meshes sampled at skin_rate %.3g frames/s) "
-                     "take about %zu bytes: lower skin_rate in the sidecar, or shorten the animation",
+                     "take about %zu bytes: skin at run time (`skinning = runtime` in the sidecar, the default), lower "
+                     "skin_rate, or shorten the animation",
                      out, need, best, best_mib, (double)sc->skin_rate, keys);
     else
         hz_bake_warn("%s: needs %zu bytes of scene arena, more than any board has (the largest, %s, has %llu "

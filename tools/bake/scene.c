@@ -28,13 +28,18 @@ void hz_bake_scene_init(hz_bake_scene_t *s, const char *model)
     hz_bake_vec_init(&s->vkey_nrm, 16);
     hz_bake_vec_init(&s->lights, sizeof(hz_hzb_light_t));
     hz_bake_vec_init(&s->cams, sizeof(hz_hzb_camera_key_t));
+    hz_bake_vec_init(&s->joints, sizeof(hz_hzb_joint_t));
+    hz_bake_vec_init(&s->joint_src, sizeof(const void *));
+    hz_bake_vec_init(&s->binds, sizeof(hz_hzb_skin_bind_t));
+    hz_bake_vec_init(&s->weights, sizeof(hz_hzb_skin_weight_t));
     snprintf(s->model, sizeof s->model, "%s", model);
 }
 
 void hz_bake_scene_free(hz_bake_scene_t *s)
 {
     hz_bake_vec_t *all[] = { &s->pos,    &s->nrm,  &s->uv,    &s->tri,   &s->info,     &s->mats,   &s->texs,
-                             &s->texels, &s->objs, &s->rkeys, &s->vkeys, &s->vkey_nrm, &s->lights, &s->cams };
+                             &s->texels, &s->objs, &s->rkeys, &s->vkeys, &s->vkey_nrm, &s->lights, &s->cams,
+                             &s->joints, &s->joint_src, &s->binds, &s->weights };
     for (size_t i = 0; i < sizeof all / sizeof all[0]; i++)
         hz_bake_vec_free(all[i]);
 }
@@ -493,6 +498,15 @@ hz_status_t hz_bake_scene_finish(hz_bake_scene_t *s, hz_bake_sidecar_t *sc, hz_b
     src.lights = s->lights.data;
     src.camera_key_count = (uint32_t)s->cams.len;
     src.camera_keys = s->cams.data;
+    if (s->binds.len) {
+        if (s->weights.len < s->pos.len)
+            hz_bake_vec_push(&s->weights, s->pos.len - s->weights.len); /* zero: vertices of unskinned objects */
+        src.joint_count = (uint32_t)s->joints.len;
+        src.joints = s->joints.data;
+        src.skin_bind_count = (uint32_t)s->binds.len;
+        src.skin_binds = s->binds.data;
+        src.skin_weights = s->weights.data;
+    }
     src.duration = (sc->set & HZ_BAKE_SC_DURATION) ? sc->duration : s->anim_duration;
     memcpy(src.background, sc->background, sizeof src.background);
     memcpy(src.ambient, sc->ambient, sizeof src.ambient);

@@ -30,6 +30,7 @@ typedef struct keydef {
 
 static const char *const alpha_modes[] = { "opaque", "mask", "blend", NULL };
 static const char *const normal_modes[] = { "smooth", "none", NULL };
+static const char *const skinning_modes[] = { "runtime", "keys", NULL };
 static const char *const motions[] = { "none", "spin", "oscillate", "keys", "sway", NULL };
 static const uint32_t motion_values[] = { HZ_MOTION_NONE, HZ_MOTION_SPIN, HZ_MOTION_OSCILLATE, HZ_MOTION_RIGID,
                                           HZ_MOTION_SWAY };
@@ -54,6 +55,8 @@ static const keydef_t keys[] = {
     { "skin_rate", SEC_SCENE, K_FLOAT, HZ_BAKE_SC_SKIN_RATE, SC(skin_rate), 0.1, 1000, NULL, NULL, "frames/s" },
     { "rigid_rate", SEC_SCENE, K_FLOAT, HZ_BAKE_SC_RIGID_RATE, SC(rigid_rate), 0.1, 1000, NULL, NULL, "keys/s" },
     { "animation", SEC_SCENE, K_UINT, HZ_BAKE_SC_ANIMATION, SC(animation), 0, 1e6, NULL, NULL, "index" },
+    { "skinning", SEC_SCENE, K_ENUM, HZ_BAKE_SC_SKINNING, SC(skinning), 0, 0, skinning_modes, NULL,
+      "runtime or keys" },
 
     { "color", SEC_MATERIAL, K_COLOR, HZ_BAKE_SC_COLOR, MT(color), 0, 1, NULL, NULL, "R G B in [0, 1]" },
     { "alpha", SEC_MATERIAL, K_FLOAT, HZ_BAKE_SC_ALPHA, MT(alpha), 0, 1, NULL, NULL, "opacity in [0, 1]" },

@@ -32,6 +32,7 @@ enum hz_bake_sc_set {
     HZ_BAKE_SC_SKIN_RATE = 1u << 11,
     HZ_BAKE_SC_RIGID_RATE = 1u << 12,
     HZ_BAKE_SC_ANIMATION = 1u << 13,
+    HZ_BAKE_SC_SKINNING = 1u << 14,
     /* material */
     HZ_BAKE_SC_COLOR = 1u << 0,
     HZ_BAKE_SC_ALPHA = 1u << 1,
@@ -79,6 +80,9 @@ typedef struct hz_bake_sc_object {
 } hz_bake_sc_object_t;
 
 enum hz_bake_normals { HZ_BAKE_NORMALS_SMOOTH = 0, HZ_BAKE_NORMALS_NONE = 1 };
+/* How skinned meshes are baked: joints + weights skinned at run time (HZ_MOTION_SKIN), or the old per-vertex
+ * keys sampled at skin_rate (HZ_MOTION_VERTEX; large: every vertex, every frame). */
+enum hz_bake_skinning { HZ_BAKE_SKINNING_RUNTIME = 0, HZ_BAKE_SKINNING_KEYS = 1 };
 
 typedef struct hz_bake_sidecar {
     char path[4096]; /* "" when there is none (defaults) */
@@ -88,7 +92,7 @@ typedef struct hz_bake_sidecar {
     int camera_loop;
     uint32_t texture_max, tube_sides;
     float tube_radius_scale, smooth_angle_deg, skin_rate, rigid_rate;
-    uint32_t normals, animation;
+    uint32_t normals, animation, skinning;
     hz_bake_vec_t lights;    /* hz_hzb_light_t */
     hz_bake_vec_t cameras;   /* hz_bake_sc_camera_t */
     hz_bake_vec_t materials; /* hz_bake_sc_material_t */
@@ -96,7 +100,7 @@ typedef struct hz_bake_sidecar {
 } hz_bake_sidecar_t;
 
 /* Defaults: no lights or camera keys, black background, ambient 0.03, texture_max 1024, tube_sides 3,
- * smooth normals with a 60 degree crease angle, skin_rate 30, rigid_rate 30, animation 0. */
+ * smooth normals with a 60 degree crease angle, skin_rate 30, rigid_rate 30, animation 0, skinning runtime. */
 void hz_bake_sidecar_defaults(hz_bake_sidecar_t *sc);
 /* Parses text (size bytes, need not be NUL-terminated) named `path` into sc (which holds the defaults). */
 hz_status_t hz_bake_sidecar_parse(hz_bake_sidecar_t *sc, const char *path, const char *text, size_t size,

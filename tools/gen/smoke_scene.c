@@ -12,12 +12,14 @@
  * orientation, four grey materials of opacity 0.22 to 0.40 times the sprite's radial falloff: a ray along the
  * cloud crosses about 40 particles (visibility ~0.04 left), the sun's shadow rays about 15. Positions come from a
  * fixed xorshift sequence: the scene is the same on every machine. */
-#include <errno.h>
 #include <math.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+
+#define GEN_PROG "smoke_scene"
+#include "genio.h"
 
 #define SMOKE_COUNT 12000
 #define SPRITE 32
@@ -37,35 +39,11 @@ static void normalize(double v[3])
         v[c] /= l;
 }
 
-static void fail(const char *what, const char *path)
-{
-    fprintf(stderr, "smoke_scene: %s: %s: %s\n", path, what, errno ? strerror(errno) : "failed");
-    exit(1);
-}
-
-static FILE *open_tmp(const char *path, char *tmp, size_t size)
-{
-    if (snprintf(tmp, size, "%s.tmp", path) >= (int)size)
-        fail("path too long", path);
-    FILE *f = fopen(tmp, "wb");
-    if (!f)
-        fail("cannot create", tmp);
-    return f;
-}
-
-static void finish(FILE *f, const char *tmp, const char *path)
-{
-    if (ferror(f) || fclose(f) != 0 || rename(tmp, path) != 0) {
-        remove(tmp);
-        fail("cannot write", path);
-    }
-}
-
 /* Uncompressed 32-bit TGA (stb_image reads it): white sprite, alpha (1 - r^2)^2 inside the unit circle. */
 static void write_sprite(const char *path)
 {
     char tmp[8192];
-    FILE *f = open_tmp(path, tmp, sizeof tmp);
+    FILE *f = gen_open_tmp(path, tmp, sizeof tmp);
     uint8_t h[18] = { 0 };
     h[2] = 2;
     h[12] = SPRITE, h[14] = SPRITE, h[16] = 32, h[17] = 8;
@@ -77,14 +55,14 @@ static void write_sprite(const char *path)
             uint8_t px[4] = { 255, 255, 255, (uint8_t)lround(a * 255.0) };
             fwrite(px, 1, 4, f);
         }
-    finish(f, tmp, path);
+    gen_finish(f, tmp, path);
 }
 
 static void copy_file(FILE *out, const char *path, long *v_count, long *vt_count, const char *mtllib)
 {
     FILE *in = fopen(path, "rb");
     if (!in)
-        fail("cannot open", path);
+        gen_fail("cannot open", path);
     char line[65536];
     while (fgets(line, sizeof line, in)) {
         if (v_count && !strncmp(line, "v ", 2))
@@ -97,7 +75,7 @@ static void copy_file(FILE *out, const char *path, long *v_count, long *vt_count
             fputs(line, out);
     }
     if (ferror(in))
-        fail("read error", path);
+        gen_fail("read error", path);
     fclose(in);
 }
 
@@ -116,15 +94,15 @@ int main(int argc, char **argv)
     snprintf(tga, sizeof tga, "%s/smoke.tga", dir);
     write_sprite(tga);
 
-    FILE *m = open_tmp(mtl, tmp, sizeof tmp);
+    FILE *m = gen_open_tmp(mtl, tmp, sizeof tmp);
     copy_file(m, src_mtl, NULL, NULL, NULL);
     static const double grey[4] = { 0.78, 0.72, 0.85, 0.66 }, opacity[4] = { 0.22, 0.28, 0.34, 0.40 };
     for (int k = 0; k < 4; k++)
         fprintf(m, "\nnewmtl smoke_%d\n\tKd %.2f %.2f %.2f\n\td %.2f\n\tillum 1\n\tmap_Kd smoke.tga\n", k, grey[k],
                 grey[k], grey[k] * 0.97, opacity[k]);
-    finish(m, tmp, mtl);
+    gen_finish(m, tmp, mtl);
 
-    FILE *o = open_tmp(obj, tmp, sizeof tmp);
+    FILE *o = gen_open_tmp(obj, tmp, sizeof tmp);
     long nv = 0, nvt = 0;
     copy_file(o, src_obj, &nv, &nvt, "sponza-smoke.mtl");
     fprintf(o, "\n# smoke: %d particles (tools/gen/smoke_scene.c)\n", SMOKE_COUNT);
@@ -163,6 +141,6 @@ int main(int argc, char **argv)
                 nvt + 4);
         nv += 4, nvt += 4;
     }
-    finish(o, tmp, obj);
+    gen_finish(o, tmp, obj);
     return 0;
 }
