@@ -515,15 +515,9 @@ static int bench_scene(const hz_bench_accel_opts_t *o, const char *name, FILE *c
 int hz_bench_accel(const hz_bench_accel_opts_t *opts)
 {
     hz_bench_accel_opts_t o = *opts;
-    static const char *defaults[] = { "conference", "sponza", "lost-empire", "furball",
+    static const char *const defaults[] = { "conference", "sponza", "lost-empire", "furball",
                                       "dragon-res4", "dragon-res3", "dragon-res2", "dragon" };
-    if (!o.scenes_dir)
-        o.scenes_dir = getenv("HZ_SCENES_DIR") ? getenv("HZ_SCENES_DIR") : "build/scenes";
-    if (o.scene_count == 0) {
-        o.scene_count = (int)HZ_ARRAY_LEN(defaults);
-        for (int i = 0; i < o.scene_count; i++)
-            o.scenes[i] = defaults[i];
-    }
+    hz_bench_scene_list(&o.scenes_dir, o.scenes, &o.scene_count, defaults, (int)HZ_ARRAY_LEN(defaults));
     if (o.rounds <= 0)
         o.rounds = 5;
     if (o.rounds > MAX_ROUNDS)

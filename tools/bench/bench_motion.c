@@ -360,13 +360,7 @@ int hz_bench_motion(const hz_bench_motion_opts_t *opts)
 {
     hz_bench_motion_opts_t o = *opts;
     static const char *const defaults[] = { "furball-sway", "sponza-rotated" };
-    if (!o.scenes_dir)
-        o.scenes_dir = getenv("HZ_SCENES_DIR") ? getenv("HZ_SCENES_DIR") : "build/scenes";
-    if (o.scene_count == 0) {
-        o.scene_count = (int)HZ_ARRAY_LEN(defaults);
-        for (int i = 0; i < o.scene_count; i++)
-            o.scenes[i] = defaults[i];
-    }
+    hz_bench_scene_list(&o.scenes_dir, o.scenes, &o.scene_count, defaults, (int)HZ_ARRAY_LEN(defaults));
     if (o.rounds <= 0)
         o.rounds = 3;
     if (o.rounds > MAX_ROUNDS)

@@ -81,3 +81,14 @@ int hz_bench_open_named(const char *dir, const char *name, hz_pools_t *pools, hz
         return hz_cli_report(&err);
     return 0;
 }
+
+void hz_bench_scene_list(const char **dir, const char **scenes, int *count, const char *const *defaults, int n)
+{
+    if (!*dir)
+        *dir = getenv("HZ_SCENES_DIR") ? getenv("HZ_SCENES_DIR") : "build/scenes";
+    if (*count == 0) {
+        for (int i = 0; i < n; i++)
+            scenes[i] = defaults[i];
+        *count = n;
+    }
+}

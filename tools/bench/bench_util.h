@@ -11,6 +11,8 @@
  *    so far, until max_rows; stops the pool. Returns the rows done, or -1 with err (prefixed with the label)
  *    when fn fails.
  *  - hz_bench_threads(n) is n, or for n == 0 the online CPUs capped at HZ_MAX_THREADS.
+ *  - hz_bench_scene_list(dir, scenes, count, defaults, n): a NULL *dir becomes $HZ_SCENES_DIR or build/scenes;
+ *    an empty list (*count == 0) becomes the n defaults.
  *  - hz_bench_open_named(dir, name, pools, scene, geom) re-initialises the pools, opens dir/name.hzb into them
  *    and makes its accel geometry view (in the scene arena); 0, or after printing the error (a missing scene
  *    names `make scenes`) the exit status to return.
@@ -32,6 +34,7 @@ double hz_bench_quantile(double *v, size_t n, double q);
 int hz_bench_scenes(const char *group, const char *const (*scenes)[2], size_t count, const char *dir, int threads,
                     hz_bench_scene_fn fn, void *ctx, int max_rows, hz_error_t *err);
 int hz_bench_threads(int n);
+void hz_bench_scene_list(const char **dir, const char **scenes, int *count, const char *const *defaults, int n);
 int hz_bench_open_named(const char *dir, const char *name, hz_pools_t *pools, hz_scene_t *scene,
                         hz_accel_geom_t *geom);
 
