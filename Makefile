@@ -127,6 +127,8 @@ ACCEL_PORT_TESTS_embree := accel_embree
 RENDER_SRCS := src/render/camera.c src/render/texture.c src/render/trace.c src/render/render.c src/recon/taa.c \
                src/render/deflight.c src/render/terminator.c src/render/transp.c \
                src/recon/tdense.c src/recon/adaptive.c
+RENDER_SRCS_avx2 := src/recon/tdense_lanes.c
+RENDER_SRCS_neon := src/recon/tdense_lanes.c
 RENDER_TESTS := tdense
 RENDER_PORT_TESTS := render render_tdense render_speckles render_adaptive render_transp leaveout scene_clock \
                      render_blur render_skin
@@ -338,7 +340,8 @@ REPORT_SCENES := $(REPORT_SCENES),sponza-smoke,AlphaBlendModeTest,builtin-transp
 REPORT_BLUR_SCENES := builtin-blur,sponza-rotated-blur
 REPORT_SCENES := $(REPORT_SCENES),$(REPORT_BLUR_SCENES)
 REPORT_SKIP := taa-clip,taa-catmull-rom,taa-clip-cr
-report: deps $(ERRTIME) scenes ## error against run time of every method on the standard scenes: build/report/ (CSV, MD, SVG)
+report: deps ## error against run time of every method on the standard scenes: build/report/ (CSV, MD, SVG)
+	$(Q)$(MAKE) --no-print-directory $(ERRTIME) scenes
 	$(Q)t0=$$(date +%s); nice $(ERRTIME) --scene $(REPORT_SCENES) --skip $(REPORT_SKIP) --scenes $(SCENES_O) \
 		--cache $(BUILD_ROOT)/errtime-cache --out $(REPORT_O) || exit $$?; \
 	echo "report: $$(( $$(date +%s) - t0 )) s on $$(nproc) cores"
@@ -509,7 +512,9 @@ scenes:
 	@echo "scenes: no scene sources in '$(SCENES_SRC)' (set SCENES_SRC to the folder with conference.zip, gltf/, ...)" >&2
 	@exit 1
 else
-scenes: deps $(SCENE_FILES) ## bake every scene of ../shared/scenes (SCENES_SRC) into $(BUILD_ROOT)/scenes/*.hzb
+scenes: deps ## bake every scene of ../shared/scenes (SCENES_SRC) into $(BUILD_ROOT)/scenes/*.hzb
+	$(Q)$(MAKE) --no-print-directory scenes-baked
+scenes-baked: $(SCENE_FILES)
 endif
 
 # Tests read the baked scenes from here (qemu passes the environment to the AArch64 tests too).
@@ -538,7 +543,8 @@ $(FUZZ_O)/seeds/.stamp: $(FUZZ_SEEDS:%=$(SCENES_O)/%.hzb)
 	@rm -rf $(dir $@) && mkdir -p $(dir $@)
 	$(Q)cp $^ $(dir $@) && touch $@
 
-fuzz: deps $(FUZZ) $(FUZZ_O)/seeds/.stamp ## fuzz the .hzb loader for FUZZ_SECONDS (libFuzzer; findings in $(BUILD_ROOT)/fuzz)
+fuzz: deps ## fuzz the .hzb loader for FUZZ_SECONDS (libFuzzer; findings in $(BUILD_ROOT)/fuzz)
+	$(Q)$(MAKE) --no-print-directory $(FUZZ) $(FUZZ_O)/seeds/.stamp
 	$(Q)mkdir -p $(FUZZ_O)/corpus $(FUZZ_O)/artifacts
 	$(Q)$(FUZZ) -max_total_time=$(FUZZ_SECONDS) -max_len=4194304 -rss_limit_mb=4096 \
 		-artifact_prefix=$(FUZZ_O)/artifacts/ $(FUZZ_O)/corpus $(FUZZ_O)/seeds
@@ -552,7 +558,9 @@ test-host: $(HOST_TEST_BINS) $(HOST_O)/bin/hzbake $(FUZZ) $(FUZZ_O)/seeds/.stamp
 	$(Q)sh test/fuzz/run-fuzz.sh $(HOST_O)/test-results $(FUZZ) $(FUZZ_O)/seeds $(FUZZ_RUNS)
 
 # ---------------------------------------------------------------------------------------------------------
-# Dependencies (Debian packages). `?pkg` is optional: a failed install warns instead of stopping.
+# Dependencies (Debian packages). `?pkg` is optional: a failed install warns instead of stopping. The goals that
+# install them (run, bench, report, scenes, fuzz) build the rest in a sub-make after `deps`: make 4.3 has no
+# .WAIT, and with -j the compiler would otherwise start on headers apt-get has not unpacked yet.
 DEPS_TEST_HOST := libcmocka-dev file unzip
 # Host tools: the baker (assimp, stb_image, zlib; unzip for the scene zips) and the loader fuzzer (libFuzzer).
 DEPS_BAKE := gcc libc6-dev libassimp-dev libstb-dev zlib1g-dev unzip libcmocka-dev
@@ -569,7 +577,8 @@ deps: ## install the Debian packages BOARD needs to build, run and test (apt-get
 # ---------------------------------------------------------------------------------------------------------
 # Run
 RUN_ARGS ?= --mode tdense --frames 240 --hz 240 --size 640x360
-run: deps $(HZRT) ## build host-sim and render the built-in scene, temporally dense: 240 frames at a simulated 240 Hz into $(O)/run
+run: deps ## build host-sim and render the built-in scene, temporally dense: 240 frames at a simulated 240 Hz into $(O)/run
+	$(Q)$(MAKE) --no-print-directory $(HZRT)
 	$(Q)$(HZRT) render builtin $(RUN_ARGS) --out $(O)/run
 	@echo "outputs: $(O)/run/frames.y4m (mpv/ffplay), $(O)/run/last.png, $(O)/run/summary.json"
 
@@ -583,7 +592,8 @@ LATENCY_SIM_ARGS ?= --source sim --hz 240 --jitter-us 50 --miss-pct 1 --glitch-p
 latency-sim: $(HZRT) ## simulated 240 Hz display-locked run: miss rate, latency percentiles, histogram (build/<board>/latency-sim)
 	$(Q)$(HZRT) latency $(LATENCY_SIM_ARGS) --out $(O)/latency-sim
 
-bench: deps $(BENCH) scenes ## measure (side by side, in one run) and print a table; writes $(O)/bench/*.csv
+bench: deps ## measure (side by side, in one run) and print a table; writes $(O)/bench/*.csv
+	$(Q)$(MAKE) --no-print-directory $(BENCH) scenes
 	$(Q)mkdir -p $(O)/bench
 	$(Q)$(BENCH) --csv $(O)/bench/bench.csv --accel-csv $(O)/bench/accel.csv --scenes $(SCENES_O) \
 		--transparency-csv $(O)/bench/transparency.csv --adaptive-csv $(O)/bench/adaptive.csv \
@@ -760,6 +770,6 @@ help: ## list the targets
 		awk -F'|' '{ printf "  %-20s %s\n", $$1, $$2 }'
 
 .PHONY: all deps run bench size tests test-board test check-freestanding check-integer clean help gen-srgb gen-dither errtime \
-        bake scenes fuzz test-host report
+        bake scenes scenes-baked fuzz test-host report
 .PHONY: vmtest vmtest-tier vmtest-board latency-sim
 .PHONY: stability stability-tier stability-board board-fit

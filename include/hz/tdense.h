@@ -50,6 +50,7 @@
 #include "hz/tileorder.h"
 
 #define HZ_TDENSE_MAX_MOTION 16384.0f
+#define HZ_TDENSE_TILE_PAD 8u /* elements of padding around each per-tile array (hz_tdense_t) */
 
 typedef struct hz_tdense_config {
     uint32_t width, height;  /* the displayed frame, 1..HZ_IMAGE_MAX_DIM each */
@@ -76,9 +77,11 @@ typedef struct hz_tdense {
     uint32_t frame;        /* frames since init/reset: subframe = frame mod 4 */
     bool camera_moved;     /* this frame */
     bool in_frame;         /* between begin_frame and end_frame */
+    /* Per-tile arrays have HZ_TDENSE_TILE_PAD readable elements before the first tile and after the last (the
+     * SIMD resolve loads a group of tiles around the ones it needs). */
     uint8_t *orders;       /* tiles: ordering index of this cycle */
     uint8_t *next_orders;  /* tiles: chosen in the last frame of a cycle */
-    float *sub_rgb;        /* tiles x 3: this frame's sample of each tile */
+    float *sub_rgb[3];     /* tiles, one plane per channel: this frame's sample of each tile */
     int8_t *sub_jitter;    /* tiles: MSAA index the sample was traced at, -1 for the centre, -2 none traced */
     uint16_t *mv;          /* pixels x 2: motion of each pixel's newest sample (half float); NULL without motion */
     uint32_t *window;      /* pixels x 4: the moving window, one RGB9E5 sample per MSAA position */
@@ -115,8 +118,13 @@ bool hz_tdense_tile_sample(const hz_tdense_t *td, uint32_t tx, uint32_t ty, uint
 void hz_tdense_put(hz_tdense_t *td, uint32_t tx, uint32_t ty, const float rgb[3], const float mv[2],
                    const float *mv_reflect);
 
-/* Composites tile rows [ty0, ty1) (pixel rows 2*ty0 .. 2*ty1-1) of this frame. */
+/* Composites tile rows [ty0, ty1) (pixel rows 2*ty0 .. 2*ty1-1) of this frame, with the board's SIMD (AVX2: 8
+ * pixels at a time, NEON: 4) where it has one. hz_tdense_resolve_rows_scalar is its scalar twin: the two give
+ * bit-identical frames and state. hz_tdense_resolve_path names the path the first takes ("avx2", "neon" or
+ * "scalar"). */
 void hz_tdense_resolve_rows(hz_tdense_t *td, uint32_t ty0, uint32_t ty1);
+void hz_tdense_resolve_rows_scalar(hz_tdense_t *td, uint32_t ty0, uint32_t ty1);
+const char *hz_tdense_resolve_path(void);
 
 /* Ends the frame: the resolved frame becomes the previous frame; at the end of a cycle the chosen orderings
  * take effect. */

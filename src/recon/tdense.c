@@ -4,6 +4,7 @@
 
 #include "hz/pack.h"
 #include "hz/vmath.h"
+#include "tdense_internal.h"
 
 #define ALIGN 64u
 /* Window slots per pixel: one RGB9E5 sample per MSAA position (16 bytes: four pixels per cache line). */
@@ -27,12 +28,14 @@ hz_tdense_config_t hz_tdense_config_default(uint32_t width, uint32_t height)
 static size_t plan_bytes(uint32_t width, uint32_t height, bool motion, size_t *out_bytes)
 {
     size_t px = (size_t)width * height;
-    size_t tiles = (size_t)((width + 1) / 2) * ((height + 1) / 2);
+    size_t tiles = (size_t)((width + 1) / 2) * ((height + 1) / 2), padded = tiles + 2 * HZ_TDENSE_TILE_PAD;
     const size_t sizes[] = {
-        tiles,                            /* orders */
-        tiles,                            /* next_orders */
-        tiles * 3 * sizeof(float),        /* sub_rgb */
-        tiles,                            /* sub_jitter */
+        padded,                           /* orders */
+        padded,                           /* next_orders */
+        padded * sizeof(float),           /* sub_rgb[0] */
+        padded * sizeof(float),           /* sub_rgb[1] */
+        padded * sizeof(float),           /* sub_rgb[2] */
+        padded,                           /* sub_jitter */
         motion ? px * 2 * sizeof(uint16_t) : 0, /* mv (a still scene under a still camera has none) */
         px * WIN * sizeof(uint32_t),      /* window */
         px,                               /* flags */
@@ -81,17 +84,25 @@ hz_status_t hz_tdense_init(hz_tdense_t *td, const hz_tdense_config_t *cfg, hz_ar
     size_t px = (size_t)cfg->width * cfg->height;
     uint32_t tx = (cfg->width + 1) / 2, ty = (cfg->height + 1) / 2;
     size_t tiles = (size_t)tx * ty;
-    td->orders = hz_arena_alloc(arena, tiles, ALIGN);
-    td->next_orders = hz_arena_alloc(arena, tiles, ALIGN);
-    td->sub_rgb = hz_arena_alloc_array(arena, tiles * 3, sizeof(float), ALIGN);
-    td->sub_jitter = hz_arena_alloc(arena, tiles, ALIGN);
+    const size_t padded = tiles + 2 * HZ_TDENSE_TILE_PAD;
+    uint8_t *orders = hz_arena_alloc(arena, padded, ALIGN), *next_orders = hz_arena_alloc(arena, padded, ALIGN);
+    float *planes[3];
+    for (int k = 0; k < 3; k++)
+        planes[k] = hz_arena_alloc_array(arena, padded, sizeof(float), ALIGN);
+    uint8_t *jitter = hz_arena_alloc(arena, padded, ALIGN);
+    /* the pointers skip the front padding (NULL stays NULL for the check below) */
+    td->orders = orders ? orders + HZ_TDENSE_TILE_PAD : NULL;
+    td->next_orders = next_orders ? next_orders + HZ_TDENSE_TILE_PAD : NULL;
+    for (int k = 0; k < 3; k++)
+        td->sub_rgb[k] = planes[k] ? planes[k] + HZ_TDENSE_TILE_PAD : NULL;
+    td->sub_jitter = jitter ? (int8_t *)jitter + HZ_TDENSE_TILE_PAD : NULL;
     td->mv = cfg->motion ? hz_arena_alloc_array(arena, px * 2, sizeof(uint16_t), ALIGN) : NULL;
     td->window = hz_arena_alloc_array(arena, px * WIN, sizeof(uint32_t), ALIGN);
     td->flags = hz_arena_alloc(arena, px, ALIGN);
     td->hist[0] = hz_arena_alloc_array(arena, px, sizeof(uint32_t), ALIGN);
     td->hist[1] = hz_arena_alloc_array(arena, px, sizeof(uint32_t), ALIGN);
     float *out = hz_arena_alloc_array(arena, px * 3, sizeof(float), ALIGN);
-    if (!td->orders || !td->next_orders || !td->sub_rgb || !td->sub_jitter || (cfg->motion && !td->mv) ||
+    if (!td->orders || !td->next_orders || !td->sub_rgb[0] || !td->sub_rgb[1] || !td->sub_rgb[2] || !td->sub_jitter || (cfg->motion && !td->mv) ||
         !td->window || !td->flags || !td->hist[0] || !td->hist[1] || !out) {
         /* The plan above is an upper bound, so this is a bug in plan_bytes. */
         hz_arena_reset(arena, mark);
@@ -113,10 +124,12 @@ void hz_tdense_reset(hz_tdense_t *td)
 {
     size_t px = (size_t)td->cfg.width * td->cfg.height, tiles = (size_t)td->tiles_x * td->tiles_y;
     unsigned first = hz_tileorder_of_cycle(hz_tileorder_ghat(0, 0, 0, td->cfg.rule));
-    hz_memset(td->orders, (int)first, tiles);
-    hz_memset(td->next_orders, (int)first, tiles);
-    hz_memset(td->sub_rgb, 0, tiles * 3 * sizeof(float));
-    hz_memset(td->sub_jitter, -1, tiles);
+    const size_t padded = tiles + 2 * HZ_TDENSE_TILE_PAD;
+    hz_memset(td->orders - HZ_TDENSE_TILE_PAD, (int)first, padded);
+    hz_memset(td->next_orders - HZ_TDENSE_TILE_PAD, (int)first, padded);
+    for (int k = 0; k < 3; k++)
+        hz_memset(td->sub_rgb[k] - HZ_TDENSE_TILE_PAD, 0, padded * sizeof(float));
+    hz_memset(td->sub_jitter - HZ_TDENSE_TILE_PAD, -1, padded);
     if (td->mv)
         hz_memset(td->mv, 0, px * 2 * sizeof(uint16_t));
     hz_memset(td->window, 0, px * WIN * sizeof(uint32_t));
@@ -183,9 +196,9 @@ void hz_tdense_put(hz_tdense_t *td, uint32_t tx, uint32_t ty, const float rgb[3]
     if (!tile_pixel(td, tx, ty, &px, &py))
         return;
     size_t t = (size_t)ty * td->tiles_x + tx, p = (size_t)py * td->cfg.width + px;
-    td->sub_rgb[3 * t + 0] = rgb[0];
-    td->sub_rgb[3 * t + 1] = rgb[1];
-    td->sub_rgb[3 * t + 2] = rgb[2];
+    td->sub_rgb[0][t] = rgb[0];
+    td->sub_rgb[1][t] = rgb[1];
+    td->sub_rgb[2][t] = rgb[2];
     td->sub_jitter[t] = (int8_t)trace_msaa(td, p);
     const float *m = (mv_reflect && td->cfg.reflect_mv) ? mv_reflect : mv;
     if (td->mv) {
@@ -202,10 +215,7 @@ HZ_INLINE bool is_new(const hz_tdense_t *td, uint32_t x, uint32_t y, unsigned su
     return hz_tileorder_pixel(td->orders[t], subframe) == (((y & 1u) << 1) | (x & 1u));
 }
 
-/* A motion vector and its squared length. */
-typedef struct motion {
-    float x, y, l2;
-} motion_t;
+typedef hz_tdense_motion_t motion_t;
 
 /* The longer of a and b; a wins ties, so the scan order decides (and no split of the work can change it). */
 HZ_INLINE motion_t longer(motion_t a, motion_t b)
@@ -286,10 +296,10 @@ static int newest_box(const hz_tdense_t *td, uint32_t x, uint32_t y, unsigned su
         const uint32_t nx = 2u * ctx[i] + (pix & 1u), ny = 2u * cty[i] + (pix >> 1);
         if (((i & 1) && (pix & 1u) == px) || ((i & 2) && (pix >> 1) == py) || nx >= w || ny >= h)
             continue;
-        const float *c = td->sub_rgb + 3 * t;
         for (int k = 0; k < 3; k++) {
-            sum[k] += c[k];
-            sq[k] += c[k] * c[k];
+            const float c = td->sub_rgb[k][t];
+            sum[k] += c;
+            sq[k] += c * c;
         }
         n++;
     }
@@ -327,15 +337,16 @@ HZ_INLINE void copy3(float *dst, const float *src)
     dst[2] = src[2];
 }
 
-/* One pixel of Fig. 3; m is the longest motion in its 3x3 neighbourhood. out: the displayed pixel; prev, cur:
- * the previous frame and the one written now (RGB9E5 history, ping-pong). */
-static void resolve_pixel(hz_tdense_t *td, uint32_t x, uint32_t y, unsigned subframe, motion_t m,
-                          const uint32_t *prev, uint32_t *cur, float *out)
+/* One pixel of Fig. 3; m is the longest motion in its 3x3 neighbourhood. prev, cur: the previous frame and
+ * the one written now (RGB9E5 history, ping-pong). */
+void hz_tdense_resolve_pixel(hz_tdense_t *td, uint32_t x, uint32_t y, unsigned subframe, motion_t m,
+                             const uint32_t *prev, uint32_t *cur)
 {
+    float *out = hz_image_at(&td->out, x, y);
     size_t p = (size_t)y * td->cfg.width + x, t;
     bool fresh = is_new(td, x, y, subframe, &t);
     unsigned f = td->flags[p];
-    const float *sample = td->sub_rgb + 3 * t;
+    const float sample[3] = { td->sub_rgb[0][t], td->sub_rgb[1][t], td->sub_rgb[2][t] };
     float mean[3], var[3];
     if (!td->camera_moved && m.l2 == 0.0f) {
         /* Static. An old pixel's window has not changed since the previous frame, where the pixel was static
@@ -391,6 +402,11 @@ static void resolve_pixel(hz_tdense_t *td, uint32_t x, uint32_t y, unsigned subf
     td->flags[p] = (uint8_t)((f | HZ_TDENSE_SEEN) & ~HZ_TDENSE_KEPT);
 }
 
+motion_t hz_tdense_column_motion(const uint16_t *r0, const uint16_t *r1, const uint16_t *r2, size_t x)
+{
+    return longer(longer(motion_at(r0, x), motion_at(r1, x)), motion_at(r2, x));
+}
+
 /* Pixel row y: the 3x3 longest motion slides along the row as three column maxima. */
 static void resolve_row(hz_tdense_t *td, uint32_t y, unsigned subframe, const uint32_t *prev, uint32_t *cur)
 {
@@ -405,13 +421,15 @@ static void resolve_row(hz_tdense_t *td, uint32_t y, unsigned subframe, const ui
         uint32_t xn = x + 1 < w ? x + 1 : x;
         col_next = longer(longer(motion_at(r0, xn), motion_at(r1, xn)), motion_at(r2, xn));
         motion_t m = longer(longer(col_prev, col_cur), col_next);
-        resolve_pixel(td, x, y, subframe, m, prev, cur, hz_image_at(&td->out, x, y));
+        hz_tdense_resolve_pixel(td, x, y, subframe, m, prev, cur);
         col_prev = col_cur;
         col_cur = col_next;
     }
 }
 
-void hz_tdense_resolve_rows(hz_tdense_t *td, uint32_t ty0, uint32_t ty1)
+typedef void (*row_fn_t)(hz_tdense_t *td, uint32_t y, unsigned subframe, const uint32_t *prev, uint32_t *cur);
+
+static void resolve_rows(hz_tdense_t *td, uint32_t ty0, uint32_t ty1, row_fn_t row)
 {
     unsigned subframe = hz_tdense_subframe(td->frame);
     uint32_t *cur = td->hist[td->frame & 1u];
@@ -421,7 +439,7 @@ void hz_tdense_resolve_rows(hz_tdense_t *td, uint32_t ty0, uint32_t ty1)
         ty1 = td->tiles_y;
     for (uint32_t ty = ty0; ty < ty1; ty++) {
         for (uint32_t y = 2 * ty; y < 2 * ty + 2 && y < h; y++)
-            resolve_row(td, y, subframe, prev, cur);
+            row(td, y, subframe, prev, cur);
         if (subframe == 3) {
             /* Last frame of the cycle: each tile's motion is the longest over the 3x3 neighbourhoods of its
              * pixels, i.e. the 4x4 block around it; ĝ picks the next cycle's ordering (as hz_tileorder_choose
@@ -437,6 +455,37 @@ void hz_tdense_resolve_rows(hz_tdense_t *td, uint32_t ty0, uint32_t ty1)
         }
     }
 }
+
+void hz_tdense_resolve_rows_scalar(hz_tdense_t *td, uint32_t ty0, uint32_t ty1)
+{
+    resolve_rows(td, ty0, ty1, resolve_row);
+}
+
+#if defined(HZ_BOARD_SIMD_AVX2) || defined(HZ_BOARD_SIMD_NEON) /* the Makefile builds tdense_lanes.c then */
+void hz_tdense_resolve_rows(hz_tdense_t *td, uint32_t ty0, uint32_t ty1)
+{
+    resolve_rows(td, ty0, ty1, hz_tdense_resolve_row_lanes);
+}
+
+const char *hz_tdense_resolve_path(void)
+{
+#if defined(HZ_BOARD_SIMD_AVX2)
+    return "avx2";
+#else
+    return "neon";
+#endif
+}
+#else
+void hz_tdense_resolve_rows(hz_tdense_t *td, uint32_t ty0, uint32_t ty1)
+{
+    resolve_rows(td, ty0, ty1, resolve_row);
+}
+
+const char *hz_tdense_resolve_path(void)
+{
+    return "scalar";
+}
+#endif
 
 void hz_tdense_end_frame(hz_tdense_t *td)
 {

@@ -6,9 +6,11 @@
 #include "hz_test.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "hz/hash.h"
 #include "hz/tdense.h"
 #include "hz/vmath.h"
 
@@ -537,6 +539,121 @@ static void test_init_errors(void **state)
     assert_true(hz_tdense_bytes(4, 4) > 0 && hz_tdense_bytes(4, 4) <= sizeof small);
 }
 
+/* A colour for the SIMD-vs-scalar test: mostly ordinary radiance, sometimes what a broken tracer gives. */
+static float odd_value(hz_rng_t *rng)
+{
+    uint32_t k = hz_rng_below(rng, 40);
+    switch (k) {
+    case 0: return NAN;
+    case 1: return INFINITY;
+    case 2: return -INFINITY;
+    case 3: return -0.5f;
+    case 4: return 1.0e6f; /* above RGB9E5's range */
+    case 5: return 1.0e-30f; /* below it */
+    case 6: return 0.0f;
+    case 7: return -0.0f;
+    default: return (float)hz_rng_below(rng, 1u << 20) * (4.0f / (float)(1u << 20));
+    }
+}
+
+/* Motion for the same test: zero in patches (static pixels, so windows fill), tiny, ordinary, beyond the image,
+ * and non-finite (sanitised by put). */
+static float odd_motion(hz_rng_t *rng, uint32_t px, uint32_t py, uint32_t frame)
+{
+    if (((px / 6 + py / 5 + frame / 7) & 3u) != 0)
+        return 0.0f;
+    uint32_t k = hz_rng_below(rng, 30);
+    switch (k) {
+    case 0: return NAN;
+    case 1: return INFINITY;
+    case 2: return 1.0e-3f;
+    case 3: return -300.0f;
+    case 4: return 70000.0f;
+    default: return ((float)hz_rng_below(rng, 4096) - 2048.0f) * (1.0f / 256.0f);
+    }
+}
+
+static void test_lanes_match_scalar(void **state)
+{
+    (void)state;
+    /* The board's SIMD resolve (hz_tdense_resolve_rows) against its scalar twin on the same random frames:
+     * every output float, history code, flag, window slot and chosen ordering has the same bits, frame after
+     * frame, across sizes that leave partial groups of lanes and partial tiles, camera cuts, resets and the
+     * still-scene configuration without motion vectors. */
+    static hz_tdense_t td[2];
+    static hz_arena_t arenas[2];
+    static uint8_t bufs[2][2u << 20];
+    static const uint32_t sizes[][2] = { { 1, 1 }, { 3, 2 }, { 8, 8 }, { 9, 7 }, { 16, 3 }, { 17, 17 },
+                                         { 37, 23 }, { 64, 9 }, { 131, 6 }, { 4, 40 } };
+    hz_rng_t rng;
+    hz_rng_seed(&rng, 2026, 12);
+    printf("# resolve path: %s\n", hz_tdense_resolve_path());
+    for (size_t si = 0; si < HZ_ARRAY_LEN(sizes) * 2; si++) {
+        const uint32_t W = sizes[si / 2][0], H = sizes[si / 2][1];
+        const bool motion = (si & 1u) == 0;
+        for (int i = 0; i < 2; i++) {
+            hz_error_t err;
+            assert_int_equal(hz_arena_init(&arenas[i], "lanes", bufs[i], sizeof bufs[i]), HZ_OK);
+            hz_tdense_config_t cfg = hz_tdense_config_default(W, H);
+            cfg.motion = motion;
+            cfg.gamma = si % 3 == 0 ? 0.5f : 1.0f;
+            if (hz_tdense_init(&td[i], &cfg, &arenas[i], &err) != HZ_OK)
+                fail_msg("init %ux%u: %s", W, H, err.msg);
+        }
+        const size_t px = (size_t)W * H, tiles = (size_t)td[0].tiles_x * td[0].tiles_y;
+        for (uint32_t f = 0; f < 48; f++) {
+            bool cut = motion && (f % 17 == 16);
+            if (f == 30)
+                for (int i = 0; i < 2; i++)
+                    hz_tdense_reset(&td[i]);
+            hz_rng_t frame_rng = rng; /* both instances trace the same frame */
+            for (int i = 0; i < 2; i++) {
+                hz_rng_t r = frame_rng;
+                hz_tdense_begin_frame(&td[i], cut);
+                for (uint32_t ty = 0; ty < td[i].tiles_y; ty++) {
+                    for (uint32_t tx = 0; tx < td[i].tiles_x; tx++) {
+                        uint32_t x, y;
+                        float j[2], rgb[3], mv[2] = { 0.0f, 0.0f }, rmv[2];
+                        int msaa;
+                        if (!hz_tdense_tile_sample(&td[i], tx, ty, &x, &y, j, &msaa))
+                            continue;
+                        for (int k = 0; k < 3; k++)
+                            rgb[k] = odd_value(&r);
+                        if (motion) {
+                            mv[0] = odd_motion(&r, x, y, f);
+                            mv[1] = odd_motion(&r, x, y, f + 3);
+                        }
+                        rmv[0] = -mv[1];
+                        rmv[1] = mv[0];
+                        hz_tdense_put(&td[i], tx, ty, rgb, mv, hz_rng_below(&r, 5) == 0 ? rmv : NULL);
+                    }
+                }
+                if (i == 0)
+                    rng = r;
+            }
+            hz_tdense_resolve_rows(&td[0], 0, td[0].tiles_y);
+            for (uint32_t ty = td[1].tiles_y; ty-- > 0;) /* the twin row by row, backwards */
+                hz_tdense_resolve_rows_scalar(&td[1], ty, ty + 1);
+            const uint32_t *h0 = td[0].hist[td[0].frame & 1u], *h1 = td[1].hist[td[1].frame & 1u];
+            for (size_t p = 0; p < px * 3; p++) {
+                uint32_t a, b;
+                memcpy(&a, &hz_tdense_output(&td[0])->rgb[p], 4);
+                memcpy(&b, &hz_tdense_output(&td[1])->rgb[p], 4);
+                if (a != b)
+                    fail_msg("%ux%u%s frame %u pixel %zu channel %zu: lanes %08x, scalar %08x", W, H,
+                             motion ? "" : " (no motion)", f, p / 3, p % 3, a, b);
+            }
+            assert_memory_equal(h0, h1, px * sizeof(uint32_t));
+            assert_memory_equal(td[0].flags, td[1].flags, px);
+            assert_memory_equal(td[0].window, td[1].window, px * 4 * sizeof(uint32_t));
+            assert_memory_equal(td[0].next_orders, td[1].next_orders, tiles);
+            for (int i = 0; i < 2; i++)
+                hz_tdense_end_frame(&td[i]);
+            assert_memory_equal(td[0].orders, td[1].orders, tiles);
+        }
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -551,6 +668,7 @@ int main(void)
         cmocka_unit_test(test_odd_sizes),
         cmocka_unit_test(test_bad_motion_and_first_frame),
         cmocka_unit_test(test_init_errors),
+        cmocka_unit_test(test_lanes_match_scalar),
     };
     return HZ_RUN(tests);
 }

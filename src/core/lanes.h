@@ -1,0 +1,230 @@
+/*
+ * lanes.h — a small kit of float and int32 SIMD lanes (8 on AVX2, 4 on NEON) for code that must give
+ * bit-identical results to its scalar twin (the reconstruction passes).
+ *
+ * Contract:
+ *  - Only for translation units built on an AVX2 or NEON board (HZ_BOARD_SIMD_AVX2 / _NEON); including it
+ *    elsewhere is an error. HZ_LANES is the lane count.
+ *  - Every operation rounds exactly as the scalar C it stands for under -ffp-contract=off: add, sub, mul, div
+ *    and sqrt are IEEE single precision (correctly rounded), conversions truncate like a C cast. Nothing here
+ *    uses an estimate (rcp, rsqrt) or a fused multiply-add.
+ *  - Comparisons give masks (all ones / all zeros per lane); hz_lf_sel(mask, a, b) is `mask ? a : b`, so a
+ *    scalar `a > b ? a : b` is hz_lf_sel(hz_lf_gt(a, b), a, b), NaN behaviour included (min/max instructions
+ *    are not used for that reason).
+ *  - Gathers read one element per lane at base[index]; the caller keeps every index in bounds (inactive lanes
+ *    included: select a safe index for them first).
+ *  - Does not: touch memory other than through the explicit loads, stores and gathers; assume alignment.
+ */
+#ifndef HZ_LANES_H
+#define HZ_LANES_H
+
+#include <stdint.h>
+
+#include "hz/base.h"
+
+#if defined(HZ_BOARD_SIMD_AVX2)
+#include <immintrin.h>
+
+#define HZ_LANES 8
+typedef __m256 hz_lf_t;  /* float lanes */
+typedef __m256i hz_li_t; /* int32 lanes, also masks */
+
+HZ_INLINE hz_lf_t hz_lf_set(float v) { return _mm256_set1_ps(v); }
+HZ_INLINE hz_li_t hz_li_set(int32_t v) { return _mm256_set1_epi32(v); }
+HZ_INLINE hz_li_t hz_li_iota(void) { return _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7); }
+HZ_INLINE hz_lf_t hz_lf_load(const float *p) { return _mm256_loadu_ps(p); }
+HZ_INLINE void hz_lf_store(float *p, hz_lf_t v) { _mm256_storeu_ps(p, v); }
+HZ_INLINE hz_li_t hz_li_load(const void *p) { return _mm256_loadu_si256((const __m256i *)p); }
+HZ_INLINE void hz_li_store(void *p, hz_li_t v) { _mm256_storeu_si256((__m256i *)p, v); }
+/* HZ_LANES bytes, zero-extended. */
+HZ_INLINE hz_li_t hz_li_load_u8(const uint8_t *p) { return _mm256_cvtepu8_epi32(_mm_loadl_epi64((const __m128i *)p)); }
+/* The low byte of every lane to HZ_LANES bytes at p (values are 0..255). */
+HZ_INLINE void hz_li_store_u8(uint8_t *p, hz_li_t v)
+{
+    __m128i w = _mm_packus_epi32(_mm256_castsi256_si128(v), _mm256_extracti128_si256(v, 1));
+    _mm_storel_epi64((__m128i *)p, _mm_packus_epi16(w, w));
+}
+
+HZ_INLINE hz_lf_t hz_lf_add(hz_lf_t a, hz_lf_t b) { return _mm256_add_ps(a, b); }
+HZ_INLINE hz_lf_t hz_lf_sub(hz_lf_t a, hz_lf_t b) { return _mm256_sub_ps(a, b); }
+HZ_INLINE hz_lf_t hz_lf_mul(hz_lf_t a, hz_lf_t b) { return _mm256_mul_ps(a, b); }
+HZ_INLINE hz_lf_t hz_lf_div(hz_lf_t a, hz_lf_t b) { return _mm256_div_ps(a, b); }
+HZ_INLINE hz_lf_t hz_lf_sqrt(hz_lf_t a) { return _mm256_sqrt_ps(a); }
+HZ_INLINE hz_li_t hz_lf_gt(hz_lf_t a, hz_lf_t b) { return _mm256_castps_si256(_mm256_cmp_ps(a, b, _CMP_GT_OQ)); }
+HZ_INLINE hz_li_t hz_lf_lt(hz_lf_t a, hz_lf_t b) { return _mm256_castps_si256(_mm256_cmp_ps(a, b, _CMP_LT_OQ)); }
+HZ_INLINE hz_li_t hz_lf_eq(hz_lf_t a, hz_lf_t b) { return _mm256_castps_si256(_mm256_cmp_ps(a, b, _CMP_EQ_OQ)); }
+HZ_INLINE hz_lf_t hz_lf_sel(hz_li_t m, hz_lf_t a, hz_lf_t b) { return _mm256_blendv_ps(b, a, _mm256_castsi256_ps(m)); }
+HZ_INLINE hz_lf_t hz_lf_from_li(hz_li_t a) { return _mm256_cvtepi32_ps(a); }
+HZ_INLINE hz_li_t hz_li_from_lf(hz_lf_t a) { return _mm256_cvttps_epi32(a); } /* truncates */
+HZ_INLINE hz_li_t hz_lf_bits(hz_lf_t a) { return _mm256_castps_si256(a); }
+HZ_INLINE hz_lf_t hz_lf_from_bits(hz_li_t a) { return _mm256_castsi256_ps(a); }
+
+HZ_INLINE hz_li_t hz_li_add(hz_li_t a, hz_li_t b) { return _mm256_add_epi32(a, b); }
+HZ_INLINE hz_li_t hz_li_sub(hz_li_t a, hz_li_t b) { return _mm256_sub_epi32(a, b); }
+HZ_INLINE hz_li_t hz_li_mul(hz_li_t a, hz_li_t b) { return _mm256_mullo_epi32(a, b); }
+HZ_INLINE hz_li_t hz_li_and(hz_li_t a, hz_li_t b) { return _mm256_and_si256(a, b); }
+HZ_INLINE hz_li_t hz_li_or(hz_li_t a, hz_li_t b) { return _mm256_or_si256(a, b); }
+HZ_INLINE hz_li_t hz_li_andnot(hz_li_t a, hz_li_t b) { return _mm256_andnot_si256(b, a); } /* a & ~b */
+HZ_INLINE hz_li_t hz_li_eq(hz_li_t a, hz_li_t b) { return _mm256_cmpeq_epi32(a, b); }
+HZ_INLINE hz_li_t hz_li_gt(hz_li_t a, hz_li_t b) { return _mm256_cmpgt_epi32(a, b); } /* signed */
+HZ_INLINE hz_li_t hz_li_sel(hz_li_t m, hz_li_t a, hz_li_t b) { return _mm256_blendv_epi8(b, a, m); }
+#define hz_li_shl(a, n) _mm256_slli_epi32((a), (n))
+#define hz_li_shr(a, n) _mm256_srli_epi32((a), (n)) /* logical */
+/* Logical right shift of every lane by the same run-time count (0..31). */
+HZ_INLINE hz_li_t hz_li_shr_by(hz_li_t a, int n) { return _mm256_srl_epi32(a, _mm_cvtsi32_si128(n)); }
+HZ_INLINE int hz_li_any(hz_li_t m) { return !_mm256_testz_si256(m, m); }
+/* Bit i set when lane i of the mask is set. */
+HZ_INLINE unsigned hz_li_bits(hz_li_t m) { return (unsigned)_mm256_movemask_ps(_mm256_castsi256_ps(m)); }
+
+HZ_INLINE hz_li_t hz_li_gather(const int32_t *base, hz_li_t idx) { return _mm256_i32gather_epi32((const int *)base, idx, 4); }
+HZ_INLINE hz_lf_t hz_lf_gather(const float *base, hz_li_t idx) { return _mm256_i32gather_ps(base, idx, 4); }
+/* base[idx] as unsigned bytes; reads 4 bytes from base + idx, so base needs 3 readable bytes past the last. */
+HZ_INLINE hz_li_t hz_li_gather_u8(const uint8_t *base, hz_li_t idx)
+{
+    return _mm256_and_si256(_mm256_i32gather_epi32((const int *)(const void *)base, idx, 1), _mm256_set1_epi32(0xff));
+}
+
+/* Lane i gets lane idx[i] of v (0 <= idx < HZ_LANES). */
+HZ_INLINE hz_lf_t hz_lf_perm(hz_lf_t v, hz_li_t idx) { return _mm256_permutevar8x32_ps(v, idx); }
+HZ_INLINE hz_li_t hz_li_perm(hz_li_t v, hz_li_t idx) { return _mm256_permutevar8x32_epi32(v, idx); }
+
+/* Each lane one to the right, lane 0 from p's last: [p7, c0 .. c6]. */
+HZ_INLINE hz_lf_t hz_lf_shift_in_left(hz_lf_t p, hz_lf_t c)
+{
+    __m256i t = _mm256_permute2x128_si256(_mm256_castps_si256(p), _mm256_castps_si256(c), 0x21);
+    return _mm256_castsi256_ps(_mm256_alignr_epi8(_mm256_castps_si256(c), t, 12));
+}
+/* Each lane one to the left, the last from n's first: [c1 .. c7, n0]. */
+HZ_INLINE hz_lf_t hz_lf_shift_in_right(hz_lf_t c, hz_lf_t n)
+{
+    __m256i t = _mm256_permute2x128_si256(_mm256_castps_si256(c), _mm256_castps_si256(n), 0x21);
+    return _mm256_castsi256_ps(_mm256_alignr_epi8(t, _mm256_castps_si256(c), 4));
+}
+
+#elif defined(HZ_BOARD_SIMD_NEON)
+#include <arm_neon.h>
+
+#define HZ_LANES 4
+typedef float32x4_t hz_lf_t;
+typedef int32x4_t hz_li_t;
+
+HZ_INLINE hz_lf_t hz_lf_set(float v) { return vdupq_n_f32(v); }
+HZ_INLINE hz_li_t hz_li_set(int32_t v) { return vdupq_n_s32(v); }
+HZ_INLINE hz_li_t hz_li_iota(void)
+{
+    static const int32_t k[4] = { 0, 1, 2, 3 };
+    return vld1q_s32(k);
+}
+HZ_INLINE hz_lf_t hz_lf_load(const float *p) { return vld1q_f32(p); }
+HZ_INLINE void hz_lf_store(float *p, hz_lf_t v) { vst1q_f32(p, v); }
+HZ_INLINE hz_li_t hz_li_load(const void *p) { return vld1q_s32((const int32_t *)p); }
+HZ_INLINE void hz_li_store(void *p, hz_li_t v) { vst1q_s32((int32_t *)p, v); }
+HZ_INLINE hz_li_t hz_li_load_u8(const uint8_t *p)
+{
+    uint32_t w = (uint32_t)p[0] | (uint32_t)p[1] << 8 | (uint32_t)p[2] << 16 | (uint32_t)p[3] << 24;
+    uint8x8_t b = vreinterpret_u8_u32(vdup_n_u32(w));
+    return vreinterpretq_s32_u32(vmovl_u16(vget_low_u16(vmovl_u8(b))));
+}
+HZ_INLINE void hz_li_store_u8(uint8_t *p, hz_li_t v)
+{
+    p[0] = (uint8_t)vgetq_lane_s32(v, 0);
+    p[1] = (uint8_t)vgetq_lane_s32(v, 1);
+    p[2] = (uint8_t)vgetq_lane_s32(v, 2);
+    p[3] = (uint8_t)vgetq_lane_s32(v, 3);
+}
+
+HZ_INLINE hz_lf_t hz_lf_add(hz_lf_t a, hz_lf_t b) { return vaddq_f32(a, b); }
+HZ_INLINE hz_lf_t hz_lf_sub(hz_lf_t a, hz_lf_t b) { return vsubq_f32(a, b); }
+HZ_INLINE hz_lf_t hz_lf_mul(hz_lf_t a, hz_lf_t b) { return vmulq_f32(a, b); }
+HZ_INLINE hz_lf_t hz_lf_div(hz_lf_t a, hz_lf_t b) { return vdivq_f32(a, b); }
+HZ_INLINE hz_lf_t hz_lf_sqrt(hz_lf_t a) { return vsqrtq_f32(a); }
+HZ_INLINE hz_li_t hz_lf_gt(hz_lf_t a, hz_lf_t b) { return vreinterpretq_s32_u32(vcgtq_f32(a, b)); }
+HZ_INLINE hz_li_t hz_lf_lt(hz_lf_t a, hz_lf_t b) { return vreinterpretq_s32_u32(vcltq_f32(a, b)); }
+HZ_INLINE hz_li_t hz_lf_eq(hz_lf_t a, hz_lf_t b) { return vreinterpretq_s32_u32(vceqq_f32(a, b)); }
+HZ_INLINE hz_lf_t hz_lf_sel(hz_li_t m, hz_lf_t a, hz_lf_t b) { return vbslq_f32(vreinterpretq_u32_s32(m), a, b); }
+HZ_INLINE hz_lf_t hz_lf_from_li(hz_li_t a) { return vcvtq_f32_s32(a); }
+HZ_INLINE hz_li_t hz_li_from_lf(hz_lf_t a) { return vcvtq_s32_f32(a); } /* truncates */
+HZ_INLINE hz_li_t hz_lf_bits(hz_lf_t a) { return vreinterpretq_s32_f32(a); }
+HZ_INLINE hz_lf_t hz_lf_from_bits(hz_li_t a) { return vreinterpretq_f32_s32(a); }
+
+HZ_INLINE hz_li_t hz_li_add(hz_li_t a, hz_li_t b) { return vaddq_s32(a, b); }
+HZ_INLINE hz_li_t hz_li_sub(hz_li_t a, hz_li_t b) { return vsubq_s32(a, b); }
+HZ_INLINE hz_li_t hz_li_mul(hz_li_t a, hz_li_t b) { return vmulq_s32(a, b); }
+HZ_INLINE hz_li_t hz_li_and(hz_li_t a, hz_li_t b) { return vandq_s32(a, b); }
+HZ_INLINE hz_li_t hz_li_or(hz_li_t a, hz_li_t b) { return vorrq_s32(a, b); }
+HZ_INLINE hz_li_t hz_li_andnot(hz_li_t a, hz_li_t b) { return vbicq_s32(a, b); } /* a & ~b */
+HZ_INLINE hz_li_t hz_li_eq(hz_li_t a, hz_li_t b) { return vreinterpretq_s32_u32(vceqq_s32(a, b)); }
+HZ_INLINE hz_li_t hz_li_gt(hz_li_t a, hz_li_t b) { return vreinterpretq_s32_u32(vcgtq_s32(a, b)); }
+HZ_INLINE hz_li_t hz_li_sel(hz_li_t m, hz_li_t a, hz_li_t b) { return vbslq_s32(vreinterpretq_u32_s32(m), a, b); }
+#define hz_li_shl(a, n) vshlq_n_s32((a), (n))
+#define hz_li_shr(a, n) vreinterpretq_s32_u32(vshrq_n_u32(vreinterpretq_u32_s32(a), (n)))
+HZ_INLINE hz_li_t hz_li_shr_by(hz_li_t a, int n)
+{
+    return vreinterpretq_s32_u32(vshlq_u32(vreinterpretq_u32_s32(a), vdupq_n_s32(-n)));
+}
+HZ_INLINE int hz_li_any(hz_li_t m) { return vmaxvq_u32(vreinterpretq_u32_s32(m)) != 0; }
+HZ_INLINE unsigned hz_li_bits(hz_li_t m)
+{
+    static const int32_t w[4] = { 1, 2, 4, 8 };
+    return (unsigned)vaddvq_s32(vandq_s32(m, vld1q_s32(w)));
+}
+
+HZ_INLINE hz_li_t hz_li_gather(const int32_t *base, hz_li_t idx)
+{
+    hz_li_t r = vdupq_n_s32(base[vgetq_lane_s32(idx, 0)]);
+    r = vsetq_lane_s32(base[vgetq_lane_s32(idx, 1)], r, 1);
+    r = vsetq_lane_s32(base[vgetq_lane_s32(idx, 2)], r, 2);
+    return vsetq_lane_s32(base[vgetq_lane_s32(idx, 3)], r, 3);
+}
+HZ_INLINE hz_lf_t hz_lf_gather(const float *base, hz_li_t idx)
+{
+    hz_lf_t r = vdupq_n_f32(base[vgetq_lane_s32(idx, 0)]);
+    r = vsetq_lane_f32(base[vgetq_lane_s32(idx, 1)], r, 1);
+    r = vsetq_lane_f32(base[vgetq_lane_s32(idx, 2)], r, 2);
+    return vsetq_lane_f32(base[vgetq_lane_s32(idx, 3)], r, 3);
+}
+
+HZ_INLINE hz_li_t hz_li_gather_u8(const uint8_t *base, hz_li_t idx)
+{
+    hz_li_t r = vdupq_n_s32(base[vgetq_lane_s32(idx, 0)]);
+    r = vsetq_lane_s32(base[vgetq_lane_s32(idx, 1)], r, 1);
+    r = vsetq_lane_s32(base[vgetq_lane_s32(idx, 2)], r, 2);
+    return vsetq_lane_s32(base[vgetq_lane_s32(idx, 3)], r, 3);
+}
+
+/* Byte indices of a table lookup that moves whole lanes: 4 idx + (0, 1, 2, 3) in each lane. */
+HZ_INLINE uint8x16_t hz_lanes_bytes(hz_li_t idx)
+{
+    return vreinterpretq_u8_s32(vaddq_s32(vmulq_n_s32(idx, 0x04040404), vdupq_n_s32(0x03020100)));
+}
+HZ_INLINE hz_lf_t hz_lf_perm(hz_lf_t v, hz_li_t idx)
+{
+    return vreinterpretq_f32_u8(vqtbl1q_u8(vreinterpretq_u8_f32(v), hz_lanes_bytes(idx)));
+}
+HZ_INLINE hz_li_t hz_li_perm(hz_li_t v, hz_li_t idx)
+{
+    return vreinterpretq_s32_u8(vqtbl1q_u8(vreinterpretq_u8_s32(v), hz_lanes_bytes(idx)));
+}
+
+HZ_INLINE hz_lf_t hz_lf_shift_in_left(hz_lf_t p, hz_lf_t c) { return vextq_f32(p, c, 3); }
+HZ_INLINE hz_lf_t hz_lf_shift_in_right(hz_lf_t c, hz_lf_t n) { return vextq_f32(c, n, 1); }
+
+#else
+#error "lanes.h is for AVX2 and NEON boards only"
+#endif
+
+/* Derived operations, the same on both. */
+HZ_INLINE hz_li_t hz_li_not(hz_li_t m) { return hz_li_eq(m, hz_li_set(0)); }
+/* isfinite: the exponent is not all ones. */
+HZ_INLINE hz_li_t hz_lf_finite(hz_lf_t a)
+{
+    hz_li_t e = hz_li_and(hz_lf_bits(a), hz_li_set(0x7f800000));
+    return hz_li_not(hz_li_eq(e, hz_li_set(0x7f800000)));
+}
+/* hz_clampf: x < lo ? lo : (x > hi ? hi : x) (NaN stays NaN). */
+HZ_INLINE hz_lf_t hz_lf_clamp(hz_lf_t x, hz_lf_t lo, hz_lf_t hi)
+{
+    return hz_lf_sel(hz_lf_lt(x, lo), lo, hz_lf_sel(hz_lf_gt(x, hi), hi, x));
+}
+
+#endif /* HZ_LANES_H */

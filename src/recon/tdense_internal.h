@@ -1,0 +1,31 @@
+/*
+ * tdense_internal.h — what the scalar tdense resolve (tdense.c) shares with its SIMD twin (tdense_lanes.c).
+ *
+ * Contract:
+ *  - hz_tdense_resolve_pixel is the reference: one pixel of Fig. 3, given the longest motion m of its 3x3
+ *    neighbourhood. The SIMD row resolve gives bit-identical results for every pixel (same operations in the
+ *    same order) and hands pixels it does not vectorise (window updates, row ends) to it.
+ *  - hz_tdense_column_motion: the longest of the motions at column x of the rows r0, r1, r2 (in that order;
+ *    NULL rows: no motion), the building block of the sliding 3x3 maximum.
+ *  - The per-tile arrays have HZ_TDENSE_TILE_PAD elements of padding on either side (hz/tdense.h): the SIMD
+ *    row loads HZ_LANES tiles starting one before the first it needs.
+ */
+#ifndef HZ_TDENSE_INTERNAL_H
+#define HZ_TDENSE_INTERNAL_H
+
+#include "hz/tdense.h"
+
+typedef struct hz_tdense_motion {
+    float x, y, l2;
+} hz_tdense_motion_t;
+
+hz_tdense_motion_t hz_tdense_column_motion(const uint16_t *r0, const uint16_t *r1, const uint16_t *r2, size_t x);
+
+void hz_tdense_resolve_pixel(hz_tdense_t *td, uint32_t x, uint32_t y, unsigned subframe, hz_tdense_motion_t m,
+                             const uint32_t *prev, uint32_t *cur);
+
+/* Pixel row y with lanes (defined in tdense_lanes.c on AVX2 and NEON boards). */
+void hz_tdense_resolve_row_lanes(hz_tdense_t *td, uint32_t y, unsigned subframe, const uint32_t *prev,
+                                 uint32_t *cur);
+
+#endif /* HZ_TDENSE_INTERNAL_H */

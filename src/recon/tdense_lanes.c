@@ -1,0 +1,348 @@
+/* The tdense resolve of one pixel row in SIMD lanes (src/core/lanes.h: 8 pixels at a time on AVX2, 4 on NEON),
+ * bit-identical to hz_tdense_resolve_pixel (tdense.c), which is its scalar twin.
+ *
+ * Every lane computes all of Fig. 3's cases (the sliding 3x3 longest motion, the newest-subframe box, the
+ * bilinear reprojection and clamp, the RGB9E5 codes) and selects per lane, with the scalar code's operations
+ * in its order, so each result has the same bits. Two things stay scalar: a static pixel that receives a
+ * jittered sample (its moving window is updated slot by slot) and the pixels of a row past its last full
+ * group of lanes; both go to hz_tdense_resolve_pixel. A profile of the scalar resolve on a 640x360 Sponza run
+ * showed no single hot spot, only per-pixel branches, codec calls and the box's four tile lookups. */
+#include "../core/lanes.h"
+#include "hz/pack.h"
+#include "hz/vmath.h"
+#include "tdense_internal.h"
+
+typedef struct lmotion {
+    hz_lf_t x, y, l2;
+} lmotion_t;
+
+typedef struct lrgb {
+    hz_lf_t c[3];
+} lrgb_t;
+
+/* hz_half_unpack of the half codes in the low 16 bits of each lane. */
+static hz_lf_t half_unpack(hz_li_t h)
+{
+    const hz_li_t e = hz_li_and(hz_li_shr(h, 10), hz_li_set(0x1f)), m = hz_li_and(h, hz_li_set(0x3ff));
+    const hz_li_t sign = hz_li_shl(hz_li_and(h, hz_li_set(0x8000)), 16);
+    /* normal: the exponent rebiased, the mantissa widened; exact, so it equals the scalar's bit assembly */
+    hz_li_t normal = hz_li_or(hz_li_shl(hz_li_add(e, hz_li_set(112)), 23), hz_li_shl(m, 13));
+    /* subnormal: sign * m * 2^-24 (both products exact, so the sign can be or-ed in afterwards) */
+    hz_li_t sub = hz_lf_bits(hz_lf_mul(hz_lf_from_li(m), hz_lf_set(1.0f / 16777216.0f)));
+    /* e == 31 (never packed): 0 for a NaN code, +-HZ_HALF_MAX for infinities */
+    hz_li_t inf = hz_li_sel(hz_li_eq(m, hz_li_set(0)), hz_lf_bits(hz_lf_set(HZ_HALF_MAX)), hz_li_set(0));
+    hz_li_t sign_inf = hz_li_sel(hz_li_eq(m, hz_li_set(0)), sign, hz_li_set(0));
+    hz_li_t r = hz_li_sel(hz_li_eq(e, hz_li_set(0)), hz_li_or(sub, sign), hz_li_or(normal, sign));
+    return hz_lf_from_bits(hz_li_sel(hz_li_eq(e, hz_li_set(31)), hz_li_or(inf, sign_inf), r));
+}
+
+HZ_INLINE lmotion_t motion_lanes(const uint16_t *row, size_t x)
+{
+    lmotion_t m;
+    hz_li_t v = hz_li_load(row + 2 * x); /* (x, y) half pairs: x in the low 16 bits (little-endian) */
+    m.x = half_unpack(hz_li_and(v, hz_li_set(0xffff)));
+    m.y = half_unpack(hz_li_shr(v, 16));
+    m.l2 = hz_lf_add(hz_lf_mul(m.x, m.x), hz_lf_mul(m.y, m.y));
+    return m;
+}
+
+/* longer(a, b): b where b.l2 > a.l2, else a. */
+HZ_INLINE lmotion_t longer(lmotion_t a, lmotion_t b)
+{
+    hz_li_t gt = hz_lf_gt(b.l2, a.l2);
+    lmotion_t r;
+    r.x = hz_lf_sel(gt, b.x, a.x);
+    r.y = hz_lf_sel(gt, b.y, a.y);
+    r.l2 = hz_lf_sel(gt, b.l2, a.l2);
+    return r;
+}
+
+HZ_INLINE lmotion_t broadcast(hz_tdense_motion_t m)
+{
+    lmotion_t r;
+    r.x = hz_lf_set(m.x);
+    r.y = hz_lf_set(m.y);
+    r.l2 = hz_lf_set(m.l2);
+    return r;
+}
+
+/* Column maxima at x .. x + HZ_LANES - 1 (all inside the row). */
+HZ_INLINE lmotion_t column_lanes(const uint16_t *r0, const uint16_t *r1, const uint16_t *r2, size_t x)
+{
+    return longer(longer(motion_lanes(r0, x), motion_lanes(r1, x)), motion_lanes(r2, x));
+}
+
+HZ_INLINE lrgb_t unpack9e5(hz_li_t code)
+{
+    lrgb_t o;
+    hz_lf_t scale = hz_lf_from_bits(hz_li_shl(hz_li_add(hz_li_shr(code, 27), hz_li_set(127 - 24)), 23));
+    o.c[0] = hz_lf_mul(hz_lf_from_li(hz_li_and(code, hz_li_set(511))), scale);
+    o.c[1] = hz_lf_mul(hz_lf_from_li(hz_li_and(hz_li_shr(code, 9), hz_li_set(511))), scale);
+    o.c[2] = hz_lf_mul(hz_lf_from_li(hz_li_and(hz_li_shr(code, 18), hz_li_set(511))), scale);
+    return o;
+}
+
+/* hz_pack_clamp(v, HZ_RGB9E5_MAX) */
+HZ_INLINE hz_lf_t pack_clamp(hz_lf_t v)
+{
+    const hz_lf_t max = hz_lf_set(HZ_RGB9E5_MAX);
+    return hz_lf_sel(hz_lf_gt(v, hz_lf_set(0.0f)), hz_lf_sel(hz_lf_lt(v, max), v, max), hz_lf_set(0.0f));
+}
+
+HZ_INLINE hz_lf_t pow2_of_exponent(hz_li_t e) /* 2^e for normal e */
+{
+    return hz_lf_from_bits(hz_li_shl(hz_li_add(e, hz_li_set(127)), 23));
+}
+
+/* hz_rgb9e5_pack, lane by lane. */
+static hz_li_t pack9e5(const lrgb_t *in)
+{
+    hz_lf_t c[3];
+    for (int k = 0; k < 3; k++)
+        c[k] = pack_clamp(in->c[k]);
+    hz_lf_t m = hz_lf_sel(hz_lf_gt(c[0], c[1]), c[0], c[1]);
+    m = hz_lf_sel(hz_lf_gt(m, c[2]), m, c[2]);
+    hz_li_t ex = hz_li_sub(hz_li_and(hz_li_shr(hz_lf_bits(m), 23), hz_li_set(0xff)), hz_li_set(127));
+    ex = hz_li_sel(hz_li_gt(hz_li_set(-16), ex), hz_li_set(-16), ex);
+    hz_li_t es = hz_li_add(ex, hz_li_set(16));
+    hz_lf_t scale = pow2_of_exponent(hz_li_sub(hz_li_set(24), es));
+    hz_li_t top = hz_li_from_lf(hz_lf_add(hz_lf_mul(m, scale), hz_lf_set(0.5f)));
+    hz_li_t carry = hz_li_gt(top, hz_li_set(511));
+    es = hz_li_sub(es, carry); /* masks are -1 */
+    scale = hz_lf_sel(carry, pow2_of_exponent(hz_li_sub(hz_li_set(24), es)), scale);
+    hz_li_t code = hz_li_shl(es, 27);
+    for (int k = 0; k < 3; k++) {
+        hz_li_t q = hz_li_from_lf(hz_lf_add(hz_lf_mul(c[k], scale), hz_lf_set(0.5f)));
+        q = hz_li_sel(hz_li_gt(q, hz_li_set(511)), hz_li_set(511), q);
+        code = hz_li_or(code, k == 0 ? q : k == 1 ? hz_li_shl(q, 9) : hz_li_shl(q, 18));
+    }
+    return hz_li_sel(hz_lf_eq(m, hz_lf_set(0.0f)), hz_li_set(0), code);
+}
+
+/* HZ_LANES tiles of one tile row starting one before `first` (the tile of lane 0's pixel): this subframe's pixel
+ * of each (0..3) and their samples. Lanes pick their tiles from it with hz_*_perm: no gathers. */
+typedef struct tile_row {
+    hz_li_t pix;
+    hz_lf_t c[3];
+} tile_row_t;
+
+HZ_INLINE void tile_row_load(const hz_tdense_t *td, const int32_t *lut, size_t first, tile_row_t *r)
+{
+    r->pix = hz_li_gather(lut, hz_li_load_u8(td->orders + first - 1));
+    for (int k = 0; k < 3; k++)
+        r->c[k] = hz_lf_load(td->sub_rgb[k] + first - 1);
+}
+
+/* One candidate of the newest-subframe box (newest_box in tdense.c): the tile at lane idx of row, tile (ctx,
+ * cty), where `valid`; skipped when its pixel this subframe is not adjacent (`across`: the tile lies beside,
+ * `updown`: above or below) or lies outside the image. Adds its sample to sum/sq and counts it in n (masks
+ * are -1). */
+HZ_INLINE void box_candidate(const hz_tdense_t *td, const tile_row_t *row, hz_li_t idx, hz_li_t valid, hz_li_t ctx,
+                             int32_t cty, hz_li_t px, int32_t py, int across, int updown, hz_lf_t sum[3],
+                             hz_lf_t sq[3], hz_li_t *n)
+{
+    hz_li_t pix = hz_li_perm(row->pix, idx);
+    hz_li_t pbx = hz_li_and(pix, hz_li_set(1)), pby = hz_li_shr(pix, 1);
+    hz_li_t nx = hz_li_add(hz_li_add(ctx, ctx), pbx), ny = hz_li_add(hz_li_set(2 * cty), pby);
+    hz_li_t use = hz_li_and(valid, hz_li_and(hz_li_gt(hz_li_set((int32_t)td->cfg.width), nx),
+                                             hz_li_gt(hz_li_set((int32_t)td->cfg.height), ny)));
+    if (across)
+        use = hz_li_andnot(use, hz_li_eq(pbx, px));
+    if (updown)
+        use = hz_li_andnot(use, hz_li_eq(pby, hz_li_set(py)));
+    for (int k = 0; k < 3; k++) {
+        hz_lf_t c = hz_lf_perm(row->c[k], idx);
+        sum[k] = hz_lf_sel(use, hz_lf_add(sum[k], c), sum[k]);
+        sq[k] = hz_lf_sel(use, hz_lf_add(sq[k], hz_lf_mul(c, c)), sq[k]);
+    }
+    *n = hz_li_sub(*n, use);
+}
+
+/* fetch_bilinear (tdense.c) of the RGB9E5 image prev at (sx, sy), lane by lane. */
+static lrgb_t fetch_bilinear(const uint32_t *prev, uint32_t w, uint32_t h, hz_lf_t sx, hz_lf_t sy)
+{
+    sx = hz_lf_clamp(sx, hz_lf_set(0.0f), hz_lf_set((float)w - 1.0f));
+    sy = hz_lf_clamp(sy, hz_lf_set(0.0f), hz_lf_set((float)h - 1.0f));
+    hz_li_t x0 = hz_li_from_lf(sx), y0 = hz_li_from_lf(sy);
+    hz_lf_t fx = hz_lf_sub(sx, hz_lf_from_li(x0)), fy = hz_lf_sub(sy, hz_lf_from_li(y0));
+    hz_li_t x1 = hz_li_add(x0, hz_li_set(1)), y1 = hz_li_add(y0, hz_li_set(1));
+    x1 = hz_li_sel(hz_li_gt(hz_li_set((int32_t)w), x1), x1, x0);
+    y1 = hz_li_sel(hz_li_gt(hz_li_set((int32_t)h), y1), y1, y0);
+    const hz_li_t wv = hz_li_set((int32_t)w);
+    hz_li_t row0 = hz_li_mul(y0, wv), row1 = hz_li_mul(y1, wv);
+    const int32_t *img = (const int32_t *)(const void *)prev;
+    lrgb_t a = unpack9e5(hz_li_gather(img, hz_li_add(row0, x0))), b = unpack9e5(hz_li_gather(img, hz_li_add(row0, x1)));
+    lrgb_t c = unpack9e5(hz_li_gather(img, hz_li_add(row1, x0))), d = unpack9e5(hz_li_gather(img, hz_li_add(row1, x1)));
+    lrgb_t o;
+    for (int k = 0; k < 3; k++) {
+        hz_lf_t top = hz_lf_add(a.c[k], hz_lf_mul(hz_lf_sub(b.c[k], a.c[k]), fx));
+        hz_lf_t bot = hz_lf_add(c.c[k], hz_lf_mul(hz_lf_sub(d.c[k], c.c[k]), fx));
+        o.c[k] = hz_lf_add(top, hz_lf_mul(hz_lf_sub(bot, top), fy));
+    }
+    return o;
+}
+
+/* HZ_LANES pixels x0 .. x0 + HZ_LANES - 1 of row y with their 3x3 longest motion m. */
+static void resolve_lanes(hz_tdense_t *td, uint32_t x0, uint32_t y, unsigned subframe, const int32_t *lut,
+                          lmotion_t m, const uint32_t *prev, uint32_t *cur)
+{
+    const uint32_t w = td->cfg.width, tw = td->tiles_x;
+    const int32_t ty = (int32_t)(y >> 1), py = (int32_t)(y & 1u);
+    const size_t p0 = (size_t)y * w + x0;
+    const hz_li_t zero = hz_li_set(0), ones = hz_li_set(-1);
+    const hz_li_t x = hz_li_add(hz_li_set((int32_t)x0), hz_li_iota());
+    const hz_li_t tx = hz_li_shr(x, 1), px = hz_li_and(x, hz_li_set(1));
+
+    /* Lane i's own tile is first + i / 2, the one beside it first + i / 2 - 1 (left pixel of its tile) or
+     * + 1 (right pixel): lanes 1 + i / 2 and i / 2 + 2 (i & 1) of a tile row loaded from first - 1. */
+    const hz_li_t half = hz_li_shr(hz_li_iota(), 1);
+    const hz_li_t own_idx = hz_li_add(half, hz_li_set(1));
+    const hz_li_t across_idx = hz_li_add(half, hz_li_shl(hz_li_and(hz_li_iota(), hz_li_set(1)), 1));
+    const size_t first = (size_t)ty * tw + x0 / 2;
+    tile_row_t own;
+    tile_row_load(td, lut, first, &own);
+    const hz_li_t pix0 = hz_li_perm(own.pix, own_idx);
+    const hz_li_t fresh = hz_li_eq(pix0, hz_li_or(hz_li_set(py << 1), px));
+    const hz_li_t jit = hz_li_perm(hz_li_load_u8((const uint8_t *)td->sub_jitter + first - 1), own_idx);
+    const hz_li_t jpos = hz_li_gt(hz_li_set(0x80), jit); /* int8 >= 0 */
+    const hz_li_t stat = td->camera_moved ? zero : hz_lf_eq(m.l2, hz_lf_set(0.0f));
+    const hz_li_t window = hz_li_and(stat, hz_li_and(fresh, jpos)); /* left to the scalar twin */
+
+    /* newest-subframe box over up to four candidates, in newest_box's order */
+    hz_lf_t sum[3], sq[3];
+    for (int k = 0; k < 3; k++)
+        sum[k] = sq[k] = hz_lf_set(0.0f);
+    hz_li_t n = zero;
+    const int32_t cy = py ? (ty + 1 < (int32_t)td->tiles_y ? ty + 1 : -1) : ty - 1;
+    const hz_li_t right = hz_li_eq(px, hz_li_set(1));
+    const hz_li_t cx = hz_li_sel(right, hz_li_add(tx, hz_li_set(1)), hz_li_sub(tx, hz_li_set(1)));
+    const hz_li_t cx_ok = hz_li_sel(right, hz_li_gt(hz_li_set((int32_t)tw), cx), hz_li_gt(tx, zero));
+    box_candidate(td, &own, own_idx, ones, tx, ty, px, py, 0, 0, sum, sq, &n);
+    box_candidate(td, &own, across_idx, cx_ok, cx, ty, px, py, 1, 0, sum, sq, &n);
+    if (cy >= 0) {
+        tile_row_t other;
+        tile_row_load(td, lut, (size_t)cy * tw + x0 / 2, &other);
+        box_candidate(td, &other, own_idx, ones, tx, cy, px, py, 0, 1, sum, sq, &n);
+        box_candidate(td, &other, across_idx, cx_ok, cx, cy, px, py, 1, 1, sum, sq, &n);
+    }
+    const hz_li_t has = hz_li_gt(n, zero);
+    const hz_lf_t inv = hz_lf_sel(has, hz_lf_div(hz_lf_set(1.0f), hz_lf_from_li(n)), hz_lf_set(0.0f));
+    lrgb_t mean, var;
+    for (int k = 0; k < 3; k++) {
+        mean.c[k] = hz_lf_mul(sum[k], inv);
+        hz_lf_t v = hz_lf_sub(hz_lf_mul(sq[k], inv), hz_lf_mul(mean.c[k], mean.c[k]));
+        var.c[k] = hz_lf_sel(hz_lf_gt(v, hz_lf_set(0.0f)), v, hz_lf_set(0.0f));
+    }
+
+    const hz_li_t f = hz_li_load_u8(td->flags + p0);
+    const hz_li_t seen = hz_li_not(hz_li_eq(hz_li_and(f, hz_li_set(HZ_TDENSE_SEEN)), zero));
+    const hz_li_t kept = hz_li_not(hz_li_eq(hz_li_and(f, hz_li_set(HZ_TDENSE_KEPT)), zero));
+    const hz_li_t prev_code = hz_li_load(prev + p0), cur_old = hz_li_load(cur + p0);
+    const hz_li_t old = hz_li_andnot(ones, fresh);
+    const hz_li_t keep = hz_li_and(stat, hz_li_and(old, seen)); /* static, old, seen: the previous frame's */
+    const hz_li_t reproject = hz_li_andnot(hz_li_and(old, seen), stat);
+
+    lrgb_t sample, out;
+    for (int k = 0; k < 3; k++)
+        sample.c[k] = hz_lf_perm(own.c[k], own_idx);
+    lrgb_t kept_rgb = unpack9e5(prev_code);
+    lrgb_t moved = kept_rgb;
+    if (hz_li_any(reproject)) {
+        hz_lf_t sx = hz_lf_add(hz_lf_from_li(x), m.x), sy = hz_lf_add(hz_lf_set((float)y), m.y);
+        moved = fetch_bilinear(prev, w, td->cfg.height, sx, sy);
+        const hz_lf_t gamma = hz_lf_set(td->cfg.gamma);
+        for (int k = 0; k < 3; k++) {
+            hz_lf_t half = hz_lf_mul(gamma, hz_lf_sqrt(var.c[k]));
+            hz_lf_t c = hz_lf_clamp(moved.c[k], hz_lf_sub(mean.c[k], half), hz_lf_add(mean.c[k], half));
+            c = hz_lf_sel(has, c, moved.c[k]);
+            moved.c[k] = hz_lf_sel(hz_lf_finite(c), c, hz_lf_sel(has, mean.c[k], hz_lf_set(0.0f)));
+        }
+    }
+    for (int k = 0; k < 3; k++) {
+        hz_lf_t o = hz_lf_sel(stat, kept_rgb.c[k], moved.c[k]);
+        o = hz_lf_sel(seen, o, mean.c[k]);
+        out.c[k] = hz_lf_sel(fresh, sample.c[k], o);
+    }
+
+    /* history codes and flags */
+    hz_li_t code = pack9e5(&out);
+    code = hz_li_sel(keep, hz_li_sel(kept, cur_old, prev_code), code);
+    code = hz_li_sel(window, cur_old, code);
+    hz_li_store(cur + p0, code);
+    const hz_li_t dyn_bit = hz_li_set(HZ_TDENSE_DYNAMIC), samples = hz_li_set(HZ_TDENSE_SAMPLES);
+    hz_li_t f_stat = hz_li_andnot(f, dyn_bit);
+    f_stat = hz_li_sel(fresh, hz_li_andnot(f_stat, samples), f_stat);
+    hz_li_t f1 = hz_li_sel(stat, f_stat, hz_li_or(hz_li_andnot(f, samples), dyn_bit));
+    hz_li_t nf = hz_li_sel(keep, hz_li_or(f1, hz_li_set(HZ_TDENSE_KEPT)),
+                           hz_li_andnot(hz_li_or(f1, hz_li_set(HZ_TDENSE_SEEN)), hz_li_set(HZ_TDENSE_KEPT)));
+    hz_li_store_u8(td->flags + p0, hz_li_sel(window, f, nf));
+
+    float o[3][HZ_LANES], mx[HZ_LANES], my[HZ_LANES], ml2[HZ_LANES];
+    for (int k = 0; k < 3; k++)
+        hz_lf_store(o[k], out.c[k]);
+    float *dst = hz_image_at(&td->out, x0, y);
+    for (int i = 0; i < HZ_LANES; i++) {
+        dst[3 * i + 0] = o[0][i];
+        dst[3 * i + 1] = o[1][i];
+        dst[3 * i + 2] = o[2][i];
+    }
+    unsigned rest = hz_li_bits(window);
+    if (rest) {
+        hz_lf_store(mx, m.x);
+        hz_lf_store(my, m.y);
+        hz_lf_store(ml2, m.l2);
+        for (int i = 0; i < HZ_LANES; i++) {
+            if (rest & (1u << i)) {
+                hz_tdense_motion_t mi = { mx[i], my[i], ml2[i] };
+                hz_tdense_resolve_pixel(td, x0 + (uint32_t)i, y, subframe, mi, prev, cur);
+            }
+        }
+    }
+}
+
+void hz_tdense_resolve_row_lanes(hz_tdense_t *td, uint32_t y, unsigned subframe, const uint32_t *prev,
+                                 uint32_t *cur)
+{
+    const uint32_t w = td->cfg.width, h = td->cfg.height, L = HZ_LANES;
+    const uint16_t *r0 = td->mv ? td->mv + 2 * (size_t)(y ? y - 1 : 0) * w : NULL;
+    const uint16_t *r1 = td->mv ? td->mv + 2 * (size_t)y * w : NULL;
+    const uint16_t *r2 = td->mv ? td->mv + 2 * (size_t)(y + 1 < h ? y + 1 : y) * w : NULL;
+    int32_t lut[256]; /* every byte value, so no ordering index can read outside it */
+    for (unsigned o = 0; o < 256; o++)
+        lut[o] = (int32_t)hz_tileorder_pixel(o, subframe);
+    const uint32_t full = w / L * L;
+    static const hz_tdense_motion_t still = { 0.0f, 0.0f, 0.0f };
+    /* columns x0 - 1 (the previous group's), x0 .. x0 + L - 1 and x0 + L (the next group's first) */
+    lmotion_t prev_col = broadcast(td->mv ? hz_tdense_column_motion(r0, r1, r2, 0) : still), col, next_col;
+    if (full)
+        col = td->mv ? column_lanes(r0, r1, r2, 0) : broadcast(still);
+    for (uint32_t x0 = 0; x0 < full; x0 += L) {
+        if (!td->mv)
+            next_col = broadcast(still);
+        else if (x0 + 2 * L <= w)
+            next_col = column_lanes(r0, r1, r2, x0 + L);
+        else
+            next_col = broadcast(hz_tdense_column_motion(r0, r1, r2, x0 + L < w ? x0 + L : w - 1));
+        lmotion_t left, right;
+        left.x = hz_lf_shift_in_left(prev_col.x, col.x);
+        left.y = hz_lf_shift_in_left(prev_col.y, col.y);
+        left.l2 = hz_lf_shift_in_left(prev_col.l2, col.l2);
+        right.x = hz_lf_shift_in_right(col.x, next_col.x);
+        right.y = hz_lf_shift_in_right(col.y, next_col.y);
+        right.l2 = hz_lf_shift_in_right(col.l2, next_col.l2);
+        resolve_lanes(td, x0, y, subframe, lut, longer(longer(left, col), right), prev, cur);
+        prev_col = col;
+        col = next_col;
+    }
+    for (uint32_t x = full; x < w; x++) {
+        hz_tdense_motion_t m = still;
+        if (td->mv) {
+            hz_tdense_motion_t a = hz_tdense_column_motion(r0, r1, r2, x ? x - 1 : 0);
+            hz_tdense_motion_t b = hz_tdense_column_motion(r0, r1, r2, x);
+            hz_tdense_motion_t c = hz_tdense_column_motion(r0, r1, r2, x + 1 < w ? x + 1 : x);
+            m = b.l2 > a.l2 ? b : a;
+            m = c.l2 > m.l2 ? c : m;
+        }
+        hz_tdense_resolve_pixel(td, x, y, subframe, m, prev, cur);
+    }
+}
