@@ -60,7 +60,9 @@ static void usage(FILE *f)
             "frames:\n"
             "  --frames N | --seconds S    run length (default 10 s)\n"
             "  --size WxH            frame size (default: the sink's mode, else 320x180)\n"
-            "  --render pattern|scene     what to draw: the test pattern, or the built-in scene (the renderer)\n"
+            "  --render pattern|scene     what to draw: the test pattern, or a scene through the renderer\n"
+            "  --scene FILE|builtin  (scene) the scene: a baked .hzb or the built-in one (default builtin)\n"
+            "  --threads N           (scene) render threads, 1..64 (default: the machine's cores)\n"
             "  --render-scale N      (scene) render 1/N of the width and height (multiples of N), each pixel\n"
             "                        shown N x N\n"
             "  --marker, --no-marker      frame-id marker in the top-left corner (default: on with a sink)\n"
@@ -205,6 +207,8 @@ typedef struct opts {
     const char *guard, *latch, *wake;
     int rt, one_edge;
     long render_scale;
+    const char *scene; /* NULL: builtin */
+    long threads;      /* 0: the machine's cores */
     hz_lockv_cfg_t lock;
     long drm_buffers;
 } opts_t;
@@ -376,6 +380,13 @@ static int parse_opts(int argc, char **argv, opts_t *o, int *help)
             NEXT_ARG();
             if (!hz_cli_parse_long(a, v, 2, 3, &o->drm_buffers))
                 return 0;
+        } else if (!strcmp(a, "--scene")) {
+            NEXT_ARG();
+            o->scene = v;
+        } else if (!strcmp(a, "--threads")) {
+            NEXT_ARG();
+            if (!hz_cli_parse_long(a, v, 1, 64, &o->threads))
+                return 0;
         } else if (!strcmp(a, "--render-scale")) {
             NEXT_ARG();
             if (!hz_cli_parse_long(a, v, 1, 64, &o->render_scale))
@@ -419,6 +430,11 @@ int hz_cmd_latency(int argc, char **argv)
     int timeline = !strcmp(kind, "sim") || !strcmp(kind, "vcd") || !strcmp(kind, "csv");
     int trace_file = !strcmp(kind, "vcd") || !strcmp(kind, "csv");
     int edges_only = o.edges_only || (trace_file && !o.virt);
+    if ((o.scene || o.threads) && (strcmp(o.render, "scene") || edges_only)) {
+        hz_cli_error("%s renders a scene: it needs --render scene (and frames, not --edges-only)",
+                     o.scene ? "--scene" : "--threads");
+        return HZ_EXIT_USAGE;
+    }
     if (o.virt && !timeline) {
         hz_cli_error("--virtual needs a timeline source (sim, vcd or csv), not '%s'", o.source);
         return HZ_EXIT_USAGE;
@@ -616,7 +632,8 @@ int hz_cmd_latency(int argc, char **argv)
         s = err.code;
     }
     if (s == HZ_OK && cfg.frames_mode && !strcmp(o.render, "scene"))
-        s = hz_scene_framesrc(&frames, cfg.w, cfg.h, (int)o.render_scale, &err);
+        s = hz_scene_framesrc(&frames, o.scene ? o.scene : "builtin", cfg.w, cfg.h, (int)o.render_scale,
+                              (int)o.threads, &err);
     cfg.marker = o.marker < 0 ? strcmp(skind, "none") != 0 : o.marker;
     /* ---- run length and record capacity ---- */
     double hz_cap = o.hz > 0 ? o.hz : 1000;

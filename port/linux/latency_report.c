@@ -245,6 +245,14 @@ void hz_report_print(FILE *f, hz_report_t *r)
                 (unsigned long long)s->inferred);
         fprintf(f, "          deadline miss rate %.3f%% (%llu of %llu shown frames)\n", s->miss_ppm / 1e4,
                 (unsigned long long)s->late, (unsigned long long)s->resolved);
+        /* The two figures a display-locked renderer is judged by, in periods: a frame every refresh needs the
+         * render time under one period, and a latency of at most two means it was shown at the next edge. */
+        int64_t period = res->period_ns > 0 ? res->period_ns : res->nominal_period_ns;
+        if (s->latency.n && period > 0 && s->resolved)
+            fprintf(f, "          p99 latency %s = %.2f periods; %.2f refreshes per shown frame (1.00: a new frame "
+                       "every refresh)\n",
+                    hz_report_dur(a, 24, s->latency.p99), (double)s->latency.p99 / (double)period,
+                    (double)(s->resolved + s->repeated) / (double)s->resolved);
         fprintf(f, "per-frame distributions, nearest-rank percentiles over the frames counted (n):\n");
         fprintf(f, "  %-44s %7s %10s %10s %10s %10s %10s %10s   %s\n", "", "n", "min", "p50", "p90", "p99", "p99.9",
                 "max", "mean +- SD");

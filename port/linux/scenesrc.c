@@ -1,10 +1,11 @@
 /*
- * The built-in scene as a frame source (see scenesrc.h): the scene, its native BVH and a renderer are set up
+ * A scene as a frame source (see scenesrc.h): the scene, its native BVH and a renderer are set up
  * once in the board pools; each frame animates to the frame's display time (relative to the first frame),
  * renders on the static thread pool and encodes to the loop's RGB24 buffer (exact sRGB, hz_srgb8_encode_n).
  */
 #include "scenesrc.h"
 
+#include <string.h>
 #include <unistd.h>
 
 #include "accel_backend.h"
@@ -60,29 +61,33 @@ static hz_status_t render(void *ctx, const hz_frame_req_t *req, hz_rgb8_image_t 
     return HZ_OK;
 }
 
-hz_status_t hz_scene_framesrc(hz_framesrc_t *src, int w, int h, int scale, hz_error_t *err)
+hz_status_t hz_scene_framesrc(hz_framesrc_t *src, const char *scene, int w, int h, int scale, int threads,
+                              hz_error_t *err)
 {
     scenesrc_t *s = &state;
     hz_pools_t *pools = hz_pools_get();
     if (!pools)
-        return hz_error_set(err, HZ_E_INTERNAL, "built-in scene: no static arenas");
+        return hz_error_set(err, HZ_E_INTERNAL, "scene source: no static arenas");
     if (w < 1 || h < 1 || w > (int)HZ_IMAGE_MAX_DIM || h > (int)HZ_IMAGE_MAX_DIM)
-        return hz_error_set(err, HZ_E_INVALID_ARG, "built-in scene: size %dx%d", w, h);
+        return hz_error_set(err, HZ_E_INVALID_ARG, "scene source: size %dx%d", w, h);
     if (scale < 1 || w % scale || h % scale)
-        return hz_error_set(err, HZ_E_INVALID_ARG, "built-in scene: %dx%d is not a multiple of the render scale %d",
+        return hz_error_set(err, HZ_E_INVALID_ARG, "scene source: %dx%d is not a multiple of the render scale %d",
                             w, h, scale);
     s->scale = scale;
     s->row = hz_arena_alloc(&pools->frame, (size_t)(w / scale) * 3, 64);
     if (!s->row)
         return hz_arena_error(&pools->frame, err);
-    hz_status_t st = hz_scenefile_open("builtin", pools, &s->scene, err);
+    hz_status_t st = hz_scenefile_open(scene, pools, &s->scene, err);
     hz_accel_geom_t g;
     if (st == HZ_OK)
         st = hz_accel_geom_from_scene(&g, &s->scene, &pools->accel, err);
     if (st == HZ_OK)
         st = hz_accel_backend_build(HZ_ACCEL_NATIVE, &s->accel, &g, &pools->accel, err);
-    long cores = sysconf(_SC_NPROCESSORS_ONLN);
-    int threads = cores < 1 ? 1 : cores > HZ_MAX_THREADS ? HZ_MAX_THREADS : (int)cores;
+    if (threads < 1) {
+        long cores = sysconf(_SC_NPROCESSORS_ONLN);
+        threads = cores < 1 ? 1 : (int)cores;
+    }
+    threads = threads > HZ_MAX_THREADS ? HZ_MAX_THREADS : threads;
     if (st == HZ_OK)
         st = hz_threads_start(threads, err);
     hz_render_opts_t o;
@@ -93,7 +98,7 @@ hz_status_t hz_scene_framesrc(hz_framesrc_t *src, int w, int h, int scale, hz_er
     if (st != HZ_OK)
         return st;
     s->have_t0 = false;
-    src->name = "built-in scene";
+    src->name = strcmp(scene, "builtin") ? "scene" : "built-in scene";
     src->ctx = s;
     src->render = render;
     return HZ_OK;

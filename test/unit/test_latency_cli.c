@@ -71,6 +71,9 @@ static void test_usage_errors(void **state)
     assert_int_equal(run("--render-model", "const:1ms", NULL), 2);                   /* only with --virtual */
     assert_int_equal(run("--virtual", "--render-model", "gaussian:1ms", NULL), 2);
     assert_int_equal(run("--virtual", "--render-model", "const:3 parsecs", NULL), 2);
+    assert_int_equal(run("--scene", "builtin", NULL), 2);                              /* only with --render scene */
+    assert_int_equal(run("--threads", "2", "--render", "scene", "--edges-only", NULL), 2); /* renders nothing */
+    assert_int_equal(run("--threads", "0", "--render", "scene", NULL), 2);
     assert_int_equal(run("--help", NULL), 0);
 }
 
@@ -89,6 +92,9 @@ static void test_bad_inputs_have_their_own_status(void **state)
     assert_int_equal(run("--source", csv, "--quiet", "--out", dir, NULL), 64 + HZ_E_FORMAT); /* no edges */
     assert_int_equal(run("--sink", "v4l2:/dev/video1:nv12", NULL), 64 + HZ_E_UNSUPPORTED);
     assert_int_equal(run("--render-scale", "0", NULL), 2);
+    assert_int_equal(run("--render", "scene", "--scene", "/nonexistent/scene.hzb", "--frames", "1", "--quiet", "--out",
+                         dir, NULL),
+                     64 + HZ_E_IO);
     /* DRM: a malformed mode is a usage error; a card that is not there a device error (72 where the build has
      * no DRM port); --source drm needs the DRM sink. */
     assert_int_equal(run("--sink", "drm:card0:Virtual-1:640x", "--frames", "1", NULL), 2);
