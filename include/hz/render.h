@@ -100,6 +100,9 @@ typedef struct hz_render_opts {
     uint32_t frame_hz;     /* the frame rate the shutter refers to (default HZ_DISPLAY_HZ) */
     hz_posekeys_t *keys;   /* shutter > 0 and a moving scene: the pose keys the accel reads (else NULL) */
     bool tdense_cycle_keys; /* tdense: one key interval and refit per 4-subframe cycle (default true) */
+    /* The tdense and TAA resolves run with the board's SIMD (8 pixels at a time on AVX2, 4 on NEON); true runs
+     * their scalar twins instead, which give bit-identical frames (for tests and side-by-side timing). */
+    bool scalar_recon;
 } hz_render_opts_t;
 
 void hz_render_opts_default(hz_render_opts_t *o);
@@ -193,5 +196,8 @@ const uint8_t *hz_render_adaptive_mask(const hz_renderer_t *r);
 const hz_light_t *hz_render_default_light(const hz_renderer_t *r);
 /* Forget history (TAA) and previous-frame state, e.g. after a cut. */
 void hz_render_reset_history(hz_renderer_t *r);
+/* Switches the reconstruction passes to their scalar twins (true) or the board's SIMD (false) from the next
+ * frame on, as opts.scalar_recon; frames are bit-identical either way (side-by-side timing in one process). */
+void hz_render_set_scalar_recon(hz_renderer_t *r, bool scalar);
 
 #endif /* HZ_RENDER_H */

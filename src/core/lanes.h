@@ -78,6 +78,10 @@ HZ_INLINE unsigned hz_li_bits(hz_li_t m) { return (unsigned)_mm256_movemask_ps(_
 
 HZ_INLINE hz_li_t hz_li_gather(const int32_t *base, hz_li_t idx) { return _mm256_i32gather_epi32((const int *)base, idx, 4); }
 HZ_INLINE hz_lf_t hz_lf_gather(const float *base, hz_li_t idx) { return _mm256_i32gather_ps(base, idx, 4); }
+/* The 4 bytes at base + off (byte offsets), as little-endian words. */
+HZ_INLINE hz_li_t hz_li_gather_bytes32(const void *base, hz_li_t off) { return _mm256_i32gather_epi32((const int *)base, off, 1); }
+/* HZ_LANES uint16, zero-extended. */
+HZ_INLINE hz_li_t hz_li_load_u16(const uint16_t *p) { return _mm256_cvtepu16_epi32(_mm_loadu_si128((const __m128i *)(const void *)p)); }
 /* base[idx] as unsigned bytes; reads 4 bytes from base + idx, so base needs 3 readable bytes past the last. */
 HZ_INLINE hz_li_t hz_li_gather_u8(const uint8_t *base, hz_li_t idx)
 {
@@ -184,6 +188,21 @@ HZ_INLINE hz_lf_t hz_lf_gather(const float *base, hz_li_t idx)
     return vsetq_lane_f32(base[vgetq_lane_s32(idx, 3)], r, 3);
 }
 
+HZ_INLINE int32_t hz_lanes_word_at(const uint8_t *p)
+{
+    uint32_t v;
+    hz_memcpy(&v, p, 4);
+    return (int32_t)v;
+}
+HZ_INLINE hz_li_t hz_li_gather_bytes32(const void *base, hz_li_t off)
+{
+    const uint8_t *b = (const uint8_t *)base;
+    hz_li_t r = vdupq_n_s32(hz_lanes_word_at(b + vgetq_lane_s32(off, 0)));
+    r = vsetq_lane_s32(hz_lanes_word_at(b + vgetq_lane_s32(off, 1)), r, 1);
+    r = vsetq_lane_s32(hz_lanes_word_at(b + vgetq_lane_s32(off, 2)), r, 2);
+    return vsetq_lane_s32(hz_lanes_word_at(b + vgetq_lane_s32(off, 3)), r, 3);
+}
+HZ_INLINE hz_li_t hz_li_load_u16(const uint16_t *p) { return vreinterpretq_s32_u32(vmovl_u16(vld1_u16(p))); }
 HZ_INLINE hz_li_t hz_li_gather_u8(const uint8_t *base, hz_li_t idx)
 {
     hz_li_t r = vdupq_n_s32(base[vgetq_lane_s32(idx, 0)]);
@@ -220,6 +239,17 @@ HZ_INLINE hz_li_t hz_lf_finite(hz_lf_t a)
 {
     hz_li_t e = hz_li_and(hz_lf_bits(a), hz_li_set(0x7f800000));
     return hz_li_not(hz_li_eq(e, hz_li_set(0x7f800000)));
+}
+HZ_INLINE hz_li_t hz_li_min(hz_li_t a, hz_li_t b) { return hz_li_sel(hz_li_gt(a, b), b, a); }
+HZ_INLINE hz_li_t hz_li_max(hz_li_t a, hz_li_t b) { return hz_li_sel(hz_li_gt(a, b), a, b); }
+/* |x| */
+HZ_INLINE hz_lf_t hz_lf_abs(hz_lf_t x) { return hz_lf_from_bits(hz_li_and(hz_lf_bits(x), hz_li_set(0x7fffffff))); }
+/* hz_floorf (vmath.c), the same steps: |x| >= 2^23, NaN and infinities unchanged, else truncate and step down. */
+HZ_INLINE hz_lf_t hz_lf_floor(hz_lf_t x)
+{
+    hz_lf_t t = hz_lf_from_li(hz_li_from_lf(x));
+    hz_lf_t f = hz_lf_sel(hz_lf_gt(t, x), hz_lf_sub(t, hz_lf_set(1.0f)), t);
+    return hz_lf_sel(hz_lf_lt(hz_lf_abs(x), hz_lf_set(8388608.0f)), f, x);
 }
 /* hz_clampf: x < lo ? lo : (x > hi ? hi : x) (NaN stays NaN). */
 HZ_INLINE hz_lf_t hz_lf_clamp(hz_lf_t x, hz_lf_t lo, hz_lf_t hi)

@@ -136,7 +136,8 @@ static bool seen_before(const struct hz_renderer *r, float hx, float hy, uint16_
     return false;
 }
 
-void hz_taa_resolve_tile(struct hz_renderer *r, uint32_t tile)
+/* One pixel (the reference the SIMD tile resolve in taa_lanes.c reproduces bit for bit). */
+void hz_taa_resolve_pixel(struct hz_renderer *r, uint32_t x, uint32_t y)
 {
     const hz_image_t *cur = &r->cur;
     const history_t prev_h = { r->hist[r->hist_index], (int32_t)r->opts.width, (int32_t)r->opts.height };
@@ -144,69 +145,81 @@ void hz_taa_resolve_tile(struct hz_renderer *r, uint32_t tile)
     uint16_t *next = r->hist[r->hist_index ^ 1u];
     const hz_gbuffer_t *gb = &r->gb;
     uint32_t w = r->opts.width, h = r->opts.height;
-    uint32_t x0 = (tile % r->tiles_x) * HZ_RENDER_TILE, y0 = (tile / r->tiles_x) * HZ_RENDER_TILE;
     float gamma = r->opts.taa_gamma, alpha = r->opts.taa_alpha;
-    for (uint32_t y = y0; y < y0 + HZ_RENDER_TILE && y < h; y++)
-        for (uint32_t x = x0; x < x0 + HZ_RENDER_TILE && x < w; x++) {
-            size_t px = (size_t)y * w + x;
-            float c[3], sum[3] = { 0, 0, 0 }, sum2[3] = { 0, 0, 0 };
-            bool dither = r->dither && (gb->flags[px] & HZ_GB_DITHER);
-            const int rad = dither ? DITHER_RADIUS : 1;
-            const float count = dither ? (float)((2 * DITHER_RADIUS + 1) * (2 * DITHER_RADIUS + 1)) : 9.0f;
-            to_ycocg(cur->rgb + px * 3, c);
-            for (int dy = -rad; dy <= rad; dy++)
-                for (int dx = -rad; dx <= rad; dx++) {
-                    float q[3];
-                    to_ycocg(pix(cur, (int32_t)x + dx, (int32_t)y + dy), q);
-                    for (int k = 0; k < 3; k++)
-                        sum[k] += q[k], sum2[k] += q[k] * q[k];
-                }
-            float mean[3], ext[3];
-            for (int k = 0; k < 3; k++) {
-                mean[k] = sum[k] / count;
-                float var = sum2[k] / count - mean[k] * mean[k];
-                ext[k] = gamma * hz_sqrtf(var > 0.0f ? var : 0.0f);
-            }
-            float res[3];
-            bool reset = !r->hist_valid;
-            float hx = (float)x + 0.5f, hy = (float)y + 0.5f;
-            if (!reset && gb->mv) {
-                float mx = gb->mv[px * 2], my = gb->mv[px * 2 + 1];
-                if (dither)
-                    align_mv(r, x, y, &mx, &my);
-                hx += mx;
-                hy += my;
-            }
-            /* Off-screen or disoccluded (another object was there): start over from this frame's sample. */
-            if (!reset && !(hx >= 0.0f && hy >= 0.0f && hx < (float)w && hy < (float)h))
-                reset = true;
-            /* A dithered pixel shows a different fragment from frame to frame: its object changes by design. */
-            if (!reset && !dither && !seen_before(r, hx, hy, gb->object[px]))
-                reset = true;
-            if (reset) {
-                res[0] = c[0], res[1] = c[1], res[2] = c[2];
-            } else {
-                float hist_rgb[3], hy3[3];
-                if (r->opts.taa_catmull_rom)
-                    fetch_catmull_rom(prev, hx, hy, hist_rgb);
-                else
-                    fetch_bilinear(prev, hx, hy, hist_rgb);
-                to_ycocg(hist_rgb, hy3);
-                if (r->opts.taa_clip) {
-                    clip_to_box(hy3, mean, ext);
-                } else {
-                    for (int k = 0; k < 3; k++)
-                        hy3[k] = hz_clampf(hy3[k], mean[k] - ext[k], mean[k] + ext[k]);
-                }
-                for (int k = 0; k < 3; k++)
-                    res[k] = hy3[k] + alpha * (c[k] - hy3[k]);
-            }
-            float rgb[3];
-            to_rgb(res, rgb);
-            for (int k = 0; k < 3; k++) {
-                float v = hz_isfinitef(rgb[k]) && rgb[k] > 0.0f ? rgb[k] : 0.0f;
-                r->out.rgb[px * 3 + k] = v;
-            }
-            hz_half_pack3(next + px * 3, r->out.rgb + px * 3);
+    size_t px = (size_t)y * w + x;
+    float c[3], sum[3] = { 0, 0, 0 }, sum2[3] = { 0, 0, 0 };
+    bool dither = r->dither && (gb->flags[px] & HZ_GB_DITHER);
+    const int rad = dither ? DITHER_RADIUS : 1;
+    const float count = dither ? (float)((2 * DITHER_RADIUS + 1) * (2 * DITHER_RADIUS + 1)) : 9.0f;
+    to_ycocg(cur->rgb + px * 3, c);
+    for (int dy = -rad; dy <= rad; dy++)
+        for (int dx = -rad; dx <= rad; dx++) {
+            float q[3];
+            to_ycocg(pix(cur, (int32_t)x + dx, (int32_t)y + dy), q);
+            for (int k = 0; k < 3; k++)
+                sum[k] += q[k], sum2[k] += q[k] * q[k];
         }
+    float mean[3], ext[3];
+    for (int k = 0; k < 3; k++) {
+        mean[k] = sum[k] / count;
+        float var = sum2[k] / count - mean[k] * mean[k];
+        ext[k] = gamma * hz_sqrtf(var > 0.0f ? var : 0.0f);
+    }
+    float res[3];
+    bool reset = !r->hist_valid;
+    float hx = (float)x + 0.5f, hy = (float)y + 0.5f;
+    if (!reset && gb->mv) {
+        float mx = gb->mv[px * 2], my = gb->mv[px * 2 + 1];
+        if (dither)
+            align_mv(r, x, y, &mx, &my);
+        hx += mx;
+        hy += my;
+    }
+    /* Off-screen or disoccluded (another object was there): start over from this frame's sample. */
+    if (!reset && !(hx >= 0.0f && hy >= 0.0f && hx < (float)w && hy < (float)h))
+        reset = true;
+    /* A dithered pixel shows a different fragment from frame to frame: its object changes by design. */
+    if (!reset && !dither && !seen_before(r, hx, hy, gb->object[px]))
+        reset = true;
+    if (reset) {
+        res[0] = c[0], res[1] = c[1], res[2] = c[2];
+    } else {
+        float hist_rgb[3], hy3[3];
+        if (r->opts.taa_catmull_rom)
+            fetch_catmull_rom(prev, hx, hy, hist_rgb);
+        else
+            fetch_bilinear(prev, hx, hy, hist_rgb);
+        to_ycocg(hist_rgb, hy3);
+        if (r->opts.taa_clip) {
+            clip_to_box(hy3, mean, ext);
+        } else {
+            for (int k = 0; k < 3; k++)
+                hy3[k] = hz_clampf(hy3[k], mean[k] - ext[k], mean[k] + ext[k]);
+        }
+        for (int k = 0; k < 3; k++)
+            res[k] = hy3[k] + alpha * (c[k] - hy3[k]);
+    }
+    float rgb[3];
+    to_rgb(res, rgb);
+    for (int k = 0; k < 3; k++) {
+        float v = hz_isfinitef(rgb[k]) && rgb[k] > 0.0f ? rgb[k] : 0.0f;
+        r->out.rgb[px * 3 + k] = v;
+    }
+    hz_half_pack3(next + px * 3, r->out.rgb + px * 3);
 }
+
+void hz_taa_resolve_tile_scalar(struct hz_renderer *r, uint32_t tile)
+{
+    uint32_t w = r->opts.width, h = r->opts.height;
+    uint32_t x0 = (tile % r->tiles_x) * HZ_RENDER_TILE, y0 = (tile / r->tiles_x) * HZ_RENDER_TILE;
+    for (uint32_t y = y0; y < y0 + HZ_RENDER_TILE && y < h; y++)
+        for (uint32_t x = x0; x < x0 + HZ_RENDER_TILE && x < w; x++)
+            hz_taa_resolve_pixel(r, x, y);
+}
+
+#if !defined(HZ_BOARD_SIMD_AVX2) && !defined(HZ_BOARD_SIMD_NEON) /* the Makefile builds taa_lanes.c then */
+void hz_taa_resolve_tile(struct hz_renderer *r, uint32_t tile)
+{
+    hz_taa_resolve_tile_scalar(r, tile);
+}
+#endif

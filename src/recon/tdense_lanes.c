@@ -7,7 +7,7 @@
  * jittered sample (its moving window is updated slot by slot) and the pixels of a row past its last full
  * group of lanes; both go to hz_tdense_resolve_pixel. A profile of the scalar resolve on a 640x360 Sponza run
  * showed no single hot spot, only per-pixel branches, codec calls and the box's four tile lookups. */
-#include "../core/lanes.h"
+#include "../core/pack_lanes.h"
 #include "hz/pack.h"
 #include "hz/vmath.h"
 #include "tdense_internal.h"
@@ -16,32 +16,14 @@ typedef struct lmotion {
     hz_lf_t x, y, l2;
 } lmotion_t;
 
-typedef struct lrgb {
-    hz_lf_t c[3];
-} lrgb_t;
-
-/* hz_half_unpack of the half codes in the low 16 bits of each lane. */
-static hz_lf_t half_unpack(hz_li_t h)
-{
-    const hz_li_t e = hz_li_and(hz_li_shr(h, 10), hz_li_set(0x1f)), m = hz_li_and(h, hz_li_set(0x3ff));
-    const hz_li_t sign = hz_li_shl(hz_li_and(h, hz_li_set(0x8000)), 16);
-    /* normal: the exponent rebiased, the mantissa widened; exact, so it equals the scalar's bit assembly */
-    hz_li_t normal = hz_li_or(hz_li_shl(hz_li_add(e, hz_li_set(112)), 23), hz_li_shl(m, 13));
-    /* subnormal: sign * m * 2^-24 (both products exact, so the sign can be or-ed in afterwards) */
-    hz_li_t sub = hz_lf_bits(hz_lf_mul(hz_lf_from_li(m), hz_lf_set(1.0f / 16777216.0f)));
-    /* e == 31 (never packed): 0 for a NaN code, +-HZ_HALF_MAX for infinities */
-    hz_li_t inf = hz_li_sel(hz_li_eq(m, hz_li_set(0)), hz_lf_bits(hz_lf_set(HZ_HALF_MAX)), hz_li_set(0));
-    hz_li_t sign_inf = hz_li_sel(hz_li_eq(m, hz_li_set(0)), sign, hz_li_set(0));
-    hz_li_t r = hz_li_sel(hz_li_eq(e, hz_li_set(0)), hz_li_or(sub, sign), hz_li_or(normal, sign));
-    return hz_lf_from_bits(hz_li_sel(hz_li_eq(e, hz_li_set(31)), hz_li_or(inf, sign_inf), r));
-}
+typedef hz_lrgb_t lrgb_t;
 
 HZ_INLINE lmotion_t motion_lanes(const uint16_t *row, size_t x)
 {
     lmotion_t m;
     hz_li_t v = hz_li_load(row + 2 * x); /* (x, y) half pairs: x in the low 16 bits (little-endian) */
-    m.x = half_unpack(hz_li_and(v, hz_li_set(0xffff)));
-    m.y = half_unpack(hz_li_shr(v, 16));
+    m.x = hz_lanes_half_unpack(hz_li_and(v, hz_li_set(0xffff)));
+    m.y = hz_lanes_half_unpack(hz_li_shr(v, 16));
     m.l2 = hz_lf_add(hz_lf_mul(m.x, m.x), hz_lf_mul(m.y, m.y));
     return m;
 }
@@ -70,53 +52,6 @@ HZ_INLINE lmotion_t broadcast(hz_tdense_motion_t m)
 HZ_INLINE lmotion_t column_lanes(const uint16_t *r0, const uint16_t *r1, const uint16_t *r2, size_t x)
 {
     return longer(longer(motion_lanes(r0, x), motion_lanes(r1, x)), motion_lanes(r2, x));
-}
-
-HZ_INLINE lrgb_t unpack9e5(hz_li_t code)
-{
-    lrgb_t o;
-    hz_lf_t scale = hz_lf_from_bits(hz_li_shl(hz_li_add(hz_li_shr(code, 27), hz_li_set(127 - 24)), 23));
-    o.c[0] = hz_lf_mul(hz_lf_from_li(hz_li_and(code, hz_li_set(511))), scale);
-    o.c[1] = hz_lf_mul(hz_lf_from_li(hz_li_and(hz_li_shr(code, 9), hz_li_set(511))), scale);
-    o.c[2] = hz_lf_mul(hz_lf_from_li(hz_li_and(hz_li_shr(code, 18), hz_li_set(511))), scale);
-    return o;
-}
-
-/* hz_pack_clamp(v, HZ_RGB9E5_MAX) */
-HZ_INLINE hz_lf_t pack_clamp(hz_lf_t v)
-{
-    const hz_lf_t max = hz_lf_set(HZ_RGB9E5_MAX);
-    return hz_lf_sel(hz_lf_gt(v, hz_lf_set(0.0f)), hz_lf_sel(hz_lf_lt(v, max), v, max), hz_lf_set(0.0f));
-}
-
-HZ_INLINE hz_lf_t pow2_of_exponent(hz_li_t e) /* 2^e for normal e */
-{
-    return hz_lf_from_bits(hz_li_shl(hz_li_add(e, hz_li_set(127)), 23));
-}
-
-/* hz_rgb9e5_pack, lane by lane. */
-static hz_li_t pack9e5(const lrgb_t *in)
-{
-    hz_lf_t c[3];
-    for (int k = 0; k < 3; k++)
-        c[k] = pack_clamp(in->c[k]);
-    hz_lf_t m = hz_lf_sel(hz_lf_gt(c[0], c[1]), c[0], c[1]);
-    m = hz_lf_sel(hz_lf_gt(m, c[2]), m, c[2]);
-    hz_li_t ex = hz_li_sub(hz_li_and(hz_li_shr(hz_lf_bits(m), 23), hz_li_set(0xff)), hz_li_set(127));
-    ex = hz_li_sel(hz_li_gt(hz_li_set(-16), ex), hz_li_set(-16), ex);
-    hz_li_t es = hz_li_add(ex, hz_li_set(16));
-    hz_lf_t scale = pow2_of_exponent(hz_li_sub(hz_li_set(24), es));
-    hz_li_t top = hz_li_from_lf(hz_lf_add(hz_lf_mul(m, scale), hz_lf_set(0.5f)));
-    hz_li_t carry = hz_li_gt(top, hz_li_set(511));
-    es = hz_li_sub(es, carry); /* masks are -1 */
-    scale = hz_lf_sel(carry, pow2_of_exponent(hz_li_sub(hz_li_set(24), es)), scale);
-    hz_li_t code = hz_li_shl(es, 27);
-    for (int k = 0; k < 3; k++) {
-        hz_li_t q = hz_li_from_lf(hz_lf_add(hz_lf_mul(c[k], scale), hz_lf_set(0.5f)));
-        q = hz_li_sel(hz_li_gt(q, hz_li_set(511)), hz_li_set(511), q);
-        code = hz_li_or(code, k == 0 ? q : k == 1 ? hz_li_shl(q, 9) : hz_li_shl(q, 18));
-    }
-    return hz_li_sel(hz_lf_eq(m, hz_lf_set(0.0f)), hz_li_set(0), code);
 }
 
 /* HZ_LANES tiles of one tile row starting one before `first` (the tile of lane 0's pixel): this subframe's pixel
@@ -171,8 +106,8 @@ static lrgb_t fetch_bilinear(const uint32_t *prev, uint32_t w, uint32_t h, hz_lf
     const hz_li_t wv = hz_li_set((int32_t)w);
     hz_li_t row0 = hz_li_mul(y0, wv), row1 = hz_li_mul(y1, wv);
     const int32_t *img = (const int32_t *)(const void *)prev;
-    lrgb_t a = unpack9e5(hz_li_gather(img, hz_li_add(row0, x0))), b = unpack9e5(hz_li_gather(img, hz_li_add(row0, x1)));
-    lrgb_t c = unpack9e5(hz_li_gather(img, hz_li_add(row1, x0))), d = unpack9e5(hz_li_gather(img, hz_li_add(row1, x1)));
+    lrgb_t a = hz_lanes_rgb9e5_unpack(hz_li_gather(img, hz_li_add(row0, x0))), b = hz_lanes_rgb9e5_unpack(hz_li_gather(img, hz_li_add(row0, x1)));
+    lrgb_t c = hz_lanes_rgb9e5_unpack(hz_li_gather(img, hz_li_add(row1, x0))), d = hz_lanes_rgb9e5_unpack(hz_li_gather(img, hz_li_add(row1, x1)));
     lrgb_t o;
     for (int k = 0; k < 3; k++) {
         hz_lf_t top = hz_lf_add(a.c[k], hz_lf_mul(hz_lf_sub(b.c[k], a.c[k]), fx));
@@ -245,7 +180,7 @@ static void resolve_lanes(hz_tdense_t *td, uint32_t x0, uint32_t y, unsigned sub
     lrgb_t sample, out;
     for (int k = 0; k < 3; k++)
         sample.c[k] = hz_lf_perm(own.c[k], own_idx);
-    lrgb_t kept_rgb = unpack9e5(prev_code);
+    lrgb_t kept_rgb = hz_lanes_rgb9e5_unpack(prev_code);
     lrgb_t moved = kept_rgb;
     if (hz_li_any(reproject)) {
         hz_lf_t sx = hz_lf_add(hz_lf_from_li(x), m.x), sy = hz_lf_add(hz_lf_set((float)y), m.y);
@@ -265,7 +200,7 @@ static void resolve_lanes(hz_tdense_t *td, uint32_t x0, uint32_t y, unsigned sub
     }
 
     /* history codes and flags */
-    hz_li_t code = pack9e5(&out);
+    hz_li_t code = hz_lanes_rgb9e5_pack(&out);
     code = hz_li_sel(keep, hz_li_sel(kept, cur_old, prev_code), code);
     code = hz_li_sel(window, cur_old, code);
     hz_li_store(cur + p0, code);

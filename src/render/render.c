@@ -580,7 +580,8 @@ void hz_render_pass_run(hz_renderer_t *r, uint32_t pass, uint32_t item, uint32_t
         if (pass == 0)
             trace_tile_tdense(r, item, w);
         else
-            hz_tdense_resolve_rows(&r->td, item * (HZ_RENDER_TILE / 2), (item + 1) * (HZ_RENDER_TILE / 2));
+            (r->opts.scalar_recon ? hz_tdense_resolve_rows_scalar : hz_tdense_resolve_rows)(
+                &r->td, item * (HZ_RENDER_TILE / 2), (item + 1) * (HZ_RENDER_TILE / 2));
     } else if (r->opts.mode == HZ_MODE_ADAPTIVE) {
         if (pass == 0) {
             trace_tile(r, item, w, &r->out); /* the presample: 1 spp at pixel centres */
@@ -593,7 +594,7 @@ void hz_render_pass_run(hz_renderer_t *r, uint32_t pass, uint32_t item, uint32_t
     } else if (pass == 0) {
         trace_tile(r, item, w, r->opts.mode == HZ_MODE_TAA ? &r->cur : &r->out);
     } else if (pass == 1 && r->opts.mode == HZ_MODE_TAA) {
-        hz_taa_resolve_tile(r, item);
+        (r->opts.scalar_recon ? hz_taa_resolve_tile_scalar : hz_taa_resolve_tile)(r, item);
     }
 }
 
@@ -659,6 +660,11 @@ const struct hz_tdense *hz_render_tdense(const hz_renderer_t *r)
 const uint8_t *hz_render_adaptive_mask(const hz_renderer_t *r)
 {
     return r->opts.mode == HZ_MODE_ADAPTIVE ? r->ad.mask : NULL;
+}
+
+void hz_render_set_scalar_recon(hz_renderer_t *r, bool scalar)
+{
+    r->opts.scalar_recon = scalar;
 }
 
 void hz_render_reset_history(hz_renderer_t *r)

@@ -184,7 +184,10 @@ bool hz_transp_shadow_blocks(const hz_worker_t *w, uint32_t prim, float u, float
 /* Motion-vector alignment (pixels) TAA uses where the method dithered: 3 (STD cell), 5 (DTAA), 1 (RR). */
 unsigned hz_transp_mv_align(hz_transp_t t);
 
-/* taa.c (src/recon) */
+/* taa.c (src/recon): the TAA resolve of one tile, with the board's SIMD where it has one (taa_lanes.c) unless
+ * opts.scalar_recon; hz_taa_resolve_tile_scalar and hz_taa_resolve_pixel are its scalar twin (bit-identical). */
 void hz_taa_resolve_tile(struct hz_renderer *r, uint32_t tile);
+void hz_taa_resolve_tile_scalar(struct hz_renderer *r, uint32_t tile);
+void hz_taa_resolve_pixel(struct hz_renderer *r, uint32_t x, uint32_t y);
 
 #endif

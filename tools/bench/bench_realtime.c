@@ -230,7 +230,7 @@ static hz_status_t bench_scene(const char *label, const char *path, const hz_ben
                                hz_bench_realtime_row_t *rows, hz_error_t *err)
 {
     static const hz_render_mode_t modes[2] = { HZ_MODE_TDENSE, HZ_MODE_TAA };
-    static mode_acc_t acc[2];
+    static mode_acc_t acc[2], twin[2];
     hz_bench_scene_t bs;
     hz_status_t s = hz_bench_scene_open(&bs, path, err);
     hz_accel_t wrapped;
@@ -247,6 +247,7 @@ static hz_status_t bench_scene(const char *label, const char *path, const hz_ben
         s = hz_render_create(&r[m], &bs.scene, &wrapped, &ro, &bs.pools->frame, bs.pools->thread,
                              (uint32_t)o->threads, err);
         acc[m].nframes = 0;
+        twin[m].nframes = 0;
     }
     double embree_ms[2] = { NAN, NAN };
     hz_render_stats_t recorded[2];
@@ -261,6 +262,11 @@ static hz_status_t bench_scene(const char *label, const char *path, const hz_ben
                     fprintf(stderr, "hzbench: realtime %s: %u packets beyond the recorder's %u left out\n", label,
                             g_rec.dropped, REC_MAX_PACKETS);
                 s = embree_replay(&bs, o->rounds, &embree_ms[m], err);
+                if (s == HZ_OK) {
+                    hz_render_set_scalar_recon(r[m], true);
+                    s = run_round(r[m], o, 0, false, &twin[m], err);
+                    hz_render_set_scalar_recon(r[m], false);
+                }
             }
         }
         if (o->progress) {
@@ -282,6 +288,7 @@ static hz_status_t bench_scene(const char *label, const char *path, const hz_ben
         w->trace_ms = hz_bench_median(acc[m].part[1], o->rounds);
         w->shade_ms = hz_bench_median(acc[m].part[2], o->rounds);
         w->resolve_ms = hz_bench_median(acc[m].part[3], o->rounds);
+        w->resolve_scalar_ms = twin[m].part[3][0];
         w->embree_trace_ms = embree_ms[m];
         w->overhead = w->p50_ms / embree_ms[m];
         w->primary = (double)recorded[m].primary_rays;

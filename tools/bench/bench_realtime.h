@@ -10,7 +10,9 @@
  * camera), the trace pass and the resolve pass (hz_render_run_frame_parts); inside the trace pass, the time the
  * wrapper saw inside accel calls (summed over threads, divided by the thread count) is `trace`, the rest of the
  * pass `shade` (ray generation, shading, G-buffer writes). p50 and p99 are over every timed frame of every
- * round; the parts are medians over rounds of their per-frame means.
+ * round; the parts are medians over rounds of their per-frame means. After the first round the same round runs
+ * again with the reconstruction's scalar twins (same frames, same bits): `resolve_scalar_ms`, its resolve part,
+ * side by side with the SIMD one (not part of the frame figures).
  *
  * The last timed frame of the first round is also recorded: every ray packet the renderer traced, as it was
  * given (lanes, coherence flag). `embree_trace_ms` replays them through Embree (8-ray packets, no any-hit
@@ -49,6 +51,7 @@ typedef struct hz_bench_realtime_row {
     double p50_ms, p99_ms;
     double begin_ms, trace_ms, shade_ms, resolve_ms;
     double embree_trace_ms, overhead;
+    double resolve_scalar_ms; /* the resolve pass with its scalar twin (hz_render_set_scalar_recon), round 0 */
     double primary, shadow, secondary; /* rays of the recorded frame */
 } hz_bench_realtime_row_t;
 

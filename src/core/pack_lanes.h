@@ -1,0 +1,105 @@
+/*
+ * pack_lanes.h — hz/pack.h's codecs in SIMD lanes (lanes.h), each bit-identical to its scalar function for
+ * every input: RGB9E5 pack and unpack, half unpack (hz_half_unpack, the e == 31 codes included) and half pack
+ * (hz_half_pack: non-negative, round to nearest even, subnormals kept).
+ *
+ * Contract: as lanes.h (AVX2 and NEON boards only). Half codes travel in the low 16 bits of int32 lanes.
+ */
+#ifndef HZ_PACK_LANES_H
+#define HZ_PACK_LANES_H
+
+#include "hz/pack.h"
+#include "lanes.h"
+
+typedef struct hz_lrgb {
+    hz_lf_t c[3];
+} hz_lrgb_t;
+
+/* hz_half_unpack of the half codes in the low 16 bits of each lane. */
+HZ_INLINE hz_lf_t hz_lanes_half_unpack(hz_li_t h)
+{
+    const hz_li_t e = hz_li_and(hz_li_shr(h, 10), hz_li_set(0x1f)), m = hz_li_and(h, hz_li_set(0x3ff));
+    const hz_li_t sign = hz_li_shl(hz_li_and(h, hz_li_set(0x8000)), 16);
+    /* normal: the exponent rebiased, the mantissa widened; exact, so it equals the scalar's bit assembly */
+    hz_li_t normal = hz_li_or(hz_li_shl(hz_li_add(e, hz_li_set(112)), 23), hz_li_shl(m, 13));
+    /* subnormal: sign * m * 2^-24 (both products exact, so the sign can be or-ed in afterwards) */
+    hz_li_t sub = hz_lf_bits(hz_lf_mul(hz_lf_from_li(m), hz_lf_set(1.0f / 16777216.0f)));
+    /* e == 31 (never packed): 0 for a NaN code, +-HZ_HALF_MAX for infinities */
+    hz_li_t inf = hz_li_sel(hz_li_eq(m, hz_li_set(0)), hz_lf_bits(hz_lf_set(HZ_HALF_MAX)), hz_li_set(0));
+    hz_li_t sign_inf = hz_li_sel(hz_li_eq(m, hz_li_set(0)), sign, hz_li_set(0));
+    hz_li_t r = hz_li_sel(hz_li_eq(e, hz_li_set(0)), hz_li_or(sub, sign), hz_li_or(normal, sign));
+    return hz_lf_from_bits(hz_li_sel(hz_li_eq(e, hz_li_set(31)), hz_li_or(inf, sign_inf), r));
+}
+
+HZ_INLINE hz_lrgb_t hz_lanes_rgb9e5_unpack(hz_li_t code)
+{
+    hz_lrgb_t o;
+    hz_lf_t scale = hz_lf_from_bits(hz_li_shl(hz_li_add(hz_li_shr(code, 27), hz_li_set(127 - 24)), 23));
+    o.c[0] = hz_lf_mul(hz_lf_from_li(hz_li_and(code, hz_li_set(511))), scale);
+    o.c[1] = hz_lf_mul(hz_lf_from_li(hz_li_and(hz_li_shr(code, 9), hz_li_set(511))), scale);
+    o.c[2] = hz_lf_mul(hz_lf_from_li(hz_li_and(hz_li_shr(code, 18), hz_li_set(511))), scale);
+    return o;
+}
+
+/* hz_pack_clamp(v, max_value) */
+HZ_INLINE hz_lf_t hz_lanes_pack_clamp(hz_lf_t v, float max_value)
+{
+    const hz_lf_t max = hz_lf_set(max_value);
+    return hz_lf_sel(hz_lf_gt(v, hz_lf_set(0.0f)), hz_lf_sel(hz_lf_lt(v, max), v, max), hz_lf_set(0.0f));
+}
+
+HZ_INLINE hz_lf_t hz_lanes_pow2(hz_li_t e) /* 2^e for normal e */
+{
+    return hz_lf_from_bits(hz_li_shl(hz_li_add(e, hz_li_set(127)), 23));
+}
+
+/* hz_rgb9e5_pack, lane by lane. */
+HZ_INLINE hz_li_t hz_lanes_rgb9e5_pack(const hz_lrgb_t *in)
+{
+    hz_lf_t c[3];
+    for (int k = 0; k < 3; k++)
+        c[k] = hz_lanes_pack_clamp(in->c[k], HZ_RGB9E5_MAX);
+    hz_lf_t m = hz_lf_sel(hz_lf_gt(c[0], c[1]), c[0], c[1]);
+    m = hz_lf_sel(hz_lf_gt(m, c[2]), m, c[2]);
+    hz_li_t ex = hz_li_sub(hz_li_and(hz_li_shr(hz_lf_bits(m), 23), hz_li_set(0xff)), hz_li_set(127));
+    ex = hz_li_sel(hz_li_gt(hz_li_set(-16), ex), hz_li_set(-16), ex);
+    hz_li_t es = hz_li_add(ex, hz_li_set(16));
+    hz_lf_t scale = hz_lanes_pow2(hz_li_sub(hz_li_set(24), es));
+    hz_li_t top = hz_li_from_lf(hz_lf_add(hz_lf_mul(m, scale), hz_lf_set(0.5f)));
+    hz_li_t carry = hz_li_gt(top, hz_li_set(511));
+    es = hz_li_sub(es, carry); /* masks are -1 */
+    scale = hz_lf_sel(carry, hz_lanes_pow2(hz_li_sub(hz_li_set(24), es)), scale);
+    hz_li_t code = hz_li_shl(es, 27);
+    for (int k = 0; k < 3; k++) {
+        hz_li_t q = hz_li_from_lf(hz_lf_add(hz_lf_mul(c[k], scale), hz_lf_set(0.5f)));
+        q = hz_li_sel(hz_li_gt(q, hz_li_set(511)), hz_li_set(511), q);
+        code = hz_li_or(code, k == 0 ? q : k == 1 ? hz_li_shl(q, 9) : hz_li_shl(q, 18));
+    }
+    return hz_li_sel(hz_lf_eq(m, hz_lf_set(0.0f)), hz_li_set(0), code);
+}
+
+/* hz_half_pack, lane by lane. */
+HZ_INLINE hz_li_t hz_lanes_half_pack(hz_lf_t v)
+{
+    v = hz_lanes_pack_clamp(v, HZ_HALF_MAX);
+    const hz_li_t u = hz_lf_bits(v), zero = hz_li_set(0);
+    const hz_li_t e = hz_li_sub(hz_li_shr(u, 23), hz_li_set(127));
+    /* subnormal half: multiples of 2^-24, rounded to nearest even */
+    hz_lf_t q = hz_lf_mul(v, hz_lf_set(16777216.0f));
+    hz_li_t i = hz_li_from_lf(q);
+    hz_lf_t rem = hz_lf_sub(q, hz_lf_from_li(i));
+    hz_li_t up = hz_li_or(hz_lf_gt(rem, hz_lf_set(0.5f)),
+                          hz_li_and(hz_lf_eq(rem, hz_lf_set(0.5f)), hz_li_not(hz_li_eq(hz_li_and(i, hz_li_set(1)), zero))));
+    hz_li_t sub = hz_li_sub(i, up);
+    /* normal: 10 of the 23 mantissa bits, nearest even on the 13 dropped (a carry may reach the exponent) */
+    hz_li_t mant = hz_li_and(u, hz_li_set(0x7fffff)), keep = hz_li_shr(mant, 13), drop = hz_li_and(mant, hz_li_set(0x1fff));
+    hz_li_t h = hz_li_or(hz_li_shl(hz_li_add(e, hz_li_set(15)), 10), keep);
+    hz_li_t hup = hz_li_or(hz_li_gt(drop, hz_li_set(0x1000)),
+                           hz_li_and(hz_li_eq(drop, hz_li_set(0x1000)), hz_li_not(hz_li_eq(hz_li_and(keep, hz_li_set(1)), zero))));
+    h = hz_li_min(hz_li_sub(h, hup), hz_li_set(0x7bff));
+    hz_li_t r = hz_li_sel(hz_li_gt(hz_li_set(-14), e), sub, h);
+    hz_li_t none = hz_li_or(hz_lf_eq(v, hz_lf_set(0.0f)), hz_li_gt(hz_li_set(-25), e));
+    return hz_li_sel(none, zero, r);
+}
+
+#endif /* HZ_PACK_LANES_H */

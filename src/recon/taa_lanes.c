@@ -1,0 +1,186 @@
+/* The TAA resolve of one 8x8 tile in SIMD lanes (src/core/lanes.h: a tile row at a time on AVX2, half a row on
+ * NEON), bit-identical to hz_taa_resolve_pixel (taa.c), its scalar twin.
+ *
+ * The neighbourhood box reads each pixel's YCoCg from a 10x10 block converted once per tile (the scalar twin
+ * converts all nine neighbours of every pixel: the same values, summed in the same order). Motion, the
+ * off-screen and disocclusion tests, the bilinear history fetch, the clamp, the blend and the half-float codes
+ * run lane by lane with the twin's operations. Left to the twin: tiles cut by the image edge, pixels whose
+ * path dithered (a 7x7 box and a hashed motion alignment), and the non-default Catmull-Rom fetch and clip. */
+#include "../core/pack_lanes.h"
+#include "../render/render_internal.h"
+
+#define T HZ_RENDER_TILE
+#define B (T + 2) /* the tile and a ring of one pixel */
+
+static void to_ycocg(const float *rgb, float *o)
+{
+    o[0] = 0.25f * rgb[0] + 0.5f * rgb[1] + 0.25f * rgb[2];
+    o[1] = 0.5f * rgb[0] - 0.5f * rgb[2];
+    o[2] = -0.25f * rgb[0] + 0.5f * rgb[1] - 0.25f * rgb[2];
+}
+
+HZ_INLINE void to_ycocg_lanes(const hz_lrgb_t *c, hz_lrgb_t *o)
+{
+    const hz_lf_t q = hz_lf_set(0.25f), h = hz_lf_set(0.5f), mq = hz_lf_set(-0.25f);
+    o->c[0] = hz_lf_add(hz_lf_add(hz_lf_mul(q, c->c[0]), hz_lf_mul(h, c->c[1])), hz_lf_mul(q, c->c[2]));
+    o->c[1] = hz_lf_sub(hz_lf_mul(h, c->c[0]), hz_lf_mul(h, c->c[2]));
+    o->c[2] = hz_lf_sub(hz_lf_add(hz_lf_mul(mq, c->c[0]), hz_lf_mul(h, c->c[1])), hz_lf_mul(q, c->c[2]));
+}
+
+HZ_INLINE hz_li_t clamp_index(hz_li_t v, int32_t n)
+{
+    return hz_li_min(hz_li_max(v, hz_li_set(0)), hz_li_set(n - 1));
+}
+
+/* prev_object[y * w + x] for in-range indices i < n (n >= 2): a word read that never passes the array's end. */
+HZ_INLINE hz_li_t object_at(const uint16_t *obj, hz_li_t i, int32_t n)
+{
+    hz_li_t last = hz_li_eq(i, hz_li_set(n - 1));
+    hz_li_t word = hz_li_gather_bytes32(obj, hz_li_shl(hz_li_min(i, hz_li_set(n - 2)), 1));
+    return hz_li_sel(last, hz_li_shr(word, 16), hz_li_and(word, hz_li_set(0xffff)));
+}
+
+/* History pixel (x, y) (in range), half-float RGB: two word reads inside the pixel's six bytes. */
+HZ_INLINE hz_lrgb_t hist_at(const uint16_t *hist, hz_li_t x, hz_li_t y, int32_t w)
+{
+    hz_li_t i = hz_li_add(hz_li_mul(y, hz_li_set(w)), x);
+    hz_li_t off = hz_li_shl(hz_li_add(hz_li_add(i, i), i), 1); /* bytes: 6 per pixel */
+    hz_li_t rg = hz_li_gather_bytes32(hist, off), gb = hz_li_gather_bytes32(hist, hz_li_add(off, hz_li_set(2)));
+    hz_lrgb_t o;
+    o.c[0] = hz_lanes_half_unpack(hz_li_and(rg, hz_li_set(0xffff)));
+    o.c[1] = hz_lanes_half_unpack(hz_li_shr(rg, 16));
+    o.c[2] = hz_lanes_half_unpack(hz_li_shr(gb, 16));
+    return o;
+}
+
+/* Lanes x .. x + HZ_LANES - 1 of row y; yc: the tile's YCoCg block, (bx, by) the lanes' first pixel in it. */
+static void resolve_lanes(struct hz_renderer *r, uint32_t x, uint32_t y, float (*yc)[B][B], uint32_t bx, uint32_t by)
+{
+    const int32_t w = (int32_t)r->opts.width, h = (int32_t)r->opts.height;
+    const hz_gbuffer_t *gb = &r->gb;
+    const size_t p0 = (size_t)y * (size_t)w + x;
+    const hz_li_t zero = hz_li_set(0), one = hz_li_set(1);
+
+    hz_lrgb_t c, sum, sum2, mean, ext;
+    for (int k = 0; k < 3; k++) {
+        c.c[k] = hz_lf_load(&yc[k][by][bx]);
+        sum.c[k] = sum2.c[k] = hz_lf_set(0.0f);
+    }
+    for (uint32_t dy = 0; dy < 3; dy++)
+        for (uint32_t dx = 0; dx < 3; dx++)
+            for (int k = 0; k < 3; k++) {
+                hz_lf_t q = hz_lf_load(&yc[k][by - 1 + dy][bx - 1 + dx]);
+                sum.c[k] = hz_lf_add(sum.c[k], q);
+                sum2.c[k] = hz_lf_add(sum2.c[k], hz_lf_mul(q, q));
+            }
+    const hz_lf_t count = hz_lf_set(9.0f), gamma = hz_lf_set(r->opts.taa_gamma);
+    for (int k = 0; k < 3; k++) {
+        mean.c[k] = hz_lf_div(sum.c[k], count);
+        hz_lf_t var = hz_lf_sub(hz_lf_div(sum2.c[k], count), hz_lf_mul(mean.c[k], mean.c[k]));
+        var = hz_lf_sel(hz_lf_gt(var, hz_lf_set(0.0f)), var, hz_lf_set(0.0f));
+        ext.c[k] = hz_lf_mul(gamma, hz_lf_sqrt(var));
+    }
+
+    const hz_li_t xi = hz_li_add(hz_li_set((int32_t)x), hz_li_iota());
+    hz_lf_t hx = hz_lf_add(hz_lf_from_li(xi), hz_lf_set(0.5f)), hy = hz_lf_set((float)y + 0.5f);
+    hz_li_t reset = r->hist_valid ? zero : hz_li_set(-1);
+    if (r->hist_valid && gb->mv) {
+        hz_li_t i2 = hz_li_shl(hz_li_add(hz_li_set((int32_t)x), hz_li_iota()), 1);
+        const float *mv = gb->mv + 2 * (size_t)y * (size_t)w;
+        hx = hz_lf_add(hx, hz_lf_gather(mv, i2));
+        hy = hz_lf_add(hy, hz_lf_gather(mv, hz_li_add(i2, one)));
+    }
+    hz_li_t inside = hz_li_and(hz_li_and(hz_li_not(hz_lf_lt(hx, hz_lf_set(0.0f))), hz_li_not(hz_lf_lt(hy, hz_lf_set(0.0f)))),
+                               hz_li_and(hz_lf_lt(hx, hz_lf_set((float)w)), hz_lf_lt(hy, hz_lf_set((float)h))));
+    /* hx >= 0 is "not below 0 and not NaN": NaN fails lt(hx, w) anyway */
+    reset = hz_li_or(reset, hz_li_not(inside));
+
+    /* history footprint: the four pixels around (hx - 0.5, hy - 0.5) */
+    hz_lf_t fx = hz_lf_sub(hx, hz_lf_set(0.5f)), fy = hz_lf_sub(hy, hz_lf_set(0.5f));
+    hz_lf_t flx = hz_lf_floor(fx), fly = hz_lf_floor(fy);
+    hz_li_t ix = hz_li_from_lf(flx), iy = hz_li_from_lf(fly);
+    hz_li_t xa = clamp_index(ix, w), xb = clamp_index(hz_li_add(ix, one), w);
+    hz_li_t ya = clamp_index(iy, h), yb = clamp_index(hz_li_add(iy, one), h);
+
+    /* disocclusion (seen_before in taa.c): the object now here was at none of the four */
+    const hz_li_t object = hz_li_load_u16(gb->object + p0);
+    const int32_t n = w * h;
+    const hz_li_t wv = hz_li_set(w);
+    hz_li_t ra = hz_li_mul(ya, wv), rb = hz_li_mul(yb, wv);
+    hz_li_t seen = hz_li_eq(object_at(r->prev_object, hz_li_add(ra, xa), n), object);
+    seen = hz_li_or(seen, hz_li_eq(object_at(r->prev_object, hz_li_add(ra, xb), n), object));
+    seen = hz_li_or(seen, hz_li_eq(object_at(r->prev_object, hz_li_add(rb, xa), n), object));
+    seen = hz_li_or(seen, hz_li_eq(object_at(r->prev_object, hz_li_add(rb, xb), n), object));
+    reset = hz_li_or(reset, hz_li_not(seen));
+
+    hz_lrgb_t res = c;
+    if (hz_li_any(hz_li_not(reset))) {
+        const uint16_t *hist = r->hist[r->hist_index];
+        hz_lf_t ax = hz_lf_sub(fx, flx), ay = hz_lf_sub(fy, fly);
+        hz_lrgb_t a = hist_at(hist, xa, ya, w), b = hist_at(hist, xb, ya, w);
+        hz_lrgb_t cc = hist_at(hist, xa, yb, w), d = hist_at(hist, xb, yb, w), hrgb, hy3;
+        for (int k = 0; k < 3; k++) {
+            hz_lf_t top = hz_lf_add(a.c[k], hz_lf_mul(hz_lf_sub(b.c[k], a.c[k]), ax));
+            hz_lf_t bot = hz_lf_add(cc.c[k], hz_lf_mul(hz_lf_sub(d.c[k], cc.c[k]), ax));
+            hrgb.c[k] = hz_lf_add(top, hz_lf_mul(hz_lf_sub(bot, top), ay));
+        }
+        to_ycocg_lanes(&hrgb, &hy3);
+        const hz_lf_t alpha = hz_lf_set(r->opts.taa_alpha);
+        for (int k = 0; k < 3; k++) {
+            hz_lf_t v = hz_lf_clamp(hy3.c[k], hz_lf_sub(mean.c[k], ext.c[k]), hz_lf_add(mean.c[k], ext.c[k]));
+            v = hz_lf_add(v, hz_lf_mul(alpha, hz_lf_sub(c.c[k], v)));
+            res.c[k] = hz_lf_sel(reset, c.c[k], v);
+        }
+    }
+    hz_lf_t rgb[3];
+    rgb[0] = hz_lf_sub(hz_lf_add(res.c[0], res.c[1]), res.c[2]);
+    rgb[1] = hz_lf_add(res.c[0], res.c[2]);
+    rgb[2] = hz_lf_sub(hz_lf_sub(res.c[0], res.c[1]), res.c[2]);
+    float o[3][HZ_LANES];
+    int32_t codes[3][HZ_LANES];
+    for (int k = 0; k < 3; k++) {
+        hz_li_t ok = hz_li_and(hz_lf_finite(rgb[k]), hz_lf_gt(rgb[k], hz_lf_set(0.0f)));
+        hz_lf_t v = hz_lf_sel(ok, rgb[k], hz_lf_set(0.0f));
+        hz_lf_store(o[k], v);
+        hz_li_store(codes[k], hz_lanes_half_pack(v));
+    }
+    float *out = r->out.rgb + p0 * 3;
+    uint16_t *next = r->hist[r->hist_index ^ 1u] + p0 * 3;
+    for (int i = 0; i < HZ_LANES; i++)
+        for (int k = 0; k < 3; k++) {
+            out[3 * i + k] = o[k][i];
+            next[3 * i + k] = (uint16_t)codes[k][i];
+        }
+}
+
+void hz_taa_resolve_tile(struct hz_renderer *r, uint32_t tile)
+{
+    const uint32_t w = r->opts.width, h = r->opts.height;
+    const uint32_t x0 = (tile % r->tiles_x) * T, y0 = (tile / r->tiles_x) * T;
+    if (r->opts.taa_clip || r->opts.taa_catmull_rom || x0 + T > w || y0 + T > h || w * h < 2) {
+        hz_taa_resolve_tile_scalar(r, tile);
+        return;
+    }
+    /* YCoCg of the tile and its ring (edge-clamped), one plane per channel */
+    float yc[3][B][B];
+    const hz_image_t *cur = &r->cur;
+    for (uint32_t by = 0; by < B; by++) {
+        int32_t y = (int32_t)(y0 + by) - 1;
+        y = y < 0 ? 0 : y >= (int32_t)h ? (int32_t)h - 1 : y;
+        for (uint32_t bx = 0; bx < B; bx++) {
+            int32_t x = (int32_t)(x0 + bx) - 1;
+            x = x < 0 ? 0 : x >= (int32_t)w ? (int32_t)w - 1 : x;
+            float q[3];
+            to_ycocg(cur->rgb + 3 * ((size_t)y * w + (size_t)x), q);
+            yc[0][by][bx] = q[0], yc[1][by][bx] = q[1], yc[2][by][bx] = q[2];
+        }
+    }
+    for (uint32_t y = y0; y < y0 + T; y++) {
+        for (uint32_t x = x0; x < x0 + T; x += HZ_LANES)
+            resolve_lanes(r, x, y, yc, x - x0 + 1, y - y0 + 1);
+        if (r->dither) /* dithered paths: the twin's 7x7 box and aligned motion */
+            for (uint32_t x = x0; x < x0 + T; x++)
+                if (r->gb.flags[(size_t)y * w + x] & HZ_GB_DITHER)
+                    hz_taa_resolve_pixel(r, x, y);
+    }
+}
