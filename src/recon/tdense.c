@@ -429,6 +429,36 @@ static void resolve_row(hz_tdense_t *td, uint32_t y, unsigned subframe, const ui
 
 typedef void (*row_fn_t)(hz_tdense_t *td, uint32_t y, unsigned subframe, const uint32_t *prev, uint32_t *cur);
 
+/* Tile (tx, ty)'s motion for ĝ: the longest over its 4x4 block. With lanes (and motion), groups of tiles scan
+ * their blocks together in the same order, with the same result (hz_tdense_block_motion_lanes); g keeps the
+ * group's results (tx runs up from 0, so a group's first tile comes first). */
+typedef struct block_cache {
+#ifdef HZ_TDENSE_LANES
+    float x[HZ_TDENSE_LANES], y[HZ_TDENSE_LANES];
+#endif
+    int dummy;
+} block_cache_t;
+
+static motion_t tile_motion(const hz_tdense_t *td, uint32_t tx, uint32_t ty, bool lanes, block_cache_t *g)
+{
+    motion_t m;
+#ifdef HZ_TDENSE_LANES
+    uint32_t k = tx % HZ_TDENSE_LANES;
+    if (lanes && td->mv && tx - k + HZ_TDENSE_LANES <= td->tiles_x) {
+        if (k == 0)
+            hz_tdense_block_motion_lanes(td, ty, tx - k, g->x, g->y);
+        m.x = g->x[k], m.y = g->y[k];
+        m.l2 = 0.0f; /* not used by the caller */
+        return m;
+    }
+#else
+    (void)lanes;
+    (void)g;
+#endif
+    m = longest_in(td, 2 * (int)tx - 1, 2 * (int)ty - 1, 2 * (int)tx + 2, 2 * (int)ty + 2);
+    return m;
+}
+
 static void resolve_rows(hz_tdense_t *td, uint32_t ty0, uint32_t ty1, row_fn_t row)
 {
     unsigned subframe = hz_tdense_subframe(td->frame);
@@ -445,8 +475,9 @@ static void resolve_rows(hz_tdense_t *td, uint32_t ty0, uint32_t ty1, row_fn_t r
              * pixels, i.e. the 4x4 block around it; ĝ picks the next cycle's ordering (as hz_tileorder_choose
              * does, a tile at a time, so no per-tile motion array is kept). */
             uint32_t cycle = hz_tdense_cycle(td->frame) + 1u;
+            block_cache_t g;
             for (uint32_t tx = 0; tx < td->tiles_x; tx++) {
-                motion_t m = longest_in(td, 2 * (int)tx - 1, 2 * (int)ty - 1, 2 * (int)tx + 2, 2 * (int)ty + 2);
+                motion_t m = tile_motion(td, tx, ty, row != resolve_row, &g);
                 uint32_t rnd = hz_tileorder_tile_random(tx, ty, cycle, td->cfg.seed);
                 hz_tilecycle_t c = hz_tileorder_ghat(hz_q16_from_float(m.x), hz_q16_from_float(m.y), rnd,
                                                      td->cfg.rule);

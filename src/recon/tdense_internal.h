@@ -24,6 +24,18 @@ hz_tdense_motion_t hz_tdense_column_motion(const uint16_t *r0, const uint16_t *r
 void hz_tdense_resolve_pixel(hz_tdense_t *td, uint32_t x, uint32_t y, unsigned subframe, hz_tdense_motion_t m,
                              const uint32_t *prev, uint32_t *cur);
 
+/* Lanes per group on AVX2 and NEON boards (lanes.h's HZ_LANES; here so that tdense.c needs no SIMD header). */
+#if defined(HZ_BOARD_SIMD_AVX2)
+#define HZ_TDENSE_LANES 8
+#elif defined(HZ_BOARD_SIMD_NEON)
+#define HZ_TDENSE_LANES 4
+#endif
+
+/* The longest motion over the 4x4 pixel block around each of the tiles tx0 .. tx0 + HZ_TDENSE_LANES - 1 of tile
+ * row ty (all inside the row; the blocks clamped to the image), scanned in longest_in's order (tdense.c): the
+ * components into mx and my. Needs motion vectors (td->mv). */
+void hz_tdense_block_motion_lanes(const hz_tdense_t *td, uint32_t ty, uint32_t tx0, float *mx, float *my);
+
 /* Pixel row y with lanes (defined in tdense_lanes.c on AVX2 and NEON boards). */
 void hz_tdense_resolve_row_lanes(hz_tdense_t *td, uint32_t y, unsigned subframe, const uint32_t *prev,
                                  uint32_t *cur);

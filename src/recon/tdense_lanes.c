@@ -281,3 +281,30 @@ void hz_tdense_resolve_row_lanes(hz_tdense_t *td, uint32_t y, unsigned subframe,
         hz_tdense_resolve_pixel(td, x, y, subframe, m, prev, cur);
     }
 }
+
+/* Rows and columns outside the image are clamped onto its edge: the clamped rectangle of longest_in visited
+ * with its edge row or column repeated, and a repeat right after the original changes nothing (longer keeps
+ * the first of equals). */
+void hz_tdense_block_motion_lanes(const hz_tdense_t *td, uint32_t ty, uint32_t tx0, float *mx, float *my)
+{
+    const int32_t w = (int32_t)td->cfg.width, h = (int32_t)td->cfg.height;
+    const hz_li_t bx = hz_li_sub(hz_li_shl(hz_li_add(hz_li_set((int32_t)tx0), hz_li_iota()), 1), hz_li_set(1));
+    const int32_t *mv = (const int32_t *)(const void *)td->mv; /* (x, y) half pairs as words */
+    lmotion_t best;
+    best.x = best.y = best.l2 = hz_lf_set(0.0f);
+    for (int32_t dy = 0; dy < 4; dy++) {
+        int32_t y = 2 * (int32_t)ty - 1 + dy;
+        y = y < 0 ? 0 : y >= h ? h - 1 : y;
+        for (int32_t dx = 0; dx < 4; dx++) {
+            hz_li_t x = hz_li_min(hz_li_max(hz_li_add(bx, hz_li_set(dx)), hz_li_set(0)), hz_li_set(w - 1));
+            hz_li_t v = hz_li_gather(mv, hz_li_add(x, hz_li_set(y * w)));
+            lmotion_t m;
+            m.x = hz_lanes_half_unpack(hz_li_and(v, hz_li_set(0xffff)));
+            m.y = hz_lanes_half_unpack(hz_li_shr(v, 16));
+            m.l2 = hz_lf_add(hz_lf_mul(m.x, m.x), hz_lf_mul(m.y, m.y));
+            best = longer(best, m);
+        }
+    }
+    hz_lf_store(mx, best.x);
+    hz_lf_store(my, best.y);
+}
