@@ -18,6 +18,7 @@
 #include "hz/vsync.h"
 #include "pools.h"
 #include "latency_report.h"
+#include "hz/render.h"
 #include "scenesrc.h"
 
 static void usage(FILE *f)
@@ -56,35 +57,39 @@ static void usage(FILE *f)
             "  none | fbdev[:DEV] | v4l2:DEV[:rgb24|xrgb32|yuyv]\n"
             "  drm[:CARD[:CONNECTOR[:WxH[@HZ]]]]   DRM/KMS page flips (default: the first card with a connected\n"
             "                        display, its first connected connector, the preferred mode); --drm-buffers 2|3\n"
-            "  display               the board's display: %s\n"
-            "frames:\n"
-            "  --frames N | --seconds S    run length (default 10 s)\n"
-            "  --size WxH            frame size (default: the sink's mode, else 320x180)\n"
-            "  --render pattern|scene     what to draw: the test pattern, or a scene through the renderer\n"
-            "  --scene FILE|builtin  (scene) the scene: a baked .hzb or the built-in one (default builtin)\n"
-            "  --threads N           (scene) render threads, 1..64 (default: the machine's cores)\n"
-            "  --render-scale N      (scene) render 1/N of the width and height (multiples of N), each pixel\n"
-            "                        shown N x N\n"
-            "  --marker, --no-marker      frame-id marker in the top-left corner (default: on with a sink)\n"
-            "  --virtual             simulated clock (sim, vcd, csv sources): no sleeping, render times from\n"
-            "                        --render-model const:T | uniform:A:B | spikes:A:B:PCT | triangle:A:B:N |\n"
-            "                        step:A:B:N and --wake T (oversleep up to T); T like 3ms, 800us, 0.5P\n"
-            "pacing:\n"
-            "  --percentile P (100: the max)  --window N (1024)  --guard T (P/16)  --latch T (0)  --lookahead K (1)\n"
-            "  --edges-only          capture and classify edges, render nothing\n"
-            "  --rt                  real-time: SCHED_FIFO priority 50 and locked memory (needs root or\n"
-            "                        CAP_SYS_NICE + CAP_IPC_LOCK; refused permissions are reported, not fatal)\n"
-            "output:\n"
-            "  --out DIR             default out/latency\n"
-            "  --quiet               no summary on stdout\n"
-            "\n"
-            "exit status: 0 ok, 2 bad command line, 3 no lock (files written), 64+N failure with hz status N\n"
-            "(75: no v-sync, time-out)\n",
+            "  display               the board's display: %s\n",
             HZ_VSYNC_SOURCE == HZ_VSYNC_GPIO ? "gpio" : HZ_VSYNC_SOURCE == HZ_VSYNC_FBDEV ? "fbdev" : "sim",
             HZ_VSYNC_GPIO_CHIP, HZ_VSYNC_GPIO_LINE, HZ_DISPLAY_DEVICE, HZ_DISPLAY_HZ, HZ_LOCK_MIN_RUN,
             HZ_LOCK_RELOCK_PPM / 1e4, HZ_LOCK_SPURIOUS_PPM / 1e4, HZ_LOCK_MISSED_PPM / 1e4, HZ_LOCK_FAR_PPM / 1e4,
             !strcmp(HZ_DISPLAY_SINK, "drm") ? "DRM, falling back to fbdev " HZ_DISPLAY_DEVICE " without a DRM card"
                                             : "fbdev " HZ_DISPLAY_DEVICE);
+    /* in two parts: C99 promises string literals of 4095 characters, no more */
+    fputs("frames:\n"
+          "  --frames N | --seconds S    run length (default 10 s)\n"
+          "  --size WxH            frame size (default: the sink's mode, else 320x180)\n"
+          "  --render pattern|scene     what to draw: the test pattern, or a scene through the renderer\n"
+          "  --scene FILE|builtin  (scene) the scene: a baked .hzb or the built-in one (default builtin)\n"
+          "  --threads N           (scene) render threads, 1..64 (default: the machine's cores)\n"
+          "  --mode tdense|full    (scene) temporally dense (one sample per 2x2 tile per frame, the\n"
+          "                        default) or full frames at 1 spp\n"
+          "  --render-scale N      (scene) render 1/N of the width and height (multiples of N), each pixel\n"
+          "                        shown N x N\n"
+          "  --marker, --no-marker      frame-id marker in the top-left corner (default: on with a sink)\n"
+          "  --virtual             simulated clock (sim, vcd, csv sources): no sleeping, render times from\n"
+          "                        --render-model const:T | uniform:A:B | spikes:A:B:PCT | triangle:A:B:N |\n"
+          "                        step:A:B:N and --wake T (oversleep up to T); T like 3ms, 800us, 0.5P\n"
+          "pacing:\n"
+          "  --percentile P (100: the max)  --window N (1024)  --guard T (P/16)  --latch T (0)  --lookahead K (1)\n"
+          "  --edges-only          capture and classify edges, render nothing\n"
+          "  --rt                  real-time: SCHED_FIFO priority 50 and locked memory (needs root or\n"
+          "                        CAP_SYS_NICE + CAP_IPC_LOCK; refused permissions are reported, not fatal)\n"
+          "output:\n"
+          "  --out DIR             default out/latency\n"
+          "  --quiet               no summary on stdout\n"
+          "\n"
+          "exit status: 0 ok, 2 bad command line, 3 no lock (files written), 64+N failure with hz status N\n"
+          "(75: no v-sync, time-out)\n",
+          f);
 }
 
 /* "3ms", "800us", "250ns", "1.5ms", "2s", "0.5P" (of period_ns). */
@@ -209,6 +214,7 @@ typedef struct opts {
     long render_scale;
     const char *scene; /* NULL: builtin */
     long threads;      /* 0: the machine's cores */
+    const char *mode;  /* NULL: tdense */
     hz_lockv_cfg_t lock;
     long drm_buffers;
 } opts_t;
@@ -383,6 +389,13 @@ static int parse_opts(int argc, char **argv, opts_t *o, int *help)
         } else if (!strcmp(a, "--scene")) {
             NEXT_ARG();
             o->scene = v;
+        } else if (!strcmp(a, "--mode")) {
+            NEXT_ARG();
+            if (strcmp(v, "tdense") && strcmp(v, "full")) {
+                hz_cli_error("--mode: '%s' is not tdense or full", v);
+                return 0;
+            }
+            o->mode = v;
         } else if (!strcmp(a, "--threads")) {
             NEXT_ARG();
             if (!hz_cli_parse_long(a, v, 1, 64, &o->threads))
@@ -430,9 +443,9 @@ int hz_cmd_latency(int argc, char **argv)
     int timeline = !strcmp(kind, "sim") || !strcmp(kind, "vcd") || !strcmp(kind, "csv");
     int trace_file = !strcmp(kind, "vcd") || !strcmp(kind, "csv");
     int edges_only = o.edges_only || (trace_file && !o.virt);
-    if ((o.scene || o.threads) && (strcmp(o.render, "scene") || edges_only)) {
+    if ((o.scene || o.threads || o.mode) && (strcmp(o.render, "scene") || edges_only)) {
         hz_cli_error("%s renders a scene: it needs --render scene (and frames, not --edges-only)",
-                     o.scene ? "--scene" : "--threads");
+                     o.scene ? "--scene" : o.threads ? "--threads" : "--mode");
         return HZ_EXIT_USAGE;
     }
     if (o.virt && !timeline) {
@@ -633,7 +646,8 @@ int hz_cmd_latency(int argc, char **argv)
     }
     if (s == HZ_OK && cfg.frames_mode && !strcmp(o.render, "scene"))
         s = hz_scene_framesrc(&frames, o.scene ? o.scene : "builtin", cfg.w, cfg.h, (int)o.render_scale,
-                              (int)o.threads, &err);
+                              (int)o.threads, o.mode && !strcmp(o.mode, "full") ? HZ_MODE_FULL : HZ_MODE_TDENSE,
+                              &err);
     cfg.marker = o.marker < 0 ? strcmp(skind, "none") != 0 : o.marker;
     /* ---- run length and record capacity ---- */
     double hz_cap = o.hz > 0 ? o.hz : 1000;

@@ -62,7 +62,7 @@ static hz_status_t render(void *ctx, const hz_frame_req_t *req, hz_rgb8_image_t 
 }
 
 hz_status_t hz_scene_framesrc(hz_framesrc_t *src, const char *scene, int w, int h, int scale, int threads,
-                              hz_error_t *err)
+                              hz_render_mode_t mode, hz_error_t *err)
 {
     scenesrc_t *s = &state;
     hz_pools_t *pools = hz_pools_get();
@@ -93,6 +93,10 @@ hz_status_t hz_scene_framesrc(hz_framesrc_t *src, const char *scene, int w, int 
     hz_render_opts_t o;
     hz_render_opts_default(&o);
     o.width = (uint32_t)(w / scale), o.height = (uint32_t)(h / scale);
+    if (mode != HZ_MODE_TDENSE && mode != HZ_MODE_FULL)
+        return hz_error_set(err, HZ_E_INVALID_ARG, "scene source: mode %s is not tdense or full",
+                            hz_render_mode_name(mode));
+    o.mode = mode;
     if (st == HZ_OK)
         st = hz_render_create(&s->r, &s->scene, s->accel, &o, &pools->frame, pools->thread, (uint32_t)threads, err);
     if (st != HZ_OK)

@@ -82,7 +82,7 @@ static void test_latency_source_after_30_days(void **state)
     (void)state;
     hz_framesrc_t src;
     hz_error_t err;
-    if (hz_scene_framesrc(&src, "builtin", W, H, 1, 0, &err) != HZ_OK)
+    if (hz_scene_framesrc(&src, "builtin", W, H, 1, 0, HZ_MODE_FULL, &err) != HZ_OK)
         fail_msg("scene source: %s", err.msg);
     size_t bytes = (size_t)W * H * 3;
     uint8_t *img = malloc(bytes * (N + 1)), *early = malloc(bytes * N);

@@ -223,7 +223,7 @@ static void loopback(hz_pix_fmt_t fmt, int count, int scene)
      * shown 16x. */
     ring.inner = hz_framesrc_testpattern();
     if (scene) {
-        if (hz_scene_framesrc(&ring.inner, "builtin", W, H, 16, 0, &err) != HZ_OK)
+        if (hz_scene_framesrc(&ring.inner, "builtin", W, H, 16, 0, HZ_MODE_FULL, &err) != HZ_OK)
             fail_msg("built-in scene: %s", err.msg);
     }
     print_message("  frames: %s\n", ring.inner.name);

@@ -145,7 +145,7 @@ static void test_drm_shows_builtin_scene(void **state)
     print_message("  sink: %s\n  source: %s\n", sink.name, vs.name);
     int w = sink.w, h = sink.h;
     hz_framesrc_t frames;
-    if (hz_scene_framesrc(&frames, "builtin", w, h, SCALE, 0, &err) != HZ_OK)
+    if (hz_scene_framesrc(&frames, "builtin", w, h, SCALE, 0, HZ_MODE_FULL, &err) != HZ_OK)
         fail_msg("built-in scene at %dx%d / %d: %s", w, h, SCALE, err.msg);
     hz_rgb8_image_t img = { malloc((size_t)w * h * 3), w, h, (size_t)w * 3 };
     assert_non_null(img.rgb);
