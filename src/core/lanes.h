@@ -92,6 +92,24 @@ HZ_INLINE hz_li_t hz_li_gather_u8(const uint8_t *base, hz_li_t idx)
 HZ_INLINE hz_lf_t hz_lf_perm(hz_lf_t v, hz_li_t idx) { return _mm256_permutevar8x32_ps(v, idx); }
 HZ_INLINE hz_li_t hz_li_perm(hz_li_t v, hz_li_t idx) { return _mm256_permutevar8x32_epi32(v, idx); }
 
+/* Interleaved store of HZ_LANES (r, g, b) triples: dst[3 i + k] = lane i of channel k. */
+HZ_INLINE void hz_lf_store3(float *dst, hz_lf_t r, hz_lf_t g, hz_lf_t b)
+{
+    const __m256 rp0 = _mm256_permutevar8x32_ps(r, _mm256_setr_epi32(0, 0, 0, 1, 1, 1, 2, 2));
+    const __m256 gp0 = _mm256_permutevar8x32_ps(g, _mm256_setr_epi32(0, 0, 0, 0, 1, 1, 1, 2));
+    const __m256 bp0 = _mm256_permutevar8x32_ps(b, _mm256_setr_epi32(0, 0, 0, 0, 0, 1, 1, 1));
+    const __m256 rp1 = _mm256_permutevar8x32_ps(r, _mm256_setr_epi32(2, 3, 3, 3, 4, 4, 4, 5));
+    const __m256 gp1 = _mm256_permutevar8x32_ps(g, _mm256_setr_epi32(2, 2, 3, 3, 3, 4, 4, 4));
+    const __m256 bp1 = _mm256_permutevar8x32_ps(b, _mm256_setr_epi32(2, 2, 2, 3, 3, 3, 4, 4));
+    const __m256 rp2 = _mm256_permutevar8x32_ps(r, _mm256_setr_epi32(5, 5, 6, 6, 6, 7, 7, 7));
+    const __m256 gp2 = _mm256_permutevar8x32_ps(g, _mm256_setr_epi32(5, 5, 5, 6, 6, 6, 7, 7));
+    const __m256 bp2 = _mm256_permutevar8x32_ps(b, _mm256_setr_epi32(4, 5, 5, 5, 6, 6, 6, 7));
+    /* lane j of output vector v holds element 8 v + j: channel (8 v + j) % 3 */
+    _mm256_storeu_ps(dst, _mm256_blend_ps(_mm256_blend_ps(rp0, gp0, 0x92), bp0, 0x24));
+    _mm256_storeu_ps(dst + 8, _mm256_blend_ps(_mm256_blend_ps(rp1, gp1, 0x24), bp1, 0x49));
+    _mm256_storeu_ps(dst + 16, _mm256_blend_ps(_mm256_blend_ps(rp2, gp2, 0x49), bp2, 0x92));
+}
+
 /* Each lane one to the right, lane 0 from p's last: [p7, c0 .. c6]. */
 HZ_INLINE hz_lf_t hz_lf_shift_in_left(hz_lf_t p, hz_lf_t c)
 {
@@ -223,6 +241,13 @@ HZ_INLINE hz_lf_t hz_lf_perm(hz_lf_t v, hz_li_t idx)
 HZ_INLINE hz_li_t hz_li_perm(hz_li_t v, hz_li_t idx)
 {
     return vreinterpretq_s32_u8(vqtbl1q_u8(vreinterpretq_u8_s32(v), hz_lanes_bytes(idx)));
+}
+
+HZ_INLINE void hz_lf_store3(float *dst, hz_lf_t r, hz_lf_t g, hz_lf_t b)
+{
+    float32x4x3_t v;
+    v.val[0] = r, v.val[1] = g, v.val[2] = b;
+    vst3q_f32(dst, v);
 }
 
 HZ_INLINE hz_lf_t hz_lf_shift_in_left(hz_lf_t p, hz_lf_t c) { return vextq_f32(p, c, 3); }

@@ -212,15 +212,8 @@ static void resolve_lanes(hz_tdense_t *td, uint32_t x0, uint32_t y, unsigned sub
                            hz_li_andnot(hz_li_or(f1, hz_li_set(HZ_TDENSE_SEEN)), hz_li_set(HZ_TDENSE_KEPT)));
     hz_li_store_u8(td->flags + p0, hz_li_sel(window, f, nf));
 
-    float o[3][HZ_LANES], mx[HZ_LANES], my[HZ_LANES], ml2[HZ_LANES];
-    for (int k = 0; k < 3; k++)
-        hz_lf_store(o[k], out.c[k]);
-    float *dst = hz_image_at(&td->out, x0, y);
-    for (int i = 0; i < HZ_LANES; i++) {
-        dst[3 * i + 0] = o[0][i];
-        dst[3 * i + 1] = o[1][i];
-        dst[3 * i + 2] = o[2][i];
-    }
+    float mx[HZ_LANES], my[HZ_LANES], ml2[HZ_LANES];
+    hz_lf_store3(hz_image_at(&td->out, x0, y), out.c[0], out.c[1], out.c[2]);
     unsigned rest = hz_li_bits(window);
     if (rest) {
         hz_lf_store(mx, m.x);
