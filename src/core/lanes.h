@@ -110,6 +110,21 @@ HZ_INLINE void hz_lf_store3(float *dst, hz_lf_t r, hz_lf_t g, hz_lf_t b)
     _mm256_storeu_ps(dst + 16, _mm256_blend_ps(_mm256_blend_ps(rp2, gp2, 0x49), bp2, 0x92));
 }
 
+/* Interleaved store of HZ_LANES triples of 16-bit codes (each lane 0..65535): dst[3 i + k] = lane i of k. */
+HZ_INLINE void hz_li_store3_u16(uint16_t *dst, hz_li_t a, hz_li_t b, hz_li_t c)
+{
+    float t[24];
+    hz_lf_store3(t, _mm256_castsi256_ps(a), _mm256_castsi256_ps(b), _mm256_castsi256_ps(c));
+    const __m256i v0 = _mm256_loadu_si256((const __m256i *)(const void *)t);
+    const __m256i v1 = _mm256_loadu_si256((const __m256i *)(const void *)(t + 8));
+    const __m256i v2 = _mm256_loadu_si256((const __m256i *)(const void *)(t + 16));
+    /* packus works per 128-bit half: [v0 lo, v1 lo, v0 hi, v1 hi] -> reorder the 64-bit quarters */
+    const __m256i p01 = _mm256_permute4x64_epi64(_mm256_packus_epi32(v0, v1), 0xd8);
+    const __m128i p2 = _mm_packus_epi32(_mm256_castsi256_si128(v2), _mm256_extracti128_si256(v2, 1));
+    _mm256_storeu_si256((__m256i *)(void *)dst, p01);
+    _mm_storeu_si128((__m128i *)(void *)(dst + 16), p2);
+}
+
 /* Each lane one to the right, lane 0 from p's last: [p7, c0 .. c6]. */
 HZ_INLINE hz_lf_t hz_lf_shift_in_left(hz_lf_t p, hz_lf_t c)
 {
@@ -248,6 +263,15 @@ HZ_INLINE void hz_lf_store3(float *dst, hz_lf_t r, hz_lf_t g, hz_lf_t b)
     float32x4x3_t v;
     v.val[0] = r, v.val[1] = g, v.val[2] = b;
     vst3q_f32(dst, v);
+}
+
+HZ_INLINE void hz_li_store3_u16(uint16_t *dst, hz_li_t a, hz_li_t b, hz_li_t c)
+{
+    uint16x4x3_t v;
+    v.val[0] = vmovn_u32(vreinterpretq_u32_s32(a));
+    v.val[1] = vmovn_u32(vreinterpretq_u32_s32(b));
+    v.val[2] = vmovn_u32(vreinterpretq_u32_s32(c));
+    vst3_u16(dst, v);
 }
 
 HZ_INLINE hz_lf_t hz_lf_shift_in_left(hz_lf_t p, hz_lf_t c) { return vextq_f32(p, c, 3); }

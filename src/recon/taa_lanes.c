@@ -136,18 +136,15 @@ static void resolve_lanes(struct hz_renderer *r, uint32_t x, uint32_t y, float (
     rgb[0] = hz_lf_sub(hz_lf_add(res.c[0], res.c[1]), res.c[2]);
     rgb[1] = hz_lf_add(res.c[0], res.c[2]);
     rgb[2] = hz_lf_sub(hz_lf_sub(res.c[0], res.c[1]), res.c[2]);
-    int32_t codes[3][HZ_LANES];
     hz_lf_t v[3];
+    hz_li_t codes[3];
     for (int k = 0; k < 3; k++) {
         hz_li_t ok = hz_li_and(hz_lf_finite(rgb[k]), hz_lf_gt(rgb[k], hz_lf_set(0.0f)));
         v[k] = hz_lf_sel(ok, rgb[k], hz_lf_set(0.0f));
-        hz_li_store(codes[k], hz_lanes_half_pack(v[k]));
+        codes[k] = hz_lanes_half_pack(v[k]);
     }
     hz_lf_store3(r->out.rgb + p0 * 3, v[0], v[1], v[2]);
-    uint16_t *next = r->hist[r->hist_index ^ 1u] + p0 * 3;
-    for (int i = 0; i < HZ_LANES; i++)
-        for (int k = 0; k < 3; k++)
-            next[3 * i + k] = (uint16_t)codes[k][i];
+    hz_li_store3_u16(r->hist[r->hist_index ^ 1u] + p0 * 3, codes[0], codes[1], codes[2]);
 }
 
 void hz_taa_resolve_tile(struct hz_renderer *r, uint32_t tile)
