@@ -2,6 +2,7 @@
 # Runs cmocka test binaries and records their counts for test/summary.sh.
 #   run-tests.sh RESULTS_DIR LABEL "LAUNCHER" BIN...
 # Each binary's output goes to RESULTS_DIR/<bin>.log; RESULTS_DIR/<bin>.res gets "label/bin passed failed skipped".
+# The line printed per binary ends with its wall time (the 20-minute budget of make test is watched by it).
 # A binary that exits non-zero without reporting a failed test (a crash, a sanitizer abort, a missing library)
 # counts as one failure; one that exits 0 without running a test also fails, so nothing passes by silence.
 # Each binary runs under a time limit (HZ_TEST_TIMEOUT seconds, default 900: generous, the slowest binary takes
@@ -17,9 +18,11 @@ limit=${HZ_TEST_TIMEOUT:-900}
 for bin in "$@"; do
     name=$(basename "$bin")
     log=$results/$name.log
+    t0=$(date +%s)
     # shellcheck disable=SC2086 # the launcher is a command line on purpose
     timeout -k 10 "$limit" $launcher "$bin" >"$log" 2>&1
     rc=$?
+    secs=$(( $(date +%s) - t0 ))
     passed=$(sed -n 's/^\[  PASSED  \] \([0-9][0-9]*\) test.*/\1/p' "$log" | awk '{s+=$1} END {print s+0}')
     failed=$(sed -n 's/^\[  FAILED  \] \([0-9][0-9]*\) test.*/\1/p' "$log" | awk '{s+=$1} END {print s+0}')
     skipped=$(sed -n 's/^\[  SKIPPED \] \([0-9][0-9]*\) test.*/\1/p' "$log" | awk '{s+=$1} END {print s+0}')
@@ -37,11 +40,11 @@ for bin in "$@"; do
     fi
     if [ "$failed" -ne 0 ]; then
         status=1
-        printf '  FAIL  %-18s %-28s %3d passed, %d failed\n' "$label" "$name" "$passed" "$failed"
+        printf '  FAIL  %-18s %-28s %3d passed, %d failed (%d s)\n' "$label" "$name" "$passed" "$failed" "$secs"
         grep -E '^\[ +(ERROR|LINE|FAILED) +\]' "$log" | head -n 20 | sed 's/^/        /'
     else
-        printf '  ok    %-18s %-28s %3d passed%s\n' "$label" "$name" "$passed" \
-            "$( [ "$skipped" -ne 0 ] && echo ", $skipped skipped")"
+        printf '  ok    %-18s %-28s %3d passed%s (%d s)\n' "$label" "$name" "$passed" \
+            "$( [ "$skipped" -ne 0 ] && echo ", $skipped skipped")" "$secs"
     fi
     echo "$label/$name $passed $failed $skipped" >"$results/$name.res"
 done
