@@ -126,7 +126,9 @@ ACCEL_PORT_TESTS_embree := accel_embree
 # render (src/render, src/recon): camera, shading, G-buffer, reconstruction
 RENDER_SRCS := src/render/camera.c src/render/texture.c src/render/trace.c src/render/render.c src/recon/taa.c \
                src/render/deflight.c src/render/terminator.c src/render/transp.c \
-               src/recon/tdense.c src/recon/adaptive.c
+               src/recon/tdense.c src/recon/adaptive.c src/render/shade_packet.c
+RENDER_SRCS_avx2 := src/render/shade_avx2.c
+RENDER_SRCS_neon := src/render/shade_neon.c
 RENDER_TESTS := tdense
 RENDER_PORT_TESTS := render render_tdense render_speckles render_adaptive render_transp leaveout scene_clock \
                      render_blur render_skin
