@@ -9,6 +9,8 @@
 #include "hz/shade.h"
 #include "render_internal.h"
 
+#define HZ_SHADE_INV_PI 0.31830988618379067f
+
 /* Which textures a lane's material reads (hz_shade_lane_material). */
 typedef struct hz_shade_lane_tex {
     bool any;        /* texturing on: the uv and the cone's level of detail are needed */

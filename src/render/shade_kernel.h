@@ -192,6 +192,93 @@ static void k_sample(const hz_shade_ctx_t *c, const int32_t *tex, uint32_t lanes
     }
 }
 
+static inline vf k_len(kv3_t a)
+{
+    return vf_sqrt(k_dot(a, a));
+}
+
+static inline vf k_max(vf a, vf b)
+{
+    return vf_sel(vf_gt(a, b), a, b); /* hz_maxf */
+}
+
+static inline vf k_min(vf a, vf b)
+{
+    return vf_sel(vf_lt(a, b), a, b); /* hz_minf */
+}
+
+/* accel.c's offset_component: 256 ulps per unit of normal away from the origin, a fixed step near it. */
+static inline vf k_offset(vf p, vf n, float origin, float float_scale)
+{
+    vf near = vf_add(p, vf_mul(vf_set1(float_scale), n));
+    vi of = vi_trunc(vf_mul(vf_set1(256.0f), n));
+    vi bits = vi_add(vf_as_vi(p), vi_sel(vf_lt(p, vf_set1(0.0f)), vi_sub(vi_set1(0), of), of));
+    return vf_sel(vf_lt(vf_abs(p), vf_set1(origin)), near, vi_as_vf(bits));
+}
+
+/* hz_terminator_skip on the scene's own pose: vertices a, b, c and normals n[3] (pos[] / nrm[] layout). */
+static inline vf k_skip(const float (*pos)[KL], const float (*nrm)[KL], kv3_t ng)
+{
+    kv3_t a = k_v3_load(pos[0], pos[1], pos[2]), b = k_v3_load(pos[3], pos[4], pos[5]);
+    kv3_t cc = k_v3_load(pos[6], pos[7], pos[8]);
+    vf e = k_max(k_len(k_sub(b, a)), k_max(k_len(k_sub(cc, b)), k_len(k_sub(a, cc))));
+    vf cmin = vf_set1(1.0f);
+    for (int i = 0; i < 3; i++) {
+        kv3_t n = k_v3_load(nrm[i * 3], nrm[i * 3 + 1], nrm[i * 3 + 2]);
+        vf len = k_len(n);
+        vf cs = vf_div(vf_abs(k_dot(n, ng)), len);
+        cmin = vf_sel(vf_gt(len, vf_set1(0.0f)), k_min(cmin, cs), cmin);
+    }
+    vm curved = vm_and(vm_and(vf_lt(cmin, vf_set1(0.9999f)), vf_gt(e, vf_set1(0.0f))), vf_lt(e, vf_set1(3.0e38f)));
+    vf sn = vf_sqrt(vf_sub(vf_set1(1.0f), vf_mul(cmin, cmin)));
+    vf skip = k_min(vf_mul(vf_mul(vf_set1(0.5f), e), sn), vf_mul(vf_set1(0.25f), e));
+    return vf_sel(curved, skip, vf_set1(0.0f));
+}
+
+/* Shadow-ray origin, terminator skip and the first HZ_SHADE_LIGHTS lights (hz_shade_light_lane). pos / nrm hold
+ * the scene's own vertices and normals of the lanes' triangles. */
+static void k_lights(const hz_shade_ctx_t *c, uint32_t mask, const float (*pos)[KL], const float (*nrm)[KL], kv3_t p,
+                     kv3_t ng, kv3_t ns, hz_shade_out_t *o)
+{
+    float scale = c->offset_scale;
+    if (!(scale > 0.0f) || !hz_isfinitef(scale))
+        scale = 1.0f;
+    const float origin = scale * (1.0f / 32.0f), float_scale = scale * (1.0f / 65536.0f);
+    kv3_t n = k_normalize(ng, k_dot(ng, ng), mask);
+    kv3_t ol = { k_offset(p.x, n.x, origin, float_scale), k_offset(p.y, n.y, origin, float_scale),
+                 k_offset(p.z, n.z, origin, float_scale) };
+    vf skip = c->scene->nrm ? k_skip(pos, nrm, ng) : vf_set1(0.0f);
+    vf_store(o->lox, ol.x), vf_store(o->loy, ol.y), vf_store(o->loz, ol.z), vf_store(o->skip, skip);
+    const uint32_t nl = c->light_count < HZ_SHADE_LIGHTS ? c->light_count : HZ_SHADE_LIGHTS;
+    const vm has_skip = vf_gt(skip, vf_set1(0.0f));
+    for (uint32_t l = 0; l < HZ_SHADE_LIGHTS; l++)
+        o->lit[l] = 0;
+    for (uint32_t l = 0; l < nl; l++) {
+        const hz_light_t *lt = &c->lights[l];
+        hz_shade_light_t *out = &o->light[l];
+        kv3_t lp = { vf_set1(lt->position[0]), vf_set1(lt->position[1]), vf_set1(lt->position[2]) };
+        kv3_t L = k_sub(lp, ol);
+        vf dist2 = k_dot(L, L);
+        vf dist = vf_sqrt(dist2);
+        vm far = vf_gt(dist, vf_set1(0.0f));
+        kv3_t ls = k_scale(L, vf_div(vf_set1(1.0f), dist));
+        kv3_t ld = { vf_sel(far, ls.x, ns.x), vf_sel(far, ls.y, ns.y), vf_sel(far, ls.z, ns.z) };
+        vf cs = k_dot(ns, ld);
+        vm ok = vm_and(vm_and(vf_gt(cs, vf_set1(0.0f)), vf_gt(k_dot(ng, ld), vf_set1(0.0f))), far);
+        vf fall = lt->falloff == HZ_FALLOFF_INV_SQUARE ? vf_div(vf_set1(1.0f), dist2) : vf_set1(1.0f);
+        vf k = vf_mul(vf_mul(cs, vf_set1(HZ_SHADE_INV_PI)), fall);
+        vf tmax = vf_mul(dist, vf_set1(1.0f - 1e-4f));
+        vf k0 = k_min(skip, tmax);
+        vf_store(out->ox, vf_sel(has_skip, vf_add(ol.x, vf_mul(ld.x, k0)), ol.x));
+        vf_store(out->oy, vf_sel(has_skip, vf_add(ol.y, vf_mul(ld.y, k0)), ol.y));
+        vf_store(out->oz, vf_sel(has_skip, vf_add(ol.z, vf_mul(ld.z, k0)), ol.z));
+        vf_store(out->dx, ld.x), vf_store(out->dy, ld.y), vf_store(out->dz, ld.z);
+        vf_store(out->tmax, vf_sel(has_skip, vf_sub(tmax, k0), tmax));
+        vf_store(out->k, k);
+        o->lit[l] = vm_bits(ok) & mask;
+    }
+}
+
 void hz_shade_surfaces(const hz_shade_ctx_t *c, const hz_shade_in_t *in, uint32_t mask, hz_shade_out_t *o)
 {
     const hz_scene_t *s = c->scene;
@@ -240,6 +327,17 @@ void hz_shade_surfaces(const hz_shade_ctx_t *c, const hz_shade_in_t *in, uint32_
     vf_store(o->px, p.x), vf_store(o->py, p.y), vf_store(o->pz, p.z);
     vf_store(o->ngx, ngf.x), vf_store(o->ngy, ngf.y), vf_store(o->ngz, ngf.z);
     vf_store(o->nsx, ns.x), vf_store(o->nsy, ns.y), vf_store(o->nsz, ns.z);
+    if (c->keys) { /* the terminator skip looks at the scene's own pose */
+        for (int k = 0; k < 3; k++) {
+            vi i4 = vi_mul(vid[k], vi_set1(4));
+            for (int a = 0; a < 3; a++) {
+                vf_store(pos[k * 3 + a], vf_gather(s->pos + a, i4));
+                if (s->nrm)
+                    vf_store(nrm[k * 3 + a], vf_gather(s->nrm + a, i4));
+            }
+        }
+    }
+    k_lights(c, mask, (const float (*)[KL])pos, (const float (*)[KL])nrm, p, ngf, ns, o);
 
     hz_shade_lane_tex_t lt[KL];
     uint32_t any = 0, base = 0, alpha = 0;

@@ -3,6 +3,7 @@
  * On scalar boards hz_shade_surfaces is the twin. */
 #include "hz/shade.h"
 
+#include "hz/terminator.h"
 #include "shade_internal.h"
 
 static hz_vec3_t vtx(const float *arr, uint32_t i)
@@ -144,11 +145,51 @@ static void lane_scalar(const hz_shade_ctx_t *c, const hz_shade_in_t *in, uint32
     }
 }
 
+bool hz_shade_light_lane(const hz_shade_ctx_t *c, const hz_shade_out_t *o, uint32_t i, uint32_t l,
+                         hz_shade_light_t *out)
+{
+    const hz_light_t *lt = &c->lights[l];
+    const hz_vec3_t o_light = hz_v3(o->lox[i], o->loy[i], o->loz[i]);
+    const hz_vec3_t ng = hz_v3(o->ngx[i], o->ngy[i], o->ngz[i]), ns = hz_v3(o->nsx[i], o->nsy[i], o->nsz[i]);
+    hz_vec3_t L = hz_v3_sub(hz_v3(lt->position[0], lt->position[1], lt->position[2]), o_light);
+    float dist2 = hz_v3_dot(L, L);
+    float dist = hz_sqrtf(dist2);
+    hz_vec3_t ld = dist > 0.0f ? hz_v3_scale(L, 1.0f / dist) : ns;
+    float cs = hz_v3_dot(ns, ld);
+    if (!(cs > 0.0f) || !(hz_v3_dot(ng, ld) > 0.0f) || !(dist > 0.0f))
+        return false;
+    float k = cs * HZ_SHADE_INV_PI * (lt->falloff == HZ_FALLOFF_INV_SQUARE ? 1.0f / dist2 : 1.0f);
+    float so[3] = { o_light.x, o_light.y, o_light.z };
+    float tmax = dist * (1.0f - 1e-4f);
+    const float skip = o->skip[i];
+    if (skip > 0.0f) {
+        float k0 = hz_minf(skip, tmax);
+        so[0] += ld.x * k0, so[1] += ld.y * k0, so[2] += ld.z * k0;
+        tmax -= k0;
+    }
+    out->ox[i] = so[0], out->oy[i] = so[1], out->oz[i] = so[2];
+    out->dx[i] = ld.x, out->dy[i] = ld.y, out->dz[i] = ld.z;
+    out->tmax[i] = tmax;
+    out->k[i] = k;
+    return true;
+}
+
 void hz_shade_surfaces_scalar(const hz_shade_ctx_t *c, const hz_shade_in_t *in, uint32_t mask, hz_shade_out_t *out)
 {
-    for (uint32_t i = 0; i < HZ_SHADE_LANES; i++)
-        if (mask >> i & 1u)
-            lane_scalar(c, in, i, out);
+    const uint32_t nl = c->light_count < HZ_SHADE_LIGHTS ? c->light_count : HZ_SHADE_LIGHTS;
+    for (uint32_t l = 0; l < HZ_SHADE_LIGHTS; l++)
+        out->lit[l] = 0;
+    for (uint32_t i = 0; i < HZ_SHADE_LANES; i++) {
+        if (!(mask >> i & 1u))
+            continue;
+        lane_scalar(c, in, i, out);
+        hz_vec3_t p = hz_v3(out->px[i], out->py[i], out->pz[i]), ng = hz_v3(out->ngx[i], out->ngy[i], out->ngz[i]);
+        hz_vec3_t o = hz_accel_offset_origin(p, ng, c->offset_scale);
+        out->lox[i] = o.x, out->loy[i] = o.y, out->loz[i] = o.z;
+        out->skip[i] = hz_terminator_skip(c->scene, in->prim[i], ng); /* the facet's own curvature */
+        for (uint32_t l = 0; l < nl; l++)
+            out->lit[l] |= (hz_shade_light_lane(c, out, i, l, &out->light[l]) ? 1u : 0u) << i;
+    }
 }
 
 #if !defined(HZ_BOARD_SIMD_AVX2) && !defined(HZ_BOARD_SIMD_NEON) /* the Makefile builds shade_<simd>.c then */

@@ -1,11 +1,9 @@
 /* Tracing and Whitted shading of one tile batch (see render_internal.h for the work organisation). */
 #include "hz/image.h"
-#include "hz/terminator.h"
 #include "hz/posekeys.h"
 #include "hz/shade.h"
 #include "render_internal.h"
 
-#define INV_PI 0.31830988618379067f
 #define MV_FAR 65536.0f /* motion vector of a point the previous camera did not see: far off-screen */
 
 typedef struct hitrec {
@@ -443,7 +441,8 @@ static void shade_miss(hz_worker_t *w, const ray_job_t *j)
     }
 }
 
-static void shade_hit(hz_worker_t *w, const ray_job_t *j, const hitrec_t *h, const hz_shade_out_t *so, uint32_t lane)
+static void shade_hit(hz_worker_t *w, const ray_job_t *j, const hitrec_t *h, const hz_shade_ctx_t *c,
+                      const hz_shade_out_t *so, uint32_t lane)
 {
     struct hz_renderer *r = w->r;
     const hz_scene_t *s = r->scene;
@@ -532,30 +531,23 @@ static void shade_hit(hz_worker_t *w, const ray_job_t *j, const hitrec_t *h, con
     /* Direct light from every point light, through one shadow ray each. */
     float diffuse = 1.0f - mirror;
     float kd[3] = { wc[0] * diffuse * sf.albedo[0], wc[1] * diffuse * sf.albedo[1], wc[2] * diffuse * sf.albedo[2] };
-    hz_vec3_t o_light = hz_accel_offset_origin(sf.p, sf.ng, r->offset_scale);
-    const float skip = hz_terminator_skip(s, h->prim, sf.ng); /* the facet's own curvature (hz/terminator.h) */
+    hz_vec3_t o_light = hz_v3(so->lox[lane], so->loy[lane], so->loz[lane]);
     for (uint32_t l = 0; l < r->light_count; l++) {
         const hz_light_t *lt = &r->lights[l];
-        hz_vec3_t L = hz_v3_sub(hz_v3(lt->position[0], lt->position[1], lt->position[2]), o_light);
-        float dist2 = hz_v3_dot(L, L);
-        float dist = hz_sqrtf(dist2);
-        hz_vec3_t ld = dist > 0.0f ? hz_v3_scale(L, 1.0f / dist) : sf.ns;
-        float cs = hz_v3_dot(sf.ns, ld);
-        if (!(cs > 0.0f) || !(hz_v3_dot(sf.ng, ld) > 0.0f) || !(dist > 0.0f)) {
+        /* The packet computed the first lights for every lane; the rest come one lane at a time. */
+        hz_shade_light_t one;
+        const hz_shade_light_t *sl = l < HZ_SHADE_LIGHTS ? &so->light[l] : &one;
+        bool lit = l < HZ_SHADE_LIGHTS ? (so->lit[l] >> lane & 1u) != 0 : hz_shade_light_lane(c, so, lane, l, &one);
+        if (!lit) {
             if (j->gslot != GSLOT_NONE)
                 count_blocked(w, j->slot, j->gslot);
             continue;
         }
-        float k = cs * INV_PI * (lt->falloff == HZ_FALLOFF_INV_SQUARE ? 1.0f / dist2 : 1.0f);
+        float k = sl->k[lane];
         shadow_job_t sj;
-        sj.o[0] = o_light.x, sj.o[1] = o_light.y, sj.o[2] = o_light.z;
-        sj.d[0] = ld.x, sj.d[1] = ld.y, sj.d[2] = ld.z;
-        sj.tmax = dist * (1.0f - 1e-4f);
-        if (skip > 0.0f) {
-            float k0 = hz_minf(skip, sj.tmax);
-            sj.o[0] += ld.x * k0, sj.o[1] += ld.y * k0, sj.o[2] += ld.z * k0;
-            sj.tmax -= k0;
-        }
+        sj.o[0] = sl->ox[lane], sj.o[1] = sl->oy[lane], sj.o[2] = sl->oz[lane];
+        sj.d[0] = sl->dx[lane], sj.d[1] = sl->dy[lane], sj.d[2] = sl->dz[lane];
+        sj.tmax = sl->tmax[lane];
         sj.w[0] = kd[0] * lt->color[0] * k, sj.w[1] = kd[1] * lt->color[1] * k, sj.w[2] = kd[2] * lt->color[2] * k;
         sj.vis = 1.0f;
         sj.time = j->time;
@@ -606,6 +598,7 @@ static void shade_packet(hz_worker_t *w, const ray_job_t *jobs, const hitrec_t *
     const struct hz_renderer *r = w->r;
     hz_shade_in_t in;
     hz_shade_out_t out;
+    const hz_shade_ctx_t c = { r->scene, r->keys, r->has_textures, r->lights, r->light_count, r->offset_scale };
     uint32_t mask = 0, live = 0;
     for (uint32_t i = 0; i < n; i++)
         if (hits[i].prim != HZ_ACCEL_INVALID_ID) {
@@ -621,7 +614,6 @@ static void shade_packet(hz_worker_t *w, const ray_job_t *jobs, const hitrec_t *
             in.dx[i] = j->d[0], in.dy[i] = j->d[1], in.dz[i] = j->d[2];
             in.time[i] = j->time, in.cone_w[i] = j->cone_w, in.cone_s[i] = j->cone_s;
         }
-        const hz_shade_ctx_t c = { r->scene, r->keys, r->has_textures };
         hz_shade_surfaces(&c, &in, mask, &out);
     }
     for (uint32_t i = 0; i < n; i++) {
@@ -629,7 +621,7 @@ static void shade_packet(hz_worker_t *w, const ray_job_t *jobs, const hitrec_t *
         if (hits[i].prim == HZ_ACCEL_INVALID_ID)
             shade_miss(w, j);
         else
-            shade_hit(w, j, &hits[i], &out, i);
+            shade_hit(w, j, &hits[i], &c, &out, i);
         if (j->dither && w->write_gbuffer && w->dither_touched[j->slot])
             w->r->gb.flags[w->pixel[j->slot]] |= HZ_GB_DITHER; /* the opacity mask TAA reads */
     }

@@ -13,8 +13,10 @@
 #define PACKETS 8000
 
 typedef struct tally {
-    uint32_t lanes, textured, blended, cutout, mirror, keyed, far_cone;
+    uint32_t lanes, textured, blended, cutout, mirror, keyed, far_cone, lit, skipped;
 } tally_t;
+
+#define LIGHTS (HZ_SHADE_LIGHTS + 2) /* the last two only through hz_shade_light_lane */
 
 static void open_scene(rfix_t *f, const char *file)
 {
@@ -51,6 +53,24 @@ static void compare(const hz_shade_out_t *a, const hz_shade_out_t *b, uint32_t m
                          (double)fb[k][i]);
         if (a->textured[i] != b->textured[i])
             fail_msg("%s: lane %u textured %u vs %u", what, i, a->textured[i], b->textured[i]);
+        const float *la[] = { a->lox, a->loy, a->loz, a->skip }, *lb[] = { b->lox, b->loy, b->loz, b->skip };
+        for (size_t k = 0; k < 4; k++)
+            if (memcmp(&la[k][i], &lb[k][i], sizeof(float)) != 0)
+                fail_msg("%s: lane %u origin/skip %zu: simd %.9g, scalar %.9g", what, i, k, (double)la[k][i],
+                         (double)lb[k][i]);
+    }
+    for (uint32_t l = 0; l < HZ_SHADE_LIGHTS; l++) {
+        if ((a->lit[l] & mask) != (b->lit[l] & mask))
+            fail_msg("%s: light %u lit lanes %#x vs %#x", what, l, a->lit[l] & mask, b->lit[l] & mask);
+        const hz_shade_light_t *x = &a->light[l], *y = &b->light[l];
+        const float *ga[] = { x->ox, x->oy, x->oz, x->dx, x->dy, x->dz, x->tmax, x->k };
+        const float *gb[] = { y->ox, y->oy, y->oz, y->dx, y->dy, y->dz, y->tmax, y->k };
+        for (uint32_t i = 0; i < HZ_SHADE_LANES; i++)
+            if ((a->lit[l] & mask) >> i & 1u)
+                for (size_t k = 0; k < 8; k++)
+                    if (memcmp(&ga[k][i], &gb[k][i], sizeof(float)) != 0)
+                        fail_msg("%s: light %u lane %u field %zu: simd %.9g, scalar %.9g", what, l, i, k,
+                                 (double)ga[k][i], (double)gb[k][i]);
     }
 }
 
@@ -62,7 +82,28 @@ static void run_scene(const char *file, bool with_keys, tally_t *t)
     open_scene(&f, file);
     const hz_scene_t *s = &f.scene;
     hz_posekeys_t keys;
-    hz_shade_ctx_t c = { s, NULL, s->uv != NULL };
+    float lo[3] = { INFINITY, INFINITY, INFINITY }, hi[3] = { -INFINITY, -INFINITY, -INFINITY };
+    for (uint32_t v = 0; v < s->vertex_count; v++)
+        for (int a = 0; a < 3; a++)
+            lo[a] = fminf(lo[a], s->pos[v * 4 + a]), hi[a] = fmaxf(hi[a], s->pos[v * 4 + a]);
+    hz_rng_t rng;
+    hz_rng_seed(&rng, 16, (uint64_t)strlen(file));
+    /* Lights inside the bounds, both falloffs; the scene's own first where it has them. */
+    hz_light_t lights[LIGHTS];
+    memset(lights, 0, sizeof lights);
+    for (uint32_t l = 0; l < LIGHTS; l++) {
+        if (l < s->light_count) {
+            lights[l] = s->lights[l];
+            continue;
+        }
+        for (int a = 0; a < 3; a++)
+            lights[l].position[a] = lo[a] + (hi[a] - lo[a]) * unit(&rng), lights[l].color[a] = unit(&rng);
+        lights[l].falloff = l & 1u ? HZ_FALLOFF_NONE : HZ_FALLOFF_INV_SQUARE;
+    }
+    float scale = 0.0f;
+    for (int a = 0; a < 3; a++)
+        scale = fmaxf(scale, fmaxf(fabsf(lo[a]), fabsf(hi[a])));
+    hz_shade_ctx_t c = { s, NULL, s->uv != NULL, lights, LIGHTS, scale };
     if (with_keys) {
         uint32_t k = hz_posekeys_count(s, 1.0f / 24.0f);
         assert_true(k >= 2);
@@ -70,12 +111,6 @@ static void run_scene(const char *file, bool with_keys, tally_t *t)
         hz_posekeys_eval(&keys, s, 0.5f, -1.0f / 48.0f, 1.0f / 48.0f);
         c.keys = &keys;
     }
-    float lo[3] = { INFINITY, INFINITY, INFINITY }, hi[3] = { -INFINITY, -INFINITY, -INFINITY };
-    for (uint32_t v = 0; v < s->vertex_count; v++)
-        for (int a = 0; a < 3; a++)
-            lo[a] = fminf(lo[a], s->pos[v * 4 + a]), hi[a] = fmaxf(hi[a], s->pos[v * 4 + a]);
-    hz_rng_t rng;
-    hz_rng_seed(&rng, 16, (uint64_t)strlen(file));
     hz_accel_ctx_t ctx;
     hz_accel_ctx_init(&ctx);
     memset(t, 0, sizeof *t);
@@ -131,12 +166,28 @@ static void run_scene(const char *file, bool with_keys, tally_t *t)
         hz_shade_surfaces(&c, &in, mask, &simd);
         hz_shade_surfaces_scalar(&c, &in, mask, &scalar);
         compare(&simd, &scalar, mask, file);
-        for (uint32_t i = 0; i < HZ_SHADE_LANES; i++)
-            t->textured += (mask >> i & 1u) && scalar.textured[i];
+        for (uint32_t i = 0; i < HZ_SHADE_LANES; i++) {
+            if (!(mask >> i & 1u))
+                continue;
+            t->textured += scalar.textured[i];
+            t->skipped += scalar.skip[i] > 0.0f;
+            for (uint32_t l = 0; l < HZ_SHADE_LIGHTS; l++)
+                t->lit += scalar.lit[l] >> i & 1u;
+            /* Lights past the packet's: one lane at a time, from either path's surfaces. */
+            for (uint32_t l = HZ_SHADE_LIGHTS; l < LIGHTS; l++) {
+                hz_shade_light_t x, y;
+                memset(&x, 0, sizeof x), memset(&y, 0, sizeof y);
+                bool lx = hz_shade_light_lane(&c, &simd, i, l, &x), ly = hz_shade_light_lane(&c, &scalar, i, l, &y);
+                assert_int_equal(lx, ly);
+                assert_memory_equal(&x, &y, sizeof x);
+            }
+        }
     }
-    print_message("%s (%s): %u lanes, %u textured, %u blended, %u cutout, %u mirror, %u with keys, %u huge cones\n",
+    print_message("%s (%s): %u lanes, %u textured, %u blended, %u cutout, %u mirror, %u with keys, %u huge cones, "
+                  "%u lit (of %u lane-lights), %u with a terminator skip\n",
                   file, hz_shade_path(), t->lanes, t->textured, t->blended, t->cutout, t->mirror, t->keyed,
-                  t->far_cone);
+                  t->far_cone, t->lit, t->lanes * HZ_SHADE_LIGHTS, t->skipped);
+    assert_true(t->lit > t->lanes / 4);
     rfix_close(&f);
 }
 
