@@ -100,6 +100,8 @@ typedef struct hz_render_opts {
     uint32_t frame_hz;     /* the frame rate the shutter refers to (default HZ_DISPLAY_HZ) */
     hz_posekeys_t *keys;   /* shutter > 0 and a moving scene: the pose keys the accel reads (else NULL) */
     bool tdense_cycle_keys; /* tdense: one key interval and refit per 4-subframe cycle (default true) */
+    /* Packet shading through the kernels' scalar twin (hz/shade.h), same images: benchmarks compare the two. */
+    bool scalar_shading;
 } hz_render_opts_t;
 
 void hz_render_opts_default(hz_render_opts_t *o);

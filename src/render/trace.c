@@ -614,7 +614,7 @@ static void shade_packet(hz_worker_t *w, const ray_job_t *jobs, const hitrec_t *
             in.dx[i] = j->d[0], in.dy[i] = j->d[1], in.dz[i] = j->d[2];
             in.time[i] = j->time, in.cone_w[i] = j->cone_w, in.cone_s[i] = j->cone_s;
         }
-        hz_shade_surfaces(&c, &in, mask, &out);
+        (r->opts.scalar_shading ? hz_shade_surfaces_scalar : hz_shade_surfaces)(&c, &in, mask, &out);
     }
     for (uint32_t i = 0; i < n; i++) {
         const ray_job_t *j = &jobs[i];
