@@ -126,12 +126,12 @@ ACCEL_PORT_TESTS_embree := accel_embree
 # render (src/render, src/recon): camera, shading, G-buffer, reconstruction
 RENDER_SRCS := src/render/camera.c src/render/texture.c src/render/trace.c src/render/render.c src/recon/taa.c \
                src/render/deflight.c src/render/terminator.c src/render/transp.c \
-               src/recon/tdense.c src/recon/adaptive.c
-RENDER_SRCS_avx2 := src/recon/tdense_lanes.c src/recon/taa_lanes.c
-RENDER_SRCS_neon := src/recon/tdense_lanes.c src/recon/taa_lanes.c
+               src/recon/tdense.c src/recon/adaptive.c src/render/shade_packet.c
+RENDER_SRCS_avx2 := src/render/shade_avx2.c src/recon/tdense_lanes.c src/recon/taa_lanes.c
+RENDER_SRCS_neon := src/render/shade_neon.c src/recon/tdense_lanes.c src/recon/taa_lanes.c
 RENDER_TESTS := tdense
 RENDER_PORT_TESTS := render render_tdense render_speckles render_adaptive render_transp leaveout scene_clock render_lanes \
-                     render_blur render_skin
+                     render_blur render_skin shade
 RENDER_PORT_TESTS_embree := render_backends
 # Heavy render tests for boards whose tests run natively (not under emulation).
 RENDER_PORT_TESTS_native := render_taa
@@ -722,7 +722,7 @@ VM_TEST_ENV := HZ_SCENES_DIR HZ_SCENES_UNPACK
 # and take seconds; the heavy ones (BVH builds over 10^5..10^6 triangles, whole-image corruption sweeps,
 # rendered sequences) already run on the same AArch64 binaries under qemu-aarch64 in the board stage.
 VM_HEAVY_TESTS := scene_corrupt accel_build accel_trav accel_water zero_alloc render render_transp errtime et_render \
-                  render_speckles pack leaveout scene_clock accel_motion accel_motion_cli render_blur render_skin
+                  render_speckles pack leaveout scene_clock accel_motion accel_motion_cli render_blur render_skin shade
 VM_TEST_BINS := $(filter-out $(VM_HEAVY_TESTS:%=$(O)/test/unit/test_%),$(TEST_BINS))
 
 vmtest: deps ## boot Debian's arm64 kernel in qemu-system-aarch64: AArch64 unit tests, V4L2 loop-back, GPIO capture

@@ -67,7 +67,7 @@ static hz_status_t rfix_open(rfix_t *f, const char *scene, hz_accel_backend_t ba
     return s;
 }
 
-static hz_status_t rfix_renderer(rfix_t *f, const hz_render_opts_t *o, int threads, hz_error_t *err)
+HZ_UNUSED_FN static hz_status_t rfix_renderer(rfix_t *f, const hz_render_opts_t *o, int threads, hz_error_t *err)
 {
     hz_arena_reset(&f->pools->frame, f->frame_mark);
     for (int t = 0; t < HZ_MAX_THREADS; t++)
@@ -81,7 +81,7 @@ static hz_status_t rfix_renderer(rfix_t *f, const hz_render_opts_t *o, int threa
                             err);
 }
 
-static hz_status_t rfix_frame(rfix_t *f, uint64_t index, float t, hz_error_t *err)
+HZ_UNUSED_FN static hz_status_t rfix_frame(rfix_t *f, uint64_t index, float t, hz_error_t *err)
 {
     return hz_render_run_frame(f->r, index, t, err);
 }

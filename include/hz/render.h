@@ -103,6 +103,8 @@ typedef struct hz_render_opts {
     /* The tdense and TAA resolves run with the board's SIMD (8 pixels at a time on AVX2, 4 on NEON); true runs
      * their scalar twins instead, which give bit-identical frames (for tests and side-by-side timing). */
     bool scalar_recon;
+    /* Packet shading through the kernels' scalar twin (hz/shade.h), same images: benchmarks compare the two. */
+    bool scalar_shading;
 } hz_render_opts_t;
 
 void hz_render_opts_default(hz_render_opts_t *o);

@@ -157,6 +157,11 @@ void hz_texture_sample(const hz_scene_t *s, int32_t tex, float u, float v, float
 /* Alpha only, finest level (cutout decisions must not depend on distance). */
 float hz_texture_alpha(const hz_scene_t *s, int32_t tex, float u, float v);
 float hz_log2_approx(float x);
+/* What hz_texture_sample does before filtering (the packet kernels share it): whether texture tex can be read at
+ * (u, v) (else the sample is 1, 1, 1, 1), the level lod selects, and a level's first texel and size. */
+bool hz_texture_usable(const hz_scene_t *s, int32_t tex, float u, float v);
+uint32_t hz_texture_level_of(const hz_texture_t *t, float lod);
+size_t hz_texture_level_first(const hz_texture_t *t, uint32_t level, uint32_t *w, uint32_t *h);
 
 /* trace.c */
 /* Traces one sample of every slot of the worker's tile (w->pixel set by the caller; jitter[slot] in pixels,

@@ -39,6 +39,11 @@ static void fetch(const hz_scene_t *s, const hz_texture_t *t, const uint8_t *bas
 static const uint8_t *level_data(const hz_scene_t *s, const hz_texture_t *t, uint32_t level, uint32_t *w,
                                  uint32_t *h)
 {
+    return s->texels + hz_texture_level_first(t, level, w, h) * 4;
+}
+
+size_t hz_texture_level_first(const hz_texture_t *t, uint32_t level, uint32_t *w, uint32_t *h)
+{
     size_t first = t->first_texel;
     uint32_t lw = t->width, lh = t->height;
     for (uint32_t l = 0; l < level; l++) {
@@ -48,7 +53,18 @@ static const uint8_t *level_data(const hz_scene_t *s, const hz_texture_t *t, uin
     }
     *w = lw;
     *h = lh;
-    return s->texels + first * 4;
+    return first;
+}
+
+uint32_t hz_texture_level_of(const hz_texture_t *t, float lod)
+{
+    float l = hz_isfinitef(lod) ? lod + 0.5f : 0.0f;
+    return l <= 0.0f ? 0u : (uint32_t)hz_minf(l, (float)(t->levels - 1));
+}
+
+bool hz_texture_usable(const hz_scene_t *s, int32_t tex, float u, float v)
+{
+    return !(tex < 0 || (uint32_t)tex >= s->texture_count || !hz_isfinitef(u) || !hz_isfinitef(v));
 }
 
 static void bilinear(const hz_scene_t *s, const hz_texture_t *t, uint32_t level, float u, float v, float rgba[4])
@@ -75,14 +91,12 @@ static void bilinear(const hz_scene_t *s, const hz_texture_t *t, uint32_t level,
 
 void hz_texture_sample(const hz_scene_t *s, int32_t tex, float u, float v, float lod, float rgba[4])
 {
-    if (tex < 0 || (uint32_t)tex >= s->texture_count || !hz_isfinitef(u) || !hz_isfinitef(v)) {
+    if (!hz_texture_usable(s, tex, u, v)) {
         rgba[0] = rgba[1] = rgba[2] = rgba[3] = 1.0f;
         return;
     }
     const hz_texture_t *t = &s->textures[tex];
-    float l = hz_isfinitef(lod) ? lod + 0.5f : 0.0f;
-    uint32_t level = l <= 0.0f ? 0u : (uint32_t)hz_minf(l, (float)(t->levels - 1));
-    bilinear(s, t, level, u, v, rgba);
+    bilinear(s, t, hz_texture_level_of(t, lod), u, v, rgba);
 }
 
 float hz_texture_alpha(const hz_scene_t *s, int32_t tex, float u, float v)

@@ -1,10 +1,9 @@
 /* Tracing and Whitted shading of one tile batch (see render_internal.h for the work organisation). */
 #include "hz/image.h"
-#include "hz/terminator.h"
 #include "hz/posekeys.h"
+#include "hz/shade.h"
 #include "render_internal.h"
 
-#define INV_PI 0.31830988618379067f
 #define MV_FAR 65536.0f /* motion vector of a point the previous camera did not see: far off-screen */
 
 typedef struct hitrec {
@@ -21,6 +20,8 @@ typedef struct hitrec {
 #define SHADOW_GATHER (4u * HZ_RENDER_LANES) /* how deep take_shadows looks for a packet towards one light */
 
 /* ---- packets ---- */
+
+typedef char shade_lanes_match[HZ_SHADE_LANES == HZ_RENDER_LANES ? 1 : -1]; /* one packet, one shading call */
 
 #if HZ_RENDER_LANES == 8
 typedef hz_rayhit8_t packet_t;
@@ -90,11 +91,6 @@ static void tri_at(const struct hz_renderer *r, uint32_t prim, float time, hz_ve
         p[i] = r->keys ? hz_posekeys_lerp(r->keys, r->keys->pos, t[i], time) : vtx(r->scene->pos, t[i]);
 }
 
-static hz_vec3_t nrm_at(const struct hz_renderer *r, uint32_t v, float time)
-{
-    return r->keys && r->keys->nrm[0] ? hz_posekeys_lerp(r->keys, r->keys->nrm, v, time) : vtx(r->scene->nrm, v);
-}
-
 static hz_vec3_t bary(hz_vec3_t a, hz_vec3_t b, hz_vec3_t c, float u, float v)
 {
     float w = 1.0f - u - v;
@@ -113,65 +109,21 @@ static void hit_uv(const hz_scene_t *s, uint32_t prim, float u, float v, float *
     *uv_area2 = hz_absf(cr);
 }
 
-static void surface_at(const struct hz_renderer *r, const ray_job_t *j, const hitrec_t *h, surface_t *sf)
+/* Lane i of a packet's surfaces (hz/shade.h) with the hit's material. */
+static void surface_from(const struct hz_renderer *r, const hitrec_t *h, const hz_shade_out_t *o, uint32_t i,
+                         surface_t *sf)
 {
     const hz_scene_t *s = r->scene;
-    const uint32_t *t = s->tri + (size_t)h->prim * 3;
-    hz_vec3_t pv[3];
-    tri_at(r, h->prim, j->time, pv);
-    hz_vec3_t p0 = pv[0], p1 = pv[1], p2 = pv[2];
-    hz_vec3_t d = hz_v3(j->d[0], j->d[1], j->d[2]);
     sf->prim = h->prim;
-    sf->p = bary(p0, p1, p2, h->u, h->v);
-    hz_vec3_t ng = hz_v3_cross(hz_v3_sub(p1, p0), hz_v3_sub(p2, p0));
-    float area2 = hz_v3_len(ng);
-    ng = hz_v3_normalize(ng);
-    float flip = hz_v3_dot(ng, d) > 0.0f ? -1.0f : 1.0f;
-    sf->ng = hz_v3_scale(ng, flip);
-    sf->ns = sf->ng;
-    if (s->nrm) {
-        hz_vec3_t ns = hz_v3_normalize(
-            bary(nrm_at(r, t[0], j->time), nrm_at(r, t[1], j->time), nrm_at(r, t[2], j->time), h->u, h->v));
-        ns = hz_v3_scale(ns, flip);
-        /* Interpolated normals can point below the surface at grazing angles: keep the geometric one then. */
-        if (hz_v3_dot(ns, sf->ng) > 0.0f)
-            sf->ns = ns;
-    }
-    uint32_t mat = s->tri_info[h->prim] & 0xffffu;
-    const hz_material_t *m = &s->materials[mat];
-    sf->m = m;
+    sf->p = hz_v3(o->px[i], o->py[i], o->pz[i]);
+    sf->ng = hz_v3(o->ngx[i], o->ngy[i], o->ngz[i]);
+    sf->ns = hz_v3(o->nsx[i], o->nsy[i], o->nsz[i]);
+    sf->tu = o->tu[i], sf->tv = o->tv[i];
+    sf->m = &s->materials[s->tri_info[h->prim] & 0xffffu];
     sf->object = (uint16_t)(s->tri_info[h->prim] >> 16);
-    sf->albedo[0] = m->base_color[0], sf->albedo[1] = m->base_color[1], sf->albedo[2] = m->base_color[2];
-    sf->alpha = 1.0f;
-    sf->textured = false;
-    sf->tu = sf->tv = 0.0f;
-    bool blend = m->alpha_mode == HZ_ALPHA_BLEND;
-    if (blend)
-        sf->alpha = m->alpha;
-    if (r->has_textures && (m->base_texture >= 0 || (blend && m->alpha_texture >= 0))) {
-        float uv_area2;
-        hit_uv(s, h->prim, h->u, h->v, &sf->tu, &sf->tv, &uv_area2);
-        float cos = hz_absf(hz_v3_dot(ng, d));
-        float width = j->cone_w + j->cone_s * h->t;
-        float lod_base = 0.5f * hz_log2_approx(uv_area2 / area2) + hz_log2_approx(width) - hz_log2_approx(cos);
-        float rgba[4];
-        if (m->base_texture >= 0) {
-            const hz_texture_t *tx = &s->textures[m->base_texture];
-            float lod = lod_base + 0.5f * hz_log2_approx((float)tx->width * (float)tx->height);
-            hz_texture_sample(s, m->base_texture, sf->tu, sf->tv, lod, rgba);
-            sf->albedo[0] *= rgba[0], sf->albedo[1] *= rgba[1], sf->albedo[2] *= rgba[2];
-            sf->textured = true;
-            if (blend && m->alpha_texture == m->base_texture)
-                sf->alpha *= rgba[3];
-        }
-        if (blend && m->alpha_texture >= 0 && m->alpha_texture != m->base_texture) {
-            const hz_texture_t *tx = &s->textures[m->alpha_texture];
-            float lod = lod_base + 0.5f * hz_log2_approx((float)tx->width * (float)tx->height);
-            hz_texture_sample(s, m->alpha_texture, sf->tu, sf->tv, lod, rgba);
-            sf->alpha *= rgba[3];
-            sf->textured = true;
-        }
-    }
+    sf->albedo[0] = o->albedo[0][i], sf->albedo[1] = o->albedo[1][i], sf->albedo[2] = o->albedo[2][i];
+    sf->alpha = o->alpha[i];
+    sf->textured = o->textured[i] != 0;
 }
 
 /* Alpha of a blended surface hit by a shadow ray (colour not needed). */
@@ -489,12 +441,13 @@ static void shade_miss(hz_worker_t *w, const ray_job_t *j)
     }
 }
 
-static void shade_hit(hz_worker_t *w, const ray_job_t *j, const hitrec_t *h)
+static void shade_hit(hz_worker_t *w, const ray_job_t *j, const hitrec_t *h, const hz_shade_ctx_t *c,
+                      const hz_shade_out_t *so, uint32_t lane)
 {
     struct hz_renderer *r = w->r;
     const hz_scene_t *s = r->scene;
     surface_t sf;
-    surface_at(r, j, h, &sf);
+    surface_from(r, h, so, lane, &sf);
     const hz_material_t *m = sf.m;
     uint32_t px = w->pixel[j->slot];
     hz_gbuffer_t *gb = &r->gb;
@@ -578,30 +531,23 @@ static void shade_hit(hz_worker_t *w, const ray_job_t *j, const hitrec_t *h)
     /* Direct light from every point light, through one shadow ray each. */
     float diffuse = 1.0f - mirror;
     float kd[3] = { wc[0] * diffuse * sf.albedo[0], wc[1] * diffuse * sf.albedo[1], wc[2] * diffuse * sf.albedo[2] };
-    hz_vec3_t o_light = hz_accel_offset_origin(sf.p, sf.ng, r->offset_scale);
-    const float skip = hz_terminator_skip(s, h->prim, sf.ng); /* the facet's own curvature (hz/terminator.h) */
+    hz_vec3_t o_light = hz_v3(so->lox[lane], so->loy[lane], so->loz[lane]);
     for (uint32_t l = 0; l < r->light_count; l++) {
         const hz_light_t *lt = &r->lights[l];
-        hz_vec3_t L = hz_v3_sub(hz_v3(lt->position[0], lt->position[1], lt->position[2]), o_light);
-        float dist2 = hz_v3_dot(L, L);
-        float dist = hz_sqrtf(dist2);
-        hz_vec3_t ld = dist > 0.0f ? hz_v3_scale(L, 1.0f / dist) : sf.ns;
-        float cs = hz_v3_dot(sf.ns, ld);
-        if (!(cs > 0.0f) || !(hz_v3_dot(sf.ng, ld) > 0.0f) || !(dist > 0.0f)) {
+        /* The packet computed the first lights for every lane; the rest come one lane at a time. */
+        hz_shade_light_t one;
+        const hz_shade_light_t *sl = l < HZ_SHADE_LIGHTS ? &so->light[l] : &one;
+        bool lit = l < HZ_SHADE_LIGHTS ? (so->lit[l] >> lane & 1u) != 0 : hz_shade_light_lane(c, so, lane, l, &one);
+        if (!lit) {
             if (j->gslot != GSLOT_NONE)
                 count_blocked(w, j->slot, j->gslot);
             continue;
         }
-        float k = cs * INV_PI * (lt->falloff == HZ_FALLOFF_INV_SQUARE ? 1.0f / dist2 : 1.0f);
+        float k = sl->k[lane];
         shadow_job_t sj;
-        sj.o[0] = o_light.x, sj.o[1] = o_light.y, sj.o[2] = o_light.z;
-        sj.d[0] = ld.x, sj.d[1] = ld.y, sj.d[2] = ld.z;
-        sj.tmax = dist * (1.0f - 1e-4f);
-        if (skip > 0.0f) {
-            float k0 = hz_minf(skip, sj.tmax);
-            sj.o[0] += ld.x * k0, sj.o[1] += ld.y * k0, sj.o[2] += ld.z * k0;
-            sj.tmax -= k0;
-        }
+        sj.o[0] = sl->ox[lane], sj.o[1] = sl->oy[lane], sj.o[2] = sl->oz[lane];
+        sj.d[0] = sl->dx[lane], sj.d[1] = sl->dy[lane], sj.d[2] = sl->dz[lane];
+        sj.tmax = sl->tmax[lane];
         sj.w[0] = kd[0] * lt->color[0] * k, sj.w[1] = kd[1] * lt->color[1] * k, sj.w[2] = kd[2] * lt->color[2] * k;
         sj.vis = 1.0f;
         sj.time = j->time;
@@ -645,14 +591,40 @@ static void shade_hit(hz_worker_t *w, const ray_job_t *j, const hitrec_t *h)
     }
 }
 
-static void shade(hz_worker_t *w, const ray_job_t *j, const hitrec_t *h)
+/* Shades a packet's n jobs in order: their surfaces first, all lanes at once (hz/shade.h), then job by job
+ * what each adds (G-buffer, continuation and mirror rays, the light loop's shadow rays). */
+static void shade_packet(hz_worker_t *w, const ray_job_t *jobs, const hitrec_t *hits, uint32_t n)
 {
-    if (h->prim == HZ_ACCEL_INVALID_ID)
-        shade_miss(w, j);
-    else
-        shade_hit(w, j, h);
-    if (j->dither && w->write_gbuffer && w->dither_touched[j->slot])
-        w->r->gb.flags[w->pixel[j->slot]] |= HZ_GB_DITHER; /* the opacity mask TAA reads */
+    const struct hz_renderer *r = w->r;
+    hz_shade_in_t in;
+    hz_shade_out_t out;
+    const hz_shade_ctx_t c = { r->scene, r->keys, r->has_textures, r->lights, r->light_count, r->offset_scale };
+    uint32_t mask = 0, live = 0;
+    for (uint32_t i = 0; i < n; i++)
+        if (hits[i].prim != HZ_ACCEL_INVALID_ID) {
+            if (!mask)
+                live = i;
+            mask |= 1u << i;
+        }
+    if (mask) {
+        for (uint32_t i = 0; i < HZ_SHADE_LANES; i++) {
+            uint32_t k = mask >> i & 1u ? i : live; /* empty lanes repeat a live one: valid gathers */
+            const ray_job_t *j = &jobs[k];
+            in.prim[i] = hits[k].prim, in.u[i] = hits[k].u, in.v[i] = hits[k].v, in.t[i] = hits[k].t;
+            in.dx[i] = j->d[0], in.dy[i] = j->d[1], in.dz[i] = j->d[2];
+            in.time[i] = j->time, in.cone_w[i] = j->cone_w, in.cone_s[i] = j->cone_s;
+        }
+        (r->opts.scalar_shading ? hz_shade_surfaces_scalar : hz_shade_surfaces)(&c, &in, mask, &out);
+    }
+    for (uint32_t i = 0; i < n; i++) {
+        const ray_job_t *j = &jobs[i];
+        if (hits[i].prim == HZ_ACCEL_INVALID_ID)
+            shade_miss(w, j);
+        else
+            shade_hit(w, j, &hits[i], &c, &out, i);
+        if (j->dither && w->write_gbuffer && w->dither_touched[j->slot])
+            w->r->gb.flags[w->pixel[j->slot]] |= HZ_GB_DITHER; /* the opacity mask TAA reads */
+    }
 }
 
 /* Everything queued: rays depth first in packets, shadow rays whenever a packet's worth is waiting. */
@@ -671,8 +643,7 @@ static void drain(hz_worker_t *w)
             jobs[i] = w->stack[w->stack_n + i];
         w->stats.secondary_rays += n;
         intersect_jobs(w, jobs, n, hits, false, NULL);
-        for (uint32_t i = 0; i < n; i++)
-            shade(w, &jobs[i], &hits[i]);
+        shade_packet(w, jobs, hits, n);
     }
 }
 
@@ -741,8 +712,7 @@ void hz_trace_batch(hz_worker_t *w, const float (*jitter)[2], const float *times
             continue;
         w->stats.primary_rays += n;
         intersect_jobs(w, jobs, n, hits, true, NULL);
-        for (uint32_t i = 0; i < n; i++)
-            shade(w, &jobs[i], &hits[i]);
+        shade_packet(w, jobs, hits, n);
         drain(w);
     }
 }

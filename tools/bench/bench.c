@@ -174,7 +174,7 @@ int main(int argc, char **argv)
     bool core = true, accel = true, tdense = true, transp = true, adaptive = true, blur = true, motion = true;
     bool realtime = true, only_given = false;
     const char *realtime_csv = NULL;
-    hz_bench_realtime_opts_t rt = { NULL, 640, 360, 2, 3, 8, 96, 1.0f, 240, false };
+    hz_bench_realtime_opts_t rt = { NULL, 640, 360, 2, 3, 8, 96, 1.0f, 240, false, false };
     const char *transp_csv = NULL;
     hz_bench_transp_opts_t tp = { NULL, 192, 108, 0, 3, 24, false };
     hz_bench_adaptive_opts_t ad = { NULL, NULL, 640, 360, 2, 5, 1, 3, 1.0f, 256, false };
@@ -192,6 +192,8 @@ int main(int argc, char **argv)
             ao.csv_path = argv[++i];
         } else if (!strcmp(argv[i], "--realtime-csv") && i + 1 < argc) {
             realtime_csv = argv[++i];
+        } else if (!strcmp(argv[i], "--realtime-shading-twin")) {
+            rt.compare_shading = true;
         } else if (!strcmp(argv[i], "--realtime-frames") && i + 1 < argc) {
             if (!hz_cli_parse_long("--realtime-frames", argv[++i], 1, HZ_BENCH_REALTIME_MAX_FRAMES, &v))
                 return HZ_EXIT_USAGE;
@@ -312,6 +314,7 @@ int main(int argc, char **argv)
         } else if (!strcmp(argv[i], "-h") || !strcmp(argv[i], "--help")) {
             printf("usage: hzbench [--only kernels|accel|tdense|transparency|adaptive|blur|motion|realtime]...\n"
                    "               [--csv FILE] [--realtime-csv FILE] [--realtime-size WxH] [--realtime-frames N]\n"
+                   "               [--realtime-shading-twin]\n"
                    "               [--accel-csv FILE] [--adaptive-csv FILE] [--motion-csv FILE] [--scenes DIR]\n"
                    "               [--scene NAME]... [--rounds N] [--threads N] [--size WxH] [--tdense-size WxH]\n"
                    "               [--frames N] [--embree-config S] [--transparency-csv FILE]\n"
@@ -328,7 +331,9 @@ int main(int argc, char **argv)
                    "  realtime tdense and TAA at 640x360 (--realtime-size) on 2 threads (or --threads) on the built-in\n"
                    "           scene, Sponza and Conference, 96 frames from t = 1 s (--realtime-frames): p50/p99 ms,\n"
                    "           begin/trace/shade/resolve, the same rays through Embree alone (8-ray packets, no\n"
-                   "           shading) and overhead = p50 / that; CSV with --realtime-csv\n"
+                   "           shading) and overhead = p50 / that; CSV with --realtime-csv; with\n"
+                   "           --realtime-shading-twin tdense with the packet shading against its scalar twin\n"
+                   "           (rounds interleaved) instead of tdense and TAA\n"
                    "  adaptive fixed 9 spp against --mode adaptive (tau 0.3, 0.6, 1) at 640x360 on 2 threads (or\n"
                    "           --threads): presample / test / extra ms, live lanes per packet, PSNR vs 256 spp\n"
                    "  blur     motion blur in tdense (--shutter, default 1; --blur-size, default 320x180): one MSBVH\n"
@@ -509,15 +514,19 @@ int main(int argc, char **argv)
         int nr = hz_bench_realtime(&rt, rrows, 6, &err);
         if (nr < 0)
             return hz_cli_report(&err);
-        printf("%-11s %-6s %8s %8s %7s %7s %7s %8s %9s %8s %9s %9s %9s\n", "scene", "mode", "p50 ms", "p99 ms",
+        const int mw = rt.compare_shading ? 13 : 6;
+        printf("%-11s %-*s %8s %8s %7s %7s %7s %8s %9s %8s %9s %9s %9s\n", "scene", mw, "mode", "p50 ms", "p99 ms",
                "begin", "trace", "shade", "resolve", "embree ms", "overhead", "primary", "shadow", "secondary");
         for (int k = 0; k < nr; k++) {
             const hz_bench_realtime_row_t *w = &rrows[k];
-            printf("%-11s %-6s %8.2f %8.2f %7.2f %7.2f %7.2f %8.2f %9.2f %8.2f %9.0f %9.0f %9.0f\n", w->scene, w->mode,
-                   w->p50_ms, w->p99_ms, w->begin_ms, w->trace_ms, w->shade_ms, w->resolve_ms, w->embree_trace_ms,
+            printf("%-11s %-*s %8.2f %8.2f %7.2f %7.2f %7.2f %8.2f %9.2f %8.2f %9.0f %9.0f %9.0f\n", w->scene, mw,
+                   w->mode, w->p50_ms, w->p99_ms, w->begin_ms, w->trace_ms, w->shade_ms, w->resolve_ms, w->embree_trace_ms,
                    w->overhead, w->primary, w->shadow, w->secondary);
         }
-        for (int k = 0; k + 1 < nr; k += 2)
+        for (int k = 0; rt.compare_shading && k + 1 < nr; k += 2)
+            printf("%-11s scalar twin / packet shading: shade %.2fx, p50 %.2fx\n", rrows[k].scene,
+                   rrows[k + 1].shade_ms / rrows[k].shade_ms, rrows[k + 1].p50_ms / rrows[k].p50_ms);
+        for (int k = 0; !rt.compare_shading && k + 1 < nr; k += 2)
             printf("%-11s TAA / tdense p50 %.2fx; tdense p99 %.2f ms against the %.2f ms budget (%.1fx over)\n",
                    rrows[k].scene, rrows[k + 1].p50_ms / rrows[k].p50_ms, rrows[k].p99_ms, 1000.0 / rt.hz,
                    rrows[k].p99_ms * rt.hz / 1000.0);

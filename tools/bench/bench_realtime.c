@@ -229,7 +229,7 @@ static hz_status_t run_round(hz_renderer_t *r, const hz_bench_realtime_opts_t *o
 static hz_status_t bench_scene(const char *label, const char *path, const hz_bench_realtime_opts_t *o,
                                hz_bench_realtime_row_t *rows, hz_error_t *err)
 {
-    static const hz_render_mode_t modes[2] = { HZ_MODE_TDENSE, HZ_MODE_TAA };
+    const hz_render_mode_t modes[2] = { HZ_MODE_TDENSE, o->compare_shading ? HZ_MODE_TDENSE : HZ_MODE_TAA };
     static mode_acc_t acc[2], twin[2];
     hz_bench_scene_t bs;
     hz_status_t s = hz_bench_scene_open(&bs, path, err);
@@ -244,6 +244,7 @@ static hz_status_t bench_scene(const char *label, const char *path, const hz_ben
         hz_render_opts_t ro;
         hz_render_opts_default(&ro);
         ro.width = o->width, ro.height = o->height, ro.mode = modes[m];
+        ro.scalar_shading = o->compare_shading && m == 1;
         s = hz_render_create(&r[m], &bs.scene, &wrapped, &ro, &bs.pools->frame, bs.pools->thread,
                              (uint32_t)o->threads, err);
         acc[m].nframes = 0;
@@ -280,7 +281,7 @@ static hz_status_t bench_scene(const char *label, const char *path, const hz_ben
         hz_bench_realtime_row_t *w = &rows[m];
         memset(w, 0, sizeof *w);
         snprintf(w->scene, sizeof w->scene, "%s", label);
-        w->mode = hz_render_mode_name(modes[m]);
+        w->mode = o->compare_shading && m == 1 ? "tdense-scalar" : hz_render_mode_name(modes[m]);
         w->threads = o->threads;
         w->p50_ms = hz_bench_quantile(acc[m].frame_ms, acc[m].nframes, 0.50);
         w->p99_ms = hz_bench_quantile(acc[m].frame_ms, acc[m].nframes, 0.99);

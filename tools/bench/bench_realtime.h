@@ -42,11 +42,12 @@ typedef struct hz_bench_realtime_opts {
     float start;
     uint32_t hz;
     bool progress;
+    bool compare_shading;   /* tdense with the packet shading against its scalar twin, instead of tdense and TAA */
 } hz_bench_realtime_opts_t;
 
 typedef struct hz_bench_realtime_row {
     char scene[32];
-    const char *mode;      /* "tdense" or "taa" */
+    const char *mode;      /* "tdense" or "taa" ("tdense-scalar": compare_shading's twin) */
     int threads;
     double p50_ms, p99_ms;
     double begin_ms, trace_ms, shade_ms, resolve_ms;

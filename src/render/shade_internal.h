@@ -1,0 +1,37 @@
+/*
+ * shade_internal.h — what the packet-surface kernels (shade_avx2.c, shade_neon.c, both over shade_kernel.h)
+ * share with their scalar twin in shade_packet.c: the per-lane steps that stay scalar (pose-key interpolation,
+ * material look-up, mip-level choice), written once so both paths take them from the same code.
+ */
+#ifndef HZ_SHADE_INTERNAL_H
+#define HZ_SHADE_INTERNAL_H
+
+#include "hz/shade.h"
+#include "render_internal.h"
+
+#define HZ_SHADE_INV_PI 0.31830988618379067f
+
+/* Which textures a lane's material reads (hz_shade_lane_material). */
+typedef struct hz_shade_lane_tex {
+    bool any;        /* texturing on: the uv and the cone's level of detail are needed */
+    int32_t base;    /* base texture, or -1 */
+    bool base_alpha; /* blended, and its alpha texture is the base texture */
+    int32_t alpha;   /* a separate alpha texture of a blended material, or -1 */
+} hz_shade_lane_tex_t;
+
+/* Live lanes' vertex positions (pos[vertex * 3 + axis][lane]) and, when the scene has them, normals, at each
+ * lane's time from the pose keys or the scene. */
+void hz_shade_fetch_scalar(const hz_shade_ctx_t *c, const hz_shade_in_t *in, uint32_t mask,
+                           float pos[9][HZ_SHADE_LANES], float nrm[9][HZ_SHADE_LANES]);
+/* Lane i's untextured albedo and opacity (tu = tv = 0, not textured) and which textures it reads. */
+void hz_shade_lane_material(const hz_shade_ctx_t *c, const hz_shade_in_t *in, uint32_t i, hz_shade_out_t *o,
+                            hz_shade_lane_tex_t *lt);
+/* The level hz_texture_sample would filter for texture tex at (tu, tv), lod_base plus the texture's own size
+ * term: HZ_SHADE_TEX_GATHER with its first texel and size; HZ_SHADE_TEX_ONE when the sample is the constant 1
+ * (no such texture, non-finite uv); HZ_SHADE_TEX_FAR when its texels lie beyond a 32-bit gather index (the
+ * lane then samples with hz_texture_sample). */
+enum { HZ_SHADE_TEX_ONE = 0, HZ_SHADE_TEX_GATHER = 1, HZ_SHADE_TEX_FAR = 2 };
+int hz_shade_lane_level(const hz_shade_ctx_t *c, int32_t tex, float tu, float tv, float lod_base, int32_t *first,
+                        int32_t *w, int32_t *h);
+
+#endif

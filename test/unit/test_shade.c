@@ -1,0 +1,260 @@
+/* Packet surfaces (hz/shade.h): the board's SIMD kernel against its scalar twin, bit for bit, on real hits —
+ * random rays from inside the bounds of baked scenes (textured Sponza, blended, cutout and
+ * alpha-textured materials, a mirror box, the built-in scene, pose keys at random ray times), packets with some
+ * lanes empty, and lanes with extreme ray cones and non-finite barycentrics. */
+#include "hz_test.h"
+
+#include <string.h>
+
+#include "hz/hash.h"
+#include "hz/shade.h"
+#include "render_fixture.h"
+
+#define PACKETS 8000
+
+typedef struct tally {
+    uint32_t lanes, textured, blended, cutout, mirror, keyed, far_cone, lit, skipped;
+} tally_t;
+
+#define LIGHTS (HZ_SHADE_LIGHTS + 2) /* the last two only through hz_shade_light_lane */
+
+static void open_scene(rfix_t *f, const char *file)
+{
+    char path[512];
+    hz_error_t err;
+    const char *p = file;
+    if (strcmp(file, "builtin") != 0) {
+        p = rfix_scene_path(file, path, sizeof path);
+        if (!p)
+            fail_msg("HZ_SCENES_DIR is not set (make test sets it)");
+    }
+    if (rfix_open(f, p, HZ_ACCEL_NATIVE, &err) != HZ_OK)
+        fail_msg("%s: %s", file, err.msg);
+}
+
+static float unit(hz_rng_t *r)
+{
+    return hz_u32_to_unit(hz_rng_u32(r));
+}
+
+/* Bit-for-bit equality of every output of the live lanes. */
+static void compare(const hz_shade_out_t *a, const hz_shade_out_t *b, uint32_t mask, const char *what)
+{
+    const float *fa[] = { a->px, a->py, a->pz, a->ngx, a->ngy, a->ngz, a->nsx, a->nsy, a->nsz, a->albedo[0],
+                          a->albedo[1], a->albedo[2], a->alpha, a->tu, a->tv };
+    const float *fb[] = { b->px, b->py, b->pz, b->ngx, b->ngy, b->ngz, b->nsx, b->nsy, b->nsz, b->albedo[0],
+                          b->albedo[1], b->albedo[2], b->alpha, b->tu, b->tv };
+    for (uint32_t i = 0; i < HZ_SHADE_LANES; i++) {
+        if (!(mask >> i & 1u))
+            continue;
+        for (size_t k = 0; k < sizeof fa / sizeof fa[0]; k++)
+            if (memcmp(&fa[k][i], &fb[k][i], sizeof(float)) != 0)
+                fail_msg("%s: lane %u output %zu: simd %.9g, scalar %.9g", what, i, k, (double)fa[k][i],
+                         (double)fb[k][i]);
+        if (a->textured[i] != b->textured[i])
+            fail_msg("%s: lane %u textured %u vs %u", what, i, a->textured[i], b->textured[i]);
+        const float *la[] = { a->lox, a->loy, a->loz, a->skip }, *lb[] = { b->lox, b->loy, b->loz, b->skip };
+        for (size_t k = 0; k < 4; k++)
+            if (memcmp(&la[k][i], &lb[k][i], sizeof(float)) != 0)
+                fail_msg("%s: lane %u origin/skip %zu: simd %.9g, scalar %.9g", what, i, k, (double)la[k][i],
+                         (double)lb[k][i]);
+    }
+    for (uint32_t l = 0; l < HZ_SHADE_LIGHTS; l++) {
+        if ((a->lit[l] & mask) != (b->lit[l] & mask))
+            fail_msg("%s: light %u lit lanes %#x vs %#x", what, l, a->lit[l] & mask, b->lit[l] & mask);
+        const hz_shade_light_t *x = &a->light[l], *y = &b->light[l];
+        const float *ga[] = { x->ox, x->oy, x->oz, x->dx, x->dy, x->dz, x->tmax, x->k };
+        const float *gb[] = { y->ox, y->oy, y->oz, y->dx, y->dy, y->dz, y->tmax, y->k };
+        for (uint32_t i = 0; i < HZ_SHADE_LANES; i++)
+            if ((a->lit[l] & mask) >> i & 1u)
+                for (size_t k = 0; k < 8; k++)
+                    if (memcmp(&ga[k][i], &gb[k][i], sizeof(float)) != 0)
+                        fail_msg("%s: light %u lane %u field %zu: simd %.9g, scalar %.9g", what, l, i, k,
+                                 (double)ga[k][i], (double)gb[k][i]);
+    }
+}
+
+/* Shoots PACKETS packets of random rays from inside the scene's bounds, keeps the hits, and compares. */
+static void run_scene(const char *file, bool with_keys, tally_t *t)
+{
+    rfix_t f;
+    hz_error_t err;
+    open_scene(&f, file);
+    const hz_scene_t *s = &f.scene;
+    hz_posekeys_t keys;
+    float lo[3] = { INFINITY, INFINITY, INFINITY }, hi[3] = { -INFINITY, -INFINITY, -INFINITY };
+    for (uint32_t v = 0; v < s->vertex_count; v++)
+        for (int a = 0; a < 3; a++)
+            lo[a] = fminf(lo[a], s->pos[v * 4 + a]), hi[a] = fmaxf(hi[a], s->pos[v * 4 + a]);
+    hz_rng_t rng;
+    hz_rng_seed(&rng, 16, (uint64_t)strlen(file));
+    /* Lights inside the bounds, both falloffs; the scene's own first where it has them. */
+    hz_light_t lights[LIGHTS];
+    memset(lights, 0, sizeof lights);
+    for (uint32_t l = 0; l < LIGHTS; l++) {
+        if (l < s->light_count) {
+            lights[l] = s->lights[l];
+            continue;
+        }
+        for (int a = 0; a < 3; a++)
+            lights[l].position[a] = lo[a] + (hi[a] - lo[a]) * unit(&rng), lights[l].color[a] = unit(&rng);
+        lights[l].falloff = l & 1u ? HZ_FALLOFF_NONE : HZ_FALLOFF_INV_SQUARE;
+    }
+    float scale = 0.0f;
+    for (int a = 0; a < 3; a++)
+        scale = fmaxf(scale, fmaxf(fabsf(lo[a]), fabsf(hi[a])));
+    hz_shade_ctx_t c = { s, NULL, s->uv != NULL, lights, LIGHTS, scale };
+    if (with_keys) {
+        uint32_t k = hz_posekeys_count(s, 1.0f / 24.0f);
+        assert_true(k >= 2);
+        assert_int_equal(hz_posekeys_init(&keys, s, k, &f.pools->frame, &err), HZ_OK);
+        hz_posekeys_eval(&keys, s, 0.5f, -1.0f / 48.0f, 1.0f / 48.0f);
+        c.keys = &keys;
+    }
+    hz_accel_ctx_t ctx;
+    hz_accel_ctx_init(&ctx);
+    memset(t, 0, sizeof *t);
+    for (int pk = 0; pk < PACKETS; pk++) {
+        hz_shade_in_t in;
+        hz_shade_out_t simd, scalar;
+        memset(&simd, 0xa5, sizeof simd);
+        memset(&scalar, 0x5a, sizeof scalar);
+        uint32_t mask = 0, live = 0;
+        for (uint32_t i = 0; i < HZ_SHADE_LANES; i++) {
+            hz_rayhit_t rh;
+            memset(&rh, 0, sizeof rh);
+            rh.ray.org_x = lo[0] + (hi[0] - lo[0]) * unit(&rng);
+            rh.ray.org_y = lo[1] + (hi[1] - lo[1]) * unit(&rng);
+            rh.ray.org_z = lo[2] + (hi[2] - lo[2]) * unit(&rng);
+            hz_vec3_t d = hz_v3_normalize(hz_v3(unit(&rng) - 0.5f, unit(&rng) - 0.5f, unit(&rng) - 0.5f));
+            rh.ray.dir_x = d.x, rh.ray.dir_y = d.y, rh.ray.dir_z = d.z;
+            rh.ray.tfar = INFINITY;
+            rh.ray.mask = 0xffffffffu;
+            rh.hit.geom_id = rh.hit.prim_id = HZ_ACCEL_INVALID_ID;
+            hz_accel_intersect1(f.accel, &ctx, &rh);
+            /* About one lane in five stays empty (a miss or dropped): packets partly full. */
+            if (rh.hit.geom_id == HZ_ACCEL_INVALID_ID || hz_rng_below(&rng, 5) == 0)
+                continue;
+            if (!mask)
+                live = i;
+            mask |= 1u << i;
+            in.prim[i] = rh.hit.prim_id, in.u[i] = rh.hit.u, in.v[i] = rh.hit.v, in.t[i] = rh.ray.tfar;
+            in.dx[i] = d.x, in.dy[i] = d.y, in.dz[i] = d.z;
+            in.time[i] = unit(&rng);
+            uint32_t cone = hz_rng_below(&rng, 8);
+            /* Pixel-sized cones mostly; some zero (finest level) and some huge (coarsest level). */
+            in.cone_w[i] = cone == 0 ? 0.0f : cone == 1 ? 1e6f : 1e-3f * unit(&rng);
+            in.cone_s[i] = cone == 0 ? 0.0f : cone == 1 ? 10.0f : 2e-3f * unit(&rng);
+            t->far_cone += cone == 1;
+            if (hz_rng_below(&rng, 97) == 0)
+                in.u[i] = NAN; /* non-finite texture coordinates: the sample is the constant 1 */
+            const hz_material_t *m = &s->materials[s->tri_info[rh.hit.prim_id] & 0xffffu];
+            t->lanes++;
+            t->blended += m->alpha_mode == HZ_ALPHA_BLEND;
+            t->cutout += m->alpha_mode == HZ_ALPHA_MASK;
+            t->mirror += m->mirror > 0.0f;
+            t->keyed += with_keys;
+        }
+        if (!mask)
+            continue;
+        for (uint32_t i = 0; i < HZ_SHADE_LANES; i++)
+            if (!(mask >> i & 1u)) { /* the contract: empty lanes name a valid triangle */
+                in.prim[i] = in.prim[live], in.u[i] = in.u[live], in.v[i] = in.v[live], in.t[i] = in.t[live];
+                in.dx[i] = in.dx[live], in.dy[i] = in.dy[live], in.dz[i] = in.dz[live];
+                in.time[i] = in.time[live], in.cone_w[i] = in.cone_w[live], in.cone_s[i] = in.cone_s[live];
+            }
+        hz_shade_surfaces(&c, &in, mask, &simd);
+        hz_shade_surfaces_scalar(&c, &in, mask, &scalar);
+        compare(&simd, &scalar, mask, file);
+        for (uint32_t i = 0; i < HZ_SHADE_LANES; i++) {
+            if (!(mask >> i & 1u))
+                continue;
+            t->textured += scalar.textured[i];
+            t->skipped += scalar.skip[i] > 0.0f;
+            for (uint32_t l = 0; l < HZ_SHADE_LIGHTS; l++)
+                t->lit += scalar.lit[l] >> i & 1u;
+            /* Lights past the packet's: one lane at a time, from either path's surfaces. */
+            for (uint32_t l = HZ_SHADE_LIGHTS; l < LIGHTS; l++) {
+                hz_shade_light_t x, y;
+                memset(&x, 0, sizeof x), memset(&y, 0, sizeof y);
+                bool lx = hz_shade_light_lane(&c, &simd, i, l, &x), ly = hz_shade_light_lane(&c, &scalar, i, l, &y);
+                assert_int_equal(lx, ly);
+                assert_memory_equal(&x, &y, sizeof x);
+            }
+        }
+    }
+    print_message("%s (%s): %u lanes, %u textured, %u blended, %u cutout, %u mirror, %u with keys, %u huge cones, "
+                  "%u lit (of %u lane-lights), %u with a terminator skip\n",
+                  file, hz_shade_path(), t->lanes, t->textured, t->blended, t->cutout, t->mirror, t->keyed,
+                  t->far_cone, t->lit, t->lanes * HZ_SHADE_LIGHTS, t->skipped);
+    assert_true(t->lit > t->lanes / 4);
+    rfix_close(&f);
+}
+
+static void test_sponza(void **state)
+{
+    (void)state;
+    tally_t t;
+    run_scene("sponza.hzb", false, &t);
+    assert_true(t.lanes > PACKETS);
+    assert_true(t.textured > t.lanes / 2); /* nearly every Sponza material has a base texture */
+    assert_true(t.far_cone > 0);
+}
+
+static void test_blended(void **state)
+{
+    (void)state;
+    tally_t t;
+    run_scene("AlphaBlendModeTest.hzb", false, &t);
+    assert_true(t.blended > 100);
+    assert_true(t.cutout > 100);
+    assert_true(t.textured > 100);
+}
+
+static void test_mirror_box(void **state)
+{
+    (void)state;
+    tally_t t;
+    run_scene("CornellBox-Mirror.hzb", false, &t);
+    assert_true(t.mirror > 50);
+    assert_int_equal(t.textured, 0);
+}
+
+static void test_builtin(void **state)
+{
+    (void)state;
+    tally_t t;
+    run_scene("builtin", false, &t);
+    assert_true(t.lanes > PACKETS);
+}
+
+static void test_pose_keys(void **state)
+{
+    (void)state;
+    tally_t t;
+    run_scene("CesiumMan-keys.hzb", true, &t);
+    assert_true(t.keyed > 100);
+    assert_true(t.textured > 100);
+}
+
+/* The path the board runs is its SIMD kernel where it has one (else the twin itself). */
+static void test_path(void **state)
+{
+    (void)state;
+#if defined(HZ_BOARD_SIMD_AVX2)
+    assert_string_equal(hz_shade_path(), "avx2");
+#elif defined(HZ_BOARD_SIMD_NEON)
+    assert_string_equal(hz_shade_path(), "neon");
+#else
+    assert_string_equal(hz_shade_path(), "scalar");
+#endif
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_path),     cmocka_unit_test(test_builtin),    cmocka_unit_test(test_sponza),
+        cmocka_unit_test(test_blended),  cmocka_unit_test(test_mirror_box), cmocka_unit_test(test_pose_keys),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
