@@ -118,7 +118,7 @@ ACCEL_SRCS := src/accel/accel.c src/accel/bvh_build.c src/accel/msbvh.c src/acce
 ACCEL_SRCS_avx2 := src/accel/trav_avx2.c
 ACCEL_SRCS_neon := src/accel/trav_neon.c
 ACCEL_TESTS := accel_build accel_trav accel_motion
-ACCEL_PORT_TESTS := threads accel_water accel_scenes accel_motion_cli
+ACCEL_PORT_TESTS := threads accel_water accel_scenes accel_motion_cli accel_par
 # with embree in BOARD_ACCEL: the backend's port sources and its cross-check tests
 PORT_SRCS_embree := port/embree/embree_accel.c
 ACCEL_PORT_TESTS_embree := accel_embree
