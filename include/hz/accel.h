@@ -62,10 +62,11 @@
  *  Embree's task system: "run these N independent items") and the native build uses it for the binning of large
  *  nodes (chunks of references, merged in chunk order: box minima/maxima and integer counts combine exactly)
  *  and for the subtrees below the top levels (at most max(4096, n / 64) references each, a rule on the triangle
- *  count only), each with pre-assigned ranges of references, nodes and leaf slots and its own share of the
- *  replication budget. Builds without a hook take the same steps in turn, so the structure is byte for byte the
- *  same for every thread count and any order in which run executes items. The hooks (run, progress) are used
- *  during hz_accel_build_native only: refit's rebuilds run serially and silently.
+ *  count only), each with pre-assigned ranges of references, nodes and leaf slots and up to 4x its proportional
+ *  share of the replication budget; if the subtrees together went over the budget, the build is redone by the
+ *  serial builder (still binning on the pool). Builds without a hook take the same steps in turn, so the
+ *  structure is byte for byte the same for every thread count and any order in which run executes items. The
+ *  hooks (run, progress) are used during hz_accel_build_native only: refit's rebuilds run serially, silently.
  *
  *  Motion (seed 002, Grünschloß et al. 2011; interface in the motion-blur note shared with the renderer).
  *  Geometry with time_keys K >= 2 has key k at normalised time k / (K - 1); between keys vertices move

@@ -11,9 +11,11 @@
  * on the calling thread, binning large nodes in chunks run as items of cfg->run; subtrees of at most
  * task_limit() references (a rule on the reference count only) become tasks with their own ranges at the high
  * ends of the scratch arrays (what a subtree can use at most: n + budget references and leaf slots, twice that
- * in nodes), built with the serial code as items of cfg->run, or in turn without one. Below the top levels a
- * subtree's unused budget goes on to its sibling as before; at the top levels it cannot (a task's is known only
- * once it ran), so every top-level child gets just its share: the same tree for every thread count.
+ * in nodes), built with the serial code as items of cfg->run, or in turn without one: the same tree for every
+ * thread count. Below the top levels a subtree's unused budget goes on to its sibling as before; at the top
+ * levels it cannot (a task's is known only once it ran), so top-level children get their proportional shares
+ * and a task may spend TASK_BUDGET_SCALE times its share. If the build then went over the budget, it is redone
+ * by build_node alone (the tree of the serial builder, its large nodes still binned in chunks).
  */
 #include "bvh.h"
 
@@ -877,7 +879,7 @@ static float build_node(build_t *bd, uint32_t idx, uint32_t n, const box_t *b, u
 /* ---- parallel build: top levels here, subtrees as tasks ---- */
 typedef struct task {
     box_t b;
-    uint32_t idx, n, depth, budget;
+    uint32_t idx, n, depth, budget, share; /* budget: what it may spend; share: its plain share */
     uint32_t ref0, node0, node_end, leaf0, leaf_end; /* its ranges of the scratch arrays */
     float sah;
     uint32_t splits, leaves;
@@ -900,7 +902,6 @@ typedef struct top_ctx {
     top_node_t *tops;
     uint32_t top_count;
     uint32_t limit; /* subtrees of at most this many references become tasks */
-    uint32_t scale; /* a task's budget: scale x its share */
 } top_ctx_t;
 
 /* Subtrees of at most this many references are tasks: about 64 to 128 of them (from the reference count only). */
@@ -921,12 +922,13 @@ static void top_child(top_ctx_t *tc, uint32_t idx, uint32_t n, const box_t *b, u
     if (n <= tc->limit) {
         /* A task's ranges hold what its subtree can use at most: n + budget references and leaf slots, twice
          * that in nodes; they are cut from the high ends of the arrays, which the top levels' caps then end at. */
-        const uint64_t tb = (uint64_t)budget * tc->scale, nr = (uint64_t)n + tb, nn = 2u * nr;
+        const uint64_t tb = (uint64_t)budget * TASK_BUDGET_SCALE;
+        const uint64_t nr = (uint64_t)n + tb, nn = 2u * nr;
         if (tc->task_count < PAR_MAX_TASKS && bd->ref_cap - bd->top >= nr && bd->node_cap - bd->node_count >= nn &&
             bd->leaf_cap - bd->leaf_count >= nr) {
             task_t *t = &tc->tasks[tc->task_count];
             t->b = *b;
-            t->idx = idx, t->n = n, t->depth = depth, t->budget = (uint32_t)tb;
+            t->idx = idx, t->n = n, t->depth = depth, t->budget = (uint32_t)tb, t->share = budget;
             bd->ref_cap -= (uint32_t)nr;
             t->ref0 = bd->ref_cap;
             hz_memcpy(&bd->refs[t->ref0], &bd->refs[bd->top - n], (size_t)n * sizeof(ref_t));
@@ -1017,16 +1019,15 @@ static void task_item(void *ctx, uint32_t item)
 }
 
 /* The build of the root (idx 0, every reference on the stack) through the top levels and tasks; the tasks run
- * on cfg->run when `parallel`, else here in turn: the same tree either way. False if a range was too small or
- * the references went over the budget (possible with scale > 1). */
+ * on cfg->run when `parallel`, else here in turn: the same tree either way. Returns false if a range was too
+ * small or the references went over the budget (the tasks' scaled budgets together can). */
 static bool build_top(build_t *bd, const hz_accel_config_t *cfg, top_ctx_t *tc, const box_t *root, uint32_t budget,
-                      uint32_t scale, bool parallel, float *sah)
+                      bool parallel, float *sah)
 {
     tc->bd = bd;
     tc->task_count = 0;
     tc->top_count = 0;
     tc->limit = task_limit(bd->top);
-    tc->scale = scale;
     const uint32_t refs0 = bd->top;
     uint32_t kind, ref;
     float cost;
@@ -1050,7 +1051,8 @@ static bool build_top(build_t *bd, const hz_accel_config_t *cfg, top_ctx_t *tc, 
         bd->spatial_splits += t->splits;
         bd->leaf_count += t->leaves;
     }
-    if (bd->leaf_count - refs0 > budget)
+    const uint64_t used = bd->leaf_count - refs0;
+    if (used > budget)
         return false;
     *sah = top_cost(tc, kind, ref, cost);
     if (cfg->progress)
@@ -1327,7 +1329,8 @@ hz_status_t hz_bvh_build(hz_bvh_t *bvh, const hz_accel_geom_t *g, const hz_accel
     bd->min_overlap = alpha * box_area(&root);
     float sah = 0.0f;
     uint32_t root_idx = new_node(bd);
-    bool done = false;
+    bool done = false, par_held = false;
+    hz_arena_mark_t par_mark = 0;
     if (bd->top == 0) {
         /* nothing to hit: one empty leaf */
         nodes[0].b = root;
@@ -1355,29 +1358,28 @@ hz_status_t hz_bvh_build(hz_bvh_t *bvh, const hz_accel_geom_t *g, const hz_accel
             hz_arena_reset(arena, m0);
             return HZ_E_NO_MEMORY;
         }
-        /* scaled task budgets first; if together they went over the budget, plain shares (never over) */
-        for (uint32_t scale = TASK_BUDGET_SCALE; !done; scale = 1u) {
-            if (scale != TASK_BUDGET_SCALE) { /* again from the triangles */
-                bd->top = 0;
-                bd->node_count = 0;
-                bd->leaf_count = 0;
-                bd->spatial_splits = 0;
-                bd->failed = false;
-                (void)init_refs(bd, sweep, &root);
-                (void)new_node(bd);
-            }
-            bd->ref_cap = (uint32_t)cap;
-            bd->node_cap = (uint32_t)(2u * cap + 2u);
-            bd->leaf_cap = (uint32_t)cap;
-            bd->par = parallel ? par : NULL;
-            done = build_top(bd, cfg, &tc, &root, budget, scale, parallel, &sah);
-            bd->par = NULL;
-            if (!done && scale == 1u) {
-                bd->failed = true;
-                break;
-            }
+        /* If the tasks together went over the budget (a scene where it binds everywhere, like the furball), the
+         * serial build instead, whose hand-on spends the budget where it is wanted (the chunked binning still
+         * runs on the pool): the same tree as without tasks. */
+        bd->ref_cap = (uint32_t)cap;
+        bd->node_cap = (uint32_t)(2u * cap + 2u);
+        bd->leaf_cap = (uint32_t)cap;
+        bd->par = parallel ? par : NULL;
+        done = build_top(bd, cfg, &tc, &root, budget, parallel, &sah);
+        if (!done) { /* again from the triangles */
+            bd->top = 0;
+            bd->ref_cap = (uint32_t)rb;
+            bd->node_count = 0;
+            bd->node_cap = (uint32_t)(2u * rb);
+            bd->leaf_count = 0;
+            bd->leaf_cap = (uint32_t)rb;
+            bd->spatial_splits = 0;
+            bd->failed = false;
+            (void)init_refs(bd, sweep, &root);
+            (void)new_node(bd);
         }
-        hz_arena_reset(arena, m1);
+        par_mark = m1;
+        par_held = true;
     }
     if (!done) {
         uint32_t bud = budget;
@@ -1388,6 +1390,9 @@ hz_status_t hz_bvh_build(hz_bvh_t *bvh, const hz_accel_geom_t *g, const hz_accel
         bd->progress_next = bd->progress_step;
         sah = build_node(bd, root_idx, bd->top, &root, 0, &bud);
     }
+    bd->par = NULL;
+    if (par_held)
+        hz_arena_reset(arena, par_mark);
     if (bd->failed) {
         hz_arena_reset(arena, m0);
         return hz_error_set(err, HZ_E_INTERNAL, "accel build: scratch capacity exceeded (a bug: the bounds "
