@@ -118,7 +118,7 @@ ACCEL_SRCS := src/accel/accel.c src/accel/bvh_build.c src/accel/msbvh.c src/acce
 ACCEL_SRCS_avx2 := src/accel/trav_avx2.c
 ACCEL_SRCS_neon := src/accel/trav_neon.c
 ACCEL_TESTS := accel_build accel_trav accel_motion
-ACCEL_PORT_TESTS := threads accel_water accel_scenes accel_motion_cli
+ACCEL_PORT_TESTS := threads accel_water accel_scenes accel_motion_cli accel_par
 # with embree in BOARD_ACCEL: the backend's port sources and its cross-check tests
 PORT_SRCS_embree := port/embree/embree_accel.c
 ACCEL_PORT_TESTS_embree := accel_embree
@@ -722,7 +722,8 @@ VM_TEST_ENV := HZ_SCENES_DIR HZ_SCENES_UNPACK
 # and take seconds; the heavy ones (BVH builds over 10^5..10^6 triangles, whole-image corruption sweeps,
 # rendered sequences) already run on the same AArch64 binaries under qemu-aarch64 in the board stage.
 VM_HEAVY_TESTS := scene_corrupt accel_build accel_trav accel_water zero_alloc render render_transp errtime et_render \
-                  render_speckles pack leaveout scene_clock accel_motion accel_motion_cli render_blur render_skin shade
+                  render_speckles pack leaveout scene_clock accel_motion accel_motion_cli render_blur render_skin shade \
+                  accel_par render_lanes
 VM_TEST_BINS := $(filter-out $(VM_HEAVY_TESTS:%=$(O)/test/unit/test_%),$(TEST_BINS))
 
 vmtest: deps ## boot Debian's arm64 kernel in qemu-system-aarch64: AArch64 unit tests, V4L2 loop-back, GPIO capture

@@ -58,6 +58,16 @@
  *  Threads. Queries only read the accel: any number of threads may query at once, each with its own ctx.
  *  Build, refit and release need exclusive access.
  *
+ *  Parallel build. The core starts no threads: a port with a pool passes cfg.run (a task hook in the style of
+ *  Embree's task system: "run these N independent items") and the native build uses it for the binning of large
+ *  nodes (chunks of references, merged in chunk order: box minima/maxima and integer counts combine exactly)
+ *  and for the subtrees below the top levels (at most max(4096, n / 64) references each, a rule on the triangle
+ *  count only), each with pre-assigned ranges of references, nodes and leaf slots and up to 4x its proportional
+ *  share of the replication budget; if the subtrees together went over the budget, the build is redone by the
+ *  serial builder (still binning on the pool). Builds without a hook take the same steps in turn, so the
+ *  structure is byte for byte the same for every thread count and any order in which run executes items. The
+ *  hooks (run, progress) are used during hz_accel_build_native only: refit's rebuilds run serially, silently.
+ *
  *  Motion (seed 002, Grünschloß et al. 2011; interface in the motion-blur note shared with the renderer).
  *  Geometry with time_keys K >= 2 has key k at normalised time k / (K - 1); between keys vertices move
  *  linearly: the triangle a ray meets is, per vertex, hz_accel_lerp_key(key s, key s + 1, f) with (s, f) =
@@ -313,6 +323,13 @@ typedef struct hz_accel_config {
     /* motion blur (native; Embree builds its own motion BVH) */
     hz_accel_blur_t blur;     /* HZ_ACCEL_BLUR_MSBVH */
     float rebuild_sah_growth; /* refit rebuilds when the SAH cost grew by more than this fraction (0.30) */
+    /* Parallel native build (see "Parallel build" in the contract); NULL (default) builds on the calling thread.
+     * run(run_user, fn, ctx, items) must call fn(ctx, item) exactly once for every item in [0, items), in any
+     * order and on any threads, and return when every call has returned; it is called only from the building
+     * thread, never from inside fn. run_threads: how many threads run uses (a hint: <= 1 builds serially). */
+    void (*run)(void *run_user, void (*fn)(void *ctx, uint32_t item), void *ctx, uint32_t items);
+    void *run_user;
+    uint32_t run_threads;
 } hz_accel_config_t;
 
 void hz_accel_config_default(hz_accel_config_t *cfg);

@@ -15,6 +15,7 @@
 #include "pools.h"
 #include "phase.h"
 #include "scenefile.h"
+#include "threads.h"
 #if defined(HZ_HAVE_EMBREE)
 #include "embree_accel.h"
 #endif
@@ -64,6 +65,8 @@ static void usage(FILE *f)
                "  --no-spatial       binned SAH only, no spatial splits\n"
                "  --leaf N           triangles per leaf, 1..%d (default %d)\n"
                "  --budget F         spatial-split replication budget, fraction of the triangles (default 0.25)\n"
+               "  --threads N        native build on a pool of N threads (default 1; 0: one per CPU); the tree is\n"
+               "                     the same for every N\n"
                "Motion blur (native backend):\n"
                "  --motion-check N   build the motion BVH, shoot N random rays at random times and compare each with\n"
                "                     brute force over all triangles at that time (single rays, occlusion and 8-wide\n"
@@ -87,6 +90,7 @@ int hz_cmd_accel(int argc, char **argv)
 {
     const char *scene_name = NULL, *embree_config = "";
     bool embree = false, blur_set = false, motion_opt = false;
+    int threads = 1;
     hz_accel_config_t cfg;
     hz_accel_config_default(&cfg);
     mcheck_t mc = { 0, HZ_MESHGEN_SWAY, false, 2u, false, 0.25f, 1u, 1.0f, 1.0f / 30.0f };
@@ -95,6 +99,10 @@ int hz_cmd_accel(int argc, char **argv)
         if (!strcmp(argv[i], "-h") || !strcmp(argv[i], "--help")) {
             usage(stdout);
             return 0;
+        } else if (!strcmp(argv[i], "--threads") && i + 1 < argc) {
+            if (!hz_cli_parse_long("--threads", argv[++i], 0, HZ_MAX_THREADS, &v))
+                return HZ_EXIT_USAGE;
+            threads = (int)v;
         } else if (!strcmp(argv[i], "--motion-check") && i + 1 < argc) {
             if (!hz_cli_parse_long("--motion-check", argv[++i], 1, 1000000000L, &v))
                 return HZ_EXIT_USAGE;
@@ -269,6 +277,11 @@ int hz_cmd_accel(int argc, char **argv)
     hz_accel_t *a = NULL;
     hz_phase_t prog;
     cfg.progress = hz_phase_accel, cfg.progress_user = &prog;
+    if (threads != 1 && !embree) {
+        if (hz_threads_start(threads, &err) != HZ_OK)
+            return hz_cli_report(&err);
+        hz_threads_accel_hook(&cfg);
+    }
     hz_phase_begin(&prog, false, "%s build of %s (%u triangles)", embree ? "Embree" : "native", scene_name,
                       g.tri_count);
     int64_t t0 = hz_clock_ns();
@@ -281,12 +294,17 @@ int hz_cmd_accel(int argc, char **argv)
         s = hz_accel_build_native(&a, &g, &cfg, &p->accel, &err);
     double secs = (double)(hz_clock_ns() - t0) * 1e-9;
     hz_phase_end(&prog);
+    const int used_threads = hz_threads_count();
+    hz_threads_stop();
     (void)embree_config;
     if (s != HZ_OK)
         return hz_cli_report(&err);
     const hz_accel_info_t *in = &a->info;
     printf("backend    %s\n", in->backend);
-    printf("build      %.3f s (%s)\n", secs, embree ? "Embree's threads" : "one thread");
+    if (embree)
+        printf("build      %.3f s (Embree's threads)\n", secs);
+    else
+        printf("build      %.3f s (%d thread%s)\n", secs, used_threads, used_threads == 1 ? "" : "s");
     printf("memory     %zu bytes, %.1f per triangle (peak %zu during the build)\n", in->bytes,
            g.tri_count ? (double)in->bytes / g.tri_count : 0.0, in->bytes_peak);
     if (!embree) {

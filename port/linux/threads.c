@@ -2,6 +2,8 @@
  * counter to share them out, and a count of finished workers to end them. */
 #include "threads.h"
 
+#include "hz/accel.h"
+
 #include <pthread.h>
 #include <string.h>
 #include <unistd.h>
@@ -146,4 +148,31 @@ void hz_threads_stop(void)
     started = 0;
     thread_count = 1;
     quitting = 0;
+}
+
+/* The accel's hook has no thread argument (a build's items carry their own scratch): adapt it to the pool's. */
+typedef struct accel_run {
+    void (*fn)(void *ctx, uint32_t item);
+    void *ctx;
+} accel_run_t;
+
+static void accel_item(void *user, uint32_t item, int thread)
+{
+    const accel_run_t *r = user;
+    (void)thread;
+    r->fn(r->ctx, item);
+}
+
+static void accel_run(void *run_user, void (*fn)(void *ctx, uint32_t item), void *ctx, uint32_t items)
+{
+    accel_run_t r = { fn, ctx };
+    (void)run_user;
+    hz_threads_run(accel_item, &r, items);
+}
+
+void hz_threads_accel_hook(hz_accel_config_t *cfg)
+{
+    cfg->run = accel_run;
+    cfg->run_user = 0;
+    cfg->run_threads = (uint32_t)hz_threads_count();
 }

@@ -15,6 +15,9 @@
  *    the calling thread (thread 0).
  *  - Workers wait on a condition variable between runs (after a short spin), so an idle pool costs no CPU.
  *  - hz_threads_stop() joins the workers; the pool can be started again.
+ *  - hz_threads_accel_hook(cfg) points an accel config's task hook (cfg->run, see hz/accel.h) at this pool, with
+ *    run_threads = hz_threads_count(): a native build with it runs on every thread of the pool (call it after
+ *    start; builds from thread 0 only).
  */
 #ifndef HZ_PORT_THREADS_H
 #define HZ_PORT_THREADS_H
@@ -30,5 +33,8 @@ hz_status_t hz_threads_start(int n, hz_error_t *err);
 void hz_threads_run(hz_threads_fn fn, void *user, uint32_t items);
 int hz_threads_count(void);
 void hz_threads_stop(void);
+
+struct hz_accel_config;
+void hz_threads_accel_hook(struct hz_accel_config *cfg);
 
 #endif

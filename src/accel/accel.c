@@ -19,6 +19,9 @@ void hz_accel_config_default(hz_accel_config_t *cfg)
     cfg->progress_user = 0;
     cfg->blur = HZ_ACCEL_BLUR_MSBVH;
     cfg->rebuild_sah_growth = 0.30f;
+    cfg->run = 0;
+    cfg->run_user = 0;
+    cfg->run_threads = 0;
 }
 
 static const char *const blur_names[HZ_ACCEL_BLUR_COUNT] = { "msbvh", "interp", "swept" };
@@ -598,6 +601,9 @@ hz_status_t hz_accel_build_native(hz_accel_t **out, const hz_accel_geom_t *g, co
         a->info.bytes_peak = a->info.bytes;
     nt->arena = arena;
     nt->cfg = *cfg;
+    /* the hooks and their user pointers are the caller's for this call only: refit's rebuilds run serially */
+    nt->cfg.progress = 0, nt->cfg.progress_user = 0;
+    nt->cfg.run = 0, nt->cfg.run_user = 0, nt->cfg.run_threads = 0;
     nt->start = (size_t)((const uint8_t *)(const void *)bvh->nodes - arena->base);
     nt->end = hz_arena_mark(arena);
     *out = a;

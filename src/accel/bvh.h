@@ -340,6 +340,6 @@ void hz_bvh_relocate(hz_bvh_t *bvh, ptrdiff_t delta);
 /* Upper bounds on the wide nodes and blocks a build of `refs` references produces. */
 uint64_t hz_bvh_nodes_bound(uint64_t refs);
 uint64_t hz_bvh_blocks_bound(uint64_t refs);
-uint64_t hz_bvh_scratch_bound(uint64_t refs);
+uint64_t hz_bvh_scratch_bound(uint32_t tri_count, uint64_t refs);
 
 #endif /* HZ_ACCEL_BVH_H */

@@ -6,6 +6,16 @@
  * so only the structure stays. Refit lives here too: it shares the box helpers.
  *
  * Everything is scalar C with a fixed operation order, so a build is bit-identical on every ISA.
+ *
+ * Top levels and tasks (every build of more than task_limit() references, pool or not): the top levels split
+ * on the calling thread, binning large nodes in chunks run as items of cfg->run; subtrees of at most
+ * task_limit() references (a rule on the reference count only) become tasks with their own ranges at the high
+ * ends of the scratch arrays (what a subtree can use at most: n + budget references and leaf slots, twice that
+ * in nodes), built with the serial code as items of cfg->run, or in turn without one: the same tree for every
+ * thread count. Below the top levels a subtree's unused budget goes on to its sibling as before; at the top
+ * levels it cannot (a task's is known only once it ran), so top-level children get their proportional shares
+ * and a task may spend TASK_BUDGET_SCALE times its share. If the build then went over the budget, it is redone
+ * by build_node alone (the tree of the serial builder, its large nodes still binned in chunks).
  */
 #include "bvh.h"
 
@@ -52,6 +62,19 @@ typedef struct sp_bin {
     uint32_t enter, exit;
 } sp_bin_t;
 
+#define PAR_CHUNK 8192u      /* references per binning item of a large node */
+#define PAR_MAX_CHUNKS 32u
+#define PAR_TASK_MIN 4096u   /* subtrees smaller than this are never worth a task of their own */
+#define PAR_MAX_TASKS 256u
+#define PAR_MAX_TOP 512u     /* top-level nodes recorded for the SAH sum; more are built in place */
+/* A task may spend up to this many times its share of the budget: build_node hands a subtree's unused budget
+ * on to its sibling, which a task cannot, and its proportional splits of a small share starve deep nodes
+ * (Conference's SAH cost 1% worse with plain shares, 0.1% better with 4x; the build's total stays capped). */
+#define TASK_BUDGET_SCALE 4u
+
+typedef struct sp_frame sp_frame_t;
+typedef struct par par_t;
+
 typedef struct build {
     const hz_accel_geom_t *g;
     ref_t *refs;
@@ -69,11 +92,13 @@ typedef struct build {
     sp_bin_t sbins[3][SPATIAL_BINS];
     box_t rbox[OBJ_BINS > SPATIAL_BINS ? OBJ_BINS : SPATIAL_BINS]; /* sweep: union of bins right of i */
     bool failed;
+    par_t *par;   /* chunked binning on the pool (the top levels of a parallel build), else NULL */
     /* progress (hz_accel_config_t): references placed in leaves against the first ones' count */
     void (*progress)(void *user, float done);
     void *progress_user;
     uint32_t progress_next, progress_step, progress_total;
 } build_t;
+
 
 /* ---- boxes: written out per axis (no loops, no arrays indexed by a variable) so the compiler keeps boxes of
  * the hot loops in registers; struct copies of boxes just built from scalar stores stall on store forwarding. */
@@ -192,7 +217,15 @@ static void split_ref(const build_t *bd, const ref_t *r, int axis, float pos, re
     l->pad = rr->pad = 0;
 }
 
-HZ_INLINE float spatial_pos(const box_t *nb, int k, int i, int nbins);
+/* Planes of a node's spatial bins, computed once per node (spatial_pos for i = 0..nbins) with the per-axis
+ * bin scale: the binning of every reference reads them instead of recomputing them. */
+struct sp_frame {
+    float planes[3][SPATIAL_BINS + 1];
+    float inv[3];
+    bool ok[3]; /* the node has extent on the axis */
+    int nbins;
+    const box_t *nb;
+};
 
 /* Bins one reference for the spatial split search on `axis`: the triangle's part inside each bin [b0, b1]
  * (clipped like split_ref, but walking the planes once: the triangle's cross-section at a plane is a segment
@@ -235,15 +268,16 @@ HZ_INLINE void cross_section(const float *lo, const float *mid, const float *hi,
     sbox_pt(b, qx, qy, qz);
 }
 
-static void chop_into_bins(const build_t *bd, const ref_t *r, int axis, const box_t *nb, int nbins, int b0, int b1,
+static void chop_into_bins(const hz_accel_geom_t *g, const ref_t *r, int axis, const sp_frame_t *fr, int b0, int b1,
                            sp_bin_t *bins)
 {
     if (b0 == b1) {
         box_grow(&bins[b0].b, &r->b);
         return;
     }
-    const uint32_t *t = bd->g->tri + 3u * (size_t)r->prim;
-    const float *v0 = vtx(bd->g, t[0]), *v1 = vtx(bd->g, t[1]), *v2 = vtx(bd->g, t[2]), *x;
+    const uint32_t *t = g->tri + 3u * (size_t)r->prim;
+    const float *v0 = vtx(g, t[0]), *v1 = vtx(g, t[1]), *v2 = vtx(g, t[2]), *x;
+    const float *planes = fr->planes[axis];
     if (v0[axis] > v1[axis]) /* sort the three vertices along the axis */
         x = v0, v0 = v1, v1 = x;
     if (v1[axis] > v2[axis])
@@ -257,8 +291,8 @@ static void chop_into_bins(const build_t *bd, const ref_t *r, int axis, const bo
     sbox_t cut; /* cross-section at the piece's lower plane */
     sbox_empty(&cut);
     for (int j = b0; j <= b1; j++) {
-        const float x0 = j == b0 ? -__builtin_inff() : spatial_pos(nb, axis, j, nbins);
-        const float x1 = j == b1 ? __builtin_inff() : spatial_pos(nb, axis, j + 1, nbins);
+        const float x0 = j == b0 ? -__builtin_inff() : planes[j];
+        const float x1 = j == b1 ? __builtin_inff() : planes[j + 1];
         sbox_t piece = cut;
         sbox_empty(&cut);
         if (j < b1)
@@ -312,25 +346,155 @@ static int obj_bin_of(float c, float lo, float scale)
     return i < 0 ? 0 : (i >= OBJ_BINS ? OBJ_BINS - 1 : i);
 }
 
+/* ---- chunked binning: items of par_run bin disjoint ranges of a node's references into their own bins;
+ * merging them in chunk order gives the serial result bit for bit (boxes are folds of hz_minf / hz_maxf, which
+ * keep the last of equal values in either grouping, and counts are integers). ---- */
+typedef enum par_kind { PAR_OBJECT, PAR_SPATIAL, PAR_BOUNDS } par_kind_t;
+
+struct par {
+    const hz_accel_config_t *cfg; /* run, run_user */
+    obj_bin_t (*obins)[3][OBJ_BINS];
+    sp_bin_t (*sbins)[3][SPATIAL_BINS];
+    box_t (*boxes)[2];
+    /* the current job */
+    const build_t *bd;
+    par_kind_t kind;
+    uint32_t base, n, chunks;
+    const box_t *cb;
+    const float *scale;
+    const sp_frame_t *fr;
+};
+
+static void obj_clear(obj_bin_t bins[3][OBJ_BINS])
+{
+    for (int k = 0; k < 3; k++)
+        for (int i = 0; i < OBJ_BINS; i++) {
+            box_empty(&bins[k][i].b);
+            bins[k][i].n = 0;
+        }
+}
+
+static void sp_clear(sp_bin_t bins[3][SPATIAL_BINS], int nbins)
+{
+    for (int k = 0; k < 3; k++)
+        for (int i = 0; i < nbins; i++) {
+            box_empty(&bins[k][i].b);
+            bins[k][i].enter = bins[k][i].exit = 0;
+        }
+}
+
+/* Object bins of refs [i0, i1) on every axis with scale[k] > 0 (one pass: each reference is read once). */
+static void obj_bin_range(const ref_t *refs, uint32_t i0, uint32_t i1, const box_t *cb, const float *scale,
+                          obj_bin_t bins[3][OBJ_BINS])
+{
+    for (uint32_t i = i0; i < i1; i++) {
+        const ref_t *r = &refs[i];
+        for (int k = 0; k < 3; k++) {
+            if (!(scale[k] > 0.0f))
+                continue;
+            int bi = obj_bin_of(centroid(r, k), cb->lo[k], scale[k]);
+            box_grow(&bins[k][bi].b, &r->b);
+            bins[k][bi].n++;
+        }
+    }
+}
+
+static int spatial_bin_of(float x, const sp_frame_t *fr, int k);
+
+static void sp_bin_range(const hz_accel_geom_t *g, const ref_t *refs, uint32_t i0, uint32_t i1, const sp_frame_t *fr,
+                         sp_bin_t bins[3][SPATIAL_BINS])
+{
+    for (uint32_t i = i0; i < i1; i++) {
+        const ref_t cur = refs[i];
+        for (int k = 0; k < 3; k++) {
+            if (!fr->ok[k])
+                continue;
+            int b0 = spatial_bin_of(cur.b.lo[k], fr, k);
+            int b1 = spatial_bin_of(cur.b.hi[k], fr, k);
+            if (b1 < b0)
+                b1 = b0;
+            chop_into_bins(g, &cur, k, fr, b0, b1, bins[k]);
+            bins[k][b0].enter++;
+            bins[k][b1].exit++;
+        }
+    }
+}
+
+static void bounds_range(const ref_t *refs, uint32_t i0, uint32_t i1, box_t *b, box_t *cb)
+{
+    box_empty(b);
+    box_empty(cb);
+    for (uint32_t i = i0; i < i1; i++) {
+        const ref_t *r = &refs[i];
+        box_grow(b, &r->b);
+        box_grow_pt(cb, centroid(r, 0), centroid(r, 1), centroid(r, 2));
+    }
+}
+
+static void par_item(void *ctx, uint32_t item)
+{
+    const par_t *p = ctx;
+    const uint32_t i0 = p->base + (uint32_t)((uint64_t)p->n * item / p->chunks);
+    const uint32_t i1 = p->base + (uint32_t)((uint64_t)p->n * (item + 1u) / p->chunks);
+    if (p->kind == PAR_OBJECT) {
+        obj_clear(p->obins[item]);
+        obj_bin_range(p->bd->refs, i0, i1, p->cb, p->scale, p->obins[item]);
+    } else if (p->kind == PAR_SPATIAL) {
+        sp_clear(p->sbins[item], p->fr->nbins);
+        sp_bin_range(p->bd->g, p->bd->refs, i0, i1, p->fr, p->sbins[item]);
+    } else {
+        bounds_range(p->bd->refs, i0, i1, &p->boxes[item][0], &p->boxes[item][1]);
+    }
+}
+
+/* Chunks for a node of n references: 0 when it is binned in one piece. Depends on n only. */
+static uint32_t par_chunks(const build_t *bd, uint32_t n)
+{
+    if (!bd->par || n < 2u * PAR_CHUNK)
+        return 0;
+    uint32_t c = n / PAR_CHUNK;
+    return c > PAR_MAX_CHUNKS ? PAR_MAX_CHUNKS : c;
+}
+
+static void par_go(build_t *bd, par_kind_t kind, uint32_t base, uint32_t n, uint32_t chunks)
+{
+    par_t *p = bd->par;
+    p->bd = bd;
+    p->kind = kind;
+    p->base = base;
+    p->n = n;
+    p->chunks = chunks;
+    p->cfg->run(p->cfg->run_user, par_item, p, chunks);
+}
+
 static void find_object_split(build_t *bd, uint32_t base, uint32_t n, const box_t *cb, split_t *best)
 {
     best->cost = FLT_MAX;
     best->axis = -1;
+    float scale[3];
     for (int k = 0; k < 3; k++) {
         float ext = cb->hi[k] - cb->lo[k];
-        if (!(ext > 0.0f))
+        scale[k] = ext > 0.0f ? (float)OBJ_BINS * 0.99999f / ext : 0.0f;
+    }
+    obj_clear(bd->obins);
+    const uint32_t chunks = par_chunks(bd, n);
+    if (chunks) {
+        bd->par->cb = cb;
+        bd->par->scale = scale;
+        par_go(bd, PAR_OBJECT, base, n, chunks);
+        for (uint32_t c = 0; c < chunks; c++)
+            for (int k = 0; k < 3; k++)
+                for (int i = 0; i < OBJ_BINS; i++) {
+                    box_grow(&bd->obins[k][i].b, &bd->par->obins[c][k][i].b);
+                    bd->obins[k][i].n += bd->par->obins[c][k][i].n;
+                }
+    } else {
+        obj_bin_range(bd->refs, base, base + n, cb, scale, bd->obins);
+    }
+    for (int k = 0; k < 3; k++) {
+        if (!(scale[k] > 0.0f))
             continue;
-        obj_bin_t *bins = bd->obins[k];
-        for (int i = 0; i < OBJ_BINS; i++) {
-            box_empty(&bins[i].b);
-            bins[i].n = 0;
-        }
-        float scale = (float)OBJ_BINS * 0.99999f / ext;
-        for (uint32_t i = base; i < base + n; i++) {
-            int bi = obj_bin_of(centroid(&bd->refs[i], k), cb->lo[k], scale);
-            box_grow(&bins[bi].b, &bd->refs[i].b);
-            bins[bi].n++;
-        }
+        const obj_bin_t *bins = bd->obins[k];
         box_t acc;
         box_empty(&acc);
         for (int i = OBJ_BINS - 1; i > 0; i--) {
@@ -373,15 +537,16 @@ static int spatial_bins(uint32_t n)
     return n >= 1024 ? SPATIAL_BINS : n >= 128 ? SPATIAL_BINS / 2 : SPATIAL_BINS / 4;
 }
 
-static int spatial_bin_of(float x, const box_t *nb, int k, int nbins)
+static int spatial_bin_of(float x, const sp_frame_t *fr, int k)
 {
-    float ext = nb->hi[k] - nb->lo[k];
-    int i = (int)((x - nb->lo[k]) * ((float)nbins / ext));
+    const int nbins = fr->nbins;
+    const float *planes = fr->planes[k];
+    int i = (int)((x - fr->nb->lo[k]) * fr->inv[k]);
     i = i < 0 ? 0 : (i >= nbins ? nbins - 1 : i);
     /* The float bin index may disagree with the plane positions by one: settle it against the planes. */
-    while (i > 0 && x < spatial_pos(nb, k, i, nbins))
+    while (i > 0 && x < planes[i])
         i--;
-    while (i < nbins - 1 && x >= spatial_pos(nb, k, i + 1, nbins))
+    while (i < nbins - 1 && x >= planes[i + 1])
         i++;
     return i;
 }
@@ -390,26 +555,37 @@ static void find_spatial_split(build_t *bd, uint32_t base, uint32_t n, const box
 {
     best->cost = FLT_MAX;
     best->axis = -1;
-    const int nbins = spatial_bins(n);
+    sp_frame_t fr;
+    fr.nbins = spatial_bins(n);
+    fr.nb = nb;
+    const int nbins = fr.nbins;
     for (int k = 0; k < 3; k++) {
         float ext = nb->hi[k] - nb->lo[k];
-        if (!(ext > 0.0f))
+        fr.ok[k] = ext > 0.0f;
+        fr.inv[k] = fr.ok[k] ? (float)nbins / ext : 0.0f;
+        for (int i = 0; i <= nbins; i++)
+            fr.planes[k][i] = fr.ok[k] ? spatial_pos(nb, k, i, nbins) : 0.0f;
+    }
+    sp_clear(bd->sbins, nbins);
+    const uint32_t chunks = par_chunks(bd, n);
+    if (chunks) {
+        bd->par->fr = &fr;
+        par_go(bd, PAR_SPATIAL, base, n, chunks);
+        for (uint32_t c = 0; c < chunks; c++)
+            for (int k = 0; k < 3; k++)
+                for (int i = 0; i < nbins; i++) {
+                    const sp_bin_t *s = &bd->par->sbins[c][k][i];
+                    box_grow(&bd->sbins[k][i].b, &s->b);
+                    bd->sbins[k][i].enter += s->enter;
+                    bd->sbins[k][i].exit += s->exit;
+                }
+    } else {
+        sp_bin_range(bd->g, bd->refs, base, base + n, &fr, bd->sbins);
+    }
+    for (int k = 0; k < 3; k++) {
+        if (!fr.ok[k])
             continue;
-        sp_bin_t *bins = bd->sbins[k];
-        for (int i = 0; i < nbins; i++) {
-            box_empty(&bins[i].b);
-            bins[i].enter = bins[i].exit = 0;
-        }
-        for (uint32_t i = base; i < base + n; i++) {
-            const ref_t cur = bd->refs[i];
-            int b0 = spatial_bin_of(cur.b.lo[k], nb, k, nbins);
-            int b1 = spatial_bin_of(cur.b.hi[k], nb, k, nbins);
-            if (b1 < b0)
-                b1 = b0;
-            chop_into_bins(bd, &cur, k, nb, nbins, b0, b1, bins);
-            bins[b0].enter++;
-            bins[b1].exit++;
-        }
+        const sp_bin_t *bins = bd->sbins[k];
         box_t acc;
         box_empty(&acc);
         for (int i = nbins - 1; i > 0; i--) {
@@ -430,7 +606,7 @@ static void find_spatial_split(build_t *bd, uint32_t base, uint32_t n, const box
                 best->cost = c;
                 best->axis = k;
                 best->bin = i;
-                best->pos = spatial_pos(nb, k, i + 1, nbins);
+                best->pos = fr.planes[k][i + 1];
                 best->lb = lacc;
                 best->rb = bd->rbox[i + 1];
                 best->nl = nl;
@@ -439,6 +615,7 @@ static void find_spatial_split(build_t *bd, uint32_t base, uint32_t n, const box
         }
     }
 }
+
 
 /* ---- partitions: left refs end up below right refs; returns the left count ---- */
 static void swap_ref(ref_t *a, ref_t *b)
@@ -527,14 +704,19 @@ static uint32_t partition_spatial(build_t *bd, uint32_t base, uint32_t n, const 
     return lend - base;
 }
 
-static void bounds_of(const build_t *bd, uint32_t base, uint32_t n, box_t *b, box_t *cb)
+static void bounds_of(build_t *bd, uint32_t base, uint32_t n, box_t *b, box_t *cb)
 {
+    const uint32_t chunks = par_chunks(bd, n);
+    if (!chunks) {
+        bounds_range(bd->refs, base, base + n, b, cb);
+        return;
+    }
+    par_go(bd, PAR_BOUNDS, base, n, chunks);
     box_empty(b);
     box_empty(cb);
-    for (uint32_t i = base; i < base + n; i++) {
-        const ref_t *r = &bd->refs[i];
-        box_grow(b, &r->b);
-        box_grow_pt(cb, centroid(r, 0), centroid(r, 1), centroid(r, 2));
+    for (uint32_t c = 0; c < chunks; c++) {
+        box_grow(b, &bd->par->boxes[c][0]);
+        box_grow(cb, &bd->par->boxes[c][1]);
     }
 }
 
@@ -574,17 +756,30 @@ static float make_leaf(build_t *bd, uint32_t idx, uint32_t n, float area)
  * share of the replication budget: what a split does not use is shared between the children in proportion to
  * their references, so the first subtrees built cannot spend it all (which left the rest of Sponza without
  * any). Returns the SAH cost (unnormalised: area-weighted). */
-static float build_node(build_t *bd, uint32_t idx, uint32_t n, const box_t *b, uint32_t depth, uint32_t *budget_io)
+/* What split_node decided for an inner node. */
+typedef struct node_split {
+    uint32_t li, ri, nl, nr;
+    box_t lb, rb;
+    uint32_t left_over; /* the budget after the node's own duplicates */
+} node_split_t;
+
+/* Decides node idx for the n references on top of the stack (bounds b) with the subtree's share `budget` of the
+ * replication budget: a leaf (true, *leaf_cost set, the references popped), or a split (false): children
+ * allocated, references partitioned (the right child's on top). */
+static bool split_node(build_t *bd, uint32_t idx, uint32_t n, const box_t *b, uint32_t depth, uint32_t budget,
+                       node_split_t *sp, float *leaf_cost)
 {
-    const uint32_t budget = *budget_io;
     bnode_t *nd = &bd->nodes[idx];
     nd->b = *b;
     const float area = box_area(b);
     const uint32_t base = bd->top - n;
+    *leaf_cost = 0.0f;
     if (bd->failed)
-        return 0.0f;
-    if (n <= 1 || (n <= bd->leaf_max && depth + 1 >= HZ_BVH_MAX_DEPTH))
-        return make_leaf(bd, idx, n, area);
+        return true;
+    if (n <= 1 || (n <= bd->leaf_max && depth + 1 >= HZ_BVH_MAX_DEPTH)) {
+        *leaf_cost = make_leaf(bd, idx, n, area);
+        return true;
+    }
 
     box_t nb, cb;
     bounds_of(bd, base, n, &nb, &cb);
@@ -596,14 +791,15 @@ static float build_node(build_t *bd, uint32_t idx, uint32_t n, const box_t *b, u
     bool median = depth >= DEPTH_FORCE_MEDIAN;
     if (!median) {
         find_object_split(bd, base, n, &cb, &os);
-        if (bd->spatial && budget > 0) {
+        if (bd->spatial) {
             box_t ov = box_and(&os.lb, &os.rb);
             /* Children that only touch (axis-aligned architecture: blocks side by side) overlap in a flat box
              * whose area passes α, but no spatial split can remove such an overlap. Skipping the search there
              * builds Lost Empire 3.7x faster (0 spatial splits either way) and Sponza 1.3x (807 instead of
              * 1,036 splits, the same Mrays/s in make bench). */
             const bool thick = ov.lo[0] < ov.hi[0] && ov.lo[1] < ov.hi[1] && ov.lo[2] < ov.hi[2];
-            if (os.axis < 0 || (thick && box_area(&ov) > bd->min_overlap))
+            const bool want = os.axis < 0 || (thick && box_area(&ov) > bd->min_overlap);
+            if (want && budget > 0)
                 find_spatial_split(bd, base, n, b, &ss);
         }
     } else {
@@ -611,10 +807,12 @@ static float build_node(build_t *bd, uint32_t idx, uint32_t n, const box_t *b, u
         os.cost = FLT_MAX;
     }
     float best = hz_minf(os.cost, ss.cost);
-    float leaf_cost = COST_TRI * sah_count(n) * area;
+    float leaf_cost_here = COST_TRI * sah_count(n) * area;
     float split_cost = COST_NODE * area + COST_TRI * best;
-    if (n <= bd->leaf_max && (leaf_cost <= split_cost || best == FLT_MAX))
-        return make_leaf(bd, idx, n, area);
+    if (n <= bd->leaf_max && (leaf_cost_here <= split_cost || best == FLT_MAX)) {
+        *leaf_cost = make_leaf(bd, idx, n, area);
+        return true;
+    }
 
     uint32_t nl;
     box_t lb, rb;
@@ -647,20 +845,219 @@ static float build_node(build_t *bd, uint32_t idx, uint32_t n, const box_t *b, u
     uint32_t nr = bd->top - base - nl;
     uint32_t li = new_node(bd), ri = new_node(bd);
     if (bd->failed)
-        return 0.0f;
+        return true;
     nd = &bd->nodes[idx];
     nd->a = li;
     nd->n = ri;
+    sp->li = li, sp->ri = ri, sp->nl = nl, sp->nr = nr;
+    sp->lb = lb, sp->rb = rb;
+    sp->left_over = bd->dup_left;
+    return false;
+}
+
+/* Builds the node for the n references on top of the stack (bounds b); pops them. `budget` is the subtree's
+ * share of the replication budget: what a split does not use is shared between the children in proportion to
+ * their references, so the first subtrees built cannot spend it all (which left the rest of Sponza without
+ * any). Returns the SAH cost (unnormalised: area-weighted). */
+static float build_node(build_t *bd, uint32_t idx, uint32_t n, const box_t *b, uint32_t depth, uint32_t *budget_io)
+{
+    node_split_t sp;
+    float c;
+    if (split_node(bd, idx, n, b, depth, *budget_io, &sp, &c))
+        return c;
     /* Right references are on top: build them first, which pops them. */
-    float c = COST_NODE * area;
-    const uint32_t left_over = bd->dup_left;
-    uint32_t rbud = (uint32_t)((uint64_t)left_over * nr / (nl + nr));
-    const uint32_t keep = left_over - rbud;
-    c += build_node(bd, ri, nr, &rb, depth + 1, &rbud);
+    c = COST_NODE * box_area(b);
+    uint32_t rbud = (uint32_t)((uint64_t)sp.left_over * sp.nr / (sp.nl + sp.nr));
+    const uint32_t keep = sp.left_over - rbud;
+    c += build_node(bd, sp.ri, sp.nr, &sp.rb, depth + 1, &rbud);
     uint32_t lbud = keep + rbud; /* what the right subtree left unused goes on to the left one */
-    c += build_node(bd, li, nl, &lb, depth + 1, &lbud);
+    c += build_node(bd, sp.li, sp.nl, &sp.lb, depth + 1, &lbud);
     *budget_io = lbud;
     return c;
+}
+
+/* ---- parallel build: top levels here, subtrees as tasks ---- */
+typedef struct task {
+    box_t b;
+    uint32_t idx, n, depth, budget, share; /* budget: what it may spend; share: its plain share */
+    uint32_t ref0, node0, node_end, leaf0, leaf_end; /* its ranges of the scratch arrays */
+    float sah;
+    uint32_t splits, leaves;
+    bool failed;
+} task_t;
+
+enum { TOP_NODE = 0, TOP_TASK = 1, TOP_DONE = 2 };
+
+/* A top-level node and its children (0: right, 1: left): a top node, a task, or a subtree built in place. */
+typedef struct top_node {
+    float area;
+    uint32_t kind[2], ref[2];
+    float cost[2];
+} top_node_t;
+
+typedef struct top_ctx {
+    build_t *bd;
+    task_t *tasks;
+    uint32_t task_count;
+    top_node_t *tops;
+    uint32_t top_count;
+    uint32_t limit; /* subtrees of at most this many references become tasks */
+} top_ctx_t;
+
+/* Subtrees of at most this many references are tasks: about 64 to 128 of them (from the reference count only). */
+static uint32_t task_limit(uint32_t n)
+{
+    return n / 64u > PAR_TASK_MIN ? n / 64u : PAR_TASK_MIN;
+}
+
+static void top_node(top_ctx_t *tc, uint32_t idx, uint32_t n, const box_t *b, uint32_t depth, uint32_t budget,
+                     uint32_t *kind, uint32_t *ref, float *cost);
+
+static void top_child(top_ctx_t *tc, uint32_t idx, uint32_t n, const box_t *b, uint32_t depth, uint32_t budget,
+                      uint32_t *kind, uint32_t *ref, float *cost)
+{
+    build_t *bd = tc->bd;
+    *cost = 0.0f;
+    *ref = 0;
+    if (n <= tc->limit) {
+        /* A task's ranges hold what its subtree can use at most: n + budget references and leaf slots, twice
+         * that in nodes; they are cut from the high ends of the arrays, which the top levels' caps then end at. */
+        const uint64_t tb = (uint64_t)budget * TASK_BUDGET_SCALE;
+        const uint64_t nr = (uint64_t)n + tb, nn = 2u * nr;
+        if (tc->task_count < PAR_MAX_TASKS && bd->ref_cap - bd->top >= nr && bd->node_cap - bd->node_count >= nn &&
+            bd->leaf_cap - bd->leaf_count >= nr) {
+            task_t *t = &tc->tasks[tc->task_count];
+            t->b = *b;
+            t->idx = idx, t->n = n, t->depth = depth, t->budget = (uint32_t)tb, t->share = budget;
+            bd->ref_cap -= (uint32_t)nr;
+            t->ref0 = bd->ref_cap;
+            hz_memcpy(&bd->refs[t->ref0], &bd->refs[bd->top - n], (size_t)n * sizeof(ref_t));
+            bd->top -= n;
+            bd->node_cap -= (uint32_t)nn;
+            t->node0 = bd->node_cap, t->node_end = bd->node_cap + (uint32_t)nn;
+            bd->leaf_cap -= (uint32_t)nr;
+            t->leaf0 = bd->leaf_cap, t->leaf_end = bd->leaf_cap + (uint32_t)nr;
+            bd->nodes[idx].b = *b;
+            *kind = TOP_TASK;
+            *ref = tc->task_count++;
+            return;
+        }
+    }
+    if (n <= tc->limit || tc->top_count >= PAR_MAX_TOP) {
+        uint32_t bud = budget;
+        *kind = TOP_DONE;
+        *cost = build_node(bd, idx, n, b, depth, &bud);
+        return;
+    }
+    top_node(tc, idx, n, b, depth, budget, kind, ref, cost);
+}
+
+/* build_node for the top levels, but the children get their shares of the budget as they are (build_node adds
+ * the right subtree's unused budget to the left one's: unknown here, the right one may be a task). */
+static void top_node(top_ctx_t *tc, uint32_t idx, uint32_t n, const box_t *b, uint32_t depth, uint32_t budget,
+                     uint32_t *kind, uint32_t *ref, float *cost)
+{
+    build_t *bd = tc->bd;
+    node_split_t sp;
+    float c;
+    if (split_node(bd, idx, n, b, depth, budget, &sp, &c)) {
+        *kind = TOP_DONE;
+        *cost = c;
+        return;
+    }
+    const uint32_t ti = tc->top_count++;
+    top_node_t *t = &tc->tops[ti];
+    t->area = box_area(b);
+    const uint32_t rbud = (uint32_t)((uint64_t)sp.left_over * sp.nr / (sp.nl + sp.nr));
+    const uint32_t keep = sp.left_over - rbud;
+    top_child(tc, sp.ri, sp.nr, &sp.rb, depth + 1, rbud, &t->kind[0], &t->ref[0], &t->cost[0]);
+    t = &tc->tops[ti];
+    top_child(tc, sp.li, sp.nl, &sp.lb, depth + 1, keep, &t->kind[1], &t->ref[1], &t->cost[1]);
+    *kind = TOP_NODE;
+    *ref = ti;
+}
+
+/* The SAH sum in the serial build's order: node, then right subtree, then left. */
+static float top_cost(const top_ctx_t *tc, uint32_t kind, uint32_t ref, float cost)
+{
+    if (kind == TOP_DONE)
+        return cost;
+    if (kind == TOP_TASK)
+        return tc->tasks[ref].sah;
+    const top_node_t *t = &tc->tops[ref];
+    float c = COST_NODE * t->area;
+    c += top_cost(tc, t->kind[0], t->ref[0], t->cost[0]);
+    c += top_cost(tc, t->kind[1], t->ref[1], t->cost[1]);
+    return c;
+}
+
+static void task_item(void *ctx, uint32_t item)
+{
+    const top_ctx_t *tc = ctx;
+    const build_t *bd = tc->bd;
+    task_t *t = &tc->tasks[item];
+    build_t b; /* on this thread's stack: the bins are per task */
+    hz_memset(&b, 0, sizeof b);
+    b.g = bd->g;
+    b.refs = bd->refs + t->ref0;
+    b.top = t->n;
+    b.ref_cap = t->n + t->budget;
+    b.nodes = bd->nodes;
+    b.node_count = t->node0;
+    b.node_cap = t->node_end;
+    b.leaf_prims = bd->leaf_prims;
+    b.leaf_count = t->leaf0;
+    b.leaf_cap = t->leaf_end;
+    b.leaf_max = bd->leaf_max;
+    b.spatial = bd->spatial;
+    b.min_overlap = bd->min_overlap;
+    uint32_t bud = t->budget;
+    t->sah = build_node(&b, t->idx, t->n, &t->b, t->depth, &bud);
+    t->splits = b.spatial_splits;
+    t->leaves = b.leaf_count - t->leaf0;
+    t->failed = b.failed;
+}
+
+/* The build of the root (idx 0, every reference on the stack) through the top levels and tasks; the tasks run
+ * on cfg->run when `parallel`, else here in turn: the same tree either way. Returns false if a range was too
+ * small or the references went over the budget (the tasks' scaled budgets together can). */
+static bool build_top(build_t *bd, const hz_accel_config_t *cfg, top_ctx_t *tc, const box_t *root, uint32_t budget,
+                      bool parallel, float *sah)
+{
+    tc->bd = bd;
+    tc->task_count = 0;
+    tc->top_count = 0;
+    tc->limit = task_limit(bd->top);
+    const uint32_t refs0 = bd->top;
+    uint32_t kind, ref;
+    float cost;
+    top_node(tc, 0, bd->top, root, 0, budget, &kind, &ref, &cost);
+    if (bd->failed)
+        return false;
+    if (cfg->progress)
+        cfg->progress(cfg->progress_user, 0.3f);
+    if (parallel && tc->task_count > 1u)
+        cfg->run(cfg->run_user, task_item, tc, tc->task_count);
+    else
+        for (uint32_t i = 0; i < tc->task_count; i++) {
+            task_item(tc, i);
+            if (cfg->progress && i % 4u == 3u)
+                cfg->progress(cfg->progress_user, 0.3f + 0.5f * (float)i / (float)tc->task_count);
+        }
+    for (uint32_t i = 0; i < tc->task_count; i++) {
+        const task_t *t = &tc->tasks[i];
+        if (t->failed)
+            return false;
+        bd->spatial_splits += t->splits;
+        bd->leaf_count += t->leaves;
+    }
+    const uint64_t used = bd->leaf_count - refs0;
+    if (used > budget)
+        return false;
+    *sah = top_cost(tc, kind, ref, cost);
+    if (cfg->progress)
+        cfg->progress(cfg->progress_user, 0.8f);
+    return true;
 }
 
 /* ---- collapse into wide nodes ---- */
@@ -808,9 +1205,27 @@ uint64_t hz_bvh_nodes_bound(uint64_t refs)
     return refs / (HZ_BVH_W - 1) + (refs + 1) / 2 + 2;
 }
 
-uint64_t hz_bvh_scratch_bound(uint64_t refs)
+/* The parallel build's bookkeeping (tasks, top nodes, chunk bins): only builds of more than PAR_TASK_MIN
+ * references take that path. */
+static uint64_t par_scratch_bytes(void)
 {
-    return refs * sizeof(ref_t) + 2u * refs * sizeof(bnode_t) + refs * sizeof(uint32_t) + sizeof(build_t) + 4u * 64u;
+    return PAR_MAX_TASKS * sizeof(task_t) + PAR_MAX_TOP * sizeof(top_node_t) + sizeof(par_t) +
+           PAR_MAX_CHUNKS * (sizeof(obj_bin_t[3][OBJ_BINS]) + sizeof(sp_bin_t[3][SPATIAL_BINS]) + 2u * sizeof(box_t)) +
+           5u * 64u;
+}
+
+/* References the scratch arrays hold: with tasks (more than PAR_TASK_MIN triangles) room for every task's
+ * scaled budget. */
+static uint64_t scratch_refs(uint32_t tri_count, uint64_t refs)
+{
+    return tri_count > PAR_TASK_MIN ? refs + (TASK_BUDGET_SCALE - 1u) * (refs - tri_count) : refs;
+}
+
+uint64_t hz_bvh_scratch_bound(uint32_t tri_count, uint64_t refs)
+{
+    const uint64_t cap = scratch_refs(tri_count, refs);
+    return cap * sizeof(ref_t) + (2u * cap + 2u) * sizeof(bnode_t) + cap * sizeof(uint32_t) + sizeof(build_t) +
+           4u * 64u + (tri_count > PAR_TASK_MIN ? par_scratch_bytes() : 0u);
 }
 
 static size_t sat_size(uint64_t x)
@@ -830,7 +1245,7 @@ hz_accel_bytes_t hz_accel_bytes_bound(uint32_t tri_count, const hz_accel_config_
                     hz_bvh_blocks_bound(r) * sizeof(hz_bvh_block_t) + 4u * 64u;
     hz_accel_bytes_t out;
     out.kept = sat_size(kept);
-    out.peak = sat_size(kept + hz_bvh_scratch_bound(r));
+    out.peak = sat_size(kept + hz_bvh_scratch_bound(tri_count, r));
     return out;
 }
 
@@ -859,15 +1274,36 @@ hz_accel_bytes_t hz_accel_bytes_bound_geom(const hz_accel_geom_t *g, const hz_ac
 }
 
 /* ---- the build ---- */
+/* References for every triangle in range, in triangle order, on an empty stack; returns the count skipped. */
+static uint32_t init_refs(build_t *bd, bool sweep, box_t *root)
+{
+    const hz_accel_geom_t *g = bd->g;
+    uint32_t skipped = 0;
+    box_empty(root);
+    for (uint32_t t = 0; t < g->tri_count; t++) {
+        box_t b;
+        if (!tri_box(g, t, &b, sweep)) {
+            skipped++;
+            continue;
+        }
+        ref_t *r = &bd->refs[bd->top++];
+        r->b = b;
+        r->prim = t;
+        r->pad = 0;
+        box_grow(root, &b);
+    }
+    return skipped;
+}
+
 hz_status_t hz_bvh_build(hz_bvh_t *bvh, const hz_accel_geom_t *g, const hz_accel_config_t *cfg,
                          hz_arena_t *arena, hz_bvh_build_out_t *out, hz_error_t *err)
 {
     const hz_arena_mark_t m0 = hz_arena_mark(arena);
-    const uint64_t rb = refs_bound(g->tri_count, cfg);
+    const uint64_t rb = refs_bound(g->tri_count, cfg), cap = scratch_refs(g->tri_count, rb);
     build_t *bd = hz_arena_alloc(arena, sizeof(build_t), 64);
-    ref_t *refs = hz_arena_alloc_array(arena, (size_t)rb, sizeof(ref_t), 64);
-    bnode_t *nodes = hz_arena_alloc_array(arena, (size_t)(2u * rb), sizeof(bnode_t), 64);
-    uint32_t *leaf_prims = hz_arena_alloc_array(arena, (size_t)rb, sizeof(uint32_t), 64);
+    ref_t *refs = hz_arena_alloc_array(arena, (size_t)cap, sizeof(ref_t), 64);
+    bnode_t *nodes = hz_arena_alloc_array(arena, (size_t)(2u * cap + 2u), sizeof(bnode_t), 64);
+    uint32_t *leaf_prims = hz_arena_alloc_array(arena, (size_t)cap, sizeof(uint32_t), 64);
     if (!bd || !refs || !nodes || !leaf_prims) {
         hz_arena_error(arena, err);
         hz_error_prefix(err, "accel build scratch");
@@ -888,30 +1324,64 @@ hz_status_t hz_bvh_build(hz_bvh_t *bvh, const hz_accel_geom_t *g, const hz_accel
     const bool sweep = g->time_keys >= 2u && cfg->blur == HZ_ACCEL_BLUR_SWEPT;
 
     box_t root;
-    box_empty(&root);
-    uint32_t skipped = 0;
-    for (uint32_t t = 0; t < g->tri_count; t++) {
-        box_t b;
-        if (!tri_box(g, t, &b, sweep)) {
-            skipped++;
-            continue;
-        }
-        ref_t *r = &refs[bd->top++];
-        r->b = b;
-        r->prim = t;
-        r->pad = 0;
-        box_grow(&root, &b);
-    }
+    uint32_t skipped = init_refs(bd, sweep, &root);
     float alpha = cfg->split_alpha > 0.0f ? cfg->split_alpha : 0.0f;
     bd->min_overlap = alpha * box_area(&root);
     float sah = 0.0f;
     uint32_t root_idx = new_node(bd);
+    bool done = false, par_held = false;
+    hz_arena_mark_t par_mark = 0;
     if (bd->top == 0) {
         /* nothing to hit: one empty leaf */
         nodes[0].b = root;
         nodes[0].a = 0;
         nodes[0].n = BLEAF | 0u;
-    } else {
+        done = true;
+    } else if (bd->top > task_limit(bd->top)) {
+        /* Top levels and tasks (also without a pool: the tree must not depend on it). Their bookkeeping sits
+         * above the scratch arrays (hz_bvh_scratch_bound counts it). */
+        const bool parallel = cfg->run && cfg->run_threads > 1u;
+        const hz_arena_mark_t m1 = hz_arena_mark(arena);
+        top_ctx_t tc;
+        par_t *par = hz_arena_alloc(arena, sizeof(par_t), 64);
+        tc.tasks = hz_arena_alloc_array(arena, PAR_MAX_TASKS, sizeof(task_t), 64);
+        tc.tops = hz_arena_alloc_array(arena, PAR_MAX_TOP, sizeof(top_node_t), 64);
+        if (par) {
+            par->cfg = cfg;
+            par->obins = hz_arena_alloc_array(arena, PAR_MAX_CHUNKS, sizeof(obj_bin_t[3][OBJ_BINS]), 64);
+            par->sbins = hz_arena_alloc_array(arena, PAR_MAX_CHUNKS, sizeof(sp_bin_t[3][SPATIAL_BINS]), 64);
+            par->boxes = hz_arena_alloc_array(arena, PAR_MAX_CHUNKS, 2u * sizeof(box_t), 64);
+        }
+        if (!par || !tc.tasks || !tc.tops || !par->obins || !par->sbins || !par->boxes) {
+            hz_arena_error(arena, err);
+            hz_error_prefix(err, "accel build scratch");
+            hz_arena_reset(arena, m0);
+            return HZ_E_NO_MEMORY;
+        }
+        /* If the tasks together went over the budget (a scene where it binds everywhere, like the furball), the
+         * serial build instead, whose hand-on spends the budget where it is wanted (the chunked binning still
+         * runs on the pool): the same tree as without tasks. */
+        bd->ref_cap = (uint32_t)cap;
+        bd->node_cap = (uint32_t)(2u * cap + 2u);
+        bd->leaf_cap = (uint32_t)cap;
+        bd->par = parallel ? par : NULL;
+        done = build_top(bd, cfg, &tc, &root, budget, parallel, &sah);
+        if (!done) { /* again from the triangles */
+            bd->top = 0;
+            bd->ref_cap = (uint32_t)rb;
+            bd->node_count = 0;
+            bd->node_cap = (uint32_t)(2u * rb);
+            bd->leaf_count = 0;
+            bd->leaf_cap = (uint32_t)rb;
+            bd->spatial_splits = 0;
+            bd->failed = false;
+            (void)init_refs(bd, sweep, &root);
+            (void)new_node(bd);
+        }
+        par_mark = m1;
+        par_held = true;
+    }
+    if (!done) {
         uint32_t bud = budget;
         bd->progress = cfg->progress;
         bd->progress_user = cfg->progress_user;
@@ -920,6 +1390,9 @@ hz_status_t hz_bvh_build(hz_bvh_t *bvh, const hz_accel_geom_t *g, const hz_accel
         bd->progress_next = bd->progress_step;
         sah = build_node(bd, root_idx, bd->top, &root, 0, &bud);
     }
+    bd->par = NULL;
+    if (par_held)
+        hz_arena_reset(arena, par_mark);
     if (bd->failed) {
         hz_arena_reset(arena, m0);
         return hz_error_set(err, HZ_E_INTERNAL, "accel build: scratch capacity exceeded (a bug: the bounds "

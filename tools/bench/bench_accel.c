@@ -286,6 +286,7 @@ typedef struct summary {
     char name[64];
     uint32_t tris;
     double ratio[K_COUNT][2];
+    double build[2]; /* build time native / Embree at 1 thread and at the pool's count */
 } summary_t;
 
 static int bench_scene(const hz_bench_accel_opts_t *o, const char *name, FILE *csv, summary_t *sum)
@@ -300,55 +301,81 @@ static int bench_scene(const hz_bench_accel_opts_t *o, const char *name, FILE *c
     snprintf(sum->name, sizeof sum->name, "%s", name);
     sum->tris = g.tri_count;
 
-    /* builds: native (this thread) and Embree (its own threads, and one thread), interleaved */
+    /* builds, interleaved: native on this thread and on the pool (the same tree), Embree with threads=1 and
+     * threads=N (N = the pool's size), so each pair is at the same thread count */
     const int build_rounds = g.tri_count > 1000000 ? 1 : 3;
-    double tn[3], te[3], te1[3];
+    const int nthr = hz_threads_count();
+    double tn1[3], tnn[3], te1[3], ten[3];
     size_t native_bytes = 0, embree_bytes = 0;
     hz_accel_t *a = NULL;
     hz_arena_mark_t m0 = hz_arena_mark(&P->accel);
+    hz_accel_config_t pcfg;
+    hz_accel_config_default(&pcfg);
+    hz_threads_accel_hook(&pcfg);
     for (int r = 0; r < build_rounds; r++) {
         hz_arena_reset(&P->accel, m0);
         int64_t t0 = hz_clock_ns();
         if (hz_accel_build_native(&a, &g, NULL, &P->accel, &err) != HZ_OK)
             return hz_cli_report(&err);
-        tn[r] = (double)(hz_clock_ns() - t0) * 1e-9;
+        tn1[r] = (double)(hz_clock_ns() - t0) * 1e-9;
+        const hz_accel_info_t one = a->info;
+        hz_arena_reset(&P->accel, m0);
+        t0 = hz_clock_ns();
+        if (hz_accel_build_native(&a, &g, &pcfg, &P->accel, &err) != HZ_OK)
+            return hz_cli_report(&err);
+        tnn[r] = (double)(hz_clock_ns() - t0) * 1e-9;
+        if (one.ref_count != a->info.ref_count || one.node_count != a->info.node_count ||
+            one.sah_cost != a->info.sah_cost) {
+            hz_cli_error("bench: %s: the %d-thread native build differs from the 1-thread one", name, nthr);
+            return hz_status_exit_code(HZ_E_INTERNAL);
+        }
         native_bytes = a->info.bytes;
 #if defined(HZ_HAVE_EMBREE)
-        for (int one = 0; one < 2; one++) {
+        for (int one_thr = 0; one_thr < 2; one_thr++) {
             hz_accel_t *e;
             hz_arena_mark_t m1 = hz_arena_mark(&P->accel);
             char cfgs[256];
-            snprintf(cfgs, sizeof cfgs, "%s%s%s", o->embree_config, *o->embree_config && one ? "," : "",
-                     one ? "threads=1" : "");
+            snprintf(cfgs, sizeof cfgs, "%s%sthreads=%d", o->embree_config, *o->embree_config ? "," : "",
+                     one_thr ? 1 : nthr);
             t0 = hz_clock_ns();
             if (hz_accel_build_embree(&e, &g, NULL, cfgs, &P->accel, &err) != HZ_OK)
                 return hz_cli_report(&err);
-            (one ? te1 : te)[r] = (double)(hz_clock_ns() - t0) * 1e-9;
+            (one_thr ? te1 : ten)[r] = (double)(hz_clock_ns() - t0) * 1e-9;
             embree_bytes = e->info.bytes;
             hz_accel_release(e);
             hz_arena_reset(&P->accel, m1);
         }
 #else
-        te[r] = te1[r] = 0.0;
+        te1[r] = ten[r] = 0.0;
 #endif
     }
-    double bn, be, be1, dummy1, dummy2;
-    stats(tn, build_rounds, &bn, &dummy1, &dummy2);
-    stats(te, build_rounds, &be, &dummy1, &dummy2);
+    double bn1, bnn, be1, ben, dummy1, dummy2;
+    stats(tn1, build_rounds, &bn1, &dummy1, &dummy2);
+    stats(tnn, build_rounds, &bnn, &dummy1, &dummy2);
     stats(te1, build_rounds, &be1, &dummy1, &dummy2);
+    stats(ten, build_rounds, &ben, &dummy1, &dummy2);
+    sum->build[0] = be1 > 0.0 ? bn1 / be1 : 0.0;
+    sum->build[1] = ben > 0.0 ? bnn / ben : 0.0;
     hz_accel_t *e = NULL;
 #if defined(HZ_HAVE_EMBREE)
     if (hz_accel_build_embree(&e, &g, NULL, o->embree_config, &P->accel, &err) != HZ_OK)
         return hz_cli_report(&err);
 #endif
-    printf("\n%s: %u triangles, %u refs (%u spatial splits); build native %.3f s (1 thread), embree %.3f s "
-           "(all cores) / %.3f s (1 thread); bytes/triangle native %.1f, embree %.1f\n",
-           name, g.tri_count, a->info.ref_count, a->info.spatial_splits, bn, be, be1,
+    printf("\n%s: %u triangles, %u refs (%u spatial splits), SAH %.2f; bytes/triangle native %.1f, embree %.1f\n",
+           name, g.tri_count, a->info.ref_count, a->info.spatial_splits, (double)a->info.sah_cost,
            (double)native_bytes / g.tri_count, (double)embree_bytes / g.tri_count);
+    printf("build    1 thread: native %.3f s, embree %.3f s, native/embree %.2f; %d threads: native %.3f s, embree "
+           "%.3f s, native/embree %.2f\n", bn1, be1, sum->build[0], nthr, bnn, ben, sum->build[1]);
     if (csv) {
-        fprintf(csv, "%s,%u,build,1,native,%.4f,,,s\n", name, g.tri_count, bn);
-        fprintf(csv, "%s,%u,build,all,embree,%.4f,,,s\n", name, g.tri_count, be);
+        fprintf(csv, "%s,%u,build,1,native,%.4f,,,s\n", name, g.tri_count, bn1);
         fprintf(csv, "%s,%u,build,1,embree,%.4f,,,s\n", name, g.tri_count, be1);
+        fprintf(csv, "%s,%u,build,%d,native,%.4f,,,s\n", name, g.tri_count, nthr, bnn);
+        fprintf(csv, "%s,%u,build,%d,embree,%.4f,,,s\n", name, g.tri_count, nthr, ben);
+        if (be1 > 0.0 && ben > 0.0) {
+            fprintf(csv, "%s,%u,build,1,ratio native/embree,%.3f,,,time ratio\n", name, g.tri_count, sum->build[0]);
+            fprintf(csv, "%s,%u,build,%d,ratio native/embree,%.3f,,,time ratio\n", name, g.tri_count, nthr,
+                    sum->build[1]);
+        }
         fprintf(csv, "%s,%u,memory,,native,%.2f,,,bytes/triangle\n", name, g.tri_count,
                 (double)native_bytes / g.tri_count);
         fprintf(csv, "%s,%u,memory,,embree,%.2f,,,bytes/triangle\n", name, g.tri_count,
@@ -574,15 +601,16 @@ int hz_bench_accel(const hz_bench_accel_opts_t *opts)
             done++;
     }
     if (done) {
-        printf("\nnative/embree (best native SIMD over best Embree, Mrays/s ratio)\n%-14s %9s", "scene", "tris");
+        printf("\nnative/embree (best native SIMD over best Embree, Mrays/s ratio; build: time ratio, goal <= 2)\n"
+               "%-14s %9s", "scene", "tris");
         for (int k = 0; k < K_COUNT; k++)
             printf(" %9s-1 %9s-%d", kind_name[k], kind_name[k], hz_threads_count());
-        printf("\n");
+        printf(" %9s-1 %9s-%d\n", "build", "build", hz_threads_count());
         for (int i = 0; i < done; i++) {
             printf("%-14s %9u", sums[i].name, sums[i].tris);
             for (int k = 0; k < K_COUNT; k++)
                 printf(" %11.2f %11.2f", sums[i].ratio[k][0], sums[i].ratio[k][1]);
-            printf("\n");
+            printf(" %11.2f %11.2f\n", sums[i].build[0], sums[i].build[1]);
         }
     }
     hz_threads_stop();
