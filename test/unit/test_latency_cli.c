@@ -94,8 +94,9 @@ static void test_bad_inputs_have_their_own_status(void **state)
     assert_int_equal(run("--source", csv, "--quiet", "--out", dir, NULL), 64 + HZ_E_FORMAT); /* no edges */
     assert_int_equal(run("--sink", "v4l2:/dev/video1:nv12", NULL), 64 + HZ_E_UNSUPPORTED);
     assert_int_equal(run("--render-scale", "0", NULL), 2);
-    assert_int_equal(run("--render", "scene", "--scene", "/nonexistent/scene.hzb", "--frames", "1", "--quiet", "--out",
-                         dir, NULL),
+    /* the simulated source: a board whose default is its GPIO line would stop at the missing chip first */
+    assert_int_equal(run("--source", "sim", "--render", "scene", "--scene", "/nonexistent/scene.hzb", "--frames", "1",
+                         "--quiet", "--out", dir, NULL),
                      64 + HZ_E_IO);
     /* DRM: a malformed mode is a usage error; a card that is not there a device error (72 where the build has
      * no DRM port); --source drm needs the DRM sink. */
