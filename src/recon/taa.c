@@ -26,12 +26,6 @@ static void align_mv(const struct hz_renderer *r, uint32_t x, uint32_t y, float 
 }
 #include "hz/pack.h"
 
-static void to_ycocg(const float *rgb, float *o)
-{
-    o[0] = 0.25f * rgb[0] + 0.5f * rgb[1] + 0.25f * rgb[2];
-    o[1] = 0.5f * rgb[0] - 0.5f * rgb[2];
-    o[2] = -0.25f * rgb[0] + 0.5f * rgb[1] - 0.25f * rgb[2];
-}
 
 static void to_rgb(const float *y, float *o)
 {
@@ -151,11 +145,11 @@ void hz_taa_resolve_pixel(struct hz_renderer *r, uint32_t x, uint32_t y)
     bool dither = r->dither && (gb->flags[px] & HZ_GB_DITHER);
     const int rad = dither ? DITHER_RADIUS : 1;
     const float count = dither ? (float)((2 * DITHER_RADIUS + 1) * (2 * DITHER_RADIUS + 1)) : 9.0f;
-    to_ycocg(cur->rgb + px * 3, c);
+    hz_taa_to_ycocg(cur->rgb + px * 3, c);
     for (int dy = -rad; dy <= rad; dy++)
         for (int dx = -rad; dx <= rad; dx++) {
             float q[3];
-            to_ycocg(pix(cur, (int32_t)x + dx, (int32_t)y + dy), q);
+            hz_taa_to_ycocg(pix(cur, (int32_t)x + dx, (int32_t)y + dy), q);
             for (int k = 0; k < 3; k++)
                 sum[k] += q[k], sum2[k] += q[k] * q[k];
         }
@@ -189,7 +183,7 @@ void hz_taa_resolve_pixel(struct hz_renderer *r, uint32_t x, uint32_t y)
             fetch_catmull_rom(prev, hx, hy, hist_rgb);
         else
             fetch_bilinear(prev, hx, hy, hist_rgb);
-        to_ycocg(hist_rgb, hy3);
+        hz_taa_to_ycocg(hist_rgb, hy3);
         if (r->opts.taa_clip) {
             clip_to_box(hy3, mean, ext);
         } else {

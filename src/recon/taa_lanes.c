@@ -12,13 +12,6 @@
 #define T HZ_RENDER_TILE
 #define B (T + 2) /* the tile and a ring of one pixel */
 
-static void to_ycocg(const float *rgb, float *o)
-{
-    o[0] = 0.25f * rgb[0] + 0.5f * rgb[1] + 0.25f * rgb[2];
-    o[1] = 0.5f * rgb[0] - 0.5f * rgb[2];
-    o[2] = -0.25f * rgb[0] + 0.5f * rgb[1] - 0.25f * rgb[2];
-}
-
 HZ_INLINE void to_ycocg_lanes(const hz_lrgb_t *c, hz_lrgb_t *o)
 {
     const hz_lf_t q = hz_lf_set(0.25f), h = hz_lf_set(0.5f), mq = hz_lf_set(-0.25f);
@@ -165,7 +158,7 @@ void hz_taa_resolve_tile(struct hz_renderer *r, uint32_t tile)
             int32_t x = (int32_t)(x0 + bx) - 1;
             x = x < 0 ? 0 : x >= (int32_t)w ? (int32_t)w - 1 : x;
             float q[3];
-            to_ycocg(cur->rgb + 3 * ((size_t)y * w + (size_t)x), q);
+            hz_taa_to_ycocg(cur->rgb + 3 * ((size_t)y * w + (size_t)x), q);
             yc[0][by][bx] = q[0], yc[1][by][bx] = q[1], yc[2][by][bx] = q[2];
         }
     }

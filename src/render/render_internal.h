@@ -194,5 +194,13 @@ unsigned hz_transp_mv_align(hz_transp_t t);
 void hz_taa_resolve_tile(struct hz_renderer *r, uint32_t tile);
 void hz_taa_resolve_tile_scalar(struct hz_renderer *r, uint32_t tile);
 void hz_taa_resolve_pixel(struct hz_renderer *r, uint32_t x, uint32_t y);
+/* RGB -> YCoCg, the TAA box's colour space; one definition for the resolve and its SIMD twin (whose 10x10 block
+ * must hold exactly the values the twin computes). */
+HZ_INLINE void hz_taa_to_ycocg(const float *rgb, float *o)
+{
+    o[0] = 0.25f * rgb[0] + 0.5f * rgb[1] + 0.25f * rgb[2];
+    o[1] = 0.5f * rgb[0] - 0.5f * rgb[2];
+    o[2] = -0.25f * rgb[0] + 0.5f * rgb[1] - 0.25f * rgb[2];
+}
 
 #endif
