@@ -7,18 +7,19 @@
  * recording wrapper around the scene's native accel. A round renders `warm` untimed, then `frames` timed
  * frames from scene time `start` at `hz` on `threads` threads (history reset first, so every round sees the
  * same frames); the modes take turns at going first. Per frame it measures begin_frame (animation, refit,
- * camera), the trace pass and the resolve pass (hz_render_run_frame_parts); inside the trace pass, the time the
- * wrapper saw inside accel calls (summed over threads, divided by the thread count) is `trace`, the rest of the
- * pass `shade` (ray generation, shading, G-buffer writes). p50 and p99 are over every timed frame of every
- * round; the parts are medians over rounds of their per-frame means. After the first round the same round runs
+ * camera), the trace pass and the resolve pass (hz_render_run_frame_parts), with the wrapper only forwarding
+ * calls. Each round then renders the same frames again with the wrapper timing every accel call: the time
+ * inside accel calls (summed over threads, divided by the thread count) is `trace`, and the first pass's trace
+ * pass minus that is `shade` (ray generation, shading, G-buffer writes). The timing pass's clock reads (two
+ * per packet) stay out of the frame times. p50 and p99 are over every timed frame of every round; the parts are
+ * medians over rounds of their per-frame means. After the first round the same round runs
  * again with the reconstruction's scalar twins (same frames, same bits): `resolve_scalar_ms`, its resolve part,
  * side by side with the SIMD one (not part of the frame figures).
  *
- * The last timed frame of the first round is also recorded: every ray packet the renderer traced, as it was
+ * The last frame of the first round's timing pass is also recorded: every ray packet the renderer traced, as it was
  * given (lanes, coherence flag). `embree_trace_ms` replays them through Embree (8-ray packets, no any-hit
  * callback, no shading) built over the same pose, spread over the same threads, median of `rounds` replays;
- * `overhead` = frame p50 / embree_trace_ms. Boards without Embree leave both NaN. The wrapper's clock reads
- * cost the frame a little (two per packet); both modes pay them alike.
+ * `overhead` = frame p50 / embree_trace_ms. Boards without Embree leave both NaN.
  *
  * Returns the rows written (2 per scene), or -1 with err set.
  */
