@@ -134,7 +134,7 @@ RENDER_SRCS_avx2 := src/render/shade_avx2.c src/recon/tdense_lanes.c src/recon/t
 RENDER_SRCS_neon := src/render/shade_neon.c src/recon/tdense_lanes.c src/recon/taa_lanes.c
 RENDER_TESTS := tdense
 RENDER_PORT_TESTS := render render_tdense render_speckles render_adaptive render_transp leaveout scene_clock render_lanes \
-                     render_blur render_skin shade
+                     render_blur render_skin shade render_overlap
 RENDER_PORT_TESTS_embree := render_backends
 # Heavy render tests for boards whose tests run natively (not under emulation).
 RENDER_PORT_TESTS_native := render_taa
@@ -738,7 +738,7 @@ VM_TEST_ENV := HZ_SCENES_DIR HZ_SCENES_UNPACK
 # rendered sequences) already run on the same AArch64 binaries under qemu-aarch64 in the board stage.
 VM_HEAVY_TESTS := scene_corrupt accel_build accel_trav accel_water zero_alloc render render_transp errtime et_render \
                   render_speckles pack leaveout scene_clock accel_motion accel_motion_cli render_blur render_skin shade \
-                  accel_par render_lanes
+                  accel_par render_lanes render_overlap
 VM_TEST_BINS := $(filter-out $(VM_HEAVY_TESTS:%=$(O)/test/unit/test_%),$(TEST_BINS))
 
 vmtest: deps ## boot Debian's arm64 kernel in qemu-system-aarch64: AArch64 unit tests, V4L2 loop-back, GPIO capture

@@ -105,6 +105,9 @@ typedef struct hz_render_opts {
     bool scalar_recon;
     /* Packet shading through the kernels' scalar twin (hz/shade.h), same images: benchmarks compare the two. */
     bool scalar_shading;
+    /* tdense and TAA frames overlap their trace and resolve passes (hz_render_overlap_units); true keeps a
+     * barrier between them instead (same images: for tests and side-by-side timing). */
+    bool serial_passes;
 } hz_render_opts_t;
 
 void hz_render_opts_default(hz_render_opts_t *o);
@@ -182,6 +185,18 @@ uint32_t hz_render_pass_items(const hz_renderer_t *r, uint32_t pass);
 void hz_render_pass_run(hz_renderer_t *r, uint32_t pass, uint32_t item, uint32_t thread);
 void hz_render_end_frame(hz_renderer_t *r);
 
+/* Overlapped passes (tdense and TAA). A resolve reads only this frame's trace results next to its pixels (3x3
+ * neighbourhoods, tdense's newest-subframe box and ĝ's 4x4 blocks; TAA's 3x3 or 7x7 window, all within one
+ * tile) and state no trace item touches, so a pool may run the two passes as one: trace items are pass 0's
+ * (row-major, *row_items to a tile row, *trace_rows rows) and resolve unit u may start once every trace item
+ * of the tile rows [*row_lo, *row_hi] from hz_render_overlap_needs has returned; those ranges never move back
+ * as u grows, so units can be handed out in order. Every such order, on any number of threads, gives the frame
+ * that the passes one after the other give, bit for bit. hz_render_overlap_units returns the number of resolve
+ * units, or 0 where the passes must stay apart (full and adaptive modes, opts.serial_passes). */
+uint32_t hz_render_overlap_units(const hz_renderer_t *r, uint32_t *trace_rows, uint32_t *row_items);
+void hz_render_overlap_needs(const hz_renderer_t *r, uint32_t unit, uint32_t *row_lo, uint32_t *row_hi);
+void hz_render_overlap_run(hz_renderer_t *r, uint32_t unit);
+
 /* The displayed frame (linear RGB), valid after hz_render_end_frame until the next begin. */
 const hz_image_t *hz_render_output(const hz_renderer_t *r);
 const hz_gbuffer_t *hz_render_gbuffer(const hz_renderer_t *r);
@@ -201,5 +216,7 @@ void hz_render_reset_history(hz_renderer_t *r);
 /* Switches the reconstruction passes to their scalar twins (true) or the board's SIMD (false) from the next
  * frame on, as opts.scalar_recon; frames are bit-identical either way (side-by-side timing in one process). */
 void hz_render_set_scalar_recon(hz_renderer_t *r, bool scalar);
+/* The same for opts.serial_passes. */
+void hz_render_set_serial_passes(hz_renderer_t *r, bool serial);
 
 #endif /* HZ_RENDER_H */

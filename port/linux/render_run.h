@@ -4,7 +4,9 @@
  * and the benchmarks all do per frame.
  *
  * Contract: the pool must be started with as many threads as the renderer was created for (or fewer); the
- * result does not depend on the thread count. Allocates nothing.
+ * result does not depend on the thread count. Allocates nothing. tdense and TAA frames run their trace and
+ * resolve passes as one overlapped run (hz_render_overlap_units: a tile row's resolve starts as soon as the
+ * rows next to it are traced, on whichever thread is free) unless opts.serial_passes asks for a barrier.
  */
 #ifndef HZ_PORT_RENDER_RUN_H
 #define HZ_PORT_RENDER_RUN_H
@@ -21,7 +23,9 @@ hz_status_t hz_render_run_frame(hz_renderer_t *r, uint64_t index, float time, hz
 void hz_render_run_pass(hz_renderer_t *r, uint32_t pass);
 
 /* The same, and where the time went (CLOCK_MONOTONIC, ns): ns[0] begin_frame (animation, refit, camera),
- * ns[1] the first pass (tracing), ns[2] the other passes (resolves) and end_frame. ns may be NULL. */
+ * ns[1] the first pass (tracing), ns[2] the other passes (resolves) and end_frame. ns may be NULL. In an
+ * overlapped frame ns[2] is the resolve units' time summed over the pool's threads and divided by their
+ * number (plus end_frame), and ns[1] the rest of the overlapped run. */
 hz_status_t hz_render_run_frame_parts(hz_renderer_t *r, uint64_t index, float time, int64_t ns[3],
                                       hz_error_t *err);
 hz_status_t hz_render_run_frame_parts_ns(hz_renderer_t *r, uint64_t index, hz_time_ns_t time, int64_t ns[3],

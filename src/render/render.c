@@ -598,6 +598,45 @@ void hz_render_pass_run(hz_renderer_t *r, uint32_t pass, uint32_t item, uint32_t
     }
 }
 
+/* tdense resolves one tdense tile row (two pixel rows) per unit: 4 to a trace tile row, so that units spread
+ * evenly over many threads; TAA one trace tile per unit. */
+uint32_t hz_render_overlap_units(const hz_renderer_t *r, uint32_t *trace_rows, uint32_t *row_items)
+{
+    *trace_rows = r->tiles_y, *row_items = r->tiles_x;
+    if (r->opts.serial_passes)
+        return 0u;
+    if (r->opts.mode == HZ_MODE_TDENSE)
+        return r->td.tiles_y;
+    if (r->opts.mode == HZ_MODE_TAA)
+        return r->tiles_x * r->tiles_y;
+    return 0u;
+}
+
+void hz_render_overlap_needs(const hz_renderer_t *r, uint32_t unit, uint32_t *row_lo, uint32_t *row_hi)
+{
+    uint32_t lo, hi;
+    if (r->opts.mode == HZ_MODE_TDENSE) {
+        /* tdense tile row u reads the tdense rows u - 1 .. u + 1 */
+        const uint32_t per = HZ_RENDER_TILE / 2;
+        lo = unit ? (unit - 1u) / per : 0u;
+        hi = (unit + 1u) / per;
+    } else {
+        const uint32_t row = unit / r->tiles_x;
+        lo = row ? row - 1u : 0u;
+        hi = row + 1u;
+    }
+    *row_lo = lo;
+    *row_hi = hi < r->tiles_y ? hi : r->tiles_y - 1u;
+}
+
+void hz_render_overlap_run(hz_renderer_t *r, uint32_t unit)
+{
+    if (r->opts.mode == HZ_MODE_TDENSE && unit < r->td.tiles_y)
+        (r->opts.scalar_recon ? hz_tdense_resolve_rows_scalar : hz_tdense_resolve_rows)(&r->td, unit, unit + 1u);
+    else if (r->opts.mode == HZ_MODE_TAA && unit < r->tiles_x * r->tiles_y)
+        (r->opts.scalar_recon ? hz_taa_resolve_tile_scalar : hz_taa_resolve_tile)(r, unit);
+}
+
 static void add_stats(hz_render_stats_t *a, const hz_render_stats_t *b)
 {
     a->primary_rays += b->primary_rays;
@@ -665,6 +704,11 @@ const uint8_t *hz_render_adaptive_mask(const hz_renderer_t *r)
 void hz_render_set_scalar_recon(hz_renderer_t *r, bool scalar)
 {
     r->opts.scalar_recon = scalar;
+}
+
+void hz_render_set_serial_passes(hz_renderer_t *r, bool serial)
+{
+    r->opts.serial_passes = serial;
 }
 
 void hz_render_reset_history(hz_renderer_t *r)

@@ -260,7 +260,7 @@ static hz_status_t bench_scene(const char *label, const char *path, const hz_ben
                                hz_bench_realtime_row_t *rows, hz_error_t *err)
 {
     const hz_render_mode_t modes[2] = { HZ_MODE_TDENSE, o->compare_shading ? HZ_MODE_TDENSE : HZ_MODE_TAA };
-    static mode_acc_t acc[2], twin[2];
+    static mode_acc_t acc[2], twin[2], serial[2];
     hz_bench_scene_t bs;
     hz_status_t s = hz_bench_scene_open(&bs, path, err);
     hz_accel_t wrapped;
@@ -279,6 +279,7 @@ static hz_status_t bench_scene(const char *label, const char *path, const hz_ben
                              (uint32_t)o->threads, err);
         acc[m].nframes = 0;
         twin[m].nframes = 0;
+        serial[m].nframes = 0;
     }
     double embree_ms[2] = { NAN, NAN };
     hz_render_stats_t recorded[2];
@@ -286,6 +287,12 @@ static hz_status_t bench_scene(const char *label, const char *path, const hz_ben
         for (int k = 0; k < 2 && s == HZ_OK; k++) {
             int m = (round + k) & 1;
             s = run_round(r[m], o, round, round == 0, &acc[m], err);
+            if (s == HZ_OK) {
+                double tmp[4] = { 0, 0, 0, 0 };
+                hz_render_set_serial_passes(r[m], true);
+                s = run_pass(r[m], o, false, false, &serial[m], tmp, err);
+                hz_render_set_serial_passes(r[m], false);
+            }
             if (s == HZ_OK && round == 0) {
                 /* The recorded frame's pose is the scene's current one: replay against it now. */
                 hz_render_frame_stats(r[m], &recorded[m], NULL);
@@ -322,6 +329,7 @@ static hz_status_t bench_scene(const char *label, const char *path, const hz_ben
         w->shade_ms = hz_bench_median(acc[m].part[2], o->rounds);
         w->resolve_ms = hz_bench_median(acc[m].part[3], o->rounds);
         w->resolve_scalar_ms = twin[m].part[3][0];
+        w->serial_p50_ms = hz_bench_quantile(serial[m].frame_ms, serial[m].nframes, 0.50);
         w->embree_trace_ms = embree_ms[m];
         w->overhead = w->p50_ms / embree_ms[m];
         w->primary = (double)recorded[m].primary_rays;

@@ -14,7 +14,9 @@
  * per packet) stay out of the frame times. p50 and p99 are over every timed frame of every round; the parts are
  * medians over rounds of their per-frame means. After the first round the same round runs
  * again with the reconstruction's scalar twins (same frames, same bits): `resolve_scalar_ms`, its resolve part,
- * side by side with the SIMD one (not part of the frame figures).
+ * side by side with the SIMD one (not part of the frame figures). Every round also renders its frames once with
+ * a barrier between the trace and the resolve pass (opts.serial_passes: the same frames): `serial_p50_ms`, their
+ * p50, against the overlapped frames' p50.
  *
  * The last frame of the first round's timing pass is also recorded: every ray packet the renderer traced, as it was
  * given (lanes, coherence flag). `embree_trace_ms` replays them through Embree (8-ray packets, no any-hit
@@ -54,6 +56,7 @@ typedef struct hz_bench_realtime_row {
     double begin_ms, trace_ms, shade_ms, resolve_ms;
     double embree_trace_ms, overhead;
     double resolve_scalar_ms; /* the resolve pass with its scalar twin (hz_render_set_scalar_recon), round 0 */
+    double serial_p50_ms;     /* p50 with a barrier between trace and resolve (hz_render_set_serial_passes) */
     double primary, shadow, secondary; /* rays of the recorded frame */
 } hz_bench_realtime_row_t;
 
