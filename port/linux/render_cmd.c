@@ -401,6 +401,10 @@ int hz_cmd_render(int argc, char **argv)
                      a.scene);
         return hz_status_exit_code(HZ_E_NO_MEMORY);
     }
+    /* The pool starts before the build: a native build runs its binning and subtrees on it (the same tree for
+     * any thread count). */
+    if (hz_threads_start(a.threads, &err) != HZ_OK)
+        return hz_cli_report(&err);
     int64_t t0 = hz_clock_ns();
     hz_accel_t *accel = NULL;
     static hz_posekeys_t keys; /* motion blur: the scene's pose across the shutter (opts.keys) */
@@ -408,18 +412,18 @@ int hz_cmd_render(int argc, char **argv)
     hz_accel_config_t acfg;
     hz_accel_config_default(&acfg);
     acfg.progress = hz_phase_accel, acfg.progress_user = &prog;
+    if (a.backend == HZ_ACCEL_NATIVE)
+        hz_threads_accel_hook(&acfg);
     hz_phase_begin(&prog, a.quiet, "%s build of %s (%u triangles)", hz_accel_backend_name(a.backend), a.scene,
                    scene.triangle_count);
     hz_status_t bs = hz_blur_build_cfg(&scene, &a.opts, a.backend, a.blur, &acfg, pools, &keys, &accel, &err);
     hz_phase_end(&prog);
-    if (bs != HZ_OK)
-        return hz_cli_report(&err);
-    double build_ms = (hz_clock_ns() - t0) * 1e-6;
-
-    if (hz_threads_start(a.threads, &err) != HZ_OK) {
-        hz_accel_release(accel);
+    if (bs != HZ_OK) {
+        hz_threads_stop();
         return hz_cli_report(&err);
     }
+    double build_ms = (hz_clock_ns() - t0) * 1e-6;
+
     hz_renderer_t *r = NULL;
     if (hz_render_create(&r, &scene, accel, &a.opts, &pools->frame, pools->thread, (uint32_t)a.threads, &err) !=
         HZ_OK) {

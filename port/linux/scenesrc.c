@@ -77,19 +77,24 @@ hz_status_t hz_scene_framesrc(hz_framesrc_t *src, const char *scene, int w, int 
     s->row = hz_arena_alloc(&pools->frame, (size_t)(w / scale) * 3, 64);
     if (!s->row)
         return hz_arena_error(&pools->frame, err);
-    hz_status_t st = hz_scenefile_open(scene, pools, &s->scene, err);
-    hz_accel_geom_t g;
-    if (st == HZ_OK)
-        st = hz_accel_geom_from_scene(&g, &s->scene, &pools->accel, err);
-    if (st == HZ_OK)
-        st = hz_accel_backend_build(HZ_ACCEL_NATIVE, &s->accel, &g, &pools->accel, err);
     if (threads < 1) {
         long cores = sysconf(_SC_NPROCESSORS_ONLN);
         threads = cores < 1 ? 1 : (int)cores;
     }
     threads = threads > HZ_MAX_THREADS ? HZ_MAX_THREADS : threads;
+    hz_status_t st = hz_scenefile_open(scene, pools, &s->scene, err);
+    hz_accel_geom_t g;
+    if (st == HZ_OK)
+        st = hz_accel_geom_from_scene(&g, &s->scene, &pools->accel, err);
+    /* the pool first: the native build bins and builds subtrees on it (the same tree for any thread count) */
     if (st == HZ_OK)
         st = hz_threads_start(threads, err);
+    if (st == HZ_OK) {
+        hz_accel_config_t cfg;
+        hz_accel_config_default(&cfg);
+        hz_threads_accel_hook(&cfg);
+        st = hz_accel_backend_build_cfg(HZ_ACCEL_NATIVE, &s->accel, &g, &cfg, &pools->accel, err);
+    }
     hz_render_opts_t o;
     hz_render_opts_default(&o);
     o.width = (uint32_t)(w / scale), o.height = (uint32_t)(h / scale);
