@@ -15,6 +15,8 @@ void hz_view_setup(hz_view_t *v, const hz_camera_t *cam, uint32_t width, uint32_
     v->width = width;
     v->height = height;
     v->spread = 2.0f * th / (float)height;
+    v->proj_x = hz_v3_scale(v->right, 0.5f * (float)width / hz_v3_dot(v->right, v->right));
+    v->proj_y = hz_v3_scale(v->up, 0.5f * (float)height / hz_v3_dot(v->up, v->up));
 }
 
 hz_vec3_t hz_view_ray_dir(const hz_view_t *v, float px, float py)
@@ -27,14 +29,15 @@ hz_vec3_t hz_view_ray_dir(const hz_view_t *v, float px, float py)
 
 bool hz_view_project(const hz_view_t *v, hz_vec3_t p, float *px, float *py)
 {
-    /* Straight from the basis, so it inverts hz_view_ray_dir: sx = dot(p - eye, right) / |right|^2 / depth. */
+    /* Straight from the basis, so it inverts hz_view_ray_dir: sx = dot(p - eye, right) / |right|^2 / depth;
+     * the constant factors are folded into proj_x and proj_y at setup, leaving one division per point (this
+     * runs twice for every primary hit). */
     hz_vec3_t q = hz_v3_sub(p, v->eye);
     float z = hz_v3_dot(q, v->fwd);
     if (!(z > 0.0f))
         return false;
-    float sx = hz_v3_dot(q, v->right) / hz_v3_dot(v->right, v->right) / z;
-    float sy = hz_v3_dot(q, v->up) / hz_v3_dot(v->up, v->up) / z;
-    *px = (sx + 1.0f) * 0.5f * (float)v->width;
-    *py = (1.0f - sy) * 0.5f * (float)v->height;
+    float iz = 1.0f / z;
+    *px = hz_v3_dot(q, v->proj_x) * iz + 0.5f * (float)v->width;
+    *py = 0.5f * (float)v->height - hz_v3_dot(q, v->proj_y) * iz;
     return hz_isfinitef(*px) && hz_isfinitef(*py);
 }

@@ -33,6 +33,8 @@ typedef struct hz_view {
     hz_vec3_t fwd, right, up;  /* right and up scaled so that pixel (x, y) maps to fwd + sx right + sy up */
     float spread;              /* ray-cone spread angle of one pixel (radians) */
     uint32_t width, height;
+    /* projection (hz_view_project): right and up over their squared lengths, times half the image size */
+    hz_vec3_t proj_x, proj_y;
 } hz_view_t;
 
 typedef struct ray_job {
