@@ -174,6 +174,7 @@ int main(int argc, char **argv)
     bool core = true, accel = true, tdense = true, transp = true, adaptive = true, blur = true, motion = true;
     bool realtime = true, only_given = false;
     const char *realtime_csv = NULL;
+    bool realtime_scaling = false;
     hz_bench_realtime_opts_t rt = { NULL, 640, 360, 2, 3, 8, 96, 1.0f, 240, false, false };
     const char *transp_csv = NULL;
     hz_bench_transp_opts_t tp = { NULL, 192, 108, 0, 3, 24, false };
@@ -194,6 +195,8 @@ int main(int argc, char **argv)
             realtime_csv = argv[++i];
         } else if (!strcmp(argv[i], "--realtime-shading-twin")) {
             rt.compare_shading = true;
+        } else if (!strcmp(argv[i], "--realtime-scaling")) {
+            realtime_scaling = true;
         } else if (!strcmp(argv[i], "--realtime-frames") && i + 1 < argc) {
             if (!hz_cli_parse_long("--realtime-frames", argv[++i], 1, HZ_BENCH_REALTIME_MAX_FRAMES, &v))
                 return HZ_EXIT_USAGE;
@@ -314,7 +317,7 @@ int main(int argc, char **argv)
         } else if (!strcmp(argv[i], "-h") || !strcmp(argv[i], "--help")) {
             printf("usage: hzbench [--only kernels|accel|tdense|transparency|adaptive|blur|motion|realtime]...\n"
                    "               [--csv FILE] [--realtime-csv FILE] [--realtime-size WxH] [--realtime-frames N]\n"
-                   "               [--realtime-shading-twin]\n"
+                   "               [--realtime-shading-twin] [--realtime-scaling]\n"
                    "               [--accel-csv FILE] [--adaptive-csv FILE] [--motion-csv FILE] [--scenes DIR]\n"
                    "               [--scene NAME]... [--rounds N] [--threads N] [--size WxH] [--tdense-size WxH]\n"
                    "               [--frames N] [--embree-config S] [--transparency-csv FILE]\n"
@@ -333,7 +336,9 @@ int main(int argc, char **argv)
                    "           begin/trace/shade/resolve, the same rays through Embree alone (8-ray packets, no\n"
                    "           shading) and overhead = p50 / that; CSV with --realtime-csv; with\n"
                    "           --realtime-shading-twin tdense with the packet shading against its scalar twin\n"
-                   "           (rounds interleaved) instead of tdense and TAA\n"
+                   "           (rounds interleaved) instead of tdense and TAA; with --realtime-scaling the\n"
+                   "           table again on 1 thread, and each row's speedup and efficiency (p50 on 1 thread /\n"
+                   "           (threads x p50); the goal is >= 85%% at 16 threads)\n"
                    "  adaptive fixed 9 spp against --mode adaptive (tau 0.3, 0.6, 1) at 640x360 on 2 threads (or\n"
                    "           --threads): presample / test / extra ms, live lanes per packet, PSNR vs 256 spp\n"
                    "  blur     motion blur in tdense (--shutter, default 1; --blur-size, default 320x180): one MSBVH\n"
@@ -557,6 +562,22 @@ int main(int argc, char **argv)
             if (hz_out_commit(&out, &err) != HZ_OK)
                 return hz_cli_report(&err);
             printf("wrote %s\n", realtime_csv);
+        }
+        if (realtime_scaling && !rt.compare_shading && rt.threads > 1) {
+            hz_bench_realtime_opts_t one = rt;
+            hz_bench_realtime_row_t srows[6];
+            one.threads = 1;
+            printf("\nscaling: the same table on 1 thread against %d threads\n", rt.threads);
+            int ns = hz_bench_realtime(&one, srows, 6, &err);
+            if (ns < 0)
+                return hz_cli_report(&err);
+            for (int k = 0; k < ns && k < nr; k++)
+                printf("%-11s %-6s p50 %.2f ms on 1 thread, %.2f ms on %d: speedup %.2fx, efficiency %.0f%%\n",
+                       srows[k].scene, srows[k].mode, srows[k].p50_ms, rrows[k].p50_ms, rt.threads,
+                       srows[k].p50_ms / rrows[k].p50_ms, 100.0 * srows[k].p50_ms / (rt.threads * rrows[k].p50_ms));
+        } else if (realtime_scaling) {
+            printf("--realtime-scaling: needs the table on 2 threads or more (--threads), without "
+                   "--realtime-shading-twin\n");
         }
     }
     if (adaptive) {
