@@ -2,6 +2,8 @@
  * Integer-only: built with -mgeneral-regs-only and checked by check-integer on x86-64 and AArch64. */
 #include "hz/tileorder.h"
 
+#include <stdbool.h>
+
 #include "hz/hash.h"
 
 const int8_t hz_msaa4_jitter16[4][2] = { { -2, -6 }, { 6, -2 }, { -6, 2 }, { 2, 6 } };
@@ -119,6 +121,60 @@ static const uint64_t cordic_atan[CORDIC_STEPS] = {
     163u, 81u, 41u, 20u,
 };
 
+/* z (2^-8 units, CORDIC_GUARD) as the angle it rounds to, clamped to [0, π/2]. */
+static hz_qangle_t angle_of_z(int64_t z)
+{
+    const int64_t right = (int64_t)HZ_QANGLE_RIGHT << CORDIC_GUARD;
+    z = z < 0 ? 0 : z > right ? right : z;
+    return (hz_qangle_t)((z + (1 << (CORDIC_GUARD - 1))) >> CORDIC_GUARD);
+}
+
+/* What ĝ reads of an angle (hz_tileorder_ghat_polar): the shear's half_t = a >> 15 and the side of the random
+ * band. Non-decreasing in a. */
+static uint32_t ghat_key(hz_qangle_t a)
+{
+    uint32_t band = a <= HZ_QANGLE_DIAG - HZ_QANGLE_GAMMA ? 0u : a >= HZ_QANGLE_DIAG + HZ_QANGLE_GAMMA ? 2u : 1u;
+    return (a >> 15) << 2 | band;
+}
+
+/* The CORDIC of hz_tileorder_angle for ax, ay > 0, ax != ay. With `early`, it may stop once every angle the
+ * remaining steps can still reach has the same ghat_key (each step adds ±cordic_atan[i] to z, so the steps
+ * after i move it by at most the sum of the entries after i), and returns one of them (the lowest): ĝ then
+ * decides exactly as it would on the full result, in about half the steps on typical motion. */
+static hz_qangle_t cordic_angle(uint32_t ax, uint32_t ay, bool early)
+{
+    /* Vectoring CORDIC: rotate (x, y) onto the x axis by ±atan(2^-i), summing the rotations. The larger input
+     * is scaled up to bit 60: the gain (about 1.65) keeps x below 2^62, and 34 steps leave a residual below a
+     * tenth of a unit. */
+    enum { FIRST_CHECK = 16 }; /* half_t steps are 2^15 units = 2^23 of z: the rest falls below that here */
+    uint32_t big = ax > ay ? ax : ay;
+    unsigned shift = 60u - (31u - (unsigned)hz_clz32(big));
+    int64_t x = (int64_t)((uint64_t)ax << shift);
+    int64_t y = (int64_t)((uint64_t)ay << shift);
+    int64_t z = 0, rest = 0;
+    for (unsigned i = FIRST_CHECK + 1; early && i < CORDIC_STEPS; i++)
+        rest += (int64_t)cordic_atan[i];
+    for (unsigned i = 0; i < CORDIC_STEPS; i++) {
+        /* the rotation's direction follows y's sign, which flips unpredictably: conditional negation by a mask
+         * (-1 below zero: (v ^ -1) - (-1) = -v) instead of a branch */
+        const int64_t neg = -(int64_t)(y < 0);
+        const int64_t dx = floor_shift(y, i), dy = floor_shift(x, i);
+        x += (dx ^ neg) - neg;
+        y -= (dy ^ neg) - neg;
+        z += ((int64_t)cordic_atan[i] ^ neg) - neg;
+        if (early && i >= FIRST_CHECK) {
+            if (i > FIRST_CHECK)
+                rest -= (int64_t)cordic_atan[i]; /* what the steps after i can still add */
+            if ((i & 1u) == 0) {
+                const hz_qangle_t lo = angle_of_z(z - rest);
+                if (ghat_key(lo) == ghat_key(angle_of_z(z + rest)))
+                    return lo;
+            }
+        }
+    }
+    return angle_of_z(z);
+}
+
 hz_qangle_t hz_tileorder_angle(hz_q16_t mx, hz_q16_t my)
 {
     uint32_t ax = uabs32(mx), ay = uabs32(my);
@@ -128,26 +184,20 @@ hz_qangle_t hz_tileorder_angle(hz_q16_t mx, hz_q16_t my)
         return HZ_QANGLE_RIGHT;
     if (ax == ay)
         return HZ_QANGLE_DIAG;
-    /* Vectoring CORDIC: rotate (x, y) onto the x axis by ±atan(2^-i), summing the rotations. The larger input
-     * is scaled up to bit 60: the gain (about 1.65) keeps x below 2^62, and 34 steps leave a residual below a
-     * tenth of a unit. */
-    uint32_t big = ax > ay ? ax : ay;
-    unsigned shift = 60u - (31u - (unsigned)hz_clz32(big));
-    int64_t x = (int64_t)((uint64_t)ax << shift);
-    int64_t y = (int64_t)((uint64_t)ay << shift);
-    int64_t z = 0;
-    for (unsigned i = 0; i < CORDIC_STEPS; i++) {
-        /* the rotation's direction follows y's sign, which flips unpredictably: conditional negation by a mask
-         * (-1 below zero: (v ^ -1) - (-1) = -v) instead of a branch */
-        const int64_t neg = -(int64_t)(y < 0);
-        const int64_t dx = floor_shift(y, i), dy = floor_shift(x, i);
-        x += (dx ^ neg) - neg;
-        y -= (dy ^ neg) - neg;
-        z += ((int64_t)cordic_atan[i] ^ neg) - neg;
-    }
-    const int64_t right = (int64_t)HZ_QANGLE_RIGHT << CORDIC_GUARD;
-    z = z < 0 ? 0 : z > right ? right : z;
-    return (hz_qangle_t)((z + (1 << (CORDIC_GUARD - 1))) >> CORDIC_GUARD);
+    return cordic_angle(ax, ay, false);
+}
+
+/* hz_tileorder_angle, or an angle ĝ treats the same (see cordic_angle). */
+static hz_qangle_t ghat_angle(hz_q16_t mx, hz_q16_t my)
+{
+    uint32_t ax = uabs32(mx), ay = uabs32(my);
+    if (ay == 0)
+        return 0;
+    if (ax == 0)
+        return HZ_QANGLE_RIGHT;
+    if (ax == ay)
+        return HZ_QANGLE_DIAG;
+    return cordic_angle(ax, ay, true);
 }
 
 /* floor(sqrt(x)), exact: hz_isqrt_u64's digit-by-digit method, started at the highest non-zero base-4 digit
@@ -225,20 +275,83 @@ hz_tilecycle_t hz_tileorder_ghat_polar(hz_q16_t lf, hz_qangle_t a, uint32_t rnd,
     }
 }
 
+/* Eq. 4's band test on a length fraction: (0.25, 0.75) exclusive. */
+static bool in_band(uint32_t frac16)
+{
+    return frac16 > (uint32_t)Q_QUARTER && frac16 < (uint32_t)Q_THREE_QUARTERS;
+}
+
+/* in_band((floor(sqrt(x)) - shift) mod 1) in Q16.16, with isqrt_fast's digits, stopping once the digits left
+ * cannot change the answer: after the digit of 4^m, res is q 4^m with q the root's digits found so far, so the
+ * root lies in [q 2^m, q 2^m + 2^m - 1]; when that range is under a quarter wide and both ends give the same
+ * answer, every root in it does (the band and its outside are each wider than the range). */
+static bool len_in_band(uint64_t x, uint32_t shift)
+{
+    if (x == 0)
+        return in_band((0u - shift) & (uint32_t)(HZ_Q16_ONE - 1));
+    unsigned m = (63u - (unsigned)__builtin_clzll(x)) >> 1;
+    uint64_t res = 0, bit = (uint64_t)1 << (2u * m);
+    for (;;) { /* each digit's test is a coin toss for the branch predictor: masks instead */
+        const uint64_t t = res + bit, take = 0u - (uint64_t)(x >= t);
+        x -= t & take;
+        res = (res >> 1) + (bit & take);
+        if (m == 0)
+            return in_band(((uint32_t)res - shift) & (uint32_t)(HZ_Q16_ONE - 1));
+        if (m <= 13u) {
+            const uint32_t lo = (uint32_t)(res >> m) - shift, hi = lo + ((1u << m) - 1u);
+            const bool a = in_band(lo & (uint32_t)(HZ_Q16_ONE - 1));
+            if (a == in_band(hi & (uint32_t)(HZ_Q16_ONE - 1)))
+                return a;
+        }
+        bit >>= 2;
+        m--;
+    }
+}
+
+/* hz_tileorder_ghat_polar's decisions for off-axis motion, with the length's fraction only as exact as they
+ * need it (len_in_band) and no length at all inside the random band. */
+static hz_tilecycle_t ghat_off_axis(uint32_t ax, uint32_t ay, hz_qangle_t a, uint32_t rnd, hz_ghat_rule_t rule)
+{
+    const uint64_t x = (uint64_t)ax * ax + (uint64_t)ay * ay;
+    const uint32_t half_t = a >> 15;
+    int up;
+    switch (rule) {
+    case HZ_GHAT_SHEAR_UP:
+        up = 1;
+        break;
+    case HZ_GHAT_SHEAR_DOWN:
+        up = 0;
+        break;
+    case HZ_GHAT_FULL:
+    default:
+        if (a <= HZ_QANGLE_DIAG - HZ_QANGLE_GAMMA)
+            up = 1;
+        else if (a >= HZ_QANGLE_DIAG + HZ_QANGLE_GAMMA)
+            up = 0;
+        else
+            return (rnd >> 31) ? HZ_TILECYCLE_HOURGLASS : HZ_TILECYCLE_BOWTIE;
+        break;
+    }
+    /* rule_shear: u = lf - half_t (up) or lf + half_t (down) */
+    return len_in_band(x, up ? half_t : 0u - half_t) ? HZ_TILECYCLE_HOURGLASS : HZ_TILECYCLE_BOWTIE;
+}
+
 hz_tilecycle_t hz_tileorder_ghat(hz_q16_t mx, hz_q16_t my, uint32_t rnd, hz_ghat_rule_t rule)
 {
     if (rule == HZ_GHAT_HOURGLASS)
         return HZ_TILECYCLE_HOURGLASS;
     if (rule == HZ_GHAT_BOWTIE)
         return HZ_TILECYCLE_BOWTIE;
-    hz_q16_t lf = hz_tileorder_length_frac(mx, my);
+    const uint32_t ax = uabs32(mx), ay = uabs32(my);
     if (my == 0)
-        return rule_horizontal(lf);
+        return rule_horizontal((hz_q16_t)(ax & (uint32_t)(HZ_Q16_ONE - 1))); /* on an axis |m| is exact */
     if (mx == 0)
-        return rule_vertical(lf);
-    if (rule == HZ_GHAT_DOMINANT) /* exact comparison rather than the rounded angle */
-        return uabs32(mx) >= uabs32(my) ? rule_horizontal(lf) : rule_vertical(lf);
-    return hz_tileorder_ghat_polar(lf, hz_tileorder_angle(mx, my), rnd, rule);
+        return rule_vertical((hz_q16_t)(ay & (uint32_t)(HZ_Q16_ONE - 1)));
+    if (rule == HZ_GHAT_DOMINANT) { /* exact comparison rather than the rounded angle */
+        const bool band = len_in_band((uint64_t)ax * ax + (uint64_t)ay * ay, 0u);
+        return (ax >= ay) == band ? HZ_TILECYCLE_HOURGLASS : HZ_TILECYCLE_BOWTIE;
+    }
+    return ghat_off_axis(ax, ay, ghat_angle(mx, my), rnd, rule);
 }
 
 uint32_t hz_tileorder_tile_random(uint32_t tx, uint32_t ty, uint32_t cycle, uint32_t seed)

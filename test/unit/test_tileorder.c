@@ -480,6 +480,79 @@ static void test_golden_hash(void **state)
     assert_int_equal(h_rule, 0x8a150887u);
 }
 
+/* hz_tileorder_ghat stops its CORDIC early once the rest of the steps cannot change what ĝ reads of the angle
+ * (the shear's a >> 15 and the side of the random band), and its square root once the rest of the digits
+ * cannot move the length across a band edge: its decisions must be those of ĝ on the full-precision angle and
+ * length (hz_tileorder_ghat_polar on hz_tileorder_angle and hz_tileorder_length_frac), for random motion of
+ * every scale, for motion whose angle lies within a few units of a step of a >> 15 or of a band edge, and for
+ * lengths within a few ulps of a band edge, where stopping early is least safe. */
+static void test_ghat_early_cordic_decides_as_full(void **state)
+{
+    (void)state;
+    static const hz_ghat_rule_t rules[] = { HZ_GHAT_FULL, HZ_GHAT_SHEAR_UP, HZ_GHAT_SHEAR_DOWN };
+    hz_rng_t r;
+    hz_rng_seed(&r, 23, 4);
+    size_t checked = 0, edge = 0;
+    for (int n = 0; n < 600000; n++) {
+        int32_t mx, my;
+        if (n % 4 == 1) {
+            mx = (int32_t)hz_rng_u32(&r) >> (hz_rng_u32(&r) & 31);
+            my = (int32_t)hz_rng_u32(&r) >> (hz_rng_u32(&r) & 31);
+        } else if (n % 4 == 3) {
+            /* a length whose fraction minus the shear lies within a few ulps of 0.25 or 0.75, where the
+             * length's early stop is least safe */
+            double a = (double)(hz_rng_u32(&r) % 1000000u + 1u) / 1000001.0 * (PI / 2.0);
+            hz_q16_t tx = (hz_q16_t)lround(cos(a) * 65536.0 * 64.0), ty = (hz_q16_t)lround(sin(a) * 65536.0 * 64.0);
+            double half_t = (double)(hz_tileorder_angle(tx, ty) >> 15) / 65536.0;
+            double len = (double)(hz_rng_u32(&r) % 2048u) + ((hz_rng_u32(&r) & 1u) ? 0.25 : 0.75) +
+                         ((hz_rng_u32(&r) & 1u) ? half_t : -half_t) +
+                         (double)((int32_t)(hz_rng_u32(&r) % 9u) - 4) / 65536.0;
+            mx = (int32_t)lround(len * cos(a) * 65536.0);
+            my = (int32_t)lround(len * sin(a) * 65536.0);
+            edge++;
+        } else {
+            /* an angle on a 2^15-unit step (or a band edge) of the full-precision angle, nudged by a few
+             * units, at a random length from 1/64 px to 4096 px */
+            uint32_t k = hz_rng_u32(&r) % ((HZ_QANGLE_RIGHT >> 15) + 1u);
+            double units = (double)(k << 15);
+            if ((n & 6) == 2)
+                units = (double)(HZ_QANGLE_DIAG - HZ_QANGLE_GAMMA);
+            else if ((n & 6) == 4)
+                units = (double)(HZ_QANGLE_DIAG + HZ_QANGLE_GAMMA);
+            units += (double)((int32_t)(hz_rng_u32(&r) % 17u) - 8);
+            double a = units / (double)HZ_QANGLE_RIGHT * (PI / 2.0);
+            double len = ldexp(1.0, (int)(hz_rng_u32(&r) % 19u) - 6) * (1.0 + (hz_rng_u32(&r) & 0xffffu) / 65536.0);
+            mx = (int32_t)lround(len * cos(a) * 65536.0);
+            my = (int32_t)lround(len * sin(a) * 65536.0);
+            if (hz_rng_u32(&r) & 1u)
+                mx = -mx;
+            if (hz_rng_u32(&r) & 1u)
+                my = -my;
+            edge++;
+        }
+        if (mx == 0 || my == 0 || mx == INT32_MIN || my == INT32_MIN)
+            continue;
+        hz_q16_t lf = hz_tileorder_length_frac(mx, my);
+        hz_qangle_t a = hz_tileorder_angle(mx, my);
+        uint32_t rnd = hz_rng_u32(&r);
+        /* dominant direction: Eq. 4 or Eq. 5 on the exact comparison of |mx| and |my| */
+        bool band = lf > HZ_Q16_ONE / 4 && lf < 3 * HZ_Q16_ONE / 4;
+        bool horizontal = (mx < 0 ? -(int64_t)mx : mx) >= (my < 0 ? -(int64_t)my : my);
+        if (hz_tileorder_ghat(mx, my, rnd, HZ_GHAT_DOMINANT) != (horizontal == band ? HG : BT))
+            fail_msg("rule dominant, motion (%d, %d) / 65536", mx, my);
+        for (size_t k = 0; k < HZ_ARRAY_LEN(rules); k++) {
+            hz_tilecycle_t want = hz_tileorder_ghat_polar(lf, a, rnd, rules[k]);
+            hz_tilecycle_t got = hz_tileorder_ghat(mx, my, rnd, rules[k]);
+            if (got != want)
+                fail_msg("rule %s, motion (%d, %d) / 65536, angle %u: early %d, full %d", hz_ghat_rule_name(rules[k]),
+                         mx, my, a, (int)got, (int)want);
+            checked++;
+        }
+    }
+    print_message("%zu decisions (%zu near a step or band edge) as on the full angle\n", checked, 3 * edge);
+    assert_true(edge > 400000);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -491,6 +564,7 @@ int main(void)
         cmocka_unit_test(test_ghat_table),
         cmocka_unit_test(test_ghat_boundaries_zero_and_huge),
         cmocka_unit_test(test_ghat_band_edges_and_rules),
+        cmocka_unit_test(test_ghat_early_cordic_decides_as_full),
         cmocka_unit_test(test_random_band_statistics),
         cmocka_unit_test(test_choose_rows_independent),
         cmocka_unit_test(test_schedule_and_jitter),
