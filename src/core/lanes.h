@@ -72,6 +72,8 @@ HZ_INLINE hz_li_t hz_li_sel(hz_li_t m, hz_li_t a, hz_li_t b) { return _mm256_ble
 #define hz_li_shr(a, n) _mm256_srli_epi32((a), (n)) /* logical */
 /* Logical right shift of every lane by the same run-time count (0..31). */
 HZ_INLINE hz_li_t hz_li_shr_by(hz_li_t a, int n) { return _mm256_srl_epi32(a, _mm_cvtsi32_si128(n)); }
+/* Logical right shift of each lane by its own count; counts outside 0..31 (as unsigned) give 0. */
+HZ_INLINE hz_li_t hz_li_shr_lanes(hz_li_t a, hz_li_t n) { return _mm256_srlv_epi32(a, n); }
 HZ_INLINE int hz_li_any(hz_li_t m) { return !_mm256_testz_si256(m, m); }
 /* Bit i set when lane i of the mask is set. */
 HZ_INLINE unsigned hz_li_bits(hz_li_t m) { return (unsigned)_mm256_movemask_ps(_mm256_castsi256_ps(m)); }
@@ -198,6 +200,12 @@ HZ_INLINE hz_li_t hz_li_sel(hz_li_t m, hz_li_t a, hz_li_t b) { return vbslq_s32(
 HZ_INLINE hz_li_t hz_li_shr_by(hz_li_t a, int n)
 {
     return vreinterpretq_s32_u32(vshlq_u32(vreinterpretq_u32_s32(a), vdupq_n_s32(-n)));
+}
+HZ_INLINE hz_li_t hz_li_shr_lanes(hz_li_t a, hz_li_t n)
+{
+    /* USHL by -n shifts right for n in 0..31 (left for negative n: masked off, as are counts >= 32) */
+    uint32x4_t r = vshlq_u32(vreinterpretq_u32_s32(a), vnegq_s32(n));
+    return vreinterpretq_s32_u32(vandq_u32(r, vcltq_u32(vreinterpretq_u32_s32(n), vdupq_n_u32(32))));
 }
 HZ_INLINE int hz_li_any(hz_li_t m) { return vmaxvq_u32(vreinterpretq_u32_s32(m)) != 0; }
 HZ_INLINE unsigned hz_li_bits(hz_li_t m)

@@ -61,9 +61,42 @@ typedef struct tile_row {
     hz_lf_t c[3];
 } tile_row_t;
 
-HZ_INLINE void tile_row_load(const hz_tdense_t *td, const int32_t *lut, size_t first, tile_row_t *r)
+/* This subframe's pixel (0..3) of every ordering: orderings 0..15 in 2-bit fields of word[0], 16..31 (24..31
+ * repeat 0..7, as hz_tileorder_pixel's order % 24 does) in word[1]. */
+typedef struct order_pixels {
+    uint32_t word[2];
+    unsigned subframe;
+} order_pixels_t;
+
+static void order_pixels_init(order_pixels_t *op, unsigned subframe)
 {
-    r->pix = hz_li_gather(lut, hz_li_load_u8(td->orders + first - 1));
+    op->word[0] = op->word[1] = 0;
+    op->subframe = subframe;
+    for (unsigned o = 0; o < 32; o++)
+        op->word[o >> 4] |= (uint32_t)hz_tileorder_pixel(o, subframe) << (2u * (o & 15u));
+}
+
+/* Lane i: the pixel of ordering o_i, by two shifts instead of a table gather (gathers are slow on some cores
+ * and this runs twice for every group of pixels). Orderings of 32 or more never occur (the ĝ writes 0..23)
+ * but are answered as the scalar code answers them. */
+HZ_INLINE hz_li_t order_pixel_lanes(const order_pixels_t *op, hz_li_t o)
+{
+    if (HZ_UNLIKELY(hz_li_any(hz_li_gt(o, hz_li_set(31))))) {
+        int32_t v[HZ_LANES];
+        hz_li_store(v, o);
+        for (int i = 0; i < HZ_LANES; i++)
+            v[i] = (int32_t)hz_tileorder_pixel((unsigned)v[i], op->subframe);
+        return hz_li_load(v);
+    }
+    const hz_li_t sh = hz_li_shl(o, 1);
+    const hz_li_t a = hz_li_shr_lanes(hz_li_set((int32_t)op->word[0]), sh);
+    const hz_li_t b = hz_li_shr_lanes(hz_li_set((int32_t)op->word[1]), hz_li_sub(sh, hz_li_set(32)));
+    return hz_li_and(hz_li_or(a, b), hz_li_set(3));
+}
+
+HZ_INLINE void tile_row_load(const hz_tdense_t *td, const order_pixels_t *lut, size_t first, tile_row_t *r)
+{
+    r->pix = order_pixel_lanes(lut, hz_li_load_u8(td->orders + first - 1));
     for (int k = 0; k < 3; k++)
         r->c[k] = hz_lf_load(td->sub_rgb[k] + first - 1);
 }
@@ -118,7 +151,7 @@ static lrgb_t fetch_bilinear(const uint32_t *prev, uint32_t w, uint32_t h, hz_lf
 }
 
 /* HZ_LANES pixels x0 .. x0 + HZ_LANES - 1 of row y with their 3x3 longest motion m. */
-static void resolve_lanes(hz_tdense_t *td, uint32_t x0, uint32_t y, unsigned subframe, const int32_t *lut,
+static void resolve_lanes(hz_tdense_t *td, uint32_t x0, uint32_t y, unsigned subframe, const order_pixels_t *lut,
                           lmotion_t m, const uint32_t *prev, uint32_t *cur)
 {
     const uint32_t w = td->cfg.width, tw = td->tiles_x;
@@ -235,9 +268,8 @@ void hz_tdense_resolve_row_lanes(hz_tdense_t *td, uint32_t y, unsigned subframe,
     const uint16_t *r0 = td->mv ? td->mv + 2 * (size_t)(y ? y - 1 : 0) * w : NULL;
     const uint16_t *r1 = td->mv ? td->mv + 2 * (size_t)y * w : NULL;
     const uint16_t *r2 = td->mv ? td->mv + 2 * (size_t)(y + 1 < h ? y + 1 : y) * w : NULL;
-    int32_t lut[256]; /* every byte value, so no ordering index can read outside it */
-    for (unsigned o = 0; o < 256; o++)
-        lut[o] = (int32_t)hz_tileorder_pixel(o, subframe);
+    order_pixels_t lut;
+    order_pixels_init(&lut, subframe);
     const uint32_t full = w / L * L;
     static const hz_tdense_motion_t still = { 0.0f, 0.0f, 0.0f };
     /* columns x0 - 1 (the previous group's), x0 .. x0 + L - 1 and x0 + L (the next group's first) */
@@ -258,7 +290,7 @@ void hz_tdense_resolve_row_lanes(hz_tdense_t *td, uint32_t y, unsigned subframe,
         right.x = hz_lf_shift_in_right(col.x, next_col.x);
         right.y = hz_lf_shift_in_right(col.y, next_col.y);
         right.l2 = hz_lf_shift_in_right(col.l2, next_col.l2);
-        resolve_lanes(td, x0, y, subframe, lut, longer(longer(left, col), right), prev, cur);
+        resolve_lanes(td, x0, y, subframe, &lut, longer(longer(left, col), right), prev, cur);
         prev_col = col;
         col = next_col;
     }
