@@ -126,7 +126,9 @@ enum {
 };
 #define HZ_GB_NO_OBJECT 0xffffu
 
-/* Per-pixel attributes (arrays of width * height; NULL where the scene leaves them out). Index y * width + x. */
+/* Per-pixel attributes (arrays of width * height; NULL where the scene or the mode leaves them out). Index
+ * y * width + x. depth, normal and shadow (and normal2, shadow2) exist in the full and adaptive modes only
+ * (hz_render_mode_keeps_surface): TAA and tdense read none of them, so they keep object, flags and motion. */
 typedef struct hz_gbuffer {
     uint32_t width, height;
     float *depth;          /* primary hit distance along the ray (camera to hit), +inf on a miss */
@@ -135,7 +137,7 @@ typedef struct hz_gbuffer {
     uint8_t *shadow;       /* lights not visible from the primary hit */
     uint8_t *flags;        /* HZ_GB_* of the primary hit */
     uint16_t *object2;     /* first secondary (reflected) hit: object; NULL without mirrors */
-    float *normal2;
+    float *normal2;        /* NULL without mirrors, and in TAA and tdense */
     uint8_t *shadow2;
     uint8_t *flags2;
     float *mv;             /* 2 floats: previous minus current position, pixels; NULL when nothing moves */
@@ -180,6 +182,9 @@ hz_status_t hz_render_create(hz_renderer_t **out, hz_scene_t *scene, hz_accel_t 
 /* time_ns: the frame's scene time (hz/scenetime.h). The float variant takes seconds (finite; short runs). */
 hz_status_t hz_render_begin_frame_ns(hz_renderer_t *r, uint64_t frame_index, hz_time_ns_t time_ns, hz_error_t *err);
 hz_status_t hz_render_begin_frame(hz_renderer_t *r, uint64_t frame_index, float time, hz_error_t *err);
+/* Whether a mode's G-buffer holds depth, normal and shadow counts (full and adaptive: adaptive's tests read
+ * them, full keeps them for tools and tests that inspect a reference frame). */
+bool hz_render_mode_keeps_surface(hz_render_mode_t mode);
 uint32_t hz_render_pass_count(const hz_renderer_t *r);
 uint32_t hz_render_pass_items(const hz_renderer_t *r, uint32_t pass);
 void hz_render_pass_run(hz_renderer_t *r, uint32_t pass, uint32_t item, uint32_t thread);

@@ -114,17 +114,23 @@ static size_t frame_bytes(const hz_render_opts_t *o, const needs_t *n, hz_render
     part = &pp.display_bytes;
     if (o->mode != HZ_MODE_TDENSE)
         ADD(px * 12); /* out (tdense displays its own frames) */
+    const bool attrs = hz_render_mode_keeps_surface(o->mode);
     part = &pp.gbuffer_bytes;
-    ADD(px * 4);  /* depth */
-    ADD(px * 2);  /* object */
-    ADD(px * 12); /* normal */
-    ADD(px);      /* shadow */
-    ADD(px);      /* flags */
+    if (attrs)
+        ADD(px * 4);  /* depth */
+    ADD(px * 2);      /* object */
+    if (attrs) {
+        ADD(px * 12); /* normal */
+        ADD(px);      /* shadow */
+    }
+    ADD(px);          /* flags */
     part = &pp.gbuffer2_bytes;
     if (n->mirrors) {
         ADD(px * 2);
-        ADD(px * 12);
-        ADD(px);
+        if (attrs) {
+            ADD(px * 12);
+            ADD(px);
+        }
         ADD(px);
     }
     part = &pp.mv_bytes;
@@ -192,17 +198,22 @@ hz_status_t hz_render_plan(const hz_scene_t *scene, const hz_render_opts_t *opts
 static void gbuffer_clear(hz_gbuffer_t *gb, size_t px)
 {
     for (size_t i = 0; i < px; i++) {
-        gb->depth[i] = __builtin_inff();
+        if (gb->depth)
+            gb->depth[i] = __builtin_inff();
         gb->object[i] = HZ_GB_NO_OBJECT;
         if (gb->object2)
             gb->object2[i] = HZ_GB_NO_OBJECT;
     }
-    hz_memset(gb->normal, 0, px * 12);
-    hz_memset(gb->shadow, 0, px);
+    if (gb->normal) {
+        hz_memset(gb->normal, 0, px * 12);
+        hz_memset(gb->shadow, 0, px);
+    }
     hz_memset(gb->flags, 0, px);
     if (gb->object2) {
-        hz_memset(gb->normal2, 0, px * 12);
-        hz_memset(gb->shadow2, 0, px);
+        if (gb->normal2) {
+            hz_memset(gb->normal2, 0, px * 12);
+            hz_memset(gb->shadow2, 0, px);
+        }
         hz_memset(gb->flags2, 0, px);
     }
 }
@@ -282,15 +293,21 @@ hz_status_t hz_render_create(hz_renderer_t **out, hz_scene_t *scene, hz_accel_t 
         r->out.rgb = take(frame_arena, px * 12, &ok);
     hz_gbuffer_t *gb = &r->gb;
     gb->width = opts->width, gb->height = opts->height;
-    gb->depth = take(frame_arena, px * 4, &ok);
+    const bool attrs = hz_render_mode_keeps_surface(opts->mode);
+    if (attrs)
+        gb->depth = take(frame_arena, px * 4, &ok);
     gb->object = take(frame_arena, px * 2, &ok);
-    gb->normal = take(frame_arena, px * 12, &ok);
-    gb->shadow = take(frame_arena, px, &ok);
+    if (attrs) {
+        gb->normal = take(frame_arena, px * 12, &ok);
+        gb->shadow = take(frame_arena, px, &ok);
+    }
     gb->flags = take(frame_arena, px, &ok);
     if (n.mirrors) {
         gb->object2 = take(frame_arena, px * 2, &ok);
-        gb->normal2 = take(frame_arena, px * 12, &ok);
-        gb->shadow2 = take(frame_arena, px, &ok);
+        if (attrs) {
+            gb->normal2 = take(frame_arena, px * 12, &ok);
+            gb->shadow2 = take(frame_arena, px, &ok);
+        }
         gb->flags2 = take(frame_arena, px, &ok);
     }
     if (n.mv)
@@ -459,6 +476,11 @@ hz_status_t hz_render_begin_frame_ns(hz_renderer_t *r, uint64_t frame_index, hz_
     for (uint32_t t = 0; t < r->thread_count; t++)
         hz_memset(&r->workers_by_thread[t]->stats, 0, sizeof(hz_render_stats_t));
     return HZ_OK;
+}
+
+bool hz_render_mode_keeps_surface(hz_render_mode_t mode)
+{
+    return mode == HZ_MODE_FULL || mode == HZ_MODE_ADAPTIVE;
 }
 
 uint32_t hz_render_pass_count(const hz_renderer_t *r)

@@ -415,10 +415,12 @@ static void shade_miss(hz_worker_t *w, const ray_job_t *j)
     hz_gbuffer_t *gb = &r->gb;
     hz_vec3_t d = hz_v3(j->d[0], j->d[1], j->d[2]);
     if (j->gslot == GSLOT_PRIMARY) {
-        gb->depth[px] = __builtin_inff();
+        if (gb->normal) { /* full and adaptive modes (hz_render_mode_keeps_surface) */
+            gb->depth[px] = __builtin_inff();
+            gb->normal[px * 3] = gb->normal[px * 3 + 1] = gb->normal[px * 3 + 2] = 0.0f;
+            gb->shadow[px] = 0;
+        }
         gb->object[px] = HZ_GB_NO_OBJECT;
-        gb->normal[px * 3] = gb->normal[px * 3 + 1] = gb->normal[px * 3 + 2] = 0.0f;
-        gb->shadow[px] = 0;
         gb->flags[px] = w->alpha_touched[j->slot] ? HZ_GB_ALPHA : 0;
         if (gb->mv) {
             float mv[2];
@@ -429,8 +431,10 @@ static void shade_miss(hz_worker_t *w, const ray_job_t *j)
         }
     } else if (j->gslot == GSLOT_SECONDARY) {
         gb->object2[px] = HZ_GB_NO_OBJECT;
-        gb->normal2[px * 3] = gb->normal2[px * 3 + 1] = gb->normal2[px * 3 + 2] = 0.0f;
-        gb->shadow2[px] = 0;
+        if (gb->normal2) {
+            gb->normal2[px * 3] = gb->normal2[px * 3 + 1] = gb->normal2[px * 3 + 2] = 0.0f;
+            gb->shadow2[px] = 0;
+        }
         gb->flags2[px] = 0;
         /* The virtual image of a ray leaving the scene lies along the primary ray's line: the mirror's
          * reflected background moves like the background. */
@@ -454,10 +458,12 @@ static void shade_hit(hz_worker_t *w, const ray_job_t *j, const hitrec_t *h, con
     float mirror = r->has_mirrors ? m->mirror : 0.0f;
 
     if (j->gslot == GSLOT_PRIMARY) {
-        gb->depth[px] = j->travelled + h->t;
+        if (gb->normal) { /* full and adaptive modes (hz_render_mode_keeps_surface) */
+            gb->depth[px] = j->travelled + h->t;
+            gb->normal[px * 3] = sf.ns.x, gb->normal[px * 3 + 1] = sf.ns.y, gb->normal[px * 3 + 2] = sf.ns.z;
+            gb->shadow[px] = 0;
+        }
         gb->object[px] = sf.object;
-        gb->normal[px * 3] = sf.ns.x, gb->normal[px * 3 + 1] = sf.ns.y, gb->normal[px * 3 + 2] = sf.ns.z;
-        gb->shadow[px] = 0;
         gb->flags[px] = (uint8_t)(HZ_GB_HIT | (sf.textured ? HZ_GB_TEXTURED : 0) | (mirror > 0.0f ? HZ_GB_MIRROR : 0) |
                                   (w->alpha_touched[j->slot] || m->alpha_mode != HZ_ALPHA_OPAQUE ? HZ_GB_ALPHA : 0));
         if (gb->mv) {
@@ -484,8 +490,10 @@ static void shade_hit(hz_worker_t *w, const ray_job_t *j, const hitrec_t *h, con
         }
     } else if (j->gslot == GSLOT_SECONDARY) {
         gb->object2[px] = sf.object;
-        gb->normal2[px * 3] = sf.ns.x, gb->normal2[px * 3 + 1] = sf.ns.y, gb->normal2[px * 3 + 2] = sf.ns.z;
-        gb->shadow2[px] = 0;
+        if (gb->normal2) {
+            gb->normal2[px * 3] = sf.ns.x, gb->normal2[px * 3 + 1] = sf.ns.y, gb->normal2[px * 3 + 2] = sf.ns.z;
+            gb->shadow2[px] = 0;
+        }
         gb->flags2[px] = (uint8_t)(HZ_GB_HIT | (sf.textured ? HZ_GB_TEXTURED : 0) | (mirror > 0.0f ? HZ_GB_MIRROR : 0) |
                                    (m->alpha_mode != HZ_ALPHA_OPAQUE ? HZ_GB_ALPHA : 0));
         if (gb->mv_reflect) {
@@ -585,8 +593,10 @@ static void shade_hit(hz_worker_t *w, const ray_job_t *j, const hitrec_t *h, con
     } else if (j->gslot == GSLOT_PRIMARY && r->gb.object2) {
         /* No reflected hit: the secondary record says so. */
         gb->object2[px] = HZ_GB_NO_OBJECT;
-        gb->normal2[px * 3] = gb->normal2[px * 3 + 1] = gb->normal2[px * 3 + 2] = 0.0f;
-        gb->shadow2[px] = 0;
+        if (gb->normal2) {
+            gb->normal2[px * 3] = gb->normal2[px * 3 + 1] = gb->normal2[px * 3 + 2] = 0.0f;
+            gb->shadow2[px] = 0;
+        }
         gb->flags2[px] = 0;
     }
 }

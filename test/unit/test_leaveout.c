@@ -41,6 +41,12 @@ static void check_static_opaque(const char *file, bool camera_path)
         assert_false(p.transparency);
         /* Motion vectors only for the camera: the primary ones, no reflected ones. */
         assert_int_equal(p.mv_bytes, camera_path ? aligned((size_t)w * h * 8) : 0);
+        /* TAA and tdense read only object ids and flags of the G-buffer: no depth, normal or shadow counts. */
+        const size_t px = (size_t)w * h;
+        if (m == HZ_MODE_TAA || m == HZ_MODE_TDENSE)
+            assert_int_equal(p.gbuffer_bytes, aligned(px * 2) + aligned(px));
+        else
+            assert_int_equal(p.gbuffer_bytes, aligned(px * 4) + aligned(px * 2) + aligned(px * 12) + 2 * aligned(px));
         assert_int_equal(p.display_bytes + p.gbuffer_bytes + p.gbuffer2_bytes + p.mv_bytes + p.state_bytes,
                          p.frame_bytes);
     }
@@ -84,6 +90,11 @@ static void test_still_dragon(void **state)
             fail_msg("mode %s: the renderer took %zu bytes, the plan says %zu", hz_render_mode_name(o.mode),
                      f.pools->frame.used - before, p.frame_bytes);
         const hz_gbuffer_t *gb = hz_render_gbuffer(f.r);
+        const bool attrs = m == HZ_MODE_FULL || m == HZ_MODE_ADAPTIVE;
+        assert_true(hz_render_mode_keeps_surface(o.mode) == attrs);
+        assert_true((gb->depth != NULL) == attrs && (gb->normal != NULL) == attrs && (gb->shadow != NULL) == attrs);
+        assert_non_null(gb->object);
+        assert_non_null(gb->flags);
         assert_null(gb->mv);
         assert_null(gb->mv_reflect);
         assert_null(gb->object2);
