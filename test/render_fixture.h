@@ -67,6 +67,18 @@ static hz_status_t rfix_open(rfix_t *f, const char *scene, hz_accel_backend_t ba
     return s;
 }
 
+/* rfix_open with the native accel on "builtin" or on a file of $HZ_SCENES_DIR (HZ_E_INVALID_ARG when the
+ * variable is unset: make test sets it). */
+HZ_UNUSED_FN static hz_status_t rfix_open_named(rfix_t *f, const char *name, hz_error_t *err)
+{
+    char buf[512];
+    const char *scene = strcmp(name, "builtin") ? rfix_scene_path(name, buf, sizeof buf) : "builtin";
+    if (!scene)
+        return hz_error_set(err, HZ_E_INVALID_ARG, "HZ_SCENES_DIR is not set (make test sets it): %s is needed",
+                            name);
+    return rfix_open(f, scene, HZ_ACCEL_NATIVE, err);
+}
+
 HZ_UNUSED_FN static hz_status_t rfix_renderer(rfix_t *f, const hz_render_opts_t *o, int threads, hz_error_t *err)
 {
     hz_arena_reset(&f->pools->frame, f->frame_mark);

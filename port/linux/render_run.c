@@ -51,14 +51,6 @@ typedef struct overlap_job {
 
 static uint32_t overlap_rows_left[OVERLAP_MAX_ROWS];
 
-static void cpu_relax(void)
-{
-#if defined(__x86_64__) || defined(__i386__)
-    __builtin_ia32_pause();
-#elif defined(__aarch64__)
-    __asm__ __volatile__("yield");
-#endif
-}
 
 static bool unit_ready(const overlap_job_t *j, uint32_t u)
 {
@@ -112,7 +104,7 @@ static void overlap_loop(void *user, uint32_t item, int thread)
         /* Only units are left and the next one waits for trace items still running elsewhere: spin briefly,
          * then give the CPU away (on a loaded machine the thread we wait for may need it). */
         if (++spins < 64)
-            cpu_relax();
+            hz_threads_relax();
         else
             sched_yield();
     }

@@ -27,14 +27,6 @@ static unsigned generation;   /* atomic; odd values never used: just a counter *
 static int workers_busy;      /* atomic: workers that have not finished the current run */
 static int quitting;
 
-static void cpu_relax(void)
-{
-#if defined(__x86_64__) || defined(__i386__)
-    __builtin_ia32_pause();
-#elif defined(__aarch64__)
-    __asm__ __volatile__("yield");
-#endif
-}
 
 static void take_items(int thread)
 {
@@ -53,7 +45,7 @@ static void *worker_main(void *arg)
     for (;;) {
         unsigned g = __atomic_load_n(&generation, __ATOMIC_ACQUIRE);
         for (int spin = 0; g == seen && spin < SPIN_ROUNDS; spin++) {
-            cpu_relax();
+            hz_threads_relax();
             g = __atomic_load_n(&generation, __ATOMIC_ACQUIRE);
         }
         if (g == seen) {
@@ -121,7 +113,7 @@ void hz_threads_run(hz_threads_fn fn, void *user, uint32_t items)
     pthread_mutex_unlock(&lock);
     take_items(0);
     for (int spin = 0; __atomic_load_n(&workers_busy, __ATOMIC_ACQUIRE) != 0 && spin < SPIN_ROUNDS; spin++)
-        cpu_relax();
+        hz_threads_relax();
     if (__atomic_load_n(&workers_busy, __ATOMIC_ACQUIRE) != 0) {
         pthread_mutex_lock(&lock);
         while (__atomic_load_n(&workers_busy, __ATOMIC_ACQUIRE) != 0)

@@ -29,6 +29,16 @@
 
 typedef void (*hz_threads_fn)(void *user, uint32_t item, int thread);
 
+/* One spin-wait step (the CPU's pause/yield hint), for loops that wait on another thread's atomic. */
+static inline void hz_threads_relax(void)
+{
+#if defined(__x86_64__) || defined(__i386__)
+    __builtin_ia32_pause();
+#elif defined(__aarch64__)
+    __asm__ __volatile__("yield");
+#endif
+}
+
 hz_status_t hz_threads_start(int n, hz_error_t *err);
 void hz_threads_run(hz_threads_fn fn, void *user, uint32_t items);
 int hz_threads_count(void);

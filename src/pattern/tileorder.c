@@ -175,7 +175,8 @@ static hz_qangle_t cordic_angle(uint32_t ax, uint32_t ay, bool early)
     return angle_of_z(z);
 }
 
-hz_qangle_t hz_tileorder_angle(hz_q16_t mx, hz_q16_t my)
+/* hz_tileorder_angle; with `early`, an angle ĝ treats the same (see cordic_angle). */
+static hz_qangle_t angle_of(hz_q16_t mx, hz_q16_t my, bool early)
 {
     uint32_t ax = uabs32(mx), ay = uabs32(my);
     if (ay == 0)
@@ -184,20 +185,12 @@ hz_qangle_t hz_tileorder_angle(hz_q16_t mx, hz_q16_t my)
         return HZ_QANGLE_RIGHT;
     if (ax == ay)
         return HZ_QANGLE_DIAG;
-    return cordic_angle(ax, ay, false);
+    return cordic_angle(ax, ay, early);
 }
 
-/* hz_tileorder_angle, or an angle ĝ treats the same (see cordic_angle). */
-static hz_qangle_t ghat_angle(hz_q16_t mx, hz_q16_t my)
+hz_qangle_t hz_tileorder_angle(hz_q16_t mx, hz_q16_t my)
 {
-    uint32_t ax = uabs32(mx), ay = uabs32(my);
-    if (ay == 0)
-        return 0;
-    if (ax == 0)
-        return HZ_QANGLE_RIGHT;
-    if (ax == ay)
-        return HZ_QANGLE_DIAG;
-    return cordic_angle(ax, ay, true);
+    return angle_of(mx, my, false);
 }
 
 /* floor(sqrt(x)), exact: hz_isqrt_u64's digit-by-digit method, started at the highest non-zero base-4 digit
@@ -351,7 +344,7 @@ hz_tilecycle_t hz_tileorder_ghat(hz_q16_t mx, hz_q16_t my, uint32_t rnd, hz_ghat
         const bool band = len_in_band((uint64_t)ax * ax + (uint64_t)ay * ay, 0u);
         return (ax >= ay) == band ? HZ_TILECYCLE_HOURGLASS : HZ_TILECYCLE_BOWTIE;
     }
-    return ghat_off_axis(ax, ay, ghat_angle(mx, my), rnd, rule);
+    return ghat_off_axis(ax, ay, angle_of(mx, my, true), rnd, rule);
 }
 
 uint32_t hz_tileorder_tile_random(uint32_t tx, uint32_t ty, uint32_t cycle, uint32_t seed)

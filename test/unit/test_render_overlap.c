@@ -42,15 +42,9 @@ static void keep(frame_state_t *st, const rfix_t *f)
 /* Renders FRAMES frames from t = 0.5 s at 60 Hz; serial: the reference (kept), else compared with it. */
 static void render(const run_t *run, bool serial, int threads)
 {
-    char buf[512];
-    const char *scene = strcmp(run->scene, "builtin") ? rfix_scene_path(run->scene, buf, sizeof buf) : "builtin";
-    if (!scene) {
-        fail_msg("HZ_SCENES_DIR is not set (make test sets it): %s is needed", run->scene);
-        return;
-    }
     rfix_t f;
     hz_error_t err;
-    if (rfix_open(&f, scene, HZ_ACCEL_NATIVE, &err) != HZ_OK)
+    if (rfix_open_named(&f, run->scene, &err) != HZ_OK)
         fail_msg("%s: %s", run->scene, err.msg);
     hz_render_opts_t o;
     hz_render_opts_default(&o);
