@@ -661,10 +661,10 @@ HZ_INLINE unsigned fr_node_hit(const hz_bvh_node_t *n, const frustum_t *f, __m25
     return (unsigned)_mm256_movemask_ps(_mm256_cmp_ps(tmin, tmax, _CMP_LE_OQ));
 }
 
-/* One triangle (block slot s) against the packet's lanes: lanes with a watertight hit at t in [tnear, tfar]
- * (see woop8). */
-HZ_INLINE unsigned fr_tri_hit(const hz_bvh_block_t *b, unsigned s, const frustum_t *f, __m256 tfar, __m256 *t_out,
-                              __m256 *v_out, __m256 *w_out, __m256 *det_out)
+/* One triangle (block slot s) against the packet's lanes `lm`: lanes with a watertight hit at t in [tnear, tfar]
+ * (see woop8; the plane distance is computed only when a lane of lm passes the edge tests). */
+HZ_INLINE unsigned fr_tri_hit(const hz_bvh_block_t *b, unsigned s, const frustum_t *f, __m256 tfar, unsigned lm,
+                              __m256 *t_out, __m256 *v_out, __m256 *w_out, __m256 *det_out)
 {
     return woop8(_mm256_sub_ps(_mm256_set1_ps(b->v[0][f->kx][s]), f->okx),
                  _mm256_sub_ps(_mm256_set1_ps(b->v[0][f->ky][s]), f->oky),
@@ -675,7 +675,7 @@ HZ_INLINE unsigned fr_tri_hit(const hz_bvh_block_t *b, unsigned s, const frustum
                  _mm256_sub_ps(_mm256_set1_ps(b->v[2][f->kx][s]), f->okx),
                  _mm256_sub_ps(_mm256_set1_ps(b->v[2][f->ky][s]), f->oky),
                  _mm256_sub_ps(_mm256_set1_ps(b->v[2][f->kz][s]), f->okz), f->sx, f->sy, f->sz, f->ltnear, tfar,
-                 0xffu, t_out, v_out, w_out, det_out);
+                 lm, t_out, v_out, w_out, det_out);
 }
 
 /* Lanes whose own ray meets child j of node n within [tnear, cull[lane]] (the lane's slab test, the signs shared
@@ -758,7 +758,7 @@ static void frustum_closest(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const frus
                 HZ_BVH_COUNT(k, tris, (uint64_t)cnt * (uint64_t)__builtin_popcount(lanes));
                 for (unsigned s = slot % W; s < slot % W + cnt; s++) {
                     __m256 t, V, Wv, det;
-                    unsigned mm = fr_tri_hit(b, s, f, tfar, &t, &V, &Wv, &det) & lanes;
+                    unsigned mm = fr_tri_hit(b, s, f, tfar, lanes, &t, &V, &Wv, &det);
                     if (!mm)
                         continue;
                     const uint32_t pw = b->prim[s], prim = pw & HZ_BVH_PRIM_MASK, hs = (slot / W) * W + s;
@@ -909,7 +909,7 @@ static unsigned frustum_any(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const frus
                 HZ_BVH_COUNT(k, tris, (uint64_t)cnt * (uint64_t)__builtin_popcount(lanes));
                 for (unsigned s = slot % W; s < slot % W + cnt && lanes; s++) {
                     __m256 t, V, Wv, det;
-                    unsigned mm = fr_tri_hit(b, s, f, tfar, &t, &V, &Wv, &det) & lanes;
+                    unsigned mm = fr_tri_hit(b, s, f, tfar, lanes, &t, &V, &Wv, &det);
                     if (!mm)
                         continue;
                     const uint32_t pw = b->prim[s], hs = (slot / W) * W + s;

@@ -454,14 +454,15 @@ HZ_INLINE unsigned fr_lanes_hit(const hz_bvh_node_t *n, unsigned j, const frustu
     return movemask(vcleq_f32(tmin, tmax));
 }
 
-/* One triangle against the packet's lanes. */
-HZ_INLINE unsigned fr_tri_hit(const hz_bvh_block_t *b, unsigned s, const frustum_t *f, float32x4_t tfar,
+/* One triangle against the packet's lanes `lm`. */
+HZ_INLINE unsigned fr_tri_hit(const hz_bvh_block_t *b, unsigned s, const frustum_t *f, float32x4_t tfar, unsigned lm,
                               float32x4_t *t, float32x4_t *v, float32x4_t *w, float32x4_t *det)
 {
 #define VB(vtx, k) vsubq_f32(vdupq_n_f32(b->v[vtx][f->k][s]), f->o##k)
     unsigned m = woop4(VB(0, kx), VB(0, ky), VB(0, kz), VB(1, kx), VB(1, ky), VB(1, kz), VB(2, kx), VB(2, ky),
                        VB(2, kz), f->sx, f->sy, f->sz, t, v, w, det);
 #undef VB
+    m &= lm;
     if (!m)
         return 0;
     return m & movemask(vandq_u32(vcgeq_f32(*t, f->ltnear), vcleq_f32(*t, tfar)));
@@ -516,7 +517,7 @@ static void frustum_closest(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, packet_t *
             HZ_BVH_COUNT(k, tris, (uint64_t)cnt * (uint64_t)__builtin_popcount(lanes));
             for (unsigned s = slot % W; s < slot % W + cnt; s++) {
                 float32x4_t t, V, Wv, det;
-                unsigned mm = fr_tri_hit(b, s, f, tfar, &t, &V, &Wv, &det) & lanes;
+                unsigned mm = fr_tri_hit(b, s, f, tfar, lanes, &t, &V, &Wv, &det);
                 if (!mm)
                     continue;
                 const uint32_t pw = b->prim[s], prim = pw & HZ_BVH_PRIM_MASK, hs = (slot / W) * W + s;
@@ -605,7 +606,7 @@ static unsigned frustum_any(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, packet_t *
                 HZ_BVH_COUNT(k, tris, (uint64_t)cnt * (uint64_t)__builtin_popcount(lanes));
                 for (unsigned s = slot % W; s < slot % W + cnt && lanes; s++) {
                     float32x4_t t, V, Wv, det;
-                    unsigned mm = fr_tri_hit(b, s, f, tfar, &t, &V, &Wv, &det) & lanes;
+                    unsigned mm = fr_tri_hit(b, s, f, tfar, lanes, &t, &V, &Wv, &det);
                     if (!mm)
                         continue;
                     if (anyhit && (b->prim[s] & HZ_BVH_PRIM_ANYHIT)) {
