@@ -661,10 +661,10 @@ HZ_INLINE unsigned fr_node_hit(const hz_bvh_node_t *n, const frustum_t *f, __m25
     return (unsigned)_mm256_movemask_ps(_mm256_cmp_ps(tmin, tmax, _CMP_LE_OQ));
 }
 
-/* One triangle (block slot s) against the packet's lanes: lanes with a watertight hit at t in [tnear, tfar]
- * (see woop8). */
-HZ_INLINE unsigned fr_tri_hit(const hz_bvh_block_t *b, unsigned s, const frustum_t *f, __m256 tfar, __m256 *t_out,
-                              __m256 *v_out, __m256 *w_out, __m256 *det_out)
+/* One triangle (block slot s) against the packet's lanes `lm`: lanes with a watertight hit at t in [tnear, tfar]
+ * (see woop8; the plane distance is computed only when a lane of lm passes the edge tests). */
+HZ_INLINE unsigned fr_tri_hit(const hz_bvh_block_t *b, unsigned s, const frustum_t *f, __m256 tfar, unsigned lm,
+                              __m256 *t_out, __m256 *v_out, __m256 *w_out, __m256 *det_out)
 {
     return woop8(_mm256_sub_ps(_mm256_set1_ps(b->v[0][f->kx][s]), f->okx),
                  _mm256_sub_ps(_mm256_set1_ps(b->v[0][f->ky][s]), f->oky),
@@ -675,7 +675,7 @@ HZ_INLINE unsigned fr_tri_hit(const hz_bvh_block_t *b, unsigned s, const frustum
                  _mm256_sub_ps(_mm256_set1_ps(b->v[2][f->kx][s]), f->okx),
                  _mm256_sub_ps(_mm256_set1_ps(b->v[2][f->ky][s]), f->oky),
                  _mm256_sub_ps(_mm256_set1_ps(b->v[2][f->kz][s]), f->okz), f->sx, f->sy, f->sz, f->ltnear, tfar,
-                 0xffu, t_out, v_out, w_out, det_out);
+                 lm, t_out, v_out, w_out, det_out);
 }
 
 /* Lanes whose own ray meets child j of node n within [tnear, cull[lane]] (the lane's slab test, the signs shared
@@ -758,7 +758,7 @@ static void frustum_closest(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const frus
                 HZ_BVH_COUNT(k, tris, (uint64_t)cnt * (uint64_t)__builtin_popcount(lanes));
                 for (unsigned s = slot % W; s < slot % W + cnt; s++) {
                     __m256 t, V, Wv, det;
-                    unsigned mm = fr_tri_hit(b, s, f, tfar, &t, &V, &Wv, &det) & lanes;
+                    unsigned mm = fr_tri_hit(b, s, f, tfar, lanes, &t, &V, &Wv, &det);
                     if (!mm)
                         continue;
                     const uint32_t pw = b->prim[s], prim = pw & HZ_BVH_PRIM_MASK, hs = (slot / W) * W + s;
@@ -850,93 +850,113 @@ done:;
     _mm256_maskstore_epi32((int *)(void *)rh->hit.inst_id[0], hitm, _mm256_set1_epi32(-1));
 }
 
-/* Frustum traversal, occlusion: lanes drop out as they find a hit; children in any order. */
-/* Frustum traversal, occlusion: lanes drop out as they find a hit; children in any order. The packet's bounds
- * are those of its live lanes: when lanes drop out they are recomputed (shadow rays in architecture: the
- * lanes still unoccluded travel furthest), and a last live lane finishes as a single ray. */
+/* Frustum traversal, occlusion: lanes drop out as they find a hit; children in any order. The frustum test of a
+ * node's eight boxes (one test for the packet, loose where origins spread: shadow rays start on a surface) only
+ * preselects: each child it passes gets the lanes' own slab tests, and goes on with the lanes that meet it, so
+ * the packet visits about the union of its rays' nodes (on Lost Empire's shadow rays the frustum alone passed
+ * some 45 times as many leaf boxes as any lane met). A subtree that one lane reaches goes on as that single
+ * ray. The packet's bounds are those of its live lanes: when lanes drop out they are recomputed (shadow rays
+ * in architecture: the lanes still unoccluded travel furthest). */
 static unsigned frustum_any(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const frustum_t *f0, const hz_ray8_t *ray,
                             hz_bvh_counters_t *k)
 {
-    uint32_t stack[HZ_BVH_STACK + W];
+    uint32_t st_c[HZ_BVH_STACK + W];
+    unsigned st_m[HZ_BVH_STACK + W];
     int sp = 0;
     uint32_t cur = 0;
     const bool anyhit = bvh->has_anyhit && ctx && ctx->anyhit;
     frustum_t fl;
     const frustum_t *f = f0;
     __m256 tfar = f->ltfar;
-    __m256 vtfar_max = _mm256_set1_ps(hmax8(tfar) * HZ_BVH_CULL); /* for culling nodes (see bvh.h) */
-    unsigned live = f->active;
+    __m256 cull = _mm256_mul_ps(tfar, _mm256_set1_ps(HZ_BVH_CULL)); /* per lane, for culling (see bvh.h) */
+    __m256 vtfar_max = _mm256_set1_ps(hmax8(tfar) * HZ_BVH_CULL);
+    unsigned live = f->active, cm = live; /* cm: the live lanes that reach cur */
+    int single_lane = -1;                 /* the lane prepared in r1 / s1 */
+    hz_bvh_ray_t r1;
+    sray_t s1;
     for (;;) {
-        /* cur is an inner node: leaf children are tested at once against the live lanes that reach them */
-        const hz_bvh_node_t *n = &bvh->nodes[cur];
-        __m256 tmin;
-        HZ_BVH_COUNT(k, nodes, 1);
-        unsigned m = fr_node_hit(n, f, vtfar_max, &tmin);
-        const unsigned leafbits =
-            (unsigned)_mm256_movemask_ps(_mm256_load_ps((const float *)(const void *)n->child)) & m;
-        bool changed = false;
-        for (unsigned lb = leafbits; lb && live; lb &= lb - 1) {
-            const unsigned j = (unsigned)__builtin_ctz(lb);
-            unsigned lanes = fr_lanes_hit(n, j, f, _mm256_mul_ps(tfar, _mm256_set1_ps(HZ_BVH_CULL))) & live;
-            if (!lanes)
-                continue;
-            const uint32_t cw = n->child[j], slot = hz_bvh_leaf_slot(cw), cnt = hz_bvh_leaf_count(cw);
-            const hz_bvh_block_t *b = &bvh->blocks[slot / W];
-            HZ_BVH_COUNT(k, tris, (uint64_t)cnt * (uint64_t)__builtin_popcount(lanes));
-            for (unsigned s = slot % W; s < slot % W + cnt && lanes; s++) {
-                __m256 t, V, Wv, det;
-                unsigned mm = fr_tri_hit(b, s, f, tfar, &t, &V, &Wv, &det) & lanes;
-                if (!mm)
+        unsigned done = 0;
+        if ((cm & (cm - 1)) == 0) {
+            /* one lane reaches this subtree: it goes on alone, with its own box tests */
+            const unsigned i = (unsigned)__builtin_ctz(cm);
+            if ((int)i != single_lane) {
+                hz_bvh_ray_prep(&r1, ray->org_x[i], ray->org_y[i], ray->org_z[i], ray->dir_x[i], ray->dir_y[i],
+                                ray->dir_z[i], ray->tnear[i], ray->tfar[i]);
+                sray_init(&s1, &r1);
+                single_lane = (int)i;
+            }
+            if (any_from(bvh, ctx, &r1, &s1, cur, ray->id[i], (int)i, k))
+                done = cm;
+        } else {
+            const hz_bvh_node_t *n = &bvh->nodes[cur];
+            __m256 tmin;
+            HZ_BVH_COUNT(k, nodes, 1);
+            const unsigned m = fr_node_hit(n, f, vtfar_max, &tmin);
+            for (unsigned cb = m; cb; cb &= cb - 1) {
+                const unsigned j = (unsigned)__builtin_ctz(cb);
+                unsigned lanes = fr_lanes_hit(n, j, f, cull) & cm & ~done;
+                if (!lanes)
                     continue;
-                const uint32_t pw = b->prim[s], hs = (slot / W) * W + s;
-                if (anyhit && (pw & HZ_BVH_PRIM_ANYHIT)) {
-                    float tv[W] HZ_ALIGNED(32);
-                    _mm256_store_ps(tv, t);
-                    for (unsigned x = mm; x; x &= x - 1) {
-                        unsigned i = (unsigned)__builtin_ctz(x);
-                        if (!fr_anyhit(bvh, ctx, hs, ray, i, tv[i]))
-                            mm &= ~(1u << i);
+                const uint32_t cw = n->child[j];
+                if (!hz_bvh_is_leaf(cw)) {
+                    st_c[sp] = cw;
+                    st_m[sp] = lanes;
+                    sp++;
+                    continue;
+                }
+                const uint32_t slot = hz_bvh_leaf_slot(cw), cnt = hz_bvh_leaf_count(cw);
+                const hz_bvh_block_t *b = &bvh->blocks[slot / W];
+                HZ_BVH_COUNT(k, tris, (uint64_t)cnt * (uint64_t)__builtin_popcount(lanes));
+                for (unsigned s = slot % W; s < slot % W + cnt && lanes; s++) {
+                    __m256 t, V, Wv, det;
+                    unsigned mm = fr_tri_hit(b, s, f, tfar, lanes, &t, &V, &Wv, &det);
+                    if (!mm)
+                        continue;
+                    const uint32_t pw = b->prim[s], hs = (slot / W) * W + s;
+                    if (anyhit && (pw & HZ_BVH_PRIM_ANYHIT)) {
+                        float tv[W] HZ_ALIGNED(32);
+                        _mm256_store_ps(tv, t);
+                        for (unsigned x = mm; x; x &= x - 1) {
+                            unsigned i = (unsigned)__builtin_ctz(x);
+                            if (!fr_anyhit(bvh, ctx, hs, ray, i, tv[i]))
+                                mm &= ~(1u << i);
+                        }
                     }
-                }
-                if (mm) {
-                    live &= ~mm;
+                    done |= mm;
                     lanes &= ~mm;
-                    tfar = _mm256_blendv_ps(tfar, _mm256_set1_ps(-__builtin_inff()), lanes_of(mm));
-                    changed = true;
                 }
+                if (done == cm)
+                    break;
             }
         }
-        if (!live)
-            break;
-        for (unsigned in = m & ~leafbits; in; in &= in - 1)
-            stack[sp++] = n->child[__builtin_ctz(in)];
-        if (changed) {
-            if (__builtin_popcount(live) == 1) {
-                /* the last live lane goes on alone through what is left on the stack */
-                const unsigned i = (unsigned)__builtin_ctz(live);
-                hz_bvh_ray_t r;
-                sray_t sr;
-                hz_bvh_ray_prep(&r, ray->org_x[i], ray->org_y[i], ray->org_z[i], ray->dir_x[i], ray->dir_y[i],
-                                ray->dir_z[i], ray->tnear[i], ray->tfar[i]);
-                sray_init(&sr, &r);
-                while (sp > 0 && live)
-                    if (any_from(bvh, ctx, &r, &sr, stack[--sp], ray->id[i], (int)i, k))
-                        live = 0;
+        if (done) {
+            live &= ~done;
+            if (!live)
                 break;
+            tfar = _mm256_blendv_ps(tfar, _mm256_set1_ps(-__builtin_inff()), lanes_of(done));
+            cull = _mm256_mul_ps(tfar, _mm256_set1_ps(HZ_BVH_CULL));
+            if (live & (live - 1)) {
+                if (f != &fl) {
+                    fl = *f0;
+                    f = &fl;
+                }
+                fl.active = live;
+                frustum_bounds(&fl, lanes_of(live), fl.ltnear);
             }
-            if (f != &fl) {
-                fl = *f0;
-                f = &fl;
-            }
-            fl.active = live;
-            frustum_bounds(&fl, lanes_of(live), fl.ltnear);
             vtfar_max = _mm256_set1_ps(hmax8(tfar) * HZ_BVH_CULL);
         }
-        if (sp == 0)
-            break;
-        cur = stack[--sp];
+        for (;;) {
+            if (sp == 0)
+                return f0->active & ~live;
+            --sp;
+            cm = st_m[sp] & live;
+            if (cm) {
+                cur = st_c[sp];
+                break;
+            }
+        }
     }
-    return f0->active & ~live;
+    return f0->active;
 }
 
 /* Masked packet, closest hit: per-lane box tests, lane masks on the stack, single rays once few lanes remain. */

@@ -454,14 +454,15 @@ HZ_INLINE unsigned fr_lanes_hit(const hz_bvh_node_t *n, unsigned j, const frustu
     return movemask(vcleq_f32(tmin, tmax));
 }
 
-/* One triangle against the packet's lanes. */
-HZ_INLINE unsigned fr_tri_hit(const hz_bvh_block_t *b, unsigned s, const frustum_t *f, float32x4_t tfar,
+/* One triangle against the packet's lanes `lm`. */
+HZ_INLINE unsigned fr_tri_hit(const hz_bvh_block_t *b, unsigned s, const frustum_t *f, float32x4_t tfar, unsigned lm,
                               float32x4_t *t, float32x4_t *v, float32x4_t *w, float32x4_t *det)
 {
 #define VB(vtx, k) vsubq_f32(vdupq_n_f32(b->v[vtx][f->k][s]), f->o##k)
     unsigned m = woop4(VB(0, kx), VB(0, ky), VB(0, kz), VB(1, kx), VB(1, ky), VB(1, kz), VB(2, kx), VB(2, ky),
                        VB(2, kz), f->sx, f->sy, f->sz, t, v, w, det);
 #undef VB
+    m &= lm;
     if (!m)
         return 0;
     return m & movemask(vandq_u32(vcgeq_f32(*t, f->ltnear), vcleq_f32(*t, tfar)));
@@ -516,7 +517,7 @@ static void frustum_closest(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, packet_t *
             HZ_BVH_COUNT(k, tris, (uint64_t)cnt * (uint64_t)__builtin_popcount(lanes));
             for (unsigned s = slot % W; s < slot % W + cnt; s++) {
                 float32x4_t t, V, Wv, det;
-                unsigned mm = fr_tri_hit(b, s, f, tfar, &t, &V, &Wv, &det) & lanes;
+                unsigned mm = fr_tri_hit(b, s, f, tfar, lanes, &t, &V, &Wv, &det);
                 if (!mm)
                     continue;
                 const uint32_t pw = b->prim[s], prim = pw & HZ_BVH_PRIM_MASK, hs = (slot / W) * W + s;
@@ -556,11 +557,14 @@ static void frustum_closest(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, packet_t *
     }
 }
 
-/* Occlusion: lanes drop out as they find a hit; the bounds follow the live lanes (recomputed when lanes drop
- * out) and a last live lane finishes as a single ray. */
+/* Occlusion: lanes drop out as they find a hit. As on AVX2, the frustum test of a node's boxes only preselects:
+ * each child it passes gets the lanes' own slab tests and goes on with the lanes that meet it (lane masks on
+ * the stack), and a subtree that one lane reaches goes on as that single ray. The bounds follow the live lanes
+ * (recomputed when lanes drop out). */
 static unsigned frustum_any(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, packet_t *p, const frustum_t *f0, hz_bvh_counters_t *k)
 {
-    uint32_t stack[HZ_BVH_STACK + W];
+    uint32_t st_c[HZ_BVH_STACK + W];
+    unsigned st_m[HZ_BVH_STACK + W];
     int sp = 0;
     uint32_t cur = 0;
     const bool anyhit = bvh->has_anyhit && ctx && ctx->anyhit;
@@ -569,67 +573,82 @@ static unsigned frustum_any(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, packet_t *
     float tfa[W];
     lanes_tfar(p, tfa);
     float32x4_t tfar = vld1q_f32(tfa);
-    unsigned live = p->active;
+    float32x4_t cull = vmulq_f32(tfar, vdupq_n_f32(HZ_BVH_CULL));
+    float32x4_t vcull_max = vdupq_n_f32(vmaxvq_f32(tfar) * HZ_BVH_CULL);
+    unsigned live = p->active, cm = live; /* cm: the live lanes that reach cur */
     for (;;) {
-        const hz_bvh_node_t *n = &bvh->nodes[cur];
-        float32x4_t tmin;
-        HZ_BVH_COUNT(k, nodes, 1);
-        unsigned m = fr_node_hit(n, f, vdupq_n_f32(vmaxvq_f32(tfar) * HZ_BVH_CULL), &tmin);
-        bool changed = false;
-        for (int j = 0; j < W && live; j++) {
-            if (!((m >> j) & 1u) || !hz_bvh_is_leaf(n->child[j]))
-                continue;
-            m &= ~(1u << j);
-            unsigned lanes = fr_lanes_hit(n, (unsigned)j, f, vmulq_f32(tfar, vdupq_n_f32(HZ_BVH_CULL))) & live;
-            const uint32_t cw = n->child[j], slot = hz_bvh_leaf_slot(cw), cnt = hz_bvh_leaf_count(cw);
-            const hz_bvh_block_t *b = &bvh->blocks[slot / W];
-            HZ_BVH_COUNT(k, tris, (uint64_t)cnt * (uint64_t)__builtin_popcount(lanes));
-            for (unsigned s = slot % W; s < slot % W + cnt && lanes; s++) {
-                float32x4_t t, V, Wv, det;
-                unsigned mm = fr_tri_hit(b, s, f, tfar, &t, &V, &Wv, &det) & lanes;
-                if (!mm)
+        unsigned done = 0;
+        if ((cm & (cm - 1)) == 0) {
+            const unsigned i = (unsigned)__builtin_ctz(cm);
+            sray_t sr;
+            sray_init(&sr, &p->r[i]);
+            if (any_from_node(bvh, ctx, &p->r[i], &sr, cur, p->id[i], (int)i, k))
+                done = cm;
+        } else {
+            const hz_bvh_node_t *n = &bvh->nodes[cur];
+            float32x4_t tmin;
+            HZ_BVH_COUNT(k, nodes, 1);
+            const unsigned m = fr_node_hit(n, f, vcull_max, &tmin);
+            for (unsigned cb = m; cb; cb &= cb - 1) {
+                const unsigned j = (unsigned)__builtin_ctz(cb);
+                unsigned lanes = fr_lanes_hit(n, j, f, cull) & cm & ~done;
+                if (!lanes)
                     continue;
-                if (anyhit && (b->prim[s] & HZ_BVH_PRIM_ANYHIT)) {
-                    float tv[W];
-                    vst1q_f32(tv, t);
-                    for (unsigned x = mm; x; x &= x - 1) {
-                        unsigned i = (unsigned)__builtin_ctz(x);
-                        if (!hz_bvh_anyhit(bvh, ctx, (slot / W) * W + s, &p->r[i], tv[i], p->id[i], (int)i))
-                            mm &= ~(1u << i);
+                const uint32_t cw = n->child[j];
+                if (!hz_bvh_is_leaf(cw)) {
+                    st_c[sp] = cw;
+                    st_m[sp] = lanes;
+                    sp++;
+                    continue;
+                }
+                const uint32_t slot = hz_bvh_leaf_slot(cw), cnt = hz_bvh_leaf_count(cw);
+                const hz_bvh_block_t *b = &bvh->blocks[slot / W];
+                HZ_BVH_COUNT(k, tris, (uint64_t)cnt * (uint64_t)__builtin_popcount(lanes));
+                for (unsigned s = slot % W; s < slot % W + cnt && lanes; s++) {
+                    float32x4_t t, V, Wv, det;
+                    unsigned mm = fr_tri_hit(b, s, f, tfar, lanes, &t, &V, &Wv, &det);
+                    if (!mm)
+                        continue;
+                    if (anyhit && (b->prim[s] & HZ_BVH_PRIM_ANYHIT)) {
+                        float tv[W];
+                        vst1q_f32(tv, t);
+                        for (unsigned x = mm; x; x &= x - 1) {
+                            unsigned i = (unsigned)__builtin_ctz(x);
+                            if (!hz_bvh_anyhit(bvh, ctx, (slot / W) * W + s, &p->r[i], tv[i], p->id[i], (int)i))
+                                mm &= ~(1u << i);
+                        }
                     }
+                    done |= mm;
+                    lanes &= ~mm;
                 }
-                if (mm) {
-                    live &= ~mm, lanes &= ~mm;
-                    for (unsigned x = mm; x; x &= x - 1)
-                        tfa[__builtin_ctz(x)] = -__builtin_inff();
-                    tfar = vld1q_f32(tfa);
-                    changed = true;
-                }
+                if (done == cm)
+                    break;
             }
         }
-        if (!live)
-            break;
-        for (unsigned in = m; in; in &= in - 1)
-            if (!hz_bvh_is_leaf(n->child[__builtin_ctz(in)]))
-                stack[sp++] = n->child[__builtin_ctz(in)];
-        if (changed) {
-            if (__builtin_popcount(live) == 1) {
-                const unsigned i = (unsigned)__builtin_ctz(live);
-                sray_t sr;
-                sray_init(&sr, &p->r[i]);
-                while (sp > 0 && live)
-                    if (any_from_node(bvh, ctx, &p->r[i], &sr, stack[--sp], p->id[i], (int)i, k))
-                        live = 0;
+        if (done) {
+            live &= ~done;
+            if (!live)
                 break;
-            }
-            if (frustum_init(&fl, p, live))
+            for (unsigned x = done; x; x &= x - 1)
+                tfa[__builtin_ctz(x)] = -__builtin_inff();
+            tfar = vld1q_f32(tfa);
+            cull = vmulq_f32(tfar, vdupq_n_f32(HZ_BVH_CULL));
+            vcull_max = vdupq_n_f32(vmaxvq_f32(tfar) * HZ_BVH_CULL);
+            if ((live & (live - 1)) && frustum_init(&fl, p, live))
                 f = &fl;
         }
-        if (sp == 0)
-            break;
-        cur = stack[--sp];
+        for (;;) {
+            if (sp == 0)
+                return p->active & ~live;
+            --sp;
+            cm = st_m[sp] & live;
+            if (cm) {
+                cur = st_c[sp];
+                break;
+            }
+        }
     }
-    return p->active & ~live;
+    return p->active;
 }
 
 static void write_hits(const hz_bvh_t *bvh, const packet_t *p, hz_rayhit4_t *rh)

@@ -2,7 +2,8 @@
  * Native traversal: every kernel (scalar reference, SIMD single ray, frustum packet, masked packet; packets of
  * 4 and 8 with holes in the valid mask) against the brute-force reference and against each other, bit for bit,
  * on procedural meshes: a tessellated sphere, a closed cube-sphere, a random soup with degenerate triangles, and
- * the sphere scaled by 1e-6 and 1e6. Also occlusion, any-hit callbacks, zero direction components, bad rays,
+ * the sphere scaled by 1e-6 and 1e6. Also occlusion, shadow rays from surfaces to point lights (packets whose
+ * origins spread and whose lanes are blocked at different places), any-hit callbacks, zero direction components, bad rays,
  * statistics, secondary rays from surfaces, and a golden digest that holds x86-64 and AArch64 to the same bits.
  */
 #include "hz_test.h"
@@ -241,6 +242,112 @@ static void test_anyhit(void **state)
     hz_arena_reset(&arena, m0);
 }
 
+/* ---- shadow rays: from the camera rays' hit points (offset off the surface) to point lights, tfar 1 with
+ * unnormalised directions, in pixel order as a renderer sends them: packets whose origins spread and whose
+ * lanes are blocked at different places (the frustum packet's lane masks, its drop-out and its single-lane
+ * subtrees). Every kernel and width against the scalar reference, which is checked against brute force. ---- */
+static hz_rayhit_t shadow_in[CAM_W * CAM_H];
+static uint8_t shadow_ref[CAM_W * CAM_H], shadow_out[CAM_W * CAM_H];
+
+static uint32_t make_shadow_rays(const hz_accel_t *a, const hz_mesh_t *m, const float light[3])
+{
+    fx_bounds_t b = fx_mesh_bounds(m);
+    float scale = 0.0f;
+    for (int k = 0; k < 3; k++)
+        scale = fmaxf(scale, fmaxf(fabsf(b.lo[k]), fabsf(b.hi[k])));
+    uint32_t n = 0;
+    for (uint32_t i = 0; i < CAM_W * CAM_H; i++) {
+        hz_rayhit_t h = rays_in[i];
+        hz_accel_intersect1(a, NULL, &h);
+        if (h.hit.geom_id != 0)
+            continue;
+        hz_vec3_t d = hz_v3(h.ray.dir_x, h.ray.dir_y, h.ray.dir_z);
+        hz_vec3_t p = hz_v3(h.ray.org_x + h.ray.tfar * d.x, h.ray.org_y + h.ray.tfar * d.y,
+                            h.ray.org_z + h.ray.tfar * d.z);
+        hz_vec3_t nn = hz_v3_normalize(hz_v3(h.hit.ng_x, h.hit.ng_y, h.hit.ng_z));
+        if (hz_v3_dot(nn, d) > 0.0f)
+            nn = hz_v3_neg(nn);
+        hz_vec3_t o = hz_accel_offset_origin(p, nn, scale);
+        float of[3] = { o.x, o.y, o.z }, df[3] = { light[0] - o.x, light[1] - o.y, light[2] - o.z };
+        fx_set_ray(&shadow_in[n], of, df, 0.0f, 1.0f, i);
+        n++;
+    }
+    return n;
+}
+
+static void check_shadows(mesh_kind_t mk, bool with_anyhit)
+{
+    hz_arena_mark_t m0 = hz_arena_mark(&arena);
+    hz_mesh_t m;
+    make_mesh(mk, &m);
+    if (with_anyhit) {
+        m.tri_flags = hz_arena_calloc(&arena, m.tri_count, 1, 16);
+        assert_non_null(m.tri_flags);
+        for (uint32_t t = 0; t < m.tri_count; t++)
+            m.tri_flags[t] = (t % 2) ? HZ_ACCEL_TRI_ANYHIT : 0;
+    }
+    hz_accel_geom_t g = hz_meshgen_geom(&m);
+    hz_accel_t *a;
+    hz_error_t err;
+    assert_int_equal(hz_accel_build_native(&a, &g, NULL, &arena, &err), HZ_OK);
+    make_rays(&m, 31u + (uint64_t)mk);
+    hz_accel_ctx_t ctx;
+    hz_accel_ctx_init(&ctx);
+    ctx.anyhit = with_anyhit ? anyhit_cb : NULL;
+    ctx.user = &anyhit_calls;
+    fx_bounds_t b = fx_mesh_bounds(&m);
+    float c[3], e[3];
+    for (int k = 0; k < 3; k++)
+        c[k] = 0.5f * (b.lo[k] + b.hi[k]), e[k] = b.hi[k] - b.lo[k];
+    /* above the mesh, beside it, and just off a corner of its bounds (grazing rays) */
+    const float lights[3][3] = { { c[0] + 0.2f * e[0], b.hi[1] + 1.5f * e[1], c[2] - 0.3f * e[2] },
+                                 { b.lo[0] - 0.8f * e[0], c[1], c[2] + 0.1f * e[2] },
+                                 { b.hi[0] + 0.05f * e[0], c[1] + 0.3f * e[1], b.hi[2] + 0.05f * e[2] } };
+    for (int l = 0; l < 3; l++) {
+        const uint32_t n = make_shadow_rays(a, &m, lights[l]);
+        assert_true(n > 1000);
+        fx_occlusion(a, HZ_ACCEL_KERNEL_SCALAR, 0, 0, shadow_in, shadow_ref, n, &ctx);
+        uint32_t blocked = 0, bad = 0;
+        for (uint32_t i = 0; i < n; i++)
+            blocked += shadow_ref[i];
+        for (uint32_t i = 0; i < n; i += 7) {
+            float t;
+            bad += (fx_brute(&g, &shadow_in[i], &t, with_anyhit ? accept_rule : NULL) != HZ_ACCEL_INVALID_ID) !=
+                   shadow_ref[i];
+        }
+        print_message("%s%s light %d: %u shadow rays, %u blocked\n", mesh_name[mk], with_anyhit ? " (any-hit)" : "",
+                      l, n, blocked);
+        assert_int_equal(bad, 0);
+        struct {
+            hz_accel_kernel_t k;
+            int width;
+        } occ[] = { { HZ_ACCEL_KERNEL_SIMD_SINGLE, 0 }, { HZ_ACCEL_KERNEL_SIMD_PACKET, 8 },
+                    { HZ_ACCEL_KERNEL_SIMD_PACKET, 4 }, { HZ_ACCEL_KERNEL_SIMD_MASKED, 8 },
+                    { HZ_ACCEL_KERNEL_AUTO, 8 },        { HZ_ACCEL_KERNEL_AUTO, 4 } };
+        for (size_t q = 0; q < HZ_ARRAY_LEN(occ); q++) {
+            fx_occlusion(a, occ[q].k, HZ_ACCEL_COHERENT, occ[q].width, shadow_in, shadow_out, n, &ctx);
+            uint32_t diff = 0;
+            for (uint32_t i = 0; i < n; i++)
+                diff += shadow_out[i] != shadow_ref[i];
+            if (diff)
+                print_message("%s shadows %s width %d: %u differ\n", mesh_name[mk], hz_accel_kernel_name(occ[q].k),
+                              occ[q].width, diff);
+            assert_int_equal(diff, 0);
+        }
+    }
+    hz_arena_reset(&arena, m0);
+}
+
+static void test_shadow_rays(void **state)
+{
+    (void)state;
+    check_shadows(M_SPHERE, false);
+    check_shadows(M_CUBE, false);
+    check_shadows(M_SOUP, false);
+    check_shadows(M_SOUP, true);
+    check_shadows(M_HUGE, false);
+}
+
 /* ---- rays outside the contract miss and change nothing ---- */
 static void test_bad_rays(void **state)
 {
@@ -441,6 +548,7 @@ int main(void)
         cmocka_unit_test(test_scaled_tiny),
         cmocka_unit_test(test_scaled_huge),
         cmocka_unit_test(test_anyhit),
+        cmocka_unit_test(test_shadow_rays),
         cmocka_unit_test(test_bad_rays),
         cmocka_unit_test(test_stats),
         cmocka_unit_test(test_offset_origin),
