@@ -227,100 +227,130 @@ struct sp_frame {
     const box_t *nb;
 };
 
+/* Four-lane boxes for the chopping loop (x, y, z and a lane that is never looked at): written as loops of four
+ * so the compiler keeps a box in two vector registers; each lane does the scalar operations in the scalar order,
+ * so the result is the same on every ISA (and the same as with named scalars). */
+typedef struct v4 {
+    float v[4];
+} v4_t;
+
+HZ_INLINE v4_t v4_load(const float *p)
+{
+    v4_t r;
+    for (int c = 0; c < 4; c++)
+        r.v[c] = p[c];
+    return r;
+}
+
+HZ_INLINE v4_t v4_set(float x, float y, float z)
+{
+    v4_t r = { { x, y, z, 0.0f } };
+    return r;
+}
+
+HZ_INLINE v4_t v4_min(v4_t a, v4_t b)
+{
+    v4_t r;
+    for (int c = 0; c < 4; c++)
+        r.v[c] = hz_minf(a.v[c], b.v[c]);
+    return r;
+}
+
+HZ_INLINE v4_t v4_max(v4_t a, v4_t b)
+{
+    v4_t r;
+    for (int c = 0; c < 4; c++)
+        r.v[c] = hz_maxf(a.v[c], b.v[c]);
+    return r;
+}
+
+HZ_INLINE v4_t v4_add(v4_t a, v4_t b)
+{
+    v4_t r;
+    for (int c = 0; c < 4; c++)
+        r.v[c] = a.v[c] + b.v[c];
+    return r;
+}
+
+HZ_INLINE v4_t v4_sub(v4_t a, v4_t b)
+{
+    v4_t r;
+    for (int c = 0; c < 4; c++)
+        r.v[c] = a.v[c] - b.v[c];
+    return r;
+}
+
+/* a + (b - a) * s, lane by lane */
+HZ_INLINE v4_t v4_lerp(v4_t a, v4_t b, float s)
+{
+    v4_t r;
+    for (int c = 0; c < 4; c++)
+        r.v[c] = a.v[c] + (b.v[c] - a.v[c]) * s;
+    return r;
+}
+
+/* Cross-section of the sorted triangle (lo, mid, hi along axis) at plane x: grows (clo, chi). */
+HZ_INLINE void cross_section4(v4_t lo, v4_t mid, v4_t hi, int axis, float x, v4_t *clo, v4_t *chi)
+{
+    if (!(lo.v[axis] < x && x < hi.v[axis]))
+        return;
+    const bool below = x < mid.v[axis];
+    const v4_t e0 = below ? lo : mid, e1 = below ? mid : hi;
+    float s = hz_clampf((x - lo.v[axis]) / (hi.v[axis] - lo.v[axis]), 0.0f, 1.0f);
+    float t = e1.v[axis] > e0.v[axis] ? hz_clampf((x - e0.v[axis]) / (e1.v[axis] - e0.v[axis]), 0.0f, 1.0f) : 0.0f;
+    v4_t p = v4_lerp(lo, hi, s), q = v4_lerp(e0, e1, t);
+    p.v[axis] = x;
+    q.v[axis] = x;
+    *clo = v4_min(*clo, p), *chi = v4_max(*chi, p);
+    *clo = v4_min(*clo, q), *chi = v4_max(*chi, q);
+}
+
 /* Bins one reference for the spatial split search on `axis`: the triangle's part inside each bin [b0, b1]
  * (clipped like split_ref, but walking the planes once: the triangle's cross-section at a plane is a segment
- * whose ends lie on edge lo-hi and on lo-mid or mid-hi of its vertices sorted along the axis). Boxes here are
- * named scalars, not arrays, so they stay in registers: this loop runs for every reference and bin. */
-typedef struct sbox {
-    float lx, ly, lz, hx, hy, hz;
-} sbox_t;
-
-HZ_INLINE void sbox_empty(sbox_t *b)
+ * whose ends lie on edge lo-hi and on lo-mid or mid-hi of its vertices sorted along the axis). This loop runs for
+ * every reference and bin it spans.
+ * Inlined with a constant axis (sp_bin_axis): the axis tests fold away. */
+HZ_INLINE void chop_into_bins(const hz_accel_geom_t *g, const ref_t *r, int axis, const sp_frame_t *fr, int b0, int b1,
+                              sp_bin_t *bins)
 {
-    b->lx = b->ly = b->lz = __builtin_inff();
-    b->hx = b->hy = b->hz = -__builtin_inff();
-}
-
-HZ_INLINE void sbox_pt(sbox_t *b, float x, float y, float z)
-{
-    b->lx = hz_minf(b->lx, x), b->hx = hz_maxf(b->hx, x);
-    b->ly = hz_minf(b->ly, y), b->hy = hz_maxf(b->hy, y);
-    b->lz = hz_minf(b->lz, z), b->hz = hz_maxf(b->hz, z);
-}
-
-/* Cross-section of the sorted triangle (lo, mid, hi along axis) at plane x into b. */
-HZ_INLINE void cross_section(const float *lo, const float *mid, const float *hi, int axis, float x, sbox_t *b)
-{
-    if (!(lo[axis] < x && x < hi[axis]))
-        return;
-    const float *e0 = x < mid[axis] ? lo : mid, *e1 = x < mid[axis] ? mid : hi;
-    float s = hz_clampf((x - lo[axis]) / (hi[axis] - lo[axis]), 0.0f, 1.0f);
-    float t = e1[axis] > e0[axis] ? hz_clampf((x - e0[axis]) / (e1[axis] - e0[axis]), 0.0f, 1.0f) : 0.0f;
-    float px = lo[0] + (hi[0] - lo[0]) * s, py = lo[1] + (hi[1] - lo[1]) * s, pz = lo[2] + (hi[2] - lo[2]) * s;
-    float qx = e0[0] + (e1[0] - e0[0]) * t, qy = e0[1] + (e1[1] - e0[1]) * t, qz = e0[2] + (e1[2] - e0[2]) * t;
-    if (axis == 0)
-        px = qx = x;
-    else if (axis == 1)
-        py = qy = x;
-    else
-        pz = qz = x;
-    sbox_pt(b, px, py, pz);
-    sbox_pt(b, qx, qy, qz);
-}
-
-static void chop_into_bins(const hz_accel_geom_t *g, const ref_t *r, int axis, const sp_frame_t *fr, int b0, int b1,
-                           sp_bin_t *bins)
-{
-    if (b0 == b1) {
-        box_grow(&bins[b0].b, &r->b);
-        return;
-    }
     const uint32_t *t = g->tri + 3u * (size_t)r->prim;
-    const float *v0 = vtx(g, t[0]), *v1 = vtx(g, t[1]), *v2 = vtx(g, t[2]), *x;
+    v4_t v0 = v4_load(vtx(g, t[0])), v1 = v4_load(vtx(g, t[1])), v2 = v4_load(vtx(g, t[2])), x;
     const float *planes = fr->planes[axis];
-    if (v0[axis] > v1[axis]) /* sort the three vertices along the axis */
+    if (v0.v[axis] > v1.v[axis]) /* sort the three vertices along the axis */
         x = v0, v0 = v1, v1 = x;
-    if (v1[axis] > v2[axis])
+    if (v1.v[axis] > v2.v[axis])
         x = v1, v1 = v2, v2 = x;
-    if (v0[axis] > v1[axis])
+    if (v0.v[axis] > v1.v[axis])
         x = v0, v0 = v1, v1 = x;
-    const sbox_t rb = { r->b.lo[0], r->b.lo[1], r->b.lo[2], r->b.hi[0], r->b.hi[1], r->b.hi[2] };
-    const float px = axis == 0 ? 0.0f : (hz_absf(rb.lx) + hz_absf(rb.hx)) * (1.0f / 1048576.0f);
-    const float py = axis == 1 ? 0.0f : (hz_absf(rb.ly) + hz_absf(rb.hy)) * (1.0f / 1048576.0f);
-    const float pz = axis == 2 ? 0.0f : (hz_absf(rb.lz) + hz_absf(rb.hz)) * (1.0f / 1048576.0f);
-    sbox_t cut; /* cross-section at the piece's lower plane */
-    sbox_empty(&cut);
+    const v4_t rlo = v4_set(r->b.lo[0], r->b.lo[1], r->b.lo[2]), rhi = v4_set(r->b.hi[0], r->b.hi[1], r->b.hi[2]);
+    v4_t pad;
+    for (int c = 0; c < 4; c++)
+        pad.v[c] = c == axis || c == 3 ? 0.0f : (hz_absf(rlo.v[c]) + hz_absf(rhi.v[c])) * (1.0f / 1048576.0f);
+    const float inf = __builtin_inff();
+    const v4_t pinf = v4_set(inf, inf, inf), ninf = v4_set(-inf, -inf, -inf);
+    v4_t clo = pinf, chi = ninf; /* cross-section at the piece's lower plane */
     for (int j = b0; j <= b1; j++) {
-        const float x0 = j == b0 ? -__builtin_inff() : planes[j];
-        const float x1 = j == b1 ? __builtin_inff() : planes[j + 1];
-        sbox_t piece = cut;
-        sbox_empty(&cut);
+        const float x0 = j == b0 ? -inf : planes[j];
+        const float x1 = j == b1 ? inf : planes[j + 1];
+        v4_t plo = clo, phi = chi;
+        clo = pinf, chi = ninf;
         if (j < b1)
-            cross_section(v0, v1, v2, axis, x1, &cut);
-        piece.lx = hz_minf(piece.lx, cut.lx), piece.hx = hz_maxf(piece.hx, cut.hx);
-        piece.ly = hz_minf(piece.ly, cut.ly), piece.hy = hz_maxf(piece.hy, cut.hy);
-        piece.lz = hz_minf(piece.lz, cut.lz), piece.hz = hz_maxf(piece.hz, cut.hz);
-        if (v0[axis] >= x0 && v0[axis] <= x1)
-            sbox_pt(&piece, v0[0], v0[1], v0[2]);
-        if (v1[axis] >= x0 && v1[axis] <= x1)
-            sbox_pt(&piece, v1[0], v1[1], v1[2]);
-        if (v2[axis] >= x0 && v2[axis] <= x1)
-            sbox_pt(&piece, v2[0], v2[1], v2[2]);
+            cross_section4(v0, v1, v2, axis, x1, &clo, &chi);
+        plo = v4_min(plo, clo), phi = v4_max(phi, chi);
+        if (v0.v[axis] >= x0 && v0.v[axis] <= x1)
+            plo = v4_min(plo, v0), phi = v4_max(phi, v0);
+        if (v1.v[axis] >= x0 && v1.v[axis] <= x1)
+            plo = v4_min(plo, v1), phi = v4_max(phi, v1);
+        if (v2.v[axis] >= x0 && v2.v[axis] <= x1)
+            plo = v4_min(plo, v2), phi = v4_max(phi, v2);
         /* pad (off the split axis), cut to the bin's slab and to the reference's box */
-        piece.lx = hz_maxf(piece.lx - px, rb.lx), piece.hx = hz_minf(piece.hx + px, rb.hx);
-        piece.ly = hz_maxf(piece.ly - py, rb.ly), piece.hy = hz_minf(piece.hy + py, rb.hy);
-        piece.lz = hz_maxf(piece.lz - pz, rb.lz), piece.hz = hz_minf(piece.hz + pz, rb.hz);
-        if (axis == 0)
-            piece.lx = hz_maxf(piece.lx, x0), piece.hx = hz_minf(piece.hx, x1);
-        else if (axis == 1)
-            piece.ly = hz_maxf(piece.ly, x0), piece.hy = hz_minf(piece.hy, x1);
-        else
-            piece.lz = hz_maxf(piece.lz, x0), piece.hz = hz_minf(piece.hz, x1);
-        if (piece.lx <= piece.hx && piece.ly <= piece.hy && piece.lz <= piece.hz) {
+        plo = v4_max(v4_sub(plo, pad), rlo), phi = v4_min(v4_add(phi, pad), rhi);
+        plo.v[axis] = hz_maxf(plo.v[axis], x0), phi.v[axis] = hz_minf(phi.v[axis], x1);
+        if (plo.v[0] <= phi.v[0] && plo.v[1] <= phi.v[1] && plo.v[2] <= phi.v[2]) {
             box_t *bb = &bins[j].b;
-            bb->lo[0] = hz_minf(bb->lo[0], piece.lx), bb->hi[0] = hz_maxf(bb->hi[0], piece.hx);
-            bb->lo[1] = hz_minf(bb->lo[1], piece.ly), bb->hi[1] = hz_maxf(bb->hi[1], piece.hy);
-            bb->lo[2] = hz_minf(bb->lo[2], piece.lz), bb->hi[2] = hz_maxf(bb->hi[2], piece.hz);
+            bb->lo[0] = hz_minf(bb->lo[0], plo.v[0]), bb->hi[0] = hz_maxf(bb->hi[0], phi.v[0]);
+            bb->lo[1] = hz_minf(bb->lo[1], plo.v[1]), bb->hi[1] = hz_maxf(bb->hi[1], phi.v[1]);
+            bb->lo[2] = hz_minf(bb->lo[2], plo.v[2]), bb->hi[2] = hz_maxf(bb->hi[2], phi.v[2]);
         }
     }
 }
@@ -399,24 +429,46 @@ static void obj_bin_range(const ref_t *refs, uint32_t i0, uint32_t i1, const box
     }
 }
 
-static int spatial_bin_of(float x, const sp_frame_t *fr, int k);
+HZ_INLINE int spatial_bin_of(float x, const sp_frame_t *fr, int k)
+{
+    const int nbins = fr->nbins;
+    const float *planes = fr->planes[k];
+    int i = (int)((x - fr->nb->lo[k]) * fr->inv[k]);
+    i = i < 0 ? 0 : (i >= nbins ? nbins - 1 : i);
+    /* The float bin index may disagree with the plane positions by one: settle it against the planes. */
+    while (i > 0 && x < planes[i])
+        i--;
+    while (i < nbins - 1 && x >= planes[i + 1])
+        i++;
+    return i;
+}
+
+/* One reference on axis k (a constant at each call, so chop_into_bins is specialised per axis). */
+HZ_INLINE void sp_bin_axis(const hz_accel_geom_t *g, const ref_t *r, int k, const sp_frame_t *fr, sp_bin_t *bins)
+{
+    const int b0 = spatial_bin_of(r->b.lo[k], fr, k);
+    int b1 = spatial_bin_of(r->b.hi[k], fr, k);
+    if (b1 <= b0) {
+        box_grow(&bins[b0].b, &r->b);
+        b1 = b0;
+    } else {
+        chop_into_bins(g, r, k, fr, b0, b1, bins);
+    }
+    bins[b0].enter++;
+    bins[b1].exit++;
+}
 
 static void sp_bin_range(const hz_accel_geom_t *g, const ref_t *refs, uint32_t i0, uint32_t i1, const sp_frame_t *fr,
                          sp_bin_t bins[3][SPATIAL_BINS])
 {
     for (uint32_t i = i0; i < i1; i++) {
-        const ref_t cur = refs[i];
-        for (int k = 0; k < 3; k++) {
-            if (!fr->ok[k])
-                continue;
-            int b0 = spatial_bin_of(cur.b.lo[k], fr, k);
-            int b1 = spatial_bin_of(cur.b.hi[k], fr, k);
-            if (b1 < b0)
-                b1 = b0;
-            chop_into_bins(g, &cur, k, fr, b0, b1, bins[k]);
-            bins[k][b0].enter++;
-            bins[k][b1].exit++;
-        }
+        const ref_t *r = &refs[i];
+        if (fr->ok[0])
+            sp_bin_axis(g, r, 0, fr, bins[0]);
+        if (fr->ok[1])
+            sp_bin_axis(g, r, 1, fr, bins[1]);
+        if (fr->ok[2])
+            sp_bin_axis(g, r, 2, fr, bins[2]);
     }
 }
 
@@ -467,10 +519,85 @@ static void par_go(build_t *bd, par_kind_t kind, uint32_t base, uint32_t n, uint
     p->cfg->run(p->cfg->run_user, par_item, p, chunks);
 }
 
+/* Small nodes: every split in centroid order on every axis (an exact sweep), not bins. It finds every split
+ * the bins could (a bin boundary is a prefix in centroid order) and costs less than clearing and sweeping 3 x
+ * OBJ_BINS bins for a handful of references. Order: by centroid, ties by position, so it is deterministic. */
+#define SWEEP_N 16u
+
+static void sweep_order(const ref_t *refs, uint32_t n, int k, uint8_t *ord)
+{
+    float key[SWEEP_N];
+    for (uint32_t i = 0; i < n; i++) {
+        key[i] = centroid(&refs[i], k);
+        ord[i] = (uint8_t)i;
+    }
+    for (uint32_t i = 1; i < n; i++) { /* insertion sort: stable, and n is small */
+        const uint8_t o = ord[i];
+        const float c = key[o];
+        uint32_t j = i;
+        while (j > 0 && key[ord[j - 1]] > c) {
+            ord[j] = ord[j - 1];
+            j--;
+        }
+        ord[j] = o;
+    }
+}
+
+static void find_sweep_split(build_t *bd, uint32_t base, uint32_t n, const box_t *cb, split_t *best)
+{
+    const ref_t *refs = bd->refs + base;
+    box_t rb[SWEEP_N];
+    uint8_t ord[SWEEP_N];
+    for (int k = 0; k < 3; k++) {
+        if (!(cb->hi[k] - cb->lo[k] > 0.0f))
+            continue;
+        sweep_order(refs, n, k, ord);
+        box_t acc;
+        box_empty(&acc);
+        for (uint32_t i = n - 1; i > 0; i--) {
+            box_grow(&acc, &refs[ord[i]].b);
+            rb[i] = acc;
+        }
+        box_t lacc;
+        box_empty(&lacc);
+        for (uint32_t i = 0; i + 1 < n; i++) {
+            box_grow(&lacc, &refs[ord[i]].b);
+            const uint32_t nl = i + 1, nr = n - nl;
+            float c = box_area(&lacc) * sah_count(nl) + box_area(&rb[i + 1]) * sah_count(nr);
+            if (c < best->cost) {
+                best->cost = c;
+                best->axis = k;
+                best->bin = (int)i;
+                best->lb = lacc;
+                best->rb = rb[i + 1];
+                best->nl = nl;
+                best->nr = nr;
+            }
+        }
+    }
+}
+
+/* The partition of find_sweep_split's result: the references in centroid order on its axis, cut after bin. */
+static uint32_t partition_sweep(build_t *bd, uint32_t base, uint32_t n, const split_t *s)
+{
+    ref_t tmp[SWEEP_N];
+    uint8_t ord[SWEEP_N];
+    ref_t *refs = bd->refs + base;
+    sweep_order(refs, n, s->axis, ord);
+    for (uint32_t i = 0; i < n; i++)
+        tmp[i] = refs[ord[i]];
+    hz_memcpy(refs, tmp, (size_t)n * sizeof(ref_t));
+    return (uint32_t)s->bin + 1u;
+}
+
 static void find_object_split(build_t *bd, uint32_t base, uint32_t n, const box_t *cb, split_t *best)
 {
     best->cost = FLT_MAX;
     best->axis = -1;
+    if (n <= SWEEP_N) {
+        find_sweep_split(bd, base, n, cb, best);
+        return;
+    }
     float scale[3];
     for (int k = 0; k < 3; k++) {
         float ext = cb->hi[k] - cb->lo[k];
@@ -537,19 +664,6 @@ static int spatial_bins(uint32_t n)
     return n >= 1024 ? SPATIAL_BINS : n >= 128 ? SPATIAL_BINS / 2 : SPATIAL_BINS / 4;
 }
 
-static int spatial_bin_of(float x, const sp_frame_t *fr, int k)
-{
-    const int nbins = fr->nbins;
-    const float *planes = fr->planes[k];
-    int i = (int)((x - fr->nb->lo[k]) * fr->inv[k]);
-    i = i < 0 ? 0 : (i >= nbins ? nbins - 1 : i);
-    /* The float bin index may disagree with the plane positions by one: settle it against the planes. */
-    while (i > 0 && x < planes[i])
-        i--;
-    while (i < nbins - 1 && x >= planes[i + 1])
-        i++;
-    return i;
-}
 
 static void find_spatial_split(build_t *bd, uint32_t base, uint32_t n, const box_t *nb, split_t *best)
 {
@@ -825,7 +939,7 @@ static bool split_node(build_t *bd, uint32_t idx, uint32_t n, const box_t *b, ui
             bd->spatial_splits++;
         }
     } else if (os.axis >= 0) {
-        nl = partition_object(bd, base, n, &cb, &os);
+        nl = n <= SWEEP_N ? partition_sweep(bd, base, n, &os) : partition_object(bd, base, n, &cb, &os);
         if (nl == 0 || nl == n) {
             median = true;
         } else {
