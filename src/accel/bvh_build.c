@@ -890,7 +890,9 @@ static bool split_node(build_t *bd, uint32_t idx, uint32_t n, const box_t *b, ui
     *leaf_cost = 0.0f;
     if (bd->failed)
         return true;
-    if (n <= 1 || (n <= bd->leaf_max && depth + 1 >= HZ_BVH_MAX_DEPTH)) {
+    /* A leaf of at most SAH_BLOCK references costs one block test (COST_TRI), no more than the node a split
+     * would add (COST_NODE): it wins against any split below, so no split is searched for. */
+    if (n <= 1 || (n <= bd->leaf_max && (depth + 1 >= HZ_BVH_MAX_DEPTH || n <= SAH_BLOCK))) {
         *leaf_cost = make_leaf(bd, idx, n, area);
         return true;
     }
