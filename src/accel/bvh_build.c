@@ -443,6 +443,32 @@ HZ_INLINE int spatial_bin_of(float x, const sp_frame_t *fr, int k)
     return i;
 }
 
+/* Whether bin box b already holds [lo, hi] on axis c so that growing it by any box inside [lo, hi] changes no
+ * bit: strictly, or at an equal bound that is not zero (equal non-zero floats are the same bits; the min / max
+ * folds could swap -0 for +0). Then the grow is a no-op in any order and any chunking. */
+HZ_INLINE bool holds(const box_t *b, int c, float lo, float hi)
+{
+    return (b->lo[c] < lo || (b->lo[c] == lo && lo != 0.0f)) && (b->hi[c] > hi || (b->hi[c] == hi && hi != 0.0f));
+}
+
+/* Whether every bin b0..b1 already holds what chop_into_bins would add to it (each piece lies inside the
+ * reference's box cut to the bin's slab): then the chop is skipped, bit for bit the same bins. Large nodes,
+ * whose bins fill early, skip most chops of their straddling references. */
+HZ_INLINE bool chop_is_noop(const ref_t *r, int axis, const sp_frame_t *fr, int b0, int b1, const sp_bin_t *bins)
+{
+    const float *planes = fr->planes[axis];
+    const int o1 = axis == 0 ? 1 : 0, o2 = axis == 2 ? 1 : 2; /* the other two axes */
+    for (int j = b0; j <= b1; j++) {
+        const box_t *b = &bins[j].b;
+        const float lo = j == b0 ? r->b.lo[axis] : hz_maxf(r->b.lo[axis], planes[j]);
+        const float hi = j == b1 ? r->b.hi[axis] : hz_minf(r->b.hi[axis], planes[j + 1]);
+        if (!holds(b, axis, lo, hi) || !holds(b, o1, r->b.lo[o1], r->b.hi[o1]) ||
+            !holds(b, o2, r->b.lo[o2], r->b.hi[o2]))
+            return false;
+    }
+    return true;
+}
+
 /* One reference on axis k (a constant at each call, so chop_into_bins is specialised per axis). */
 HZ_INLINE void sp_bin_axis(const hz_accel_geom_t *g, const ref_t *r, int k, const sp_frame_t *fr, sp_bin_t *bins)
 {
@@ -451,7 +477,7 @@ HZ_INLINE void sp_bin_axis(const hz_accel_geom_t *g, const ref_t *r, int k, cons
     if (b1 <= b0) {
         box_grow(&bins[b0].b, &r->b);
         b1 = b0;
-    } else {
+    } else if (!chop_is_noop(r, k, fr, b0, b1, bins)) {
         chop_into_bins(g, r, k, fr, b0, b1, bins);
     }
     bins[b0].enter++;
@@ -1000,6 +1026,8 @@ typedef struct task {
     float sah;
     uint32_t splits, leaves;
     bool failed;
+    bool rerun;       /* over budget in the first pass: built again with budget2 (build_top) */
+    uint32_t budget2;
 } task_t;
 
 enum { TOP_NODE = 0, TOP_TASK = 1, TOP_DONE = 2 };
@@ -1018,6 +1046,8 @@ typedef struct top_ctx {
     top_node_t *tops;
     uint32_t top_count;
     uint32_t limit; /* subtrees of at most this many references become tasks */
+    uint32_t list[PAR_MAX_TASKS]; /* the tasks a pass runs, in order */
+    uint32_t list_count;
 } top_ctx_t;
 
 /* Subtrees of at most this many references are tasks: about 64 to 128 of them (from the reference count only). */
@@ -1111,7 +1141,7 @@ static void task_item(void *ctx, uint32_t item)
 {
     const top_ctx_t *tc = ctx;
     const build_t *bd = tc->bd;
-    task_t *t = &tc->tasks[item];
+    task_t *t = &tc->tasks[tc->list[item]];
     build_t b; /* on this thread's stack: the bins are per task */
     hz_memset(&b, 0, sizeof b);
     b.g = bd->g;
@@ -1134,13 +1164,66 @@ static void task_item(void *ctx, uint32_t item)
     t->failed = b.failed;
 }
 
+typedef enum top_result { TOP_FAILED, TOP_BUILT, TOP_RERUN } top_result_t;
+
+/* Which tasks of a first pass that went over the budget are built again, and with what: in task order (the
+ * serial build's), a task keeps its tree if what it used fits beside the plain shares of the tasks after it;
+ * the others get their shares plus, in proportion to them, what the kept ones left (capped at what their ranges
+ * hold). The total then stays within the budget. Returns false if the shares themselves do not fit (the serial
+ * build instead). */
+static bool plan_rerun(top_ctx_t *tc, uint64_t avail)
+{
+    uint64_t rest = 0, acc = 0, rej_share = 0;
+    for (uint32_t i = 0; i < tc->task_count; i++)
+        rest += tc->tasks[i].share;
+    if (rest > avail)
+        return false;
+    for (uint32_t i = 0; i < tc->task_count; i++) {
+        task_t *t = &tc->tasks[i];
+        const uint64_t used = t->leaves - t->n;
+        rest -= t->share;
+        t->rerun = acc + used + rest > avail;
+        if (t->rerun) {
+            acc += t->share;
+            rej_share += t->share;
+        } else {
+            acc += used;
+        }
+    }
+    const uint64_t slack = avail - acc;
+    for (uint32_t i = 0; i < tc->task_count; i++) {
+        task_t *t = &tc->tasks[i];
+        if (!t->rerun)
+            continue;
+        uint64_t b = t->share + (rej_share ? slack * t->share / rej_share : 0u);
+        t->budget2 = (uint32_t)(b < t->budget ? b : t->budget);
+    }
+    return true;
+}
+
+static void run_list(const hz_accel_config_t *cfg, top_ctx_t *tc, bool parallel)
+{
+    if (parallel && tc->list_count > 1u)
+        cfg->run(cfg->run_user, task_item, tc, tc->list_count);
+    else
+        for (uint32_t i = 0; i < tc->list_count; i++) {
+            task_item(tc, i);
+            if (cfg->progress && i % 4u == 3u)
+                cfg->progress(cfg->progress_user, 0.3f + 0.5f * (float)i / (float)tc->list_count);
+        }
+}
+
 /* The build of the root (idx 0, every reference on the stack) through the top levels and tasks; the tasks run
- * on cfg->run when `parallel`, else here in turn: the same tree either way. Returns false if a range was too
- * small or the references went over the budget (the tasks' scaled budgets together can). */
-static bool build_top(build_t *bd, const hz_accel_config_t *cfg, top_ctx_t *tc, const box_t *root, uint32_t budget,
-                      bool parallel, float *sah)
+ * on cfg->run when `parallel`, else here in turn: the same tree either way. First pass (rerun false): every task
+ * with TASK_BUDGET_SCALE times its share; if the references then went over the budget (the furball, where it
+ * binds everywhere), TOP_RERUN with a plan (plan_rerun), and the caller restores the references and calls again
+ * with rerun true: the top levels are built again (the same), the kept tasks keep their trees and only the
+ * others are built again, in parallel. TOP_FAILED if a range was too small or the plan does not hold. */
+static top_result_t build_top(build_t *bd, const hz_accel_config_t *cfg, top_ctx_t *tc, const box_t *root,
+                              uint32_t budget, bool parallel, bool rerun, float *sah)
 {
     tc->bd = bd;
+    const uint32_t first_count = tc->task_count;
     tc->task_count = 0;
     tc->top_count = 0;
     tc->limit = task_limit(bd->top);
@@ -1148,32 +1231,45 @@ static bool build_top(build_t *bd, const hz_accel_config_t *cfg, top_ctx_t *tc, 
     uint32_t kind, ref;
     float cost;
     top_node(tc, 0, bd->top, root, 0, budget, &kind, &ref, &cost);
-    if (bd->failed)
-        return false;
+    if (bd->failed || (rerun && tc->task_count != first_count))
+        return TOP_FAILED;
     if (cfg->progress)
         cfg->progress(cfg->progress_user, 0.3f);
-    if (parallel && tc->task_count > 1u)
-        cfg->run(cfg->run_user, task_item, tc, tc->task_count);
-    else
-        for (uint32_t i = 0; i < tc->task_count; i++) {
-            task_item(tc, i);
-            if (cfg->progress && i % 4u == 3u)
-                cfg->progress(cfg->progress_user, 0.3f + 0.5f * (float)i / (float)tc->task_count);
+    const uint32_t top_leaves = bd->leaf_count;
+    tc->list_count = 0;
+    for (uint32_t i = 0; i < tc->task_count; i++)
+        if (!rerun || tc->tasks[i].rerun) {
+            if (rerun)
+                tc->tasks[i].budget = tc->tasks[i].budget2;
+            tc->list[tc->list_count++] = i;
         }
+    run_list(cfg, tc, parallel);
+    uint32_t splits = 0;
+    uint64_t leaves = 0;
     for (uint32_t i = 0; i < tc->task_count; i++) {
         const task_t *t = &tc->tasks[i];
         if (t->failed)
-            return false;
-        bd->spatial_splits += t->splits;
-        bd->leaf_count += t->leaves;
+            return TOP_FAILED;
+        splits += t->splits;
+        leaves += t->leaves;
     }
-    const uint64_t used = bd->leaf_count - refs0;
-    if (used > budget)
-        return false;
+    const uint64_t used = top_leaves + leaves - refs0;
+    if (used > budget) {
+        if (rerun)
+            return TOP_FAILED;
+        /* what the tasks may use together: the budget less the top levels' own duplicates */
+        uint64_t task_refs = 0;
+        for (uint32_t i = 0; i < tc->task_count; i++)
+            task_refs += tc->tasks[i].n;
+        const uint64_t top_dups = top_leaves + task_refs - refs0;
+        return top_dups <= budget && plan_rerun(tc, budget - top_dups) ? TOP_RERUN : TOP_FAILED;
+    }
+    bd->spatial_splits += splits;
+    bd->leaf_count += (uint32_t)leaves;
     *sah = top_cost(tc, kind, ref, cost);
     if (cfg->progress)
         cfg->progress(cfg->progress_user, 0.8f);
-    return true;
+    return TOP_BUILT;
 }
 
 /* ---- collapse into wide nodes ---- */
@@ -1459,6 +1555,7 @@ hz_status_t hz_bvh_build(hz_bvh_t *bvh, const hz_accel_geom_t *g, const hz_accel
         const bool parallel = cfg->run && cfg->run_threads > 1u;
         const hz_arena_mark_t m1 = hz_arena_mark(arena);
         top_ctx_t tc;
+        tc.task_count = 0;
         par_t *par = hz_arena_alloc(arena, sizeof(par_t), 64);
         tc.tasks = hz_arena_alloc_array(arena, PAR_MAX_TASKS, sizeof(task_t), 64);
         tc.tops = hz_arena_alloc_array(arena, PAR_MAX_TOP, sizeof(top_node_t), 64);
@@ -1481,19 +1578,29 @@ hz_status_t hz_bvh_build(hz_bvh_t *bvh, const hz_accel_geom_t *g, const hz_accel
         bd->node_cap = (uint32_t)(2u * cap + 2u);
         bd->leaf_cap = (uint32_t)cap;
         bd->par = parallel ? par : NULL;
-        done = build_top(bd, cfg, &tc, &root, budget, parallel, &sah);
-        if (!done) { /* again from the triangles */
+        top_result_t res = build_top(bd, cfg, &tc, &root, budget, parallel, false, &sah);
+        for (int pass = 0; pass < 2 && res != TOP_BUILT; pass++) { /* again from the triangles */
             bd->top = 0;
-            bd->ref_cap = (uint32_t)rb;
             bd->node_count = 0;
-            bd->node_cap = (uint32_t)(2u * rb);
             bd->leaf_count = 0;
-            bd->leaf_cap = (uint32_t)rb;
             bd->spatial_splits = 0;
             bd->failed = false;
+            if (res == TOP_RERUN) {
+                bd->ref_cap = (uint32_t)cap;
+                bd->node_cap = (uint32_t)(2u * cap + 2u);
+                bd->leaf_cap = (uint32_t)cap;
+            } else {
+                bd->ref_cap = (uint32_t)rb;
+                bd->node_cap = (uint32_t)(2u * rb);
+                bd->leaf_cap = (uint32_t)rb;
+            }
             (void)init_refs(bd, sweep, &root);
             (void)new_node(bd);
+            if (res != TOP_RERUN)
+                break;
+            res = build_top(bd, cfg, &tc, &root, budget, parallel, true, &sah);
         }
+        done = res == TOP_BUILT;
         par_mark = m1;
         par_held = true;
     }
