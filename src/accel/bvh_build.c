@@ -1542,6 +1542,7 @@ hz_status_t hz_bvh_build(hz_bvh_t *bvh, const hz_accel_geom_t *g, const hz_accel
     float sah = 0.0f;
     uint32_t root_idx = new_node(bd);
     bool done = false, par_held = false;
+    uint32_t rebuilt = 0;
     hz_arena_mark_t par_mark = 0;
     if (bd->top == 0) {
         /* nothing to hit: one empty leaf */
@@ -1599,6 +1600,7 @@ hz_status_t hz_bvh_build(hz_bvh_t *bvh, const hz_accel_geom_t *g, const hz_accel
             if (res != TOP_RERUN)
                 break;
             res = build_top(bd, cfg, &tc, &root, budget, parallel, true, &sah);
+            rebuilt = tc.list_count;
         }
         done = res == TOP_BUILT;
         par_mark = m1;
@@ -1665,6 +1667,7 @@ hz_status_t hz_bvh_build(hz_bvh_t *bvh, const hz_accel_geom_t *g, const hz_accel
     }
     out->ref_count = bd->leaf_count;
     out->spatial_splits = bd->spatial_splits;
+    out->tasks_rebuilt = rebuilt;
     out->tri_skipped = skipped;
     float ra = box_area(&root);
     out->sah_cost = ra > 0.0f ? sah / ra : 0.0f;
