@@ -1,9 +1,10 @@
 /*
- * Native BVH build: a binary SBVH (binned SAH object splits plus spatial splits with reference unsplitting,
- * Stich, Friedrich, Dietrich 2009) built on a reference stack in scratch memory, then collapsed into wide nodes
- * (greedy: open the largest child until the node has HZ_BVH_W children) whose leaves are packed next-fit into
- * triangle blocks. Scratch and result come from one arena; the result is moved down over the scratch at the end
- * so only the structure stays. Refit lives here too: it shares the box helpers.
+ * Native BVH build: a binary SBVH (binned SAH object splits, an exact sweep for nodes of at most SWEEP_N
+ * references, plus spatial splits with reference unsplitting, Stich, Friedrich, Dietrich 2009) built on a
+ * reference stack in scratch memory, then collapsed into wide nodes (greedy: open the largest child until the
+ * node has HZ_BVH_W children) whose leaves are packed next-fit into triangle blocks. Scratch and result come from
+ * one arena; the result is moved down over the scratch at the end so only the structure stays. Refit lives here
+ * too: it shares the box helpers.
  *
  * Everything is scalar C with a fixed operation order, so a build is bit-identical on every ISA.
  *
@@ -14,8 +15,9 @@
  * in nodes), built with the serial code as items of cfg->run, or in turn without one: the same tree for every
  * thread count. Below the top levels a subtree's unused budget goes on to its sibling as before; at the top
  * levels it cannot (a task's is known only once it ran), so top-level children get their proportional shares
- * and a task may spend TASK_BUDGET_SCALE times its share. If the build then went over the budget, it is redone
- * by build_node alone (the tree of the serial builder, its large nodes still binned in chunks).
+ * and a task may spend TASK_BUDGET_SCALE times its share. If the tasks then went over the budget together, the
+ * ones that overspent are built again with their shares plus what the others left (build_top, plan_rerun): the
+ * decision depends on the first pass's trees only, so the tree is still the same for every thread count.
  */
 #include "bvh.h"
 
@@ -1573,8 +1575,8 @@ hz_status_t hz_bvh_build(hz_bvh_t *bvh, const hz_accel_geom_t *g, const hz_accel
             return HZ_E_NO_MEMORY;
         }
         /* If the tasks together went over the budget (a scene where it binds everywhere, like the furball), the
-         * serial build instead, whose hand-on spends the budget where it is wanted (the chunked binning still
-         * runs on the pool): the same tree as without tasks. */
+         * references are restored and the top levels built again with the overspending tasks on reduced
+         * budgets; should even that fail (it cannot within the bounds), the serial build. */
         bd->ref_cap = (uint32_t)cap;
         bd->node_cap = (uint32_t)(2u * cap + 2u);
         bd->leaf_cap = (uint32_t)cap;
