@@ -1350,6 +1350,7 @@ static uint32_t collapse_node(collapse_t *c, uint32_t bi, uint32_t depth)
     if (depth + 1 > c->depth)
         c->depth = depth + 1;
     uint32_t kids[HZ_BVH_W];
+    float area[HZ_BVH_W]; /* of each kid, -1 for leaves (never opened): computed once, not per round */
     int nk = 0;
     if (bn[bi].n & BLEAF) {
         kids[nk++] = bi;
@@ -1357,23 +1358,23 @@ static uint32_t collapse_node(collapse_t *c, uint32_t bi, uint32_t depth)
         kids[nk++] = bn[bi].a;
         kids[nk++] = bn[bi].n;
     }
+    for (int i = 0; i < nk; i++)
+        area[i] = bn[kids[i]].n & BLEAF ? -1.0f : box_area(&bn[kids[i]].b);
     while (nk < HZ_BVH_W) {
         int pick = -1;
         float best = -1.0f;
-        for (int i = 0; i < nk; i++) {
-            if (bn[kids[i]].n & BLEAF)
-                continue;
-            float a = box_area(&bn[kids[i]].b);
-            if (a > best) {
-                best = a;
+        for (int i = 0; i < nk; i++)
+            if (area[i] > best) {
+                best = area[i];
                 pick = i;
             }
-        }
         if (pick < 0)
             break;
         uint32_t open = kids[pick];
         kids[pick] = bn[open].a;
         kids[nk++] = bn[open].n;
+        area[pick] = bn[kids[pick]].n & BLEAF ? -1.0f : box_area(&bn[kids[pick]].b);
+        area[nk - 1] = bn[kids[nk - 1]].n & BLEAF ? -1.0f : box_area(&bn[kids[nk - 1]].b);
     }
     uint32_t words[HZ_BVH_W];
     for (int i = 0; i < nk; i++) /* leaves first, so a node's leaves sit side by side in the blocks */
