@@ -365,6 +365,8 @@ typedef struct hz_accel_info {
     uint32_t tri_skipped;    /* triangles left out (non-finite vertices) */
     uint32_t ref_count;      /* triangle references after spatial splits (native) */
     uint32_t spatial_splits; /* nodes split spatially (native) */
+    uint32_t tasks_rebuilt;  /* parallel-build tasks built a second time because the first pass went over the
+                                replication budget (native) */
     uint32_t node_count;     /* wide nodes (native) */
     uint32_t leaf_count;
     uint32_t block_count;    /* triangle blocks of HZ_BVH_WIDTH slots */

@@ -1,9 +1,10 @@
 /*
- * Native BVH build: a binary SBVH (binned SAH object splits plus spatial splits with reference unsplitting,
- * Stich, Friedrich, Dietrich 2009) built on a reference stack in scratch memory, then collapsed into wide nodes
- * (greedy: open the largest child until the node has HZ_BVH_W children) whose leaves are packed next-fit into
- * triangle blocks. Scratch and result come from one arena; the result is moved down over the scratch at the end
- * so only the structure stays. Refit lives here too: it shares the box helpers.
+ * Native BVH build: a binary SBVH (binned SAH object splits, an exact sweep for nodes of at most SWEEP_N
+ * references, plus spatial splits with reference unsplitting, Stich, Friedrich, Dietrich 2009) built on a
+ * reference stack in scratch memory, then collapsed into wide nodes (greedy: open the largest child until the
+ * node has HZ_BVH_W children) whose leaves are packed next-fit into triangle blocks. Scratch and result come from
+ * one arena; the result is moved down over the scratch at the end so only the structure stays. Refit lives here
+ * too: it shares the box helpers.
  *
  * Everything is scalar C with a fixed operation order, so a build is bit-identical on every ISA.
  *
@@ -14,8 +15,9 @@
  * in nodes), built with the serial code as items of cfg->run, or in turn without one: the same tree for every
  * thread count. Below the top levels a subtree's unused budget goes on to its sibling as before; at the top
  * levels it cannot (a task's is known only once it ran), so top-level children get their proportional shares
- * and a task may spend TASK_BUDGET_SCALE times its share. If the build then went over the budget, it is redone
- * by build_node alone (the tree of the serial builder, its large nodes still binned in chunks).
+ * and a task may spend TASK_BUDGET_SCALE times its share. If the tasks then went over the budget together, the
+ * ones that overspent are built again with their shares plus what the others left (build_top, plan_rerun): the
+ * decision depends on the first pass's trees only, so the tree is still the same for every thread count.
  */
 #include "bvh.h"
 
@@ -227,100 +229,130 @@ struct sp_frame {
     const box_t *nb;
 };
 
+/* Four-lane boxes for the chopping loop (x, y, z and a lane that is never looked at): written as loops of four
+ * so the compiler keeps a box in two vector registers; each lane does the scalar operations in the scalar order,
+ * so the result is the same on every ISA (and the same as with named scalars). */
+typedef struct v4 {
+    float v[4];
+} v4_t;
+
+HZ_INLINE v4_t v4_load(const float *p)
+{
+    v4_t r;
+    for (int c = 0; c < 4; c++)
+        r.v[c] = p[c];
+    return r;
+}
+
+HZ_INLINE v4_t v4_set(float x, float y, float z)
+{
+    v4_t r = { { x, y, z, 0.0f } };
+    return r;
+}
+
+HZ_INLINE v4_t v4_min(v4_t a, v4_t b)
+{
+    v4_t r;
+    for (int c = 0; c < 4; c++)
+        r.v[c] = hz_minf(a.v[c], b.v[c]);
+    return r;
+}
+
+HZ_INLINE v4_t v4_max(v4_t a, v4_t b)
+{
+    v4_t r;
+    for (int c = 0; c < 4; c++)
+        r.v[c] = hz_maxf(a.v[c], b.v[c]);
+    return r;
+}
+
+HZ_INLINE v4_t v4_add(v4_t a, v4_t b)
+{
+    v4_t r;
+    for (int c = 0; c < 4; c++)
+        r.v[c] = a.v[c] + b.v[c];
+    return r;
+}
+
+HZ_INLINE v4_t v4_sub(v4_t a, v4_t b)
+{
+    v4_t r;
+    for (int c = 0; c < 4; c++)
+        r.v[c] = a.v[c] - b.v[c];
+    return r;
+}
+
+/* a + (b - a) * s, lane by lane */
+HZ_INLINE v4_t v4_lerp(v4_t a, v4_t b, float s)
+{
+    v4_t r;
+    for (int c = 0; c < 4; c++)
+        r.v[c] = a.v[c] + (b.v[c] - a.v[c]) * s;
+    return r;
+}
+
+/* Cross-section of the sorted triangle (lo, mid, hi along axis) at plane x: grows (clo, chi). */
+HZ_INLINE void cross_section4(v4_t lo, v4_t mid, v4_t hi, int axis, float x, v4_t *clo, v4_t *chi)
+{
+    if (!(lo.v[axis] < x && x < hi.v[axis]))
+        return;
+    const bool below = x < mid.v[axis];
+    const v4_t e0 = below ? lo : mid, e1 = below ? mid : hi;
+    float s = hz_clampf((x - lo.v[axis]) / (hi.v[axis] - lo.v[axis]), 0.0f, 1.0f);
+    float t = e1.v[axis] > e0.v[axis] ? hz_clampf((x - e0.v[axis]) / (e1.v[axis] - e0.v[axis]), 0.0f, 1.0f) : 0.0f;
+    v4_t p = v4_lerp(lo, hi, s), q = v4_lerp(e0, e1, t);
+    p.v[axis] = x;
+    q.v[axis] = x;
+    *clo = v4_min(*clo, p), *chi = v4_max(*chi, p);
+    *clo = v4_min(*clo, q), *chi = v4_max(*chi, q);
+}
+
 /* Bins one reference for the spatial split search on `axis`: the triangle's part inside each bin [b0, b1]
  * (clipped like split_ref, but walking the planes once: the triangle's cross-section at a plane is a segment
- * whose ends lie on edge lo-hi and on lo-mid or mid-hi of its vertices sorted along the axis). Boxes here are
- * named scalars, not arrays, so they stay in registers: this loop runs for every reference and bin. */
-typedef struct sbox {
-    float lx, ly, lz, hx, hy, hz;
-} sbox_t;
-
-HZ_INLINE void sbox_empty(sbox_t *b)
+ * whose ends lie on edge lo-hi and on lo-mid or mid-hi of its vertices sorted along the axis). This loop runs for
+ * every reference and bin it spans.
+ * Inlined with a constant axis (sp_bin_axis): the axis tests fold away. */
+HZ_INLINE void chop_into_bins(const hz_accel_geom_t *g, const ref_t *r, int axis, const sp_frame_t *fr, int b0, int b1,
+                              sp_bin_t *bins)
 {
-    b->lx = b->ly = b->lz = __builtin_inff();
-    b->hx = b->hy = b->hz = -__builtin_inff();
-}
-
-HZ_INLINE void sbox_pt(sbox_t *b, float x, float y, float z)
-{
-    b->lx = hz_minf(b->lx, x), b->hx = hz_maxf(b->hx, x);
-    b->ly = hz_minf(b->ly, y), b->hy = hz_maxf(b->hy, y);
-    b->lz = hz_minf(b->lz, z), b->hz = hz_maxf(b->hz, z);
-}
-
-/* Cross-section of the sorted triangle (lo, mid, hi along axis) at plane x into b. */
-HZ_INLINE void cross_section(const float *lo, const float *mid, const float *hi, int axis, float x, sbox_t *b)
-{
-    if (!(lo[axis] < x && x < hi[axis]))
-        return;
-    const float *e0 = x < mid[axis] ? lo : mid, *e1 = x < mid[axis] ? mid : hi;
-    float s = hz_clampf((x - lo[axis]) / (hi[axis] - lo[axis]), 0.0f, 1.0f);
-    float t = e1[axis] > e0[axis] ? hz_clampf((x - e0[axis]) / (e1[axis] - e0[axis]), 0.0f, 1.0f) : 0.0f;
-    float px = lo[0] + (hi[0] - lo[0]) * s, py = lo[1] + (hi[1] - lo[1]) * s, pz = lo[2] + (hi[2] - lo[2]) * s;
-    float qx = e0[0] + (e1[0] - e0[0]) * t, qy = e0[1] + (e1[1] - e0[1]) * t, qz = e0[2] + (e1[2] - e0[2]) * t;
-    if (axis == 0)
-        px = qx = x;
-    else if (axis == 1)
-        py = qy = x;
-    else
-        pz = qz = x;
-    sbox_pt(b, px, py, pz);
-    sbox_pt(b, qx, qy, qz);
-}
-
-static void chop_into_bins(const hz_accel_geom_t *g, const ref_t *r, int axis, const sp_frame_t *fr, int b0, int b1,
-                           sp_bin_t *bins)
-{
-    if (b0 == b1) {
-        box_grow(&bins[b0].b, &r->b);
-        return;
-    }
     const uint32_t *t = g->tri + 3u * (size_t)r->prim;
-    const float *v0 = vtx(g, t[0]), *v1 = vtx(g, t[1]), *v2 = vtx(g, t[2]), *x;
+    v4_t v0 = v4_load(vtx(g, t[0])), v1 = v4_load(vtx(g, t[1])), v2 = v4_load(vtx(g, t[2])), x;
     const float *planes = fr->planes[axis];
-    if (v0[axis] > v1[axis]) /* sort the three vertices along the axis */
+    if (v0.v[axis] > v1.v[axis]) /* sort the three vertices along the axis */
         x = v0, v0 = v1, v1 = x;
-    if (v1[axis] > v2[axis])
+    if (v1.v[axis] > v2.v[axis])
         x = v1, v1 = v2, v2 = x;
-    if (v0[axis] > v1[axis])
+    if (v0.v[axis] > v1.v[axis])
         x = v0, v0 = v1, v1 = x;
-    const sbox_t rb = { r->b.lo[0], r->b.lo[1], r->b.lo[2], r->b.hi[0], r->b.hi[1], r->b.hi[2] };
-    const float px = axis == 0 ? 0.0f : (hz_absf(rb.lx) + hz_absf(rb.hx)) * (1.0f / 1048576.0f);
-    const float py = axis == 1 ? 0.0f : (hz_absf(rb.ly) + hz_absf(rb.hy)) * (1.0f / 1048576.0f);
-    const float pz = axis == 2 ? 0.0f : (hz_absf(rb.lz) + hz_absf(rb.hz)) * (1.0f / 1048576.0f);
-    sbox_t cut; /* cross-section at the piece's lower plane */
-    sbox_empty(&cut);
+    const v4_t rlo = v4_set(r->b.lo[0], r->b.lo[1], r->b.lo[2]), rhi = v4_set(r->b.hi[0], r->b.hi[1], r->b.hi[2]);
+    v4_t pad;
+    for (int c = 0; c < 4; c++)
+        pad.v[c] = c == axis || c == 3 ? 0.0f : (hz_absf(rlo.v[c]) + hz_absf(rhi.v[c])) * (1.0f / 1048576.0f);
+    const float inf = __builtin_inff();
+    const v4_t pinf = v4_set(inf, inf, inf), ninf = v4_set(-inf, -inf, -inf);
+    v4_t clo = pinf, chi = ninf; /* cross-section at the piece's lower plane */
     for (int j = b0; j <= b1; j++) {
-        const float x0 = j == b0 ? -__builtin_inff() : planes[j];
-        const float x1 = j == b1 ? __builtin_inff() : planes[j + 1];
-        sbox_t piece = cut;
-        sbox_empty(&cut);
+        const float x0 = j == b0 ? -inf : planes[j];
+        const float x1 = j == b1 ? inf : planes[j + 1];
+        v4_t plo = clo, phi = chi;
+        clo = pinf, chi = ninf;
         if (j < b1)
-            cross_section(v0, v1, v2, axis, x1, &cut);
-        piece.lx = hz_minf(piece.lx, cut.lx), piece.hx = hz_maxf(piece.hx, cut.hx);
-        piece.ly = hz_minf(piece.ly, cut.ly), piece.hy = hz_maxf(piece.hy, cut.hy);
-        piece.lz = hz_minf(piece.lz, cut.lz), piece.hz = hz_maxf(piece.hz, cut.hz);
-        if (v0[axis] >= x0 && v0[axis] <= x1)
-            sbox_pt(&piece, v0[0], v0[1], v0[2]);
-        if (v1[axis] >= x0 && v1[axis] <= x1)
-            sbox_pt(&piece, v1[0], v1[1], v1[2]);
-        if (v2[axis] >= x0 && v2[axis] <= x1)
-            sbox_pt(&piece, v2[0], v2[1], v2[2]);
+            cross_section4(v0, v1, v2, axis, x1, &clo, &chi);
+        plo = v4_min(plo, clo), phi = v4_max(phi, chi);
+        if (v0.v[axis] >= x0 && v0.v[axis] <= x1)
+            plo = v4_min(plo, v0), phi = v4_max(phi, v0);
+        if (v1.v[axis] >= x0 && v1.v[axis] <= x1)
+            plo = v4_min(plo, v1), phi = v4_max(phi, v1);
+        if (v2.v[axis] >= x0 && v2.v[axis] <= x1)
+            plo = v4_min(plo, v2), phi = v4_max(phi, v2);
         /* pad (off the split axis), cut to the bin's slab and to the reference's box */
-        piece.lx = hz_maxf(piece.lx - px, rb.lx), piece.hx = hz_minf(piece.hx + px, rb.hx);
-        piece.ly = hz_maxf(piece.ly - py, rb.ly), piece.hy = hz_minf(piece.hy + py, rb.hy);
-        piece.lz = hz_maxf(piece.lz - pz, rb.lz), piece.hz = hz_minf(piece.hz + pz, rb.hz);
-        if (axis == 0)
-            piece.lx = hz_maxf(piece.lx, x0), piece.hx = hz_minf(piece.hx, x1);
-        else if (axis == 1)
-            piece.ly = hz_maxf(piece.ly, x0), piece.hy = hz_minf(piece.hy, x1);
-        else
-            piece.lz = hz_maxf(piece.lz, x0), piece.hz = hz_minf(piece.hz, x1);
-        if (piece.lx <= piece.hx && piece.ly <= piece.hy && piece.lz <= piece.hz) {
+        plo = v4_max(v4_sub(plo, pad), rlo), phi = v4_min(v4_add(phi, pad), rhi);
+        plo.v[axis] = hz_maxf(plo.v[axis], x0), phi.v[axis] = hz_minf(phi.v[axis], x1);
+        if (plo.v[0] <= phi.v[0] && plo.v[1] <= phi.v[1] && plo.v[2] <= phi.v[2]) {
             box_t *bb = &bins[j].b;
-            bb->lo[0] = hz_minf(bb->lo[0], piece.lx), bb->hi[0] = hz_maxf(bb->hi[0], piece.hx);
-            bb->lo[1] = hz_minf(bb->lo[1], piece.ly), bb->hi[1] = hz_maxf(bb->hi[1], piece.hy);
-            bb->lo[2] = hz_minf(bb->lo[2], piece.lz), bb->hi[2] = hz_maxf(bb->hi[2], piece.hz);
+            bb->lo[0] = hz_minf(bb->lo[0], plo.v[0]), bb->hi[0] = hz_maxf(bb->hi[0], phi.v[0]);
+            bb->lo[1] = hz_minf(bb->lo[1], plo.v[1]), bb->hi[1] = hz_maxf(bb->hi[1], phi.v[1]);
+            bb->lo[2] = hz_minf(bb->lo[2], plo.v[2]), bb->hi[2] = hz_maxf(bb->hi[2], phi.v[2]);
         }
     }
 }
@@ -399,24 +431,72 @@ static void obj_bin_range(const ref_t *refs, uint32_t i0, uint32_t i1, const box
     }
 }
 
-static int spatial_bin_of(float x, const sp_frame_t *fr, int k);
+HZ_INLINE int spatial_bin_of(float x, const sp_frame_t *fr, int k)
+{
+    const int nbins = fr->nbins;
+    const float *planes = fr->planes[k];
+    int i = (int)((x - fr->nb->lo[k]) * fr->inv[k]);
+    i = i < 0 ? 0 : (i >= nbins ? nbins - 1 : i);
+    /* The float bin index may disagree with the plane positions by one: settle it against the planes. */
+    while (i > 0 && x < planes[i])
+        i--;
+    while (i < nbins - 1 && x >= planes[i + 1])
+        i++;
+    return i;
+}
+
+/* Whether bin box b already holds [lo, hi] on axis c so that growing it by any box inside [lo, hi] changes no
+ * bit: strictly, or at an equal bound that is not zero (equal non-zero floats are the same bits; the min / max
+ * folds could swap -0 for +0). Then the grow is a no-op in any order and any chunking. */
+HZ_INLINE bool holds(const box_t *b, int c, float lo, float hi)
+{
+    return (b->lo[c] < lo || (b->lo[c] == lo && lo != 0.0f)) && (b->hi[c] > hi || (b->hi[c] == hi && hi != 0.0f));
+}
+
+/* Whether every bin b0..b1 already holds what chop_into_bins would add to it (each piece lies inside the
+ * reference's box cut to the bin's slab): then the chop is skipped, bit for bit the same bins. Large nodes,
+ * whose bins fill early, skip most chops of their straddling references. */
+HZ_INLINE bool chop_is_noop(const ref_t *r, int axis, const sp_frame_t *fr, int b0, int b1, const sp_bin_t *bins)
+{
+    const float *planes = fr->planes[axis];
+    const int o1 = axis == 0 ? 1 : 0, o2 = axis == 2 ? 1 : 2; /* the other two axes */
+    for (int j = b0; j <= b1; j++) {
+        const box_t *b = &bins[j].b;
+        const float lo = j == b0 ? r->b.lo[axis] : hz_maxf(r->b.lo[axis], planes[j]);
+        const float hi = j == b1 ? r->b.hi[axis] : hz_minf(r->b.hi[axis], planes[j + 1]);
+        if (!holds(b, axis, lo, hi) || !holds(b, o1, r->b.lo[o1], r->b.hi[o1]) ||
+            !holds(b, o2, r->b.lo[o2], r->b.hi[o2]))
+            return false;
+    }
+    return true;
+}
+
+/* One reference on axis k (a constant at each call, so chop_into_bins is specialised per axis). */
+HZ_INLINE void sp_bin_axis(const hz_accel_geom_t *g, const ref_t *r, int k, const sp_frame_t *fr, sp_bin_t *bins)
+{
+    const int b0 = spatial_bin_of(r->b.lo[k], fr, k);
+    int b1 = spatial_bin_of(r->b.hi[k], fr, k);
+    if (b1 <= b0) {
+        box_grow(&bins[b0].b, &r->b);
+        b1 = b0;
+    } else if (!chop_is_noop(r, k, fr, b0, b1, bins)) {
+        chop_into_bins(g, r, k, fr, b0, b1, bins);
+    }
+    bins[b0].enter++;
+    bins[b1].exit++;
+}
 
 static void sp_bin_range(const hz_accel_geom_t *g, const ref_t *refs, uint32_t i0, uint32_t i1, const sp_frame_t *fr,
                          sp_bin_t bins[3][SPATIAL_BINS])
 {
     for (uint32_t i = i0; i < i1; i++) {
-        const ref_t cur = refs[i];
-        for (int k = 0; k < 3; k++) {
-            if (!fr->ok[k])
-                continue;
-            int b0 = spatial_bin_of(cur.b.lo[k], fr, k);
-            int b1 = spatial_bin_of(cur.b.hi[k], fr, k);
-            if (b1 < b0)
-                b1 = b0;
-            chop_into_bins(g, &cur, k, fr, b0, b1, bins[k]);
-            bins[k][b0].enter++;
-            bins[k][b1].exit++;
-        }
+        const ref_t *r = &refs[i];
+        if (fr->ok[0])
+            sp_bin_axis(g, r, 0, fr, bins[0]);
+        if (fr->ok[1])
+            sp_bin_axis(g, r, 1, fr, bins[1]);
+        if (fr->ok[2])
+            sp_bin_axis(g, r, 2, fr, bins[2]);
     }
 }
 
@@ -467,10 +547,85 @@ static void par_go(build_t *bd, par_kind_t kind, uint32_t base, uint32_t n, uint
     p->cfg->run(p->cfg->run_user, par_item, p, chunks);
 }
 
+/* Small nodes: every split in centroid order on every axis (an exact sweep), not bins. It finds every split
+ * the bins could (a bin boundary is a prefix in centroid order) and costs less than clearing and sweeping 3 x
+ * OBJ_BINS bins for a handful of references. Order: by centroid, ties by position, so it is deterministic. */
+#define SWEEP_N 16u
+
+static void sweep_order(const ref_t *refs, uint32_t n, int k, uint8_t *ord)
+{
+    float key[SWEEP_N];
+    for (uint32_t i = 0; i < n; i++) {
+        key[i] = centroid(&refs[i], k);
+        ord[i] = (uint8_t)i;
+    }
+    for (uint32_t i = 1; i < n; i++) { /* insertion sort: stable, and n is small */
+        const uint8_t o = ord[i];
+        const float c = key[o];
+        uint32_t j = i;
+        while (j > 0 && key[ord[j - 1]] > c) {
+            ord[j] = ord[j - 1];
+            j--;
+        }
+        ord[j] = o;
+    }
+}
+
+static void find_sweep_split(build_t *bd, uint32_t base, uint32_t n, const box_t *cb, split_t *best)
+{
+    const ref_t *refs = bd->refs + base;
+    box_t rb[SWEEP_N];
+    uint8_t ord[SWEEP_N];
+    for (int k = 0; k < 3; k++) {
+        if (!(cb->hi[k] - cb->lo[k] > 0.0f))
+            continue;
+        sweep_order(refs, n, k, ord);
+        box_t acc;
+        box_empty(&acc);
+        for (uint32_t i = n - 1; i > 0; i--) {
+            box_grow(&acc, &refs[ord[i]].b);
+            rb[i] = acc;
+        }
+        box_t lacc;
+        box_empty(&lacc);
+        for (uint32_t i = 0; i + 1 < n; i++) {
+            box_grow(&lacc, &refs[ord[i]].b);
+            const uint32_t nl = i + 1, nr = n - nl;
+            float c = box_area(&lacc) * sah_count(nl) + box_area(&rb[i + 1]) * sah_count(nr);
+            if (c < best->cost) {
+                best->cost = c;
+                best->axis = k;
+                best->bin = (int)i;
+                best->lb = lacc;
+                best->rb = rb[i + 1];
+                best->nl = nl;
+                best->nr = nr;
+            }
+        }
+    }
+}
+
+/* The partition of find_sweep_split's result: the references in centroid order on its axis, cut after bin. */
+static uint32_t partition_sweep(build_t *bd, uint32_t base, uint32_t n, const split_t *s)
+{
+    ref_t tmp[SWEEP_N];
+    uint8_t ord[SWEEP_N];
+    ref_t *refs = bd->refs + base;
+    sweep_order(refs, n, s->axis, ord);
+    for (uint32_t i = 0; i < n; i++)
+        tmp[i] = refs[ord[i]];
+    hz_memcpy(refs, tmp, (size_t)n * sizeof(ref_t));
+    return (uint32_t)s->bin + 1u;
+}
+
 static void find_object_split(build_t *bd, uint32_t base, uint32_t n, const box_t *cb, split_t *best)
 {
     best->cost = FLT_MAX;
     best->axis = -1;
+    if (n <= SWEEP_N) {
+        find_sweep_split(bd, base, n, cb, best);
+        return;
+    }
     float scale[3];
     for (int k = 0; k < 3; k++) {
         float ext = cb->hi[k] - cb->lo[k];
@@ -537,19 +692,6 @@ static int spatial_bins(uint32_t n)
     return n >= 1024 ? SPATIAL_BINS : n >= 128 ? SPATIAL_BINS / 2 : SPATIAL_BINS / 4;
 }
 
-static int spatial_bin_of(float x, const sp_frame_t *fr, int k)
-{
-    const int nbins = fr->nbins;
-    const float *planes = fr->planes[k];
-    int i = (int)((x - fr->nb->lo[k]) * fr->inv[k]);
-    i = i < 0 ? 0 : (i >= nbins ? nbins - 1 : i);
-    /* The float bin index may disagree with the plane positions by one: settle it against the planes. */
-    while (i > 0 && x < planes[i])
-        i--;
-    while (i < nbins - 1 && x >= planes[i + 1])
-        i++;
-    return i;
-}
 
 static void find_spatial_split(build_t *bd, uint32_t base, uint32_t n, const box_t *nb, split_t *best)
 {
@@ -776,7 +918,9 @@ static bool split_node(build_t *bd, uint32_t idx, uint32_t n, const box_t *b, ui
     *leaf_cost = 0.0f;
     if (bd->failed)
         return true;
-    if (n <= 1 || (n <= bd->leaf_max && depth + 1 >= HZ_BVH_MAX_DEPTH)) {
+    /* A leaf of at most SAH_BLOCK references costs one block test (COST_TRI), no more than the node a split
+     * would add (COST_NODE): it wins against any split below, so no split is searched for. */
+    if (n <= 1 || (n <= bd->leaf_max && (depth + 1 >= HZ_BVH_MAX_DEPTH || n <= SAH_BLOCK))) {
         *leaf_cost = make_leaf(bd, idx, n, area);
         return true;
     }
@@ -825,7 +969,7 @@ static bool split_node(build_t *bd, uint32_t idx, uint32_t n, const box_t *b, ui
             bd->spatial_splits++;
         }
     } else if (os.axis >= 0) {
-        nl = partition_object(bd, base, n, &cb, &os);
+        nl = n <= SWEEP_N ? partition_sweep(bd, base, n, &os) : partition_object(bd, base, n, &cb, &os);
         if (nl == 0 || nl == n) {
             median = true;
         } else {
@@ -884,6 +1028,8 @@ typedef struct task {
     float sah;
     uint32_t splits, leaves;
     bool failed;
+    bool rerun;       /* over budget in the first pass: built again with budget2 (build_top) */
+    uint32_t budget2;
 } task_t;
 
 enum { TOP_NODE = 0, TOP_TASK = 1, TOP_DONE = 2 };
@@ -902,6 +1048,8 @@ typedef struct top_ctx {
     top_node_t *tops;
     uint32_t top_count;
     uint32_t limit; /* subtrees of at most this many references become tasks */
+    uint32_t list[PAR_MAX_TASKS]; /* the tasks a pass runs, in order */
+    uint32_t list_count;
 } top_ctx_t;
 
 /* Subtrees of at most this many references are tasks: about 64 to 128 of them (from the reference count only). */
@@ -995,7 +1143,7 @@ static void task_item(void *ctx, uint32_t item)
 {
     const top_ctx_t *tc = ctx;
     const build_t *bd = tc->bd;
-    task_t *t = &tc->tasks[item];
+    task_t *t = &tc->tasks[tc->list[item]];
     build_t b; /* on this thread's stack: the bins are per task */
     hz_memset(&b, 0, sizeof b);
     b.g = bd->g;
@@ -1018,13 +1166,66 @@ static void task_item(void *ctx, uint32_t item)
     t->failed = b.failed;
 }
 
+typedef enum top_result { TOP_FAILED, TOP_BUILT, TOP_RERUN } top_result_t;
+
+/* Which tasks of a first pass that went over the budget are built again, and with what: in task order (the
+ * serial build's), a task keeps its tree if what it used fits beside the plain shares of the tasks after it;
+ * the others get their shares plus, in proportion to them, what the kept ones left (capped at what their ranges
+ * hold). The total then stays within the budget. Returns false if the shares themselves do not fit (the serial
+ * build instead). */
+static bool plan_rerun(top_ctx_t *tc, uint64_t avail)
+{
+    uint64_t rest = 0, acc = 0, rej_share = 0;
+    for (uint32_t i = 0; i < tc->task_count; i++)
+        rest += tc->tasks[i].share;
+    if (rest > avail)
+        return false;
+    for (uint32_t i = 0; i < tc->task_count; i++) {
+        task_t *t = &tc->tasks[i];
+        const uint64_t used = t->leaves - t->n;
+        rest -= t->share;
+        t->rerun = acc + used + rest > avail;
+        if (t->rerun) {
+            acc += t->share;
+            rej_share += t->share;
+        } else {
+            acc += used;
+        }
+    }
+    const uint64_t slack = avail - acc;
+    for (uint32_t i = 0; i < tc->task_count; i++) {
+        task_t *t = &tc->tasks[i];
+        if (!t->rerun)
+            continue;
+        uint64_t b = t->share + (rej_share ? slack * t->share / rej_share : 0u);
+        t->budget2 = (uint32_t)(b < t->budget ? b : t->budget);
+    }
+    return true;
+}
+
+static void run_list(const hz_accel_config_t *cfg, top_ctx_t *tc, bool parallel)
+{
+    if (parallel && tc->list_count > 1u)
+        cfg->run(cfg->run_user, task_item, tc, tc->list_count);
+    else
+        for (uint32_t i = 0; i < tc->list_count; i++) {
+            task_item(tc, i);
+            if (cfg->progress && i % 4u == 3u)
+                cfg->progress(cfg->progress_user, 0.3f + 0.5f * (float)i / (float)tc->list_count);
+        }
+}
+
 /* The build of the root (idx 0, every reference on the stack) through the top levels and tasks; the tasks run
- * on cfg->run when `parallel`, else here in turn: the same tree either way. Returns false if a range was too
- * small or the references went over the budget (the tasks' scaled budgets together can). */
-static bool build_top(build_t *bd, const hz_accel_config_t *cfg, top_ctx_t *tc, const box_t *root, uint32_t budget,
-                      bool parallel, float *sah)
+ * on cfg->run when `parallel`, else here in turn: the same tree either way. First pass (rerun false): every task
+ * with TASK_BUDGET_SCALE times its share; if the references then went over the budget (the furball, where it
+ * binds everywhere), TOP_RERUN with a plan (plan_rerun), and the caller restores the references and calls again
+ * with rerun true: the top levels are built again (the same), the kept tasks keep their trees and only the
+ * others are built again, in parallel. TOP_FAILED if a range was too small or the plan does not hold. */
+static top_result_t build_top(build_t *bd, const hz_accel_config_t *cfg, top_ctx_t *tc, const box_t *root,
+                              uint32_t budget, bool parallel, bool rerun, float *sah)
 {
     tc->bd = bd;
+    const uint32_t first_count = tc->task_count;
     tc->task_count = 0;
     tc->top_count = 0;
     tc->limit = task_limit(bd->top);
@@ -1032,32 +1233,45 @@ static bool build_top(build_t *bd, const hz_accel_config_t *cfg, top_ctx_t *tc, 
     uint32_t kind, ref;
     float cost;
     top_node(tc, 0, bd->top, root, 0, budget, &kind, &ref, &cost);
-    if (bd->failed)
-        return false;
+    if (bd->failed || (rerun && tc->task_count != first_count))
+        return TOP_FAILED;
     if (cfg->progress)
         cfg->progress(cfg->progress_user, 0.3f);
-    if (parallel && tc->task_count > 1u)
-        cfg->run(cfg->run_user, task_item, tc, tc->task_count);
-    else
-        for (uint32_t i = 0; i < tc->task_count; i++) {
-            task_item(tc, i);
-            if (cfg->progress && i % 4u == 3u)
-                cfg->progress(cfg->progress_user, 0.3f + 0.5f * (float)i / (float)tc->task_count);
+    const uint32_t top_leaves = bd->leaf_count;
+    tc->list_count = 0;
+    for (uint32_t i = 0; i < tc->task_count; i++)
+        if (!rerun || tc->tasks[i].rerun) {
+            if (rerun)
+                tc->tasks[i].budget = tc->tasks[i].budget2;
+            tc->list[tc->list_count++] = i;
         }
+    run_list(cfg, tc, parallel);
+    uint32_t splits = 0;
+    uint64_t leaves = 0;
     for (uint32_t i = 0; i < tc->task_count; i++) {
         const task_t *t = &tc->tasks[i];
         if (t->failed)
-            return false;
-        bd->spatial_splits += t->splits;
-        bd->leaf_count += t->leaves;
+            return TOP_FAILED;
+        splits += t->splits;
+        leaves += t->leaves;
     }
-    const uint64_t used = bd->leaf_count - refs0;
-    if (used > budget)
-        return false;
+    const uint64_t used = top_leaves + leaves - refs0;
+    if (used > budget) {
+        if (rerun)
+            return TOP_FAILED;
+        /* what the tasks may use together: the budget less the top levels' own duplicates */
+        uint64_t task_refs = 0;
+        for (uint32_t i = 0; i < tc->task_count; i++)
+            task_refs += tc->tasks[i].n;
+        const uint64_t top_dups = top_leaves + task_refs - refs0;
+        return top_dups <= budget && plan_rerun(tc, budget - top_dups) ? TOP_RERUN : TOP_FAILED;
+    }
+    bd->spatial_splits += splits;
+    bd->leaf_count += (uint32_t)leaves;
     *sah = top_cost(tc, kind, ref, cost);
     if (cfg->progress)
         cfg->progress(cfg->progress_user, 0.8f);
-    return true;
+    return TOP_BUILT;
 }
 
 /* ---- collapse into wide nodes ---- */
@@ -1136,6 +1350,7 @@ static uint32_t collapse_node(collapse_t *c, uint32_t bi, uint32_t depth)
     if (depth + 1 > c->depth)
         c->depth = depth + 1;
     uint32_t kids[HZ_BVH_W];
+    float area[HZ_BVH_W]; /* of each kid, -1 for leaves (never opened): computed once, not per round */
     int nk = 0;
     if (bn[bi].n & BLEAF) {
         kids[nk++] = bi;
@@ -1143,23 +1358,23 @@ static uint32_t collapse_node(collapse_t *c, uint32_t bi, uint32_t depth)
         kids[nk++] = bn[bi].a;
         kids[nk++] = bn[bi].n;
     }
+    for (int i = 0; i < nk; i++)
+        area[i] = bn[kids[i]].n & BLEAF ? -1.0f : box_area(&bn[kids[i]].b);
     while (nk < HZ_BVH_W) {
         int pick = -1;
         float best = -1.0f;
-        for (int i = 0; i < nk; i++) {
-            if (bn[kids[i]].n & BLEAF)
-                continue;
-            float a = box_area(&bn[kids[i]].b);
-            if (a > best) {
-                best = a;
+        for (int i = 0; i < nk; i++)
+            if (area[i] > best) {
+                best = area[i];
                 pick = i;
             }
-        }
         if (pick < 0)
             break;
         uint32_t open = kids[pick];
         kids[pick] = bn[open].a;
         kids[nk++] = bn[open].n;
+        area[pick] = bn[kids[pick]].n & BLEAF ? -1.0f : box_area(&bn[kids[pick]].b);
+        area[nk - 1] = bn[kids[nk - 1]].n & BLEAF ? -1.0f : box_area(&bn[kids[nk - 1]].b);
     }
     uint32_t words[HZ_BVH_W];
     for (int i = 0; i < nk; i++) /* leaves first, so a node's leaves sit side by side in the blocks */
@@ -1330,6 +1545,7 @@ hz_status_t hz_bvh_build(hz_bvh_t *bvh, const hz_accel_geom_t *g, const hz_accel
     float sah = 0.0f;
     uint32_t root_idx = new_node(bd);
     bool done = false, par_held = false;
+    uint32_t rebuilt = 0;
     hz_arena_mark_t par_mark = 0;
     if (bd->top == 0) {
         /* nothing to hit: one empty leaf */
@@ -1343,6 +1559,7 @@ hz_status_t hz_bvh_build(hz_bvh_t *bvh, const hz_accel_geom_t *g, const hz_accel
         const bool parallel = cfg->run && cfg->run_threads > 1u;
         const hz_arena_mark_t m1 = hz_arena_mark(arena);
         top_ctx_t tc;
+        tc.task_count = 0;
         par_t *par = hz_arena_alloc(arena, sizeof(par_t), 64);
         tc.tasks = hz_arena_alloc_array(arena, PAR_MAX_TASKS, sizeof(task_t), 64);
         tc.tops = hz_arena_alloc_array(arena, PAR_MAX_TOP, sizeof(top_node_t), 64);
@@ -1359,25 +1576,36 @@ hz_status_t hz_bvh_build(hz_bvh_t *bvh, const hz_accel_geom_t *g, const hz_accel
             return HZ_E_NO_MEMORY;
         }
         /* If the tasks together went over the budget (a scene where it binds everywhere, like the furball), the
-         * serial build instead, whose hand-on spends the budget where it is wanted (the chunked binning still
-         * runs on the pool): the same tree as without tasks. */
+         * references are restored and the top levels built again with the overspending tasks on reduced
+         * budgets; should even that fail (it cannot within the bounds), the serial build. */
         bd->ref_cap = (uint32_t)cap;
         bd->node_cap = (uint32_t)(2u * cap + 2u);
         bd->leaf_cap = (uint32_t)cap;
         bd->par = parallel ? par : NULL;
-        done = build_top(bd, cfg, &tc, &root, budget, parallel, &sah);
-        if (!done) { /* again from the triangles */
+        top_result_t res = build_top(bd, cfg, &tc, &root, budget, parallel, false, &sah);
+        for (int pass = 0; pass < 2 && res != TOP_BUILT; pass++) { /* again from the triangles */
             bd->top = 0;
-            bd->ref_cap = (uint32_t)rb;
             bd->node_count = 0;
-            bd->node_cap = (uint32_t)(2u * rb);
             bd->leaf_count = 0;
-            bd->leaf_cap = (uint32_t)rb;
             bd->spatial_splits = 0;
             bd->failed = false;
+            if (res == TOP_RERUN) {
+                bd->ref_cap = (uint32_t)cap;
+                bd->node_cap = (uint32_t)(2u * cap + 2u);
+                bd->leaf_cap = (uint32_t)cap;
+            } else {
+                bd->ref_cap = (uint32_t)rb;
+                bd->node_cap = (uint32_t)(2u * rb);
+                bd->leaf_cap = (uint32_t)rb;
+            }
             (void)init_refs(bd, sweep, &root);
             (void)new_node(bd);
+            if (res != TOP_RERUN)
+                break;
+            res = build_top(bd, cfg, &tc, &root, budget, parallel, true, &sah);
+            rebuilt = tc.list_count;
         }
+        done = res == TOP_BUILT;
         par_mark = m1;
         par_held = true;
     }
@@ -1442,6 +1670,7 @@ hz_status_t hz_bvh_build(hz_bvh_t *bvh, const hz_accel_geom_t *g, const hz_accel
     }
     out->ref_count = bd->leaf_count;
     out->spatial_splits = bd->spatial_splits;
+    out->tasks_rebuilt = rebuilt;
     out->tri_skipped = skipped;
     float ra = box_area(&root);
     out->sah_cost = ra > 0.0f ? sah / ra : 0.0f;
