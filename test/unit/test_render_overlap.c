@@ -127,15 +127,16 @@ static void test_units_wait_for_the_rows_they_read(void **state)
             rfix_close(&f);
             continue;
         }
-        assert_int_equal(units, modes[m] == HZ_MODE_TDENSE ? (H + 1) / 2 : rows * items);
+        assert_int_equal(units, modes[m] == HZ_MODE_TDENSE ? rows : rows * items);
         uint32_t last_lo = 0, last_hi = 0;
         for (uint32_t u = 0; u < units; u++) {
             uint32_t lo, hi, need_lo, need_hi;
             hz_render_overlap_needs(f.r, u, &lo, &hi);
             if (modes[m] == HZ_MODE_TDENSE) {
-                /* tdense tile row u: pixel rows 2u, 2u + 1; their 3x3 motion and the newest-subframe box of
-                 * the tile rows above and below reach pixel rows 2u - 2 .. 2u + 3 */
-                rows_of(2 * (int)u - 2, 2 * (int)u + 3, &need_lo, &need_hi);
+                /* tdense unit u: the tdense tile rows of trace row u, pixel rows 8u .. 8u + 7; their 3x3 motion
+                 * and the newest-subframe box of the tile rows above and below reach two pixel rows further */
+                int y0 = (int)u * HZ_RENDER_TILE;
+                rows_of(y0 - 2, y0 + HZ_RENDER_TILE - 1 + 2, &need_lo, &need_hi);
             } else {
                 /* a TAA tile: its pixel rows and the 7x7 window's 3 rows either side */
                 int y0 = (int)(u / items) * HZ_RENDER_TILE;
