@@ -31,7 +31,18 @@ void hz_shade_lane_material(const hz_shade_ctx_t *c, const hz_shade_in_t *in, ui
  * (no such texture, non-finite uv); HZ_SHADE_TEX_FAR when its texels lie beyond a 32-bit gather index (the
  * lane then samples with hz_texture_sample). */
 enum { HZ_SHADE_TEX_ONE = 0, HZ_SHADE_TEX_GATHER = 1, HZ_SHADE_TEX_FAR = 2 };
-int hz_shade_lane_level(const hz_shade_ctx_t *c, int32_t tex, float tu, float tv, float lod_base, int32_t *first,
-                        int32_t *w, int32_t *h);
+/* The last texture and level a packet's lanes asked for (most lanes of a packet read the same texture at the
+ * same level): its size term and level answer, so the next lane skips the logarithm and the walk down the mip
+ * chain. Start one with hz_shade_level_memo_init; it holds values, never pointers into a frame. */
+typedef struct hz_shade_level_memo {
+    int32_t tex;      /* -1: none yet */
+    float size_term;  /* 0.5 log2(width height) of tex */
+    uint32_t level;   /* UINT32_MAX: none yet */
+    int kind;         /* HZ_SHADE_TEX_GATHER or _FAR for that level */
+    int32_t first, w, h;
+} hz_shade_level_memo_t;
+void hz_shade_level_memo_init(hz_shade_level_memo_t *m);
+int hz_shade_lane_level(const hz_shade_ctx_t *c, hz_shade_level_memo_t *memo, int32_t tex, float tu, float tv,
+                        float lod_base, int32_t *first, int32_t *w, int32_t *h);
 
 #endif

@@ -144,12 +144,14 @@ static void k_sample(const hz_shade_ctx_t *c, const int32_t *tex, uint32_t lanes
     int32_t first[KL] HZ_ALIGNED(32), w[KL] HZ_ALIGNED(32), h[KL] HZ_ALIGNED(32), on[KL] HZ_ALIGNED(32);
     vf_store(su, tu), vf_store(sv, tv);
     uint32_t gather = 0;
+    hz_shade_level_memo_t memo;
+    hz_shade_level_memo_init(&memo);
     for (uint32_t i = 0; i < KL; i++) {
         first[i] = 0, w[i] = h[i] = 1, on[i] = 0;
         rgba[0][i] = rgba[1][i] = rgba[2][i] = rgba[3][i] = 1.0f;
         if (!(lanes >> i & 1u))
             continue;
-        int k = hz_shade_lane_level(c, tex[i], su[i], sv[i], lod_base[i], &first[i], &w[i], &h[i]);
+        int k = hz_shade_lane_level(c, &memo, tex[i], su[i], sv[i], lod_base[i], &first[i], &w[i], &h[i]);
         if (k == HZ_SHADE_TEX_GATHER) {
             on[i] = -1, gather |= 1u << i;
         } else if (k == HZ_SHADE_TEX_FAR) {

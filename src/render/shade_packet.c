@@ -68,19 +68,40 @@ void hz_shade_lane_material(const hz_shade_ctx_t *c, const hz_shade_in_t *in, ui
     lt->alpha = blend && m->alpha_texture >= 0 && m->alpha_texture != m->base_texture ? m->alpha_texture : -1;
 }
 
-int hz_shade_lane_level(const hz_shade_ctx_t *c, int32_t tex, float tu, float tv, float lod_base, int32_t *first,
-                        int32_t *w, int32_t *h)
+void hz_shade_level_memo_init(hz_shade_level_memo_t *m)
+{
+    m->tex = -1;
+    m->size_term = 0.0f;
+    m->level = UINT32_MAX;
+    m->kind = HZ_SHADE_TEX_ONE;
+    m->first = 0, m->w = m->h = 1;
+}
+
+int hz_shade_lane_level(const hz_shade_ctx_t *c, hz_shade_level_memo_t *memo, int32_t tex, float tu, float tv,
+                        float lod_base, int32_t *first, int32_t *w, int32_t *h)
 {
     const hz_scene_t *s = c->scene;
     if (!hz_texture_usable(s, tex, tu, tv))
         return HZ_SHADE_TEX_ONE;
     const hz_texture_t *tx = &s->textures[tex];
-    float lod = lod_base + 0.5f * hz_log2_approx((float)tx->width * (float)tx->height);
-    uint32_t lw, lh;
-    size_t f = hz_texture_level_first(tx, hz_texture_level_of(tx, lod), &lw, &lh);
-    if (f + (size_t)lw * lh > 0x7fffffffu)
+    if (memo->tex != tex) {
+        memo->tex = tex;
+        memo->size_term = 0.5f * hz_log2_approx((float)tx->width * (float)tx->height);
+        memo->level = UINT32_MAX;
+    }
+    /* the same sum as hz_texture_sample's lod_base + 0.5 log2(area), its product computed once */
+    uint32_t level = hz_texture_level_of(tx, lod_base + memo->size_term);
+    if (level != memo->level) {
+        uint32_t lw, lh;
+        size_t f = hz_texture_level_first(tx, level, &lw, &lh);
+        memo->level = level;
+        memo->kind = f + (size_t)lw * lh > 0x7fffffffu ? HZ_SHADE_TEX_FAR : HZ_SHADE_TEX_GATHER;
+        memo->first = memo->kind == HZ_SHADE_TEX_GATHER ? (int32_t)f : 0;
+        memo->w = (int32_t)lw, memo->h = (int32_t)lh;
+    }
+    if (memo->kind == HZ_SHADE_TEX_FAR)
         return HZ_SHADE_TEX_FAR;
-    *first = (int32_t)f, *w = (int32_t)lw, *h = (int32_t)lh;
+    *first = memo->first, *w = memo->w, *h = memo->h;
     return HZ_SHADE_TEX_GATHER;
 }
 
