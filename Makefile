@@ -130,8 +130,8 @@ ACCEL_PORT_TESTS_embree := accel_embree
 RENDER_SRCS := src/render/camera.c src/render/texture.c src/render/trace.c src/render/render.c src/recon/taa.c \
                src/render/deflight.c src/render/terminator.c src/render/transp.c \
                src/recon/tdense.c src/recon/adaptive.c src/render/shade_packet.c
-RENDER_SRCS_avx2 := src/render/shade_avx2.c src/recon/tdense_lanes.c src/recon/taa_lanes.c
-RENDER_SRCS_neon := src/render/shade_neon.c src/recon/tdense_lanes.c src/recon/taa_lanes.c
+RENDER_SRCS_avx2 := src/render/shade_avx2.c src/render/camera_lanes.c src/recon/tdense_lanes.c src/recon/taa_lanes.c
+RENDER_SRCS_neon := src/render/shade_neon.c src/render/camera_lanes.c src/recon/tdense_lanes.c src/recon/taa_lanes.c
 RENDER_TESTS := tdense
 RENDER_PORT_TESTS := render render_tdense render_speckles render_adaptive render_transp leaveout scene_clock render_lanes \
                      render_blur render_skin shade render_overlap

@@ -1,6 +1,7 @@
 /* Pinhole camera: basis, ray directions and the matching projection for motion vectors. Ray generation and
  * projection use the same basis, so a point on a pixel's ray projects back to that pixel: static content
  * under a still camera gets motion vectors of exactly zero. */
+#include "hz/shade.h"
 #include "render_internal.h"
 
 void hz_view_setup(hz_view_t *v, const hz_camera_t *cam, uint32_t width, uint32_t height)
@@ -41,3 +42,27 @@ bool hz_view_project(const hz_view_t *v, hz_vec3_t p, float *px, float *py)
     *py = 0.5f * (float)v->height - hz_v3_dot(q, v->proj_y) * iz;
     return hz_isfinitef(*px) && hz_isfinitef(*py);
 }
+
+void hz_view_point_motion(const hz_view_t *cur, const hz_view_t *prev, hz_vec3_t p, hz_vec3_t pp, float out[2])
+{
+    float cx, cy, px, py;
+    if (hz_view_project(cur, p, &cx, &cy) && hz_view_project(prev, pp, &px, &py)) {
+        out[0] = px - cx;
+        out[1] = py - cy;
+    } else {
+        out[0] = out[1] = HZ_VIEW_MV_FAR;
+    }
+}
+
+#if !defined(HZ_BOARD_SIMD_AVX2) && !defined(HZ_BOARD_SIMD_NEON) /* else camera_lanes.c */
+void hz_view_still_motion_lanes(const hz_view_t *cur, const hz_view_t *prev, const float *px, const float *py,
+                                const float *pz, float *mx, float *my)
+{
+    for (uint32_t i = 0; i < HZ_SHADE_LANES; i++) {
+        float m[2];
+        hz_vec3_t p = hz_v3(px[i], py[i], pz[i]);
+        hz_view_point_motion(cur, prev, p, p, m);
+        mx[i] = m[0], my[i] = m[1];
+    }
+}
+#endif

@@ -152,6 +152,14 @@ void hz_view_setup(hz_view_t *v, const hz_camera_t *cam, uint32_t width, uint32_
 hz_vec3_t hz_view_ray_dir(const hz_view_t *v, float px, float py);
 /* Pixel coordinates (continuous, pixel centres at +0.5) of a world point; false if behind the camera. */
 bool hz_view_project(const hz_view_t *v, hz_vec3_t p, float *px, float *py);
+/* Screen motion in pixels of a world point that is at p now and was at pp one frame ago: its projection by prev
+ * minus its projection by cur, or HZ_VIEW_MV_FAR on both axes where either camera does not see it. */
+#define HZ_VIEW_MV_FAR 65536.0f
+void hz_view_point_motion(const hz_view_t *cur, const hz_view_t *prev, hz_vec3_t p, hz_vec3_t pp, float out[2]);
+/* hz_view_point_motion of HZ_SHADE_LANES points that did not move (pp = p; 32-byte aligned arrays), with the
+ * same bits in every lane: camera_lanes.c on SIMD boards, a loop over the scalar function elsewhere. */
+void hz_view_still_motion_lanes(const hz_view_t *cur, const hz_view_t *prev, const float *px, const float *py,
+                                const float *pz, float *mx, float *my);
 
 /* texture.c */
 /* Base colour (linear RGB) and alpha of texture t at uv, mip level from the ray-cone footprint lod. */

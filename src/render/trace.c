@@ -4,7 +4,6 @@
 #include "hz/shade.h"
 #include "render_internal.h"
 
-#define MV_FAR 65536.0f /* motion vector of a point the previous camera did not see: far off-screen */
 
 typedef struct hitrec {
     float t, u, v;
@@ -358,13 +357,7 @@ static void write_mv(float *mv, size_t px, float dx, float dy)
 /* Motion of a world point that is at p now and was at pp one frame ago. */
 static void point_motion(const struct hz_renderer *r, hz_vec3_t p, hz_vec3_t pp, float out[2])
 {
-    float cx, cy, px, py;
-    if (hz_view_project(&r->view, p, &cx, &cy) && hz_view_project(&r->prev_view, pp, &px, &py)) {
-        out[0] = px - cx;
-        out[1] = py - cy;
-    } else {
-        out[0] = out[1] = MV_FAR;
-    }
+    hz_view_point_motion(&r->view, &r->prev_view, p, pp, out);
 }
 
 /* Motion of what lies infinitely far along direction d (the background). */
@@ -445,8 +438,9 @@ static void shade_miss(hz_worker_t *w, const ray_job_t *j)
     }
 }
 
+/* still_mv: NULL, or the packet's motion vectors of still geometry (hz_view_still_motion_lanes), x then y. */
 static void shade_hit(hz_worker_t *w, const ray_job_t *j, const hitrec_t *h, const hz_shade_ctx_t *c,
-                      const hz_shade_out_t *so, uint32_t lane)
+                      const hz_shade_out_t *so, uint32_t lane, const float (*still_mv)[HZ_SHADE_LANES])
 {
     struct hz_renderer *r = w->r;
     const hz_scene_t *s = r->scene;
@@ -471,7 +465,10 @@ static void shade_hit(hz_worker_t *w, const ray_job_t *j, const hitrec_t *h, con
             /* Motion vectors belong to the frame's time: with blur the hit is at the ray's time instead. */
             hz_vec3_t pf = r->keys ? frame_point(r, h->prim, h->u, h->v) : sf.p;
             hz_vec3_t pp = prev_point(r, h->prim, h->u, h->v, pf);
-            point_motion(r, pf, pp, mv);
+            if (still_mv)
+                mv[0] = still_mv[0][lane], mv[1] = still_mv[1][lane];
+            else
+                point_motion(r, pf, pp, mv);
             write_mv(gb->mv, px, mv[0], mv[1]);
             if (gb->mv_reflect)
                 write_mv(gb->mv_reflect, px, mv[0], mv[1]); /* replaced by the reflected hit's, if any */
@@ -626,12 +623,18 @@ static void shade_packet(hz_worker_t *w, const ray_job_t *jobs, const hitrec_t *
         }
         (r->opts.scalar_shading ? hz_shade_surfaces_scalar : hz_shade_surfaces)(&c, &in, mask, &out);
     }
+    /* Primary hits on still geometry (hit point = frame point = previous point) get their motion vectors for
+     * the whole packet at once; the scalar twin (scalar_shading) keeps them per hit. */
+    float still_mv[2][HZ_SHADE_LANES] HZ_ALIGNED(32);
+    const bool still = mask && w->write_gbuffer && r->gb.mv && !r->keys && !r->scene->prev_pos && !r->opts.scalar_shading;
+    if (still)
+        hz_view_still_motion_lanes(&r->view, &r->prev_view, out.px, out.py, out.pz, still_mv[0], still_mv[1]);
     for (uint32_t i = 0; i < n; i++) {
         const ray_job_t *j = &jobs[i];
         if (hits[i].prim == HZ_ACCEL_INVALID_ID)
             shade_miss(w, j);
         else
-            shade_hit(w, j, &hits[i], &c, &out, i);
+            shade_hit(w, j, &hits[i], &c, &out, i, still && j->gslot == GSLOT_PRIMARY ? (const float(*)[HZ_SHADE_LANES])still_mv : NULL);
         if (j->dither && w->write_gbuffer && w->dither_touched[j->slot])
             w->r->gb.flags[w->pixel[j->slot]] |= HZ_GB_DITHER; /* the opacity mask TAA reads */
     }

@@ -1,7 +1,8 @@
 /* Packet surfaces (hz/shade.h): the board's SIMD kernel against its scalar twin, bit for bit, on real hits —
  * random rays from inside the bounds of baked scenes (textured Sponza, blended, cutout and
  * alpha-textured materials, a mirror box, the built-in scene, pose keys at random ray times), packets with some
- * lanes empty, and lanes with extreme ray cones and non-finite barycentrics. */
+ * lanes empty, and lanes with extreme ray cones and non-finite barycentrics. Also the motion vectors of still
+ * geometry in lanes (hz_view_still_motion_lanes) against hz_view_point_motion. */
 #include "hz_test.h"
 
 #include <string.h>
@@ -9,6 +10,7 @@
 #include "hz/hash.h"
 #include "hz/shade.h"
 #include "render_fixture.h"
+#include "../../src/render/render_internal.h" /* hz_view_point_motion and its lanes */
 
 #define PACKETS 8000
 
@@ -237,6 +239,73 @@ static void test_pose_keys(void **state)
     assert_true(t.textured > 100);
 }
 
+/* Random camera pairs (near each other, as consecutive frames are, and far apart) and points in front of, beside,
+ * behind and on the eye plane of either camera, with huge, tiny and non-finite coordinates: every lane's motion
+ * vector has the bits of the scalar function's, and every kind of point occurs. */
+static float rnd(uint32_t *st, float lo, float hi)
+{
+    *st = hz_hash32(*st + 0x9e3779b9u);
+    return lo + (hi - lo) * (float)(*st >> 8) * (1.0f / 16777216.0f);
+}
+
+static void test_still_motion_lanes(void **state)
+{
+    (void)state;
+    uint32_t st = 7, seen = 0, far = 0, special = 0;
+    for (int round = 0; round < 4000; round++) {
+        hz_camera_t a, b;
+        a.eye = hz_v3(rnd(&st, -50, 50), rnd(&st, -50, 50), rnd(&st, -50, 50));
+        a.target = hz_v3_add(a.eye, hz_v3(rnd(&st, -1, 1), rnd(&st, -1, 1), rnd(&st, -1, 1) + 0.01f));
+        a.up = hz_v3(rnd(&st, -0.3f, 0.3f), 1, rnd(&st, -0.3f, 0.3f)); /* tilted: every basis component nonzero */
+        a.fov_y = rnd(&st, 0.2f, 2.0f);
+        b = a;
+        float step = round % 4 == 0 ? 10.0f : 0.05f;
+        b.eye = hz_v3_add(a.eye, hz_v3(rnd(&st, -step, step), rnd(&st, -step, step), rnd(&st, -step, step)));
+        b.target = hz_v3_add(b.eye, hz_v3_sub(a.target, a.eye));
+        if (round % 8 == 1)
+            b = a; /* a still camera: motion exactly zero */
+        hz_view_t cur, prev;
+        uint32_t w = 64 + (uint32_t)rnd(&st, 0, 2000), h = 36 + (uint32_t)rnd(&st, 0, 1200);
+        hz_view_setup(&cur, &a, w, h);
+        hz_view_setup(&prev, &b, w, h);
+        float px[HZ_SHADE_LANES] HZ_ALIGNED(32), py[HZ_SHADE_LANES] HZ_ALIGNED(32), pz[HZ_SHADE_LANES] HZ_ALIGNED(32);
+        for (int i = 0; i < HZ_SHADE_LANES; i++) {
+            hz_vec3_t d = hz_v3(rnd(&st, -1, 1), rnd(&st, -1, 1), rnd(&st, -1, 1));
+            hz_vec3_t p = hz_v3_add(a.eye, hz_v3_scale(d, rnd(&st, 0, round % 3 ? 100.0f : 1e-3f)));
+            switch ((round + i) % 16) {
+            case 0: p = a.eye; break;                                  /* on the eye: z = 0 */
+            case 1: p.x = 1e30f; break;
+            case 2: p.y = -1e38f; break;
+            case 3: p.z = (float)(1.0 / 0.0); break;
+            case 4: p.x = p.x - p.x + (float)(0.0 / 0.0); break;      /* NaN */
+            case 5: p = hz_v3_add(a.eye, hz_v3_scale(cur.right, 1e-20f)); break; /* beside the eye plane */
+            default: break;
+            }
+            special += (round + i) % 16 < 6;
+            px[i] = p.x, py[i] = p.y, pz[i] = p.z;
+        }
+        float mx[HZ_SHADE_LANES] HZ_ALIGNED(32), my[HZ_SHADE_LANES] HZ_ALIGNED(32);
+        hz_view_still_motion_lanes(&cur, &prev, px, py, pz, mx, my);
+        for (int i = 0; i < HZ_SHADE_LANES; i++) {
+            float m[2];
+            hz_vec3_t p = hz_v3(px[i], py[i], pz[i]);
+            hz_view_point_motion(&cur, &prev, p, p, m);
+            if (memcmp(&m[0], &mx[i], sizeof(float)) || memcmp(&m[1], &my[i], sizeof(float)))
+                fail_msg("round %d lane %d: point (%g, %g, %g): lanes (%.9g, %.9g), scalar (%.9g, %.9g)", round, i,
+                         (double)px[i], (double)py[i], (double)pz[i], (double)mx[i], (double)my[i], (double)m[0],
+                         (double)m[1]);
+            if (m[0] == HZ_VIEW_MV_FAR)
+                far++;
+            else
+                seen++;
+        }
+    }
+    print_message("still motion (%s): %u seen by both cameras, %u far, %u special points\n", hz_shade_path(), seen,
+                  far, special);
+    assert_true(seen > 4000 * HZ_SHADE_LANES / 4);
+    assert_true(far > 4000 * HZ_SHADE_LANES / 8);
+}
+
 /* The path the board runs is its SIMD kernel where it has one (else the twin itself). */
 static void test_path(void **state)
 {
@@ -255,6 +324,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_path),     cmocka_unit_test(test_builtin),    cmocka_unit_test(test_sponza),
         cmocka_unit_test(test_blended),  cmocka_unit_test(test_mirror_box), cmocka_unit_test(test_pose_keys),
+        cmocka_unit_test(test_still_motion_lanes),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
