@@ -462,13 +462,16 @@ static void shade_hit(hz_worker_t *w, const ray_job_t *j, const hitrec_t *h, con
                                   (w->alpha_touched[j->slot] || m->alpha_mode != HZ_ALPHA_OPAQUE ? HZ_GB_ALPHA : 0));
         if (gb->mv) {
             float mv[2];
-            /* Motion vectors belong to the frame's time: with blur the hit is at the ray's time instead. */
-            hz_vec3_t pf = r->keys ? frame_point(r, h->prim, h->u, h->v) : sf.p;
-            hz_vec3_t pp = prev_point(r, h->prim, h->u, h->v, pf);
-            if (still_mv)
+            /* Motion vectors belong to the frame's time: with blur the hit is at the ray's time instead. Still
+             * geometry's come with the packet: pf and pp are sf.p, needed only for mirrors. */
+            hz_vec3_t pf = sf.p, pp = sf.p;
+            if (still_mv) {
                 mv[0] = still_mv[0][lane], mv[1] = still_mv[1][lane];
-            else
+            } else {
+                pf = r->keys ? frame_point(r, h->prim, h->u, h->v) : sf.p;
+                pp = prev_point(r, h->prim, h->u, h->v, pf);
                 point_motion(r, pf, pp, mv);
+            }
             write_mv(gb->mv, px, mv[0], mv[1]);
             if (gb->mv_reflect)
                 write_mv(gb->mv_reflect, px, mv[0], mv[1]); /* replaced by the reflected hit's, if any */
