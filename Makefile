@@ -99,9 +99,9 @@ INTEGER_FLAGS := -mgeneral-regs-only
 # <M>_PORT_TESTS also link the port library.
 
 # core (src/core): arenas, status, formatter, fixed point, hash + RNG, CRC-32, vec/mat, images + sRGB codes
-CORE_SRCS := src/core/arena.c src/core/status.c src/core/fmt.c src/core/fixed.c src/core/hash.c src/core/vmath.c \
+CORE_SRCS := src/core/arena.c src/core/memplan.c src/core/rgb8.c src/core/status.c src/core/fmt.c src/core/fixed.c src/core/hash.c src/core/vmath.c \
              src/core/crc32.c src/core/image.c src/core/srgb_tables.c src/core/pack.c
-CORE_INTEGER_SRCS := src/core/fixed.c src/core/hash.c src/core/crc32.c
+CORE_INTEGER_SRCS := src/core/fixed.c src/core/hash.c src/core/crc32.c src/core/rgb8.c
 CORE_TESTS := arena status fmt fixed hash vmath crc32 image pack
 CORE_PORT_TESTS := zero_alloc imageio config
 
@@ -128,13 +128,14 @@ ACCEL_PORT_TESTS_embree := accel_embree
 
 # render (src/render, src/recon): camera, shading, G-buffer, reconstruction
 RENDER_SRCS := src/render/camera.c src/render/texture.c src/render/trace.c src/render/render.c src/recon/taa.c \
+               src/recon/full.c src/recon/tdense_mode.c src/recon/modes.c src/render/ladder.c \
                src/render/deflight.c src/render/terminator.c src/render/transp.c \
                src/recon/tdense.c src/recon/adaptive.c src/render/shade_packet.c
 RENDER_SRCS_avx2 := src/render/shade_avx2.c src/render/camera_lanes.c src/recon/tdense_lanes.c src/recon/taa_lanes.c
 RENDER_SRCS_neon := src/render/shade_neon.c src/render/camera_lanes.c src/recon/tdense_lanes.c src/recon/taa_lanes.c
 RENDER_TESTS := tdense
 RENDER_PORT_TESTS := render render_tdense render_speckles render_adaptive render_transp leaveout scene_clock render_lanes \
-                     render_blur render_skin shade render_overlap
+                     render_blur render_skin shade render_overlap render_reconfigure
 RENDER_PORT_TESTS_embree := render_backends
 # Heavy render tests for boards whose tests run natively (not under emulation).
 RENDER_PORT_TESTS_native := render_taa
@@ -147,14 +148,15 @@ PATTERN_TESTS := tileorder adaptive_mask dither timeseq
 # timing (src/timing): v-sync model, pacing, latency statistics; integer-only throughout
 TIMING_SRCS := src/timing/wide.c src/timing/tstat.c src/timing/vsync.c src/timing/vsynth.c src/timing/pace.c \
                src/timing/frames.c src/timing/marker.c src/timing/pixconv.c src/timing/testpattern.c \
-               src/timing/rtmodel.c src/timing/vcd.c src/timing/ecsv.c src/timing/lockv.c
+               src/timing/rtmodel.c src/timing/vcd.c src/timing/ecsv.c src/timing/lockv.c src/timing/timebase.c \
+               src/timing/frameloop.c src/timing/governor.c
 TIMING_INTEGER_SRCS = $(TIMING_SRCS)
-TIMING_TESTS := tstat vsync marker traceio lockv
-TIMING_PORT_TESTS := frameloop latency_cli
+TIMING_TESTS := tstat vsync marker traceio lockv governor
+TIMING_PORT_TESTS := frameloop latency_cli show
 # Ports of the timing path (port/linux): `timing` (frame loop, report, `hzrt latency`, simulated display,
 # VCD/CSV replay) goes on every board; `fbdev`, `v4l2` and `gpio` where the hardware has them.
-PORT_SRCS_timing := port/linux/timebase.c port/linux/vsrc_timeline.c port/linux/frameloop.c port/linux/latency_report.c \
-                    port/linux/latency.c port/linux/scenesrc.c port/linux/devices_absent.c port/linux/sysio.c
+PORT_SRCS_timing := port/linux/timebase.c port/linux/vsrc_timeline.c port/linux/latency_report.c \
+                    port/linux/scenesrc.c port/linux/filesink.c port/linux/devices_absent.c port/linux/sysio.c
 PORT_SRCS_fbdev := port/linux/fbdev.c
 PORT_SRCS_v4l2 := port/linux/v4l2.c
 PORT_SRCS_gpio := port/linux/gpio.c
@@ -201,7 +203,7 @@ INTEGER_SRCS += $(TIMING_INTEGER_SRCS)
 # Ports: each board lists the ones it links (BOARD_PORTS); accel backends come from BOARD_ACCEL.
 KNOWN_PORTS := linux timing fbdev v4l2 gpio drm
 PORT_SRCS_linux := port/linux/pools.c port/linux/cli.c port/linux/clock.c port/linux/fileio.c port/linux/scenefile.c \
-                   port/linux/threads.c port/linux/render_cmd.c port/linux/summary.c port/linux/accel_backend.c \
+                   port/linux/threads.c port/linux/summary.c port/linux/accel_backend.c \
                    port/linux/render_run.c port/linux/adaptive_cli.c port/linux/transp_opt.c
 PORT_SRCS_linux += port/linux/phase.c port/linux/modeplan.c port/linux/blur_setup.c port/linux/motion_check.c
 $(foreach p,$(BOARD_PORTS),$(if $(filter $(p),$(KNOWN_PORTS)),,$(error $(BOARD_DIR)/board.mk: unknown port '$(p)' (known: $(KNOWN_PORTS)))))
@@ -223,7 +225,12 @@ endif
 PORT_OBJS := $(PORT_SRCS:%.c=$(O)/%.o)
 PORT_LIB := $(O)/libhzport.a
 
-HZRT_SRCS := port/linux/main.c port/linux/accel_cmd.c
+# The commands (hzrt render, latency, show): option tables and the run of the frame loop; they measure the
+# governor's levels with errtime's metrics.
+CMD_SRCS := port/linux/render_cmd.c port/linux/latency.c port/linux/show.c port/linux/renderopts.c
+CMD_OBJS := $(CMD_SRCS:%.c=$(O)/%.o)
+$(O)/port/linux/show.o: EXTRA_CFLAGS += -Itools/errtime
+HZRT_SRCS := port/linux/main.c port/linux/accel_cmd.c $(CMD_SRCS)
 HZRT_OBJS := $(HZRT_SRCS:%.c=$(O)/%.o)
 HZRT := $(O)/bin/hzrt
 
@@ -303,9 +310,9 @@ $(LIB): $(LIB_OBJS)
 $(PORT_LIB): $(PORT_OBJS)
 	$(call msg,AR,$@)rm -f $@ && $(AR) rcs $@ $^
 
-$(HZRT): $(HZRT_OBJS) $(PORT_LIB) $(LIB)
+$(HZRT): $(HZRT_OBJS) $(ERRTIME_LIB) $(PORT_LIB) $(LIB)
 	@mkdir -p $(dir $@)
-	$(call msg,LD,$@)$(CC) $(LDFLAGS_ALL) -o $@ $(HZRT_OBJS) $(PORT_LIB) $(LIB) $(PORT_LIBS)
+	$(call msg,LD,$@)$(CC) $(LDFLAGS_ALL) -o $@ $(HZRT_OBJS) $(ERRTIME_LIB) $(PORT_LIB) $(LIB) $(PORT_LIBS)
 
 $(BENCH): $(BENCH_OBJS) $(PORT_LIB) $(LIB)
 	@mkdir -p $(dir $@)
@@ -318,9 +325,12 @@ $(O)/test/unit/test_%: test/unit/test_%.c $(LIB) $(BUILD_STAMP)
 $(PORT_TEST_BINS): $(O)/test/unit/test_%: test/unit/test_%.c $(PORT_LIB) $(LIB)
 	@mkdir -p $(dir $@)
 	$(call msg,CCLD,$@)$(CC) $(TEST_CFLAGS) $(PORT_DEFS) -Iport/linux $(DEPFLAGS) $(LDFLAGS_ALL) -o $@ $< \
-		$(filter %.o,$^) $(PORT_LIB) $(LIB) $(TEST_LIBS) $(PORT_LIBS) -ldl
+		$(filter %.o,$^) $(filter %.a,$(TEST_EXTRA_LIBS)) $(PORT_LIB) $(LIB) $(TEST_LIBS) $(PORT_LIBS) -ldl
 # `hzrt accel` through its entry point (the command lives in hzrt, not in the port library)
 $(O)/test/unit/test_accel_motion_cli: $(O)/port/linux/accel_cmd.o
+# `hzrt latency` and `render` through their entry points (the commands live in hzrt)
+$(O)/test/unit/test_latency_cli $(O)/test/unit/test_show: $(CMD_OBJS) $(ERRTIME_LIB)
+$(O)/test/unit/test_latency_cli $(O)/test/unit/test_show: TEST_EXTRA_LIBS = $(ERRTIME_LIB)
 
 # The sigrok-cli demo traces (test/traces/README.md) as C arrays, for tests that also run in the VM.
 TRACE_HDR := $(O)/test/gen/hz_traces.h

@@ -10,6 +10,7 @@
 #define HZ_DISPLAY_HEIGHT 720
 #define HZ_DISPLAY_HZ 240
 #define HZ_DISPLAY_DEVICE "file" /* frames go to file sinks (PNG/PPM/PFM/Y4M) */
+#define HZ_DISPLAY_SINK "none"   /* `hzrt show`: the simulated display shows nothing (its report says how it went) */
 
 #define HZ_ARENA_SCENE_BYTES (512ull << 20)
 #define HZ_ARENA_ACCEL_BYTES (1024ull << 20)

@@ -50,10 +50,18 @@
 #define HZ_VSYNC_SIM 1    /* simulated display clock (host builds) */
 #define HZ_VSYNC_GPIO 2   /* edge events on a GPIO input wired to the panel's VSYNC */
 #define HZ_VSYNC_FBDEV 3  /* FBIO_WAITFORVSYNC on HZ_DISPLAY_DEVICE */
-/* The display `hzrt latency --sink display` drives: "drm" (DRM/KMS, fbdev HZ_DISPLAY_DEVICE as fallback),
- * "fbdev" or "none". */
+/* The display `--sink display` drives: "drm" (DRM/KMS, fbdev HZ_DISPLAY_DEVICE as fallback), "fbdev" or "none"
+ * (a simulated display that shows nothing). */
 #ifndef HZ_DISPLAY_SINK
 #define HZ_DISPLAY_SINK "fbdev"
+#endif
+/* What `hzrt show` (the board's default command) shows on that display: a scene ("builtin" or a .hzb path on
+ * the target) in a render mode (hz_render_mode_t). */
+#ifndef HZ_DISPLAY_SCENE
+#define HZ_DISPLAY_SCENE "builtin"
+#endif
+#ifndef HZ_DISPLAY_MODE
+#define HZ_DISPLAY_MODE HZ_MODE_TDENSE
 #endif
 #ifndef HZ_VSYNC_SOURCE
 #error "board.h must define HZ_VSYNC_SOURCE (HZ_VSYNC_SIM, HZ_VSYNC_GPIO or HZ_VSYNC_FBDEV)"

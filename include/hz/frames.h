@@ -42,6 +42,7 @@ typedef struct hz_frame_rec {
     int64_t target_slot, target_edge_ns, budget_ns, period_ns;
     int64_t actual_slot, actual_edge_ns;
     uint32_t flags;
+    uint32_t level;   /* the quality level it was rendered at (hz/governor.h; 0: the best) */
 } hz_frame_rec_t;
 
 typedef struct hz_framelog {

@@ -54,6 +54,9 @@ typedef struct hz_pace {
 } hz_pace_t;
 
 hz_status_t hz_pace_init(hz_pace_t *p, const hz_pace_cfg_t *cfg, hz_error_t *err);
+/* Forgets the costs so far (they describe another workload: the governor changed the quality level); the
+ * budget starts again from the warm-up's whole period. */
+void hz_pace_forget(hz_pace_t *p);
 /* Records one frame's cost (done - planned start, >= 0; negative values count as 0). */
 void hz_pace_observe(hz_pace_t *p, int64_t cost_ns);
 /* The budget for a model period (what the next plan would use). */

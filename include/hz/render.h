@@ -108,6 +108,10 @@ typedef struct hz_render_opts {
     /* tdense and TAA frames overlap their trace and resolve passes (hz_render_overlap_units); true keeps a
      * barrier between them instead (same images: for tests and side-by-side timing). */
     bool serial_passes;
+    /* Frame-arena bytes hz_render_create holds for the G-buffer and the mode's state, so that
+     * hz_render_reconfigure can later switch to other sizes and modes whose hz_render_plan region_bytes fit
+     * (0: just what this configuration needs). */
+    size_t reserve_bytes;
 } hz_render_opts_t;
 
 void hz_render_opts_default(hz_render_opts_t *o);
@@ -165,6 +169,7 @@ typedef struct hz_render_plan {
     size_t thread_bytes;
     size_t display_bytes, gbuffer_bytes, gbuffer2_bytes, mv_bytes, state_bytes;
     bool anyhit, transparency;
+    size_t region_bytes;   /* the G-buffer's and the mode's share of frame_bytes, before opts.reserve_bytes */
     uint32_t time_keys;    /* motion blur: pose keys opts.keys needs (0: none) */
     size_t keys_bytes;     /* what hz_posekeys_init takes for them (from the scene arena, say), 0 without */
 } hz_render_plan_t;
@@ -217,6 +222,14 @@ const uint8_t *hz_render_adaptive_mask(const hz_renderer_t *r);
 /* The key light the renderer added because the scene has none (hz/deflight.h), or NULL when the scene brings
  * its own lights. */
 const hz_light_t *hz_render_default_light(const hz_renderer_t *r);
+/* Switches r to configuration o from the next frame on (the governor's quality levels: another size, mode,
+ * bounce count, transparency method or adaptive thresholds). What the scene needs and the motion blur (shutter,
+ * frame rate, pose keys) stay as created: another shutter is HZ_E_INVALID_ARG. o's region (hz_render_plan's
+ * region_bytes) must fit what create held (opts.reserve_bytes), else HZ_E_NO_MEMORY with both counts and r
+ * unchanged. A change of size, mode or of the options a mode lays its state out by (tdense's rule, gamma and
+ * mirror motion, the seed, the adaptive settings) lays the G-buffer and the mode state out anew and forgets
+ * history, as after a cut; the other options take effect with their history kept. Allocates nothing. */
+hz_status_t hz_render_reconfigure(hz_renderer_t *r, const hz_render_opts_t *o, hz_error_t *err);
 /* Forget history (TAA) and previous-frame state, e.g. after a cut. */
 void hz_render_reset_history(hz_renderer_t *r);
 /* Switches the reconstruction passes to their scalar twins (true) or the board's SIMD (false) from the next

@@ -267,22 +267,38 @@ hz_status_t hz_ppm_read(const char *path, hz_arena_t *arena, hz_image_t *img, hz
     return finish(&r, HZ_OK);
 }
 
-hz_status_t hz_ppm_write(const char *path, const hz_image_t *img, hz_error_t *err)
+/* Rows of 8-bit sRGB codes, from a linear float image (encoded row by row into tmp) or from RGB24 as given. */
+typedef struct rows8 {
+    const hz_image_t *img;
+    const uint8_t *rgb;
+    size_t stride;
+    uint8_t *tmp;
+} rows8_t;
+
+static const uint8_t *row8(const rows8_t *r, uint32_t y, size_t row_bytes)
 {
-    size_t row_bytes = (size_t)img->width * 3;
+    if (!r->img)
+        return r->rgb + (size_t)y * r->stride;
+    hz_srgb8_encode_n(hz_image_at(r->img, 0, y), r->tmp, row_bytes);
+    return r->tmp;
+}
+
+static hz_status_t ppm_write_rows(const char *path, uint32_t w, uint32_t h, rows8_t *r, hz_error_t *err)
+{
+    size_t row_bytes = (size_t)w * 3;
     uint8_t *row = malloc(row_bytes ? row_bytes : 1);
     if (!row)
         return hz_error_set(err, HZ_E_NO_MEMORY, "%s: no memory for a %zu-byte row", path, row_bytes);
+    r->tmp = row;
     hz_out_t out;
     hz_status_t s = hz_out_open(&out, path, err);
     if (s != HZ_OK) {
         free(row);
         return s;
     }
-    fprintf(out.f, "P6\n%u %u\n255\n", (unsigned)img->width, (unsigned)img->height);
-    for (uint32_t y = 0; y < img->height; y++) {
-        hz_srgb8_encode_n(hz_image_at(img, 0, y), row, row_bytes);
-        if (fwrite(row, 1, row_bytes, out.f) != row_bytes) {
+    fprintf(out.f, "P6\n%u %u\n255\n", (unsigned)w, (unsigned)h);
+    for (uint32_t y = 0; y < h; y++) {
+        if (fwrite(row8(r, y, row_bytes), 1, row_bytes, out.f) != row_bytes) {
             int e = errno;
             hz_out_abort(&out);
             free(row);
@@ -291,6 +307,19 @@ hz_status_t hz_ppm_write(const char *path, const hz_image_t *img, hz_error_t *er
     }
     free(row);
     return hz_out_commit(&out, err);
+}
+
+hz_status_t hz_ppm_write(const char *path, const hz_image_t *img, hz_error_t *err)
+{
+    rows8_t r = { img, NULL, 0, NULL };
+    return ppm_write_rows(path, img->width, img->height, &r, err);
+}
+
+hz_status_t hz_ppm_write_rgb8(const char *path, const uint8_t *rgb, uint32_t w, uint32_t h, size_t stride,
+                              hz_error_t *err)
+{
+    rows8_t r = { NULL, rgb, stride, NULL };
+    return ppm_write_rows(path, w, h, &r, err);
 }
 
 /* ---------------------------------------------------------------------------------------------------------
@@ -582,12 +611,12 @@ typedef struct png_write_state {
     uint8_t *row;
 } png_write_state_t;
 
-hz_status_t hz_png_write(const char *path, const hz_image_t *img, hz_error_t *err)
+static hz_status_t png_write_image8(const char *path, uint32_t w, uint32_t h, rows8_t *r, hz_error_t *err)
 {
     png_write_state_t *st = calloc(1, sizeof *st);
     if (!st)
         return hz_error_set(err, HZ_E_NO_MEMORY, "%s: no memory for the PNG writer", path);
-    size_t row_bytes = (size_t)img->width * 3;
+    size_t row_bytes = (size_t)w * 3;
     st->row = malloc(row_bytes ? row_bytes : 1);
     hz_status_t s = HZ_OK;
     if (!st->row) {
@@ -611,14 +640,13 @@ hz_status_t hz_png_write(const char *path, const hz_image_t *img, hz_error_t *er
         goto done;
     }
     png_set_write_fn(st->png, &st->ctx, png_write_data, png_flush_data);
-    png_set_IHDR(st->png, st->info, img->width, img->height, 8, PNG_COLOR_TYPE_RGB, PNG_INTERLACE_NONE,
+    png_set_IHDR(st->png, st->info, w, h, 8, PNG_COLOR_TYPE_RGB, PNG_INTERLACE_NONE,
                  PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
     png_set_sRGB_gAMA_and_cHRM(st->png, st->info, PNG_sRGB_INTENT_PERCEPTUAL);
     png_write_info(st->png, st->info);
-    for (uint32_t y = 0; y < img->height; y++) {
-        hz_srgb8_encode_n(hz_image_at(img, 0, y), st->row, row_bytes);
-        png_write_row(st->png, st->row);
-    }
+    r->tmp = st->row;
+    for (uint32_t y = 0; y < h; y++)
+        png_write_row(st->png, (png_bytep)(uintptr_t)row8(r, y, row_bytes));
     png_write_end(st->png, NULL);
     s = hz_out_commit(&st->out, err);
 done:
@@ -627,6 +655,19 @@ done:
     free(st->row);
     free(st);
     return s;
+}
+
+hz_status_t hz_png_write(const char *path, const hz_image_t *img, hz_error_t *err)
+{
+    rows8_t r = { img, NULL, 0, NULL };
+    return png_write_image8(path, img->width, img->height, &r, err);
+}
+
+hz_status_t hz_png_write_rgb8(const char *path, const uint8_t *rgb, uint32_t w, uint32_t h, size_t stride,
+                              hz_error_t *err)
+{
+    rows8_t r = { NULL, rgb, stride, NULL };
+    return png_write_image8(path, w, h, &r, err);
 }
 
 #else /* !HZ_HAVE_PNG */
@@ -648,6 +689,14 @@ hz_status_t hz_png_read(const char *path, hz_arena_t *arena, hz_image_t *img, hz
 hz_status_t hz_png_write(const char *path, const hz_image_t *img, hz_error_t *err)
 {
     (void)img;
+    return hz_error_set(err, HZ_E_UNSUPPORTED, "%s: PNG support is not built in (libpng was not found for this "
+                        "target); use PPM or PFM", path);
+}
+
+hz_status_t hz_png_write_rgb8(const char *path, const uint8_t *rgb, uint32_t w, uint32_t h, size_t stride,
+                              hz_error_t *err)
+{
+    (void)rgb, (void)w, (void)h, (void)stride;
     return hz_error_set(err, HZ_E_UNSUPPORTED, "%s: PNG support is not built in (libpng was not found for this "
                         "target); use PPM or PFM", path);
 }
@@ -782,9 +831,11 @@ hz_status_t hz_y4m_open(hz_y4m_t *y4m, const char *path, uint32_t width, uint32_
     size_t luma = (size_t)width * height, chroma = (size_t)y4m->cw * y4m->ch;
     y4m->y = malloc(luma + 2 * chroma);
     y4m->pb = malloc(2 * sizeof(float) * y4m->cw);
-    if (!y4m->y || !y4m->pb) {
+    y4m->row = malloc((size_t)width * 3);
+    if (!y4m->y || !y4m->pb || !y4m->row) {
         free(y4m->y);
         free(y4m->pb);
+        free(y4m->row);
         memset(y4m, 0, sizeof *y4m);
         return hz_error_set(err, HZ_E_NO_MEMORY, "%s: Y4M: no memory for %zu bytes of planes", path,
                             luma + 2 * chroma);
@@ -795,6 +846,7 @@ hz_status_t hz_y4m_open(hz_y4m_t *y4m, const char *path, uint32_t width, uint32_
     if ((s = hz_out_open(&y4m->out, path, err)) != HZ_OK) {
         free(y4m->y);
         free(y4m->pb);
+        free(y4m->row);
         memset(y4m, 0, sizeof *y4m);
         return s;
     }
@@ -804,28 +856,27 @@ hz_status_t hz_y4m_open(hz_y4m_t *y4m, const char *path, uint32_t width, uint32_
     return HZ_OK;
 }
 
-hz_status_t hz_y4m_write(hz_y4m_t *y4m, const hz_image_t *frame, hz_error_t *err)
+static hz_status_t y4m_write_rows(hz_y4m_t *y4m, uint32_t fw, uint32_t fh, rows8_t *r, hz_error_t *err)
 {
     if (!y4m->out.f)
         return hz_error_set(err, HZ_E_INVALID_ARG, "Y4M stream is not open");
-    if (frame->width != y4m->width || frame->height != y4m->height)
+    if (fw != y4m->width || fh != y4m->height)
         return hz_error_set(err, HZ_E_INVALID_ARG, "%s: Y4M: frame is %ux%u, the stream %ux%u", y4m->out.path,
-                            (unsigned)frame->width, (unsigned)frame->height, (unsigned)y4m->width,
-                            (unsigned)y4m->height);
+                            (unsigned)fw, (unsigned)fh, (unsigned)y4m->width, (unsigned)y4m->height);
+    r->tmp = y4m->row;
     float kr, kb;
     matrix_coeffs(y4m->opts.matrix, &kr, &kb);
     bool full = y4m->opts.full_range, sub = y4m->opts.chroma == HZ_Y4M_C420JPEG;
     uint32_t w = y4m->width, h = y4m->height;
     for (uint32_t y = 0; y < h; y++) {
-        const float *src = hz_image_at(frame, 0, y);
+        const uint8_t *src = row8(r, y, (size_t)w * 3);
         uint8_t *ly = y4m->y + (size_t)y * w;
         if (sub && y % 2 == 0)
             for (uint32_t i = 0; i < y4m->cw; i++)
                 y4m->pb[i] = y4m->pr[i] = 0.0f;
         for (uint32_t x = 0; x < w; x++) {
             float yp, pb, pr;
-            rgb_to_ypbpr(kr, kb, hz_srgb8_encode(src[3 * x]), hz_srgb8_encode(src[3 * x + 1]),
-                         hz_srgb8_encode(src[3 * x + 2]), &yp, &pb, &pr);
+            rgb_to_ypbpr(kr, kb, src[3 * x], src[3 * x + 1], src[3 * x + 2], &yp, &pb, &pr);
             ly[x] = luma_code(full, yp);
             if (!sub) {
                 y4m->cb[(size_t)y * w + x] = chroma_code(full, pb);
@@ -854,10 +905,25 @@ hz_status_t hz_y4m_write(hz_y4m_t *y4m, const hz_image_t *frame, hz_error_t *err
     return HZ_OK;
 }
 
+hz_status_t hz_y4m_write(hz_y4m_t *y4m, const hz_image_t *frame, hz_error_t *err)
+{
+    rows8_t r = { frame, NULL, 0, NULL };
+    return y4m_write_rows(y4m, frame->width, frame->height, &r, err);
+}
+
+hz_status_t hz_y4m_write_rgb8(hz_y4m_t *y4m, const uint8_t *rgb, uint32_t w, uint32_t h, size_t stride,
+                              hz_error_t *err)
+{
+    rows8_t r = { NULL, rgb, stride, NULL };
+    return y4m_write_rows(y4m, w, h, &r, err);
+}
+
 static void y4m_free(hz_y4m_t *y4m)
 {
     free(y4m->y);
     free(y4m->pb);
+    free(y4m->row);
+    y4m->row = NULL;
     y4m->y = y4m->cb = y4m->cr = NULL;
     y4m->pb = y4m->pr = NULL;
 }

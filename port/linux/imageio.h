@@ -53,6 +53,12 @@ bool hz_png_supported(void);
 
 hz_status_t hz_png_read(const char *path, hz_arena_t *arena, hz_image_t *img, hz_error_t *err);
 hz_status_t hz_png_write(const char *path, const hz_image_t *img, hz_error_t *err);
+/* PNG and PPM of 8-bit sRGB codes (RGB24 rows of `stride` bytes): the same file as writing the linear image
+ * they encode. */
+hz_status_t hz_png_write_rgb8(const char *path, const uint8_t *rgb, uint32_t w, uint32_t h, size_t stride,
+                              hz_error_t *err);
+hz_status_t hz_ppm_write_rgb8(const char *path, const uint8_t *rgb, uint32_t w, uint32_t h, size_t stride,
+                              hz_error_t *err);
 
 hz_status_t hz_ppm_read(const char *path, hz_arena_t *arena, hz_image_t *img, hz_error_t *err);
 hz_status_t hz_ppm_write(const char *path, const hz_image_t *img, hz_error_t *err);
@@ -81,6 +87,7 @@ typedef struct hz_y4m {
     uint32_t width, height, cw, ch; /* luma and chroma plane sizes */
     uint8_t *y, *cb, *cr;            /* planes, allocated at open */
     float *pb, *pr;                  /* one row pair of unquantised chroma (4:2:0) */
+    uint8_t *row;                    /* one row of 8-bit codes */
     uint64_t frames;
 } hz_y4m_t;
 
@@ -88,6 +95,10 @@ hz_status_t hz_y4m_open(hz_y4m_t *y4m, const char *path, uint32_t width, uint32_
                         hz_error_t *err);
 /* frame must be width x height. */
 hz_status_t hz_y4m_write(hz_y4m_t *y4m, const hz_image_t *frame, hz_error_t *err);
+/* The same frame as its 8-bit sRGB codes (RGB24 rows of `stride` bytes): the same bytes as hz_y4m_write of the
+ * linear frame they encode. */
+hz_status_t hz_y4m_write_rgb8(hz_y4m_t *y4m, const uint8_t *rgb, uint32_t w, uint32_t h, size_t stride,
+                              hz_error_t *err);
 hz_status_t hz_y4m_close(hz_y4m_t *y4m, hz_error_t *err);
 void hz_y4m_abort(hz_y4m_t *y4m);
 

@@ -116,6 +116,25 @@ void hz_report_compute(hz_report_t *r, const hz_loop_cfg_t *cfg, const hz_report
             if (res->frames[i].flags & HZ_FRAME_RESOLVED)
                 hz_hist_add(&r->hist, res->frames[i].actual_edge_ns - res->frames[i].start_ns);
         r->hist_is_latency = 1;
+        /* levels: each shown frame holds the display until the next shown frame's edge (the last: one refresh) */
+        const hz_frame_rec_t *shown = NULL;
+        for (size_t i = 0; i < res->n_frames; i++) {
+            const hz_frame_rec_t *x = &res->frames[i];
+            uint32_t l = x->level < HZ_GOV_MAX_LEVELS ? x->level : HZ_GOV_MAX_LEVELS - 1;
+            r->level_frames[l]++;
+            if (!(x->flags & HZ_FRAME_RESOLVED) || (x->flags & HZ_FRAME_DROPPED))
+                continue;
+            if (shown && x->actual_slot > shown->actual_slot) {
+                uint64_t k = (uint64_t)(x->actual_slot - shown->actual_slot);
+                r->level_refreshes[shown->level < HZ_GOV_MAX_LEVELS ? shown->level : HZ_GOV_MAX_LEVELS - 1] += k;
+                r->refreshes += k;
+            }
+            shown = x;
+        }
+        if (shown) {
+            r->level_refreshes[shown->level < HZ_GOV_MAX_LEVELS ? shown->level : HZ_GOV_MAX_LEVELS - 1]++;
+            r->refreshes++;
+        }
     } else {
         /* residuals: 64 bins across +-max |residual| (at least +-1 us) */
         int64_t span = r->abs_residual.max > 1000 ? r->abs_residual.max : 1000;
@@ -261,6 +280,24 @@ void hz_report_print(FILE *f, hz_report_t *r)
         dist_row(f, "render time = done - start", &s->render, "(all frames)");
         dist_row(f, "frame cost = done - planned start", &s->cost, "(all frames)");
         dist_row(f, "phase error = scan-out edge - prediction", &s->phase, "(shown, edge observed)");
+        const hz_report_levels_t *lv = r->info.levels;
+        if (lv && lv->count > 1) {
+            fprintf(f, "quality   governor %s, %llu level changes (%llu forced by a deadline at risk); share of time at "
+                       "each level%s:\n",
+                    lv->governor ? "on" : "off", (unsigned long long)res->level_changes,
+                    (unsigned long long)res->level_forced,
+                    lv->error_frames ? " and its error against level 0 (PSNR, mean FLIP of the frames as shown)" : "");
+            for (uint32_t l = 0; l < lv->count; l++) {
+                if (!r->level_frames[l] && l > 0)
+                    continue;
+                fprintf(f, "  L%-2u %-46s %6.2f%% of the time, %llu frames", l, lv->name[l],
+                        r->refreshes ? 100.0 * (double)r->level_refreshes[l] / (double)r->refreshes : 0.0,
+                        (unsigned long long)r->level_frames[l]);
+                if (lv->measured[l] && l > 0)
+                    fprintf(f, "; %.2f dB, FLIP %.4f", lv->psnr_db[l], lv->flip[l]);
+                fprintf(f, "\n");
+            }
+        }
     } else {
         fprintf(f, "per-edge distributions, nearest-rank percentiles (n):\n");
         fprintf(f, "  %-44s %7s %10s %10s %10s %10s %10s %10s   %s\n", "", "n", "min", "p50", "p90", "p99", "p99.9",
@@ -282,7 +319,7 @@ static hz_status_t write_frames_csv(const char *path, const hz_report_t *r, hz_e
         return s;
     FILE *f = out.f;
     fprintf(f, "id,planned_ns,start_ns,done_ns,submit_ns,target_slot,target_edge_ns,actual_slot,actual_edge_ns,"
-               "latency_ns,slack_ns,render_ns,late_by,budget_ns,status\n");
+               "latency_ns,slack_ns,render_ns,late_by,budget_ns,status,level\n");
     const hz_loop_result_t *res = r->res;
     for (size_t i = 0; i < res->n_frames; i++) {
         const hz_frame_rec_t *x = &res->frames[i];
@@ -303,8 +340,8 @@ static hz_status_t write_frames_csv(const char *path, const hz_report_t *r, hz_e
         fprintf(f, "%lld,%lld,", (long long)(x->target_edge_ns - x->done_ns), (long long)(x->done_ns - x->start_ns));
         if (shown)
             fprintf(f, "%lld", (long long)(x->actual_slot - x->target_slot));
-        fprintf(f, ",%lld,%s%s\n", (long long)x->budget_ns, status,
-                (x->flags & HZ_FRAME_EDGE_INFERRED) ? "+inferred-edge" : "");
+        fprintf(f, ",%lld,%s%s,%u\n", (long long)x->budget_ns, status,
+                (x->flags & HZ_FRAME_EDGE_INFERRED) ? "+inferred-edge" : "", x->level);
     }
     return hz_out_commit(&out, err);
 }
@@ -420,6 +457,24 @@ static hz_status_t write_json(const char *path, const hz_report_t *r, hz_error_t
         json_dist(f, "phase_error", &x->phase, 0);
         json_dist(f, "vsync_residual", &r->residual, 1);
         fprintf(f, "  },\n");
+        const hz_report_levels_t *lv = r->info.levels;
+        if (lv) {
+            fprintf(f, "  \"quality\": {\"governor\": %s, \"changes\": %llu, \"forced\": %llu, \"error_frames\": %u, "
+                       "\"error_of\": \"frames as shown, against level 0 after error_frames frames (PSNR dB, mean FLIP)\", "
+                       "\"levels\": [",
+                    lv->governor ? "true" : "false", (unsigned long long)res->level_changes,
+                    (unsigned long long)res->level_forced, lv->error_frames);
+            for (uint32_t l = 0; l < lv->count; l++) {
+                fprintf(f, "%s\n    {\"level\": %u, \"name\": ", l ? "," : "", l);
+                json_str(f, lv->name[l]);
+                fprintf(f, ", \"frames\": %llu, \"time_share\": %.6f", (unsigned long long)r->level_frames[l],
+                        r->refreshes ? (double)r->level_refreshes[l] / (double)r->refreshes : 0.0);
+                if (lv->measured[l] && l > 0)
+                    fprintf(f, ", \"psnr_db\": %.4f, \"flip\": %.6f", lv->psnr_db[l], lv->flip[l]);
+                fprintf(f, "}");
+            }
+            fprintf(f, "\n  ]},\n");
+        }
     } else {
         fprintf(f, "  \"distributions\": {\n");
         json_dist(f, "interval", &r->interval, 0);

@@ -8,6 +8,8 @@
  *    (edges only). Percentiles are nearest-rank over the frames (or edges) counted, and every count that
  *    was excluded from a distribution is printed next to it: unresolved frames, inferred edges, edges past the
  *    log, the histogram's overflow. Nothing is culled silently.
+ *  - Quality levels: each frame's level is in frames.csv; the share of time at a level is the share of the
+ *    refreshes that showed a frame of that level (a shown frame holds the display until the next shown one).
  *  - hz_report_write() writes frames.csv (one row per frame), edges.csv (one row per input edge; readable
  *    again by --source csv:FILE), report.json and histogram.svg into dir (created if needed), each through a
  *    temporary file and a rename, so an interrupted run leaves no half-written file.
@@ -17,15 +19,30 @@
 
 #include <stdio.h>
 
-#include "frameloop.h"
+#include <stdbool.h>
+
+#include "hz/frameloop.h"
+#include "hz/governor.h"
 #include "hz/frames.h"
 #include "hz/tstat.h"
+
+/* A scene's quality levels (hz/ladder.h) as the report names them, and each one's error against level 0 when it
+ * was measured (show.h). */
+typedef struct hz_report_levels {
+    uint32_t count;
+    bool governor;
+    char name[HZ_GOV_MAX_LEVELS][80];
+    bool measured[HZ_GOV_MAX_LEVELS];
+    double psnr_db[HZ_GOV_MAX_LEVELS], flip[HZ_GOV_MAX_LEVELS];
+    uint32_t error_frames;
+} hz_report_levels_t;
 
 typedef struct hz_report_info {
     const char *source, *sink, *frames;
     const char *clock;      /* "real time" or "simulated clock, render model ..." */
     int w, h;
     int marker;
+    const hz_report_levels_t *levels; /* NULL: frames without quality levels (the test pattern) */
 } hz_report_info_t;
 
 typedef struct hz_report {
@@ -37,6 +54,8 @@ typedef struct hz_report {
     uint64_t pulses;
     hz_hist_t hist;
     int hist_is_latency;
+    /* per quality level: frames rendered, and refreshes that showed one of them (the share of time) */
+    uint64_t level_frames[HZ_GOV_MAX_LEVELS], level_refreshes[HZ_GOV_MAX_LEVELS], refreshes;
 } hz_report_t;
 
 void hz_report_compute(hz_report_t *r, const hz_loop_cfg_t *cfg, const hz_report_info_t *info, hz_loop_result_t *res);

@@ -20,7 +20,10 @@ static void usage(FILE *f)
             "usage: hzrt <command> [options]\n"
             "\n"
             "commands:\n"
-            "  render SCENE render a scene (.hzb file or `builtin`) to files: video, last frame, summary\n"
+            "  show         the board's default: its scene on its display in its default mode, locked to its\n"
+            "               v-sync, with the frame-budget governor and the latency report\n"
+            "  render SCENE render a scene (.hzb file or `builtin`) in any mode: to files (video, last frame,\n"
+            "               summary), or to a display locked to its v-sync (--sink, --source)\n"
             "  info SCENE   validate a scene (.hzb file or `builtin`) and print its header, counts, features\n"
             "               and memory plan\n"
             "  board        print this build's board settings: display, arenas, features, v-sync source\n"
@@ -204,6 +207,8 @@ int main(int argc, char **argv)
         return cmd_board(argc - 1, argv + 1);
     if (!strcmp(cmd, "render"))
         return hz_cmd_render(argc - 1, argv + 1);
+    if (!strcmp(cmd, "show"))
+        return hz_cmd_show(argc - 1, argv + 1);
     if (!strcmp(cmd, "accel"))
         return hz_cmd_accel(argc - 1, argv + 1);
     if (!strcmp(cmd, "info"))

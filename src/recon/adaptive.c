@@ -1,8 +1,19 @@
 /* Selective and adaptive supersampling (seed 003): the presample's attribute map, the per-tile subpixel test
  * and the packed extra samples with their accumulation (see hz/adaptive.h; the mask is hz/adaptive_mask.h). */
+#include "../render/mode.h"
+#include "hz/adaptive.h"
 #include "hz/hash.h"
 #include "hz/vmath.h"
-#include "../render/render_internal.h"
+
+/* The mode's state: the presample (the colour reference and the output), the compact attribute map and the
+ * activity mask of this frame. */
+typedef struct adaptive_state {
+    hz_image_t out;
+    hz_amask_config_t cfg;
+    hz_amask_hit_t *attr;      /* levels hits per pixel (primary, then the mirror hit where the scene has mirrors) */
+    uint32_t levels;
+    uint8_t *mask;             /* bit q: subpixel q active */
+} adaptive_state_t;
 
 void hz_adaptive_opts_default(hz_adaptive_opts_t *o)
 {
@@ -86,18 +97,28 @@ size_t hz_adaptive_frame_bytes(uint32_t width, uint32_t height, int mirrors)
     return hz_align_up(px * hz_adaptive_attr_bytes_per_pixel(mirrors), 64) + 64 + hz_align_up(px, 64) + 64;
 }
 
-hz_status_t hz_adaptive_init(struct hz_renderer *r, hz_arena_t *a, hz_error_t *err)
+static void ad_layout(void *state, const hz_render_frame_t *f, hz_memplan_t *p)
 {
-    hz_status_t s = hz_adaptive_config(&r->opts.adaptive, &r->ad.cfg, err);
+    adaptive_state_t *a = state;
+    const size_t px = (size_t)f->opts.width * f->opts.height;
+    a->out.width = f->opts.width, a->out.height = f->opts.height;
+    hz_memplan_part(p, HZ_PART_DISPLAY);
+    a->out.rgb = hz_memplan_array(p, px, 12);
+    hz_memplan_part(p, HZ_PART_STATE);
+    a->levels = f->has_mirrors ? 2u : 1u;
+    a->attr = hz_memplan_array(p, px * a->levels, sizeof(hz_amask_hit_t));
+    a->mask = hz_memplan_alloc(p, px);
+}
+
+static hz_status_t ad_init(void *state, const hz_render_frame_t *f, hz_error_t *err)
+{
+    adaptive_state_t *a = state;
+    hz_status_t s = hz_adaptive_config(&f->opts.adaptive, &a->cfg, err);
     if (s != HZ_OK)
         return s;
-    size_t px = (size_t)r->opts.width * r->opts.height;
-    r->ad.levels = r->gb.object2 ? 2u : 1u;
-    r->ad.attr = hz_arena_alloc(a, px * r->ad.levels * sizeof(hz_amask_hit_t), 64);
-    r->ad.mask = hz_arena_alloc(a, px, 64);
-    if (!r->ad.attr || !r->ad.mask)
-        return hz_arena_error(a, err);
-    hz_memset(r->ad.mask, 0, px);
+    const size_t px = (size_t)f->opts.width * f->opts.height;
+    hz_memset(a->out.rgb, 0, px * 12);
+    hz_memset(a->mask, 0, px);
     return HZ_OK;
 }
 
@@ -123,38 +144,38 @@ static void pack_hit(hz_amask_hit_t *h, uint16_t object, const float *n, uint8_t
     h->pad = 0;
 }
 
-void hz_adaptive_keep_attrs(struct hz_renderer *r, const hz_worker_t *w)
+static void keep_attrs(adaptive_state_t *a, const hz_render_frame_t *f, const hz_batch_t *b)
 {
-    const hz_gbuffer_t *gb = &r->gb;
+    const hz_gbuffer_t *gb = &f->gb;
     for (uint32_t slot = 0; slot < HZ_TILE_PIXELS; slot++) {
-        uint32_t px = w->pixel[slot];
+        uint32_t px = b->pixel[slot];
         if (px == UINT32_MAX)
             continue;
-        hz_amask_hit_t *h = &r->ad.attr[(size_t)px * r->ad.levels];
+        hz_amask_hit_t *h = &a->attr[(size_t)px * a->levels];
         pack_hit(&h[0], gb->object[px], gb->normal + (size_t)px * 3, gb->shadow[px], gb->flags[px]);
-        if (r->ad.levels == 2)
+        if (a->levels == 2)
             pack_hit(&h[1], gb->object2[px], gb->normal2 + (size_t)px * 3, gb->shadow2[px], gb->flags2[px]);
     }
 }
 
 /* ---- pass 1: the subpixel test ---- */
 
-static void tile_rect(const struct hz_renderer *r, uint32_t tile, uint32_t *x0, uint32_t *y0, uint32_t *tw,
+static void tile_rect(const hz_render_frame_t *f, uint32_t tile, uint32_t *x0, uint32_t *y0, uint32_t *tw,
                       uint32_t *th)
 {
-    *x0 = (tile % r->tiles_x) * HZ_RENDER_TILE;
-    *y0 = (tile / r->tiles_x) * HZ_RENDER_TILE;
-    *tw = r->opts.width - *x0 < HZ_RENDER_TILE ? r->opts.width - *x0 : HZ_RENDER_TILE;
-    *th = r->opts.height - *y0 < HZ_RENDER_TILE ? r->opts.height - *y0 : HZ_RENDER_TILE;
+    *x0 = (tile % f->tiles_x) * HZ_RENDER_TILE;
+    *y0 = (tile / f->tiles_x) * HZ_RENDER_TILE;
+    *tw = f->opts.width - *x0 < HZ_RENDER_TILE ? f->opts.width - *x0 : HZ_RENDER_TILE;
+    *th = f->opts.height - *y0 < HZ_RENDER_TILE ? f->opts.height - *y0 : HZ_RENDER_TILE;
 }
 
-void hz_adaptive_test_tile(struct hz_renderer *r, uint32_t tile)
+static void test_tile(adaptive_state_t *a, const hz_render_frame_t *f, uint32_t tile)
 {
     enum { S = HZ_RENDER_TILE + 2 };
     hz_amask_px_t win[S * S];
     uint32_t x0, y0, tw, th;
-    tile_rect(r, tile, &x0, &y0, &tw, &th);
-    const int32_t W = (int32_t)r->opts.width, H = (int32_t)r->opts.height;
+    tile_rect(f, tile, &x0, &y0, &tw, &th);
+    const int32_t W = (int32_t)f->opts.width, H = (int32_t)f->opts.height;
     for (uint32_t wy = 0; wy < th + 2; wy++)
         for (uint32_t wx = 0; wx < tw + 2; wx++) {
             int32_t x = (int32_t)(x0 + wx) - 1, y = (int32_t)(y0 + wy) - 1;
@@ -162,29 +183,29 @@ void hz_adaptive_test_tile(struct hz_renderer *r, uint32_t tile)
             y = y < 0 ? 0 : y >= H ? H - 1 : y;
             size_t px = (size_t)y * (size_t)W + (size_t)x;
             hz_amask_px_t *p = &win[wy * S + wx];
-            hz_memcpy(p->rgb, r->out.rgb + px * 3, sizeof p->rgb); /* the bits of the colour reference */
-            hz_memcpy(&p->hit[0], &r->ad.attr[px * r->ad.levels], sizeof(hz_amask_hit_t));
-            if (r->ad.levels == 2) {
-                hz_memcpy(&p->hit[1], &r->ad.attr[px * 2 + 1], sizeof(hz_amask_hit_t));
+            hz_memcpy(p->rgb, a->out.rgb + px * 3, sizeof p->rgb); /* the bits of the colour reference */
+            hz_memcpy(&p->hit[0], &a->attr[px * a->levels], sizeof(hz_amask_hit_t));
+            if (a->levels == 2) {
+                hz_memcpy(&p->hit[1], &a->attr[px * 2 + 1], sizeof(hz_amask_hit_t));
             } else {
                 hz_memset(&p->hit[1], 0, sizeof(hz_amask_hit_t));
                 p->hit[1].object = HZ_GB_NO_OBJECT;
             }
         }
-    hz_amask_block(&r->ad.cfg, win, S, tw, th, r->ad.mask + (size_t)y0 * r->opts.width + x0, r->opts.width);
+    hz_amask_block(&a->cfg, win, S, tw, th, a->mask + (size_t)y0 * f->opts.width + x0, f->opts.width);
 }
 
 /* ---- pass 2: extra samples ---- */
 
-void hz_adaptive_extra_tile(struct hz_renderer *r, uint32_t tile, hz_worker_t *w)
+static void extra_tile(adaptive_state_t *a, hz_render_frame_t *f, uint32_t tile, hz_batch_t *b)
 {
     uint16_t list[4 * HZ_TILE_PIXELS];
     float acc[HZ_TILE_PIXELS * 3];
     float jitter[HZ_TILE_PIXELS][2];
     uint32_t x0, y0, tw, th;
-    tile_rect(r, tile, &x0, &y0, &tw, &th);
-    const uint32_t W = r->opts.width;
-    const uint8_t *mask = r->ad.mask + (size_t)y0 * W + x0;
+    tile_rect(f, tile, &x0, &y0, &tw, &th);
+    const uint32_t W = f->opts.width;
+    const uint8_t *mask = a->mask + (size_t)y0 * W + x0;
     uint32_t n = hz_amask_pack(mask, W, tw, th, list);
     if (n == 0)
         return; /* every pixel keeps its centre colour */
@@ -197,42 +218,97 @@ void hz_adaptive_extra_tile(struct hz_renderer *r, uint32_t tile, hz_worker_t *w
         uint8_t owner[HZ_TILE_PIXELS];
         for (uint32_t slot = 0; slot < HZ_TILE_PIXELS; slot++) {
             if (slot >= count) {
-                w->pixel[slot] = UINT32_MAX;
+                b->pixel[slot] = UINT32_MAX;
                 continue;
             }
             uint32_t k = first + slot, e = list[k / 4u], s = k % 4u, q = e & 3u, p = e >> 2;
             uint32_t px = (y0 + p / tw) * W + x0 + p % tw;
-            w->pixel[slot] = px;
+            b->pixel[slot] = px;
             owner[slot] = (uint8_t)p;
             /* Stratum (cx, cy) of the pixel's 4x4 grid, jittered exactly as the full mode's 16 spp. */
             uint32_t cx = 2u * (q & 1u) + (s & 1u), cy = 2u * (q >> 1) + (s >> 1);
-            uint32_t h = hz_hash3(px, cy * 4u + cx, r->opts.seed);
+            uint32_t h = hz_hash3(px, cy * 4u + cx, f->opts.seed);
             jitter[slot][0] = ((float)cx + hz_u32_to_unit(h)) / 4.0f - 0.5f;
             jitter[slot][1] = ((float)cy + hz_u32_to_unit(hz_hash32(h))) / 4.0f - 0.5f;
         }
-        hz_memset(w->radiance, 0, sizeof w->radiance);
-        hz_trace_batch(w, (const float(*)[2])jitter, NULL, false);
+        hz_memset(b->radiance, 0, sizeof b->radiance);
+        hz_render_trace(f, b, (const float(*)[2])jitter, NULL, false);
         for (uint32_t slot = 0; slot < count; slot++)
             for (int c = 0; c < 3; c++)
-                acc[owner[slot] * 3u + (uint32_t)c] += w->radiance[slot * 3 + (uint32_t)c];
-        w->stats.extra_packets += (count + HZ_RENDER_LANES - 1) / HZ_RENDER_LANES;
+                acc[owner[slot] * 3u + (uint32_t)c] += b->radiance[slot * 3 + (uint32_t)c];
+        b->stats.extra_packets += (count + HZ_RENDER_LANES - 1) / HZ_RENDER_LANES;
     }
-    w->stats.extra_rays += rays;
-    w->stats.active_subpixels += n;
+    b->stats.extra_rays += rays;
+    b->stats.active_subpixels += n;
     for (uint32_t p = 0; p < tw * th; p++) {
         uint32_t m = hz_amask_count(mask[(p / tw) * W + p % tw]);
         if (m == 0)
             continue;
         float cw, sw;
         hz_adaptive_weights(m, &cw, &sw);
-        float *dst = r->out.rgb + ((size_t)(y0 + p / tw) * W + x0 + p % tw) * 3;
+        float *dst = a->out.rgb + ((size_t)(y0 + p / tw) * W + x0 + p % tw) * 3;
         for (int c = 0; c < 3; c++) {
             float v = dst[c] * cw + acc[p * 3 + (uint32_t)c] * sw;
             if (!hz_isfinitef(v)) {
-                w->stats.nonfinite++;
+                b->stats.nonfinite++;
                 v = 0.0f;
             }
             dst[c] = v > 0.0f ? v : 0.0f;
         }
     }
+}
+
+/* ---- the mode (mode.h) ---- */
+
+static hz_status_t ad_check(const hz_render_opts_t *o, hz_error_t *err)
+{
+    /* The subpixel pass traces at the frame's time; blurred presamples against sharp subpixels would mix. */
+    if (o->shutter > 0.0f)
+        return hz_error_set(err, HZ_E_INVALID_ARG, "motion blur (shutter > 0) is not built for adaptive mode");
+    hz_amask_config_t c;
+    return hz_adaptive_config(&o->adaptive, &c, err);
+}
+
+static uint32_t ad_items(const void *state, const hz_render_frame_t *f, uint32_t pass)
+{
+    (void)state, (void)pass;
+    return f->tiles_x * f->tiles_y;
+}
+
+static void ad_run(void *state, hz_render_frame_t *f, uint32_t pass, uint32_t item, hz_batch_t *b)
+{
+    adaptive_state_t *a = state;
+    if (pass == 0) {
+        hz_tile_sampling_t centres = { 1, NULL, false, 0, 0 }; /* the presample: 1 spp at pixel centres */
+        hz_render_trace_tile(f, b, item, &centres, &a->out);
+        keep_attrs(a, f, b);
+    } else if (pass == 1) {
+        test_tile(a, f, item);
+    } else {
+        extra_tile(a, f, item, b);
+    }
+}
+
+static const hz_image_t *ad_output(const void *state)
+{
+    return &((const adaptive_state_t *)state)->out;
+}
+
+const hz_mode_ops_t hz_mode_adaptive = {
+    .name = "adaptive",
+    .flags = HZ_MODE_KEEPS_SURFACE,
+    .state_bytes = sizeof(adaptive_state_t),
+    .check = ad_check,
+    .layout = ad_layout,
+    .init = ad_init,
+    .passes = 3,
+    .pass_items = ad_items,
+    .pass_run = ad_run,
+    .output = ad_output,
+};
+
+const uint8_t *hz_render_adaptive_mask(const hz_renderer_t *r)
+{
+    const adaptive_state_t *a = hz_render_mode_state(r, &hz_mode_adaptive);
+    return a ? a->mask : NULL;
 }

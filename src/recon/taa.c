@@ -3,7 +3,7 @@
  * Karis, "High Quality Temporal Supersampling", 2014). Works in YCoCg, where the box is tighter, on linear
  * radiance: Karis' reversible tone map (c / (1 + max c)) would tame flicker next to lights but biases the blend
  * away from the linear average the references are, and measured 0.2 dB worse against them on Sponza. */
-#include "../render/render_internal.h"
+#include "taa_internal.h"
 
 #include "hz/dither.h"
 #include "hz/hash.h"
@@ -14,13 +14,13 @@
  * cell by a stochastic bilinear choice so that the history is read on the same threshold sequence. */
 #define DITHER_RADIUS 3
 
-static void align_mv(const struct hz_renderer *r, uint32_t x, uint32_t y, float *mx, float *my)
+static void align_mv(const hz_render_frame_t *f, uint32_t x, uint32_t y, float *mx, float *my)
 {
     const float lim = 16384.0f; /* Q16 range; farther is off-screen anyway */
     if (!(hz_absf(*mx) < lim && hz_absf(*my) < lim))
         return;
     int32_t q[2] = { (int32_t)(*mx * 65536.0f), (int32_t)(*my * 65536.0f) };
-    hz_dither_align_mv(q, hz_transp_mv_align(r->opts.transparency), hz_hash3(x, y, (uint32_t)r->frame));
+    hz_dither_align_mv(q, hz_transp_mv_align(f->opts.transparency), hz_hash3(x, y, (uint32_t)f->frame));
     *mx = (float)q[0] * (1.0f / 65536.0f);
     *my = (float)q[1] * (1.0f / 65536.0f);
 }
@@ -115,34 +115,34 @@ static void clip_to_box(float h[3], const float c[3], const float e[3])
 /* Disocclusion: the object now at the pixel was at none of the four previous-frame pixels the history sample
  * blends. Checking all four (not the nearest) keeps edges between two objects from resetting every frame,
  * which would leave them without anti-aliasing. */
-static bool seen_before(const struct hz_renderer *r, float hx, float hy, uint16_t object)
+static bool seen_before(const hz_render_frame_t *f, const hz_taa_t *t, float hx, float hy, uint16_t object)
 {
-    int32_t w = (int32_t)r->opts.width, h = (int32_t)r->opts.height;
+    int32_t w = (int32_t)f->opts.width, h = (int32_t)f->opts.height;
     int32_t x0 = (int32_t)hz_floorf(hx - 0.5f), y0 = (int32_t)hz_floorf(hy - 0.5f);
     for (int32_t dy = 0; dy <= 1; dy++)
         for (int32_t dx = 0; dx <= 1; dx++) {
             int32_t x = x0 + dx, y = y0 + dy;
             x = x < 0 ? 0 : x >= w ? w - 1 : x;
             y = y < 0 ? 0 : y >= h ? h - 1 : y;
-            if (r->prev_object[(size_t)y * (size_t)w + (size_t)x] == object)
+            if (t->prev_object[(size_t)y * (size_t)w + (size_t)x] == object)
                 return true;
         }
     return false;
 }
 
 /* One pixel (the reference the SIMD tile resolve in taa_lanes.c reproduces bit for bit). */
-void hz_taa_resolve_pixel(struct hz_renderer *r, uint32_t x, uint32_t y)
+void hz_taa_resolve_pixel(hz_taa_t *t, const hz_render_frame_t *f, uint32_t x, uint32_t y)
 {
-    const hz_image_t *cur = &r->cur;
-    const history_t prev_h = { r->hist[r->hist_index], (int32_t)r->opts.width, (int32_t)r->opts.height };
+    const hz_image_t *cur = &t->cur;
+    const history_t prev_h = { t->hist[t->hist_index], (int32_t)f->opts.width, (int32_t)f->opts.height };
     const history_t *prev = &prev_h;
-    uint16_t *next = r->hist[r->hist_index ^ 1u];
-    const hz_gbuffer_t *gb = &r->gb;
-    uint32_t w = r->opts.width, h = r->opts.height;
-    float gamma = r->opts.taa_gamma, alpha = r->opts.taa_alpha;
+    uint16_t *next = t->hist[t->hist_index ^ 1u];
+    const hz_gbuffer_t *gb = &f->gb;
+    uint32_t w = f->opts.width, h = f->opts.height;
+    float gamma = f->opts.taa_gamma, alpha = f->opts.taa_alpha;
     size_t px = (size_t)y * w + x;
     float c[3], sum[3] = { 0, 0, 0 }, sum2[3] = { 0, 0, 0 };
-    bool dither = r->dither && (gb->flags[px] & HZ_GB_DITHER);
+    bool dither = f->dither && (gb->flags[px] & HZ_GB_DITHER);
     const int rad = dither ? DITHER_RADIUS : 1;
     const float count = dither ? (float)((2 * DITHER_RADIUS + 1) * (2 * DITHER_RADIUS + 1)) : 9.0f;
     hz_taa_to_ycocg(cur->rgb + px * 3, c);
@@ -160,12 +160,12 @@ void hz_taa_resolve_pixel(struct hz_renderer *r, uint32_t x, uint32_t y)
         ext[k] = gamma * hz_sqrtf(var > 0.0f ? var : 0.0f);
     }
     float res[3];
-    bool reset = !r->hist_valid;
+    bool reset = !t->hist_valid;
     float hx = (float)x + 0.5f, hy = (float)y + 0.5f;
     if (!reset && gb->mv) {
         float mx = gb->mv[px * 2], my = gb->mv[px * 2 + 1];
         if (dither)
-            align_mv(r, x, y, &mx, &my);
+            align_mv(f, x, y, &mx, &my);
         hx += mx;
         hy += my;
     }
@@ -173,18 +173,18 @@ void hz_taa_resolve_pixel(struct hz_renderer *r, uint32_t x, uint32_t y)
     if (!reset && !(hx >= 0.0f && hy >= 0.0f && hx < (float)w && hy < (float)h))
         reset = true;
     /* A dithered pixel shows a different fragment from frame to frame: its object changes by design. */
-    if (!reset && !dither && !seen_before(r, hx, hy, gb->object[px]))
+    if (!reset && !dither && !seen_before(f, t, hx, hy, gb->object[px]))
         reset = true;
     if (reset) {
         res[0] = c[0], res[1] = c[1], res[2] = c[2];
     } else {
         float hist_rgb[3], hy3[3];
-        if (r->opts.taa_catmull_rom)
+        if (f->opts.taa_catmull_rom)
             fetch_catmull_rom(prev, hx, hy, hist_rgb);
         else
             fetch_bilinear(prev, hx, hy, hist_rgb);
         hz_taa_to_ycocg(hist_rgb, hy3);
-        if (r->opts.taa_clip) {
+        if (f->opts.taa_clip) {
             clip_to_box(hy3, mean, ext);
         } else {
             for (int k = 0; k < 3; k++)
@@ -197,23 +197,148 @@ void hz_taa_resolve_pixel(struct hz_renderer *r, uint32_t x, uint32_t y)
     to_rgb(res, rgb);
     for (int k = 0; k < 3; k++) {
         float v = hz_isfinitef(rgb[k]) && rgb[k] > 0.0f ? rgb[k] : 0.0f;
-        r->out.rgb[px * 3 + k] = v;
+        t->out.rgb[px * 3 + k] = v;
     }
-    hz_half_pack3(next + px * 3, r->out.rgb + px * 3);
+    hz_half_pack3(next + px * 3, t->out.rgb + px * 3);
 }
 
-void hz_taa_resolve_tile_scalar(struct hz_renderer *r, uint32_t tile)
+void hz_taa_resolve_tile_scalar(hz_taa_t *t, const hz_render_frame_t *f, uint32_t tile)
 {
-    uint32_t w = r->opts.width, h = r->opts.height;
-    uint32_t x0 = (tile % r->tiles_x) * HZ_RENDER_TILE, y0 = (tile / r->tiles_x) * HZ_RENDER_TILE;
+    uint32_t w = f->opts.width, h = f->opts.height;
+    uint32_t x0 = (tile % f->tiles_x) * HZ_RENDER_TILE, y0 = (tile / f->tiles_x) * HZ_RENDER_TILE;
     for (uint32_t y = y0; y < y0 + HZ_RENDER_TILE && y < h; y++)
         for (uint32_t x = x0; x < x0 + HZ_RENDER_TILE && x < w; x++)
-            hz_taa_resolve_pixel(r, x, y);
+            hz_taa_resolve_pixel(t, f, x, y);
 }
 
 #if !defined(HZ_BOARD_SIMD_AVX2) && !defined(HZ_BOARD_SIMD_NEON) /* the Makefile builds taa_lanes.c then */
-void hz_taa_resolve_tile(struct hz_renderer *r, uint32_t tile)
+void hz_taa_resolve_tile(hz_taa_t *t, const hz_render_frame_t *f, uint32_t tile)
 {
-    hz_taa_resolve_tile_scalar(r, tile);
+    hz_taa_resolve_tile_scalar(t, f, tile);
 }
 #endif
+
+/* ---- the mode (mode.h) ---- */
+
+static void taa_layout(void *state, const hz_render_frame_t *f, hz_memplan_t *p)
+{
+    hz_taa_t *t = state;
+    const size_t px = (size_t)f->opts.width * f->opts.height;
+    t->out.width = t->cur.width = f->opts.width;
+    t->out.height = t->cur.height = f->opts.height;
+    hz_memplan_part(p, HZ_PART_DISPLAY);
+    t->out.rgb = hz_memplan_array(p, px, 12);
+    hz_memplan_part(p, HZ_PART_STATE);
+    t->cur.rgb = hz_memplan_array(p, px, 12);
+    t->hist[0] = hz_memplan_array(p, px, 6);
+    t->hist[1] = hz_memplan_array(p, px, 6);
+    t->prev_object = hz_memplan_array(p, px, 2);
+}
+
+static hz_status_t taa_init(void *state, const hz_render_frame_t *f, hz_error_t *err)
+{
+    hz_taa_t *t = state;
+    (void)err;
+    hz_memset(t->out.rgb, 0, (size_t)f->opts.width * f->opts.height * 12);
+    return HZ_OK;
+}
+
+static float halton(uint32_t i, uint32_t base)
+{
+    float f = 1.0f, v = 0.0f;
+    while (i > 0) {
+        f /= (float)base;
+        v += f * (float)(i % base);
+        i /= base;
+    }
+    return v;
+}
+
+static void taa_begin(void *state, const hz_render_frame_t *f)
+{
+    hz_taa_t *t = state;
+    /* Halton (2, 3), 16 phases, centred on the pixel. */
+    uint32_t phase = (uint32_t)(f->frame % 16u) + 1u;
+    t->jitter[0] = halton(phase, 2) - 0.5f;
+    t->jitter[1] = halton(phase, 3) - 0.5f;
+}
+
+static uint32_t taa_items(const void *state, const hz_render_frame_t *f, uint32_t pass)
+{
+    (void)state, (void)pass;
+    return f->tiles_x * f->tiles_y;
+}
+
+static void taa_resolve(hz_taa_t *t, const hz_render_frame_t *f, uint32_t tile)
+{
+    (f->opts.scalar_recon ? hz_taa_resolve_tile_scalar : hz_taa_resolve_tile)(t, f, tile);
+}
+
+static void taa_run(void *state, hz_render_frame_t *f, uint32_t pass, uint32_t item, hz_batch_t *b)
+{
+    hz_taa_t *t = state;
+    if (pass == 0) {
+        /* One jittered sample per pixel; with motion blur its time walks 16 frames. */
+        hz_tile_sampling_t smp = { 1, t->jitter, false, (uint32_t)(f->frame % 16u), 16 };
+        hz_render_trace_tile(f, b, item, &smp, &t->cur);
+    } else {
+        taa_resolve(t, f, item);
+    }
+}
+
+/* Overlap: one tile per unit; its 3x3 or 7x7 window stays within the tile rows next to it. */
+static uint32_t taa_units(const void *state, const hz_render_frame_t *f)
+{
+    (void)state;
+    return f->tiles_x * f->tiles_y;
+}
+
+static void taa_needs(const void *state, const hz_render_frame_t *f, uint32_t unit, uint32_t *lo, uint32_t *hi)
+{
+    const uint32_t row = unit / f->tiles_x;
+    (void)state;
+    *lo = row ? row - 1u : 0u;
+    *hi = row + 1u;
+}
+
+static void taa_overlap_run(void *state, hz_render_frame_t *f, uint32_t unit)
+{
+    if (unit < f->tiles_x * f->tiles_y)
+        taa_resolve(state, f, unit);
+}
+
+static void taa_end(void *state, const hz_render_frame_t *f)
+{
+    hz_taa_t *t = state;
+    t->hist_index ^= 1u; /* the history just written becomes the previous frame's */
+    t->hist_valid = true;
+    hz_memcpy(t->prev_object, f->gb.object, (size_t)f->opts.width * f->opts.height * 2);
+}
+
+static const hz_image_t *taa_output(const void *state)
+{
+    return &((const hz_taa_t *)state)->out;
+}
+
+static void taa_reset(void *state, const hz_render_frame_t *f)
+{
+    (void)f;
+    ((hz_taa_t *)state)->hist_valid = false;
+}
+
+const hz_mode_ops_t hz_mode_taa = {
+    .name = "taa",
+    .state_bytes = sizeof(hz_taa_t),
+    .layout = taa_layout,
+    .init = taa_init,
+    .begin_frame = taa_begin,
+    .passes = 2,
+    .pass_items = taa_items,
+    .pass_run = taa_run,
+    .overlap_units = taa_units,
+    .overlap_needs = taa_needs,
+    .overlap_run = taa_overlap_run,
+    .end_frame = taa_end,
+    .output = taa_output,
+    .reset = taa_reset,
+};

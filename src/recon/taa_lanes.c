@@ -7,7 +7,7 @@
  * run lane by lane with the twin's operations. Left to the twin: tiles cut by the image edge, pixels whose
  * path dithered (a 7x7 box and a hashed motion alignment), and the non-default Catmull-Rom fetch and clip. */
 #include "../core/pack_lanes.h"
-#include "../render/render_internal.h"
+#include "taa_internal.h"
 
 #define T HZ_RENDER_TILE
 #define B (T + 2) /* the tile and a ring of one pixel */
@@ -47,10 +47,10 @@ HZ_INLINE hz_lrgb_t hist_at(const uint16_t *hist, hz_li_t x, hz_li_t y, int32_t 
 }
 
 /* Lanes x .. x + HZ_LANES - 1 of row y; yc: the tile's YCoCg block, (bx, by) the lanes' first pixel in it. */
-static void resolve_lanes(struct hz_renderer *r, uint32_t x, uint32_t y, float (*yc)[B][B], uint32_t bx, uint32_t by)
+static void resolve_lanes(hz_taa_t *t, const hz_render_frame_t *f, uint32_t x, uint32_t y, float (*yc)[B][B], uint32_t bx, uint32_t by)
 {
-    const int32_t w = (int32_t)r->opts.width, h = (int32_t)r->opts.height;
-    const hz_gbuffer_t *gb = &r->gb;
+    const int32_t w = (int32_t)f->opts.width, h = (int32_t)f->opts.height;
+    const hz_gbuffer_t *gb = &f->gb;
     const size_t p0 = (size_t)y * (size_t)w + x;
     const hz_li_t zero = hz_li_set(0), one = hz_li_set(1);
 
@@ -66,7 +66,7 @@ static void resolve_lanes(struct hz_renderer *r, uint32_t x, uint32_t y, float (
                 sum.c[k] = hz_lf_add(sum.c[k], q);
                 sum2.c[k] = hz_lf_add(sum2.c[k], hz_lf_mul(q, q));
             }
-    const hz_lf_t count = hz_lf_set(9.0f), gamma = hz_lf_set(r->opts.taa_gamma);
+    const hz_lf_t count = hz_lf_set(9.0f), gamma = hz_lf_set(f->opts.taa_gamma);
     for (int k = 0; k < 3; k++) {
         mean.c[k] = hz_lf_div(sum.c[k], count);
         hz_lf_t var = hz_lf_sub(hz_lf_div(sum2.c[k], count), hz_lf_mul(mean.c[k], mean.c[k]));
@@ -76,8 +76,8 @@ static void resolve_lanes(struct hz_renderer *r, uint32_t x, uint32_t y, float (
 
     const hz_li_t xi = hz_li_add(hz_li_set((int32_t)x), hz_li_iota());
     hz_lf_t hx = hz_lf_add(hz_lf_from_li(xi), hz_lf_set(0.5f)), hy = hz_lf_set((float)y + 0.5f);
-    hz_li_t reset = r->hist_valid ? zero : hz_li_set(-1);
-    if (r->hist_valid && gb->mv) {
+    hz_li_t reset = t->hist_valid ? zero : hz_li_set(-1);
+    if (t->hist_valid && gb->mv) {
         hz_li_t i2 = hz_li_shl(hz_li_add(hz_li_set((int32_t)x), hz_li_iota()), 1);
         const float *mv = gb->mv + 2 * (size_t)y * (size_t)w;
         hx = hz_lf_add(hx, hz_lf_gather(mv, i2));
@@ -100,15 +100,15 @@ static void resolve_lanes(struct hz_renderer *r, uint32_t x, uint32_t y, float (
     const int32_t n = w * h;
     const hz_li_t wv = hz_li_set(w);
     hz_li_t ra = hz_li_mul(ya, wv), rb = hz_li_mul(yb, wv);
-    hz_li_t seen = hz_li_eq(object_at(r->prev_object, hz_li_add(ra, xa), n), object);
-    seen = hz_li_or(seen, hz_li_eq(object_at(r->prev_object, hz_li_add(ra, xb), n), object));
-    seen = hz_li_or(seen, hz_li_eq(object_at(r->prev_object, hz_li_add(rb, xa), n), object));
-    seen = hz_li_or(seen, hz_li_eq(object_at(r->prev_object, hz_li_add(rb, xb), n), object));
+    hz_li_t seen = hz_li_eq(object_at(t->prev_object, hz_li_add(ra, xa), n), object);
+    seen = hz_li_or(seen, hz_li_eq(object_at(t->prev_object, hz_li_add(ra, xb), n), object));
+    seen = hz_li_or(seen, hz_li_eq(object_at(t->prev_object, hz_li_add(rb, xa), n), object));
+    seen = hz_li_or(seen, hz_li_eq(object_at(t->prev_object, hz_li_add(rb, xb), n), object));
     reset = hz_li_or(reset, hz_li_not(seen));
 
     hz_lrgb_t res = c;
     if (hz_li_any(hz_li_not(reset))) {
-        const uint16_t *hist = r->hist[r->hist_index];
+        const uint16_t *hist = t->hist[t->hist_index];
         hz_lf_t ax = hz_lf_sub(fx, flx), ay = hz_lf_sub(fy, fly);
         hz_lrgb_t a = hist_at(hist, xa, ya, w), b = hist_at(hist, xb, ya, w);
         hz_lrgb_t cc = hist_at(hist, xa, yb, w), d = hist_at(hist, xb, yb, w), hrgb, hy3;
@@ -118,7 +118,7 @@ static void resolve_lanes(struct hz_renderer *r, uint32_t x, uint32_t y, float (
             hrgb.c[k] = hz_lf_add(top, hz_lf_mul(hz_lf_sub(bot, top), ay));
         }
         to_ycocg_lanes(&hrgb, &hy3);
-        const hz_lf_t alpha = hz_lf_set(r->opts.taa_alpha);
+        const hz_lf_t alpha = hz_lf_set(f->opts.taa_alpha);
         for (int k = 0; k < 3; k++) {
             hz_lf_t v = hz_lf_clamp(hy3.c[k], hz_lf_sub(mean.c[k], ext.c[k]), hz_lf_add(mean.c[k], ext.c[k]));
             v = hz_lf_add(v, hz_lf_mul(alpha, hz_lf_sub(c.c[k], v)));
@@ -136,21 +136,21 @@ static void resolve_lanes(struct hz_renderer *r, uint32_t x, uint32_t y, float (
         v[k] = hz_lf_sel(ok, rgb[k], hz_lf_set(0.0f));
         codes[k] = hz_lanes_half_pack(v[k]);
     }
-    hz_lf_store3(r->out.rgb + p0 * 3, v[0], v[1], v[2]);
-    hz_li_store3_u16(r->hist[r->hist_index ^ 1u] + p0 * 3, codes[0], codes[1], codes[2]);
+    hz_lf_store3(t->out.rgb + p0 * 3, v[0], v[1], v[2]);
+    hz_li_store3_u16(t->hist[t->hist_index ^ 1u] + p0 * 3, codes[0], codes[1], codes[2]);
 }
 
-void hz_taa_resolve_tile(struct hz_renderer *r, uint32_t tile)
+void hz_taa_resolve_tile(hz_taa_t *t, const hz_render_frame_t *f, uint32_t tile)
 {
-    const uint32_t w = r->opts.width, h = r->opts.height;
-    const uint32_t x0 = (tile % r->tiles_x) * T, y0 = (tile / r->tiles_x) * T;
-    if (r->opts.taa_clip || r->opts.taa_catmull_rom || x0 + T > w || y0 + T > h || w * h < 2) {
-        hz_taa_resolve_tile_scalar(r, tile);
+    const uint32_t w = f->opts.width, h = f->opts.height;
+    const uint32_t x0 = (tile % f->tiles_x) * T, y0 = (tile / f->tiles_x) * T;
+    if (f->opts.taa_clip || f->opts.taa_catmull_rom || x0 + T > w || y0 + T > h || w * h < 2) {
+        hz_taa_resolve_tile_scalar(t, f, tile);
         return;
     }
     /* YCoCg of the tile and its ring (edge-clamped), one plane per channel */
     float yc[3][B][B];
-    const hz_image_t *cur = &r->cur;
+    const hz_image_t *cur = &t->cur;
     for (uint32_t by = 0; by < B; by++) {
         int32_t y = (int32_t)(y0 + by) - 1;
         y = y < 0 ? 0 : y >= (int32_t)h ? (int32_t)h - 1 : y;
@@ -164,10 +164,10 @@ void hz_taa_resolve_tile(struct hz_renderer *r, uint32_t tile)
     }
     for (uint32_t y = y0; y < y0 + T; y++) {
         for (uint32_t x = x0; x < x0 + T; x += HZ_LANES)
-            resolve_lanes(r, x, y, yc, x - x0 + 1, y - y0 + 1);
-        if (r->dither) /* dithered paths: the twin's 7x7 box and aligned motion */
+            resolve_lanes(t, f, x, y, yc, x - x0 + 1, y - y0 + 1);
+        if (f->dither) /* dithered paths: the twin's 7x7 box and aligned motion */
             for (uint32_t x = x0; x < x0 + T; x++)
-                if (r->gb.flags[(size_t)y * w + x] & HZ_GB_DITHER)
-                    hz_taa_resolve_pixel(r, x, y);
+                if (f->gb.flags[(size_t)y * w + x] & HZ_GB_DITHER)
+                    hz_taa_resolve_pixel(t, f, x, y);
     }
 }

@@ -6,7 +6,6 @@
 #include "hz/vmath.h"
 #include "tdense_internal.h"
 
-#define ALIGN 64u
 /* Window slots per pixel: one RGB9E5 sample per MSAA position (16 bytes: four pixels per cache line). */
 #define WIN 4u
 
@@ -23,32 +22,37 @@ hz_tdense_config_t hz_tdense_config_default(uint32_t width, uint32_t height)
     return c;
 }
 
-/* The arrays hz_tdense_init takes, in order, each rounded up to ALIGN: once the first is aligned, none of the
- * others needs padding, so an arena with this many bytes available at ALIGN holds them all. */
-static size_t plan_bytes(uint32_t width, uint32_t height, bool motion, size_t *out_bytes)
+void hz_tdense_layout(hz_tdense_t *td, const hz_tdense_config_t *cfg, hz_memplan_t *p)
 {
-    size_t px = (size_t)width * height;
-    size_t tiles = (size_t)((width + 1) / 2) * ((height + 1) / 2), padded = tiles + 2 * HZ_TDENSE_TILE_PAD;
-    const size_t sizes[] = {
-        padded,                           /* orders */
-        padded,                           /* next_orders */
-        padded * sizeof(float),           /* sub_rgb[0] */
-        padded * sizeof(float),           /* sub_rgb[1] */
-        padded * sizeof(float),           /* sub_rgb[2] */
-        padded,                           /* sub_jitter */
-        motion ? px * 2 * sizeof(uint16_t) : 0, /* mv (a still scene under a still camera has none) */
-        px * WIN * sizeof(uint32_t),      /* window */
-        px,                               /* flags */
-        px * sizeof(uint32_t),            /* hist[0] */
-        px * sizeof(uint32_t),            /* hist[1] */
-        px * 3 * sizeof(float),           /* out: the displayed frame */
-    };
-    size_t total = 0;
-    for (size_t i = 0; i < HZ_ARRAY_LEN(sizes); i++)
-        total += hz_align_up(sizes[i], ALIGN);
-    if (out_bytes)
-        *out_bytes = hz_align_up(sizes[HZ_ARRAY_LEN(sizes) - 1], ALIGN);
-    return total;
+    const size_t px = (size_t)cfg->width * cfg->height;
+    const uint32_t tx = (cfg->width + 1) / 2, ty = (cfg->height + 1) / 2;
+    const size_t padded = (size_t)tx * ty + 2 * HZ_TDENSE_TILE_PAD;
+    hz_memplan_part(p, HZ_TDENSE_PART_STATE);
+    uint8_t *orders = hz_memplan_alloc(p, padded), *next_orders = hz_memplan_alloc(p, padded);
+    float *planes[3];
+    for (int k = 0; k < 3; k++)
+        planes[k] = hz_memplan_array(p, padded, sizeof(float));
+    uint8_t *jitter = hz_memplan_alloc(p, padded);
+    /* the pointers skip the front padding (NULL, when counting, stays NULL) */
+    td->orders = orders ? orders + HZ_TDENSE_TILE_PAD : NULL;
+    td->next_orders = next_orders ? next_orders + HZ_TDENSE_TILE_PAD : NULL;
+    for (int k = 0; k < 3; k++)
+        td->sub_rgb[k] = planes[k] ? planes[k] + HZ_TDENSE_TILE_PAD : NULL;
+    td->sub_jitter = jitter ? (int8_t *)jitter + HZ_TDENSE_TILE_PAD : NULL;
+    /* a still scene under a still camera keeps no motion */
+    td->mv = cfg->motion ? hz_memplan_array(p, px * 2, sizeof(uint16_t)) : NULL;
+    td->window = hz_memplan_array(p, px * WIN, sizeof(uint32_t));
+    td->flags = hz_memplan_alloc(p, px);
+    td->hist[0] = hz_memplan_array(p, px, sizeof(uint32_t));
+    td->hist[1] = hz_memplan_array(p, px, sizeof(uint32_t));
+    hz_memplan_part(p, HZ_TDENSE_PART_DISPLAY);
+    td->out.rgb = hz_memplan_array(p, px * 3, sizeof(float));
+    hz_memplan_part(p, HZ_TDENSE_PART_STATE);
+    td->cfg = *cfg;
+    td->tiles_x = tx;
+    td->tiles_y = ty;
+    td->out.width = cfg->width;
+    td->out.height = cfg->height;
 }
 
 size_t hz_tdense_bytes(uint32_t width, uint32_t height)
@@ -61,12 +65,19 @@ size_t hz_tdense_plan(uint32_t width, uint32_t height, bool motion, size_t *disp
     size_t dummy;
     if (hz_image_check_size(width, height, &dummy, NULL) != HZ_OK)
         return 0;
-    return plan_bytes(width, height, motion, display_bytes) + ALIGN - 1; /* plus the worst padding first */
+    hz_tdense_t td;
+    hz_tdense_config_t cfg = hz_tdense_config_default(width, height);
+    cfg.motion = motion;
+    hz_memplan_t p;
+    hz_memplan_count(&p);
+    hz_tdense_layout(&td, &cfg, &p);
+    if (display_bytes)
+        *display_bytes = p.part[HZ_TDENSE_PART_DISPLAY];
+    return p.bytes;
 }
 
-hz_status_t hz_tdense_init(hz_tdense_t *td, const hz_tdense_config_t *cfg, hz_arena_t *arena, hz_error_t *err)
+hz_status_t hz_tdense_check(const hz_tdense_config_t *cfg, hz_error_t *err)
 {
-    hz_memset(td, 0, sizeof *td);
     size_t bytes;
     hz_status_t st = hz_image_check_size(cfg->width, cfg->height, &bytes, err);
     if (st != HZ_OK)
@@ -75,47 +86,31 @@ hz_status_t hz_tdense_init(hz_tdense_t *td, const hz_tdense_config_t *cfg, hz_ar
         return hz_error_set(err, HZ_E_INVALID_ARG, "tdense: unknown ordering rule %d", (int)cfg->rule);
     if (!(cfg->gamma >= 0.0f && cfg->gamma <= 100.0f))
         return hz_error_set(err, HZ_E_INVALID_ARG, "tdense: variance box gamma must lie in [0, 100]");
-    size_t need = plan_bytes(cfg->width, cfg->height, cfg->motion, NULL), have = hz_arena_available(arena, ALIGN);
+    return HZ_OK;
+}
+
+hz_status_t hz_tdense_init(hz_tdense_t *td, const hz_tdense_config_t *cfg, hz_arena_t *arena, hz_error_t *err)
+{
+    hz_memset(td, 0, sizeof *td);
+    hz_status_t st = hz_tdense_check(cfg, err);
+    if (st != HZ_OK)
+        return st;
+    size_t need = hz_tdense_plan(cfg->width, cfg->height, cfg->motion, NULL), have = hz_memplan_room(arena);
     if (need > have)
         return hz_error_set(err, HZ_E_NO_MEMORY,
                             "tdense %ux%u: arena '%s' needs %zu bytes, has %zu", (unsigned)cfg->width,
                             (unsigned)cfg->height, arena->name ? arena->name : "?", need, have);
     hz_arena_mark_t mark = hz_arena_mark(arena);
-    size_t px = (size_t)cfg->width * cfg->height;
-    uint32_t tx = (cfg->width + 1) / 2, ty = (cfg->height + 1) / 2;
-    size_t tiles = (size_t)tx * ty;
-    const size_t padded = tiles + 2 * HZ_TDENSE_TILE_PAD;
-    uint8_t *orders = hz_arena_alloc(arena, padded, ALIGN), *next_orders = hz_arena_alloc(arena, padded, ALIGN);
-    float *planes[3];
-    for (int k = 0; k < 3; k++)
-        planes[k] = hz_arena_alloc_array(arena, padded, sizeof(float), ALIGN);
-    uint8_t *jitter = hz_arena_alloc(arena, padded, ALIGN);
-    /* the pointers skip the front padding (NULL stays NULL for the check below) */
-    td->orders = orders ? orders + HZ_TDENSE_TILE_PAD : NULL;
-    td->next_orders = next_orders ? next_orders + HZ_TDENSE_TILE_PAD : NULL;
-    for (int k = 0; k < 3; k++)
-        td->sub_rgb[k] = planes[k] ? planes[k] + HZ_TDENSE_TILE_PAD : NULL;
-    td->sub_jitter = jitter ? (int8_t *)jitter + HZ_TDENSE_TILE_PAD : NULL;
-    td->mv = cfg->motion ? hz_arena_alloc_array(arena, px * 2, sizeof(uint16_t), ALIGN) : NULL;
-    td->window = hz_arena_alloc_array(arena, px * WIN, sizeof(uint32_t), ALIGN);
-    td->flags = hz_arena_alloc(arena, px, ALIGN);
-    td->hist[0] = hz_arena_alloc_array(arena, px, sizeof(uint32_t), ALIGN);
-    td->hist[1] = hz_arena_alloc_array(arena, px, sizeof(uint32_t), ALIGN);
-    float *out = hz_arena_alloc_array(arena, px * 3, sizeof(float), ALIGN);
-    if (!td->orders || !td->next_orders || !td->sub_rgb[0] || !td->sub_rgb[1] || !td->sub_rgb[2] || !td->sub_jitter || (cfg->motion && !td->mv) ||
-        !td->window || !td->flags || !td->hist[0] || !td->hist[1] || !out) {
-        /* The plan above is an upper bound, so this is a bug in plan_bytes. */
+    hz_memplan_t p;
+    hz_memplan_take(&p, arena);
+    hz_tdense_layout(td, cfg, &p);
+    if (p.refused) {
+        /* The count above is an upper bound, so this is a bug in the layout. */
         hz_arena_reset(arena, mark);
         hz_memset(td, 0, sizeof *td);
         return hz_error_set(err, HZ_E_INTERNAL, "tdense: arena '%s' refused memory its plan said was there",
                             arena->name ? arena->name : "?");
     }
-    td->cfg = *cfg;
-    td->tiles_x = tx;
-    td->tiles_y = ty;
-    td->out.width = cfg->width;
-    td->out.height = cfg->height;
-    td->out.rgb = out;
     hz_tdense_reset(td);
     return HZ_OK;
 }

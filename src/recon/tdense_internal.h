@@ -13,7 +13,16 @@
 #ifndef HZ_TDENSE_INTERNAL_H
 #define HZ_TDENSE_INTERNAL_H
 
+#include "../core/memplan.h"
 #include "hz/tdense.h"
+
+/* The state's arrays for cfg, counted or taken by p (src/core/memplan.h): the one description behind
+ * hz_tdense_plan, hz_tdense_init and the tdense render mode. The displayed frame is counted in part
+ * HZ_TDENSE_PART_DISPLAY, the rest in HZ_TDENSE_PART_STATE; sets td's configuration and tile counts. */
+enum { HZ_TDENSE_PART_STATE = 0, HZ_TDENSE_PART_DISPLAY = 1 };
+void hz_tdense_layout(hz_tdense_t *td, const hz_tdense_config_t *cfg, hz_memplan_t *p);
+/* hz_tdense_init's checks of cfg (size, rule, gamma). */
+hz_status_t hz_tdense_check(const hz_tdense_config_t *cfg, hz_error_t *err);
 
 typedef struct hz_tdense_motion {
     float x, y, l2;

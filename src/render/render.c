@@ -1,4 +1,5 @@
-/* Renderer set-up, frame sequencing and the full-frame mode (see hz/render.h). */
+/* Renderer set-up and frame sequencing (see hz/render.h); everything a render mode does is behind its row of
+ * hz_render_modes[] (mode.h). */
 #include "hz/deflight.h"
 #include "hz/fixed.h"
 #include "hz/hash.h"
@@ -38,8 +39,7 @@ void hz_render_opts_default(hz_render_opts_t *o)
 
 const char *hz_render_mode_name(hz_render_mode_t m)
 {
-    static const char *const names[HZ_MODE_COUNT] = { "full", "taa", "tdense", "adaptive" };
-    return (unsigned)m < HZ_MODE_COUNT ? names[m] : "unknown";
+    return (unsigned)m < HZ_MODE_COUNT ? hz_render_modes[m]->name : "unknown";
 }
 
 hz_status_t hz_render_opts_check(const hz_render_opts_t *o, hz_error_t *err)
@@ -58,7 +58,8 @@ hz_status_t hz_render_opts_check(const hz_render_opts_t *o, hz_error_t *err)
         return hz_error_set(err, HZ_E_INVALID_ARG, "min visibility must lie in [0, 1)");
     if (!(o->taa_gamma > 0.0f && o->taa_gamma <= 16.0f) || !(o->taa_alpha > 0.0f && o->taa_alpha <= 1.0f))
         return hz_error_set(err, HZ_E_INVALID_ARG, "TAA gamma must lie in (0, 16], alpha in (0, 1]");
-    if (o->msaa4 && (o->mode != HZ_MODE_FULL || o->spp != 4))
+    const hz_mode_ops_t *ops = hz_render_modes[o->mode];
+    if (o->msaa4 && (!(ops->flags & HZ_MODE_TAKES_MSAA4) || o->spp != 4))
         return hz_error_set(err, HZ_E_INVALID_ARG, "the 4x MSAA positions need full mode with 4 spp");
     if ((unsigned)o->tdense_rule >= HZ_GHAT_RULE_COUNT)
         return hz_error_set(err, HZ_E_INVALID_ARG, "unknown tdense ordering rule %d", (int)o->tdense_rule);
@@ -74,14 +75,7 @@ hz_status_t hz_render_opts_check(const hz_render_opts_t *o, hz_error_t *err)
         return hz_error_set(err, HZ_E_INVALID_ARG, "shutter: frame rate %u Hz outside 1..1000", o->frame_hz);
     if (o->shutter == 0.0f && o->keys)
         return hz_error_set(err, HZ_E_INVALID_ARG, "pose keys given without a shutter (motion blur is off)");
-    if (o->mode == HZ_MODE_ADAPTIVE) {
-        /* The subpixel pass traces at the frame's time; blurred presamples against sharp subpixels would mix. */
-        if (o->shutter > 0.0f)
-            return hz_error_set(err, HZ_E_INVALID_ARG, "motion blur (shutter > 0) is not built for adaptive mode");
-        hz_amask_config_t c;
-        return hz_adaptive_config(&o->adaptive, &c, err);
-    }
-    return HZ_OK;
+    return ops->check ? ops->check(o, err) : HZ_OK;
 }
 
 typedef struct needs {
@@ -101,65 +95,80 @@ static needs_t scene_needs(const hz_scene_t *s)
     return n;
 }
 
-/* Sizes of every frame-arena allocation, in the order create makes them (64-byte alignment each); *parts (may
- * be NULL) gets them by part (hz_render_plan_t). */
-static size_t frame_bytes(const hz_render_opts_t *o, const needs_t *n, hz_render_plan_t *parts)
+/* The frame state a configuration gives a mode (everything but the frame counters and the G-buffer). */
+static void frame_setup(hz_render_frame_t *f, const hz_render_opts_t *o, const needs_t *n)
 {
-    size_t px = (size_t)o->width * o->height, a = 64, total = 0;
-    hz_render_plan_t pp;
-    hz_memset(&pp, 0, sizeof pp);
-    size_t *part = &pp.state_bytes; /* what each ADD is counted in */
-#define ADD(bytes) (total += hz_align_up((bytes), a) + a, *part += hz_align_up((bytes), a) + a)
-    ADD(sizeof(struct hz_renderer));
-    part = &pp.display_bytes;
-    if (o->mode != HZ_MODE_TDENSE)
-        ADD(px * 12); /* out (tdense displays its own frames) */
-    const bool attrs = hz_render_mode_keeps_surface(o->mode);
-    part = &pp.gbuffer_bytes;
+    f->opts = *o;
+    f->tiles_x = (o->width + HZ_RENDER_TILE - 1) / HZ_RENDER_TILE;
+    f->tiles_y = (o->height + HZ_RENDER_TILE - 1) / HZ_RENDER_TILE;
+    f->need_mv = n->mv;
+    f->has_mirrors = n->mirrors;
+    f->blur = o->shutter > 0.0f;
+    /* The dither stage exists only where something is blended (hybrid:0 never leaves the exact path). */
+    f->dither = n->blend && o->transparency != HZ_TRANSP_EXACT &&
+                !(o->transparency == HZ_TRANSP_HYBRID && o->hybrid_x <= 0.0f);
+}
+
+/* The region: the G-buffer (by the mode's needs) and the mode's arrays, counted or taken by *p into f (NULL when
+ * counting) and the mode's state. */
+static void region_layout(hz_render_frame_t *f, void *state, hz_memplan_t *p)
+{
+    const hz_mode_ops_t *ops = hz_render_modes[f->opts.mode];
+    const size_t px = (size_t)f->opts.width * f->opts.height;
+    const bool attrs = (ops->flags & HZ_MODE_KEEPS_SURFACE) != 0;
+    hz_gbuffer_t *gb = &f->gb;
+    hz_memset(gb, 0, sizeof *gb);
+    gb->width = f->opts.width, gb->height = f->opts.height;
+    hz_memplan_part(p, HZ_PART_GBUFFER);
     if (attrs)
-        ADD(px * 4);  /* depth */
-    ADD(px * 2);      /* object */
+        gb->depth = hz_memplan_array(p, px, 4);
+    gb->object = hz_memplan_array(p, px, 2);
     if (attrs) {
-        ADD(px * 12); /* normal */
-        ADD(px);      /* shadow */
+        gb->normal = hz_memplan_array(p, px, 12);
+        gb->shadow = hz_memplan_array(p, px, 1);
     }
-    ADD(px);          /* flags */
-    part = &pp.gbuffer2_bytes;
-    if (n->mirrors) {
-        ADD(px * 2);
+    gb->flags = hz_memplan_array(p, px, 1);
+    hz_memplan_part(p, HZ_PART_GBUFFER2);
+    if (f->has_mirrors) {
+        gb->object2 = hz_memplan_array(p, px, 2);
         if (attrs) {
-            ADD(px * 12);
-            ADD(px);
+            gb->normal2 = hz_memplan_array(p, px, 12);
+            gb->shadow2 = hz_memplan_array(p, px, 1);
         }
-        ADD(px);
+        gb->flags2 = hz_memplan_array(p, px, 1);
     }
-    part = &pp.mv_bytes;
-    if (n->mv)
-        ADD(px * 8);
-    if (n->mv && n->mirrors)
-        ADD(px * 8);
-    part = &pp.state_bytes;
-    if (o->mode == HZ_MODE_TAA) {
-        ADD(px * 12); /* cur */
-        ADD(px * 6);  /* hist[0], half float */
-        ADD(px * 6);  /* hist[1] */
-        ADD(px * 2);  /* prev_object */
-    }
-#undef ADD
-    if (o->mode == HZ_MODE_TDENSE) {
-        size_t display, td = hz_tdense_plan(o->width, o->height, n->mv, &display);
-        total += td;
-        pp.display_bytes += display;
-        pp.state_bytes += td - display;
-    }
-    if (o->mode == HZ_MODE_ADAPTIVE) {
-        size_t ad = hz_adaptive_frame_bytes(o->width, o->height, n->mirrors);
-        total += ad;
-        pp.state_bytes += ad;
-    }
-    if (parts)
-        *parts = pp;
-    return total;
+    hz_memplan_part(p, HZ_PART_MV);
+    if (f->need_mv)
+        gb->mv = hz_memplan_array(p, px, 8);
+    if (f->need_mv && f->has_mirrors)
+        gb->mv_reflect = hz_memplan_array(p, px, 8);
+    hz_memplan_part(p, HZ_PART_STATE);
+    hz_memset(state, 0, ops->state_bytes);
+    ops->layout(state, f, p);
+    hz_memplan_part(p, HZ_PART_STATE);
+}
+
+/* Counts what a configuration needs: the renderer (with the mode's state inside) and its region (at least
+ * opts.reserve_bytes), by part. */
+static void count_plan(const hz_render_opts_t *o, const needs_t *n, hz_render_plan_t *plan)
+{
+    static uint64_t scratch[HZ_RENDER_MODE_STATE_MAX / 8];
+    hz_render_frame_t f;
+    hz_memset(&f, 0, sizeof f);
+    frame_setup(&f, o, n);
+    hz_memplan_t p;
+    hz_memplan_count(&p);
+    region_layout(&f, scratch, &p);
+    plan->region_bytes = p.bytes;
+    size_t region = p.bytes > o->reserve_bytes ? p.bytes : o->reserve_bytes;
+    /* the renderer, then the region, each at 64 bytes (the region's arrays are counted from an aligned start) */
+    size_t head = hz_align_up(sizeof(struct hz_renderer), HZ_MEMPLAN_ALIGN) + 2 * HZ_MEMPLAN_ALIGN;
+    plan->frame_bytes = head + region;
+    plan->display_bytes = p.part[HZ_PART_DISPLAY];
+    plan->gbuffer_bytes = p.part[HZ_PART_GBUFFER];
+    plan->gbuffer2_bytes = p.part[HZ_PART_GBUFFER2];
+    plan->mv_bytes = p.part[HZ_PART_MV];
+    plan->state_bytes = head + p.part[HZ_PART_STATE] + (region - p.bytes);
 }
 
 static size_t thread_bytes(void)
@@ -174,16 +183,22 @@ hz_status_t hz_render_plan(const hz_scene_t *scene, const hz_render_opts_t *opts
     hz_status_t s = hz_render_opts_check(opts, err);
     if (s != HZ_OK)
         return s;
+    if (hz_render_modes[opts->mode]->state_bytes > HZ_RENDER_MODE_STATE_MAX)
+        return hz_error_set(err, HZ_E_INTERNAL, "mode %s: state of %zu bytes over %u", hz_render_mode_name(opts->mode),
+                            hz_render_modes[opts->mode]->state_bytes, HZ_RENDER_MODE_STATE_MAX);
     needs_t n = scene_needs(scene);
-    plan->frame_bytes = frame_bytes(opts, &n, plan);
+    count_plan(opts, &n, plan);
     plan->thread_bytes = thread_bytes();
     plan->anyhit = n.mask || n.blend;
     plan->transparency = n.blend;
     plan->time_keys = 0;
     plan->keys_bytes = 0;
     if (opts->shutter > 0.0f && n.motion) {
-        /* tdense with one key interval per cycle: the keys span four frames' shutters. */
-        float frames = opts->mode == HZ_MODE_TDENSE && opts->tdense_cycle_keys ? 3.0f + opts->shutter : opts->shutter;
+        /* A mode whose pose keys span several frames (tdense: its 4-subframe cycle) needs keys over all their
+         * shutters. */
+        const hz_mode_ops_t *ops = hz_render_modes[opts->mode];
+        uint32_t span = ops->key_frames ? ops->key_frames(opts) : 1u;
+        float frames = span > 1u ? (float)(span - 1u) + opts->shutter : opts->shutter;
         uint32_t k = hz_posekeys_count(scene, frames / (float)opts->frame_hz);
         if (k >= 2) {
             plan->time_keys = k;
@@ -216,14 +231,26 @@ static void gbuffer_clear(hz_gbuffer_t *gb, size_t px)
         }
         hz_memset(gb->flags2, 0, px);
     }
+    if (gb->mv)
+        hz_memset(gb->mv, 0, px * 8);
+    if (gb->mv_reflect)
+        hz_memset(gb->mv_reflect, 0, px * 8);
 }
 
-static void *take(hz_arena_t *a, size_t bytes, bool *ok)
+/* Lays the region out for r->f.opts (already checked to fit) and gives the mode its first state. */
+static hz_status_t region_start(struct hz_renderer *r, hz_error_t *err)
 {
-    void *p = hz_arena_alloc(a, bytes, 64);
-    if (!p)
-        *ok = false;
-    return p;
+    hz_arena_reset(&r->region, 0);
+    r->mode = hz_render_modes[r->f.opts.mode];
+    hz_memplan_t p;
+    hz_memplan_take(&p, &r->region);
+    r->mode_state = r->mode_store;
+    region_layout(&r->f, r->mode_state, &p);
+    if (p.refused) /* the count said it fits: a layout that takes more than it counts */
+        return hz_error_set(err, HZ_E_INTERNAL, "mode %s took more of its region than it planned",
+                            r->mode->name);
+    gbuffer_clear(&r->f.gb, (size_t)r->f.opts.width * r->f.opts.height);
+    return r->mode->init ? r->mode->init(r->mode_state, &r->f, err) : HZ_OK;
 }
 
 hz_status_t hz_render_create(hz_renderer_t **out, hz_scene_t *scene, hz_accel_t *accel,
@@ -231,14 +258,15 @@ hz_status_t hz_render_create(hz_renderer_t **out, hz_scene_t *scene, hz_accel_t 
                              uint32_t thread_count, hz_error_t *err)
 {
     *out = NULL;
-    hz_status_t s = hz_render_opts_check(opts, err);
+    hz_render_plan_t plan;
+    hz_status_t s = hz_render_plan(scene, opts, &plan, err);
     if (s != HZ_OK)
         return s;
     if (thread_count < 1 || thread_count > HZ_MAX_THREADS)
         return hz_error_set(err, HZ_E_INVALID_ARG, "thread count %u outside 1..%d", thread_count, HZ_MAX_THREADS);
     needs_t n = scene_needs(scene);
     /* Refuse up front, naming the arena and both counts, rather than half-way through. */
-    size_t need = frame_bytes(opts, &n, NULL), have = hz_arena_available(frame_arena, 64);
+    size_t need = plan.frame_bytes, have = hz_memplan_room(frame_arena);
     if (need > have)
         return hz_error_set(err, HZ_E_NO_MEMORY, "arena '%s': a %ux%u %s renderer needs %zu bytes, has %zu",
                             frame_arena->name, opts->width, opts->height, hz_render_mode_name(opts->mode), need,
@@ -259,13 +287,17 @@ hz_status_t hz_render_create(hz_renderer_t **out, hz_scene_t *scene, hz_accel_t 
             return hz_error_set(err, HZ_E_INVALID_ARG, "shutter: the accel was not built over these pose keys");
     }
     hz_arena_mark_t mark = hz_arena_mark(frame_arena);
-    bool ok = true;
-    size_t px = (size_t)opts->width * opts->height;
-    struct hz_renderer *r = take(frame_arena, sizeof *r, &ok);
-    if (!ok)
-        return hz_arena_error(frame_arena, err);
+    struct hz_renderer *r = hz_arena_alloc(frame_arena, sizeof *r, 64);
+    size_t region_cap = plan.frame_bytes - (hz_align_up(sizeof *r, 64) + 128);
+    uint8_t *region = r ? hz_arena_alloc(frame_arena, region_cap, 64) : NULL;
+    if (!r || !region) {
+        s = hz_arena_error(frame_arena, err);
+        hz_arena_reset(frame_arena, mark);
+        return s;
+    }
     hz_memset(r, 0, sizeof *r);
-    r->opts = *opts;
+    hz_arena_init(&r->region, frame_arena->name, region, region_cap);
+    frame_setup(&r->f, opts, &n);
     r->scene = scene;
     r->lights = scene->lights, r->light_count = scene->light_count;
     if (scene->light_count == 0) {
@@ -273,82 +305,19 @@ hz_status_t hz_render_create(hz_renderer_t **out, hz_scene_t *scene, hz_accel_t 
         r->lights = &r->default_light, r->light_count = 1, r->default_lit = true;
     }
     r->accel = accel;
-    r->has_blend = n.blend, r->has_mask = n.mask, r->has_textures = n.textures, r->has_mirrors = n.mirrors;
-    r->has_motion = n.motion, r->camera_moves = n.camera_moves, r->need_mv = n.mv;
-    /* The dither stage exists only where something is blended (hybrid:0 never leaves the exact path). */
-    r->dither = n.blend && opts->transparency != HZ_TRANSP_EXACT &&
-                !(opts->transparency == HZ_TRANSP_HYBRID && opts->hybrid_x <= 0.0f);
-    r->blur = opts->shutter > 0.0f;
-    r->cam_blur = r->blur && n.camera_moves;
-    r->keys = r->blur && n.motion ? opts->keys : NULL;
+    r->has_blend = n.blend, r->has_mask = n.mask, r->has_textures = n.textures;
+    r->has_motion = n.motion, r->camera_moves = n.camera_moves;
+    r->cam_blur = r->f.blur && n.camera_moves;
+    r->keys = r->f.blur && n.motion ? opts->keys : NULL;
     r->tmap_a = 0.0f, r->tmap_b = 1.0f;
     const hz_hzb_header_t *hb = scene->header;
     r->offset_scale = 0.0f;
     for (int c = 0; c < 3; c++)
         r->offset_scale = hz_maxf(r->offset_scale, hz_maxf(hz_absf(hb->bounds_min[c]), hz_absf(hb->bounds_max[c])));
-    r->tiles_x = (opts->width + HZ_RENDER_TILE - 1) / HZ_RENDER_TILE;
-    r->tiles_y = (opts->height + HZ_RENDER_TILE - 1) / HZ_RENDER_TILE;
-    r->out.width = opts->width, r->out.height = opts->height;
-    if (opts->mode != HZ_MODE_TDENSE)
-        r->out.rgb = take(frame_arena, px * 12, &ok);
-    hz_gbuffer_t *gb = &r->gb;
-    gb->width = opts->width, gb->height = opts->height;
-    const bool attrs = hz_render_mode_keeps_surface(opts->mode);
-    if (attrs)
-        gb->depth = take(frame_arena, px * 4, &ok);
-    gb->object = take(frame_arena, px * 2, &ok);
-    if (attrs) {
-        gb->normal = take(frame_arena, px * 12, &ok);
-        gb->shadow = take(frame_arena, px, &ok);
-    }
-    gb->flags = take(frame_arena, px, &ok);
-    if (n.mirrors) {
-        gb->object2 = take(frame_arena, px * 2, &ok);
-        if (attrs) {
-            gb->normal2 = take(frame_arena, px * 12, &ok);
-            gb->shadow2 = take(frame_arena, px, &ok);
-        }
-        gb->flags2 = take(frame_arena, px, &ok);
-    }
-    if (n.mv)
-        gb->mv = take(frame_arena, px * 8, &ok);
-    if (n.mv && n.mirrors)
-        gb->mv_reflect = take(frame_arena, px * 8, &ok);
-    if (opts->mode == HZ_MODE_TAA) {
-        r->cur = r->out;
-        r->cur.rgb = take(frame_arena, px * 12, &ok);
-        r->hist[0] = take(frame_arena, px * 6, &ok);
-        r->hist[1] = take(frame_arena, px * 6, &ok);
-        r->prev_object = take(frame_arena, px * 2, &ok);
-    }
-    if (!ok) {
-        s = hz_arena_error(frame_arena, err);
+    if ((s = region_start(r, err)) != HZ_OK) {
         hz_arena_reset(frame_arena, mark);
         return s;
     }
-    if (opts->mode == HZ_MODE_TDENSE) {
-        hz_tdense_config_t tc = hz_tdense_config_default(opts->width, opts->height);
-        tc.rule = opts->tdense_rule;
-        tc.seed = opts->seed;
-        tc.reflect_mv = opts->tdense_reflect_mv;
-        tc.gamma = opts->tdense_gamma;
-        tc.motion = n.mv;
-        if ((s = hz_tdense_init(&r->td, &tc, frame_arena, err)) != HZ_OK) {
-            hz_arena_reset(frame_arena, mark);
-            return s;
-        }
-    } else {
-        hz_memset(r->out.rgb, 0, px * 12);
-    }
-    if (opts->mode == HZ_MODE_ADAPTIVE && (s = hz_adaptive_init(r, frame_arena, err)) != HZ_OK) {
-        hz_arena_reset(frame_arena, mark);
-        return s;
-    }
-    if (gb->mv)
-        hz_memset(gb->mv, 0, px * 8);
-    if (gb->mv_reflect)
-        hz_memset(gb->mv_reflect, 0, px * 8);
-    gbuffer_clear(gb, px);
     r->thread_count = thread_count;
     for (uint32_t t = 0; t < thread_count; t++) {
         hz_arena_t *ta = &thread_arenas[t];
@@ -374,41 +343,33 @@ hz_status_t hz_render_create(hz_renderer_t **out, hz_scene_t *scene, hz_accel_t 
     return HZ_OK;
 }
 
-static float halton(uint32_t i, uint32_t base)
-{
-    float f = 1.0f, v = 0.0f;
-    while (i > 0) {
-        f /= (float)base;
-        v += f * (float)(i % base);
-        i /= base;
-    }
-    return v;
-}
-
 /* Motion blur: the camera across this frame's shutter, and the pose keys (evaluated and refitted when they do
  * not hold this frame's interval already). Times are offsets from the frame's time: the frame index tells how
  * far apart two frames are (1 / frame_hz each), so no absolute times are subtracted. */
 static hz_status_t blur_begin(hz_renderer_t *r, uint64_t frame_index, hz_time_ns_t time, hz_error_t *err)
 {
-    const float hz = (float)r->opts.frame_hz, half = 0.5f * r->opts.shutter / hz;
+    const float hz = (float)r->f.opts.frame_hz, half = 0.5f * r->f.opts.shutter / hz;
     if (r->cam_blur) {
         for (uint32_t i = 0; i < HZ_RENDER_CAMERA_KEYS; i++) {
             float dt = -half + 2.0f * half * ((float)i / (float)(HZ_RENDER_CAMERA_KEYS - 1));
             hz_camera_t cam = hz_scene_camera_ns(r->scene, time + hz_time_from_s(dt));
-            hz_view_setup(&r->cam_views[i], &cam, r->opts.width, r->opts.height);
+            hz_view_setup(&r->cam_views[i], &cam, r->f.opts.width, r->f.opts.height);
         }
     }
     hz_posekeys_t *k = r->keys;
     if (!k)
         return HZ_OK;
-    /* tdense: one interval over the cycle's four shutters (the renderer is told frames, not cycles: the cycle's
-     * first frame is frame_index - subframe). */
-    bool cycle = r->opts.mode == HZ_MODE_TDENSE && r->opts.tdense_cycle_keys;
-    uint64_t sub = cycle ? r->td.frame % 4u : 0u;
+    /* A mode whose key interval spans several frames (tdense: the cycle's four shutters) evaluates the keys once
+     * per interval (the renderer is told frames, not intervals: the interval's first frame is frame_index -
+     * phase). */
+    uint32_t span = r->mode->key_frames ? r->mode->key_frames(&r->f.opts) : 1u;
+    bool cycle = span > 1u;
+    uint64_t sub = cycle && r->mode->key_phase ? r->mode->key_phase(r->mode_state) % span : 0u;
     bool reuse = cycle && r->key_evals > 0 && frame_index - sub == r->keys_cycle && frame_index >= r->keys_frame &&
                  k->valid && k->time == r->keys_t && k->lo == r->keys_lo && k->hi == r->keys_hi;
     if (!reuse) {
-        float lo = cycle ? -(float)sub / hz - half : -half, hi = cycle ? (float)(3u - sub) / hz + half : half;
+        float lo = cycle ? -(float)sub / hz - half : -half,
+              hi = cycle ? (float)(span - 1u - (uint32_t)sub) / hz + half : half;
         hz_posekeys_eval_ns(k, r->scene, time, lo, hi);
         r->keys_frame = frame_index, r->keys_cycle = frame_index - sub;
         r->keys_t = time, r->keys_lo = lo, r->keys_hi = hi;
@@ -419,10 +380,10 @@ static hz_status_t blur_begin(hz_renderer_t *r, uint64_t frame_index, hz_time_ns
             return s;
     }
     /* This frame's shutter, relative to the keys' first time. */
-    float span = r->keys_hi - r->keys_lo;
+    float span_s = r->keys_hi - r->keys_lo;
     float start = (float)(frame_index - r->keys_frame) / hz - half - r->keys_lo;
-    r->tmap_a = span > 0.0f ? start / span : 0.0f;
-    r->tmap_b = span > 0.0f ? 2.0f * half / span : 0.0f;
+    r->tmap_a = span_s > 0.0f ? start / span_s : 0.0f;
+    r->tmap_b = span_s > 0.0f ? 2.0f * half / span_s : 0.0f;
     return HZ_OK;
 }
 
@@ -431,6 +392,13 @@ hz_status_t hz_render_begin_frame(hz_renderer_t *r, uint64_t frame_index, float 
     if (!hz_isfinitef(time))
         return hz_error_set(err, HZ_E_INVALID_ARG, "frame time is not finite");
     return hz_render_begin_frame_ns(r, frame_index, hz_time_from_s(time), err);
+}
+
+static bool same_view(const hz_view_t *a, const hz_view_t *b)
+{
+    return a->eye.x == b->eye.x && a->eye.y == b->eye.y && a->eye.z == b->eye.z && a->fwd.x == b->fwd.x &&
+           a->fwd.y == b->fwd.y && a->fwd.z == b->fwd.z && a->right.x == b->right.x && a->right.y == b->right.y &&
+           a->right.z == b->right.z && a->up.x == b->up.x && a->up.y == b->up.y && a->up.z == b->up.z;
 }
 
 hz_status_t hz_render_begin_frame_ns(hz_renderer_t *r, uint64_t frame_index, hz_time_ns_t time_ns, hz_error_t *err)
@@ -449,147 +417,94 @@ hz_status_t hz_render_begin_frame_ns(hz_renderer_t *r, uint64_t frame_index, hz_
     if (r->have_prev)
         r->prev_view = r->view;
     hz_camera_t cam = hz_scene_camera_ns(r->scene, time_ns);
-    hz_view_setup(&r->view, &cam, r->opts.width, r->opts.height);
-    if (r->blur) {
+    hz_view_setup(&r->view, &cam, r->f.opts.width, r->f.opts.height);
+    if (r->f.blur) {
         hz_status_t s = blur_begin(r, frame_index, time_ns, err);
         if (s != HZ_OK)
             return s;
     }
     if (!r->have_prev)
         r->prev_view = r->view;
-    r->frame = frame_index;
+    r->f.frame = frame_index;
     r->time = time;
     r->time_ns = time_ns;
-    if (r->opts.mode == HZ_MODE_TDENSE) {
-        /* Any change of the camera restarts every static window (seed 001, 3.2.2). */
-        const hz_view_t *a = &r->view, *b = &r->prev_view;
-        bool same = a->eye.x == b->eye.x && a->eye.y == b->eye.y && a->eye.z == b->eye.z && a->fwd.x == b->fwd.x &&
-                    a->fwd.y == b->fwd.y && a->fwd.z == b->fwd.z && a->right.x == b->right.x &&
-                    a->right.y == b->right.y && a->right.z == b->right.z && a->up.x == b->up.x &&
-                    a->up.y == b->up.y && a->up.z == b->up.z;
-        hz_tdense_begin_frame(&r->td, r->have_prev && !same);
-    }
-    /* TAA jitter: Halton (2, 3), 16 phases, centred on the pixel. */
-    uint32_t phase = (uint32_t)(frame_index % 16u) + 1u;
-    r->jitter[0] = halton(phase, 2) - 0.5f;
-    r->jitter[1] = halton(phase, 3) - 0.5f;
+    /* Any change of the camera (seed 001, 3.2.2 restarts every static window on it). */
+    r->f.camera_moved = r->have_prev && !same_view(&r->view, &r->prev_view);
+    if (r->mode->begin_frame)
+        r->mode->begin_frame(r->mode_state, &r->f);
     for (uint32_t t = 0; t < r->thread_count; t++)
-        hz_memset(&r->workers_by_thread[t]->stats, 0, sizeof(hz_render_stats_t));
+        hz_memset(&r->workers_by_thread[t]->b.stats, 0, sizeof(hz_render_stats_t));
     return HZ_OK;
 }
 
 bool hz_render_mode_keeps_surface(hz_render_mode_t mode)
 {
-    return mode == HZ_MODE_FULL || mode == HZ_MODE_ADAPTIVE;
+    return (unsigned)mode < HZ_MODE_COUNT && (hz_render_modes[mode]->flags & HZ_MODE_KEEPS_SURFACE);
 }
 
 uint32_t hz_render_pass_count(const hz_renderer_t *r)
 {
-    return r->opts.mode == HZ_MODE_FULL ? 1u : r->opts.mode == HZ_MODE_ADAPTIVE ? 3u : 2u;
+    return r->mode->passes;
 }
 
 uint32_t hz_render_pass_items(const hz_renderer_t *r, uint32_t pass)
 {
-    if (pass >= hz_render_pass_count(r))
-        return 0u;
-    /* tdense resolves whole rows (its 3x3 neighbourhoods span tiles): one item per row of tiles. */
-    return r->opts.mode == HZ_MODE_TDENSE && pass == 1 ? r->tiles_y : r->tiles_x * r->tiles_y;
+    return pass < r->mode->passes ? r->mode->pass_items(r->mode_state, &r->f, pass) : 0u;
 }
 
-/* Radiance -> image, replacing anything non-finite or negative (a bug upstream) by 0, counted. */
-static void store(hz_worker_t *w, float *dst, const float *src, float scale)
+void hz_render_store(hz_batch_t *b, float *dst, const float *src, float scale)
 {
     for (int c = 0; c < 3; c++) {
         float v = src[c] * scale;
         if (!hz_isfinitef(v)) {
-            w->stats.nonfinite++;
+            b->stats.nonfinite++;
             v = 0.0f;
         }
         dst[c] = v > 0.0f ? v : 0.0f;
     }
 }
 
-/* Motion blur: shutter time of sample `index` of `count` of pixel px (hz/timeseq.h), in [0, 1). */
-static float sample_time(const hz_renderer_t *r, uint32_t px, uint32_t index, uint32_t count)
+float hz_render_sample_time(const hz_render_frame_t *f, uint32_t px, uint32_t index, uint32_t count)
 {
-    return hz_u32_to_unit(hz_timeseq_u32(px, index, count, r->opts.seed));
+    return hz_u32_to_unit(hz_timeseq_u32(px, index, count, f->opts.seed));
 }
 
-static void trace_tile(hz_renderer_t *r, uint32_t tile, hz_worker_t *w, hz_image_t *dst)
+void hz_render_trace_tile(hz_render_frame_t *f, hz_batch_t *b, uint32_t tile, const hz_tile_sampling_t *s,
+                          hz_image_t *dst)
 {
+    const struct hz_renderer *r = (const struct hz_renderer *)(const void *)f; /* f is the renderer's first member */
     float jitter[HZ_TILE_PIXELS][2], times[HZ_TILE_PIXELS];
-    hz_tile_slots(r, tile, w->pixel);
-    hz_memset(w->radiance, 0, sizeof w->radiance);
-    uint32_t spp = r->opts.mode == HZ_MODE_FULL ? r->opts.spp : 1u;
-    uint32_t side = hz_isqrt_u64(spp);
+    hz_tile_slots(r, tile, b->pixel);
+    hz_memset(b->radiance, 0, sizeof b->radiance);
+    const uint32_t spp = s->spp, side = hz_isqrt_u64(spp);
     for (uint32_t k = 0; k < spp; k++) {
         for (uint32_t slot = 0; slot < HZ_TILE_PIXELS; slot++) {
-            if (r->opts.mode == HZ_MODE_TAA) {
-                jitter[slot][0] = r->jitter[0], jitter[slot][1] = r->jitter[1];
-            } else if (r->opts.msaa4) {
+            if (s->fixed_jitter) {
+                jitter[slot][0] = s->fixed_jitter[0], jitter[slot][1] = s->fixed_jitter[1];
+            } else if (s->msaa4) {
                 jitter[slot][0] = (float)hz_msaa4_jitter16[k][0] * (1.0f / 16.0f);
                 jitter[slot][1] = (float)hz_msaa4_jitter16[k][1] * (1.0f / 16.0f);
             } else if (spp == 1) {
                 jitter[slot][0] = jitter[slot][1] = 0.0f;
             } else {
                 /* Stratified: one sample in each cell of a side x side grid, placed by a per-pixel hash. */
-                uint32_t h = hz_hash3(w->pixel[slot], k, r->opts.seed);
+                uint32_t h = hz_hash3(b->pixel[slot], k, f->opts.seed);
                 float cx = (float)(k % side), cy = (float)(k / side);
                 jitter[slot][0] = (cx + hz_u32_to_unit(h)) / (float)side - 0.5f;
                 jitter[slot][1] = (cy + hz_u32_to_unit(hz_hash32(h))) / (float)side - 0.5f;
             }
-            /* Full mode stratifies time over the pixel's samples, TAA over 16 frames. */
-            if (r->blur && w->pixel[slot] != UINT32_MAX)
-                times[slot] = r->opts.mode == HZ_MODE_TAA ? sample_time(r, w->pixel[slot], (uint32_t)(r->frame % 16u), 16u)
-                                                          : sample_time(r, w->pixel[slot], k, spp);
+            if (f->blur && b->pixel[slot] != UINT32_MAX)
+                times[slot] = s->time_count ? hz_render_sample_time(f, b->pixel[slot], s->time_index, s->time_count)
+                                            : hz_render_sample_time(f, b->pixel[slot], k, spp);
         }
-        w->dither_frame = (uint32_t)r->frame * spp + k; /* N spp walk N steps of the dither's sequence */
-        hz_trace_batch(w, (const float(*)[2])jitter, r->blur ? times : NULL, k == 0);
+        b->dither_frame = (uint32_t)f->frame * spp + k; /* N spp walk N steps of the dither's sequence */
+        hz_render_trace(f, b, (const float(*)[2])jitter, f->blur ? times : NULL, k == 0);
     }
     float scale = 1.0f / (float)spp;
     for (uint32_t slot = 0; slot < HZ_TILE_PIXELS; slot++) {
-        uint32_t px = w->pixel[slot];
+        uint32_t px = b->pixel[slot];
         if (px != UINT32_MAX)
-            store(w, dst->rgb + (size_t)px * 3, &w->radiance[slot * 3], scale);
-    }
-}
-
-/* tdense: the tile traces one pixel of each of its 2x2 tdense tiles, the one the tile's ordering names for this
- * subframe (jittered where static). The chosen pixels take the first slots, in rows of tdense tiles, so they
- * form full packets; the other slots stay empty (UINT32_MAX), which hz_trace_batch skips. */
-static void trace_tile_tdense(hz_renderer_t *r, uint32_t tile, hz_worker_t *w)
-{
-    enum { PER = HZ_RENDER_TILE / 2 };
-    float jitter[HZ_TILE_PIXELS][2], times[HZ_TILE_PIXELS];
-    uint16_t where[HZ_TILE_PIXELS][2];
-    hz_tdense_t *td = &r->td;
-    uint32_t tx0 = (tile % r->tiles_x) * PER, ty0 = (tile / r->tiles_x) * PER, n = 0;
-    for (uint32_t slot = 0; slot < HZ_TILE_PIXELS; slot++)
-        w->pixel[slot] = UINT32_MAX;
-    for (uint32_t k = 0; k < PER * PER; k++) {
-        uint32_t tx = tx0 + k % PER, ty = ty0 + k / PER, px, py;
-        int msaa;
-        if (tx >= td->tiles_x || ty >= td->tiles_y || !hz_tdense_tile_sample(td, tx, ty, &px, &py, jitter[n], &msaa))
-            continue;
-        w->pixel[n] = py * r->opts.width + px;
-        where[n][0] = (uint16_t)tx, where[n][1] = (uint16_t)ty;
-        /* A pixel is traced once per cycle: its times are stratified over 4 cycles (the static window). */
-        if (r->blur)
-            times[n] = sample_time(r, w->pixel[n], (td->frame / 4u) % 4u, 4u);
-        n++;
-    }
-    hz_memset(w->radiance, 0, sizeof w->radiance);
-    w->dither_frame = (uint32_t)r->frame;
-    hz_trace_batch(w, (const float(*)[2])jitter, r->blur ? times : NULL, true);
-    const hz_gbuffer_t *gb = &r->gb;
-    static const float still[2] = { 0.0f, 0.0f };
-    for (uint32_t slot = 0; slot < n; slot++) {
-        uint32_t px = w->pixel[slot];
-        float c[3];
-        store(w, c, &w->radiance[slot * 3], 1.0f);
-        const float *mv = gb->mv ? gb->mv + (size_t)px * 2 : still;
-        const float *mvr = gb->mv_reflect && (gb->flags[px] & HZ_GB_MIRROR) ? gb->mv_reflect + (size_t)px * 2 : NULL;
-        hz_tdense_put(td, where[slot][0], where[slot][1], c, mv, mvr);
+            hz_render_store(b, dst->rgb + (size_t)px * 3, &b->radiance[slot * 3], scale);
     }
 }
 
@@ -597,68 +512,30 @@ void hz_render_pass_run(hz_renderer_t *r, uint32_t pass, uint32_t item, uint32_t
 {
     if (thread >= r->thread_count || item >= hz_render_pass_items(r, pass))
         return;
-    hz_worker_t *w = r->workers_by_thread[thread];
-    if (r->opts.mode == HZ_MODE_TDENSE) {
-        if (pass == 0)
-            trace_tile_tdense(r, item, w);
-        else
-            (r->opts.scalar_recon ? hz_tdense_resolve_rows_scalar : hz_tdense_resolve_rows)(
-                &r->td, item * (HZ_RENDER_TILE / 2), (item + 1) * (HZ_RENDER_TILE / 2));
-    } else if (r->opts.mode == HZ_MODE_ADAPTIVE) {
-        if (pass == 0) {
-            trace_tile(r, item, w, &r->out); /* the presample: 1 spp at pixel centres */
-            hz_adaptive_keep_attrs(r, w);
-        } else if (pass == 1) {
-            hz_adaptive_test_tile(r, item);
-        } else {
-            hz_adaptive_extra_tile(r, item, w);
-        }
-    } else if (pass == 0) {
-        trace_tile(r, item, w, r->opts.mode == HZ_MODE_TAA ? &r->cur : &r->out);
-    } else if (pass == 1 && r->opts.mode == HZ_MODE_TAA) {
-        (r->opts.scalar_recon ? hz_taa_resolve_tile_scalar : hz_taa_resolve_tile)(r, item);
-    }
+    r->mode->pass_run(r->mode_state, &r->f, pass, item, &r->workers_by_thread[thread]->b);
 }
 
-/* tdense resolves the tdense tile rows of one trace tile row per unit (HZ_RENDER_TILE / 2 of them, the barrier
- * pass's items: single tdense rows measured 3-5% slower frames at 2 threads, from the resolve's per-call setup
- * and more switching between tracing and resolving); TAA one trace tile per unit. */
-#define TD_PER (HZ_RENDER_TILE / 2)
 uint32_t hz_render_overlap_units(const hz_renderer_t *r, uint32_t *trace_rows, uint32_t *row_items)
 {
-    *trace_rows = r->tiles_y, *row_items = r->tiles_x;
-    if (r->opts.serial_passes)
+    *trace_rows = r->f.tiles_y, *row_items = r->f.tiles_x;
+    if (r->f.opts.serial_passes || !r->mode->overlap_units)
         return 0u;
-    if (r->opts.mode == HZ_MODE_TDENSE)
-        return (r->td.tiles_y + TD_PER - 1u) / TD_PER;
-    if (r->opts.mode == HZ_MODE_TAA)
-        return r->tiles_x * r->tiles_y;
-    return 0u;
+    return r->mode->overlap_units(r->mode_state, &r->f);
 }
 
 void hz_render_overlap_needs(const hz_renderer_t *r, uint32_t unit, uint32_t *row_lo, uint32_t *row_hi)
 {
-    uint32_t lo, hi;
-    if (r->opts.mode == HZ_MODE_TDENSE) {
-        /* the unit's tdense rows and the rows above and below them lie in trace rows u - 1 .. u + 1 */
-        lo = unit ? unit - 1u : 0u;
-        hi = unit + 1u;
-    } else {
-        const uint32_t row = unit / r->tiles_x;
-        lo = row ? row - 1u : 0u;
-        hi = row + 1u;
-    }
+    uint32_t lo = 0, hi = 0;
+    if (r->mode->overlap_needs)
+        r->mode->overlap_needs(r->mode_state, &r->f, unit, &lo, &hi);
     *row_lo = lo;
-    *row_hi = hi < r->tiles_y ? hi : r->tiles_y - 1u;
+    *row_hi = hi < r->f.tiles_y ? hi : r->f.tiles_y - 1u;
 }
 
 void hz_render_overlap_run(hz_renderer_t *r, uint32_t unit)
 {
-    if (r->opts.mode == HZ_MODE_TDENSE && unit * TD_PER < r->td.tiles_y)
-        (r->opts.scalar_recon ? hz_tdense_resolve_rows_scalar : hz_tdense_resolve_rows)(&r->td, unit * TD_PER,
-                                                                                         (unit + 1u) * TD_PER);
-    else if (r->opts.mode == HZ_MODE_TAA && unit < r->tiles_x * r->tiles_y)
-        (r->opts.scalar_recon ? hz_taa_resolve_tile_scalar : hz_taa_resolve_tile)(r, unit);
+    if (r->mode->overlap_run)
+        r->mode->overlap_run(r->mode_state, &r->f, unit);
 }
 
 static void add_stats(hz_render_stats_t *a, const hz_render_stats_t *b)
@@ -679,27 +556,22 @@ void hz_render_end_frame(hz_renderer_t *r)
 {
     hz_memset(&r->last, 0, sizeof r->last);
     for (uint32_t t = 0; t < r->thread_count; t++)
-        add_stats(&r->last, &r->workers_by_thread[t]->stats);
+        add_stats(&r->last, &r->workers_by_thread[t]->b.stats);
     r->last.refits = r->frame_refits;
     add_stats(&r->total, &r->last);
-    if (r->opts.mode == HZ_MODE_TAA) {
-        r->hist_index ^= 1u; /* the history just written becomes the previous frame's */
-        r->hist_valid = true;
-        hz_memcpy(r->prev_object, r->gb.object, (size_t)r->opts.width * r->opts.height * 2);
-    }
-    if (r->opts.mode == HZ_MODE_TDENSE)
-        hz_tdense_end_frame(&r->td);
+    if (r->mode->end_frame)
+        r->mode->end_frame(r->mode_state, &r->f);
     r->have_prev = true;
 }
 
 const hz_image_t *hz_render_output(const hz_renderer_t *r)
 {
-    return r->opts.mode == HZ_MODE_TDENSE ? hz_tdense_output(&r->td) : &r->out;
+    return r->mode->output(r->mode_state);
 }
 
 const hz_gbuffer_t *hz_render_gbuffer(const hz_renderer_t *r)
 {
-    return &r->gb;
+    return &r->f.gb;
 }
 
 void hz_render_frame_stats(const hz_renderer_t *r, hz_render_stats_t *last, hz_render_stats_t *total)
@@ -715,30 +587,82 @@ const hz_light_t *hz_render_default_light(const hz_renderer_t *r)
     return r->default_lit ? &r->default_light : NULL;
 }
 
-const struct hz_tdense *hz_render_tdense(const hz_renderer_t *r)
+void *hz_render_mode_state(const hz_renderer_t *r, const hz_mode_ops_t *ops)
 {
-    return r->opts.mode == HZ_MODE_TDENSE ? &r->td : NULL;
-}
-
-const uint8_t *hz_render_adaptive_mask(const hz_renderer_t *r)
-{
-    return r->opts.mode == HZ_MODE_ADAPTIVE ? r->ad.mask : NULL;
+    return r->mode == ops ? r->mode_state : NULL;
 }
 
 void hz_render_set_scalar_recon(hz_renderer_t *r, bool scalar)
 {
-    r->opts.scalar_recon = scalar;
+    r->f.opts.scalar_recon = scalar;
 }
 
 void hz_render_set_serial_passes(hz_renderer_t *r, bool serial)
 {
-    r->opts.serial_passes = serial;
+    r->f.opts.serial_passes = serial;
+}
+
+/* What the scene needs, as create saw it (reconfigure keeps it). */
+static needs_t needs_of(const struct hz_renderer *r)
+{
+    needs_t n = { r->has_blend, r->has_mask, r->has_textures, r->f.has_mirrors, r->has_motion, r->camera_moves,
+                  r->f.need_mv };
+    return n;
+}
+
+static bool same_adaptive(const hz_adaptive_opts_t *a, const hz_adaptive_opts_t *b)
+{
+    bool same = a->normal_angle_deg == b->normal_angle_deg && a->focus_count == b->focus_count;
+    for (int k = 0; k < HZ_TAU_COUNT; k++)
+        same = same && a->tau[k] == b->tau[k];
+    for (uint32_t i = 0; same && i < a->focus_count && i < HZ_AMASK_MAX_FOCUS; i++)
+        same = a->focus[i] == b->focus[i];
+    return same;
+}
+
+hz_status_t hz_render_reconfigure(hz_renderer_t *r, const hz_render_opts_t *o, hz_error_t *err)
+{
+    hz_status_t s = hz_render_opts_check(o, err);
+    if (s != HZ_OK)
+        return s;
+    const hz_render_opts_t *c = &r->f.opts;
+    if (o->shutter != c->shutter || o->frame_hz != c->frame_hz || o->keys != c->keys ||
+        o->tdense_cycle_keys != c->tdense_cycle_keys)
+        return hz_error_set(err, HZ_E_INVALID_ARG, "reconfigure: motion blur (shutter, frame rate, pose keys) is "
+                                                   "fixed at create");
+    needs_t n = needs_of(r);
+    hz_render_plan_t plan;
+    count_plan(o, &n, &plan);
+    if (plan.region_bytes > r->region.cap)
+        return hz_error_set(err, HZ_E_NO_MEMORY, "arena '%s': a %ux%u %s renderer needs %zu bytes of the %zu held at "
+                            "create (hz_render_opts_t.reserve_bytes)", r->region.name, o->width, o->height,
+                            hz_render_mode_name(o->mode), plan.region_bytes, r->region.cap);
+    const bool relayout = o->width != c->width || o->height != c->height || o->mode != c->mode ||
+                          o->tdense_rule != c->tdense_rule || o->tdense_gamma != c->tdense_gamma ||
+                          o->tdense_reflect_mv != c->tdense_reflect_mv || o->seed != c->seed ||
+                          !same_adaptive(&o->adaptive, &c->adaptive);
+    hz_render_opts_t keep = r->f.opts;
+    frame_setup(&r->f, o, &n);
+    r->f.opts.reserve_bytes = keep.reserve_bytes;
+    if (!relayout)
+        return HZ_OK;
+    /* Another size or mode: the region laid out anew, and no history (the previous frame's views and motion
+     * belong to the old layout): the next frame starts as after a cut. */
+    if ((s = region_start(r, err)) != HZ_OK) {
+        /* the old configuration is still counted to fit: put it back */
+        hz_error_t ignored;
+        frame_setup(&r->f, &keep, &n);
+        region_start(r, &ignored);
+        r->have_prev = false;
+        return s;
+    }
+    r->have_prev = false;
+    return HZ_OK;
 }
 
 void hz_render_reset_history(hz_renderer_t *r)
 {
-    r->hist_valid = false;
     r->have_prev = false;
-    if (r->opts.mode == HZ_MODE_TDENSE)
-        hz_tdense_reset(&r->td);
+    if (r->mode->reset)
+        r->mode->reset(r->mode_state, &r->f);
 }

@@ -1,5 +1,6 @@
 /*
- * render_internal.h — state shared by the renderer's files (src/render, src/recon). Not a public API.
+ * render_internal.h — state shared by the renderer's own files (src/render). Not a public API; the render modes
+ * (src/recon) see the renderer through mode.h only.
  *
  * Work is organised per tile (HZ_RENDER_TILE^2 pixels) and per "batch": one sample of every pixel of the
  * tile. A batch's camera rays are traced as coherent packets; everything they spawn (shadow rays,
@@ -9,18 +10,9 @@
 #ifndef HZ_RENDER_INTERNAL_H
 #define HZ_RENDER_INTERNAL_H
 
-#include "hz/adaptive.h"
 #include "hz/config.h"
 #include "hz/render.h"
-#include "hz/tdense.h"
-
-#if HZ_SIMD_LANES >= 8
-#define HZ_RENDER_LANES 8
-#else
-#define HZ_RENDER_LANES 4
-#endif
-
-#define HZ_TILE_PIXELS (HZ_RENDER_TILE * HZ_RENDER_TILE)
+#include "mode.h"
 /* Blended triangles one shadow ray can composite in its single occlusion pass; rays crossing more take the
  * exact layer-by-layer path. */
 #define HZ_SHADOW_LAYERS 32
@@ -72,15 +64,13 @@ typedef struct mirror_rec {
 } mirror_rec_t;
 
 typedef struct hz_worker {
+    hz_batch_t b;              /* first member: a mode's batch pointer is its worker's (hz_render_trace) */
     ray_job_t *stack;
     uint32_t stack_n, stack_cap;
     shadow_job_t *shadows;
     uint32_t shadow_n, shadow_cap;
-    float radiance[HZ_TILE_PIXELS * 3];
-    uint32_t pixel[HZ_TILE_PIXELS];          /* slot -> pixel index; UINT32_MAX for slots outside the image */
     uint8_t alpha_touched[HZ_TILE_PIXELS];   /* a cutout was tested on the slot's primary path */
     uint8_t dither_touched[HZ_TILE_PIXELS];  /* a stochastic decision met a blended surface on the slot's path */
-    uint32_t dither_frame;                   /* frame index the thresholds use (full mode: frame * spp + k) */
     bool write_gbuffer;                      /* this batch fills the G-buffer */
     mirror_rec_t mirror[HZ_TILE_PIXELS];
     /* Shadow packet in flight (scenes with blended surfaces): per lane the transmittance of the blended
@@ -90,45 +80,28 @@ typedef struct hz_worker {
     uint8_t shadow_nprims[HZ_RENDER_LANES];
     uint8_t shadow_overflow[HZ_RENDER_LANES];
     hz_accel_ctx_t ctx;
-    hz_render_stats_t stats;
     struct hz_renderer *r;
 } hz_worker_t;
 
-/* adaptive mode (src/recon/adaptive.c): the compact attribute map and the activity mask of this frame. */
-typedef struct hz_adaptive_state {
-    hz_amask_config_t cfg;
-    hz_amask_hit_t *attr;      /* levels hits per pixel (primary, then the mirror hit where the scene has mirrors) */
-    uint32_t levels;
-    uint8_t *mask;             /* bit q: subpixel q active */
-} hz_adaptive_state_t;
-
 struct hz_renderer {
-    hz_render_opts_t opts;
+    hz_render_frame_t f;       /* first member: what the mode sees (mode.h) */
+    const hz_mode_ops_t *mode; /* hz_render_modes[f.opts.mode] */
+    void *mode_state;          /* its state: mode_store */
+    uint64_t mode_store[HZ_RENDER_MODE_STATE_MAX / 8];
     hz_scene_t *scene;
     hz_accel_t *accel;
     /* What this scene needs (features leave stages out). */
-    bool has_blend, has_mask, has_textures, has_mirrors, has_motion, camera_moves, need_mv;
-    bool dither;               /* a stochastic transparency method is on and the scene blends something */
+    bool has_blend, has_mask, has_textures, has_motion, camera_moves;
     float offset_scale;        /* scene size for secondary-ray origin offsets (hz_accel_offset_origin) */
     hz_view_t view, prev_view;
     bool have_prev;
-    uint64_t frame;
     float time;                /* scene time inside the loop (seconds), for ray time */
     hz_time_ns_t time_ns;      /* scene time of this frame */
-    float jitter[2];           /* this frame's sub-pixel offset (TAA), in pixels */
-    uint32_t tiles_x, tiles_y;
-    hz_image_t out;            /* displayed frame */
-    hz_image_t cur;            /* TAA: this frame's raw samples */
-    uint16_t *hist[2];         /* TAA: resolved history, ping-pong, half-float RGB (hz/pack.h) */
-    uint32_t hist_index;       /* hist[hist_index] is the previous frame's */
-    bool hist_valid;
-    uint16_t *prev_object;     /* TAA: previous frame's primary object ids */
-    hz_tdense_t td;            /* tdense: subframe placement and composite (its frames are the output) */
-    hz_adaptive_state_t ad;    /* adaptive: attribute map and mask */
-    hz_gbuffer_t gb;
+    /* The frame arena's part that holds the G-buffer and the mode (re-laid out by hz_render_reconfigure). */
+    hz_arena_t region;
     /* Motion blur (opts.shutter > 0): sample times t in [0, 1) of the frame's shutter map to ray.time
      * tmap_a + t * tmap_b in the pose keys' interval; the camera is interpolated between cam_views. */
-    bool blur, cam_blur;
+    bool cam_blur;
     hz_posekeys_t *keys;       /* NULL: the accel is static (no keys) */
     float tmap_a, tmap_b;
     hz_view_t cam_views[HZ_RENDER_CAMERA_KEYS];
@@ -173,44 +146,16 @@ bool hz_texture_usable(const hz_scene_t *s, int32_t tex, float u, float v);
 uint32_t hz_texture_level_of(const hz_texture_t *t, float lod);
 size_t hz_texture_level_first(const hz_texture_t *t, uint32_t level, uint32_t *w, uint32_t *h);
 
-/* trace.c */
-/* Traces one sample of every slot of the worker's tile (w->pixel set by the caller; jitter[slot] in pixels,
- * each in [-0.5, 0.5]) and adds its radiance to w->radiance[slot]; fills the G-buffer when asked. Slots whose
- * pixel is UINT32_MAX are skipped: to trace a subset of pixels, put them in the first slots (consecutive
- * HZ_RENDER_LANES slots form a packet) and mark the rest UINT32_MAX, as tdense does. */
-/* times: NULL, or with motion blur the sample time of each slot in [0, 1) of the frame's shutter. */
-void hz_trace_batch(hz_worker_t *w, const float (*jitter)[2], const float *times, bool write_gbuffer);
+/* trace.c (hz_render_trace in mode.h is its entry) */
 /* Slot -> pixel of tile `tile`, ordered so that consecutive HZ_RENDER_LANES slots form compact packets. */
 void hz_tile_slots(const struct hz_renderer *r, uint32_t tile, uint32_t pixel[HZ_TILE_PIXELS]);
 bool hz_render_anyhit(void *user, uint32_t prim, float u, float v, float t, uint32_t ray_id, int lane);
 
-/* adaptive.c (src/recon) */
-hz_status_t hz_adaptive_init(struct hz_renderer *r, hz_arena_t *frame_arena, hz_error_t *err);
-/* Pass 0, after the tile's 1-spp presample: packs the slots' G-buffer records into the attribute map. */
-void hz_adaptive_keep_attrs(struct hz_renderer *r, const hz_worker_t *w);
-void hz_adaptive_test_tile(struct hz_renderer *r, uint32_t tile);               /* pass 1 */
-void hz_adaptive_extra_tile(struct hz_renderer *r, uint32_t tile, hz_worker_t *w); /* pass 2 */
 /* transp.c: stochastic transparency (seed 004, hz/dither.h) */
 /* Any-hit of a stochastic ray of batch slot `slot` at a blended triangle of opacity alpha: true keeps it (the
  * ray ends there, the fragment is shaded as opaque). Marks the slot's dither_touched unless alpha <= 0.01. */
 bool hz_transp_keep(hz_worker_t *w, uint32_t prim, float u, float v, float alpha, uint32_t slot);
 /* Any-hit of a stochastic fragment's shadow ray at a blended triangle: true blocks the light. */
 bool hz_transp_shadow_blocks(const hz_worker_t *w, uint32_t prim, float u, float v, float alpha);
-/* Motion-vector alignment (pixels) TAA uses where the method dithered: 3 (STD cell), 5 (DTAA), 1 (RR). */
-unsigned hz_transp_mv_align(hz_transp_t t);
-
-/* taa.c (src/recon): the TAA resolve of one tile, with the board's SIMD where it has one (taa_lanes.c) unless
- * opts.scalar_recon; hz_taa_resolve_tile_scalar and hz_taa_resolve_pixel are its scalar twin (bit-identical). */
-void hz_taa_resolve_tile(struct hz_renderer *r, uint32_t tile);
-void hz_taa_resolve_tile_scalar(struct hz_renderer *r, uint32_t tile);
-void hz_taa_resolve_pixel(struct hz_renderer *r, uint32_t x, uint32_t y);
-/* RGB -> YCoCg, the TAA box's colour space; one definition for the resolve and its SIMD twin (whose 10x10 block
- * must hold exactly the values the twin computes). */
-HZ_INLINE void hz_taa_to_ycocg(const float *rgb, float *o)
-{
-    o[0] = 0.25f * rgb[0] + 0.5f * rgb[1] + 0.25f * rgb[2];
-    o[1] = 0.5f * rgb[0] - 0.5f * rgb[2];
-    o[2] = -0.25f * rgb[0] + 0.5f * rgb[1] - 0.25f * rgb[2];
-}
 
 #endif

@@ -166,7 +166,7 @@ bool hz_render_anyhit(void *user, uint32_t prim, float u, float v, float t, uint
         }
         w->shadow_prims[ln][w->shadow_nprims[ln]++] = prim;
         w->shadow_vis[ln] *= 1.0f - blend_alpha(w->r, prim, u, v);
-        return !(w->shadow_vis[ln] >= w->r->opts.min_visibility); /* nothing left: as good as blocked */
+        return !(w->shadow_vis[ln] >= w->r->f.opts.min_visibility); /* nothing left: as good as blocked */
     }
     if (m->alpha_mode != HZ_ALPHA_MASK)
         return true;
@@ -185,7 +185,7 @@ bool hz_render_anyhit(void *user, uint32_t prim, float u, float v, float t, uint
 
 static void add_radiance(hz_worker_t *w, uint32_t slot, const float wt[3], const float L[3])
 {
-    float *dst = &w->radiance[slot * 3];
+    float *dst = &w->b.radiance[slot * 3];
     dst[0] += wt[0] * L[0];
     dst[1] += wt[1] * L[1];
     dst[2] += wt[2] * L[2];
@@ -194,7 +194,7 @@ static void add_radiance(hz_worker_t *w, uint32_t slot, const float wt[3], const
 static void push_ray(hz_worker_t *w, const ray_job_t *j)
 {
     if (w->stack_n >= w->stack_cap) {
-        w->stats.queue_full++;
+        w->b.stats.queue_full++;
         return;
     }
     w->stack[w->stack_n++] = *j;
@@ -211,8 +211,8 @@ static void push_shadow(hz_worker_t *w, const shadow_job_t *j)
 
 static void count_blocked(hz_worker_t *w, uint32_t slot, uint8_t gslot)
 {
-    uint32_t px = w->pixel[slot];
-    const hz_gbuffer_t *gb = &w->r->gb;
+    uint32_t px = w->b.pixel[slot];
+    const hz_gbuffer_t *gb = &w->r->f.gb;
     uint8_t *c = gslot == GSLOT_PRIMARY ? gb->shadow : gslot == GSLOT_SECONDARY ? gb->shadow2 : NULL;
     if (c && c[px] < 255)
         c[px]++;
@@ -255,7 +255,7 @@ static void process_shadows(hz_worker_t *w)
     shadow_job_t jobs[HZ_RENDER_LANES];
     bool coherent;
     uint32_t n = take_shadows(w, jobs, &coherent);
-    w->stats.shadow_rays += n;
+    w->b.stats.shadow_rays += n;
     w->ctx.flags = coherent ? HZ_ACCEL_COHERENT : 0u;
     /* One occlusion pass with early exit; blended surfaces composite into the lane's transmittance in the
      * any-hit callback. Rays that met more layers than it tracks, and continuations of the exact path below
@@ -315,12 +315,12 @@ static void process_shadows(hz_worker_t *w)
         }
         float a = blend_alpha(r, h[i].prim, h[i].u, h[i].v);
         float vis = j->vis * (1.0f - a);
-        if (!(vis >= r->opts.min_visibility)) {
+        if (!(vis >= r->f.opts.min_visibility)) {
             count_blocked(w, j->slot, j->gslot);
             continue;
         }
         if (j->layers + 1u >= HZ_RENDER_MAX_LAYERS) {
-            w->stats.layer_cap++;
+            w->b.stats.layer_cap++;
             count_blocked(w, j->slot, j->gslot);
             continue;
         }
@@ -404,8 +404,8 @@ static void shade_miss(hz_worker_t *w, const ray_job_t *j)
     const float *bg = r->scene->header->background;
     const float vis[3] = { bg[0] * j->vis, bg[1] * j->vis, bg[2] * j->vis };
     add_radiance(w, j->slot, j->w, vis);
-    uint32_t px = w->pixel[j->slot];
-    hz_gbuffer_t *gb = &r->gb;
+    uint32_t px = w->b.pixel[j->slot];
+    hz_gbuffer_t *gb = &r->f.gb;
     hz_vec3_t d = hz_v3(j->d[0], j->d[1], j->d[2]);
     if (j->gslot == GSLOT_PRIMARY) {
         if (gb->normal) { /* full and adaptive modes (hz_render_mode_keeps_surface) */
@@ -447,9 +447,9 @@ static void shade_hit(hz_worker_t *w, const ray_job_t *j, const hitrec_t *h, con
     surface_t sf;
     surface_from(r, h, so, lane, &sf);
     const hz_material_t *m = sf.m;
-    uint32_t px = w->pixel[j->slot];
-    hz_gbuffer_t *gb = &r->gb;
-    float mirror = r->has_mirrors ? m->mirror : 0.0f;
+    uint32_t px = w->b.pixel[j->slot];
+    hz_gbuffer_t *gb = &r->f.gb;
+    float mirror = r->f.has_mirrors ? m->mirror : 0.0f;
 
     if (j->gslot == GSLOT_PRIMARY) {
         if (gb->normal) { /* full and adaptive modes (hz_render_mode_keeps_surface) */
@@ -515,10 +515,10 @@ static void shade_hit(hz_worker_t *w, const ray_job_t *j, const hitrec_t *h, con
     float wc[3] = { j->w[0] * j->vis * a, j->w[1] * j->vis * a, j->w[2] * j->vis * a };
     if (a < 1.0f) {
         float vis = j->vis * (1.0f - a);
-        if (!(vis >= r->opts.min_visibility)) {
+        if (!(vis >= r->f.opts.min_visibility)) {
             /* What is left is below the threshold: dropped, as the exact method prescribes. */
         } else if (j->layers + 1u >= HZ_RENDER_MAX_LAYERS) {
-            w->stats.layer_cap++;
+            w->b.stats.layer_cap++;
         } else {
             ray_job_t c = *j;
             hz_vec3_t o = hz_accel_offset_origin(sf.p, hz_v3_neg(sf.ng), r->offset_scale);
@@ -529,7 +529,7 @@ static void shade_hit(hz_worker_t *w, const ray_job_t *j, const hitrec_t *h, con
             c.layers = (uint16_t)(j->layers + 1u);
             c.gslot = GSLOT_NONE;
             /* hybrid: exact while the path's visibility is above X, then one stochastic ray */
-            c.dither = r->dither && j->bounces == 0 && !(vis > r->opts.hybrid_x);
+            c.dither = r->f.dither && j->bounces == 0 && !(vis > r->f.opts.hybrid_x);
             push_ray(w, &c);
         }
     }
@@ -564,7 +564,7 @@ static void shade_hit(hz_worker_t *w, const ray_job_t *j, const hitrec_t *h, con
         sj.layers = 0;
         sj.light = (uint8_t)l;
         sj.camera = j->bounces == 0 && j->layers == 0;
-        sj.dither = (uint8_t)(j->dither && r->opts.rr_shadows);
+        sj.dither = (uint8_t)(j->dither && r->f.opts.rr_shadows);
         push_shadow(w, &sj);
     }
     const float *amb = s->header->ambient;
@@ -572,7 +572,7 @@ static void shade_hit(hz_worker_t *w, const ray_job_t *j, const hitrec_t *h, con
     add_radiance(w, j->slot, (const float[3]){ 1.0f, 1.0f, 1.0f }, ka);
 
     /* Mirror reflection. */
-    if (mirror > 0.0f && j->bounces < r->opts.max_bounces) {
+    if (mirror > 0.0f && j->bounces < r->f.opts.max_bounces) {
         hz_vec3_t d = hz_v3(j->d[0], j->d[1], j->d[2]);
         hz_vec3_t rd = hz_v3_sub(d, hz_v3_scale(sf.ns, 2.0f * hz_v3_dot(d, sf.ns)));
         if (!(hz_v3_dot(rd, sf.ng) > 0.0f))
@@ -590,7 +590,7 @@ static void shade_hit(hz_worker_t *w, const ray_job_t *j, const hitrec_t *h, con
         c.gslot = j->gslot == GSLOT_PRIMARY ? GSLOT_SECONDARY : GSLOT_NONE;
         c.dither = 0; /* reflections composite exactly */
         push_ray(w, &c);
-    } else if (j->gslot == GSLOT_PRIMARY && r->gb.object2) {
+    } else if (j->gslot == GSLOT_PRIMARY && r->f.gb.object2) {
         /* No reflected hit: the secondary record says so. */
         gb->object2[px] = HZ_GB_NO_OBJECT;
         if (gb->normal2) {
@@ -624,12 +624,12 @@ static void shade_packet(hz_worker_t *w, const ray_job_t *jobs, const hitrec_t *
             in.dx[i] = j->d[0], in.dy[i] = j->d[1], in.dz[i] = j->d[2];
             in.time[i] = j->time, in.cone_w[i] = j->cone_w, in.cone_s[i] = j->cone_s;
         }
-        (r->opts.scalar_shading ? hz_shade_surfaces_scalar : hz_shade_surfaces)(&c, &in, mask, &out);
+        (r->f.opts.scalar_shading ? hz_shade_surfaces_scalar : hz_shade_surfaces)(&c, &in, mask, &out);
     }
     /* Primary hits on still geometry (hit point = frame point = previous point) get their motion vectors for
      * the whole packet at once; the scalar twin (scalar_shading) keeps them per hit. */
     float still_mv[2][HZ_SHADE_LANES] HZ_ALIGNED(32);
-    const bool still = mask && w->write_gbuffer && r->gb.mv && !r->keys && !r->scene->prev_pos && !r->opts.scalar_shading;
+    const bool still = mask && w->write_gbuffer && r->f.gb.mv && !r->keys && !r->scene->prev_pos && !r->f.opts.scalar_shading;
     if (still)
         hz_view_still_motion_lanes(&r->view, &r->prev_view, out.px, out.py, out.pz, still_mv[0], still_mv[1]);
     for (uint32_t i = 0; i < n; i++) {
@@ -639,7 +639,7 @@ static void shade_packet(hz_worker_t *w, const ray_job_t *jobs, const hitrec_t *
         else
             shade_hit(w, j, &hits[i], &c, &out, i, still && j->gslot == GSLOT_PRIMARY ? (const float(*)[HZ_SHADE_LANES])still_mv : NULL);
         if (j->dither && w->write_gbuffer && w->dither_touched[j->slot])
-            w->r->gb.flags[w->pixel[j->slot]] |= HZ_GB_DITHER; /* the opacity mask TAA reads */
+            w->r->f.gb.flags[w->b.pixel[j->slot]] |= HZ_GB_DITHER; /* the opacity mask TAA reads */
     }
 }
 
@@ -657,7 +657,7 @@ static void drain(hz_worker_t *w)
         w->stack_n -= n;
         for (uint32_t i = 0; i < n; i++)
             jobs[i] = w->stack[w->stack_n + i];
-        w->stats.secondary_rays += n;
+        w->b.stats.secondary_rays += n;
         intersect_jobs(w, jobs, n, hits, false, NULL);
         shade_packet(w, jobs, hits, n);
     }
@@ -680,9 +680,12 @@ static void view_at(const struct hz_renderer *r, float t, hz_view_t *v)
     v->spread = a->spread + (b->spread - a->spread) * f;
 }
 
-void hz_trace_batch(hz_worker_t *w, const float (*jitter)[2], const float *times, bool write_gbuffer)
+void hz_render_trace(hz_render_frame_t *f, hz_batch_t *b, const float (*jitter)[2], const float *times,
+                     bool write_gbuffer)
 {
+    hz_worker_t *w = (hz_worker_t *)(void *)b; /* the batch is the worker's first member */
     struct hz_renderer *r = w->r;
+    (void)f;
     const hz_view_t *v = &r->view;
     hz_view_t vt;
     ray_job_t jobs[HZ_RENDER_LANES];
@@ -691,11 +694,11 @@ void hz_trace_batch(hz_worker_t *w, const float (*jitter)[2], const float *times
     hz_memset(w->dither_touched, 0, sizeof w->dither_touched);
     w->write_gbuffer = write_gbuffer;
     /* Stochastic from the first hit, unless hybrid's threshold lies below full visibility. */
-    uint16_t dither = r->dither && (r->opts.transparency != HZ_TRANSP_HYBRID || !(1.0f > r->opts.hybrid_x));
+    uint16_t dither = r->f.dither && (r->f.opts.transparency != HZ_TRANSP_HYBRID || !(1.0f > r->f.opts.hybrid_x));
     for (uint32_t base = 0; base < HZ_TILE_PIXELS; base += HZ_RENDER_LANES) {
         uint32_t n = 0;
         for (uint32_t i = 0; i < HZ_RENDER_LANES; i++) {
-            uint32_t slot = base + i, px = w->pixel[slot];
+            uint32_t slot = base + i, px = w->b.pixel[slot];
             if (px == UINT32_MAX)
                 continue;
             ray_job_t *j = &jobs[n++];
@@ -726,7 +729,7 @@ void hz_trace_batch(hz_worker_t *w, const float (*jitter)[2], const float *times
         }
         if (n == 0)
             continue;
-        w->stats.primary_rays += n;
+        w->b.stats.primary_rays += n;
         intersect_jobs(w, jobs, n, hits, true, NULL);
         shade_packet(w, jobs, hits, n);
         drain(w);
@@ -735,7 +738,7 @@ void hz_trace_batch(hz_worker_t *w, const float (*jitter)[2], const float *times
 
 void hz_tile_slots(const struct hz_renderer *r, uint32_t tile, uint32_t pixel[HZ_TILE_PIXELS])
 {
-    uint32_t tx = tile % r->tiles_x, ty = tile / r->tiles_x;
+    uint32_t tx = tile % r->f.tiles_x, ty = tile / r->f.tiles_x;
     /* Packets of 4x2 pixels (8 lanes) or 2x2 (4 lanes), row by row inside the tile. */
     const uint32_t pw = HZ_RENDER_LANES == 8 ? 4 : 2, ph = 2;
     const uint32_t per_row = HZ_RENDER_TILE / pw;
@@ -743,6 +746,6 @@ void hz_tile_slots(const struct hz_renderer *r, uint32_t tile, uint32_t pixel[HZ
         uint32_t packet = slot / HZ_RENDER_LANES, lane = slot % HZ_RENDER_LANES;
         uint32_t x = tx * HZ_RENDER_TILE + (packet % per_row) * pw + lane % pw;
         uint32_t y = ty * HZ_RENDER_TILE + (packet / per_row) * ph + lane / pw;
-        pixel[slot] = x < r->opts.width && y < r->opts.height ? y * r->opts.width + x : UINT32_MAX;
+        pixel[slot] = x < r->f.opts.width && y < r->f.opts.height ? y * r->f.opts.width + x : UINT32_MAX;
     }
 }

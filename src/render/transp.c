@@ -41,10 +41,10 @@ bool hz_transp_keep(hz_worker_t *w, uint32_t prim, float u, float v, float alpha
     w->dither_touched[slot % HZ_TILE_PIXELS] = 1;
     if (a >= HZ_DITHER_ONE)
         return true;
-    uint32_t px = w->pixel[slot % HZ_TILE_PIXELS];
-    uint32_t x = px % r->opts.width, y = px / r->opts.width, f = w->dither_frame;
+    uint32_t px = w->b.pixel[slot % HZ_TILE_PIXELS];
+    uint32_t x = px % r->f.opts.width, y = px / r->f.opts.width, f = w->b.dither_frame;
     uint32_t object = r->scene->tri_info[prim] >> 16, t;
-    switch (r->opts.transparency) {
+    switch (r->f.opts.transparency) {
     case HZ_TRANSP_RR:
         t = rr_threshold(prim, u, v, f);
         break;
@@ -63,7 +63,7 @@ bool hz_transp_keep(hz_worker_t *w, uint32_t prim, float u, float v, float alpha
 
 bool hz_transp_shadow_blocks(const hz_worker_t *w, uint32_t prim, float u, float v, float alpha)
 {
-    return hz_dither_keep(to_q16(alpha), rr_threshold(prim ^ 0x80000000u, u, v, w->dither_frame));
+    return hz_dither_keep(to_q16(alpha), rr_threshold(prim ^ 0x80000000u, u, v, w->b.dither_frame));
 }
 
 unsigned hz_transp_mv_align(hz_transp_t t)

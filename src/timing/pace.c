@@ -37,6 +37,12 @@ void hz_pace_observe(hz_pace_t *p, int64_t cost_ns)
     p->observed++;
 }
 
+void hz_pace_forget(hz_pace_t *p)
+{
+    p->n = 0;
+    p->next = 0;
+}
+
 /* a + b for b >= 0, saturated at INT64_MAX: a cost near INT64_MAX (a stalled clock) must give the largest
  * budget, not wrap to a negative one. */
 static int64_t sat_add(int64_t a, int64_t b)

@@ -40,5 +40,6 @@ hz_framesrc_t hz_framesrc_testpattern(void)
     s.name = "test pattern";
     s.ctx = 0;
     s.render = render_pattern;
+    s.levels = 0;
     return s;
 }

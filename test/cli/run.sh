@@ -86,7 +86,7 @@ expect render-bad-hybrid 2 "--transparency: 'hybrid:1.5' is not exact" "$hzrt" r
 expect render-bad-hybrid-empty 2 "--transparency: 'hybrid:' is not exact" "$hzrt" render builtin --transparency hybrid:
 expect render-help-transparency 0 "dtaa-star" "$hzrt" render --help
 expect render-transparency-std 0 "mode taa" "$hzrt" render builtin --mode taa --size 32x18 --frames 2 --transparency hybrid:0.5 --no-y4m --out "$tmp/o-std"
-expect render-bad-shutter 2 "--shutter: '1.5' is not a fraction" "$hzrt" render builtin --shutter 1.5
+expect render-bad-shutter 2 "--shutter: '1.5' is not a number in \\[0, 1\\]" "$hzrt" render builtin --shutter 1.5
 expect render-blur-bvh-needs-shutter 2 "does nothing without motion blur" "$hzrt" render builtin --blur-bvh interp
 expect render-bad-blur-bvh 2 "'kd' is not msbvh, interp or swept" "$hzrt" render builtin --shutter 1 --blur-bvh kd
 expect render-blur-bvh-not-embree 2 "Embree builds its own motion blur" "$hzrt" render builtin --shutter 1 --backend embree --blur-bvh msbvh

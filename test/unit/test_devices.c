@@ -17,7 +17,8 @@
 #include <time.h>
 
 #include "devices.h"
-#include "frameloop.h"
+#include "hz/frameloop.h"
+#include "vsource.h"
 #include "hz/hz.h"
 
 #ifndef FBIO_WAITFORVSYNC
@@ -255,7 +256,9 @@ static void test_fbdev_vsync_sources(void **state)
     fake_fb_setup(16, W, H, H, 0, 0);
     fb.vsync_mode = 0;
     assert_int_equal(hz_fbdev_vsource_open(&v, "/fake/fb", &fake_fb_io, &err), HZ_OK);
-    assert_int_equal(v.next(&v, hz_tb_now(&(hz_timebase_t){ 0, 0 }) + 1000000000, &e, &r, &err), HZ_E_UNSUPPORTED);
+    hz_timebase_t real;
+    hz_tb_init_real(&real);
+    assert_int_equal(v.next(&v, hz_tb_now(&real) + 1000000000, &e, &r, &err), HZ_E_UNSUPPORTED);
     assert_non_null(strstr(err.msg, "does not implement FBIO_WAITFORVSYNC"));
     hz_vsource_close(&v);
     /* A working one: edges in time order. */

@@ -12,7 +12,8 @@
 #include <string.h>
 #include <unistd.h>
 
-#include "frameloop.h"
+#include "hz/frameloop.h"
+#include "vsource.h"
 #include "hz/hz.h"
 #include "latency_report.h"
 
@@ -257,7 +258,7 @@ static void test_render_error_stops_the_loop(void **state)
     assert_int_equal(sim_display(&src, 60, 1000, &err), HZ_OK);
     hz_sink_t sink;
     hz_sink_null(&sink);
-    hz_framesrc_t fs = { "broken renderer", NULL, failing_render };
+    hz_framesrc_t fs = { "broken renderer", NULL, failing_render, NULL };
     hz_rtm_cfg_t m = { HZ_RTM_CONST, 1000000, 0, 0, 0, 0, 1 };
     hz_loop_cfg_t cfg;
     memset(&cfg, 0, sizeof cfg);
@@ -315,7 +316,7 @@ static void test_trace_replay_edges_only(void **state)
     assert_string_equal(out.res.stop_reason, "end of trace");
     /* The report computes pulse widths from the falling edges: 1 ms. */
     static hz_report_t rep;
-    hz_report_info_t info = { src.name, "", "", "trace", 0, 0, 0 };
+    hz_report_info_t info = { src.name, "", "", "trace", 0, 0, 0, NULL };
     hz_report_compute(&rep, &cfg, &info, &out.res);
     assert_int_equal(rep.pulses, 199);
     assert_int_equal(rep.pulse.p50, 1000000);

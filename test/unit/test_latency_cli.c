@@ -74,8 +74,13 @@ static void test_usage_errors(void **state)
     assert_int_equal(run("--scene", "builtin", NULL), 2);                              /* only with --render scene */
     assert_int_equal(run("--threads", "2", "--render", "scene", "--edges-only", NULL), 2); /* renders nothing */
     assert_int_equal(run("--threads", "0", "--render", "scene", NULL), 2);
-    assert_int_equal(run("--mode", "taa", "--render", "scene", NULL), 2);
     assert_int_equal(run("--mode", "full", NULL), 2); /* the test pattern has no mode */
+    assert_int_equal(run("--spp", "4", "--render", "scene", NULL), 2); /* full mode's option in tdense */
+    /* the governor: on/off only; it picks a scene's quality, in real time */
+    assert_int_equal(run("--budget", "maybe", "--render", "scene", NULL), 2);
+    assert_int_equal(run("--budget", "on", NULL), 2);
+    assert_int_equal(run("--budget", "on", "--render", "scene", "--virtual", "--render-model", "const:1ms", NULL), 2);
+    assert_int_equal(run("--level-error", "8", NULL), 2);
     assert_int_equal(run("--help", NULL), 0);
 }
 

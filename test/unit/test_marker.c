@@ -154,7 +154,7 @@ static void test_pattern_moves_and_is_deterministic(void **state)
     assert_true(diff > (size_t)W * H / 4); /* a new frame changes a good part of the picture */
     hz_framesrc_t src = hz_framesrc_testpattern();
     hz_rgb8_image_t img = { rgb2, W, H, W * 3 };
-    hz_frame_req_t req = { 10, 0, 0 };
+    hz_frame_req_t req = { 10, 0, 0, 0, 0 };
     hz_error_t err;
     assert_int_equal(src.render(src.ctx, &req, &img, &err), HZ_OK);
     assert_memory_equal(rgb, rgb2, sizeof rgb);

@@ -82,7 +82,7 @@ static void test_latency_source_after_30_days(void **state)
     (void)state;
     hz_framesrc_t src;
     hz_error_t err;
-    if (hz_scene_framesrc(&src, "builtin", W, H, 1, 0, HZ_MODE_FULL, &err) != HZ_OK)
+    if (hz_scenesrc_open_simple(&src, "builtin", W, H, 1, 0, HZ_MODE_FULL, &err) != HZ_OK)
         fail_msg("scene source: %s", err.msg);
     size_t bytes = (size_t)W * H * 3;
     uint8_t *img = malloc(bytes * (N + 1)), *early = malloc(bytes * N);
@@ -90,7 +90,7 @@ static void test_latency_source_after_30_days(void **state)
     assert_non_null(early);
     const int64_t period = 4166667, d0 = 123456789; /* 240 Hz; the loop's clock starts anywhere */
     const int64_t month = 30ll * 86400 * HZ_NS_PER_S; /* 324000 loops of the 8 s scene */
-    hz_frame_req_t req = { 0, d0, period };
+    hz_frame_req_t req = { 0, d0, period, 0, 0 };
     for (int k = 0; k < N; k++) { /* the first frame fixes scene time 0 */
         hz_rgb8_image_t out = { early + k * bytes, W, H, (size_t)W * 3 };
         req.id = (uint64_t)k, req.display_ns = d0 + k * period;

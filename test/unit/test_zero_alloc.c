@@ -24,7 +24,8 @@
 #include <string.h>
 
 #include "clock.h"
-#include "frameloop.h"
+#include "hz/frameloop.h"
+#include "vsource.h"
 #include "hz/hz.h"
 #include "pools.h"
 #include "render_fixture.h"

@@ -32,7 +32,8 @@
 
 #include "clock.h"
 #include "devices.h"
-#include "frameloop.h"
+#include "hz/frameloop.h"
+#include "vsource.h"
 #include "hz/hz.h"
 #include "hz/marker.h"
 #include "scenesrc.h"
@@ -223,11 +224,11 @@ static void loopback(hz_pix_fmt_t fmt, int count, int scene)
      * shown 16x. */
     ring.inner = hz_framesrc_testpattern();
     if (scene) {
-        if (hz_scene_framesrc(&ring.inner, "builtin", W, H, 16, 0, HZ_MODE_FULL, &err) != HZ_OK)
+        if (hz_scenesrc_open_simple(&ring.inner, "builtin", W, H, 16, 0, HZ_MODE_FULL, &err) != HZ_OK)
             fail_msg("built-in scene: %s", err.msg);
     }
     print_message("  frames: %s\n", ring.inner.name);
-    hz_framesrc_t frames = { ring.inner.name, NULL, recording_render };
+    hz_framesrc_t frames = { ring.inner.name, NULL, recording_render, NULL };
     pthread_t th;
     assert_int_equal(pthread_create(&th, NULL, capture_thread, NULL), 0);
     hz_arena_t arena;

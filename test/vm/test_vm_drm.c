@@ -145,7 +145,7 @@ static void test_drm_shows_builtin_scene(void **state)
     print_message("  sink: %s\n  source: %s\n", sink.name, vs.name);
     int w = sink.w, h = sink.h;
     hz_framesrc_t frames;
-    if (hz_scene_framesrc(&frames, "builtin", w, h, SCALE, 0, HZ_MODE_FULL, &err) != HZ_OK)
+    if (hz_scenesrc_open_simple(&frames, "builtin", w, h, SCALE, 0, HZ_MODE_FULL, &err) != HZ_OK)
         fail_msg("built-in scene at %dx%d / %d: %s", w, h, SCALE, err.msg);
     hz_rgb8_image_t img = { malloc((size_t)w * h * 3), w, h, (size_t)w * 3 };
     assert_non_null(img.rgb);
@@ -153,7 +153,7 @@ static void test_drm_shows_builtin_scene(void **state)
     int n_ev = 0;
     int64_t t0 = hz_clock_ns();
     for (int i = 0; i < FRAMES; i++) {
-        hz_frame_req_t req = { (uint64_t)i, t0 + i * 16666667ll, 16666667 };
+        hz_frame_req_t req = { (uint64_t)i, t0 + i * 16666667ll, 16666667, i, 0 };
         if (frames.render(frames.ctx, &req, &img, &err) != HZ_OK)
             fail_msg("render: %s", err.msg);
         if (sink.present(&sink, &img, (uint64_t)i, &err) != HZ_OK)

@@ -1,9 +1,8 @@
-/* The display-locked frame loop (see frameloop.h). */
-#include "frameloop.h"
+/* The display-locked frame loop (see hz/frameloop.h). */
+#include "hz/frameloop.h"
 
-#include <stdio.h>
-#include <string.h>
-
+#include "hz/fmt.h"
+#include "hz/governor.h"
 #include "hz/marker.h"
 
 #define NO_POS ((uint32_t)0xffffffffu)
@@ -38,6 +37,7 @@ static hz_vsync_t g_model;
 static hz_pace_t g_pacer;
 static hz_rtm_t g_rtm;
 static hz_lockv_t g_lock;
+static hz_gov_t g_gov;
 
 static int is_vsync(const loop_t *L, int level)
 {
@@ -74,7 +74,7 @@ static void take_edge(loop_t *L, const hz_edge_t *e)
     if (R->n_edges < L->cfg->max_edges) {
         pos = (uint32_t)R->n_edges++;
         hz_edge_rec_t *r = &R->edges[pos];
-        memset(r, 0, sizeof *r);
+        hz_memset(r, 0, sizeof *r);
         r->t_ns = e->t_ns;
         r->level = (uint8_t)e->level;
         r->frame_id = e->frame_id;
@@ -221,8 +221,13 @@ static hz_status_t wait_for_lock(loop_t *L, int *ended, hz_error_t *err)
             uint32_t k = L->n_recent < 8 ? L->n_recent : 8;
             for (uint32_t i = 1; i < k; i++) {
                 int64_t d = L->recent[(L->n_recent - k + i) % 8] - L->recent[(L->n_recent - k + i - 1) % 8];
-                size_t used = strlen(gaps);
-                snprintf(gaps + used, sizeof gaps - used, "%s%.2f", i > 1 ? " " : "", d / 1e6);
+                size_t used = 0;
+                while (gaps[used])
+                    used++;
+                /* ms with two decimals, in integers (no floating point in src/timing) */
+                int64_t c = (d < 0 ? -d : d) / 10000;
+                hz_fmt(gaps + used, sizeof gaps - used, "%s%s%lld.%02lld", i > 1 ? " " : "", d < 0 ? "-" : "",
+                       (long long)(c / 100), (long long)(c % 100));
             }
             return hz_error_set(err, HZ_E_TIMEOUT,
                                 "%s: no v-sync lock within %lld ms: %llu edges seen, no majority on a steady grid "
@@ -279,13 +284,13 @@ static void finish(loop_t *L, const char *why)
     R->trace_offset_ns = L->offset;
     R->kernel_dropped = L->src->dropped;
     R->t_end = hz_tb_now(L->tb);
-    snprintf(R->stop_reason, sizeof R->stop_reason, "%s", why);
+    hz_fmt(R->stop_reason, sizeof R->stop_reason, "%s", why);
 }
 
 hz_status_t hz_loop_run(const hz_loop_cfg_t *cfg, hz_timebase_t *tb, hz_vsource_t *src, hz_sink_t *sink,
                         const hz_framesrc_t *frames, hz_arena_t *arena, hz_loop_result_t *res, hz_error_t *err)
 {
-    memset(res, 0, sizeof *res);
+    hz_memset(res, 0, sizeof *res);
     if (src->live && tb->virtual_time)
         return hz_error_set(err, HZ_E_INVALID_ARG, "%s is a live device: it cannot run on a simulated clock",
                             src->name);
@@ -303,7 +308,7 @@ hz_status_t hz_loop_run(const hz_loop_cfg_t *cfg, hz_timebase_t *tb, hz_vsource_
                             need, cfg->max_frames, cfg->max_edges, cfg->frames_mode ? ", one RGB24 image" : "",
                             arena->name, have);
     loop_t L;
-    memset(&L, 0, sizeof L);
+    hz_memset(&L, 0, sizeof L);
     L.cfg = cfg;
     L.tb = tb;
     L.src = src;
@@ -381,7 +386,7 @@ hz_status_t hz_loop_run(const hz_loop_cfg_t *cfg, hz_timebase_t *tb, hz_vsource_
 
     hz_rgb8_image_t warmup = img;
     if (src->needs_frames) {
-        memset(img.rgb, 0, (size_t)cfg->w * (size_t)cfg->h * 3);
+        hz_memset(img.rgb, 0, (size_t)cfg->w * (size_t)cfg->h * 3);
         L.warmup = &warmup;
     }
     s = wait_for_lock(&L, &ended, err);
@@ -391,7 +396,12 @@ hz_status_t hz_loop_run(const hz_loop_cfg_t *cfg, hz_timebase_t *tb, hz_vsource_
         return hz_error_set(err, HZ_E_FORMAT, "%s: the trace ended before the v-sync model locked", src->name);
     L.warmup = NULL;
 
+    const int governed = cfg->governor && frames->levels && frames->levels->levels > 1;
+    res->levels = frames->levels ? frames->levels->levels : 1u;
+    if (governed && (s = hz_gov_init(&g_gov, frames->levels, err)) != HZ_OK)
+        return s;
     int64_t last_target = INT64_MIN;
+    uint32_t last_level = 0;
     const char *why = "frame count reached";
     for (uint64_t n = 0;; n++) {
         int64_t now = hz_tb_now(tb);
@@ -443,12 +453,19 @@ hz_status_t hz_loop_run(const hz_loop_cfg_t *cfg, hz_timebase_t *tb, hz_vsource_
             hz_rtm_next(&g_rtm, n, &render_ns, &wake_ns);
             hz_tb_sleep_until(tb, plan.start_ns + wake_ns);
         }
+        uint32_t level = 0;
+        if (governed) {
+            /* what a frame may cost: the lookahead's periods minus the latch lead and the pacer's guard */
+            int64_t guard = cfg->pace.guard_ns >= 0 ? cfg->pace.guard_ns : plan.period_ns / 16;
+            uint32_t ahead = cfg->pace.lookahead ? cfg->pace.lookahead : 1u;
+            level = hz_gov_pick(&g_gov, hz_tb_now(tb), (int64_t)ahead * plan.period_ns - cfg->pace.latch_ns - guard);
+        }
         int64_t start = hz_tb_now(tb);
-        hz_frame_req_t req = { n, plan.edge_ns, plan.period_ns };
+        hz_frame_req_t req = { n, plan.edge_ns, plan.period_ns, plan.slot, level };
         s = frames->render(frames->ctx, &req, &img, err);
         if (s != HZ_OK) {
             char prefix[48];
-            snprintf(prefix, sizeof prefix, "frame %llu (%s)", (unsigned long long)n, frames->name);
+            hz_fmt(prefix, sizeof prefix, "frame %llu (%s)", (unsigned long long)n, frames->name);
             hz_error_prefix(err, prefix);
             return s;
         }
@@ -481,7 +498,13 @@ hz_status_t hz_loop_run(const hz_loop_cfg_t *cfg, hz_timebase_t *tb, hz_vsource_
         r->target_edge_ns = plan.edge_ns;
         r->budget_ns = plan.budget_ns;
         r->period_ns = plan.period_ns;
+        r->level = level;
+        if (governed && n > 0 && level != last_level)
+            hz_pace_forget(L.pacer); /* the costs so far were another level's */
+        last_level = level;
         hz_pace_observe(L.pacer, done - plan.start_ns);
+        if (governed)
+            hz_gov_observe(&g_gov, level, done - plan.start_ns);
         last_target = plan.slot;
         if (ended)
             break;
@@ -500,6 +523,10 @@ hz_status_t hz_loop_run(const hz_loop_cfg_t *cfg, hz_timebase_t *tb, hz_vsource_
             ended = 1;
         else
             break;
+    }
+    if (governed) {
+        res->level_changes = g_gov.changes;
+        res->level_forced = g_gov.forced;
     }
     finish(&L, why);
     return HZ_OK;

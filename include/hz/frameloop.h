@@ -1,5 +1,6 @@
 /*
- * frameloop.h — the display-locked frame loop: lock onto v-sync, pace, render, present, record.
+ * hz/frameloop.h — the one frame loop for files and displays: lock onto v-sync, pace, pick a quality level,
+ * render, present, record. Portable: the clock, the v-sync source and the sink are the port's (hz/display.h).
  *
  * Contract:
  *  - hz_loop_run() locks the v-sync model on the source (HZ_E_TIMEOUT naming the source if it does not lock
@@ -21,9 +22,12 @@
  *    a lock worth reporting and gives the period measured over its locked stretches.
  *  - A timeline's edges are shifted onto the loop clock (it starts one nominal period after the loop does):
  *    res->trace_offset_ns is that shift, so a report can give the trace's own times back.
+ *  - Quality: with cfg->governor and a source that has levels, each frame's level comes from the governor,
+ *    which is told every frame's cost (render done - planned start, what the pacer sees); the level is in the
+ *    frame's record. Without, every frame is level 0.
  */
-#ifndef HZ_PORT_FRAMELOOP_H
-#define HZ_PORT_FRAMELOOP_H
+#ifndef HZ_FRAMELOOP_H
+#define HZ_FRAMELOOP_H
 
 #include <stddef.h>
 #include <stdint.h>
@@ -34,7 +38,7 @@
 #include "hz/pace.h"
 #include "hz/rtmodel.h"
 #include "hz/vsync.h"
-#include "vsource.h"
+#include "hz/display.h"
 
 enum { HZ_EDGE_RISING = 0, HZ_EDGE_FALLING, HZ_EDGE_ANY };
 enum { HZ_ECLS_OTHER = 0, HZ_ECLS_VSYNC, HZ_ECLS_SPURIOUS, HZ_ECLS_PENDING };
@@ -64,6 +68,10 @@ typedef struct hz_loop_cfg {
     const hz_rtm_cfg_t *rtm;  /* virtual time: the render-time model */
     size_t max_frames, max_edges;
     hz_lockv_cfg_t lock;      /* the lock verdict's limits (zeros: defaults; nominal period filled in) */
+    /* The frame-budget governor (hz/governor.h), for a frame source with quality levels: 1 picks each frame's
+     * level so that it fits the budget (lookahead periods minus the latch lead and the pacing guard); 0 keeps
+     * level 0. The governor's own settings (dwell, margins) come from the source's levels. */
+    int governor;
 } hz_loop_cfg_t;
 
 typedef struct hz_loop_result {
@@ -82,6 +90,8 @@ typedef struct hz_loop_result {
     int64_t trace_offset_ns;  /* loop clock - trace time for a timeline source (0 for live sources) */
     int marker_cell;
     char stop_reason[96];
+    uint32_t levels;          /* quality levels the source offered (1: none) */
+    uint64_t level_changes, level_forced; /* governor: changes, and those a deadline at risk forced */
 } hz_loop_result_t;
 
 size_t hz_loop_bytes(const hz_loop_cfg_t *cfg);

@@ -1,0 +1,22 @@
+/*
+ * hz/rgb8.h — resampling of 8-bit RGB frames (RGB24, rows of `stride` bytes): how a frame rendered at a lower
+ * scale is shown on the display's full mode.
+ *
+ * Contract (integer-only, freestanding):
+ *  - hz_rgb8_upscale fills every pixel of dst (dw x dh) from src (sw x sh, 1 <= sw <= dw, 1 <= sh <= dh),
+ *    bilinearly, with pixel centres aligned ((x + 0.5) dw / sw maps onto itself) and edges clamped. Weights are
+ *    Q8 per axis; the result is rounded to nearest. Equal sizes copy the pixels exactly. An integer ratio and
+ *    `nearest` replicate each source pixel as a block (what a panel's own scaler does), no blending.
+ *  - The same inputs give the same bytes on every ISA.
+ */
+#ifndef HZ_RGB8_H
+#define HZ_RGB8_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+void hz_rgb8_upscale(const uint8_t *src, uint32_t sw, uint32_t sh, size_t sstride, uint8_t *dst, uint32_t dw,
+                     uint32_t dh, size_t dstride, bool nearest);
+
+#endif

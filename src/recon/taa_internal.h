@@ -1,0 +1,35 @@
+/*
+ * taa_internal.h — the TAA mode's state, shared by its resolve (taa.c) and the resolve's SIMD twin
+ * (taa_lanes.c). Not a public API.
+ */
+#ifndef HZ_TAA_INTERNAL_H
+#define HZ_TAA_INTERNAL_H
+
+#include "../render/mode.h"
+
+typedef struct hz_taa {
+    hz_image_t out;            /* the displayed frame */
+    hz_image_t cur;            /* this frame's raw samples */
+    uint16_t *hist[2];         /* resolved history, ping-pong, half-float RGB (hz/pack.h) */
+    uint32_t hist_index;       /* hist[hist_index] is the previous frame's */
+    bool hist_valid;
+    uint16_t *prev_object;     /* the previous frame's primary object ids */
+    float jitter[2];           /* this frame's sub-pixel offset, in pixels */
+} hz_taa_t;
+
+/* The resolve of one tile, with the board's SIMD where it has one (taa_lanes.c) unless opts.scalar_recon;
+ * hz_taa_resolve_tile_scalar and hz_taa_resolve_pixel are its scalar twin (bit-identical). */
+void hz_taa_resolve_tile(hz_taa_t *t, const hz_render_frame_t *f, uint32_t tile);
+void hz_taa_resolve_tile_scalar(hz_taa_t *t, const hz_render_frame_t *f, uint32_t tile);
+void hz_taa_resolve_pixel(hz_taa_t *t, const hz_render_frame_t *f, uint32_t x, uint32_t y);
+
+/* RGB -> YCoCg, the TAA box's colour space; one definition for the resolve and its SIMD twin (whose 10x10 block
+ * must hold exactly the values the twin computes). */
+HZ_INLINE void hz_taa_to_ycocg(const float *rgb, float *o)
+{
+    o[0] = 0.25f * rgb[0] + 0.5f * rgb[1] + 0.25f * rgb[2];
+    o[1] = 0.5f * rgb[0] - 0.5f * rgb[2];
+    o[2] = -0.25f * rgb[0] + 0.5f * rgb[1] - 0.25f * rgb[2];
+}
+
+#endif
