@@ -607,24 +607,39 @@ run: deps ## build host-sim and render the built-in scene, temporally dense: 240
 	$(Q)$(HZRT) render builtin $(RUN_ARGS) --out $(O)/run
 	@echo "outputs: $(O)/run/frames.y4m (mpv/ffplay), $(O)/run/last.png, $(O)/run/summary.json"
 
-# The simulated 240 Hz run of issue 7: real time, a simulated display (+-50 us jitter, 1% missed pulses, 0.5%
-# glitches, +200 ppm), the built-in scene through the renderer at a size this host sustains at 240 Hz (raise
-# LATENCY_SIM_SIZE as the renderer gets faster), SCHED_FIFO when permitted; report and files in
-# $(O)/latency-sim.
+# Real-time runs against a simulated 240 Hz display (+-50 us jitter, 1% missed pulses, 0.5% glitches, +200 ppm),
+# SCHED_FIFO when permitted, reports in $(O)/latency-sim*: the built-in scene at a size this host sustains without a
+# governor; Sponza at 640x360 on 2 threads in every mode with the frame-budget governor on (each used level's error
+# against level 0 measured after the run); and a load step, sponza-smoke's camera flying into the smoke, with the
+# dithered (std) and the exact transparency. A table of all of them closes the run.
+LATENCY_SIM_DISPLAY ?= --source sim --hz 240 --jitter-us 50 --miss-pct 1 --glitch-pct 0.5 --drift-ppm 200 --marker --rt
 LATENCY_SIM_SIZE ?= 64x36
-LATENCY_SIM_ARGS ?= --source sim --hz 240 --jitter-us 50 --miss-pct 1 --glitch-pct 0.5 --drift-ppm 200 \
-                    --seconds 20 --render scene --size $(LATENCY_SIM_SIZE) --marker --rt
-# The second run is issue 16's real size: Sponza at 640x360 on 2 threads (LATENCY_SIM_SPONZA_*), into
-# $(O)/latency-sim-sponza; its summary says plainly how far it is from the 240 Hz deadline.
+LATENCY_SIM_ARGS ?= $(LATENCY_SIM_DISPLAY) --seconds 20 --render scene --size $(LATENCY_SIM_SIZE) --budget off
 LATENCY_SIM_SPONZA_SIZE ?= 640x360
 LATENCY_SIM_SPONZA_THREADS ?= 2
-LATENCY_SIM_SPONZA_ARGS ?= --source sim --hz 240 --jitter-us 50 --miss-pct 1 --glitch-pct 0.5 --drift-ppm 200 \
-                    --seconds 20 --render scene --scene $(SCENES_O)/sponza.hzb --threads $(LATENCY_SIM_SPONZA_THREADS) \
-                    --size $(LATENCY_SIM_SPONZA_SIZE) --marker --rt
-latency-sim: deps ## simulated 240 Hz display-locked runs (built-in scene; Sponza 640x360): miss rate, latency percentiles, histogram (build/<board>/latency-sim*)
+LATENCY_SIM_SECONDS ?= 20
+LATENCY_SIM_MODES ?= tdense taa full adaptive
+LATENCY_SIM_LEVEL_ERROR ?= 16
+LATENCY_SIM_SPONZA_ARGS ?= $(LATENCY_SIM_DISPLAY) --seconds $(LATENCY_SIM_SECONDS) --render scene \
+                    --scene $(SCENES_O)/sponza.hzb --threads $(LATENCY_SIM_SPONZA_THREADS) \
+                    --size $(LATENCY_SIM_SPONZA_SIZE) --level-error $(LATENCY_SIM_LEVEL_ERROR)
+LATENCY_SIM_SMOKE_ARGS ?= $(LATENCY_SIM_DISPLAY) --seconds 8 --render scene --scene $(SCENES_O)/sponza-smoke.hzb \
+                    --mode taa --threads $(LATENCY_SIM_SPONZA_THREADS) --size $(LATENCY_SIM_SPONZA_SIZE) \
+                    --level-error $(LATENCY_SIM_LEVEL_ERROR)
+latency-sim: deps ## real-time runs on a simulated 240 Hz display: built-in scene; Sponza 640x360 in every mode with the governor; the smoke load step (build/<board>/latency-sim*)
 	$(Q)$(MAKE) --no-print-directory $(HZRT) scenes-baked
 	$(Q)$(HZRT) latency $(LATENCY_SIM_ARGS) --out $(O)/latency-sim
-	$(Q)$(HZRT) latency $(LATENCY_SIM_SPONZA_ARGS) --out $(O)/latency-sim-sponza
+	$(Q)for m in $(LATENCY_SIM_MODES); do \
+		echo "== Sponza $(LATENCY_SIM_SPONZA_SIZE), $$m, governor on =="; \
+		$(HZRT) latency $(LATENCY_SIM_SPONZA_ARGS) --mode $$m --out $(O)/latency-sim-sponza-$$m || exit $$?; \
+	done
+	$(Q)for t in std exact; do \
+		echo "== sponza-smoke into the smoke, taa, --transparency $$t, governor on =="; \
+		$(HZRT) latency $(LATENCY_SIM_SMOKE_ARGS) --transparency $$t --out $(O)/latency-sim-smoke-$$t || exit $$?; \
+	done
+	$(Q)sh tools/latency/governor-table.sh builtin-64x36=$(O)/latency-sim \
+		$(foreach m,$(LATENCY_SIM_MODES),sponza-$(m)=$(O)/latency-sim-sponza-$(m)) \
+		smoke-std=$(O)/latency-sim-smoke-std smoke-exact=$(O)/latency-sim-smoke-exact
 
 bench: deps ## measure (side by side, in one run) and print a table; writes $(O)/bench/*.csv
 	$(Q)$(MAKE) --no-print-directory $(BENCH) scenes

@@ -27,6 +27,7 @@
 #include "hz/frameloop.h"
 #include "vsource.h"
 #include "hz/hz.h"
+#include "hz/ladder.h"
 #include "pools.h"
 #include "render_fixture.h"
 
@@ -310,6 +311,47 @@ static void test_rendering_allocates_nothing(void **state)
 
 
 #ifdef HZ_HAVE_EMBREE
+/* The governor's level changes (hz/ladder.h, hz_render_reconfigure): every level of each mode's ladder, down and
+ * up again, rendered frame after frame with the renderer holding the ladder's memory: nothing allocates. */
+static void test_level_changes_allocate_nothing(void **state)
+{
+    (void)state;
+    static const hz_render_mode_t modes[] = { HZ_MODE_FULL, HZ_MODE_TAA, HZ_MODE_TDENSE, HZ_MODE_ADAPTIVE };
+    for (size_t m = 0; m < sizeof modes / sizeof modes[0]; m++) {
+        rfix_t f;
+        hz_error_t err;
+        if (rfix_open(&f, "builtin", HZ_ACCEL_NATIVE, &err) != HZ_OK)
+            fail_msg("builtin: %s", err.msg);
+        hz_render_opts_t o;
+        hz_render_opts_default(&o);
+        o.width = 96, o.height = 64, o.mode = modes[m];
+        static hz_ladder_t ladder;
+        assert_int_equal(hz_ladder_build(&ladder, &f.scene, &o, &err), HZ_OK);
+        assert_true(ladder.count >= 4);
+        assert_int_equal(hz_ladder_reserve(&ladder, &f.scene, &o.reserve_bytes, &err), HZ_OK);
+        assert_int_equal(rfix_renderer(&f, &o, 2, &err), HZ_OK);
+        assert_int_equal(rfix_frame(&f, 0, 0.0f, &err), HZ_OK);
+        armed_calls = 0;
+        armed = 1;
+        hz_status_t s = HZ_OK;
+        uint32_t frame = 1;
+        for (uint32_t step = 0; step < 2 * ladder.count && s == HZ_OK; step++) {
+            uint32_t l = step < ladder.count ? step : 2 * ladder.count - 1 - step;
+            hz_render_opts_t lo = ladder.level[l].opts;
+            lo.reserve_bytes = o.reserve_bytes;
+            s = hz_render_reconfigure(f.r, &lo, &err);
+            for (int k = 0; k < 3 && s == HZ_OK; k++, frame++)
+                s = rfix_frame(&f, frame, (float)frame / 240.0f, &err);
+        }
+        armed = 0;
+        if (s != HZ_OK)
+            fail_msg("%s: %s", hz_render_mode_name(o.mode), err.msg);
+        if (armed_calls)
+            fail_msg("%s: %lu heap calls while changing levels", hz_render_mode_name(o.mode), armed_calls);
+        rfix_close(&f);
+    }
+}
+
 static void test_embree_allocations(void **state)
 {
     (void)state;
@@ -343,6 +385,7 @@ int main(void)
         cmocka_unit_test(test_frames_allocate_nothing),
         cmocka_unit_test(test_frame_loop_allocates_nothing),
         cmocka_unit_test(test_rendering_allocates_nothing),
+        cmocka_unit_test(test_level_changes_allocate_nothing),
 #ifdef HZ_HAVE_EMBREE
         cmocka_unit_test(test_embree_allocations),
 #endif

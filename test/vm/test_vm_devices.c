@@ -277,6 +277,8 @@ static void loopback(hz_pix_fmt_t fmt, int count, int scene)
     hz_v4l2_cap_close(cs.cap);
     hz_vsource_close(&src);
     hz_sink_close(&sink);
+    if (scene)
+        hz_scenesrc_close();
     if (s != HZ_OK)
         fail_msg("frame loop: %s", err.msg);
     if (cs.error[0])
