@@ -24,7 +24,9 @@
  *    res->trace_offset_ns is that shift, so a report can give the trace's own times back.
  *  - Quality: with cfg->governor and a source that has levels, each frame's level comes from the governor,
  *    which is told every frame's cost (render done - planned start, what the pacer sees); the level is in the
- *    frame's record. Without, every frame is level 0.
+ *    frame's record. In real time, once locked and before the first frame, every level is rendered once (not
+ *    shown, cheapest first) so that the governor's first pick is measured, not guessed. Without a governor,
+ *    every frame is level 0.
  */
 #ifndef HZ_FRAMELOOP_H
 #define HZ_FRAMELOOP_H
@@ -91,6 +93,7 @@ typedef struct hz_loop_result {
     int marker_cell;
     char stop_reason[96];
     uint32_t levels;          /* quality levels the source offered (1: none) */
+    int64_t calibration_ns;   /* governor: time spent rendering each level once before the first frame */
     uint64_t level_changes, level_forced; /* governor: changes, and those a deadline at risk forced */
 } hz_loop_result_t;
 

@@ -6,7 +6,9 @@
  *  - Levels are numbered 0 (the best quality, the configuration the user asked for) to levels - 1 (the
  *    cheapest). Each has a prior cost weight relative to level 0 (Q16: 65536 = as costly as level 0), e.g. its
  *    share of the pixels times its mode's relative cost; the weights must not grow with the level.
- *  - Costs are predicted from measured ones. Each level that has been rendered keeps its own estimate: a mean
+ *  - Costs are predicted from measured ones, each frame's cost taken as the median of its level's last three (a
+ *    lone slow frame is the machine's hiccup, not a load step: it moves nothing; a step counts from its second
+ *    frame). Each level that has been rendered keeps its own estimate: a mean
  *    that follows a rise at once (half the step per frame) and a fall slowly (1/16), and the mean deviation;
  *    its prediction is mean + k x deviation, a high quantile rather than the mean, because a frame longer than
  *    the budget is a missed deadline. An observation also scales every other known level's estimate by the
@@ -48,6 +50,8 @@ typedef struct hz_gov {
     int64_t mean_ns[HZ_GOV_MAX_LEVELS]; /* 0: never rendered */
     int64_t dev_ns[HZ_GOV_MAX_LEVELS];
     uint64_t seen;           /* observations so far */
+    int64_t recent[2];       /* the last two costs, of recent_level */
+    uint32_t recent_n, recent_level;
     uint64_t changes, forced; /* level changes, and those a deadline at risk forced */
 } hz_gov_t;
 

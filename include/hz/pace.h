@@ -35,6 +35,9 @@ typedef struct hz_pace_cfg {
     int64_t guard_ns;    /* added to the percentile; < 0: period / 16 */
     int64_t latch_ns;    /* a frame must be submitted this long before its edge (>= 0) */
     uint32_t lookahead;  /* target at least this many edges ahead (>= 1; 0 means 1) */
+    int cap;             /* 1: the budget never exceeds lookahead periods - latch: a frame that costs more misses
+                          * its edge instead of raising the latency of the window's later frames (what a governor
+                          * that keeps frames within the period wants); 0: no cap */
 } hz_pace_cfg_t;
 
 typedef struct hz_pace_plan {

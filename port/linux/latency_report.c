@@ -249,10 +249,12 @@ void hz_report_print(FILE *f, hz_report_t *r)
         const hz_frames_summary_t *s = &r->frames;
         int64_t guard = cfg->pace.guard_ns < 0 ? res->period_ns / 16 : cfg->pace.guard_ns;
         fprintf(f, "pacing    start = target edge - latch %s - budget; budget = p%u.%u of the last %u frame costs + "
-                   "guard %s; lookahead %u\n",
+                   "guard %s%s; lookahead %u\n",
                 hz_report_dur(a, 24, cfg->pace.latch_ns), (cfg->pace.percentile ? cfg->pace.percentile : 1000) / 10,
                 (cfg->pace.percentile ? cfg->pace.percentile : 1000) % 10,
                 cfg->pace.window ? cfg->pace.window : HZ_PACE_WINDOW_MAX, hz_report_dur(b, 24, guard),
+                cfg->pace.cap || (r->info.levels && r->info.levels->governor) ? ", at most lookahead periods - latch"
+                                                                               : "",
                 cfg->pace.lookahead ? cfg->pace.lookahead : 1);
         fprintf(f, "frames    %llu rendered; %llu shown: %llu on time, %llu late (by 1: %llu, 2: %llu, 3: %llu, "
                    "4+: %llu), %llu early; %llu dropped; %llu repeated refreshes; %llu unresolved; %llu resolved "

@@ -21,7 +21,7 @@
 #include "hz/render.h"
 #include "pools.h"
 
-#define HZ_MODEPLAN_DEFAULT_MODE HZ_MODE_TDENSE
+#define HZ_MODEPLAN_DEFAULT_MODE HZ_DISPLAY_MODE
 
 bool hz_modeplan_check(const hz_scene_t *scene, hz_pools_t *pools, const hz_render_opts_t *opts, int threads,
                        hz_render_plan_t *plan, char *why, size_t why_size);

@@ -30,6 +30,7 @@ typedef struct scenesrc {
     bool have_first;
     int64_t first_slot, first_display_ns;
     uint8_t *small;        /* a level's frame before upscaling (max level size below the frame's) */
+    void *upscale;         /* hz_rgb8_upscale's scratch */
     int out_w, out_h;
     hz_scenesrc_stats_t stats;
     bool open;
@@ -54,7 +55,7 @@ static void encode(scenesrc_t *s, uint32_t level, const hz_image_t *img, hz_rgb8
     for (uint32_t y = 0; y < img->height; y++)
         hz_srgb8_encode_n(img->rgb + (size_t)y * sstride, s->small + (size_t)y * sstride, sstride);
     hz_rgb8_upscale(s->small, img->width, img->height, sstride, out->rgb, (uint32_t)out->w, (uint32_t)out->h,
-                    out->stride, level == 0);
+                    out->stride, level == 0, s->upscale);
 }
 
 static hz_status_t set_level(scenesrc_t *s, uint32_t level, hz_error_t *err)
@@ -222,7 +223,8 @@ static hz_status_t open_all(scenesrc_t *s, const hz_scenesrc_cfg_t *cfg, hz_pool
             small = b > small ? b : small;
         }
     }
-    if (small && !(s->small = hz_arena_alloc(&pools->frame, small, 64)))
+    if (small && (!(s->small = hz_arena_alloc(&pools->frame, small, 64)) ||
+                  !(s->upscale = hz_arena_alloc(&pools->frame, hz_rgb8_upscale_scratch((uint32_t)s->out_w), 64))))
         return hz_arena_error(&pools->frame, err);
     /* The pool before the build: a native build bins and builds subtrees on it (the same tree for any thread
      * count). */

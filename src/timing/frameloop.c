@@ -339,8 +339,13 @@ hz_status_t hz_loop_run(const hz_loop_cfg_t *cfg, hz_timebase_t *tb, hz_vsource_
     hz_lockv_cfg_t lc = cfg->lock;
     lc.nominal_period_ns = cfg->nominal_period_ns;
     hz_lockv_init(&g_lock, &lc);
-    if (s == HZ_OK && cfg->frames_mode)
-        s = hz_pace_init(L.pacer, &cfg->pace, err);
+    if (s == HZ_OK && cfg->frames_mode) {
+        /* with a governor keeping frames within the period, one slow frame misses rather than raising the
+         * latency of the next thousand (hz/pace.h) */
+        hz_pace_cfg_t pc = cfg->pace;
+        pc.cap = pc.cap || (cfg->governor && frames && frames->levels && frames->levels->levels > 1);
+        s = hz_pace_init(L.pacer, &pc, err);
+    }
     if (s == HZ_OK && cfg->frames_mode)
         s = hz_framelog_init(&L.log, recs, cfg->max_frames, cfg->pace.latch_ns, err);
     if (s != HZ_OK)
@@ -400,6 +405,24 @@ hz_status_t hz_loop_run(const hz_loop_cfg_t *cfg, hz_timebase_t *tb, hz_vsource_
     res->levels = frames->levels ? frames->levels->levels : 1u;
     if (governed && (s = hz_gov_init(&g_gov, frames->levels, err)) != HZ_OK)
         return s;
+    if (governed && !tb->virtual_time) {
+        /* Before the first frame, each level rendered once (cheapest first, not shown) for the governor to
+         * measure: the first frame is then one predicted to fit, not a guess that misses. The requests are the
+         * first frame's, so the source's clock starts where it will. */
+        hz_pace_plan_t plan;
+        hz_pace_plan(L.pacer, L.model, hz_tb_now(tb), INT64_MIN, &plan);
+        for (uint32_t l = frames->levels->levels; l-- > 0;) {
+            hz_frame_req_t req = { 0, plan.edge_ns, plan.period_ns, plan.slot, l };
+            int64_t t0 = hz_tb_now(tb);
+            if ((s = frames->render(frames->ctx, &req, &img, err)) != HZ_OK) {
+                hz_error_prefix(err, "calibrating the quality levels");
+                return s;
+            }
+            hz_gov_observe(&g_gov, l, hz_tb_now(tb) - t0);
+            res->calibration_ns += hz_tb_now(tb) - t0;
+        }
+        g_gov.level = frames->levels->levels - 1; /* from the cheapest: the first pick moves up only if it fits */
+    }
     int64_t last_target = INT64_MIN;
     uint32_t last_level = 0;
     const char *why = "frame count reached";

@@ -74,11 +74,26 @@ static int64_t follow(int64_t est, int64_t target)
     return target > est ? est + (target - est + 1) / 2 : est - (est - target) / 16;
 }
 
+static int64_t median3(int64_t a, int64_t b, int64_t c)
+{
+    int64_t lo = a < b ? a : b, hi = a < b ? b : a;
+    return c < lo ? lo : c > hi ? hi : c;
+}
+
 void hz_gov_observe(hz_gov_t *g, uint32_t level, int64_t cost_ns)
 {
     if (level >= g->cfg.levels)
         return;
-    int64_t c = cost_ns < 1 ? 1 : cost_ns > MAX_COST_NS ? MAX_COST_NS : cost_ns;
+    int64_t raw = cost_ns < 1 ? 1 : cost_ns > MAX_COST_NS ? MAX_COST_NS : cost_ns;
+    /* A lone slow frame (the machine, not the scene) is not a load step: the estimate takes the median of the
+     * level's last three frames, so a step counts from its second frame and a spike not at all. */
+    int64_t c = g->recent_n >= 2 && g->recent_level == level ? median3(g->recent[0], g->recent[1], raw) : raw;
+    if (g->recent_level != level)
+        g->recent_n = 0;
+    g->recent[0] = g->recent[1];
+    g->recent[1] = raw;
+    g->recent_n += g->recent_n < 2;
+    g->recent_level = level;
     int64_t m, d;
     if (!known_estimate(g, level, &m, &d)) {
         /* the first observation: every level from it by weight */

@@ -62,7 +62,14 @@ int64_t hz_pace_budget(hz_pace_t *p, int64_t period_ns)
     uint64_t rank = ((uint64_t)p->n * p->cfg.percentile + 999u) / 1000u;
     int64_t pct = hz_select_i64(p->scratch, p->n, (size_t)(rank ? rank - 1 : 0));
     int64_t guard = p->cfg.guard_ns < 0 ? period_ns / 16 : p->cfg.guard_ns;
-    return sat_add(pct, guard < 0 ? 0 : guard);
+    int64_t budget = sat_add(pct, guard < 0 ? 0 : guard);
+    if (p->cfg.cap) {
+        int64_t cap = (int64_t)p->cfg.lookahead * period_ns - p->cfg.latch_ns;
+        if (cap < whole)
+            cap = whole;
+        budget = budget < cap ? budget : cap;
+    }
+    return budget;
 }
 
 void hz_pace_plan(hz_pace_t *p, const hz_vsync_t *v, int64_t now, int64_t min_slot, hz_pace_plan_t *out)

@@ -1,7 +1,9 @@
 #!/bin/sh
 # Fixed memory is a promise to boards: for one board, `hzrt info` of each reference scene says every render
-# mode's plan and that the default mode fits at the display size, and `hzrt render` of one frame at the display
-# size in the default mode succeeds (under qemu for the AArch64 boards).
+# mode's plan and that the default mode fits at the display size, `hzrt render` of one frame at the display
+# size in the default mode succeeds, and the board's default command (`hzrt show`: the scene in the default mode
+# at the display size, every governor level's memory held, through the frame loop) runs a few frames on a
+# simulated display with no sink (under qemu for the AArch64 boards) and writes its report.
 #   fit.sh RESULTS_FILE BOARD "LAUNCHER" HZRT SCENE...
 # SCENE: a .hzb path or `builtin`. Writes "board-fit/BOARD PASSED FAILED 0" to RESULTS_FILE.
 set -u
@@ -31,7 +33,14 @@ for scene in "$@"; do
     fi
     grep -q '"mode": *"tdense"' "$tmp/out/summary.json" || {
         echo "  FAIL  board $board: $name rendered, but not in the default mode (tdense)"; fail=$((fail + 1)); continue; }
-    echo "  ok    board $board: $name fits ($(grep '(hzrt render' "$tmp/info" | awk '{print $1, $4, $5}')) and renders"
+    if ! $launcher "$hzrt" show "$scene" --sink none --source sim --frames 16 --lock-min-run 8 --threads 2 --quiet \
+            --out "$tmp/show" >"$tmp/show.log" 2>&1 || ! [ -s "$tmp/show/report.json" ] ||
+        ! head -n 1 "$tmp/show/frames.csv" | grep -q ',level$'; then
+        echo "  FAIL  board $board: hzrt show $name (the board's default command, 16 frames, simulated display) failed:"
+        tail -n 3 "$tmp/show.log" | sed 's/^/        /'
+        fail=$((fail + 1)); continue
+    fi
+    echo "  ok    board $board: $name fits ($(grep '(hzrt render' "$tmp/info" | awk '{print $1, $4, $5}')), renders and shows"
     pass=$((pass + 1))
 done
 echo "board-fit/$board $pass $fail 0" >"$res"

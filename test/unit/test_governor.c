@@ -170,6 +170,39 @@ static void test_fixed_cost_learned(void **state)
     assert_true(steady.level_hist[want] >= steady.frames * 99 / 100);
 }
 
+/* A lone slow frame (the machine stalled, not the scene) leaves the level alone; two in a row are a load step. */
+static void test_lone_spike_ignored(void **state)
+{
+    (void)state;
+    sim_t s = { 200000, 8000000, 30, 0 };
+    hz_gov_t g;
+    init_gov(&g);
+    int64_t now = 0;
+    run_t warm = { 0 };
+    run_frames(&g, &s, 480, &now, &warm);
+    const uint32_t settled = g.level;
+    const uint64_t changes = g.changes;
+    const int64_t budget = PERIOD - PERIOD / 16;
+    for (int spike = 0; spike < 20; spike++) {
+        uint32_t l = hz_gov_pick(&g, now, budget);
+        hz_gov_observe(&g, l, 20000000); /* 20 ms: five periods */
+        now += PERIOD;
+        run_t calm = { 0 };
+        run_frames(&g, &s, 100, &now, &calm);
+        assert_int_equal(calm.misses, 0);
+    }
+    assert_int_equal(g.level, settled);
+    assert_int_equal(g.changes, changes);
+    /* two in a row: forced down at once */
+    for (int k = 0; k < 2; k++) {
+        uint32_t l = hz_gov_pick(&g, now, budget);
+        hz_gov_observe(&g, l, 20000000);
+        now += PERIOD;
+    }
+    assert_true(hz_gov_pick(&g, now, budget) > settled);
+    assert_true(g.forced >= 1);
+}
+
 static void test_degenerate(void **state)
 {
     (void)state;
@@ -205,6 +238,7 @@ int main(void)
         cmocka_unit_test(test_load_step),
         cmocka_unit_test(test_no_flicker),
         cmocka_unit_test(test_fixed_cost_learned),
+        cmocka_unit_test(test_lone_spike_ignored),
         cmocka_unit_test(test_degenerate),
     };
     return HZ_RUN(tests);

@@ -310,7 +310,6 @@ static void test_rendering_allocates_nothing(void **state)
 }
 
 
-#ifdef HZ_HAVE_EMBREE
 /* The governor's level changes (hz/ladder.h, hz_render_reconfigure): every level of each mode's ladder, down and
  * up again, rendered frame after frame with the renderer holding the ladder's memory: nothing allocates. */
 static void test_level_changes_allocate_nothing(void **state)
@@ -352,6 +351,7 @@ static void test_level_changes_allocate_nothing(void **state)
     }
 }
 
+#ifdef HZ_HAVE_EMBREE
 static void test_embree_allocations(void **state)
 {
     (void)state;
