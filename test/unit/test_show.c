@@ -119,7 +119,8 @@ static void test_every_mode_on_the_display_path(void **state)
             assert_int_equal(rows, 40);
             free(csv);
             if (files)
-                assert_true(file_size(sub, "frames.y4m") > 48 * 32 * 40 && file_size(sub, "last.png") > 0);
+                assert_true(file_size(sub, "frames.y4m") > 48 * 32 * 40 &&
+                            (file_size(sub, "last.png") > 0 || file_size(sub, "last.ppm") > 0)); /* no libpng: PPM */
             else
                 assert_int_equal(file_size(sub, "frames.y4m"), -1);
         }
