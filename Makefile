@@ -690,6 +690,7 @@ test-board: tests $(if $(BOARD_TEST_LAUNCHER),,$(BENCH))
 	$(Q)HZ_GUARD_LABEL=$(BOARD) sh test/guard/check-freestanding.sh --record $(O)/test-results "$(NM)" \
 		$(CHECK_OBJS) || true
 	$(Q)sh test/guard/check-integer.sh --record $(O)/test-results "$(CC)" "$(BOARD_ARCH)" $(INTEGER_SRCS) || true
+	$(Q)sh test/guard/check-includes.sh --record $(O)/test-results || true
 	$(Q)$(if $(BOARD_TEST_LAUNCHER),true,sh test/cli/run.sh $(O)/test-results $(HZRT) $(BENCH))
 	$(Q)$(MAKE) --no-print-directory test-gpiod2
 

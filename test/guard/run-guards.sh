@@ -28,6 +28,9 @@ expect_fail() {
     fi
 }
 
+# Two modules that include each other: refused, both named.
+expect_fail "include-cycle" "recon <-> render" sh "$here/check-includes.sh" --src "$bad/include-cycle"
+
 for arch in x86_64 aarch64; do
     [ $arch = x86_64 ] && cc=gcc nm=nm || cc=aarch64-linux-gnu-gcc nm=aarch64-linux-gnu-nm
     # malloc hidden from the source scan: caught by the symbol check.
