@@ -14,6 +14,20 @@
 
 #define MAX_FRAMES 100000
 
+static void usage_show(FILE *f)
+{
+    fprintf(f,
+            "usage: hzrt show [SCENE] [options]\n"
+            "\n"
+            "The board's default command: shows %s (or SCENE) in %s mode on the board's display (%s)\n"
+            "locked to its v-sync (%s), with the frame-budget governor keeping every frame within the refresh\n"
+            "period, for 10 s (--seconds, --frames), and writes the latency report (frames.csv with each frame's\n"
+            "quality level, edges.csv, report.json, histogram.svg) and summary.json to out/show. It is\n"
+            "`hzrt render` with these defaults: every option of `hzrt render --help` applies.\n\n",
+            HZ_DISPLAY_SCENE, hz_render_mode_name(HZ_DISPLAY_MODE), HZ_DISPLAY_SINK,
+            HZ_VSYNC_SOURCE == HZ_VSYNC_GPIO ? "GPIO" : HZ_VSYNC_SOURCE == HZ_VSYNC_FBDEV ? "fbdev" : "simulated");
+}
+
 static void usage(FILE *f)
 {
     fprintf(f,
@@ -92,7 +106,10 @@ static int run(int argc, char **argv, const char *cmd, const char *default_scene
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i];
         if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
-            usage(stdout);
+            if (display)
+                usage_show(stdout);
+            else
+                usage(stdout);
             return 0;
         }
         int used = hz_latency_opt_take(&c, argc, argv, &i);
