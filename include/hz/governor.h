@@ -58,6 +58,9 @@ typedef struct hz_gov {
 hz_status_t hz_gov_init(hz_gov_t *g, const hz_gov_cfg_t *cfg, hz_error_t *err);
 uint32_t hz_gov_pick(hz_gov_t *g, int64_t now_ns, int64_t budget_ns);
 void hz_gov_observe(hz_gov_t *g, uint32_t level, int64_t cost_ns);
+/* After the levels have been measured once (each observed): starts at the best level predicted to fit the budget
+ * with the up margin, and starts the dwell there. */
+uint32_t hz_gov_start(hz_gov_t *g, int64_t now_ns, int64_t budget_ns);
 /* The predicted high-quantile cost of a level (0 before any observation). */
 int64_t hz_gov_predict(const hz_gov_t *g, uint32_t level);
 

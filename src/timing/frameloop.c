@@ -405,6 +405,8 @@ hz_status_t hz_loop_run(const hz_loop_cfg_t *cfg, hz_timebase_t *tb, hz_vsource_
     res->levels = frames->levels ? frames->levels->levels : 1u;
     if (governed && (s = hz_gov_init(&g_gov, frames->levels, err)) != HZ_OK)
         return s;
+    /* what a frame may cost: the lookahead's periods minus the latch lead and the pacer's guard */
+    const uint32_t ahead = cfg->pace.lookahead ? cfg->pace.lookahead : 1u;
     if (governed && !tb->virtual_time) {
         /* Before the first frame, each level rendered once (cheapest first, not shown) for the governor to
          * measure: the first frame is then one predicted to fit, not a guess that misses. The requests are the
@@ -421,7 +423,8 @@ hz_status_t hz_loop_run(const hz_loop_cfg_t *cfg, hz_timebase_t *tb, hz_vsource_
             hz_gov_observe(&g_gov, l, hz_tb_now(tb) - t0);
             res->calibration_ns += hz_tb_now(tb) - t0;
         }
-        g_gov.level = frames->levels->levels - 1; /* from the cheapest: the first pick moves up only if it fits */
+        int64_t guard = cfg->pace.guard_ns >= 0 ? cfg->pace.guard_ns : plan.period_ns / 16;
+        hz_gov_start(&g_gov, hz_tb_now(tb), (int64_t)ahead * plan.period_ns - cfg->pace.latch_ns - guard);
     }
     int64_t last_target = INT64_MIN;
     uint32_t last_level = 0;
@@ -478,9 +481,7 @@ hz_status_t hz_loop_run(const hz_loop_cfg_t *cfg, hz_timebase_t *tb, hz_vsource_
         }
         uint32_t level = 0;
         if (governed) {
-            /* what a frame may cost: the lookahead's periods minus the latch lead and the pacer's guard */
             int64_t guard = cfg->pace.guard_ns >= 0 ? cfg->pace.guard_ns : plan.period_ns / 16;
-            uint32_t ahead = cfg->pace.lookahead ? cfg->pace.lookahead : 1u;
             level = hz_gov_pick(&g_gov, hz_tb_now(tb), (int64_t)ahead * plan.period_ns - cfg->pace.latch_ns - guard);
         }
         int64_t start = hz_tb_now(tb);

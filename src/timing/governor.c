@@ -143,6 +143,17 @@ static uint32_t change(hz_gov_t *g, uint32_t to, int64_t now, int forced)
     return g->level;
 }
 
+uint32_t hz_gov_start(hz_gov_t *g, int64_t now_ns, int64_t budget_ns)
+{
+    uint32_t to = 0, last = g->cfg.levels - 1;
+    while (to < last && !fits(g, to, budget_ns, g->cfg.up_pm))
+        to++;
+    g->level = to;
+    g->changed_ns = now_ns;
+    g->have_change = 1;
+    return to;
+}
+
 uint32_t hz_gov_pick(hz_gov_t *g, int64_t now_ns, int64_t budget_ns)
 {
     if (g->cfg.levels < 2 || budget_ns <= 0)
