@@ -127,6 +127,31 @@ static void test_every_mode_on_the_display_path(void **state)
     }
 }
 
+/* A recorded edge trace (CSV, 120 Hz) as the v-sync source on its own clock, every mode. */
+static void test_every_mode_on_a_recorded_trace(void **state)
+{
+    (void)state;
+    char csv[160], src[176];
+    snprintf(csv, sizeof csv, "%s/edges.csv", dir);
+    FILE *f = fopen(csv, "w");
+    assert_non_null(f);
+    for (int i = 0; i < 400; i++)
+        fprintf(f, "%lld,1\n", 1000000000LL + (long long)i * 8333333LL);
+    fclose(f);
+    snprintf(src, sizeof src, "csv:%s", csv);
+    static const char *const modes[] = { "full", "taa", "tdense", "adaptive" };
+    for (int m = 0; m < 4; m++) {
+        char sub[32];
+        snprintf(sub, sizeof sub, "trace-%s", modes[m]);
+        int rc = latency("--virtual", "--source", src, "--hz", "120", "--render-model", "const:3ms", "--render", "scene",
+                         "--mode", modes[m], "--size", "40x24", "--frames", "60", "--threads", "2", "--quiet", "--out",
+                         out(sub), NULL);
+        if (rc)
+            fail_msg("%s: exit %d", sub, rc);
+        assert_true(file_size(sub, "frames.csv") > 0 && file_size(sub, "summary.json") > 0);
+    }
+}
+
 /* The files run (offline) and a simulated display's run with the governor off render the same frames: scene
  * time comes from the display's refresh count, exactly. Also with a recorded trace replayed on its own clock. */
 static void test_display_run_renders_the_offline_frames(void **state)
@@ -182,6 +207,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_every_mode_on_the_display_path),
+        cmocka_unit_test(test_every_mode_on_a_recorded_trace),
         cmocka_unit_test(test_display_run_renders_the_offline_frames),
         cmocka_unit_test(test_usage_errors),
     };
