@@ -29,14 +29,15 @@
 #define MAX_ROUNDS 15
 
 typedef enum { K_PRIMARY, K_SHADOW, K_DIFFUSE, K_COUNT } kind_t;
-typedef enum { M_SCALAR, M_SINGLE, M_AUTO8, M_FRUSTUM8, M_MASKED8, M_E1, M_E8, M_COUNT } method_t;
+typedef enum { M_SCALAR, M_SINGLE, M_AUTO8, M_FRUSTUM8, M_TILE, M_E1, M_E8, M_COUNT } method_t;
 
 static const char *kind_name[K_COUNT] = { "primary", "shadow", "diffuse" };
-static const char *method_name[M_COUNT] = { "scalar", "simd-1", "simd-8", "frustum-8", "masked-8", "embree-1",
+static const char *method_name[M_COUNT] = { "scalar", "simd-1", "simd-8", "frustum-8", "tile-64", "embree-1",
                                             "embree-8" };
 static const char *method_csv[M_COUNT] = { "native scalar", "native simd single", "native simd packet (auto)",
-                                           "native simd packet frustum", "native simd packet masked",
+                                           "native simd packet frustum", "native tile of 8 packets (auto)",
                                            "embree rtcIntersect1", "embree rtcIntersect8" };
+#define TILE_PACKETS 8u /* packets per tile call: an 8x8-pixel tile of the primary rays */
 
 typedef struct rayset {
     hz_rayhit_t *aos;
@@ -68,7 +69,6 @@ static void run_item(void *user, uint32_t item, int thread)
     ctx.kernel = j->m == M_SCALAR ? HZ_ACCEL_KERNEL_SCALAR
                  : j->m == M_SINGLE ? HZ_ACCEL_KERNEL_SIMD_SINGLE
                  : j->m == M_FRUSTUM8 ? HZ_ACCEL_KERNEL_SIMD_PACKET
-                 : j->m == M_MASKED8 ? HZ_ACCEL_KERNEL_SIMD_MASKED
                                      : HZ_ACCEL_KERNEL_AUTO;
     uint32_t lo = item * CHUNK, hi = lo + CHUNK < rs->n ? lo + CHUNK : rs->n, hits = 0, sum = 0;
     const bool single = j->m == M_SCALAR || j->m == M_SINGLE || j->m == M_E1;
@@ -83,6 +83,27 @@ static void run_item(void *user, uint32_t item, int thread)
                 hz_accel_intersect1(j->accel, &ctx, &rh);
                 if (rh.hit.geom_id == 0)
                     hits++, sum += hz_hash32(rh.hit.prim_id);
+            }
+        }
+    } else if (j->m == M_TILE) {
+        for (uint32_t p = lo / 8; p < (hi + 7) / 8; p += TILE_PACKETS) {
+            const uint32_t np = (hi + 7) / 8 - p < TILE_PACKETS ? (hi + 7) / 8 - p : TILE_PACKETS;
+            int32_t valid[8 * TILE_PACKETS];
+            for (uint32_t l = 0; l < 8 * np; l++)
+                valid[l] = p * 8 + l < hi ? -1 : 0;
+            if (j->k == K_SHADOW) {
+                hz_ray8_t r[TILE_PACKETS];
+                memcpy(r, &rs->soa[p], np * sizeof r[0]);
+                hz_accel_occluded8n(valid, j->accel, &ctx, r, np);
+                for (uint32_t l = 0; l < 8 * np; l++)
+                    hits += valid[l] && r[l / 8].tfar[l % 8] < 0.0f;
+            } else {
+                hz_rayhit8_t rh[TILE_PACKETS];
+                memcpy(rh, &rs->soa[p], np * sizeof rh[0]);
+                hz_accel_intersect8n(valid, j->accel, &ctx, rh, np);
+                for (uint32_t l = 0; l < 8 * np; l++)
+                    if (valid[l] && rh[l / 8].hit.geom_id[l % 8] == 0)
+                        hits++, sum += hz_hash32(rh[l / 8].hit.prim_id[l % 8]);
             }
         }
     } else {
@@ -186,7 +207,8 @@ static void free_set(rayset_t *rs)
     free(rs->soa);
 }
 
-/* Primary rays in 4x2-pixel tiles (a packet is a tile), then shadow and diffuse rays from their hits. */
+/* Primary rays in 8x8-pixel tiles of eight 4x2-pixel packets (a packet: 4x2 pixels, a tile call: 8 packets),
+ * then shadow and diffuse rays from their hits, in that order. */
 static void make_rays(const hz_scene_t *sc, const hz_accel_t *a, uint32_t w, uint32_t h, rayset_t sets[K_COUNT],
                       hz_vec3_t *light_out)
 {
@@ -196,9 +218,10 @@ static void make_rays(const hz_scene_t *sc, const hz_accel_t *a, uint32_t w, uin
     hz_vec3_t u = hz_v3_cross(r, f);
     const float th = hz_tanf(0.5f * cam.fov_y), aspect = (float)w / (float)h;
     rayset_t *pr = &sets[K_PRIMARY];
-    for (uint32_t ty = 0; ty < h; ty += 2)
-        for (uint32_t tx = 0; tx < w; tx += 4)
-            for (uint32_t y = ty; y < ty + 2 && y < h; y++)
+    for (uint32_t Ty = 0; Ty < h; Ty += 8)
+        for (uint32_t Tx = 0; Tx < w; Tx += 8)
+            for (uint32_t q = 0; q < 8; q++)
+            for (uint32_t ty = Ty + (q / 2) * 2, tx = Tx + (q % 2) * 4, y = ty; y < ty + 2 && y < h; y++)
                 for (uint32_t x = tx; x < tx + 4 && x < w; x++) {
                     float sx = ((float)x + 0.5f) / (float)w * 2.0f - 1.0f, sy = 1.0f - ((float)y + 0.5f) / (float)h * 2.0f;
                     hz_vec3_t d = hz_v3_add(f, hz_v3_add(hz_v3_scale(r, sx * th * aspect), hz_v3_scale(u, sy * th)));
@@ -248,6 +271,17 @@ static void make_rays(const hz_scene_t *sc, const hz_accel_t *a, uint32_t w, uin
     }
     pack(&sets[K_SHADOW]);
     pack(&sets[K_DIFFUSE]);
+}
+
+/* Whether the comma-separated list `only` names kind:method. */
+static bool only_has(const char *only, const char *kind, const char *method)
+{
+    char want[64];
+    const int n = snprintf(want, sizeof want, "%s:%s", kind, method);
+    for (const char *p = only; (p = strstr(p, want)) != NULL; p += n)
+        if ((p == only || p[-1] == ',') && (p[n] == '\0' || p[n] == ','))
+            return true;
+    return false;
 }
 
 /* ---- one scene ---- */
@@ -450,13 +484,9 @@ static int bench_scene(const hz_bench_accel_opts_t *o, const char *name, FILE *c
             for (int m = 0; m < M_COUNT; m++) {
                 if ((m == M_E1 || m == M_E8) && !e)
                     continue;
-                const char *only = getenv("HZ_BENCH_ONLY"); /* profiling aid: "kind:method" */
-                if (only) {
-                    char want[64];
-                    snprintf(want, sizeof want, "%s:%s", kind_name[k], method_name[m]);
-                    if (strcmp(only, want) != 0)
-                        continue;
-                }
+                const char *only = getenv("HZ_BENCH_ONLY"); /* profiling aid: "kind:method[,kind:method...]" */
+                if (only && !only_has(only, kind_name[k], method_name[m]))
+                    continue;
                 hz_accel_stats_t st;
                 memset(&st, 0, sizeof st);
                 job_t j = { r == 0 && getenv("HZ_BENCH_STATS") ? &st : NULL, m >= M_E1 ? e : a, (method_t)m,
@@ -501,7 +531,7 @@ static int bench_scene(const hz_bench_accel_opts_t *o, const char *name, FILE *c
         printf(" %9s", method_name[m]);
     printf("  native/embree  (Mrays/s, median of %d; %u primary, %u shadow, %u diffuse rays)\n", o->rounds,
            sets[K_PRIMARY].n, sets[K_SHADOW].n, sets[K_DIFFUSE].n);
-    const method_t native_simd[] = { M_SINGLE, M_AUTO8, M_FRUSTUM8, M_MASKED8 }, embree[] = { M_E1, M_E8 };
+    const method_t native_simd[] = { M_SINGLE, M_AUTO8, M_FRUSTUM8, M_TILE }, embree[] = { M_E1, M_E8 };
     for (int k = 0; k < K_COUNT; k++)
         for (int t = 0; t < 2; t++) {
             printf("%-8s %3d", kind_name[k], t ? hz_threads_count() : 1);
