@@ -74,7 +74,6 @@ HZ_INLINE unsigned vi_signs(vi a) { return (unsigned)_mm256_movemask_ps(_mm256_c
 HZ_INLINE vi vi_perm(vi v, vi idx) { return _mm256_permutevar8x32_epi32(v, idx); }
 HZ_INLINE vi vf_as_vi(vf a) { return _mm256_castps_si256(a); }
 HZ_INLINE vf vi_as_vf(vi a) { return _mm256_castsi256_ps(a); }
-HZ_INLINE vf vf_gather(const float *base, vi idx) { return _mm256_i32gather_ps(base, idx, 4); }
 
 /* One compare-exchange stage of a bitonic network: lane i meets lane p[i]; lanes in `hi` take the larger key. */
 #define SORT_STAGE(v, p0, p1, p2, p3, p4, p5, p6, p7, h0, h1, h2, h3, h4, h5, h6, h7)                              \

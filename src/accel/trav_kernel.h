@@ -9,7 +9,7 @@
  *   vm_and vm_or vm_andn(a, b) = a & ~b, vm_bits (bit i: lane i), vm_of(bits), vf_sel(m, a, b) = m ? a : b
  *   vi_set1 vi_load vi_store (aligned) vi_storeu vi_iota vi_and vi_or vi_andn vi_add vi_sub vi_shl(x, n) vi_lane0
  *   vi_sel(m, a, b) vi_gt vi_eq (signed) vm_as_vi vi_signs (bit i: lane i's bit 31) vi_perm(v, idx) (lane i = lane idx[i] & (KW - 1) of v) vi_sort
- *   (ascending as unsigned) vf_as_vi vi_as_vf vf_gather(base, idx) (every index in bounds)
+ *   (ascending as unsigned) vf_as_vi vi_as_vf
  * Every float operation is the IEEE one, rounded once, in the order of the scalar reference (trav_scalar.c,
  * bvh.h's hz_bvh_ray_prep / hz_bvh_tri_test): the kernels return its bits on every ISA.
  *
@@ -387,6 +387,7 @@ typedef struct tchunk {
     vf tnear, tfar, cull; /* cull = tfar * HZ_BVH_CULL (see bvh.h) */
     tshear_t sh;          /* bounds of the live lanes' shear constants (tile_cull) */
     vf bv, bw, bdet;      /* closest: the best hit's edge weights */
+    vf bng[3];            /* closest: its geometric normal (hz_bvh_best_finish's) */
     vi bprim, bslot;      /* closest: its triangle (0x7FFFFFFF: none) and block slot (-1: none) */
 } tchunk_t;
 
@@ -523,6 +524,7 @@ HZ_INLINE void chunk_set(tgroup_t *g, uint32_t c, const vf *o, const vf *d, vf t
     ch->tfar = vf_sel(lm, tf, vf_set1(-__builtin_inff()));
     ch->cull = vf_mul(ch->tfar, vf_set1(HZ_BVH_CULL));
     ch->bv = vf_set1(0.0f), ch->bw = vf_set1(0.0f), ch->bdet = vf_set1(1.0f);
+    ch->bng[0] = ch->bng[1] = ch->bng[2] = vf_set1(0.0f);
     ch->bprim = vi_set1(0x7FFFFFFF), ch->bslot = vi_set1(-1);
     g->live[c] = live;
     g->cmax[c] = vf_hmax(ch->cull);
@@ -891,7 +893,8 @@ HZ_INLINE bool leaf_closest(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const tsrc
 {
     tchunk_t *ch = &g->ch[c];
     const hz_bvh_block_t *b = &bvh->blocks[slot / W];
-    vf tfar = ch->tfar, bv = ch->bv, bw = ch->bw, bdet = ch->bdet;
+    vf tfar = ch->tfar, bv = ch->bv, bw = ch->bw, bdet = ch->bdet, bn0 = ch->bng[0], bn1 = ch->bng[1],
+       bn2 = ch->bng[2];
     vi bprim = ch->bprim, bslot = ch->bslot;
     bool changed = false;
     for (; sm; sm &= sm - 1) {
@@ -925,10 +928,20 @@ HZ_INLINE bool leaf_closest(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const tsrc
         bdet = vf_sel(better, det, bdet);
         bprim = vi_sel(better, vprim, bprim);
         bslot = vi_sel(better, vi_set1((int32_t)hs), bslot);
+        /* the normal as hz_bvh_best_finish computes it, once per winning triangle (no gathers at the end) */
+        float e1[3], e2[3];
+        for (int q = 0; q < 3; q++) {
+            e1[q] = b->v[1][q][s] - b->v[0][q][s];
+            e2[q] = b->v[2][q][s] - b->v[0][q][s];
+        }
+        bn0 = vf_sel(better, vf_set1(e1[1] * e2[2] - e1[2] * e2[1]), bn0);
+        bn1 = vf_sel(better, vf_set1(e1[2] * e2[0] - e1[0] * e2[2]), bn1);
+        bn2 = vf_sel(better, vf_set1(e1[0] * e2[1] - e1[1] * e2[0]), bn2);
         changed = true;
     }
     if (changed) {
         ch->tfar = tfar, ch->bv = bv, ch->bw = bw, ch->bdet = bdet, ch->bprim = bprim, ch->bslot = bslot;
+        ch->bng[0] = bn0, ch->bng[1] = bn1, ch->bng[2] = bn2;
         ch->cull = vf_mul(tfar, vf_set1(HZ_BVH_CULL));
         g->cmax[c] = vf_hmax(ch->cull); /* lanes without a ray hold -inf */
     }
@@ -1062,7 +1075,7 @@ static void tile_closest(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const tsrc_t 
 }
 
 /* The hit attributes of every lane that hit (hz_bvh_best_finish's operations), stored into the call's packets. */
-static void tile_write_hits(const hz_bvh_t *bvh, const tgroup_t *g, hz_bvh_rayhitw_t *rh, size_t stride)
+static void tile_write_hits(const tgroup_t *g, hz_bvh_rayhitw_t *rh, size_t stride)
 {
     for (uint32_t c = 0; c < g->nch; c++) {
         const tchunk_t *ch = &g->ch[c];
@@ -1070,29 +1083,14 @@ static void tile_write_hits(const hz_bvh_t *bvh, const tgroup_t *g, hz_bvh_rayhi
         const unsigned hb = vm_bits(hitm);
         if (!hb)
             continue;
-        /* u = v * (1 / det), Ng = (v1 - v0) x (v2 - v0) from the block */
+        /* u = v * (1 / det) as hz_bvh_best_finish; the normal was taken with the hit */
         const vf rdet = vf_div(vf_set1(1.0f), ch->bdet);
         const vf u = vf_mul(ch->bv, rdet), vv = vf_mul(ch->bw, rdet);
-        /* float index of slot s's vertex 0, x: (s / W) * (sizeof block / 4) + s % W; lanes without a hit read
-         * slot 0 (there is a block: some lane hit) */
-        const vi sl = vi_sel(hitm, ch->bslot, vi_set1(0));
-        const vi blk = vi_andn(sl, vi_set1(W - 1));
-        const vi idx = vi_add(vi_add(vi_shl(blk, 3), vi_shl(blk, 1)), vi_and(sl, vi_set1(W - 1))); /* x 10 */
-        const float *base = &bvh->blocks[0].v[0][0][0];
-        vf vx[3][3];
-        for (int vi_ = 0; vi_ < 3; vi_++)
-            for (int k = 0; k < 3; k++)
-                vx[vi_][k] = vf_gather(base, vi_add(idx, vi_set1((vi_ * 3 + k) * W)));
-        vf e1[3], e2[3];
-        for (int k = 0; k < 3; k++) {
-            e1[k] = vf_sub(vx[1][k], vx[0][k]);
-            e2[k] = vf_sub(vx[2][k], vx[0][k]);
-        }
         float out[6][W] HZ_ALIGNED(32), tf[W] HZ_ALIGNED(32);
         int32_t prim[W] HZ_ALIGNED(32);
-        vf_store(out[0], vf_sub(vf_mul(e1[1], e2[2]), vf_mul(e1[2], e2[1])));
-        vf_store(out[1], vf_sub(vf_mul(e1[2], e2[0]), vf_mul(e1[0], e2[2])));
-        vf_store(out[2], vf_sub(vf_mul(e1[0], e2[1]), vf_mul(e1[1], e2[0])));
+        vf_store(out[0], ch->bng[0]);
+        vf_store(out[1], ch->bng[1]);
+        vf_store(out[2], ch->bng[2]);
         vf_store(out[3], u);
         vf_store(out[4], vv);
         vf_store(tf, ch->tfar);
@@ -1322,7 +1320,7 @@ static void tile_intersect(const int32_t *valid, const hz_bvh_t *bvh, hz_accel_c
     if (one != KEY_NONE && nact >= 2) {
         tile_load_direct(&g, &src, act, one);
         tile_closest(bvh, ctx, &src, &g, k);
-        tile_write_hits(bvh, &g, rh, stride);
+        tile_write_hits(&g, rh, stride);
         return;
     }
     tplan_t plan;
@@ -1330,7 +1328,7 @@ static void tile_intersect(const int32_t *valid, const hz_bvh_t *bvh, hz_accel_c
     for (unsigned q = 0; q < plan.ngroups; q++) {
         tile_load(&g, &src, plan.lanes + plan.start[q], plan.count[q], plan.keys[q]);
         tile_closest(bvh, ctx, &src, &g, k);
-        tile_write_hits(bvh, &g, rh, stride);
+        tile_write_hits(&g, rh, stride);
     }
     for (unsigned q = 0; q < plan.nsingle; q++) {
         const uint16_t li = plan.singles[q];

@@ -76,13 +76,6 @@ HZ_INLINE vi vi_perm(vi v, vi idx)
 }
 HZ_INLINE vi vf_as_vi(vf a) { return vreinterpretq_s32_f32(a); }
 HZ_INLINE vf vi_as_vf(vi a) { return vreinterpretq_f32_s32(a); }
-HZ_INLINE vf vf_gather(const float *base, vi idx)
-{
-    vf r = vdupq_n_f32(base[vgetq_lane_s32(idx, 0)]);
-    r = vsetq_lane_f32(base[vgetq_lane_s32(idx, 1)], r, 1);
-    r = vsetq_lane_f32(base[vgetq_lane_s32(idx, 2)], r, 2);
-    return vsetq_lane_f32(base[vgetq_lane_s32(idx, 3)], r, 3);
-}
 
 /* Four keys ascending (unsigned): comparators (0,1)(2,3), (0,2)(1,3), (1,2). */
 HZ_INLINE vi vi_sort(vi v)

@@ -29,15 +29,18 @@
 #define MAX_ROUNDS 15
 
 typedef enum { K_PRIMARY, K_SHADOW, K_DIFFUSE, K_COUNT } kind_t;
-typedef enum { M_SCALAR, M_SINGLE, M_AUTO8, M_FRUSTUM8, M_TILE, M_E1, M_E8, M_COUNT } method_t;
+typedef enum { M_SCALAR, M_SINGLE, M_AUTO8, M_FRUSTUM8, M_TILE, M_TILE_L, M_E1, M_E8, M_COUNT } method_t;
 
 static const char *kind_name[K_COUNT] = { "primary", "shadow", "diffuse" };
-static const char *method_name[M_COUNT] = { "scalar", "simd-1", "simd-8", "frustum-8", "tile-64", "embree-1",
-                                            "embree-8" };
+static const char *method_name[M_COUNT] = { "scalar", "simd-1", "simd-8", "frustum-8", "tile-64", "tile-256",
+                                            "embree-1", "embree-8" };
 static const char *method_csv[M_COUNT] = { "native scalar", "native simd single", "native simd packet (auto)",
                                            "native simd packet frustum", "native tile of 8 packets (auto)",
-                                           "embree rtcIntersect1", "embree rtcIntersect8" };
-#define TILE_PACKETS 8u /* packets per tile call: an 8x8-pixel tile of the primary rays */
+                                           "native tile of 32 packets (auto)", "embree rtcIntersect1",
+                                           "embree rtcIntersect8" };
+/* Tile calls: 8 packets (an 8x8-pixel tile of primary rays) or 32 (16x16 pixels: four 8x8 quadrants in turn). */
+#define TILE_SMALL 8u
+#define TILE_LARGE 32u
 
 typedef struct rayset {
     hz_rayhit_t *aos;
@@ -85,20 +88,21 @@ static void run_item(void *user, uint32_t item, int thread)
                     hits++, sum += hz_hash32(rh.hit.prim_id);
             }
         }
-    } else if (j->m == M_TILE) {
-        for (uint32_t p = lo / 8; p < (hi + 7) / 8; p += TILE_PACKETS) {
-            const uint32_t np = (hi + 7) / 8 - p < TILE_PACKETS ? (hi + 7) / 8 - p : TILE_PACKETS;
-            int32_t valid[8 * TILE_PACKETS];
+    } else if (j->m == M_TILE || j->m == M_TILE_L) {
+        const uint32_t tp = j->m == M_TILE ? TILE_SMALL : TILE_LARGE;
+        for (uint32_t p = lo / 8; p < (hi + 7) / 8; p += tp) {
+            const uint32_t np = (hi + 7) / 8 - p < tp ? (hi + 7) / 8 - p : tp;
+            int32_t valid[8 * TILE_LARGE];
             for (uint32_t l = 0; l < 8 * np; l++)
                 valid[l] = p * 8 + l < hi ? -1 : 0;
             if (j->k == K_SHADOW) {
-                hz_ray8_t r[TILE_PACKETS];
+                hz_ray8_t r[TILE_LARGE];
                 memcpy(r, &rs->soa[p], np * sizeof r[0]);
                 hz_accel_occluded8n(valid, j->accel, &ctx, r, np);
                 for (uint32_t l = 0; l < 8 * np; l++)
                     hits += valid[l] && r[l / 8].tfar[l % 8] < 0.0f;
             } else {
-                hz_rayhit8_t rh[TILE_PACKETS];
+                hz_rayhit8_t rh[TILE_LARGE];
                 memcpy(rh, &rs->soa[p], np * sizeof rh[0]);
                 hz_accel_intersect8n(valid, j->accel, &ctx, rh, np);
                 for (uint32_t l = 0; l < 8 * np; l++)
@@ -207,8 +211,9 @@ static void free_set(rayset_t *rs)
     free(rs->soa);
 }
 
-/* Primary rays in 8x8-pixel tiles of eight 4x2-pixel packets (a packet: 4x2 pixels, a tile call: 8 packets),
- * then shadow and diffuse rays from their hits, in that order. */
+/* Primary rays in 16x16-pixel tiles of four 8x8-pixel quadrants of eight 4x2-pixel packets each (a packet: 4x2
+ * pixels; tile calls: a quadrant or the whole tile), then shadow and diffuse rays from their hits, in that
+ * order. */
 static void make_rays(const hz_scene_t *sc, const hz_accel_t *a, uint32_t w, uint32_t h, rayset_t sets[K_COUNT],
                       hz_vec3_t *light_out)
 {
@@ -218,10 +223,11 @@ static void make_rays(const hz_scene_t *sc, const hz_accel_t *a, uint32_t w, uin
     hz_vec3_t u = hz_v3_cross(r, f);
     const float th = hz_tanf(0.5f * cam.fov_y), aspect = (float)w / (float)h;
     rayset_t *pr = &sets[K_PRIMARY];
-    for (uint32_t Ty = 0; Ty < h; Ty += 8)
-        for (uint32_t Tx = 0; Tx < w; Tx += 8)
-            for (uint32_t q = 0; q < 8; q++)
-            for (uint32_t ty = Ty + (q / 2) * 2, tx = Tx + (q % 2) * 4, y = ty; y < ty + 2 && y < h; y++)
+    for (uint32_t Ty = 0; Ty < h; Ty += 16)
+        for (uint32_t Tx = 0; Tx < w; Tx += 16)
+            for (uint32_t q = 0; q < 32; q++) /* quadrant q / 8, packet q % 8 of it: 2 across, 4 down */
+            for (uint32_t ty = Ty + (q / 16) * 8 + (q % 8 / 2) * 2, tx = Tx + (q / 8 % 2) * 8 + (q % 2) * 4, y = ty;
+                 y < ty + 2 && y < h; y++)
                 for (uint32_t x = tx; x < tx + 4 && x < w; x++) {
                     float sx = ((float)x + 0.5f) / (float)w * 2.0f - 1.0f, sy = 1.0f - ((float)y + 0.5f) / (float)h * 2.0f;
                     hz_vec3_t d = hz_v3_add(f, hz_v3_add(hz_v3_scale(r, sx * th * aspect), hz_v3_scale(u, sy * th)));
@@ -531,7 +537,7 @@ static int bench_scene(const hz_bench_accel_opts_t *o, const char *name, FILE *c
         printf(" %9s", method_name[m]);
     printf("  native/embree  (Mrays/s, median of %d; %u primary, %u shadow, %u diffuse rays)\n", o->rounds,
            sets[K_PRIMARY].n, sets[K_SHADOW].n, sets[K_DIFFUSE].n);
-    const method_t native_simd[] = { M_SINGLE, M_AUTO8, M_FRUSTUM8, M_TILE }, embree[] = { M_E1, M_E8 };
+    const method_t native_simd[] = { M_SINGLE, M_AUTO8, M_FRUSTUM8, M_TILE, M_TILE_L }, embree[] = { M_E1, M_E8 };
     for (int k = 0; k < K_COUNT; k++)
         for (int t = 0; t < 2; t++) {
             printf("%-8s %3d", kind_name[k], t ? hz_threads_count() : 1);
@@ -547,7 +553,7 @@ static int bench_scene(const hz_bench_accel_opts_t *o, const char *name, FILE *c
                     fprintf(csv, "%s,%u,%s,%d,%s,%.3f,%.3f,%.3f,Mrays/s\n", name, g.tri_count, kind_name[k],
                             t ? hz_threads_count() : 1, method_csv[m], q->med[t], q->lo[t], q->hi[t]);
             }
-            double nb = best_of(res[k], t, native_simd, 4), eb = best_of(res[k], t, embree, 2);
+            double nb = best_of(res[k], t, native_simd, 5), eb = best_of(res[k], t, embree, 2);
             sum->ratio[k][t] = eb > 0.0 ? nb / eb : 0.0;
             printf("  %6.2f\n", sum->ratio[k][t]);
             if (csv && eb > 0.0)
