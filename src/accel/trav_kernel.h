@@ -206,10 +206,12 @@ HZ_INLINE const hz_bvh_block_t *block_at(const hz_bvh_t *bvh, uint32_t blk, cons
 }
 
 /* Closest hit of one ray from node word `start` on, continuing a search with best (r->tfar, *best); `motion`
- * (a constant at every call) reads nodes and blocks at the ray's time. */
-HZ_INLINE void closest_core(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, hz_bvh_ray_t *r, const sray_t *s,
-                            uint32_t start, hz_bvh_best_t *best, uint32_t ray_id, int lane, hz_bvh_counters_t *k,
-                            const bool motion)
+ * (a constant at every call) reads nodes and blocks at the ray's time. The ray's constants, the tree's arrays
+ * and the best hit live in locals: through the pointers the compiler reloaded them at every node (the node's
+ * address waited on two loads). */
+HZ_INLINE void closest_core(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, hz_bvh_ray_t *r, const sray_t *s0,
+                            uint32_t start, hz_bvh_best_t *best_io, uint32_t ray_id, int lane,
+                            hz_bvh_counters_t *k, const bool motion)
 {
     (void)k; /* counters exist only with HZ_FEATURE_STATS */
     hz_bvh_node_t ntmp;
@@ -218,11 +220,16 @@ HZ_INLINE void closest_core(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, hz_bvh_ray
     float st_d[HZ_BVH_STACK + W];
     int sp = 0;
     uint32_t cur = start;
+    const sray_t sr = *s0, *s = &sr;
+    const hz_bvh_node_t *const nodes = bvh->nodes;
+    const hz_bvh_block_t *const blocks = bvh->blocks;
     const bool anyhit = bvh->has_anyhit && ctx && ctx->anyhit;
-    vf cull = vf_set1(r->tfar * HZ_BVH_CULL); /* for culling nodes (see bvh.h) */
+    hz_bvh_best_t best = *best_io;
+    float tfar = r->tfar, cull_s = tfar * HZ_BVH_CULL; /* for culling nodes (see bvh.h) */
+    vf cull = vf_set1(cull_s);
     for (;;) {
         if (!hz_bvh_is_leaf(cur)) {
-            const hz_bvh_node_t *n = motion ? node_at(bvh, cur, r, &ntmp) : &bvh->nodes[cur];
+            const hz_bvh_node_t *n = motion ? node_at(bvh, cur, r, &ntmp) : &nodes[cur];
             vf tmin;
             HZ_BVH_COUNT(k, nodes, 1);
             unsigned m = node_hit(n, s, cull, &tmin);
@@ -232,10 +239,10 @@ HZ_INLINE void closest_core(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, hz_bvh_ray
             }
         } else {
             const uint32_t slot = hz_bvh_leaf_slot(cur), cnt = hz_bvh_leaf_count(cur);
-            const hz_bvh_block_t *b = motion ? block_at(bvh, slot / W, r, &btmp) : &bvh->blocks[slot / W];
+            const hz_bvh_block_t *b = motion ? block_at(bvh, slot / W, r, &btmp) : &blocks[slot / W];
             vf t, V, Wv, det;
             HZ_BVH_COUNT(k, tris, cnt);
-            unsigned m = leaf_hit(b, slot_mask(slot, cnt), s, r->tfar, &t, &V, &Wv, &det);
+            unsigned m = leaf_hit(b, slot_mask(slot, cnt), s, tfar, &t, &V, &Wv, &det);
             if (m) {
                 float tv[W] HZ_ALIGNED(32), vv[W] HZ_ALIGNED(32), wv[W] HZ_ALIGNED(32), dv[W] HZ_ALIGNED(32);
                 vf_store(tv, t), vf_store(vv, V), vf_store(wv, Wv), vf_store(dv, det);
@@ -243,23 +250,30 @@ HZ_INLINE void closest_core(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, hz_bvh_ray
                     const unsigned i = (unsigned)__builtin_ctz(m);
                     m &= m - 1;
                     const uint32_t pw = b->prim[i], prim = pw & HZ_BVH_PRIM_MASK;
-                    if (!hz_bvh_better(tv[i], prim, r->tfar, best->prim))
+                    if (!hz_bvh_better(tv[i], prim, tfar, best.prim))
                         continue;
                     const uint32_t hs = (slot / W) * W + i;
-                    if (anyhit && (pw & HZ_BVH_PRIM_ANYHIT) && !hz_bvh_anyhit(bvh, ctx, hs, r, tv[i], ray_id, lane))
-                        continue;
-                    r->tfar = tv[i];
-                    best->prim = prim, best->slot = hs;
-                    best->v = vv[i], best->w = wv[i], best->det = dv[i];
+                    if (anyhit && (pw & HZ_BVH_PRIM_ANYHIT)) {
+                        r->tfar = tfar; /* the callback's ray as the caller sees it */
+                        if (!hz_bvh_anyhit(bvh, ctx, hs, r, tv[i], ray_id, lane))
+                            continue;
+                    }
+                    tfar = tv[i];
+                    best.prim = prim, best.slot = hs;
+                    best.v = vv[i], best.w = wv[i], best.det = dv[i];
                 } while (m);
-                cull = vf_set1(r->tfar * HZ_BVH_CULL);
+                cull_s = tfar * HZ_BVH_CULL;
+                cull = vf_set1(cull_s);
             }
         }
         for (;;) {
-            if (sp == 0)
+            if (sp == 0) {
+                r->tfar = tfar;
+                *best_io = best;
                 return;
+            }
             --sp;
-            if (st_d[sp] <= r->tfar * HZ_BVH_CULL) {
+            if (st_d[sp] <= cull_s) {
                 cur = st_c[sp];
                 break;
             }
@@ -292,7 +306,7 @@ void hz_bvh_simd_closest(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, hz_bvh_ray_t 
     hz_bvh_counters_flush(ctx, &k);
 }
 
-HZ_INLINE bool any_core(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const hz_bvh_ray_t *r, const sray_t *s,
+HZ_INLINE bool any_core(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const hz_bvh_ray_t *r, const sray_t *s0,
                         uint32_t start, uint32_t ray_id, int lane, hz_bvh_counters_t *k, const bool motion)
 {
     (void)k; /* counters exist only with HZ_FEATURE_STATS */
@@ -301,11 +315,15 @@ HZ_INLINE bool any_core(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const hz_bvh_r
     uint32_t stack[HZ_BVH_STACK + W];
     int sp = 0;
     uint32_t cur = start;
+    const sray_t sr = *s0, *s = &sr;
+    const hz_bvh_node_t *const nodes = bvh->nodes;
+    const hz_bvh_block_t *const blocks = bvh->blocks;
     const bool anyhit = bvh->has_anyhit && ctx && ctx->anyhit;
-    const vf cull = vf_set1(r->tfar * HZ_BVH_CULL); /* for culling nodes (see bvh.h) */
+    const float tfar = r->tfar;
+    const vf cull = vf_set1(tfar * HZ_BVH_CULL); /* for culling nodes (see bvh.h) */
     for (;;) {
         if (!hz_bvh_is_leaf(cur)) {
-            const hz_bvh_node_t *n = motion ? node_at(bvh, cur, r, &ntmp) : &bvh->nodes[cur];
+            const hz_bvh_node_t *n = motion ? node_at(bvh, cur, r, &ntmp) : &nodes[cur];
             vf tmin;
             HZ_BVH_COUNT(k, nodes, 1);
             unsigned m = node_hit(n, s, cull, &tmin);
@@ -317,10 +335,10 @@ HZ_INLINE bool any_core(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const hz_bvh_r
             }
         } else {
             const uint32_t slot = hz_bvh_leaf_slot(cur), cnt = hz_bvh_leaf_count(cur);
-            const hz_bvh_block_t *b = motion ? block_at(bvh, slot / W, r, &btmp) : &bvh->blocks[slot / W];
+            const hz_bvh_block_t *b = motion ? block_at(bvh, slot / W, r, &btmp) : &blocks[slot / W];
             vf t, V, Wv, det;
             HZ_BVH_COUNT(k, tris, cnt);
-            unsigned m = leaf_hit(b, slot_mask(slot, cnt), s, r->tfar, &t, &V, &Wv, &det);
+            unsigned m = leaf_hit(b, slot_mask(slot, cnt), s, tfar, &t, &V, &Wv, &det);
             if (m) {
                 if (!anyhit)
                     return true;
