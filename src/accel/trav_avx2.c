@@ -44,6 +44,19 @@ HZ_INLINE float vf_hmax(vf v)
     return _mm_cvtss_f32(_mm_max_ss(m, _mm_shuffle_ps(m, m, 1)));
 }
 
+/* Horizontal minima of 8 vectors at once: out[i] is the minimum of v[i]'s lanes. */
+HZ_INLINE void vf_hmins(const vf *v, float *out)
+{
+    const __m256 a01 = _mm256_min_ps(_mm256_unpacklo_ps(v[0], v[1]), _mm256_unpackhi_ps(v[0], v[1]));
+    const __m256 a23 = _mm256_min_ps(_mm256_unpacklo_ps(v[2], v[3]), _mm256_unpackhi_ps(v[2], v[3]));
+    const __m256 a45 = _mm256_min_ps(_mm256_unpacklo_ps(v[4], v[5]), _mm256_unpackhi_ps(v[4], v[5]));
+    const __m256 a67 = _mm256_min_ps(_mm256_unpacklo_ps(v[6], v[7]), _mm256_unpackhi_ps(v[6], v[7]));
+    /* per 128-bit half: a01 = [v0 v1 v0 v1] partial minima; combine pairs into [v0 v1 v2 v3] */
+    const __m256 b03 = _mm256_min_ps(_mm256_shuffle_ps(a01, a23, 0x44), _mm256_shuffle_ps(a01, a23, 0xEE));
+    const __m256 b47 = _mm256_min_ps(_mm256_shuffle_ps(a45, a67, 0x44), _mm256_shuffle_ps(a45, a67, 0xEE));
+    _mm256_storeu_ps(out, _mm256_min_ps(_mm256_permute2f128_ps(b03, b47, 0x20), _mm256_permute2f128_ps(b03, b47, 0x31)));
+}
+
 HZ_INLINE vm vm_and(vm a, vm b) { return _mm256_and_ps(a, b); }
 HZ_INLINE vm vm_or(vm a, vm b) { return _mm256_or_ps(a, b); }
 HZ_INLINE vm vm_andn(vm a, vm b) { return _mm256_andnot_ps(b, a); } /* a & ~b */

@@ -3,6 +3,7 @@
  * lanes) and trav_neon.c (4 lanes) after they define these operations on their registers:
  *   KW (lanes, = HZ_BVH_WIDTH), vf (floats), vm (lane masks), vi (int32)
  *   vf_set1 vf_load vf_store (aligned) vf_add vf_sub vf_mul vf_div vf_abs vf_hmin vf_hmax vf_lane0
+ *   vf_hmins(v, out): out[i] = the smallest lane of v[i], for i < KW (no NaN lanes)
  *   vf_maxn(a, b) vf_minn(a, b): max / min where only `a` may be NaN, and then the result is b (x86 max/min
  *     return their second operand on NaN, NEON's maxNum/minNum the number: the same for these calls)
  *   vf_lt vf_le vf_gt vf_ge vf_eq (false on NaN), vf_neu (a != b, true on NaN)
@@ -206,10 +207,10 @@ HZ_INLINE const hz_bvh_block_t *block_at(const hz_bvh_t *bvh, uint32_t blk, cons
 }
 
 /* Closest hit of one ray from node word `start` on, continuing a search with best (r->tfar, *best); `motion`
- * (a constant at every call) reads nodes and blocks at the ray's time. The ray's constants, the tree's arrays
- * and the best hit live in locals: through the pointers the compiler reloaded them at every node (the node's
- * address waited on two loads). */
-HZ_INLINE void closest_core(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, hz_bvh_ray_t *r, const sray_t *s0,
+ * (a constant at every call) reads nodes and blocks at the ray's time. The tree's arrays and the best hit live
+ * in locals: through the pointers the compiler reloaded them at every node (the node's address waited on two
+ * loads). */
+HZ_INLINE void closest_core(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, hz_bvh_ray_t *r, const sray_t *s,
                             uint32_t start, hz_bvh_best_t *best_io, uint32_t ray_id, int lane,
                             hz_bvh_counters_t *k, const bool motion)
 {
@@ -220,7 +221,6 @@ HZ_INLINE void closest_core(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, hz_bvh_ray
     float st_d[HZ_BVH_STACK + W];
     int sp = 0;
     uint32_t cur = start;
-    const sray_t sr = *s0, *s = &sr;
     const hz_bvh_node_t *const nodes = bvh->nodes;
     const hz_bvh_block_t *const blocks = bvh->blocks;
     const bool anyhit = bvh->has_anyhit && ctx && ctx->anyhit;
@@ -306,7 +306,7 @@ void hz_bvh_simd_closest(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, hz_bvh_ray_t 
     hz_bvh_counters_flush(ctx, &k);
 }
 
-HZ_INLINE bool any_core(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const hz_bvh_ray_t *r, const sray_t *s0,
+HZ_INLINE bool any_core(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const hz_bvh_ray_t *r, const sray_t *s,
                         uint32_t start, uint32_t ray_id, int lane, hz_bvh_counters_t *k, const bool motion)
 {
     (void)k; /* counters exist only with HZ_FEATURE_STATS */
@@ -315,7 +315,6 @@ HZ_INLINE bool any_core(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const hz_bvh_r
     uint32_t stack[HZ_BVH_STACK + W];
     int sp = 0;
     uint32_t cur = start;
-    const sray_t sr = *s0, *s = &sr;
     const hz_bvh_node_t *const nodes = bvh->nodes;
     const hz_bvh_block_t *const blocks = bvh->blocks;
     const bool anyhit = bvh->has_anyhit && ctx && ctx->anyhit;
@@ -624,61 +623,45 @@ static void tile_load(tgroup_t *g, const tsrc_t *s, const uint16_t *lanes, uint3
     g->common = common;
 }
 
-/* Forward interval bounds over the live lanes: origins, reciprocals and tnear. */
-static void tile_bounds_fwd(tgroup_t *g, tbounds_t *b)
+/* Bounds over the live lanes, in one pass: the forward interval bounds (origins, reciprocals, tnear) into g->b,
+ * and with `occl` (occlusion) the far limit g->ia_tmax (the live lanes' largest cull distance) and, where every
+ * live ray has a finite end, the bounds from the far ends instead when those are closer together than the
+ * origins (g->reversed): ends e = o + tfar d, back along -d for s in [0, tfar - tnear] (each segment point is
+ * e - s d). The computed ends are off the exact ones by a few ulps: the end box is widened by 2^-16 of the
+ * coordinates' magnitudes, far more than that and than the slab tests' own tolerance (the per-lane tests,
+ * which decide, accept boxes within about 2^-21 of a segment), so the interval test only ever drops boxes that
+ * no lane's test would accept. Minima go through vf_hmins KW at a time (maxima as minima of negatives). */
+enum { B_OLO = 0, B_RLO = 3, B_TN = 6, B_OHI = 7, B_RHI = 10, B_CULL = 13, B_ELO = 14, B_EHI = 17, B_SMAX = 20,
+       B_ALL = 21 };
+
+static void tile_bounds(tgroup_t *g, bool occl)
 {
-    const vf inf = vf_set1(__builtin_inff()), ninf = vf_set1(-__builtin_inff());
-    vf lo[7], hi[6];
-    for (int q = 0; q < 7; q++)
-        lo[q] = inf;
-    for (int q = 0; q < 6; q++)
-        hi[q] = ninf;
+    const vf inf = vf_set1(__builtin_inff()), zero = vf_set1(0.0f);
+    vf v[(B_ALL + W - 1) / W * W];
+    for (int q = 0; q < B_ALL; q++)
+        v[q] = inf;
+    for (int q = B_ALL; q < (int)(sizeof v / sizeof v[0]); q++)
+        v[q] = inf;
+    bool fin = occl && !g->common;
     for (uint32_t c = 0; c < g->nch; c++) {
         if (!g->live[c])
             continue;
         const tchunk_t *ch = &g->ch[c];
         const vm m = vm_of(g->live[c]);
         for (int k = 0; k < 3; k++) {
-            lo[k] = vf_minn(vf_sel(m, ch->o[k], inf), lo[k]);
-            hi[k] = vf_maxn(vf_sel(m, ch->o[k], ninf), hi[k]);
-            lo[3 + k] = vf_minn(vf_sel(m, ch->r[k], inf), lo[3 + k]);
-            hi[3 + k] = vf_maxn(vf_sel(m, ch->r[k], ninf), hi[3 + k]);
+            v[B_OLO + k] = vf_minn(vf_sel(m, ch->o[k], inf), v[B_OLO + k]);
+            v[B_OHI + k] = vf_minn(vf_sel(m, vf_sub(zero, ch->o[k]), inf), v[B_OHI + k]);
+            v[B_RLO + k] = vf_minn(vf_sel(m, ch->r[k], inf), v[B_RLO + k]);
+            v[B_RHI + k] = vf_minn(vf_sel(m, vf_sub(zero, ch->r[k]), inf), v[B_RHI + k]);
         }
-        lo[6] = vf_minn(vf_sel(m, ch->tnear, inf), lo[6]);
-    }
-    for (int k = 0; k < 3; k++) {
-        const float olo = vf_hmin(lo[k]), ohi = vf_hmax(hi[k]);
-        const bool neg = (g->negs >> k) & 1u;
-        /* near plane: lower bound of (plane - o) * r over the group; far plane: upper bound */
-        b->on[k] = vf_set1(neg ? olo : ohi);
-        b->of[k] = vf_set1(neg ? ohi : olo);
-        b->rmin[k] = vf_set1(vf_hmin(lo[3 + k]));
-        b->rmax[k] = vf_set1(vf_hmax(hi[3 + k]));
-    }
-    b->tnear = vf_set1(vf_hmin(lo[6]));
-    b->nx = g->nx, b->ny = g->ny, b->nz = g->nz, b->fx = g->fx, b->fy = g->fy, b->fz = g->fz;
-}
-
-/* Occlusion: bounds from the rays' far ends e = o + tfar d back along -d, for s in [0, tfar - tnear] (each
- * segment point is e - s d). The computed ends are off the exact ones by a few ulps: the end box is widened by
- * 2^-16 of the coordinates' magnitudes, far more than that and than the slab tests' own tolerance (the per-lane
- * tests, which decide, accept boxes within about 2^-21 of a segment), so the interval test only ever drops
- * boxes that no lane's test would accept. Returns the spread of the end box (sum over the axes) and fills *b;
- * false when some live ray has no finite end. */
-static bool tile_bounds_rev(tgroup_t *g, tbounds_t *b, float *spread, float *smax_out)
-{
-    const vf inf = vf_set1(__builtin_inff()), ninf = vf_set1(-__builtin_inff());
-    vf lo[6], hi[6], smax = ninf;
-    for (int q = 0; q < 6; q++)
-        lo[q] = inf, hi[q] = ninf;
-    for (uint32_t c = 0; c < g->nch; c++) {
-        if (!g->live[c])
+        v[B_TN] = vf_minn(vf_sel(m, ch->tnear, inf), v[B_TN]);
+        if (!occl)
             continue;
-        const tchunk_t *ch = &g->ch[c];
-        const vm m = vm_of(g->live[c]);
-        if (vm_bits(vm_and(m, vf_lt(vf_abs(ch->tfar), inf))) != g->live[c])
-            return false;
-        vf e[3], mag = vf_set1(0.0f);
+        v[B_CULL] = vf_minn(vf_sel(m, vf_sub(zero, ch->cull), inf), v[B_CULL]);
+        if (!fin)
+            continue;
+        fin = vm_bits(vm_and(m, vf_lt(vf_abs(ch->tfar), inf))) == g->live[c];
+        vf e[3], mag = zero;
         for (int k = 0; k < 3; k++) {
             const vf td = vf_mul(ch->tfar, ch->d[k]);
             e[k] = vf_add(ch->o[k], td);
@@ -686,36 +669,56 @@ static bool tile_bounds_rev(tgroup_t *g, tbounds_t *b, float *spread, float *sma
         }
         const vf pad = vf_add(vf_mul(mag, vf_set1(1.0f / 65536.0f)), vf_set1(1e-30f));
         for (int k = 0; k < 3; k++) {
-            lo[k] = vf_minn(vf_sel(m, vf_sub(e[k], pad), inf), lo[k]);
-            hi[k] = vf_maxn(vf_sel(m, vf_add(e[k], pad), ninf), hi[k]);
-            /* reversed reciprocals: -r */
-            const vf rr = vf_sub(vf_set1(0.0f), ch->r[k]);
-            lo[3 + k] = vf_minn(vf_sel(m, rr, inf), lo[3 + k]);
-            hi[3 + k] = vf_maxn(vf_sel(m, rr, ninf), hi[3 + k]);
+            v[B_ELO + k] = vf_minn(vf_sel(m, vf_sub(e[k], pad), inf), v[B_ELO + k]);
+            v[B_EHI + k] = vf_minn(vf_sel(m, vf_sub(vf_sub(zero, e[k]), pad), inf), v[B_EHI + k]);
         }
-        smax = vf_maxn(vf_sel(m, vf_sub(ch->tfar, ch->tnear), ninf), smax);
+        v[B_SMAX] = vf_minn(vf_sel(m, vf_sub(ch->tnear, ch->tfar), inf), v[B_SMAX]);
     }
-    float sp = 0.0f;
+    float r[(B_ALL + W - 1) / W * W] HZ_ALIGNED(32);
+    const int nq = occl ? (fin ? B_ALL : B_ELO) : B_CULL;
+    for (int q = 0; q < nq; q += W)
+        vf_hmins(v + q, r + q);
+    tbounds_t *b = &g->b;
+    float ospread = 0.0f, espread = 0.0f;
+    for (int k = 0; k < 3; k++) {
+        const float olo = r[B_OLO + k], ohi = -r[B_OHI + k];
+        const bool neg = (g->negs >> k) & 1u;
+        /* near plane: lower bound of (plane - o) * r over the group; far plane: upper bound */
+        b->on[k] = vf_set1(neg ? olo : ohi);
+        b->of[k] = vf_set1(neg ? ohi : olo);
+        b->rmin[k] = vf_set1(r[B_RLO + k]);
+        b->rmax[k] = vf_set1(-r[B_RHI + k]);
+        ospread += ohi - olo;
+        if (fin)
+            espread += -r[B_EHI + k] - r[B_ELO + k];
+    }
+    b->tnear = vf_set1(r[B_TN]);
+    b->nx = g->nx, b->ny = g->ny, b->nz = g->nz, b->fx = g->fx, b->fy = g->fy, b->fz = g->fz;
+    g->reversed = false;
+    if (!occl)
+        return;
+    g->ia_tmax = -r[B_CULL];
+    if (!fin || !(espread < ospread))
+        return;
+    /* from the ends: origin box E, reciprocals of -d (-r: the negated forward range), s in [0, smax] */
     const size_t a = offsetof(hz_bvh_node_t, hi_x) - offsetof(hz_bvh_node_t, lo_x);
+    const size_t base[3] = { offsetof(hz_bvh_node_t, lo_x), offsetof(hz_bvh_node_t, lo_y),
+                             offsetof(hz_bvh_node_t, lo_z) };
     size_t nn[3], ff[3];
     for (int k = 0; k < 3; k++) {
-        const float elo = vf_hmin(lo[k]), ehi = vf_hmax(hi[k]);
-        const bool neg = !((g->negs >> k) & 1u); /* reversed direction */
+        const float elo = r[B_ELO + k], ehi = -r[B_EHI + k];
+        const bool neg = !((g->negs >> k) & 1u); /* the reversed direction's sign */
         b->on[k] = vf_set1(neg ? elo : ehi);
         b->of[k] = vf_set1(neg ? ehi : elo);
-        b->rmin[k] = vf_set1(vf_hmin(lo[3 + k]));
-        b->rmax[k] = vf_set1(vf_hmax(hi[3 + k]));
-        const size_t base = k == 0 ? offsetof(hz_bvh_node_t, lo_x)
-                                   : k == 1 ? offsetof(hz_bvh_node_t, lo_y) : offsetof(hz_bvh_node_t, lo_z);
-        nn[k] = base + (neg ? a : 0);
-        ff[k] = base + (neg ? 0 : a);
-        sp += ehi - elo;
+        b->rmin[k] = vf_set1(r[B_RHI + k]);  /* min of -r = -max r */
+        b->rmax[k] = vf_set1(-r[B_RLO + k]); /* max of -r = -min r */
+        nn[k] = base[k] + (neg ? a : 0);
+        ff[k] = base[k] + (neg ? 0 : a);
     }
     b->nx = nn[0], b->ny = nn[1], b->nz = nn[2], b->fx = ff[0], b->fy = ff[1], b->fz = ff[2];
-    b->tnear = vf_set1(0.0f);
-    *spread = sp;
-    *smax_out = vf_hmax(smax) * HZ_BVH_CULL;
-    return hz_isfinitef(sp);
+    b->tnear = zero;
+    g->ia_tmax = -r[B_SMAX] * HZ_BVH_CULL; /* max(tfar - tnear), widened */
+    g->reversed = true;
 }
 
 /* The group's children of n whose interval bounds meet [b->tnear, tmax]; entry distances in *tmin_out. The
@@ -723,16 +726,19 @@ static bool tile_bounds_rev(tgroup_t *g, tbounds_t *b, float *spread, float *sma
  * some lane's own slab test (below) passes. */
 HZ_INLINE unsigned ia_node_hit(const hz_bvh_node_t *n, const tbounds_t *b, vf tmax_lim, vf *tmin_out)
 {
-    vf near[3], far[3];
-    const size_t no[3] = { b->nx, b->ny, b->nz }, fo[3] = { b->fx, b->fy, b->fz };
-    for (int k = 0; k < 3; k++) {
-        const vf pn = vf_sub(ldn(n, no[k]), b->on[k]), pf = vf_sub(ldn(n, fo[k]), b->of[k]);
-        near[k] = vf_minn(vf_mul(pn, b->rmin[k]), vf_mul(pn, b->rmax[k]));
-        far[k] = vf_maxn(vf_mul(pf, b->rmin[k]), vf_mul(pf, b->rmax[k]));
-    }
-    const vf tmin = vf_maxn(vf_maxn(near[0], near[1]), vf_maxn(near[2], b->tnear));
-    const vf tmax =
-        vf_minn(vf_mul(vf_minn(vf_minn(far[0], far[1]), far[2]), vf_set1(HZ_BVH_ROBUST)), tmax_lim);
+    /* written out per axis: as a loop over arrays GCC kept the planes' offsets and the slab distances in memory */
+    const vf pnx = vf_sub(ldn(n, b->nx), b->on[0]), pny = vf_sub(ldn(n, b->ny), b->on[1]);
+    const vf pnz = vf_sub(ldn(n, b->nz), b->on[2]);
+    const vf pfx = vf_sub(ldn(n, b->fx), b->of[0]), pfy = vf_sub(ldn(n, b->fy), b->of[1]);
+    const vf pfz = vf_sub(ldn(n, b->fz), b->of[2]);
+    const vf nx = vf_minn(vf_mul(pnx, b->rmin[0]), vf_mul(pnx, b->rmax[0]));
+    const vf ny = vf_minn(vf_mul(pny, b->rmin[1]), vf_mul(pny, b->rmax[1]));
+    const vf nz = vf_minn(vf_mul(pnz, b->rmin[2]), vf_mul(pnz, b->rmax[2]));
+    const vf fx = vf_maxn(vf_mul(pfx, b->rmin[0]), vf_mul(pfx, b->rmax[0]));
+    const vf fy = vf_maxn(vf_mul(pfy, b->rmin[1]), vf_mul(pfy, b->rmax[1]));
+    const vf fz = vf_maxn(vf_mul(pfz, b->rmin[2]), vf_mul(pfz, b->rmax[2]));
+    const vf tmin = vf_maxn(vf_maxn(nx, ny), vf_maxn(nz, b->tnear));
+    const vf tmax = vf_minn(vf_mul(vf_minn(vf_minn(fx, fy), fz), vf_set1(HZ_BVH_ROBUST)), tmax_lim);
     *tmin_out = tmin;
     return vm_bits(vf_le(tmin, tmax));
 }
@@ -825,20 +831,25 @@ static void tile_pre(const hz_bvh_block_t *b, const tgroup_t *g, tpre_t *p)
 /* Slots of the precomputed block that some lane of chunk ch may hit: over the chunk's shear box [sxlo, sxhi] x
  * [sylo, syhi] each edge function lies in an interval (widened by em); a slot with one edge surely positive and
  * another surely negative for every lane fails woop's sign test in every lane, so it is skipped. */
-HZ_INLINE unsigned tile_cull(const tpre_t *p, const tshear_t *ch)
+/* One edge's interval over the shear box: whether it is surely positive (*pos) / surely negative (*neg). */
+HZ_INLINE void edge_signs(const tpre_t *p, int e, const tshear_t *sh, vm *pos, vm *neg)
 {
-    vm pos = vm_of(0), neg = vm_of(0);
-    const vf z = vf_set1(0.0f);
-    for (int e = 0; e < 3; e++) {
-        const vf ex = vf_load(p->ex[e]), ey = vf_load(p->ey[e]), e0 = vf_load(p->e0[e]), em = vf_load(p->em[e]);
-        const vf x1 = vf_mul(ch->sxlo, ex), x2 = vf_mul(ch->sxhi, ex);
-        const vf y1 = vf_mul(ch->sylo, ey), y2 = vf_mul(ch->syhi, ey);
-        const vf lo = vf_sub(vf_add(vf_add(e0, vf_minn(x1, x2)), vf_minn(y1, y2)), em);
-        const vf hi = vf_add(vf_add(vf_add(e0, vf_maxn(x1, x2)), vf_maxn(y1, y2)), em);
-        pos = vm_or(pos, vf_gt(lo, z));
-        neg = vm_or(neg, vf_lt(hi, z));
-    }
-    return ~vm_bits(vm_and(pos, neg));
+    const vf ex = vf_load(p->ex[e]), ey = vf_load(p->ey[e]), e0 = vf_load(p->e0[e]), em = vf_load(p->em[e]);
+    const vf x1 = vf_mul(sh->sxlo, ex), x2 = vf_mul(sh->sxhi, ex);
+    const vf y1 = vf_mul(sh->sylo, ey), y2 = vf_mul(sh->syhi, ey);
+    const vf lo = vf_sub(vf_add(vf_add(e0, vf_minn(x1, x2)), vf_minn(y1, y2)), em);
+    const vf hi = vf_add(vf_add(vf_add(e0, vf_maxn(x1, x2)), vf_maxn(y1, y2)), em);
+    *pos = vf_gt(lo, vf_set1(0.0f));
+    *neg = vf_lt(hi, vf_set1(0.0f));
+}
+
+HZ_INLINE unsigned tile_cull(const tpre_t *p, const tshear_t *sh)
+{
+    vm p0, n0, p1, n1, p2, n2;
+    edge_signs(p, 0, sh, &p0, &n0);
+    edge_signs(p, 1, sh, &p1, &n1);
+    edge_signs(p, 2, sh, &p2, &n2);
+    return ~vm_bits(vm_and(vm_or(vm_or(p0, p1), p2), vm_or(vm_or(n0, n1), n2)));
 }
 
 /* One triangle (slot s) against the lanes lm of chunk ch, from the precomputed terms: woop's operations with the
@@ -991,8 +1002,8 @@ HZ_INLINE unsigned sort_by(unsigned m, const float *d, unsigned *ord)
 }
 
 /* Closest hits of a group. */
-static void tile_closest(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const tsrc_t *src, tgroup_t *g,
-                         hz_bvh_counters_t *k)
+HZ_INLINE void closest_tile_core(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const tsrc_t *src, tgroup_t *g,
+                                 hz_bvh_counters_t *k, const bool one)
 {
     (void)k; /* counters exist only with HZ_FEATURE_STATS */
     uint32_t st_n[HZ_BVH_STACK + W];
@@ -1000,7 +1011,7 @@ static void tile_closest(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const tsrc_t 
     float st_d[HZ_BVH_STACK + W];
     int sp = 0;
     const bool anyhit = bvh->has_anyhit && ctx && ctx->anyhit;
-    tile_bounds_fwd(g, &g->b);
+    tile_bounds(g, false);
     tpre_t pre;
     tshear_t gs; /* the whole group's shear bounds: leaves none of whose triangles any ray may hit are skipped */
     gs = g->ch[0].sh;
@@ -1009,10 +1020,11 @@ static void tile_closest(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const tsrc_t 
         gs.sylo = vf_minn(g->ch[c].sh.sylo, gs.sylo), gs.syhi = vf_maxn(g->ch[c].sh.syhi, gs.syhi);
     }
     uint32_t cur = 0;
-    unsigned a = 0, bnd = g->nch - 1;
+    unsigned a = 0, bnd = one ? 0 : g->nch - 1;
+    const hz_bvh_node_t *const nodes = bvh->nodes;
     for (;;) {
-        const hz_bvh_node_t *n = &bvh->nodes[cur];
-        float lim = range_max(g, a, bnd);
+        const hz_bvh_node_t *n = &nodes[cur];
+        float lim = one ? g->cmax[0] : range_max(g, a, bnd);
         vf tmin;
         HZ_BVH_COUNT(k, nodes, 1);
         unsigned m = ia_node_hit(n, &g->b, vf_set1(lim), &tmin);
@@ -1049,7 +1061,7 @@ static void tile_closest(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const tsrc_t 
                     if (!sm)
                         continue;
                 }
-                const bool per_chunk = use_pre && (sm & (sm - 1)) != 0;
+                const bool per_chunk = use_pre && (sm & (sm - 1)) != 0 && last[j] > first[j];
                 bool changed = false;
                 for (unsigned c = first[j]; c <= last[j]; c++) {
                     const unsigned lanes = c == first[j] ? l0[j] : lanes_hit(n, j, g, &g->ch[c]) & g->live[c];
@@ -1061,7 +1073,7 @@ static void tile_closest(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const tsrc_t 
                         changed |= leaf_closest(bvh, ctx, src, g, c, lanes, slot, cm, use_pre ? &pre : NULL, anyhit);
                 }
                 if (changed)
-                    lim = range_max(g, a, bnd);
+                    lim = one ? g->cmax[0] : range_max(g, a, bnd);
             }
         }
         const unsigned inner = hit & ~leaves;
@@ -1084,12 +1096,21 @@ static void tile_closest(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const tsrc_t 
             if (sp == 0)
                 return;
             --sp;
-            if (st_d[sp] <= range_max(g, st_a[sp], st_b[sp])) {
+            if (st_d[sp] <= (one ? g->cmax[0] : range_max(g, st_a[sp], st_b[sp]))) {
                 cur = st_n[sp], a = st_a[sp], bnd = st_b[sp];
                 break;
             }
         }
     }
+}
+
+static void tile_closest(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const tsrc_t *src, tgroup_t *g,
+                         hz_bvh_counters_t *k)
+{
+    if (g->nch == 1) /* a packet: the same traversal with the ranges folded away */
+        closest_tile_core(bvh, ctx, src, g, k, true);
+    else
+        closest_tile_core(bvh, ctx, src, g, k, false);
 }
 
 /* The hit attributes of every lane that hit (hz_bvh_best_finish's operations), stored into the call's packets. */
@@ -1141,36 +1162,9 @@ static void tile_write_hits(const tgroup_t *g, hz_bvh_rayhitw_t *rh, size_t stri
     }
 }
 
-/* (Re)computes the occlusion bounds of the live lanes: from the far ends when they are closer together than the
- * origins, else from the origins. */
-static void tile_any_bounds(tgroup_t *g, bool try_rev)
-{
-    tile_bounds_fwd(g, &g->b);
-    float omax = -__builtin_inff(), ospread = 0.0f;
-    for (uint32_t c = 0; c < g->nch; c++)
-        if (g->live[c]) {
-            const float m = vf_hmax(vf_sel(vm_of(g->live[c]), g->ch[c].cull, vf_set1(-__builtin_inff())));
-            omax = m > omax ? m : omax;
-        }
-    g->ia_tmax = omax;
-    g->reversed = false;
-    if (!try_rev)
-        return;
-    for (int k = 0; k < 3; k++)
-        ospread += vf_lane0(g->b.of[k]) > vf_lane0(g->b.on[k]) ? vf_lane0(g->b.of[k]) - vf_lane0(g->b.on[k])
-                                                               : vf_lane0(g->b.on[k]) - vf_lane0(g->b.of[k]);
-    tbounds_t rb;
-    float rspread, smax;
-    if (tile_bounds_rev(g, &rb, &rspread, &smax) && rspread < ospread) {
-        g->b = rb;
-        g->ia_tmax = smax;
-        g->reversed = true;
-    }
-}
-
 /* Occlusion of a group: returns nothing, clears live lanes as they are blocked (the caller reads the rest). */
-static void tile_any(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const tsrc_t *src, tgroup_t *g, unsigned *blocked,
-                     hz_bvh_counters_t *k)
+HZ_INLINE void any_tile_core(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const tsrc_t *src, tgroup_t *g,
+                             unsigned *blocked, hz_bvh_counters_t *k, const bool one)
 {
     (void)k; /* counters exist only with HZ_FEATURE_STATS */
     uint32_t st_n[HZ_BVH_STACK + W];
@@ -1181,20 +1175,25 @@ static void tile_any(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const tsrc_t *src
     unsigned nlive = 0;
     for (uint32_t c = 0; c < g->nch; c++)
         nlive += (unsigned)__builtin_popcount(g->live[c]);
-    tile_any_bounds(g, !g->common);
+    tile_bounds(g, true);
     unsigned bounds_live = nlive;
     uint32_t cur = 0;
-    unsigned a = 0, bnd = g->nch - 1, cl = g->nch == 1 ? g->live[0] : 0; /* cl: lanes of chunk a when a == bnd */
+    unsigned a = 0, bnd = one ? 0 : g->nch - 1, cl = g->nch == 1 ? g->live[0] : 0; /* lanes of chunk a when a == bnd */
+    const hz_bvh_node_t *const nodes = bvh->nodes;
+    unsigned single = ~0u; /* the lane prepared in r1 / s1 (chunk * W + lane) */
+    hz_bvh_ray_t r1;
+    sray_t s1;
+    uint32_t id1 = 0;
     for (;;) {
         if (a == bnd && cl && !(cl & (cl - 1))) {
-            /* one ray reaches this subtree: it goes on alone, with its own box tests */
+            /* one ray reaches this subtree: it goes on alone, with its own box tests (prepared once per lane) */
             const unsigned i = (unsigned)__builtin_ctz(cl);
-            hz_bvh_ray_t r1;
-            uint32_t id;
-            sray_t s1;
-            tile_lane_ray(src, g->src[a][i], &r1, &id);
-            sray_init(&s1, &r1);
-            if (any_from(bvh, ctx, &r1, &s1, cur, id, (int)(g->src[a][i] % W), k)) {
+            if (single != a * W + i) {
+                tile_lane_ray(src, g->src[a][i], &r1, &id1);
+                sray_init(&s1, &r1);
+                single = a * W + i;
+            }
+            if (any_from(bvh, ctx, &r1, &s1, cur, id1, (int)(g->src[a][i] % W), k)) {
                 blocked[a] |= cl;
                 g->live[a] &= ~cl;
                 g->ch[a].tfar = vf_sel(vm_of(cl), vf_set1(-__builtin_inff()), g->ch[a].tfar);
@@ -1202,7 +1201,7 @@ static void tile_any(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const tsrc_t *src
                 nlive--;
             }
         } else {
-            const hz_bvh_node_t *n = &bvh->nodes[cur];
+            const hz_bvh_node_t *n = &nodes[cur];
             vf tmin;
             HZ_BVH_COUNT(k, nodes, 1);
             const unsigned m = ia_node_hit(n, &g->b, vf_set1(g->ia_tmax), &tmin);
@@ -1258,8 +1257,8 @@ static void tile_any(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const tsrc_t *src
         }
         if (!nlive)
             return;
-        if (nlive * 2u <= bounds_live && nlive > 1) {
-            tile_any_bounds(g, g->reversed || !g->common);
+        if (!one && nlive * 2u <= bounds_live && nlive > 1) { /* (a packet's bounds: not worth their cost) */
+            tile_bounds(g, true);
             bounds_live = nlive;
         }
         for (;;) {
@@ -1274,6 +1273,15 @@ static void tile_any(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const tsrc_t *src
             break;
         }
     }
+}
+
+static void tile_any(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const tsrc_t *src, tgroup_t *g, unsigned *blocked,
+                     hz_bvh_counters_t *k)
+{
+    if (g->nch == 1)
+        any_tile_core(bvh, ctx, src, g, blocked, k, true);
+    else
+        any_tile_core(bvh, ctx, src, g, blocked, k, false);
 }
 
 /* ---- entry points: packets of KW rays, one or many ---- */

@@ -33,6 +33,12 @@ HZ_INLINE float vf_lane0(vf v) { return vgetq_lane_f32(v, 0); }
 HZ_INLINE float vf_hmin(vf v) { return vminvq_f32(v); }
 HZ_INLINE float vf_hmax(vf v) { return vmaxvq_f32(v); }
 
+/* Horizontal minima of 4 vectors at once: out[i] is the minimum of v[i]'s lanes. */
+HZ_INLINE void vf_hmins(const vf *v, float *out)
+{
+    vst1q_f32(out, vpminq_f32(vpminq_f32(v[0], v[1]), vpminq_f32(v[2], v[3])));
+}
+
 HZ_INLINE vm vm_and(vm a, vm b) { return vandq_u32(a, b); }
 HZ_INLINE vm vm_or(vm a, vm b) { return vorrq_u32(a, b); }
 HZ_INLINE vm vm_andn(vm a, vm b) { return vbicq_u32(a, b); } /* a & ~b */
