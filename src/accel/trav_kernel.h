@@ -381,6 +381,430 @@ bool hz_bvh_simd_any(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const hz_bvh_ray_
     return hit;
 }
 
+/* Children of a node in order of entry distance d (nearest first): their slots in ord, their count returned. */
+HZ_INLINE unsigned sort_by(unsigned m, const float *d, unsigned *ord)
+{
+    unsigned c = 0;
+    for (; m; m &= m - 1) {
+        const unsigned j = (unsigned)__builtin_ctz(m);
+        unsigned q = c++;
+        while (q > 0 && d[ord[q - 1]] > d[j]) {
+            ord[q] = ord[q - 1];
+            q--;
+        }
+        ord[q] = j;
+    }
+    return c;
+}
+
+/* =========================================================================================================
+ * packets: KW rays sharing their direction signs and watertight axes, traced together through a node's boxes
+ * with the packet's interval bounds (one test for the packet), leaf children tested right away against the
+ * lanes whose own slab test reaches them; occlusion keeps lane masks on the stack, shrinks its bounds to the
+ * live lanes and continues a subtree that one lane reaches as that single ray. This is the tile traversal of
+ * one chunk, kept in its own lean form: for single packets it was a third faster than the general tile code
+ * doing the same work (the same node visits and triangle tests). */
+typedef struct frustum {
+    unsigned active;
+    size_t nx, ny, nz, fx, fy, fz; /* near and far planes (the direction signs) */
+    vf on[3], of[3], rmin[3], rmax[3]; /* origins for the near and far planes, reciprocal ranges */
+    vf tnear;                      /* smallest tnear of the packet */
+    /* lanes, for leaf boxes and the leaf test */
+    vf o[3], r[3];
+    vf okx, oky, okz, sx, sy, sz, ltnear, ltfar;
+    int kx, ky, kz;
+    unsigned negs; /* bit k: the packet's direction is negative on axis k */
+} frustum_t;
+
+/* The packet's interval bounds over the lanes `lanes` (tn the lanes' tnear): minima of o, r and tnear, maxima (as
+ * minima of negatives) of o and r, KW horizontal minima at once. Lanes that drop out only shrink the bounds. */
+static void frustum_bounds(frustum_t *f, unsigned lanes, vf tn)
+{
+    const vf inf = vf_set1(__builtin_inff()), zero = vf_set1(0.0f);
+    const vm lm = vm_of(lanes);
+    vf v[16];
+    float r[16] HZ_ALIGNED(32);
+    for (int k = 0; k < 3; k++) {
+        v[k] = vf_sel(lm, f->o[k], inf);
+        v[3 + k] = vf_sel(lm, f->r[k], inf);
+        v[7 + k] = vf_sel(lm, vf_sub(zero, f->o[k]), inf);
+        v[10 + k] = vf_sel(lm, vf_sub(zero, f->r[k]), inf);
+    }
+    v[6] = vf_sel(lm, tn, inf);
+    for (int q = 13; q < 16; q++)
+        v[q] = inf;
+    for (int q = 0; q < 13; q += W)
+        vf_hmins(v + q, r + q);
+    for (int k = 0; k < 3; k++) {
+        const float olo = r[k], ohi = -r[7 + k];
+        const bool neg = (f->negs >> k) & 1u;
+        f->on[k] = vf_set1(neg ? olo : ohi);
+        f->of[k] = vf_set1(neg ? ohi : olo);
+        f->rmin[k] = vf_set1(r[3 + k]);
+        f->rmax[k] = vf_set1(-r[10 + k]);
+    }
+    f->tnear = vf_set1(r[6]);
+}
+
+/* A packet whose active lanes (at least two) share the direction signs and the watertight axes, with finite
+ * reciprocals; false for any other (it goes through the tile code, which groups its lanes). */
+static bool frustum_init(frustum_t *f, const int32_t *valid, const hz_bvh_rayw_t *ray)
+{
+    const vf inf = vf_set1(__builtin_inff()), zero = vf_set1(0.0f);
+    const vf o[3] = { vf_load(ray->org_x), vf_load(ray->org_y), vf_load(ray->org_z) };
+    const vf d[3] = { vf_load(ray->dir_x), vf_load(ray->dir_y), vf_load(ray->dir_z) };
+    const vf tn = vf_load(ray->tnear), tf = vf_load(ray->tfar);
+    unsigned vb = 0;
+    for (int i = 0; i < W; i++)
+        vb |= (unsigned)(valid[i] != 0) << i;
+    vm ok = vm_of(vb), nonzero = vm_of(0);
+    for (int k = 0; k < 3; k++) {
+        ok = vm_and(ok, vm_and(vf_lt(vf_abs(o[k]), inf), vf_lt(vf_abs(d[k]), inf)));
+        nonzero = vm_or(nonzero, vf_neu(d[k], zero));
+    }
+    ok = vm_and(vm_and(ok, nonzero), vf_le(tn, tf)); /* hz_bvh_ray_prep's contract check, lane by lane */
+    const unsigned act = vm_bits(ok);
+    f->active = act;
+    if (__builtin_popcount(act) < 2)
+        return false;
+    vf r[3];
+    unsigned negs = 0;
+    for (int k = 0; k < 3; k++) {
+        r[k] = vf_div(vf_set1(1.0f), d[k]);
+        const unsigned neg = vm_bits(vf_lt(r[k], zero)) & act;
+        const unsigned fin = vm_bits(vf_lt(vf_abs(r[k]), inf)) & act;
+        if ((neg != 0 && neg != act) || fin != act)
+            return false;
+        negs |= (unsigned)(neg != 0) << k;
+    }
+    /* dominant axis: kz = 0; |dy| > |d[kz]| -> 1; |dz| > |d[kz]| -> 2 (as in hz_bvh_ray_prep) */
+    const vf ax = vf_abs(d[0]), ay = vf_abs(d[1]), az = vf_abs(d[2]);
+    const vm y_over = vf_gt(ay, ax);
+    const vm z_over = vf_gt(az, vf_sel(y_over, ay, ax));
+    const unsigned my = vm_bits(y_over) & act, mz = vm_bits(z_over) & act;
+    int kz;
+    if (mz == act)
+        kz = 2;
+    else if (mz == 0 && my == act)
+        kz = 1;
+    else if (mz == 0 && my == 0)
+        kz = 0;
+    else
+        return false;
+    int kx = kz == 2 ? 0 : kz + 1, ky = kx == 2 ? 0 : kx + 1;
+    if ((negs >> kz) & 1u) {
+        const int t = kx;
+        kx = ky;
+        ky = t;
+    }
+    f->negs = negs;
+    for (int k = 0; k < 3; k++)
+        f->o[k] = o[k], f->r[k] = r[k];
+    frustum_bounds(f, act, tn);
+    const size_t a = offsetof(hz_bvh_node_t, hi_x) - offsetof(hz_bvh_node_t, lo_x);
+    f->nx = offsetof(hz_bvh_node_t, lo_x) + ((negs & 1u) ? a : 0);
+    f->ny = offsetof(hz_bvh_node_t, lo_y) + ((negs & 2u) ? a : 0);
+    f->nz = offsetof(hz_bvh_node_t, lo_z) + ((negs & 4u) ? a : 0);
+    f->fx = offsetof(hz_bvh_node_t, lo_x) + ((negs & 1u) ? 0 : a);
+    f->fy = offsetof(hz_bvh_node_t, lo_y) + ((negs & 2u) ? 0 : a);
+    f->fz = offsetof(hz_bvh_node_t, lo_z) + ((negs & 4u) ? 0 : a);
+    const vm lanes = vm_of(act);
+    f->ltnear = vf_sel(lanes, tn, inf);
+    f->ltfar = vf_sel(lanes, tf, vf_sub(zero, inf));
+    f->kx = kx, f->ky = ky, f->kz = kz;
+    f->okx = o[kx], f->oky = o[ky], f->okz = o[kz];
+    /* shear constants exactly as hz_bvh_ray_prep computes them */
+    f->sx = vf_mul(d[kx], r[kz]);
+    f->sy = vf_mul(d[ky], r[kz]);
+    f->sz = r[kz];
+    return true;
+}
+
+HZ_INLINE unsigned fr_node_hit(const hz_bvh_node_t *n, const frustum_t *f, vf tfar_max, vf *tmin_out)
+{
+    const vf pnx = vf_sub(ldn(n, f->nx), f->on[0]), pny = vf_sub(ldn(n, f->ny), f->on[1]);
+    const vf pnz = vf_sub(ldn(n, f->nz), f->on[2]);
+    const vf pfx = vf_sub(ldn(n, f->fx), f->of[0]), pfy = vf_sub(ldn(n, f->fy), f->of[1]);
+    const vf pfz = vf_sub(ldn(n, f->fz), f->of[2]);
+    const vf nx = vf_minn(vf_mul(pnx, f->rmin[0]), vf_mul(pnx, f->rmax[0]));
+    const vf ny = vf_minn(vf_mul(pny, f->rmin[1]), vf_mul(pny, f->rmax[1]));
+    const vf nz = vf_minn(vf_mul(pnz, f->rmin[2]), vf_mul(pnz, f->rmax[2]));
+    const vf fx = vf_maxn(vf_mul(pfx, f->rmin[0]), vf_mul(pfx, f->rmax[0]));
+    const vf fy = vf_maxn(vf_mul(pfy, f->rmin[1]), vf_mul(pfy, f->rmax[1]));
+    const vf fz = vf_maxn(vf_mul(pfz, f->rmin[2]), vf_mul(pfz, f->rmax[2]));
+    const vf tmin = vf_maxn(vf_maxn(nx, ny), vf_maxn(nz, f->tnear));
+    const vf tmax = vf_minn(vf_mul(vf_minn(vf_minn(fx, fy), fz), vf_set1(HZ_BVH_ROBUST)), tfar_max);
+    *tmin_out = tmin;
+    return vm_bits(vf_le(tmin, tmax));
+}
+
+/* Lanes whose own ray meets child j of node n within [tnear, cull[lane]] (the lane's slab test). */
+HZ_INLINE unsigned fr_lanes_hit(const hz_bvh_node_t *n, unsigned j, const frustum_t *f, vf cull)
+{
+    const char *c = (const char *)n + 4u * j;
+#define PLANE(off) vf_set1(*(const float *)(const void *)(c + (off)))
+    const vf tnx = vf_mul(vf_sub(PLANE(f->nx), f->o[0]), f->r[0]);
+    const vf tny = vf_mul(vf_sub(PLANE(f->ny), f->o[1]), f->r[1]);
+    const vf tnz = vf_mul(vf_sub(PLANE(f->nz), f->o[2]), f->r[2]);
+    const vf tfx = vf_mul(vf_sub(PLANE(f->fx), f->o[0]), f->r[0]);
+    const vf tfy = vf_mul(vf_sub(PLANE(f->fy), f->o[1]), f->r[1]);
+    const vf tfz = vf_mul(vf_sub(PLANE(f->fz), f->o[2]), f->r[2]);
+#undef PLANE
+    const vf tmin = vf_maxn(vf_maxn(tnx, tny), vf_maxn(tnz, f->ltnear));
+    const vf tmax = vf_minn(vf_mul(vf_minn(vf_minn(tfx, tfy), tfz), vf_set1(HZ_BVH_ROBUST)), cull);
+    return vm_bits(vf_le(tmin, tmax));
+}
+
+/* One triangle (block slot s) against the packet's lanes lm (see woop). */
+HZ_INLINE unsigned fr_tri_hit(const hz_bvh_block_t *b, unsigned s, const frustum_t *f, vf tfar, unsigned lm,
+                              vf *t_out, vf *v_out, vf *w_out, vf *det_out)
+{
+    return woop(vf_sub(vf_set1(b->v[0][f->kx][s]), f->okx), vf_sub(vf_set1(b->v[0][f->ky][s]), f->oky),
+                vf_sub(vf_set1(b->v[0][f->kz][s]), f->okz), vf_sub(vf_set1(b->v[1][f->kx][s]), f->okx),
+                vf_sub(vf_set1(b->v[1][f->ky][s]), f->oky), vf_sub(vf_set1(b->v[1][f->kz][s]), f->okz),
+                vf_sub(vf_set1(b->v[2][f->kx][s]), f->okx), vf_sub(vf_set1(b->v[2][f->ky][s]), f->oky),
+                vf_sub(vf_set1(b->v[2][f->kz][s]), f->okz), f->sx, f->sy, f->sz, f->ltnear, tfar, lm, t_out,
+                v_out, w_out, det_out);
+}
+
+/* Asks the any-hit callback about lane i (the ray prepared as the scalar kernels do). */
+static bool fr_anyhit(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, uint32_t slot, const hz_bvh_rayw_t *ray, unsigned i,
+                      float t)
+{
+    hz_bvh_ray_t r;
+    hz_bvh_ray_prep(&r, ray->org_x[i], ray->org_y[i], ray->org_z[i], ray->dir_x[i], ray->dir_y[i], ray->dir_z[i],
+                    ray->tnear[i], ray->tfar[i]);
+    return hz_bvh_anyhit(bvh, ctx, slot, &r, t, ray->id[i], (int)i);
+}
+
+/* Closest hits of a packet. The best hit of every lane lives in vectors (t, triangle, slot, weights, normal); a
+ * triangle updates all lanes it beats at once; any-hit triangles go lane by lane through the callback. */
+static void frustum_closest(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const frustum_t *f, hz_bvh_rayhitw_t *rh,
+                            hz_bvh_counters_t *k)
+{
+    (void)k; /* counters exist only with HZ_FEATURE_STATS */
+    uint32_t st_c[HZ_BVH_STACK + W];
+    float st_d[HZ_BVH_STACK + W];
+    int sp = 0;
+    uint32_t cur = 0;
+    const hz_bvh_node_t *const nodes = bvh->nodes;
+    const hz_bvh_block_t *const blocks = bvh->blocks;
+    const bool anyhit = bvh->has_anyhit && ctx && ctx->anyhit;
+    vf tfar = f->ltfar, bv = vf_set1(0.0f), bw = vf_set1(0.0f), bdet = vf_set1(1.0f);
+    vf bn0 = vf_set1(0.0f), bn1 = vf_set1(0.0f), bn2 = vf_set1(0.0f);
+    vi bprim = vi_set1(0x7FFFFFFF), bslot = vi_set1(-1);
+    float tfar_max = vf_hmax(tfar) * HZ_BVH_CULL; /* for culling nodes (see bvh.h) */
+    vf vtfar_max = vf_set1(tfar_max);
+    for (;;) {
+        /* cur is an inner node here: leaf children are tested at once, against the lanes that reach them
+         * (nearest first), inner children go through the ordered stack */
+        const hz_bvh_node_t *n = &nodes[cur];
+        vf tmin;
+        HZ_BVH_COUNT(k, nodes, 1);
+        const unsigned m = fr_node_hit(n, f, vtfar_max, &tmin);
+        const unsigned leafbits = vi_signs(vi_load(n->child)) & m;
+        if (leafbits) {
+            float d[W] HZ_ALIGNED(32);
+            vf_store(d, tmin);
+            unsigned order[W];
+            const unsigned nl = sort_by(leafbits, d, order);
+            bool changed = false;
+            for (unsigned q = 0; q < nl; q++) {
+                const unsigned j = order[q];
+                if (d[j] > tfar_max)
+                    break;
+                const unsigned lanes = fr_lanes_hit(n, j, f, vf_mul(tfar, vf_set1(HZ_BVH_CULL))) & f->active;
+                if (!lanes)
+                    continue;
+                const uint32_t cw = n->child[j], slot = hz_bvh_leaf_slot(cw), cnt = hz_bvh_leaf_count(cw);
+                const hz_bvh_block_t *b = &blocks[slot / W];
+                HZ_BVH_COUNT(k, tris, (uint64_t)cnt * (uint64_t)__builtin_popcount(lanes));
+                for (unsigned s = slot % W; s < slot % W + cnt; s++) {
+                    vf t, V, Wv, det;
+                    const unsigned mm = fr_tri_hit(b, s, f, tfar, lanes, &t, &V, &Wv, &det);
+                    if (!mm)
+                        continue;
+                    const uint32_t pw = b->prim[s], prim = pw & HZ_BVH_PRIM_MASK, hs = (slot / W) * W + s;
+                    const vi vprim = vi_set1((int32_t)prim);
+                    /* t < best, or t == best and a lower triangle index (best starts at 0x7FFFFFFF) */
+                    unsigned bm = vm_bits(vm_or(vf_lt(t, tfar), vm_and(vf_eq(t, tfar), vi_gt(bprim, vprim)))) & mm;
+                    if (!bm)
+                        continue;
+                    if (anyhit && (pw & HZ_BVH_PRIM_ANYHIT)) {
+                        float tv[W] HZ_ALIGNED(32);
+                        vf_store(tv, t);
+                        for (unsigned x = bm; x; x &= x - 1) {
+                            const unsigned i = (unsigned)__builtin_ctz(x);
+                            if (!fr_anyhit(bvh, ctx, hs, &rh->ray, i, tv[i]))
+                                bm &= ~(1u << i);
+                        }
+                        if (!bm)
+                            continue;
+                    }
+                    const vm better = vm_of(bm);
+                    tfar = vf_sel(better, t, tfar);
+                    bv = vf_sel(better, V, bv);
+                    bw = vf_sel(better, Wv, bw);
+                    bdet = vf_sel(better, det, bdet);
+                    bprim = vi_sel(better, vprim, bprim);
+                    bslot = vi_sel(better, vi_set1((int32_t)hs), bslot);
+                    float e1[3], e2[3]; /* the normal as hz_bvh_best_finish computes it */
+                    for (int c = 0; c < 3; c++) {
+                        e1[c] = b->v[1][c][s] - b->v[0][c][s];
+                        e2[c] = b->v[2][c][s] - b->v[0][c][s];
+                    }
+                    bn0 = vf_sel(better, vf_set1(e1[1] * e2[2] - e1[2] * e2[1]), bn0);
+                    bn1 = vf_sel(better, vf_set1(e1[2] * e2[0] - e1[0] * e2[2]), bn1);
+                    bn2 = vf_sel(better, vf_set1(e1[0] * e2[1] - e1[1] * e2[0]), bn2);
+                    changed = true;
+                }
+                if (changed) {
+                    tfar_max = vf_hmax(tfar) * HZ_BVH_CULL;
+                    vtfar_max = vf_set1(tfar_max);
+                }
+            }
+        }
+        const unsigned inner = m & ~leafbits;
+        if (inner) {
+            order_children(n, inner, tmin, &cur, st_c, st_d, &sp);
+            continue;
+        }
+        for (;;) {
+            if (sp == 0)
+                goto done;
+            --sp;
+            if (st_d[sp] <= tfar_max) {
+                cur = st_c[sp];
+                break;
+            }
+        }
+    }
+done:;
+    const vm hitm = vi_gt(bslot, vi_set1(-1));
+    if (!vm_bits(hitm))
+        return;
+    /* u = v * (1 / det) as hz_bvh_best_finish; stores into the lanes that hit */
+    const vf rdet = vf_div(vf_set1(1.0f), bdet);
+    vf_store(rh->ray.tfar, vf_sel(hitm, tfar, vf_load(rh->ray.tfar)));
+    vf_store(rh->hit.u, vf_sel(hitm, vf_mul(bv, rdet), vf_load(rh->hit.u)));
+    vf_store(rh->hit.v, vf_sel(hitm, vf_mul(bw, rdet), vf_load(rh->hit.v)));
+    vf_store(rh->hit.ng_x, vf_sel(hitm, bn0, vf_load(rh->hit.ng_x)));
+    vf_store(rh->hit.ng_y, vf_sel(hitm, bn1, vf_load(rh->hit.ng_y)));
+    vf_store(rh->hit.ng_z, vf_sel(hitm, bn2, vf_load(rh->hit.ng_z)));
+    vi_store(rh->hit.prim_id, vi_sel(hitm, bprim, vi_load(rh->hit.prim_id)));
+    vi_store(rh->hit.geom_id, vi_sel(hitm, vi_set1(0), vi_load(rh->hit.geom_id)));
+    vi_store(rh->hit.inst_id[0], vi_sel(hitm, vi_set1(-1), vi_load(rh->hit.inst_id[0])));
+}
+
+/* Occlusion of a packet: lanes drop out as they find a hit; children in any order. The interval test of a
+ * node's boxes only preselects: each child it passes gets the lanes' own slab tests, and goes on with the lanes
+ * that meet it, so the packet visits about the union of its rays' nodes. A subtree that one lane reaches goes on
+ * as that single ray. The bounds are those of the live lanes: when lanes drop out they are recomputed.
+ * Returns the blocked lanes. */
+static unsigned frustum_any(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const frustum_t *f0, const hz_bvh_rayw_t *ray,
+                            hz_bvh_counters_t *k)
+{
+    uint32_t st_c[HZ_BVH_STACK + W];
+    unsigned st_m[HZ_BVH_STACK + W];
+    int sp = 0;
+    uint32_t cur = 0;
+    const hz_bvh_node_t *const nodes = bvh->nodes;
+    const hz_bvh_block_t *const blocks = bvh->blocks;
+    const bool anyhit = bvh->has_anyhit && ctx && ctx->anyhit;
+    frustum_t fl;
+    const frustum_t *f = f0;
+    vf tfar = f->ltfar;
+    vf cull = vf_mul(tfar, vf_set1(HZ_BVH_CULL)); /* per lane, for culling (see bvh.h) */
+    vf vtfar_max = vf_set1(vf_hmax(tfar) * HZ_BVH_CULL);
+    unsigned live = f->active, cm = live; /* cm: the live lanes that reach cur */
+    int single_lane = -1;                 /* the lane prepared in r1 / s1 */
+    hz_bvh_ray_t r1;
+    sray_t s1;
+    for (;;) {
+        unsigned done = 0;
+        if ((cm & (cm - 1)) == 0) {
+            /* one lane reaches this subtree: it goes on alone, with its own box tests */
+            const unsigned i = (unsigned)__builtin_ctz(cm);
+            if ((int)i != single_lane) {
+                hz_bvh_ray_prep(&r1, ray->org_x[i], ray->org_y[i], ray->org_z[i], ray->dir_x[i], ray->dir_y[i],
+                                ray->dir_z[i], ray->tnear[i], ray->tfar[i]);
+                sray_init(&s1, &r1);
+                single_lane = (int)i;
+            }
+            if (any_from(bvh, ctx, &r1, &s1, cur, ray->id[i], (int)i, k))
+                done = cm;
+        } else {
+            const hz_bvh_node_t *n = &nodes[cur];
+            vf tmin;
+            HZ_BVH_COUNT(k, nodes, 1);
+            const unsigned m = fr_node_hit(n, f, vtfar_max, &tmin);
+            for (unsigned cb = m; cb; cb &= cb - 1) {
+                const unsigned j = (unsigned)__builtin_ctz(cb);
+                unsigned lanes = fr_lanes_hit(n, j, f, cull) & cm & ~done;
+                if (!lanes)
+                    continue;
+                const uint32_t cw = n->child[j];
+                if (!hz_bvh_is_leaf(cw)) {
+                    st_c[sp] = cw;
+                    st_m[sp] = lanes;
+                    sp++;
+                    continue;
+                }
+                const uint32_t slot = hz_bvh_leaf_slot(cw), cnt = hz_bvh_leaf_count(cw);
+                const hz_bvh_block_t *b = &blocks[slot / W];
+                HZ_BVH_COUNT(k, tris, (uint64_t)cnt * (uint64_t)__builtin_popcount(lanes));
+                for (unsigned s = slot % W; s < slot % W + cnt && lanes; s++) {
+                    vf t, V, Wv, det;
+                    unsigned mm = fr_tri_hit(b, s, f, tfar, lanes, &t, &V, &Wv, &det);
+                    if (!mm)
+                        continue;
+                    const uint32_t hs = (slot / W) * W + s;
+                    if (anyhit && (b->prim[s] & HZ_BVH_PRIM_ANYHIT)) {
+                        float tv[W] HZ_ALIGNED(32);
+                        vf_store(tv, t);
+                        for (unsigned x = mm; x; x &= x - 1) {
+                            const unsigned i = (unsigned)__builtin_ctz(x);
+                            if (!fr_anyhit(bvh, ctx, hs, ray, i, tv[i]))
+                                mm &= ~(1u << i);
+                        }
+                    }
+                    done |= mm;
+                    lanes &= ~mm;
+                }
+                if (done == cm)
+                    break;
+            }
+        }
+        if (done) {
+            live &= ~done;
+            if (!live)
+                break;
+            tfar = vf_sel(vm_of(done), vf_set1(-__builtin_inff()), tfar);
+            cull = vf_mul(tfar, vf_set1(HZ_BVH_CULL));
+            if (live & (live - 1)) {
+                if (f != &fl) {
+                    fl = *f0;
+                    f = &fl;
+                }
+                fl.active = live;
+                frustum_bounds(&fl, live, fl.ltnear);
+            }
+            vtfar_max = vf_set1(vf_hmax(tfar) * HZ_BVH_CULL);
+        }
+        for (;;) {
+            if (sp == 0)
+                return f0->active & ~live;
+            --sp;
+            cm = st_m[sp] & live;
+            if (cm) {
+                cur = st_c[sp];
+                break;
+            }
+        }
+    }
+    return f0->active;
+}
+
 /* =========================================================================================================
  * tiles: large coherent packets */
 #define TILE_RAYS 256u
@@ -985,22 +1409,6 @@ HZ_INLINE float range_max(const tgroup_t *g, unsigned a, unsigned b)
     return m;
 }
 
-/* Children of a node in order of entry distance d (nearest first): their slots in ord, their count returned. */
-HZ_INLINE unsigned sort_by(unsigned m, const float *d, unsigned *ord)
-{
-    unsigned c = 0;
-    for (; m; m &= m - 1) {
-        const unsigned j = (unsigned)__builtin_ctz(m);
-        unsigned q = c++;
-        while (q > 0 && d[ord[q - 1]] > d[j]) {
-            ord[q] = ord[q - 1];
-            q--;
-        }
-        ord[q] = j;
-    }
-    return c;
-}
-
 /* Closest hits of a group. */
 HZ_INLINE void closest_tile_core(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const tsrc_t *src, tgroup_t *g,
                                  hz_bvh_counters_t *k, const bool one)
@@ -1475,7 +1883,10 @@ void hz_bvh_simd_intersect_tile(const int32_t *valid, const hz_bvh_t *bvh, hz_ac
                                 hz_bvh_rayhitw_t *rh, uint32_t n, hz_accel_kernel_t kernel)
 {
     hz_bvh_counters_t k = { 0, 0 };
-    if (kernel == HZ_ACCEL_KERNEL_SIMD_PACKET) {
+    frustum_t f;
+    if (kernel == HZ_ACCEL_KERNEL_SIMD_PACKET && n == 1 && frustum_init(&f, valid, &rh->ray)) {
+        frustum_closest(bvh, ctx, &f, rh, &k);
+    } else if (kernel == HZ_ACCEL_KERNEL_SIMD_PACKET) {
         for (uint32_t p = 0; p < n; p += TILE_CHUNKS)
             tile_intersect(valid + (size_t)p * W, bvh, ctx, rh + p, sizeof *rh,
                            n - p < TILE_CHUNKS ? n - p : TILE_CHUNKS, &k);
@@ -1490,7 +1901,12 @@ void hz_bvh_simd_occluded_tile(const int32_t *valid, const hz_bvh_t *bvh, hz_acc
                                uint32_t n, hz_accel_kernel_t kernel)
 {
     hz_bvh_counters_t k = { 0, 0 };
-    if (kernel == HZ_ACCEL_KERNEL_SIMD_PACKET) {
+    frustum_t f;
+    if (kernel == HZ_ACCEL_KERNEL_SIMD_PACKET && n == 1 && frustum_init(&f, valid, ray)) {
+        const unsigned hit = frustum_any(bvh, ctx, &f, ray, &k);
+        if (hit)
+            vf_store(ray->tfar, vf_sel(vm_of(hit), vf_set1(-__builtin_inff()), vf_load(ray->tfar)));
+    } else if (kernel == HZ_ACCEL_KERNEL_SIMD_PACKET) {
         for (uint32_t p = 0; p < n; p += TILE_CHUNKS)
             tile_occluded(valid + (size_t)p * W, bvh, ctx, ray + p, sizeof *ray,
                           n - p < TILE_CHUNKS ? n - p : TILE_CHUNKS, &k);
