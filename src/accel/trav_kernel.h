@@ -1167,17 +1167,23 @@ HZ_INLINE unsigned ia_node_hit(const hz_bvh_node_t *n, const tbounds_t *b, vf tm
     return vm_bits(vf_le(tmin, tmax));
 }
 
+/* The forward near / far plane offsets of a group, passed by value so they stay in registers (through pointers
+ * the build's -fno-strict-aliasing reloaded them after every store). */
+typedef struct tplanes {
+    size_t nx, ny, nz, fx, fy, fz;
+} tplanes_t;
+
 /* Lanes of chunk ch whose own ray meets child j of n within [tnear, cull] (the scalar reference's slab test). */
-HZ_INLINE unsigned lanes_hit(const hz_bvh_node_t *n, unsigned j, const tgroup_t *g, const tchunk_t *ch)
+HZ_INLINE unsigned lanes_hit(const hz_bvh_node_t *n, unsigned j, tplanes_t pl, const tchunk_t *ch)
 {
     const char *c = (const char *)n + 4u * j;
 #define PLANE(off) vf_set1(*(const float *)(const void *)(c + (off)))
-    const vf tnx = vf_mul(vf_sub(PLANE(g->nx), ch->o[0]), ch->r[0]);
-    const vf tny = vf_mul(vf_sub(PLANE(g->ny), ch->o[1]), ch->r[1]);
-    const vf tnz = vf_mul(vf_sub(PLANE(g->nz), ch->o[2]), ch->r[2]);
-    const vf tfx = vf_mul(vf_sub(PLANE(g->fx), ch->o[0]), ch->r[0]);
-    const vf tfy = vf_mul(vf_sub(PLANE(g->fy), ch->o[1]), ch->r[1]);
-    const vf tfz = vf_mul(vf_sub(PLANE(g->fz), ch->o[2]), ch->r[2]);
+    const vf tnx = vf_mul(vf_sub(PLANE(pl.nx), ch->o[0]), ch->r[0]);
+    const vf tny = vf_mul(vf_sub(PLANE(pl.ny), ch->o[1]), ch->r[1]);
+    const vf tnz = vf_mul(vf_sub(PLANE(pl.nz), ch->o[2]), ch->r[2]);
+    const vf tfx = vf_mul(vf_sub(PLANE(pl.fx), ch->o[0]), ch->r[0]);
+    const vf tfy = vf_mul(vf_sub(PLANE(pl.fy), ch->o[1]), ch->r[1]);
+    const vf tfz = vf_mul(vf_sub(PLANE(pl.fz), ch->o[2]), ch->r[2]);
 #undef PLANE
     const vf tmin = vf_maxn(vf_maxn(tnx, tny), vf_maxn(tnz, ch->tnear));
     const vf tmax = vf_minn(vf_mul(vf_minn(vf_minn(tfx, tfy), tfz), vf_set1(HZ_BVH_ROBUST)), ch->cull);
@@ -1186,17 +1192,17 @@ HZ_INLINE unsigned lanes_hit(const hz_bvh_node_t *n, unsigned j, const tgroup_t 
 
 /* The first and the last chunk in [a, b] with live lanes that reach child j; false when none does. *l0: the
  * first chunk's lanes. */
-HZ_INLINE bool child_range(const hz_bvh_node_t *n, unsigned j, const tgroup_t *g, unsigned a, unsigned b,
-                           unsigned *first, unsigned *last, unsigned *l0)
+HZ_INLINE bool child_range(const hz_bvh_node_t *n, unsigned j, tplanes_t pl, const tgroup_t *g, unsigned a,
+                           unsigned b, unsigned *first, unsigned *last, unsigned *l0)
 {
     unsigned c = a, l = 0;
     for (; c <= b; c++)
-        if ((l = lanes_hit(n, j, g, &g->ch[c]) & g->live[c]) != 0)
+        if ((l = lanes_hit(n, j, pl, &g->ch[c]) & g->live[c]) != 0)
             break;
     if (c > b)
         return false;
     unsigned e = b;
-    while (e > c && !(lanes_hit(n, j, g, &g->ch[e]) & g->live[e]))
+    while (e > c && !(lanes_hit(n, j, pl, &g->ch[e]) & g->live[e]))
         e--;
     *first = c, *last = e, *l0 = l;
     return true;
@@ -1430,18 +1436,20 @@ HZ_INLINE void closest_tile_core(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const
     uint32_t cur = 0;
     unsigned a = 0, bnd = one ? 0 : g->nch - 1;
     const hz_bvh_node_t *const nodes = bvh->nodes;
+    const tplanes_t pl = { g->nx, g->ny, g->nz, g->fx, g->fy, g->fz };
+    const tbounds_t gb = g->b;
     for (;;) {
         const hz_bvh_node_t *n = &nodes[cur];
         float lim = one ? g->cmax[0] : range_max(g, a, bnd);
         vf tmin;
         HZ_BVH_COUNT(k, nodes, 1);
-        unsigned m = ia_node_hit(n, &g->b, vf_set1(lim), &tmin);
+        unsigned m = ia_node_hit(n, &gb, vf_set1(lim), &tmin);
         /* children's ranges: for a one-chunk range inner children keep it (their own nodes test the lanes) */
         unsigned first[W], last[W], l0[W], hit = 0;
         const unsigned leafw = vi_signs(vi_load(n->child)) & m;
         for (unsigned x = a == bnd ? leafw : m; x; x &= x - 1) {
             const unsigned j = (unsigned)__builtin_ctz(x);
-            if (child_range(n, j, g, a, bnd, &first[j], &last[j], &l0[j]))
+            if (child_range(n, j, pl, g, a, bnd, &first[j], &last[j], &l0[j]))
                 hit |= 1u << j;
         }
         if (a == bnd)
@@ -1472,7 +1480,7 @@ HZ_INLINE void closest_tile_core(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const
                 const bool per_chunk = use_pre && (sm & (sm - 1)) != 0 && last[j] > first[j];
                 bool changed = false;
                 for (unsigned c = first[j]; c <= last[j]; c++) {
-                    const unsigned lanes = c == first[j] ? l0[j] : lanes_hit(n, j, g, &g->ch[c]) & g->live[c];
+                    const unsigned lanes = c == first[j] ? l0[j] : lanes_hit(n, j, pl, &g->ch[c]) & g->live[c];
                     if (!lanes)
                         continue;
                     const unsigned cm = per_chunk ? sm & tile_cull(&pre, &g->ch[c].sh) : sm;
@@ -1588,6 +1596,7 @@ HZ_INLINE void any_tile_core(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const tsr
     uint32_t cur = 0;
     unsigned a = 0, bnd = one ? 0 : g->nch - 1, cl = g->nch == 1 ? g->live[0] : 0; /* lanes of chunk a when a == bnd */
     const hz_bvh_node_t *const nodes = bvh->nodes;
+    const tplanes_t pl = { g->nx, g->ny, g->nz, g->fx, g->fy, g->fz };
     unsigned single = ~0u; /* the lane prepared in r1 / s1 (chunk * W + lane) */
     hz_bvh_ray_t r1;
     sray_t s1;
@@ -1616,7 +1625,7 @@ HZ_INLINE void any_tile_core(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const tsr
             for (unsigned x = m; x; x &= x - 1) {
                 const unsigned j = (unsigned)__builtin_ctz(x);
                 unsigned first, last, l0;
-                if (!child_range(n, j, g, a, bnd, &first, &last, &l0))
+                if (!child_range(n, j, pl, g, a, bnd, &first, &last, &l0))
                     continue;
                 const uint32_t cw = n->child[j];
                 if (!hz_bvh_is_leaf(cw)) {
@@ -1628,7 +1637,7 @@ HZ_INLINE void any_tile_core(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const tsr
                 const uint32_t slot = hz_bvh_leaf_slot(cw), cnt = hz_bvh_leaf_count(cw);
                 const hz_bvh_block_t *b = &bvh->blocks[slot / W];
                 for (unsigned c = first; c <= last; c++) {
-                    unsigned lanes = c == first ? l0 : lanes_hit(n, j, g, &g->ch[c]) & g->live[c];
+                    unsigned lanes = c == first ? l0 : lanes_hit(n, j, pl, &g->ch[c]) & g->live[c];
                     if (!lanes)
                         continue;
                     HZ_BVH_COUNT(k, tris, (uint64_t)cnt * (uint64_t)__builtin_popcount(lanes));
