@@ -212,8 +212,9 @@ HZ_INLINE const hz_bvh_block_t *block_at(const hz_bvh_t *bvh, uint32_t blk, cons
  * loads). */
 HZ_INLINE void closest_core(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, hz_bvh_ray_t *r, const sray_t *s,
                             uint32_t start, hz_bvh_best_t *best_io, uint32_t ray_id, int lane,
-                            hz_bvh_counters_t *k, const bool motion)
+                            hz_bvh_counters_t *k_io, const bool motion)
 {
+    hz_bvh_counters_t kl = *k_io, *k = &kl; /* in registers: through the pointer every count was a store */
     (void)k; /* counters exist only with HZ_FEATURE_STATS */
     hz_bvh_node_t ntmp;
     hz_bvh_block_t btmp;
@@ -270,6 +271,7 @@ HZ_INLINE void closest_core(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, hz_bvh_ray
             if (sp == 0) {
                 r->tfar = tfar;
                 *best_io = best;
+                *k_io = kl;
                 return;
             }
             --sp;
@@ -307,8 +309,10 @@ void hz_bvh_simd_closest(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, hz_bvh_ray_t 
 }
 
 HZ_INLINE bool any_core(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const hz_bvh_ray_t *r, const sray_t *s,
-                        uint32_t start, uint32_t ray_id, int lane, hz_bvh_counters_t *k, const bool motion)
+                        uint32_t start, uint32_t ray_id, int lane, hz_bvh_counters_t *k_io, const bool motion)
 {
+    hz_bvh_counters_t kl = *k_io, *k = &kl; /* in registers: through the pointer every count was a store */
+    bool hit = false;
     (void)k; /* counters exist only with HZ_FEATURE_STATS */
     hz_bvh_node_t ntmp;
     hz_bvh_block_t btmp;
@@ -339,8 +343,10 @@ HZ_INLINE bool any_core(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const hz_bvh_r
             HZ_BVH_COUNT(k, tris, cnt);
             unsigned m = leaf_hit(b, slot_mask(slot, cnt), s, tfar, &t, &V, &Wv, &det);
             if (m) {
-                if (!anyhit)
-                    return true;
+                if (!anyhit) {
+                    hit = true;
+                    break;
+                }
                 float tv[W] HZ_ALIGNED(32);
                 vf_store(tv, t);
                 do {
@@ -348,14 +354,18 @@ HZ_INLINE bool any_core(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const hz_bvh_r
                     m &= m - 1;
                     if (!(b->prim[i] & HZ_BVH_PRIM_ANYHIT) ||
                         hz_bvh_anyhit(bvh, ctx, (slot / W) * W + i, r, tv[i], ray_id, lane))
-                        return true;
-                } while (m);
+                        hit = true;
+                } while (m && !hit);
+                if (hit)
+                    break;
             }
         }
         if (sp == 0)
-            return false;
+            break;
         cur = stack[--sp];
     }
+    *k_io = kl;
+    return hit;
 }
 
 static bool any_from(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const hz_bvh_ray_t *r, const sray_t *s,
