@@ -18,6 +18,8 @@
  *  - single ray: one ray against a node's KW child boxes at once (nearest child first, the rest on a stack
  *    sorted in registers), one ray against a block's KW triangles at once; closest hit and occlusion, static and
  *    motion trees (motion reads every node and block at the ray's time);
+ *  - packet: KW rays sharing direction signs and watertight axes, one interval test per node for the packet,
+ *    leaves against the lanes that reach them, occlusion with lane masks on the stack (see "packets" below);
  *  - tile (large coherent packets, Wald 2001 / Overbeck 2008 / Fuetterling 2015): up to TILE_RAYS rays of up to
  *    TILE_RAYS / KW packets traced together. Rays are grouped by direction octant and watertight axes (a camera
  *    tile is one group), each group compacted into chunks of KW lanes. Per node, ONE interval-arithmetic test of
