@@ -272,6 +272,70 @@ static __attribute__((unused)) void fx_occlusion(const hz_accel_t *a, hz_accel_k
     }
 }
 
+/* The same rays as tiles: calls of np packets of width pw (4 or 8) through hz_accel_intersect8n / 4n; lane i of
+ * packet p of call c = ray (c * np + p) * pw + i; holes as in fx_trace_packets. With `occ` (non-NULL) occlusion
+ * through occluded8n / 4n instead: occ[i] = 1 when ray i is occluded. */
+#define FX_TILE_MAX 64
+static __attribute__((unused)) void fx_trace_tiles(const hz_accel_t *a, hz_accel_kernel_t k, uint32_t flags, int pw, int np,
+                                                  bool holes, const hz_rayhit_t *in, hz_rayhit_t *out, uint8_t *occ,
+                                                  uint32_t n, hz_accel_ctx_t *base)
+{
+    static hz_rayhit8_t P8[FX_TILE_MAX] HZ_ALIGNED(32);
+    static hz_rayhit4_t P4[FX_TILE_MAX] HZ_ALIGNED(16);
+    static hz_ray8_t R8[FX_TILE_MAX] HZ_ALIGNED(32);
+    static hz_ray4_t R4[FX_TILE_MAX] HZ_ALIGNED(16);
+    static int32_t valid[8 * FX_TILE_MAX];
+    hz_accel_ctx_t ctx;
+    if (base)
+        ctx = *base;
+    else
+        hz_accel_ctx_init(&ctx);
+    ctx.kernel = k;
+    ctx.flags = flags;
+    const uint32_t per = (uint32_t)(pw * np);
+    for (uint32_t c0 = 0; c0 < n; c0 += per) {
+        memset(P8, 0x5C, sizeof P8);
+        memset(P4, 0x5C, sizeof P4);
+        for (uint32_t q = 0; q < per; q++) {
+            const uint32_t j = c0 + q, p = q / (uint32_t)pw;
+            const int i = (int)(q % (uint32_t)pw);
+            valid[q] = (j < n && !(holes && j % 7 == 6)) ? -1 : 0;
+            const hz_rayhit_t *r = &in[j < n ? j : c0];
+            if (pw == 8) {
+                FX_PUT(P8[p], i);
+                R8[p] = P8[p].ray;
+            } else {
+                FX_PUT(P4[p], i);
+                R4[p] = P4[p].ray;
+            }
+        }
+        const uint32_t cnt = (n - c0 < per ? n - c0 : per);
+        const uint32_t npk = (cnt + (uint32_t)pw - 1u) / (uint32_t)pw;
+        if (occ) {
+            if (pw == 8)
+                hz_accel_occluded8n(valid, a, &ctx, R8, npk);
+            else
+                hz_accel_occluded4n(valid, a, &ctx, R4, npk);
+            for (uint32_t q = 0; q < cnt; q++)
+                occ[c0 + q] = (pw == 8 ? R8[q / 8].tfar[q % 8] : R4[q / 4].tfar[q % 4]) == -INFINITY;
+            continue;
+        }
+        if (pw == 8)
+            hz_accel_intersect8n(valid, a, &ctx, P8, npk);
+        else
+            hz_accel_intersect4n(valid, a, &ctx, P4, npk);
+        for (uint32_t q = 0; q < cnt; q++) {
+            hz_rayhit_t *o = &out[c0 + q];
+            const int i = (int)(q % (uint32_t)pw);
+            *o = in[c0 + q];
+            if (pw == 8)
+                FX_GET(P8[q / 8], i);
+            else
+                FX_GET(P4[q / 4], i);
+        }
+    }
+}
+
 /* Whole-record equality of two hit results (ray and hit bytes). */
 static __attribute__((unused)) bool fx_same(const hz_rayhit_t *a, const hz_rayhit_t *b)
 {

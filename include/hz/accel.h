@@ -49,6 +49,14 @@
  *  a closer hit later replaces, in any order: decide from the arguments only. Without a callback such
  *  triangles are opaque.
  *
+ *  Tiles (large packets). hz_accel_intersect8n / occluded8n (and the 4-lane forms) take n consecutive packets
+ *  in one call: a screen tile's camera rays (the 8 packets of 4x2 pixels of an 8x8-pixel tile, say), or one
+ *  tile's shadow rays towards one light. With HZ_ACCEL_COHERENT the native backend traces up to 256 of these rays
+ *  as one packet (one interval test per node for all of them, active-ray ranges, rays grouped by direction
+ *  octant; shadow rays sharing their light end bounded from that end), which is its fastest form for coherent
+ *  rays; the results are those of the one-packet calls, bit for bit. Embree runs them packet by packet. Packets
+ *  are aligned as single ones; any n (larger calls go in slices of 256 rays).
+ *
  *  Context. hz_accel_ctx_t is per query (or per thread, reused): flags (HZ_ACCEL_COHERENT when the rays of a
  *  packet are coherent, e.g. primary rays of a pixel tile), the any-hit callback, a kernel override for tests
  *  and benchmarks, and a statistics sink. Statistics (rays, nodes visited, triangles tested) are counted only
@@ -254,16 +262,15 @@ typedef struct hz_accel_stats {
     uint32_t ray_nodes_max, ray_tris_max;
 } hz_accel_stats_t;
 
-/* Native kernel choice. AUTO takes the fastest measured form for the packet's coherence (see README:
- * coherent 8-ray packets: frustum packet traversal; incoherent: single rays against wide nodes). */
+/* Native kernel choice. AUTO takes the fastest measured form for the packet's coherence (doc/accel.md):
+ * coherent packets and tiles: the packet traversal; incoherent rays: single rays against wide nodes. */
 typedef enum hz_accel_kernel {
     HZ_ACCEL_KERNEL_AUTO = 0,
     HZ_ACCEL_KERNEL_SCALAR,      /* the scalar reference, one ray at a time */
     HZ_ACCEL_KERNEL_SIMD_SINGLE, /* one ray against all children of a wide node at once (AVX2 / NEON) */
-    HZ_ACCEL_KERNEL_SIMD_PACKET, /* packet against a node through its frustum (coherent rays) */
-    HZ_ACCEL_KERNEL_SIMD_MASKED, /* packet with per-lane box tests and active-mask compaction, switching to
-                                    single rays when few lanes stay active (incoherent rays; AVX2 closest hit
-                                    only: NEON and occlusion run it as single rays) */
+    HZ_ACCEL_KERNEL_SIMD_PACKET, /* a packet or tile through one interval test per node (coherent rays) */
+    HZ_ACCEL_KERNEL_SIMD_MASKED, /* runs as SIMD_SINGLE (the masked packet, per-lane box tests with lane-mask
+                                    compaction, was slower than single rays on every scene and is gone) */
     HZ_ACCEL_KERNEL_COUNT
 } hz_accel_kernel_t;
 
@@ -395,6 +402,13 @@ typedef struct hz_accel_ops {
     void (*occluded8)(const int32_t *valid, const hz_accel_t *a, hz_accel_ctx_t *ctx, hz_ray8_t *r);
     hz_status_t (*refit)(hz_accel_t *a, hz_error_t *err);
     void (*release)(hz_accel_t *a);
+    /* Large packets (see "Tiles"); NULL: the wrappers below call the one-packet forms packet by packet. */
+    void (*intersect8n)(const int32_t *valid, const hz_accel_t *a, hz_accel_ctx_t *ctx, hz_rayhit8_t *rh,
+                        uint32_t n);
+    void (*occluded8n)(const int32_t *valid, const hz_accel_t *a, hz_accel_ctx_t *ctx, hz_ray8_t *r, uint32_t n);
+    void (*intersect4n)(const int32_t *valid, const hz_accel_t *a, hz_accel_ctx_t *ctx, hz_rayhit4_t *rh,
+                        uint32_t n);
+    void (*occluded4n)(const int32_t *valid, const hz_accel_t *a, hz_accel_ctx_t *ctx, hz_ray4_t *r, uint32_t n);
 } hz_accel_ops_t;
 
 struct hz_accel {
@@ -461,6 +475,49 @@ HZ_INLINE void hz_accel_intersect8(const int32_t *valid, const hz_accel_t *a, hz
 HZ_INLINE void hz_accel_occluded8(const int32_t *valid, const hz_accel_t *a, hz_accel_ctx_t *ctx, hz_ray8_t *r)
 {
     a->ops->occluded8(valid, a, ctx, r);
+}
+
+/* Tiles: n consecutive packets (valid: 8 n or 4 n words, lane i of packet p at valid[8 p + i]) in one call.
+ * The results are exactly those of n calls of hz_accel_intersect8 / occluded8 (4) on the same packets. */
+HZ_INLINE void hz_accel_intersect8n(const int32_t *valid, const hz_accel_t *a, hz_accel_ctx_t *ctx,
+                                    hz_rayhit8_t *rh, uint32_t n)
+{
+    if (a->ops->intersect8n) {
+        a->ops->intersect8n(valid, a, ctx, rh, n);
+        return;
+    }
+    for (uint32_t p = 0; p < n; p++)
+        a->ops->intersect8(valid + 8u * (size_t)p, a, ctx, rh + p);
+}
+HZ_INLINE void hz_accel_occluded8n(const int32_t *valid, const hz_accel_t *a, hz_accel_ctx_t *ctx, hz_ray8_t *r,
+                                   uint32_t n)
+{
+    if (a->ops->occluded8n) {
+        a->ops->occluded8n(valid, a, ctx, r, n);
+        return;
+    }
+    for (uint32_t p = 0; p < n; p++)
+        a->ops->occluded8(valid + 8u * (size_t)p, a, ctx, r + p);
+}
+HZ_INLINE void hz_accel_intersect4n(const int32_t *valid, const hz_accel_t *a, hz_accel_ctx_t *ctx,
+                                    hz_rayhit4_t *rh, uint32_t n)
+{
+    if (a->ops->intersect4n) {
+        a->ops->intersect4n(valid, a, ctx, rh, n);
+        return;
+    }
+    for (uint32_t p = 0; p < n; p++)
+        a->ops->intersect4(valid + 4u * (size_t)p, a, ctx, rh + p);
+}
+HZ_INLINE void hz_accel_occluded4n(const int32_t *valid, const hz_accel_t *a, hz_accel_ctx_t *ctx, hz_ray4_t *r,
+                                   uint32_t n)
+{
+    if (a->ops->occluded4n) {
+        a->ops->occluded4n(valid, a, ctx, r, n);
+        return;
+    }
+    for (uint32_t p = 0; p < n; p++)
+        a->ops->occluded4(valid + 4u * (size_t)p, a, ctx, r + p);
 }
 
 /* The reference for tests and `hzrt accel --motion-check`: the closest hit of rh over every triangle of g at

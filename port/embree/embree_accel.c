@@ -192,6 +192,43 @@ static void e_occluded8(const int32_t *valid, const hz_accel_t *a, hz_accel_ctx_
     rtcOccluded8((const int *)valid, ((const embree_t *)a->impl)->scene, &c.rtc, (struct RTCRay8 *)(void *)r);
 }
 
+/* Tiles: packet by packet, one context for all (Embree 3's stream calls take no valid mask). */
+static void e_intersect8n(const int32_t *valid, const hz_accel_t *a, hz_accel_ctx_t *ctx, hz_rayhit8_t *rh, uint32_t n)
+{
+    ectx_t c;
+    ctx_init(&c, ctx);
+    for (uint32_t p = 0; p < n; p++)
+        rtcIntersect8((const int *)valid + 8u * p, ((const embree_t *)a->impl)->scene, &c.rtc,
+                      (struct RTCRayHit8 *)(void *)(rh + p));
+}
+
+static void e_occluded8n(const int32_t *valid, const hz_accel_t *a, hz_accel_ctx_t *ctx, hz_ray8_t *r, uint32_t n)
+{
+    ectx_t c;
+    ctx_init(&c, ctx);
+    for (uint32_t p = 0; p < n; p++)
+        rtcOccluded8((const int *)valid + 8u * p, ((const embree_t *)a->impl)->scene, &c.rtc,
+                     (struct RTCRay8 *)(void *)(r + p));
+}
+
+static void e_intersect4n(const int32_t *valid, const hz_accel_t *a, hz_accel_ctx_t *ctx, hz_rayhit4_t *rh, uint32_t n)
+{
+    ectx_t c;
+    ctx_init(&c, ctx);
+    for (uint32_t p = 0; p < n; p++)
+        rtcIntersect4((const int *)valid + 4u * p, ((const embree_t *)a->impl)->scene, &c.rtc,
+                      (struct RTCRayHit4 *)(void *)(rh + p));
+}
+
+static void e_occluded4n(const int32_t *valid, const hz_accel_t *a, hz_accel_ctx_t *ctx, hz_ray4_t *r, uint32_t n)
+{
+    ectx_t c;
+    ctx_init(&c, ctx);
+    for (uint32_t p = 0; p < n; p++)
+        rtcOccluded4((const int *)valid + 4u * p, ((const embree_t *)a->impl)->scene, &c.rtc,
+                     (struct RTCRay4 *)(void *)(r + p));
+}
+
 static hz_status_t e_refit(hz_accel_t *a, hz_error_t *err)
 {
     embree_t *e = a->impl;
@@ -230,7 +267,8 @@ static void e_release(hz_accel_t *a)
 }
 
 static const hz_accel_ops_t embree_ops = {
-    e_intersect1, e_occluded1, e_intersect4, e_occluded4, e_intersect8, e_occluded8, e_refit, e_release,
+    e_intersect1, e_occluded1,   e_intersect4, e_occluded4,   e_intersect8,  e_occluded8,
+    e_refit,      e_release,     e_intersect8n, e_occluded8n, e_intersect4n, e_occluded4n,
 };
 
 hz_status_t hz_accel_build_embree(hz_accel_t **out, const hz_accel_geom_t *g, const hz_accel_config_t *cfg,

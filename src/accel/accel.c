@@ -349,125 +349,177 @@ static void loop_occluded(const int32_t *valid, const hz_accel_t *a, hz_accel_ct
     }
 }
 
+/* n packets of w lanes (4 or 8): the first packet's ray at `ray`, its hits at `hit` (NULL: occlusion), `stride`
+ * bytes from one packet to the next. */
+typedef struct packets {
+    const int32_t *valid;
+    char *ray, *hit;
+    size_t stride;
+    int w;
+    uint32_t n;
+} packets_t;
+
+static void loop_packets(const packets_t *q, const hz_accel_t *a, hz_accel_ctx_t *ctx, hz_accel_kernel_t k)
+{
+    for (uint32_t p = 0; p < q->n; p++) {
+        const int32_t *v = q->valid + (size_t)p * (size_t)q->w;
+        float *ray = (float *)(void *)(q->ray + (size_t)p * q->stride);
+        if (q->hit)
+            loop_intersect(v, a, ctx, ray, (float *)(void *)(q->hit + (size_t)p * q->stride), q->w, k);
+        else
+            loop_occluded(v, a, ctx, ray, q->w, k);
+    }
+}
+
 #if defined(HZ_BVH_HAS_SIMD)
-/* The packet kernel AUTO picks: the frustum packet for coherent rays; for incoherent rays, single rays against
- * wide nodes (the faster of the two incoherent forms in `make bench` on every shared scene). */
+/* The packet kernel AUTO picks: the packet (tile) traversal for coherent rays; for incoherent rays, single rays
+ * against wide nodes (the faster form in `make bench` on every shared scene). */
 static hz_accel_kernel_t packet_kernel(const hz_accel_ctx_t *ctx, hz_accel_kernel_t k)
 {
     if (k == HZ_ACCEL_KERNEL_AUTO)
         return ctx && (ctx->flags & HZ_ACCEL_COHERENT) ? HZ_ACCEL_KERNEL_SIMD_PACKET : HZ_ACCEL_KERNEL_SIMD_SINGLE;
-    return k;
+    return k == HZ_ACCEL_KERNEL_SIMD_MASKED ? HZ_ACCEL_KERNEL_SIMD_SINGLE : k;
 }
 
-static int count_valid(const int32_t *valid, int n)
+static int count_valid(const int32_t *valid, size_t n)
 {
     int c = 0;
-    for (int i = 0; i < n; i++)
+    for (size_t i = 0; i < n; i++)
         c += valid[i] != 0;
     return c;
 }
 
-/* Moves n-lane packets into the native width and back (a plain copy of the SoA arrays). */
-static void widen(const float *src, int n, float *dst, int fields, int base)
+#define SLICE_RAYS 256u
+#define SLICE_PACKETS (SLICE_RAYS / HZ_BVH_W)
+
+/* Word f (ray: 12 words per lane, hit: 8) of lane L of the call's packets. */
+HZ_INLINE float *lane_word(const packets_t *q, char *base, int f, uint32_t L)
 {
-    for (int f = 0; f < fields; f++)
-        for (int i = 0; i < HZ_BVH_W && base + i < n; i++)
-            dst[f * HZ_BVH_W + i] = src[f * n + base + i];
+    return (float *)(void *)(base + (size_t)(L / (uint32_t)q->w) * q->stride) + f * q->w + (int)(L % (uint32_t)q->w);
 }
 
-static void narrow(const float *src, int n, float *dst, int fields, int base)
+/* Packets through the SIMD kernels: packets of the kernels' width go in place, others are repacked to that width
+ * (a plain copy of the SoA words) a slice at a time. */
+static void simd_query(const packets_t *q, const hz_accel_t *a, hz_accel_ctx_t *ctx)
 {
-    for (int f = 0; f < fields; f++)
-        for (int i = 0; i < HZ_BVH_W && base + i < n; i++)
-            dst[f * n + base + i] = src[f * HZ_BVH_W + i];
-}
-
-/* A packet of n lanes through the SIMD kernels: closest hits when hit is non-NULL, occlusion otherwise. A packet of
- * the kernels' width goes in place (ray and hit are one hz_rayhit*_t); other widths go through in slices. */
-static void simd_query(const int32_t *valid, const hz_accel_t *a, hz_accel_ctx_t *ctx, float *ray, float *hit, int n)
-{
+    const hz_bvh_t *bvh = a->impl;
     hz_accel_kernel_t k = packet_kernel(ctx, kernel_of(ctx));
     /* Motion: lanes may sit at different times (and key pairs), which the packet kernels' shared box tests do
      * not model; each lane goes through the single-ray kernel at its own time. */
-    if (((const hz_bvh_t *)a->impl)->time_keys && k != HZ_ACCEL_KERNEL_SCALAR)
+    if (bvh->time_keys && k != HZ_ACCEL_KERNEL_SCALAR)
         k = HZ_ACCEL_KERNEL_SIMD_SINGLE;
     if (k == HZ_ACCEL_KERNEL_SIMD_SINGLE || k == HZ_ACCEL_KERNEL_SCALAR) {
-        if (hit)
-            loop_intersect(valid, a, ctx, ray, hit, n, k);
-        else
-            loop_occluded(valid, a, ctx, ray, n, k);
+        loop_packets(q, a, ctx, k);
         return;
     }
-    count_rays(ctx, (uint32_t)count_valid(valid, n));
-    if (n == HZ_BVH_W) {
-        if (hit)
-            hz_bvh_simd_intersectw(valid, a->impl, ctx, (hz_bvh_rayhitw_t *)(void *)ray, k);
+    count_rays(ctx, (uint32_t)count_valid(q->valid, (size_t)q->n * (size_t)q->w));
+    if (q->w == HZ_BVH_W && q->stride == (q->hit ? sizeof(hz_bvh_rayhitw_t) : sizeof(hz_bvh_rayw_t))) {
+        if (q->hit)
+            hz_bvh_simd_intersect_tile(q->valid, bvh, ctx, (hz_bvh_rayhitw_t *)(void *)q->ray, q->n, k);
         else
-            hz_bvh_simd_occludedw(valid, a->impl, ctx, (hz_bvh_rayw_t *)(void *)ray, k);
+            hz_bvh_simd_occluded_tile(q->valid, bvh, ctx, (hz_bvh_rayw_t *)(void *)q->ray, q->n, k);
         return;
     }
-    for (int base = 0; base < n; base += HZ_BVH_W) {
-        hz_bvh_rayhitw_t w;
-        int32_t v[HZ_BVH_W];
-        hz_memset(&w, 0, sizeof w);
-        for (int i = 0; i < HZ_BVH_W; i++)
-            v[i] = base + i < n ? valid[base + i] : 0;
-        widen(ray, n, (float *)(void *)&w.ray, 12, base);
-        if (hit) {
-            widen(hit, n, (float *)(void *)&w.hit, 8, base);
-            hz_bvh_simd_intersectw(v, a->impl, ctx, &w, k);
-            narrow((const float *)(const void *)&w.hit, n, hit, 8, base);
-        } else {
-            hz_bvh_simd_occludedw(v, a->impl, ctx, &w.ray, k);
+    const uint32_t total = q->n * (uint32_t)q->w;
+    for (uint32_t base = 0; base < total; base += SLICE_RAYS) {
+        static const int nray = 12, nhit = 8;
+        hz_bvh_rayhitw_t buf[SLICE_PACKETS];
+        int32_t v[SLICE_RAYS];
+        const uint32_t cnt = total - base < SLICE_RAYS ? total - base : SLICE_RAYS;
+        const uint32_t np = (cnt + HZ_BVH_W - 1u) / HZ_BVH_W;
+        hz_memset(buf, 0, np * sizeof buf[0]);
+        for (uint32_t i = 0; i < np * HZ_BVH_W; i++) {
+            const uint32_t L = base + i;
+            float *rw = (float *)(void *)&buf[i / HZ_BVH_W].ray + i % HZ_BVH_W;
+            float *hw = (float *)(void *)&buf[i / HZ_BVH_W].hit + i % HZ_BVH_W;
+            v[i] = i < cnt ? q->valid[L] : 0;
+            if (i >= cnt)
+                continue;
+            for (int f = 0; f < nray; f++)
+                rw[f * HZ_BVH_W] = *lane_word(q, q->ray, f, L);
+            for (int f = 0; q->hit && f < nhit; f++)
+                hw[f * HZ_BVH_W] = *lane_word(q, q->hit, f, L);
         }
-        narrow((const float *)(const void *)&w.ray, n, ray, 12, base);
+        if (q->hit) {
+            hz_bvh_simd_intersect_tile(v, bvh, ctx, buf, np, k);
+        } else {
+            /* occlusion takes bare ray packets */
+            hz_bvh_rayw_t rays[SLICE_PACKETS];
+            for (uint32_t p = 0; p < np; p++)
+                rays[p] = buf[p].ray;
+            hz_bvh_simd_occluded_tile(v, bvh, ctx, rays, np, k);
+            for (uint32_t p = 0; p < np; p++)
+                buf[p].ray = rays[p];
+        }
+        for (uint32_t i = 0; i < cnt; i++) {
+            const uint32_t L = base + i;
+            const float *rw = (const float *)(const void *)&buf[i / HZ_BVH_W].ray + i % HZ_BVH_W;
+            const float *hw = (const float *)(const void *)&buf[i / HZ_BVH_W].hit + i % HZ_BVH_W;
+            *lane_word(q, q->ray, 8, L) = rw[8 * HZ_BVH_W]; /* tfar: the only ray word a query writes */
+            for (int f = 0; q->hit && f < nhit; f++)
+                *lane_word(q, q->hit, f, L) = hw[f * HZ_BVH_W];
+        }
     }
 }
-
-static void simd_intersect(const int32_t *valid, const hz_accel_t *a, hz_accel_ctx_t *ctx, float *ray, float *hit,
-                           int n)
-{
-    simd_query(valid, a, ctx, ray, hit, n);
-}
-
-static void simd_occluded(const int32_t *valid, const hz_accel_t *a, hz_accel_ctx_t *ctx, float *ray, int n)
-{
-    simd_query(valid, a, ctx, ray, NULL, n);
-}
-#define PACKET_INTERSECT simd_intersect
-#define PACKET_OCCLUDED simd_occluded
+#define PACKET_QUERY simd_query
 #else
-static void scalar_intersect(const int32_t *valid, const hz_accel_t *a, hz_accel_ctx_t *ctx, float *ray,
-                             float *hit, int n)
+static void scalar_query(const packets_t *q, const hz_accel_t *a, hz_accel_ctx_t *ctx)
 {
-    loop_intersect(valid, a, ctx, ray, hit, n, HZ_ACCEL_KERNEL_SCALAR);
+    loop_packets(q, a, ctx, HZ_ACCEL_KERNEL_SCALAR);
 }
-static void scalar_occluded(const int32_t *valid, const hz_accel_t *a, hz_accel_ctx_t *ctx, float *ray, int n)
-{
-    loop_occluded(valid, a, ctx, ray, n, HZ_ACCEL_KERNEL_SCALAR);
-}
-#define PACKET_INTERSECT scalar_intersect
-#define PACKET_OCCLUDED scalar_occluded
+#define PACKET_QUERY scalar_query
 #endif
 
 static void native_intersect4(const int32_t *valid, const hz_accel_t *a, hz_accel_ctx_t *ctx, hz_rayhit4_t *rh)
 {
-    PACKET_INTERSECT(valid, a, ctx, (float *)(void *)&rh->ray, (float *)(void *)&rh->hit, 4);
+    const packets_t q = { valid, (char *)(void *)&rh->ray, (char *)(void *)&rh->hit, sizeof *rh, 4, 1 };
+    PACKET_QUERY(&q, a, ctx);
 }
 
 static void native_occluded4(const int32_t *valid, const hz_accel_t *a, hz_accel_ctx_t *ctx, hz_ray4_t *r)
 {
-    PACKET_OCCLUDED(valid, a, ctx, (float *)(void *)r, 4);
+    const packets_t q = { valid, (char *)(void *)r, NULL, sizeof *r, 4, 1 };
+    PACKET_QUERY(&q, a, ctx);
 }
 
 static void native_intersect8(const int32_t *valid, const hz_accel_t *a, hz_accel_ctx_t *ctx, hz_rayhit8_t *rh)
 {
-    PACKET_INTERSECT(valid, a, ctx, (float *)(void *)&rh->ray, (float *)(void *)&rh->hit, 8);
+    const packets_t q = { valid, (char *)(void *)&rh->ray, (char *)(void *)&rh->hit, sizeof *rh, 8, 1 };
+    PACKET_QUERY(&q, a, ctx);
 }
 
 static void native_occluded8(const int32_t *valid, const hz_accel_t *a, hz_accel_ctx_t *ctx, hz_ray8_t *r)
 {
-    PACKET_OCCLUDED(valid, a, ctx, (float *)(void *)r, 8);
+    const packets_t q = { valid, (char *)(void *)r, NULL, sizeof *r, 8, 1 };
+    PACKET_QUERY(&q, a, ctx);
+}
+
+static void native_intersect8n(const int32_t *valid, const hz_accel_t *a, hz_accel_ctx_t *ctx, hz_rayhit8_t *rh,
+                               uint32_t n)
+{
+    const packets_t q = { valid, (char *)(void *)&rh->ray, (char *)(void *)&rh->hit, sizeof *rh, 8, n };
+    PACKET_QUERY(&q, a, ctx);
+}
+
+static void native_occluded8n(const int32_t *valid, const hz_accel_t *a, hz_accel_ctx_t *ctx, hz_ray8_t *r,
+                              uint32_t n)
+{
+    const packets_t q = { valid, (char *)(void *)r, NULL, sizeof *r, 8, n };
+    PACKET_QUERY(&q, a, ctx);
+}
+
+static void native_intersect4n(const int32_t *valid, const hz_accel_t *a, hz_accel_ctx_t *ctx, hz_rayhit4_t *rh,
+                               uint32_t n)
+{
+    const packets_t q = { valid, (char *)(void *)&rh->ray, (char *)(void *)&rh->hit, sizeof *rh, 4, n };
+    PACKET_QUERY(&q, a, ctx);
+}
+
+static void native_occluded4n(const int32_t *valid, const hz_accel_t *a, hz_accel_ctx_t *ctx, hz_ray4_t *r,
+                              uint32_t n)
+{
+    const packets_t q = { valid, (char *)(void *)r, NULL, sizeof *r, 4, n };
+    PACKET_QUERY(&q, a, ctx);
 }
 
 /* The native backend's data: the tree first (a->impl points at it, the kernels read it as an hz_bvh_t), then
@@ -539,8 +591,9 @@ static hz_status_t native_refit(hz_accel_t *a, hz_error_t *err)
 }
 
 static const hz_accel_ops_t native_ops = {
-    native_intersect1, native_occluded1, native_intersect4, native_occluded4,
-    native_intersect8, native_occluded8, native_refit,      0,
+    native_intersect1,  native_occluded1,  native_intersect4,  native_occluded4,  native_intersect8,
+    native_occluded8,   native_refit,      0,                  native_intersect8n, native_occluded8n,
+    native_intersect4n, native_occluded4n,
 };
 
 hz_status_t hz_accel_build_native(hz_accel_t **out, const hz_accel_geom_t *g, const hz_accel_config_t *cfg,

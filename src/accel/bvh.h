@@ -296,15 +296,23 @@ typedef hz_ray8_t hz_bvh_rayw_t;
 typedef hz_rayhit4_t hz_bvh_rayhitw_t;
 typedef hz_ray4_t hz_bvh_rayw_t;
 #endif
-/* One ray against all children of a node at once (trav_avx2.c / trav_neon.c). Same results as scalar. */
+/* The SIMD kernels (trav_kernel.h, built by trav_avx2.c / trav_neon.c); the same results as the scalar ones.
+ * One ray against all children of a node at once: */
 void hz_bvh_simd_closest(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, hz_bvh_ray_t *r, hz_bvh_best_t *best,
                          uint32_t ray_id, int lane);
 bool hz_bvh_simd_any(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const hz_bvh_ray_t *r, uint32_t ray_id, int lane);
-/* Packets of HZ_BVH_W rays: `kernel` is HZ_ACCEL_KERNEL_SIMD_PACKET (frustum) or _SIMD_MASKED. */
+/* Packets of HZ_BVH_W rays: `kernel` HZ_ACCEL_KERNEL_SIMD_PACKET traces them as a tile (one packet), anything
+ * else lane by lane as single rays. */
 void hz_bvh_simd_intersectw(const int32_t *valid, const hz_bvh_t *bvh, hz_accel_ctx_t *ctx,
                             hz_bvh_rayhitw_t *rh, hz_accel_kernel_t kernel);
 void hz_bvh_simd_occludedw(const int32_t *valid, const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, hz_bvh_rayw_t *r,
                            hz_accel_kernel_t kernel);
+/* n consecutive packets of HZ_BVH_W rays (valid: n * HZ_BVH_W words): with HZ_ACCEL_KERNEL_SIMD_PACKET traced
+ * together as tiles of up to 256 rays (large coherent packets), else lane by lane. Static trees only. */
+void hz_bvh_simd_intersect_tile(const int32_t *valid, const hz_bvh_t *bvh, hz_accel_ctx_t *ctx,
+                                hz_bvh_rayhitw_t *rh, uint32_t n, hz_accel_kernel_t kernel);
+void hz_bvh_simd_occluded_tile(const int32_t *valid, const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, hz_bvh_rayw_t *r,
+                               uint32_t n, hz_accel_kernel_t kernel);
 #endif
 
 /* ---- build (bvh_build.c) ---- */

@@ -26,13 +26,44 @@ typedef char shade_lanes_match[HZ_SHADE_LANES == HZ_RENDER_LANES ? 1 : -1]; /* o
 typedef hz_rayhit8_t packet_t;
 typedef hz_ray8_t shadow_packet_t;
 #define INTERSECT hz_accel_intersect8
+#define INTERSECT_N hz_accel_intersect8n
 #define OCCLUDED hz_accel_occluded8
 #else
 typedef hz_rayhit4_t packet_t;
 typedef hz_ray4_t shadow_packet_t;
 #define INTERSECT hz_accel_intersect4
+#define INTERSECT_N hz_accel_intersect4n
 #define OCCLUDED hz_accel_occluded4
 #endif
+
+/* A packet of up to HZ_RENDER_LANES jobs (lanes past n off); tmax may be NULL (unbounded rays). */
+static void fill_packet(packet_t *p, int32_t *valid, const ray_job_t *jobs, uint32_t n, const float *tmax)
+{
+    for (uint32_t i = 0; i < HZ_RENDER_LANES; i++) {
+        const ray_job_t *j = &jobs[i < n ? i : 0];
+        valid[i] = i < n ? -1 : 0;
+        p->ray.org_x[i] = j->o[0], p->ray.org_y[i] = j->o[1], p->ray.org_z[i] = j->o[2];
+        p->ray.dir_x[i] = j->d[0], p->ray.dir_y[i] = j->d[1], p->ray.dir_z[i] = j->d[2];
+        p->ray.tnear[i] = 0.0f;
+        p->ray.tfar[i] = tmax && i < n ? tmax[i] : __builtin_inff();
+        p->ray.time[i] = j->time;
+        p->ray.mask[i] = 0xffffffffu;
+        p->ray.id[i] = j->slot | (j->gslot == GSLOT_PRIMARY ? ID_PRIMARY : 0u) | (j->dither ? ID_DITHER : 0u);
+        p->ray.flags[i] = 0;
+        p->hit.geom_id[i] = HZ_ACCEL_INVALID_ID;
+        p->hit.prim_id[i] = HZ_ACCEL_INVALID_ID;
+    }
+}
+
+static void read_hits(const packet_t *p, uint32_t n, hitrec_t *out)
+{
+    for (uint32_t i = 0; i < n; i++) {
+        out[i].prim = p->hit.geom_id[i] == HZ_ACCEL_INVALID_ID ? HZ_ACCEL_INVALID_ID : p->hit.prim_id[i];
+        out[i].t = p->ray.tfar[i];
+        out[i].u = p->hit.u[i];
+        out[i].v = p->hit.v[i];
+    }
+}
 
 /* Closest hits of up to HZ_RENDER_LANES jobs; tmax may be NULL (unbounded rays). */
 static void intersect_jobs(hz_worker_t *w, const ray_job_t *jobs, uint32_t n, hitrec_t *out, bool coherent,
@@ -40,28 +71,26 @@ static void intersect_jobs(hz_worker_t *w, const ray_job_t *jobs, uint32_t n, hi
 {
     packet_t p;
     int32_t valid[HZ_RENDER_LANES] HZ_ALIGNED(32);
-    for (uint32_t i = 0; i < HZ_RENDER_LANES; i++) {
-        const ray_job_t *j = &jobs[i < n ? i : 0];
-        valid[i] = i < n ? -1 : 0;
-        p.ray.org_x[i] = j->o[0], p.ray.org_y[i] = j->o[1], p.ray.org_z[i] = j->o[2];
-        p.ray.dir_x[i] = j->d[0], p.ray.dir_y[i] = j->d[1], p.ray.dir_z[i] = j->d[2];
-        p.ray.tnear[i] = 0.0f;
-        p.ray.tfar[i] = tmax && i < n ? tmax[i] : __builtin_inff();
-        p.ray.time[i] = j->time;
-        p.ray.mask[i] = 0xffffffffu;
-        p.ray.id[i] = j->slot | (j->gslot == GSLOT_PRIMARY ? ID_PRIMARY : 0u) | (j->dither ? ID_DITHER : 0u);
-        p.ray.flags[i] = 0;
-        p.hit.geom_id[i] = HZ_ACCEL_INVALID_ID;
-        p.hit.prim_id[i] = HZ_ACCEL_INVALID_ID;
-    }
+    fill_packet(&p, valid, jobs, n, tmax);
     w->ctx.flags = coherent ? HZ_ACCEL_COHERENT : 0u;
     INTERSECT(valid, w->r->accel, &w->ctx, &p);
-    for (uint32_t i = 0; i < n; i++) {
-        out[i].prim = p.hit.geom_id[i] == HZ_ACCEL_INVALID_ID ? HZ_ACCEL_INVALID_ID : p.hit.prim_id[i];
-        out[i].t = p.ray.tfar[i];
-        out[i].u = p.hit.u[i];
-        out[i].v = p.hit.v[i];
-    }
+    read_hits(&p, n, out);
+}
+
+#define BATCH_PACKETS (HZ_TILE_PIXELS / HZ_RENDER_LANES)
+
+/* Closest hits of a batch's camera rays, n[q] jobs in packet q (jobs[q * HZ_RENDER_LANES ..]), all in one call:
+ * the accel traces them as one coherent tile. */
+static void intersect_batch(hz_worker_t *w, const ray_job_t *jobs, const uint32_t *n, hitrec_t *out)
+{
+    packet_t p[BATCH_PACKETS];
+    int32_t valid[HZ_TILE_PIXELS] HZ_ALIGNED(32);
+    for (uint32_t q = 0; q < BATCH_PACKETS; q++)
+        fill_packet(&p[q], valid + q * HZ_RENDER_LANES, jobs + q * HZ_RENDER_LANES, n[q], NULL);
+    w->ctx.flags = HZ_ACCEL_COHERENT;
+    INTERSECT_N(valid, w->r->accel, &w->ctx, p, BATCH_PACKETS);
+    for (uint32_t q = 0; q < BATCH_PACKETS; q++)
+        read_hits(&p[q], n[q], out + q * HZ_RENDER_LANES);
 }
 
 /* ---- surfaces ---- */
@@ -688,20 +717,23 @@ void hz_render_trace(hz_render_frame_t *f, hz_batch_t *b, const float (*jitter)[
     (void)f;
     const hz_view_t *v = &r->view;
     hz_view_t vt;
-    ray_job_t jobs[HZ_RENDER_LANES];
-    hitrec_t hits[HZ_RENDER_LANES];
+    ray_job_t jobs[HZ_TILE_PIXELS];
+    hitrec_t hits[HZ_TILE_PIXELS];
+    uint32_t count[BATCH_PACKETS];
     hz_memset(w->alpha_touched, 0, sizeof w->alpha_touched);
     hz_memset(w->dither_touched, 0, sizeof w->dither_touched);
     w->write_gbuffer = write_gbuffer;
     /* Stochastic from the first hit, unless hybrid's threshold lies below full visibility. */
     uint16_t dither = r->f.dither && (r->f.opts.transparency != HZ_TRANSP_HYBRID || !(1.0f > r->f.opts.hybrid_x));
+    /* every camera ray of the batch first, traced as one tile; then packet by packet, shading and all it spawns
+     * (the hits do not depend on the order, and the any-hit calls of camera rays touch their own slots only) */
     for (uint32_t base = 0; base < HZ_TILE_PIXELS; base += HZ_RENDER_LANES) {
         uint32_t n = 0;
         for (uint32_t i = 0; i < HZ_RENDER_LANES; i++) {
             uint32_t slot = base + i, px = w->b.pixel[slot];
             if (px == UINT32_MAX)
                 continue;
-            ray_job_t *j = &jobs[n++];
+            ray_job_t *j = &jobs[base + n++];
             j->time = r->time;
             if (times) {
                 j->time = r->tmap_a + times[slot] * r->tmap_b;
@@ -727,11 +759,15 @@ void hz_render_trace(hz_render_frame_t *f, hz_batch_t *b, const float (*jitter)[
             j->dither = dither;
             v = &r->view;
         }
+        count[base / HZ_RENDER_LANES] = n;
+    }
+    intersect_batch(w, jobs, count, hits);
+    for (uint32_t base = 0; base < HZ_TILE_PIXELS; base += HZ_RENDER_LANES) {
+        const uint32_t n = count[base / HZ_RENDER_LANES];
         if (n == 0)
             continue;
         w->b.stats.primary_rays += n;
-        intersect_jobs(w, jobs, n, hits, true, NULL);
-        shade_packet(w, jobs, hits, n);
+        shade_packet(w, jobs + base, hits + base, n);
         drain(w);
     }
 }

@@ -1,8 +1,8 @@
 /*
  * The native accel on the baked shared scenes ($HZ_SCENES_DIR, see accel_scenes.h):
- *  - every kernel (scalar reference, SIMD single ray, frustum and masked packets, both packet widths) returns
- *    bit-identical hits and occlusion on camera rays plus random rays of the dragon (res4), the Cornell box and
- *    Dabrovic Sponza;
+ *  - every kernel (scalar reference, SIMD single ray, packets and tiles of 8 to 32 packets, both packet widths)
+ *    returns bit-identical hits and occlusion on camera rays plus random rays of the dragon (res4), the Cornell
+ *    box and Dabrovic Sponza;
  *  - watertightness on the dragon (res4): rays aimed exactly at its vertices and at points of its shared edges
  *    cross the surface there; not one may pass through (10^6 rays on the host, 10^5 under qemu). Only edges
  *    with exactly two triangles (and vertices whose edges all are) are aimed at, and only rays crossing every
@@ -57,6 +57,19 @@ static void check_scene(const char *name)
                                   form, i, ref[i].hit.prim_id, out[i].hit.prim_id, (double)ref[i].ray.tfar,
                                   (double)out[i].ray.tfar);
         }
+    /* tiles (large packets): 8 and 32 packets per call, both widths; the camera rays come in pixel rows */
+    const int tiles[][2] = { { HZ_BVH_W, 8 }, { HZ_BVH_W, 32 }, { HZ_BVH_W == 8 ? 4 : 8, 16 } };
+    for (size_t q = 0; q < HZ_ARRAY_LEN(tiles); q++) {
+        fx_trace_tiles(a, HZ_ACCEL_KERNEL_AUTO, HZ_ACCEL_COHERENT, tiles[q][0], tiles[q][1], q == 0, in, out, NULL,
+                       N_RAYS, NULL);
+        for (uint32_t i = 0; i < N_RAYS; i++) {
+            if (q == 0 && i % 7 == 6)
+                differ += !fx_same(&in[i], &out[i]);
+            else if (!fx_same(&ref[i], &out[i]) && differ++ < 3)
+                print_message("%s tile %d x %d: ray %u: prim %u/%u t %.9g/%.9g\n", name, tiles[q][0], tiles[q][1], i,
+                              ref[i].hit.prim_id, out[i].hit.prim_id, (double)ref[i].ray.tfar, (double)out[i].ray.tfar);
+        }
+    }
     for (uint32_t i = 0; i < N_RAYS; i++)
         occ_ref[i] = ref[i].hit.geom_id == 0;
     for (size_t q = 0; q < HZ_ARRAY_LEN(ks); q++)
@@ -65,6 +78,12 @@ static void check_scene(const char *name)
             for (uint32_t i = 0; i < N_RAYS; i++)
                 differ += occ_out[i] != occ_ref[i];
         }
+    for (size_t q = 0; q < HZ_ARRAY_LEN(tiles); q++) {
+        fx_trace_tiles(a, HZ_ACCEL_KERNEL_AUTO, HZ_ACCEL_COHERENT, tiles[q][0], tiles[q][1], false, in, NULL, occ_out,
+                       N_RAYS, NULL);
+        for (uint32_t i = 0; i < N_RAYS; i++)
+            differ += occ_out[i] != occ_ref[i];
+    }
     print_message("%s: %u triangles, %u rays (%u hit), every kernel and packet form: %u differences\n", name,
                   g.tri_count, N_RAYS, hits, differ);
     assert_true(hits > N_RAYS / 10);

@@ -145,6 +145,32 @@ static void check_mesh(mesh_kind_t mk)
                          N_RAYS, NULL);
         assert_int_equal(count_diff(mesh_name[mk], "auto"), 0);
     }
+    /* tiles: calls of 8 packets (a coherent camera tile for the first rays, mixed directions for the random
+     * ones: several groups and single rays in one call), of 32 and 64 packets (more than one slice of 256 rays
+     * for 64 x 8), an odd count, both widths, with and without holes; lanes switched off stay untouched */
+#if defined(HZ_SIMD_NEON) /* emulated: the forms that differ for the kernel (the other width is a copy) */
+    const int tiles[][3] = { { 4, 8, 1 }, { 4, 64, 0 }, { 8, 5, 1 } };
+#else
+    const int tiles[][3] = { { 8, 8, 1 }, { 4, 8, 0 }, { 8, 32, 1 }, { 4, 64, 0 }, { 8, 64, 0 }, { 8, 5, 1 } };
+#endif
+    for (size_t q = 0; q < HZ_ARRAY_LEN(tiles); q++) {
+        const bool holes = tiles[q][2] != 0;
+        fx_trace_tiles(a, HZ_ACCEL_KERNEL_AUTO, HZ_ACCEL_COHERENT, tiles[q][0], tiles[q][1], holes, rays_in,
+                       rays_out, NULL, N_RAYS, NULL);
+        for (uint32_t i = 6; holes && i < N_RAYS; i += 7) {
+            assert_true(fx_same(&rays_in[i], &rays_out[i]));
+            rays_out[i] = rays_ref[i];
+        }
+        if (count_diff(mesh_name[mk], "tile"))
+            print_message("tile width %d x %d packets\n", tiles[q][0], tiles[q][1]);
+        assert_int_equal(count_diff(mesh_name[mk], "tile"), 0);
+        fx_trace_tiles(a, HZ_ACCEL_KERNEL_AUTO, HZ_ACCEL_COHERENT, tiles[q][0], tiles[q][1], false, rays_in, NULL,
+                       occ_out, N_RAYS, NULL);
+        uint32_t bad = 0;
+        for (uint32_t i = 0; i < N_RAYS; i++)
+            bad += occ_out[i] != (rays_ref[i].hit.geom_id == 0);
+        assert_int_equal(bad, 0);
+    }
 
     /* occlusion: occluded exactly when a closest hit exists, in every form */
     for (uint32_t i = 0; i < N_RAYS; i++)
@@ -224,12 +250,16 @@ static void test_anyhit(void **state)
         assert_int_equal(count_diff("anyhit", hz_accel_kernel_name(ks[q])), 0);
         fx_trace_packets(a, ks[q], HZ_ACCEL_COHERENT, HZ_BVH_W, false, rays_in, rays_out, N_RAYS, &ctx);
         assert_int_equal(count_diff("anyhit", hz_accel_kernel_name(ks[q])), 0);
+        fx_trace_tiles(a, ks[q], HZ_ACCEL_COHERENT, HZ_BVH_W, 8, false, rays_in, rays_out, NULL, N_RAYS, &ctx);
+        assert_int_equal(count_diff("anyhit tile", hz_accel_kernel_name(ks[q])), 0);
     }
     /* occlusion honours the callback too; without the callback flagged triangles are opaque */
     for (uint32_t i = 0; i < N_RAYS; i++)
         occ_ref[i] = rays_ref[i].hit.geom_id == 0;
     for (size_t q = 0; q < HZ_ARRAY_LEN(ks); q++) {
         fx_occlusion(a, ks[q], HZ_ACCEL_COHERENT, HZ_BVH_W, rays_in, occ_out, N_RAYS, &ctx);
+        assert_memory_equal(occ_ref, occ_out, N_RAYS);
+        fx_trace_tiles(a, ks[q], HZ_ACCEL_COHERENT, HZ_BVH_W, 8, false, rays_in, NULL, occ_out, N_RAYS, &ctx);
         assert_memory_equal(occ_ref, occ_out, N_RAYS);
     }
     fx_occlusion(a, HZ_ACCEL_KERNEL_SCALAR, 0, 0, rays_in, occ_out, N_RAYS, &ctx);
@@ -332,6 +362,18 @@ static void check_shadows(mesh_kind_t mk, bool with_anyhit)
             if (diff)
                 print_message("%s shadows %s width %d: %u differ\n", mesh_name[mk], hz_accel_kernel_name(occ[q].k),
                               occ[q].width, diff);
+            assert_int_equal(diff, 0);
+        }
+        /* tiles of shadow rays (8 and 32 packets, both widths): groups bounded from the light's end */
+        const int tiles[][2] = { { 8, 8 }, { 4, 8 }, { 8, 32 }, { 4, 16 } };
+        for (size_t q = 0; q < HZ_ARRAY_LEN(tiles); q++) {
+            fx_trace_tiles(a, HZ_ACCEL_KERNEL_AUTO, HZ_ACCEL_COHERENT, tiles[q][0], tiles[q][1], false, shadow_in, NULL,
+                           shadow_out, n, &ctx);
+            uint32_t diff = 0;
+            for (uint32_t i = 0; i < n; i++)
+                diff += shadow_out[i] != shadow_ref[i];
+            if (diff)
+                print_message("%s shadows tile %d x %d: %u differ\n", mesh_name[mk], tiles[q][0], tiles[q][1], diff);
             assert_int_equal(diff, 0);
         }
     }

@@ -28,8 +28,9 @@ static int setup(void **state)
     return 0;
 }
 
-/* Shoots n rays at vertices and edge points of m; returns the leaks. Kernels rotate batch by batch, and packets
- * of 8 consecutive rays share their origin, so the frustum kernel sees coherent packets. */
+/* Shoots n rays at vertices and edge points of m; returns the leaks. Kernels and forms (single rays, packets,
+ * tiles of 8 packets) rotate batch by batch, and packets of 8 consecutive rays share their origin, so the packet
+ * kernel sees coherent packets. */
 static uint32_t shoot(const hz_mesh_t *m, const hz_accel_t *a, uint32_t n, uint64_t seed)
 {
     fx_bounds_t b = fx_mesh_bounds(m);
@@ -81,8 +82,10 @@ static uint32_t shoot(const hz_mesh_t *m, const hz_accel_t *a, uint32_t n, uint6
             fx_set_ray(&rays[i], o, d, 0.999f, 1.001f, i);
         }
         hz_accel_kernel_t k = (hz_accel_kernel_t)(1 + batch % 4);
-        if (batch % 2)
+        if (batch % 3 == 1)
             fx_trace_packets(a, k, HZ_ACCEL_COHERENT, 8, false, rays, outs, cnt, NULL);
+        else if (batch % 3 == 2) /* tiles of 8 packets: 8 origins, rays in many directions (groups, single rays) */
+            fx_trace_tiles(a, k, HZ_ACCEL_COHERENT, 8, 8, false, rays, outs, NULL, cnt, NULL);
         else
             fx_trace1(a, k, rays, outs, cnt, NULL);
         for (uint32_t i = 0; i < cnt; i++) {

@@ -201,7 +201,7 @@ static hz_status_t w_refit(hz_accel_t *a, hz_error_t *err)
     (void)a;
     return real->ops->refit((hz_accel_t *)real, err);
 }
-static const hz_accel_ops_t wrap_ops = { w_i1, w_o1, w_i4, w_o4, w_i8, w_o8, w_refit, NULL };
+static const hz_accel_ops_t wrap_ops = { w_i1, w_o1, w_i4, w_o4, w_i8, w_o8, w_refit, NULL, NULL, NULL, NULL, NULL };
 
 static int cmp_float(const void *a, const void *b)
 {

@@ -120,7 +120,36 @@ static hz_status_t w_refit(hz_accel_t *a, hz_error_t *err)
     (void)a;
     return g_rec.real->ops->refit((hz_accel_t *)g_rec.real, err);
 }
-static const hz_accel_ops_t wrap_ops = { w_i1, w_o1, w_i4, w_o4, w_i8, w_o8, w_refit, NULL };
+/* Tiles: recorded packet by packet (the Embree replay traces them as 8-ray packets), timed as one call. */
+static void w_i8n(const int32_t *v, const hz_accel_t *a, hz_accel_ctx_t *c, hz_rayhit8_t *rh, uint32_t n)
+{
+    (void)a;
+    for (uint32_t p = 0; p < n; p++)
+        REC_RAY(&rh[p].ray, v + 8u * p, 8, false);
+    TIMED(hz_accel_intersect8n(v, g_rec.real, c, rh, n));
+}
+static void w_o8n(const int32_t *v, const hz_accel_t *a, hz_accel_ctx_t *c, hz_ray8_t *r, uint32_t n)
+{
+    (void)a;
+    for (uint32_t p = 0; p < n; p++)
+        REC_RAY(&r[p], v + 8u * p, 8, true);
+    TIMED(hz_accel_occluded8n(v, g_rec.real, c, r, n));
+}
+static void w_i4n(const int32_t *v, const hz_accel_t *a, hz_accel_ctx_t *c, hz_rayhit4_t *rh, uint32_t n)
+{
+    (void)a;
+    for (uint32_t p = 0; p < n; p++)
+        REC_RAY(&rh[p].ray, v + 4u * p, 4, false);
+    TIMED(hz_accel_intersect4n(v, g_rec.real, c, rh, n));
+}
+static void w_o4n(const int32_t *v, const hz_accel_t *a, hz_accel_ctx_t *c, hz_ray4_t *r, uint32_t n)
+{
+    (void)a;
+    for (uint32_t p = 0; p < n; p++)
+        REC_RAY(&r[p], v + 4u * p, 4, true);
+    TIMED(hz_accel_occluded4n(v, g_rec.real, c, r, n));
+}
+static const hz_accel_ops_t wrap_ops = { w_i1, w_o1, w_i4, w_o4, w_i8, w_o8, w_refit, NULL, w_i8n, w_o8n, w_i4n, w_o4n };
 
 /* ---- replay through Embree ---- */
 
