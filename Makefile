@@ -138,7 +138,7 @@ RENDER_PORT_TESTS := render render_tdense render_speckles render_adaptive render
                      render_blur render_skin shade render_overlap render_reconfigure
 RENDER_PORT_TESTS_embree := render_backends
 # Heavy render tests for boards whose tests run natively (not under emulation).
-RENDER_PORT_TESTS_native := render_taa
+RENDER_PORT_TESTS_native := render_taa soak
 
 # pattern (src/pattern): integer-only tile orderings, dither maps, masks
 PATTERN_SRCS := src/pattern/tileorder.c src/pattern/adaptive_mask.c src/pattern/dither.c src/pattern/dither_tables.c \
@@ -649,6 +649,16 @@ bench: deps ## measure (side by side, in one run) and print a table; writes $(O)
 		--transparency-csv $(O)/bench/transparency.csv --adaptive-csv $(O)/bench/adaptive.csv \
 		--motion-csv $(O)/bench/motion.csv --realtime-csv $(O)/bench/realtime.csv $(BENCH_ARGS)
 
+# The soak (test/unit/test_soak.c): every mode, motion blur and every transparency method for SOAK_FRAMES frames
+# each on a simulated 240 Hz display; zero heap calls after the warm-up, constant arena high-water marks, a scene
+# that keeps animating, and the render time of the first and last 10^4 frames. make test runs it with 1000 (natively:
+# the loop and the renderer are the same code under qemu, where make test runs their own tests).
+SOAK_FRAMES ?= 100000
+soak: deps ## 10^5 frames per mode and option on a simulated display: zero heap calls, constant high-water, frame times first vs last 10^4
+	$(Q)$(MAKE) --no-print-directory $(O)/test/unit/test_soak
+	$(Q)CMOCKA_MESSAGE_OUTPUT=stdout HZ_SOAK_FRAMES=$(SOAK_FRAMES) $(BOARD_TEST_LAUNCHER) $(O)/test/unit/test_soak | \
+		grep -E '^  soak |PASSED|FAILED|ERROR'
+
 size: $(HZRT) ## section sizes of hzrt, its largest symbols and the board's static arenas
 	$(Q)$(SIZE) $(HZRT) $(LIB)
 	$(Q)echo "largest symbols:"; $(NM) --size-sort -S -r $(HZRT) | head -n 12
@@ -765,7 +775,7 @@ VM_TEST_ENV := HZ_SCENES_DIR HZ_SCENES_UNPACK
 # rendered sequences) already run on the same AArch64 binaries under qemu-aarch64 in the board stage.
 VM_HEAVY_TESTS := scene_corrupt accel_build accel_trav accel_water zero_alloc render render_transp errtime et_render \
                   render_speckles pack leaveout scene_clock accel_motion accel_motion_cli render_blur render_skin shade \
-                  accel_par render_lanes render_overlap show render_reconfigure
+                  accel_par render_lanes render_overlap show render_reconfigure soak
 VM_TEST_BINS := $(filter-out $(VM_HEAVY_TESTS:%=$(O)/test/unit/test_%),$(TEST_BINS))
 
 vmtest: deps ## boot Debian's arm64 kernel in qemu-system-aarch64: AArch64 unit tests, V4L2 loop-back, GPIO capture
@@ -824,4 +834,4 @@ help: ## list the targets
 .PHONY: all deps run bench size tests test-board test check-freestanding check-integer clean help gen-srgb gen-dither errtime \
         bake scenes scenes-baked fuzz test-host report
 .PHONY: vmtest vmtest-tier vmtest-board latency-sim
-.PHONY: stability stability-tier stability-board board-fit
+.PHONY: stability stability-tier stability-board board-fit soak
