@@ -29,8 +29,8 @@
 #include "vsource.h"
 
 #define WARMUP 64u
-#define W 48
-#define H 32
+#define W 32
+#define H 18
 
 static uint64_t frames_per_config(void)
 {
