@@ -540,37 +540,55 @@ HZ_SCENES_UNPACK ?= $(abspath $(SCENES_UNPACK))
 export HZ_SCENES_UNPACK
 $(O)/test/unit/test_flip: $(SCENES_UNPACK)/pine/.unpacked $(SCENES_UNPACK)/lost-empire/.unpacked
 
-# Loader fuzzer: libFuzzer (clang -fsanitize=fuzzer) on hz_scene_plan/hz_scene_load, seeded with the small
-# real scenes. `make fuzz` runs it for FUZZ_SECONDS; `make test` runs FUZZ_RUNS inputs (seconds).
+# Fuzz targets (test/fuzz, doc/testing.md): libFuzzer with ASan and UBSan on every parser a user hands hzrt:
+# the .hzb loader (seeded with the small baked scenes), VCD and CSV traces, sidecars and the baker's model
+# import (a child process per input, as hzbake runs it). Seeds of the others are in test/fuzz/corpus/<target>.
+# `make fuzz` runs each target for FUZZ_SECONDS, FUZZ_JOBS at a time, and reports executions, coverage and
+# findings (test/fuzz/fuzz-all.sh); `make test` runs FUZZ_RUNS inputs of each (test/fuzz/run-fuzz.sh).
 FUZZ_CC ?= clang
 FUZZ_O := $(BUILD_ROOT)/fuzz
-FUZZ := $(FUZZ_O)/fuzz_hzb
+FUZZ_TARGETS ?= hzb vcd ecsv sidecar import
 FUZZ_SECONDS ?= 60
+FUZZ_JOBS ?= $(shell nproc)
 FUZZ_RUNS ?= 4000
 FUZZ_SEEDS := CornellBox-Original CornellBox-Mirror BoxAnimated dragon-res4 CesiumMan-small \
               AlphaBlendModeTest-small CesiumMan-skin-small
 FUZZ_FLAGS := -std=c99 -O1 -g -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=undefined \
-              -ffp-contract=off -fno-math-errno -fno-strict-aliasing -Iinclude -Itools/host
-$(FUZZ): test/fuzz/fuzz_hzb.c $(CORE_SRCS) $(SCENE_SRCS) $(wildcard include/hz/*.h src/scene/*.h)
+              -ffp-contract=off -fno-math-errno -fno-strict-aliasing -D_POSIX_C_SOURCE=200809L \
+              -Iinclude -Itools/host -Itools/bake -Iport/linux -Isrc/timing
+FUZZ_SRCS_hzb := $(CORE_SRCS) $(SCENE_SRCS)
+FUZZ_SRCS_vcd := $(CORE_SRCS) $(TIMING_SRCS)
+FUZZ_SRCS_ecsv := $(FUZZ_SRCS_vcd)
+FUZZ_SRCS_sidecar := $(HOST_LIB_SRCS) $(BAKE_LIB_SRCS)
+FUZZ_SRCS_import := $(FUZZ_SRCS_sidecar)
+FUZZ_LIBS_sidecar := $(BAKE_LIBS)
+FUZZ_LIBS_import := $(FUZZ_O)/fuzz_counters.o $(BAKE_LIBS)
+FUZZ := $(FUZZ_TARGETS:%=$(FUZZ_O)/fuzz_%)
+define FUZZ_TARGET
+$(FUZZ_O)/fuzz_$(1): test/fuzz/fuzz_$(1).c $(FUZZ_SRCS_$(1)) $(filter %.o,$(FUZZ_LIBS_$(1))) \
+                     $(wildcard include/hz/*.h src/*/*.h tools/bake/*.h test/fuzz/*.h)
+	@mkdir -p $$(dir $$@)
+	$$(call msg,FUZZCC,$$@)$$(FUZZ_CC) $$(FUZZ_FLAGS) -o $$@ $$< $(FUZZ_SRCS_$(1)) $(FUZZ_LIBS_$(1))
+endef
+$(foreach t,$(FUZZ_TARGETS),$(eval $(call FUZZ_TARGET,$(t))))
+$(FUZZ_O)/fuzz_counters.o: test/fuzz/fuzz_counters.c # not instrumented: see the file
 	@mkdir -p $(dir $@)
-	$(call msg,FUZZCC,$@)$(FUZZ_CC) $(FUZZ_FLAGS) -o $@ test/fuzz/fuzz_hzb.c $(CORE_SRCS) $(SCENE_SRCS)
+	$(call msg,FUZZCC,$@)$(FUZZ_CC) -std=c99 -O1 -c -o $@ $<
 $(FUZZ_O)/seeds/.stamp: $(FUZZ_SEEDS:%=$(SCENES_O)/%.hzb)
 	@rm -rf $(dir $@) && mkdir -p $(dir $@)
 	$(Q)cp $^ $(dir $@) && touch $@
 
-fuzz: deps ## fuzz the .hzb loader for FUZZ_SECONDS (libFuzzer; findings in $(BUILD_ROOT)/fuzz)
-	$(Q)$(MAKE) --no-print-directory $(FUZZ) $(FUZZ_O)/seeds/.stamp
-	$(Q)mkdir -p $(FUZZ_O)/corpus $(FUZZ_O)/artifacts
-	$(Q)$(FUZZ) -max_total_time=$(FUZZ_SECONDS) -max_len=4194304 -rss_limit_mb=4096 \
-		-artifact_prefix=$(FUZZ_O)/artifacts/ $(FUZZ_O)/corpus $(FUZZ_O)/seeds
+fuzz: deps ## fuzz every input parser for FUZZ_SECONDS each, FUZZ_JOBS at once (libFuzzer; report in $(BUILD_ROOT)/fuzz)
+	$(Q)$(MAKE) --no-print-directory $(FUZZ) $(if $(filter hzb,$(FUZZ_TARGETS)),$(FUZZ_O)/seeds/.stamp)
+	$(Q)sh test/fuzz/fuzz-all.sh $(FUZZ_O) $(FUZZ_SECONDS) $(FUZZ_JOBS) $(FUZZ_TARGETS)
 
-# Host-side tests (run by `make test`): the baker's tests and a bounded fuzzer run, results for the summary.
+# Host-side tests (run by `make test`): the baker's tests and a bounded run of each fuzz target, results for the summary.
 test-host: $(HOST_TEST_BINS) $(HOST_O)/bin/hzbake $(FUZZ) $(FUZZ_O)/seeds/.stamp scenes
 	$(Q)rm -rf $(HOST_O)/test-results && mkdir -p $(HOST_O)/test-results
 	$(Q)HZ_BAKE=$(abspath $(HOST_O)/bin/hzbake) HZ_SCENES_SRC=$(abspath $(SCENES_SRC)) \
 		HZ_SCENES_UNPACK=$(abspath $(SCENES_UNPACK)) HZ_SCENES_GEN=$(abspath $(BUILD_ROOT)/scenes-gen) \
 		sh test/run-tests.sh $(HOST_O)/test-results host "" $(HOST_TEST_BINS)
-	$(Q)sh test/fuzz/run-fuzz.sh $(HOST_O)/test-results $(FUZZ) $(FUZZ_O)/seeds $(FUZZ_RUNS)
+	$(Q)sh test/fuzz/run-fuzz.sh $(HOST_O)/test-results $(FUZZ_O) $(FUZZ_RUNS) $(FUZZ_TARGETS)
 
 # ---------------------------------------------------------------------------------------------------------
 # Dependencies (Debian packages). `?pkg` is optional: a failed install warns instead of stopping. The goals that
