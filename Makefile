@@ -547,12 +547,14 @@ $(O)/test/unit/test_flip: $(SCENES_UNPACK)/pine/.unpacked $(SCENES_UNPACK)/lost-
 # findings (test/fuzz/fuzz-all.sh); `make test` runs FUZZ_RUNS inputs of each (test/fuzz/run-fuzz.sh).
 FUZZ_CC ?= clang
 FUZZ_O := $(BUILD_ROOT)/fuzz
-FUZZ_TARGETS ?= hzb vcd ecsv sidecar import
+FUZZ_ALL := hzb vcd ecsv sidecar import
+FUZZ_TARGETS ?= $(FUZZ_ALL)
 FUZZ_SECONDS ?= 60
 FUZZ_JOBS ?= $(shell nproc)
 FUZZ_RUNS ?= 4000
-FUZZ_SEEDS := CornellBox-Original CornellBox-Mirror BoxAnimated dragon-res4 CesiumMan-small \
-              AlphaBlendModeTest-small CesiumMan-skin-small
+# The loader's seeds: small baked scenes and the images the import target bakes from its seeds (every section
+# kind, a few KB each: a large seed costs its size in every execution).
+FUZZ_SEEDS := CornellBox-Original CornellBox-Mirror BoxAnimated AlphaBlendModeTest-small
 FUZZ_FLAGS := -std=c99 -O1 -g -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=undefined \
               -ffp-contract=off -fno-math-errno -fno-strict-aliasing -D_POSIX_C_SOURCE=200809L \
               -Iinclude -Itools/host -Itools/bake -Iport/linux -Isrc/timing
@@ -570,13 +572,16 @@ $(FUZZ_O)/fuzz_$(1): test/fuzz/fuzz_$(1).c $(FUZZ_SRCS_$(1)) $(filter %.o,$(FUZZ
 	@mkdir -p $$(dir $$@)
 	$$(call msg,FUZZCC,$$@)$$(FUZZ_CC) $$(FUZZ_FLAGS) -o $$@ $$< $(FUZZ_SRCS_$(1)) $(FUZZ_LIBS_$(1))
 endef
-$(foreach t,$(FUZZ_TARGETS),$(eval $(call FUZZ_TARGET,$(t))))
+$(foreach t,$(FUZZ_ALL),$(eval $(call FUZZ_TARGET,$(t))))
 $(FUZZ_O)/fuzz_counters.o: test/fuzz/fuzz_counters.c # not instrumented: see the file
 	@mkdir -p $(dir $@)
 	$(call msg,FUZZCC,$@)$(FUZZ_CC) -std=c99 -O1 -c -o $@ $<
-$(FUZZ_O)/seeds/.stamp: $(FUZZ_SEEDS:%=$(SCENES_O)/%.hzb)
+$(FUZZ_O)/seeds/.stamp: $(FUZZ_SEEDS:%=$(SCENES_O)/%.hzb) $(FUZZ_O)/fuzz_import $(wildcard test/fuzz/corpus/import/*)
 	@rm -rf $(dir $@) && mkdir -p $(dir $@)
-	$(Q)cp $^ $(dir $@) && touch $@
+	$(Q)cp $(filter %.hzb,$^) $(dir $@)
+	$(call msg,FUZZSEED,$(dir $@))HZ_FUZZ_IMPORT_SAVE_HZB=$(dir $@) TMPDIR=$(FUZZ_O) $(FUZZ_O)/fuzz_import -rss_limit_mb=0 \
+		$(wildcard test/fuzz/corpus/import/*) >$(FUZZ_O)/seeds.log 2>&1 || { cat $(FUZZ_O)/seeds.log; exit 1; }
+	@touch $@
 
 fuzz: deps ## fuzz every input parser for FUZZ_SECONDS each, FUZZ_JOBS at once (libFuzzer; report in $(BUILD_ROOT)/fuzz)
 	$(Q)$(MAKE) --no-print-directory $(FUZZ) $(if $(filter hzb,$(FUZZ_TARGETS)),$(FUZZ_O)/seeds/.stamp)
@@ -595,7 +600,8 @@ test-host: $(HOST_TEST_BINS) $(HOST_O)/bin/hzbake $(FUZZ) $(FUZZ_O)/seeds/.stamp
 # install them (run, bench, report, scenes, fuzz, latency-sim) build the rest in a sub-make after `deps`: make 4.3 has no
 # .WAIT, and with -j the compiler would otherwise start on headers apt-get has not unpacked yet.
 DEPS_TEST_HOST := libcmocka-dev file unzip
-# Host tools: the baker (assimp, stb_image, zlib; unzip for the scene zips) and the loader fuzzer (libFuzzer).
+# Host tools: the baker (assimp, stb_image, zlib; unzip for the scene zips) and the fuzzers (libFuzzer; the
+# import and sidecar targets link the baker, the loader's seeds are baked scenes).
 DEPS_BAKE := gcc libc6-dev libassimp-dev libstb-dev zlib1g-dev unzip libcmocka-dev
 DEPS_FUZZ := clang libclang-rt-14-dev
 DEPS_TEST_CROSS := gcc-aarch64-linux-gnu libc6-dev-arm64-cross binutils-aarch64-linux-gnu qemu-user-static \
@@ -603,7 +609,7 @@ DEPS_TEST_CROSS := gcc-aarch64-linux-gnu libc6-dev-arm64-cross binutils-aarch64-
 deps: ## install the Debian packages BOARD needs to build, run and test (apt-get as root; else print the line)
 	$(Q)sh tools/deps.sh $(BOARD_DEPS) $(BOARD_TEST_DEPS) \
 		$(if $(filter test stability,$(MAKECMDGOALS)),$(DEPS_TEST_HOST) $(DEPS_TEST_CROSS)) \
-		$(if $(filter test scenes bake test-host bench report latency-sim,$(MAKECMDGOALS)),$(DEPS_BAKE)) \
+		$(if $(filter test scenes bake test-host bench report latency-sim fuzz,$(MAKECMDGOALS)),$(DEPS_BAKE)) \
 		$(if $(filter test fuzz test-host,$(MAKECMDGOALS)),$(DEPS_FUZZ)) \
 		$(if $(filter test vmtest,$(MAKECMDGOALS)),$(DEPS_VMTEST))
 

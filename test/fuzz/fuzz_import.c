@@ -75,6 +75,7 @@ static uint8_t *counters, *shared_counters, *shared_image;
 static size_t n_counters;
 static unsigned timeout_s = 5;
 static int verbose; /* HZ_FUZZ_IMPORT_VERBOSE=1: say what became of each input */
+static const char *save_dir; /* HZ_FUZZ_IMPORT_SAVE_HZB=DIR: keep each baked image (seeds for fuzz_hzb) */
 
 static struct {
     unsigned long long runs, refused, imaged, too_big, library, library_sites;
@@ -148,6 +149,7 @@ int LLVMFuzzerInitialize(int *argc, char ***argv)
         if (!strncmp((*argv)[i], "-artifact_prefix=", 17))
             snprintf(prefix, sizeof prefix, "%s", (*argv)[i] + 17);
     verbose = getenv("HZ_FUZZ_IMPORT_VERBOSE") && atoi(getenv("HZ_FUZZ_IMPORT_VERBOSE")) > 0;
+    save_dir = getenv("HZ_FUZZ_IMPORT_SAVE_HZB");
     const char *t = getenv("HZ_FUZZ_IMPORT_TIMEOUT");
     if (t && atoi(t) > 0)
         timeout_s = (unsigned)atoi(t);
@@ -616,6 +618,15 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     if (st != HZ_OK)
         abort(); /* planned but not loadable */
     stats.imaged++;
+    if (save_dir && *save_dir) {
+        char name[600];
+        snprintf(name, sizeof name, "%s/import-%016llx.hzb", save_dir, (unsigned long long)fnv(data, size));
+        FILE *f = fopen(name, "wb");
+        if (!f || fwrite(shared_image, 1, n, f) != n || fclose(f) != 0) {
+            perror(name);
+            abort();
+        }
+    }
     if (verbose)
         fprintf(stderr, "fuzz_import: baked and loaded: %zu bytes\n", n);
     return 0;

@@ -109,7 +109,9 @@ def main():
            b"usemtl plain\nf -3 -2 -1\n")
     mtl = (b"newmtl leaf\nKd 0.5 0.8 0.3\nmap_Kd t.png\nmap_d t.png\nd 1\nnewmtl plain\nKd 0.9 0.9 0.9\n"
            b"Ks 0.5 0.5 0.5\n")
-    side = b"texture_max = 4\n[material leaf]\nalpha_mode = mask\nalpha_cutoff = 0.5\n[material plain]\nmirror = 0.5\n"
+    side = (b"texture_max = 4\ncamera = 0 eye 0 0 3 target 0 0 0\ncamera = 0.2 eye 1 0 3 target 0 0 0\n"
+            b"camera = 0.5 eye 1 1 3 target 0 0 0\n[material leaf]\nalpha_mode = mask\nalpha_cutoff = 0.5\n"
+            b"[material plain]\nmirror = 0.5\n")
     seeds["obj-textured-quad"] = seed("obj", obj, mtl, side, tex)
 
     # PLY: the first vertices of the dragon, ASCII and binary (with normals), plain and gzipped.
@@ -186,9 +188,13 @@ def main():
                      "uri": "data:application/octet-stream;base64," + base64.b64encode(blob).decode()}],
     }
     seeds["gltf-skinned-strip"] = seed("gltf", json.dumps(doc, indent=1).encode(), None,
-                                       b"skin_rate = 4\nname = strip\n")
-    seeds["gltf-skinned-strip-keys"] = seed("gltf", json.dumps(doc).encode(), None,
-                                            b"skinning = keys\nskin_rate = 2\nnormals = none\n")
+                                       b"skin_rate = 4\nname = strip\nduration = 3\ncamera_loop = yes\n"
+                                       b"light = position 0 1 3 color 5 5 5\ncamera = 0 eye 0 1 4 target 0 1 0\n"
+                                       b"camera = 0.1 eye 2 1 3 target 0 1 0 fov 40\n"
+                                       b"camera = 0.2 eye -2 2 3 target 0 1 0 up 0 1 0.1\n")
+    seeds["gltf-skinned-strip-keys"] = seed("gltf", json.dumps(doc).encode(), None, b"skinning = keys\nskin_rate = 2\n")
+    seeds["glb-skinned-strip-keys-no-normals"] = seed("glb", glb(dict(doc, buffers=[{"byteLength": len(blob)}]), blob),
+                                                      None, b"skinning = keys\nskin_rate = 3\nnormals = none\n")
 
     # Furball: the first strands of the Embree furball (indices, then float4 points).
     with gzip.open(os.path.join(scenes, "furball", "furBall_A.bin.gz"), "rb") as f:
