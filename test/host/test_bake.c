@@ -869,6 +869,9 @@ static void test_bad_inputs_get_clear_errors_and_distinct_statuses(void **state)
     size_t plen;
     char *ply = gunzip_all(p, &plen);
     put("cut.ply", ply, 30000); /* header + part of the vertices: assimp 5.2 aborts on this */
+    put("headcut.ply", ply, 120); /* cut inside the header: assimp 5.2 loops forever on this */
+    memcpy(ply + 60, "\0", 1);   /* a NUL in the header (the import fuzzer's lib-1f28d697d72ea06b): the same */
+    put("headnul.ply", ply, 30000);
     free(ply);
     source_path(p, sizeof p, "HZ_SCENES_SRC", "gltf/BoxAnimated/glTF/BoxAnimated.gltf");
     copy_prefix(p, "box.gltf", SIZE_MAX);
@@ -901,6 +904,11 @@ static void test_bad_inputs_get_clear_errors_and_distinct_statuses(void **state)
         /* assimp 5.2.5 aborts in an assertion on this file: the child's crash becomes status 76. A fixed
          * assimp may refuse it cleanly instead (68); either way the baker survives and names the file. */
         { "truncated PLY", NULL, { "cut.ply", "OUT" }, 76, 68, { "cut.ply" } },
+        /* Refused before assimp sees them; --timeout makes a regression fail fast instead of waiting 600 s. */
+        { "PLY cut in its header", NULL, { "--timeout", "1", "headcut.ply", "OUT" }, 68, 0,
+          { "headcut.ply", "no end_header line" } },
+        { "NUL in a PLY header", NULL, { "--timeout", "1", "headnul.ply", "OUT" }, 68, 0,
+          { "headnul.ply", "line 4 of the PLY header holds the control byte 0x00" } },
         { "truncated glTF buffer", NULL, { "box.gltf", "OUT" }, 68, 0, { "box.gltf", "byteLength" } },
         { "furball index out of range",
           NULL,
