@@ -18,9 +18,10 @@
  *  - it answered: the import either refused the model with a status and a message naming the input's file, or
  *    made an image, which must pass the runtime loader (hz_scene_plan, and fuzz_scene.h's checks). The heap
  *    calls of each input must balance, or LeakSanitizer scans for a leak.
- *  - it died (a sanitizer report, a signal, an abort, exit(), or no answer within HZ_FUZZ_IMPORT_TIMEOUT seconds,
- *    default 5, after which it is sent SIGABRT for a stack trace): the report's first stack frame in hzrt's code
- *    or a library's says whose it was. In assimp, stb_image or zlib, it is a finding of that library, not of
+ *  - it died (a sanitizer report, a signal, an abort, exit()) or hung (no answer within HZ_FUZZ_IMPORT_TIMEOUT
+ *    seconds, default 5; then it prints three stack samples and is killed): the report's first stack frame in
+ *    hzrt's code or a library's says whose it was (for a hang: hzrt's if any sample shows its code; when no
+ *    sample unwinds, the baker's last phase, "importing (assimp)" or its own). In assimp, stb_image or zlib, it is a finding of that library, not of
  *    hzrt: its input and report are kept once per crash site as <artifact_prefix>lib-<site hash> (+ .log),
  *    counted, and the fuzzer goes on. In hzrt's code (or anywhere unknown), the child's report is printed and
  *    this process aborts, which libFuzzer records as a crash.
@@ -69,13 +70,16 @@ typedef struct result {
 /* The coverage counters of this binary (fuzz_counters.c). */
 uint8_t *hz_fuzz_counters(size_t *n);
 
-static char dir[256], prefix[1024] = "./", exe[512];
+static char dir[256], prefix[1024] = "./";
 static result_t *shared;
 static uint8_t *counters, *shared_counters, *shared_image;
 static size_t n_counters;
 static unsigned timeout_s = 5;
 static int verbose; /* HZ_FUZZ_IMPORT_VERBOSE=1: say what became of each input */
 static const char *save_dir; /* HZ_FUZZ_IMPORT_SAVE_HZB=DIR: keep each baked image (seeds for fuzz_hzb) */
+/* HZ_FUZZ_IMPORT_SELFTEST=overflow|leak|hang: the child fails that way in hzrt's code after each import, so that
+ * run-fuzz.sh can check that such a failure is blamed on hzrt (the fuzzer stops) and not taken for a library's. */
+static const char *selftest;
 
 static struct {
     unsigned long long runs, refused, imaged, too_big, library, library_sites;
@@ -127,7 +131,7 @@ static void cleanup(void)
         server_pid = 0;
     }
     static const char *const names[] = { "m.obj", "m.ply", "m.ply.gz", "m.gltf", "m.glb", "m.xml", "m.mtl",
-                                         "m.bin", "m.hzs", "t.png", "child.log" };
+                                         "m.bin", "m.hzs", "t.png", "child.log", "phase.log" };
     char p[512];
     for (size_t i = 0; i < sizeof names / sizeof names[0]; i++) {
         snprintf(p, sizeof p, "%s/%s", dir, names[i]);
@@ -150,6 +154,7 @@ int LLVMFuzzerInitialize(int *argc, char ***argv)
             snprintf(prefix, sizeof prefix, "%s", (*argv)[i] + 17);
     verbose = getenv("HZ_FUZZ_IMPORT_VERBOSE") && atoi(getenv("HZ_FUZZ_IMPORT_VERBOSE")) > 0;
     save_dir = getenv("HZ_FUZZ_IMPORT_SAVE_HZB");
+    selftest = getenv("HZ_FUZZ_IMPORT_SELFTEST");
     const char *t = getenv("HZ_FUZZ_IMPORT_TIMEOUT");
     if (t && atoi(t) > 0)
         timeout_s = (unsigned)atoi(t);
@@ -160,8 +165,6 @@ int LLVMFuzzerInitialize(int *argc, char ***argv)
         exit(1);
     }
     counters = hz_fuzz_counters(&n_counters);
-    ssize_t n = readlink("/proc/self/exe", exe, sizeof exe - 1);
-    exe[n > 0 ? n : 0] = '\0';
     size_t bytes = sizeof(result_t) + 64 + n_counters + IMAGE_CAP;
     uint8_t *m = mmap(NULL, bytes, PROT_READ | PROT_WRITE, MAP_SHARED | MAP_ANONYMOUS, -1, 0);
     if (m == MAP_FAILED) {
@@ -261,12 +264,34 @@ static void import_one(const char *model)
             memcpy(shared_image, img.data, img.size);
     }
     free(img.data);
+    if (selftest && !strcmp(selftest, "overflow")) {
+        char *volatile b = malloc(8);
+        b[8] = 1;
+        free(b);
+    } else if (selftest && !strcmp(selftest, "leak")) {
+        void *volatile lost = malloc(24);
+        lost = NULL;
+    } else if (selftest && !strcmp(selftest, "hang")) {
+        for (volatile unsigned i = 0;; i++)
+            ;
+    }
+}
+
+#define SAMPLE_MARK "==hzfuzz-sample==\n"
+
+/* SIGUSR1 in the child: a stack sample of where it is (the parent asks for a few when an input hangs). */
+static void sample_stack(int sig)
+{
+    (void)sig;
+    if (write(2, SAMPLE_MARK, sizeof SAMPLE_MARK - 1) < 0)
+        return;
+    __sanitizer_print_stack_trace();
 }
 
 /* The child: imports one input per byte on `req` (the kind), answers on `rep`, ends when `req` closes. Its
- * stderr is the log file, emptied before each input; its coverage counters are zeroed before each input and
- * copied out after it. */
-static void server(int req, int rep, int log_fd)
+ * stderr is the log file and the baker's phase lines ("importing (assimp)", "converting ...") go to phase.log,
+ * both emptied before each input; its coverage counters are zeroed before each input and copied out after it. */
+static void server(int req, int rep, int log_fd, int phase_fd)
 {
     static const char *const model_names[8] = { "m.obj", "m.ply", "m.ply.gz", "m.gltf",
                                                 "m.glb", "m.xml", "m.ply.gz", "m.gltf" };
@@ -279,9 +304,12 @@ static void server(int req, int rep, int log_fd)
         dup2(null_fd, 1);
     }
     dup2(log_fd, 2);
+    hz_bake_phase_fd = phase_fd;
+    signal(SIGUSR1, sample_stack);
     unsigned char kind;
     while (read(req, &kind, 1) == 1) {
-        if (ftruncate(2, 0) != 0 || lseek(2, 0, SEEK_SET) != 0)
+        if (ftruncate(2, 0) != 0 || lseek(2, 0, SEEK_SET) != 0 || ftruncate(phase_fd, 0) != 0 ||
+            lseek(phase_fd, 0, SEEK_SET) != 0)
             _exit(5);
         char model[512];
         snprintf(model, sizeof model, "%s/%s", dir, model_names[kind % 8]);
@@ -306,8 +334,10 @@ static void server_start(void)
     char p[512];
     snprintf(p, sizeof p, "%s/child.log", dir);
     int log_fd = open(p, O_RDWR | O_CREAT | O_TRUNC | O_CLOEXEC, 0600);
+    snprintf(p, sizeof p, "%s/phase.log", dir);
+    int phase_fd = open(p, O_RDWR | O_CREAT | O_TRUNC | O_CLOEXEC, 0600);
     int a[2], b[2];
-    if (log_fd < 0 || pipe(a) != 0 || pipe(b) != 0) {
+    if (log_fd < 0 || phase_fd < 0 || pipe(a) != 0 || pipe(b) != 0) {
         perror("fuzz_import: log or pipes");
         abort();
     }
@@ -321,9 +351,10 @@ static void server_start(void)
     if (server_pid == 0) {
         close(a[1]);
         close(b[0]);
-        server(a[0], b[1], log_fd);
+        server(a[0], b[1], log_fd, phase_fd);
     }
     close(log_fd);
+    close(phase_fd);
     close(a[0]);
     close(b[1]);
     req_fd = a[1];
@@ -359,13 +390,18 @@ static int server_run(int kind, int *status, int *hung)
             r = poll(&pf, 1, (int)timeout_s * 1000);
         while (r < 0 && errno == EINTR);
         if (r == 0) {
+            /* Three stack samples of where it hangs (one can land where no stack unwinds), then the end. */
+            for (int i = 0; i < 3 && r == 0; i++) {
+                kill(server_pid, SIGUSR1);
+                do
+                    r = poll(&pf, 1, 300);
+                while (r < 0 && errno == EINTR);
+            }
+            char c;
+            if (r > 0 && read(rep_fd, &c, 1) == 1)
+                return 1; /* slow, not stuck: it answered */
             *hung = 1;
-            kill(server_pid, SIGABRT); /* ASan prints the stack where it hangs */
-            do
-                r = poll(&pf, 1, 5000);
-            while (r < 0 && errno == EINTR);
-            if (r == 0)
-                kill(server_pid, SIGKILL);
+            kill(server_pid, SIGKILL);
         } else {
             char c;
             if (read(rep_fd, &c, 1) == 1)
@@ -378,12 +414,14 @@ static int server_run(int kind, int *status, int *hung)
 
 /* ---- reading a dead child's report ---- */
 
-/* Frames of the sanitizer runtime and the allocator (linked into this binary), and this harness's exit hook. */
+/* Frames of the sanitizer runtime, libFuzzer and the allocator (linked into this binary), and this harness's
+ * allocator and exit hooks: a hang caught inside a malloc shows them on top. */
 static int plumbing(const char *frame)
 {
     static const char *const marks[] = { "__interceptor", "__asan", "__sanitizer", "__lsan", "__ubsan",
-                                         "compiler-rt", " in malloc", " in calloc", " in realloc", " in free",
-                                         "operator new", "operator delete", "child_exit_hook" };
+                                         "compiler-rt", "fuzzer::", " in malloc", " in calloc", " in realloc",
+                                         " in free", "operator new", "operator delete", "count_malloc",
+                                         "count_free", "child_exit_hook", "sample_stack" };
     for (size_t i = 0; i < sizeof marks / sizeof marks[0]; i++)
         if (strstr(frame, marks[i]))
             return 1;
@@ -402,11 +440,12 @@ static const char *library_of(const char *frame)
     return NULL;
 }
 
-/* hzrt's code (the baker, the core, this harness): a source path of the tree, or an address in this binary. */
+/* hzrt's code (the baker, the core, this harness): a source file of the tree (it is built with -g). Frames of
+ * this binary without one are the sanitizer runtime, its interceptors (strncmp, memcpy...) and libFuzzer. */
 static int ours(const char *frame)
 {
     return strstr(frame, "/tools/bake/") || strstr(frame, "/src/") || strstr(frame, "/port/linux/") ||
-        strstr(frame, "/test/fuzz/") || (exe[0] && strstr(frame, exe) && strstr(frame, "+0x"));
+        strstr(frame, "/test/fuzz/");
 }
 
 /* The first frame of the report's stack (of the allocation, for a leak) that is hzrt's code or a library's,
@@ -460,7 +499,11 @@ static void library_finding(const char *lib, const char *frame, const char *what
     /* "==PID==ERROR: AddressSanitizer: SEGV on unknown address ...": the word after the tool's name. */
     const char *kind = strstr(log, "ERROR: ");
     kind = kind ? kind + 7 : what;
-    if (strchr(kind, ':') && strchr(kind, ':') < kind + strcspn(kind, "\n"))
+    if (!strncmp(what, "no answer", 9))
+        kind = "hang";
+    else if (!strncmp(kind, "LeakSanitizer", 13))
+        kind = "leak";
+    else if (strchr(kind, ':') && strchr(kind, ':') < kind + strcspn(kind, "\n"))
         kind = strchr(kind, ':') + 2;
     char place[200];
     if (!strncmp(what, "no answer", 9))
@@ -492,6 +535,23 @@ static void library_finding(const char *lib, const char *frame, const char *what
             what, (int)strcspn(kind, " \n"), kind, place, name);
 }
 
+/* The baker's last phase line of the input (phase.log) starts with `what`. */
+static int phase_is(const char *what)
+{
+    char p[512], buf[4096];
+    snprintf(p, sizeof p, "%s/phase.log", dir);
+    FILE *f = fopen(p, "rb");
+    if (!f)
+        return 0;
+    size_t n = fread(buf, 1, sizeof buf - 1, f);
+    fclose(f);
+    buf[n] = '\0';
+    while (n && buf[n - 1] == '\n')
+        buf[--n] = '\0';
+    char *last = strrchr(buf, '\n');
+    return !strncmp(last ? last + 1 : buf, what, strlen(what));
+}
+
 /* The child died: whose code was it? */
 static void judge_death(int status, int hung, const uint8_t *data, size_t size)
 {
@@ -507,9 +567,34 @@ static void judge_death(int status, int hung, const uint8_t *data, size_t size)
         snprintf(what, sizeof what, "exit status %d", WEXITSTATUS(status));
     int ub = strstr(scan, "runtime error:") != NULL;
     int cxx = strstr(scan, "operator new") || strstr(scan, "libstdc++");
-    const char *frame = ub ? NULL : first_frame(scan);
-    const char *lib = frame ? library_of(frame) : NULL;
-    if (!frame && !ub && cxx) {
+    const char *frame = NULL, *lib = NULL;
+    if (hung) {
+        /* Each sample names a library or hzrt's code (or nothing, if it did not unwind). hzrt's code in any
+         * sample makes the hang hzrt's: a loop of its own shows its frames on top of whatever it calls. */
+        int any_ours = 0;
+        for (char *smp = strstr(scan, SAMPLE_MARK); smp; smp = strstr(smp + 1, SAMPLE_MARK)) {
+            char *next = strstr(smp + 1, SAMPLE_MARK);
+            if (next)
+                *next = '\0';
+            char *f = first_frame(smp);
+            if (f && library_of(f) && !lib)
+                frame = f, lib = library_of(f);
+            else if (f && !library_of(f))
+                any_ours = 1, frame = f;
+            if (next)
+                *next = SAMPLE_MARK[0];
+            else
+                break;
+        }
+        if (any_ours)
+            lib = NULL;
+        else if (!lib && phase_is("importing (assimp)"))
+            frame = "assimp's import (the baker's last phase; no stack sample unwound)", lib = "assimp";
+    } else {
+        frame = ub ? NULL : first_frame(scan);
+        lib = frame ? library_of(frame) : NULL;
+    }
+    if (!frame && !ub && !hung && cxx) {
         /* A stack that ends in the C++ runtime (the fast unwinder of malloc stacks stops at libstdc++, built
          * without frame pointers): only assimp is C++ here. ASAN_OPTIONS=fast_unwind_on_malloc=0 on a rerun of
          * the kept input shows the whole stack. */

@@ -3,7 +3,8 @@
 #   run-fuzz.sh RESULTS_DIR FUZZ_O RUNS TARGET...
 # Every target runs RUNS inputs (the model import, a child process a few ms an input, RUNS / 40), seeds
 # first; the seeds and FUZZ_O's corpora stay untouched (new inputs go to a temporary directory). A failed check
-# leaves its input in RESULTS_DIR/fuzz-artifacts/ and fails that target's test.
+# leaves its input in RESULTS_DIR/fuzz-artifacts/ and fails that target's test. With the import target it also
+# checks the import fuzzer's judge of whose code failed (fuzz_import_judge).
 set -u
 results=$1 out=$2 runs=$3
 shift 3
@@ -38,4 +39,29 @@ for t in "$@"; do
         echo "host/$name 0 1 0" >"$results/$name.res"
     fi
 done
+
+# The model import's judge: a failure in hzrt's code (an overflow, a leak, a hang) must stop the fuzzer, and an
+# input that crashes assimp 5.2.5 (test/fuzz/judge/) must be kept as a library finding, not stop it.
+case " $* " in *" import "*)
+    name=fuzz_import_judge log=$results/$name.log seed=$(fuzz_seeds import "$out")/xml-furball-strands
+    work=$(mktemp -d) bad=""
+    for st in overflow leak hang; do
+        HZ_FUZZ_IMPORT_SELFTEST=$st HZ_FUZZ_IMPORT_TIMEOUT=1 TMPDIR=$work "$out/fuzz_import" -rss_limit_mb=0 \
+            -artifact_prefix="$work/" "$seed" >"$log.$st" 2>&1 &&
+            bad="$bad $st: not a failure;"
+        grep -q "abnormally .* in hzrt's code" "$log.$st" || bad="$bad $st: not blamed on hzrt;"
+    done
+    TMPDIR=$work "$out/fuzz_import" -rss_limit_mb=0 -artifact_prefix="$work/" "$(dirname "$0")"/judge/* >"$log" 2>&1 ||
+        bad="$bad an assimp crash stopped the fuzzer;"
+    grep -q 'library finding (assimp\|1 refused' "$log" || bad="$bad the assimp crash was not kept as a library finding;"
+    rm -rf "$work"
+    if [ -z "$bad" ]; then
+        printf '  ok    %-18s %-28s %3d passed\n' host "$name" 1
+        echo "host/$name 1 0 0" >"$results/$name.res"
+    else
+        printf '  FAIL  %-18s %-28s%s see %s*\n' host "$name" "$bad" "$log"
+        echo "host/$name 0 1 0" >"$results/$name.res"
+    fi
+    ;;
+esac
 exit 0
