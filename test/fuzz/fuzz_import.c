@@ -65,6 +65,7 @@ typedef struct result {
     char msg[HZ_ERROR_MSG_BYTES];
     size_t image_size;
     int image_fits;
+    int leak_scan; /* the heap calls did not balance: LeakSanitizer scanned (and found nothing) */
 } result_t;
 
 /* The coverage counters of this binary (fuzz_counters.c). */
@@ -82,7 +83,7 @@ static const char *save_dir; /* HZ_FUZZ_IMPORT_SAVE_HZB=DIR: keep each baked ima
 static const char *selftest;
 
 static struct {
-    unsigned long long runs, refused, imaged, too_big, library, library_sites;
+    unsigned long long runs, refused, imaged, too_big, library, library_sites, scans;
 } stats;
 #define MAX_SITES 256
 static uint64_t sites[MAX_SITES];
@@ -141,8 +142,9 @@ static void cleanup(void)
     if (stats.runs)
         fprintf(stderr,
                 "fuzz_import: %llu inputs: %llu refused, %llu baked and loaded, %llu images over the harness's %u "
-                "MiB; library findings (assimp, stb_image, zlib; not hzrt's code): %llu inputs at %llu sites\n",
-                stats.runs, stats.refused, stats.imaged, stats.too_big, IMAGE_CAP >> 20, stats.library,
+                "MiB, %llu heap scans for leaks; library findings (assimp, stb_image, zlib; not hzrt's code): %llu "
+                "inputs at %llu sites\n",
+                stats.runs, stats.refused, stats.imaged, stats.too_big, IMAGE_CAP >> 20, stats.scans, stats.library,
                 stats.library_sites);
 }
 
@@ -319,8 +321,11 @@ static void server(int req, int rep, int log_fd, int phase_fd)
         import_one(model);
         in_child = 0;
         /* Heap calls that do not balance: a leak, or state a library keeps (which the scan finds reachable). */
-        if (child_mallocs != child_frees && __lsan_do_recoverable_leak_check())
-            _exit(4);
+        if (child_mallocs != child_frees) {
+            if (__lsan_do_recoverable_leak_check())
+                _exit(4);
+            shared->leak_scan = 1;
+        }
         memcpy(shared_counters, counters, n_counters);
         shared->finished = 1;
         if (write(rep, "k", 1) != 1)
@@ -663,6 +668,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         judge_death(status, hung, data, size);
         return 0;
     }
+    stats.scans += shared->leak_scan;
     /* Coverage the child reached, for libFuzzer's feedback. */
     for (size_t i = 0; i < n_counters; i++)
         if (shared_counters[i] > counters[i])
