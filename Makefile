@@ -541,8 +541,8 @@ export HZ_SCENES_UNPACK
 $(O)/test/unit/test_flip: $(SCENES_UNPACK)/pine/.unpacked $(SCENES_UNPACK)/lost-empire/.unpacked
 
 # Fuzz targets (test/fuzz, doc/testing.md): libFuzzer with ASan and UBSan on every parser a user hands hzrt:
-# the .hzb loader (seeded with the small baked scenes), VCD and CSV traces, sidecars and the baker's model
-# import (a child process per input, as hzbake runs it). Seeds of the others are in test/fuzz/corpus/<target>.
+# the .hzb loader, VCD and CSV traces, sidecars and the baker's model import (in a child process, as hzbake
+# runs it). Seeds are in test/fuzz/corpus/<target>, the loader's are baked (FUZZ_SEEDS below).
 # `make fuzz` runs each target for FUZZ_SECONDS, FUZZ_JOBS at a time, and reports executions, coverage and
 # findings (test/fuzz/fuzz-all.sh); `make test` runs FUZZ_RUNS inputs of each (test/fuzz/run-fuzz.sh).
 FUZZ_CC ?= clang
