@@ -877,6 +877,21 @@ static void test_bad_inputs_get_clear_errors_and_distinct_statuses(void **state)
     copy_prefix(p, "box.gltf", SIZE_MAX);
     source_path(p, sizeof p, "HZ_SCENES_SRC", "gltf/BoxAnimated/glTF/BoxAnimated0.bin");
     copy_prefix(p, "BoxAnimated0.bin", 3000);
+    /* A triangle whose translation is animated over 1e9 s: 3e10 rigid keys at the default rigid_rate (the import
+     * fuzzer's glb asked for 512 million: 4 GiB of sample times). */
+    put_text("longanim.gltf",
+             "{\"asset\":{\"version\":\"2.0\"},\"scene\":0,\"scenes\":[{\"nodes\":[0]}],"
+             "\"nodes\":[{\"name\":\"tri\",\"mesh\":0}],\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0}}]}],"
+             "\"animations\":[{\"channels\":[{\"sampler\":0,\"target\":{\"node\":0,\"path\":\"translation\"}}],"
+             "\"samplers\":[{\"input\":1,\"output\":2}]}],"
+             "\"accessors\":[{\"bufferView\":0,\"componentType\":5126,\"count\":3,\"type\":\"VEC3\","
+             "\"min\":[0,0,0],\"max\":[1,1,0]},{\"bufferView\":1,\"componentType\":5126,\"count\":2,"
+             "\"type\":\"SCALAR\",\"min\":[0],\"max\":[1e9]},{\"bufferView\":2,\"componentType\":5126,\"count\":2,"
+             "\"type\":\"VEC3\"}],\"bufferViews\":[{\"buffer\":0,\"byteOffset\":0,\"byteLength\":36},"
+             "{\"buffer\":0,\"byteOffset\":36,\"byteLength\":8},{\"buffer\":0,\"byteOffset\":44,\"byteLength\":24}],"
+             "\"buffers\":[{\"byteLength\":68,\"uri\":\"longanim.bin\"}]}");
+    static const float longanim[17] = { 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 1e9f, 0, 0, 0, 5, 0, 0 };
+    put("longanim.bin", longanim, sizeof longanim);
     put_text("fur.xml",
              "<scene><RoundLineSegments><indices ofs=\"0\" size=\"2\"/>"
              "<positions ofs=\"8\" size=\"2\"/></RoundLineSegments></scene>");
@@ -910,6 +925,8 @@ static void test_bad_inputs_get_clear_errors_and_distinct_statuses(void **state)
         { "NUL in a PLY header", NULL, { "--timeout", "1", "headnul.ply", "OUT" }, 68, 0,
           { "headnul.ply", "line 4 of the PLY header holds the control byte 0x00" } },
         { "truncated glTF buffer", NULL, { "box.gltf", "OUT" }, 68, 0, { "box.gltf", "byteLength" } },
+        { "animation needing 3e10 keys", NULL, { "--timeout", "1", "longanim.gltf", "OUT" }, 71, 0,
+          { "longanim.gltf", "object 'tri'", "more than 1000000 rigid keys" } },
         { "furball index out of range",
           NULL,
           { "fur.xml", "OUT" },

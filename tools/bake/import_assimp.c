@@ -361,6 +361,8 @@ static int push_matrix_key(ctx_t *c, const struct aiMatrix4x4 *g, float time, fl
     return 0;
 }
 
+#define RIGID_SAMPLES_MAX 1000000u /* per object; what joint keys are capped at */
+
 static hz_status_t rigid_keys(ctx_t *c, const struct aiNode *node, hz_bake_object_t *o)
 {
     hz_bake_vec_t times;
@@ -378,6 +380,15 @@ static hz_status_t rigid_keys(ctx_t *c, const struct aiNode *node, hz_bake_objec
             *(double *)hz_bake_vec_push(&times, 1) = ch->mScalingKeys[i].mTime;
     }
     double step = c->tps / c->sc->rigid_rate;
+    /* The samples are (duration / step) + 1: a long animation or a high rigid_rate could ask for billions (the
+     * import fuzzer's glb asked for 512 million, 4 GiB of sample times). */
+    if (step > 0 && !(dur / step < RIGID_SAMPLES_MAX)) {
+        hz_bake_vec_free(&times);
+        return hz_bake_err(c->err, HZ_E_RANGE,
+                           "%s: object '%s': its %.6g s animation at rigid_rate %g keys/s needs more than %u rigid "
+                           "keys; lower rigid_rate in the sidecar or shorten the animation",
+                           c->s->model, o->name, dur / c->tps, (double)c->sc->rigid_rate, RIGID_SAMPLES_MAX);
+    }
     for (double t = 0; t <= dur && step > 0; t += step)
         *(double *)hz_bake_vec_push(&times, 1) = t;
     double *tv = times.data;
