@@ -19,7 +19,7 @@ run_target() {
     ls "$d/artifacts" >"$d/artifacts.before"
     # shellcheck disable=SC2046 # the options are words on purpose
     TMPDIR=$d/tmp "$out/fuzz_$t" -max_total_time="$seconds" -print_final_stats=1 -artifact_prefix="$d/artifacts/" \
-        $(fuzz_opts "$t") "$d/corpus" "$(fuzz_seeds "$t" "$out")" >"$d/last.log" 2>&1
+        $(fuzz_opts "$t") "$d/corpus" $(fuzz_seeds "$t" "$out") >"$d/last.log" 2>&1
     echo $? >"$d/last.rc"
     rm -rf "$d/tmp"
 }

@@ -282,12 +282,14 @@ static void import_one(const char *model)
 #define SAMPLE_MARK "==hzfuzz-sample==\n"
 
 /* SIGUSR1 in the child: a stack sample of where it is (the parent asks for a few when an input hangs). */
-static void sample_stack(int sig)
+static __attribute__((noinline)) void sample_stack(int sig)
 {
     (void)sig;
     if (write(2, SAMPLE_MARK, sizeof SAMPLE_MARK - 1) < 0)
         return;
     __sanitizer_print_stack_trace();
+    if (write(2, "\n", 1) < 0) /* not a tail call: this frame stays on the printed stack */
+        return;
 }
 
 /* The child: imports one input per byte on `req` (the kind), answers on `rep`, ends when `req` closes. Its
@@ -581,7 +583,10 @@ static void judge_death(int status, int hung, const uint8_t *data, size_t size)
             char *next = strstr(smp + 1, SAMPLE_MARK);
             if (next)
                 *next = '\0';
-            char *f = first_frame(smp);
+            /* The sample's own frames end at the signal trampoline in libc; the stuck code is below it. */
+            char *below = strstr(smp, "libc.so");
+            below = below ? strchr(below, '\n') : NULL;
+            char *f = first_frame(below ? below : smp);
             if (f && library_of(f) && !lib)
                 frame = f, lib = library_of(f);
             else if (f && !library_of(f))

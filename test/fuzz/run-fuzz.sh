@@ -15,7 +15,8 @@ for t in "$@"; do
     n=$runs
     [ "$t" = import ] && n=$((runs / 40 > 0 ? runs / 40 : 1))
     work=$(mktemp -d)
-    if [ -z "$(ls "$seeds" 2>/dev/null)" ]; then
+    # shellcheck disable=SC2086 # one or more directories
+    if [ -z "$(ls $seeds 2>/dev/null)" ]; then
         printf '  FAIL  %-18s %-28s no seeds in %s\n' host "$name" "$seeds"
         echo "host/$name 0 1 0" >"$results/$name.res"
         rm -rf "$work"
@@ -25,7 +26,7 @@ for t in "$@"; do
     t0=$(date +%s)
     # shellcheck disable=SC2046 # the options are words on purpose
     TMPDIR=$work/tmp "$out/$name" -runs="$n" -seed=1 -max_total_time=300 -print_final_stats=1 \
-        -artifact_prefix="$results/fuzz-artifacts/" $(fuzz_opts "$t") "$work/corpus" "$seeds" >"$log" 2>&1
+        -artifact_prefix="$results/fuzz-artifacts/" $(fuzz_opts "$t") "$work/corpus" $seeds >"$log" 2>&1
     rc=$?
     secs=$(( $(date +%s) - t0 ))
     rm -rf "$work"

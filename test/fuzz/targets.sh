@@ -1,9 +1,9 @@
 # Sourced by fuzz-all.sh and run-fuzz.sh: what each fuzz target reads and how libFuzzer runs it.
-#   fuzz_seeds TARGET FUZZ_O   the seed directory (committed, except the .hzb loader's: baked scenes)
+#   fuzz_seeds TARGET FUZZ_O   the seed directories (committed; the .hzb loader's are also baked, in FUZZ_O/seeds)
 #   fuzz_opts TARGET           libFuzzer options beyond the common ones
 fuzz_seeds() {
     case $1 in
-        hzb) echo "$2/seeds" ;;
+        hzb) echo "$2/seeds $(dirname "$0")/corpus/hzb" ;;
         *) echo "$(dirname "$0")/corpus/$1" ;;
     esac
 }
