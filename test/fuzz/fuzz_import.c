@@ -21,10 +21,10 @@
  *  - it died (a sanitizer report, a signal, an abort, exit()) or hung (no answer within HZ_FUZZ_IMPORT_TIMEOUT
  *    seconds, default 5; then it prints three stack samples and is killed): the report's first stack frame in
  *    hzrt's code or a library's says whose it was (for a hang: hzrt's if any sample shows its code; when no
- *    sample unwinds, the baker's last phase, "importing (assimp)" or its own). In assimp, stb_image or zlib, it is a finding of that library, not of
- *    hzrt: its input and report are kept once per crash site as <artifact_prefix>lib-<site hash> (+ .log),
- *    counted, and the fuzzer goes on. In hzrt's code (or anywhere unknown), the child's report is printed and
- *    this process aborts, which libFuzzer records as a crash.
+ *    sample unwinds, the baker's last phase, "importing (assimp)" or its own). In assimp, stb_image or zlib, it
+ *    is a finding of that library, not of hzrt: its input and report are kept once per crash site as
+ *    <artifact_prefix>lib-<site hash> (+ .log), counted, and the fuzzer goes on. In hzrt's code (or anywhere
+ *    unknown), the child's report is printed and this process aborts, which libFuzzer records as a crash.
  * Run it with -rss_limit_mb=0 (no watcher thread, so fork() is safe) and -malloc_limit_mb above the 3 GiB at
  * which this target's ASan refuses an allocation (test/fuzz/fuzz-all.sh does).
  */

@@ -54,7 +54,8 @@ case " $* " in *" import "*)
     done
     TMPDIR=$work "$out/fuzz_import" -rss_limit_mb=0 -artifact_prefix="$work/" "$(dirname "$0")"/judge/* >"$log" 2>&1 ||
         bad="$bad an assimp crash stopped the fuzzer;"
-    grep -q 'library finding (assimp\|1 refused' "$log" || bad="$bad the assimp crash was not kept as a library finding;"
+    grep -q 'library finding (assimp\|1 refused' "$log" ||
+        bad="$bad the assimp crash was not kept as a library finding;"
     rm -rf "$work"
     if [ -z "$bad" ]; then
         printf '  ok    %-18s %-28s %3d passed\n' host "$name" 1

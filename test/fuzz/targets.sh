@@ -14,7 +14,8 @@ fuzz_opts() {
         hzb) echo "-max_len=4194304 -rss_limit_mb=4096 -timeout=30" ;;
         # The import runs in a child process (fuzz_import.c): no RSS watcher thread, so that fork() is safe, and
         # a malloc limit above the 3 GiB at which the target's ASan refuses an allocation with a stack trace.
-        import) echo "-max_len=65536 -rss_limit_mb=0 -malloc_limit_mb=4096 -timeout=60 -dict=$(dirname "$0")/import.dict" ;;
+        import) echo "-max_len=65536 -rss_limit_mb=0 -malloc_limit_mb=4096 -timeout=60" \
+            "-dict=$(dirname "$0")/import.dict" ;;
         *) echo "-rss_limit_mb=2048 -timeout=30 -dict=$(dirname "$0")/$1.dict" ;;
     esac
 }

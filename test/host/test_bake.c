@@ -881,7 +881,8 @@ static void test_bad_inputs_get_clear_errors_and_distinct_statuses(void **state)
      * fuzzer's glb asked for 512 million: 4 GiB of sample times). */
     put_text("longanim.gltf",
              "{\"asset\":{\"version\":\"2.0\"},\"scene\":0,\"scenes\":[{\"nodes\":[0]}],"
-             "\"nodes\":[{\"name\":\"tri\",\"mesh\":0}],\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0}}]}],"
+             "\"nodes\":[{\"name\":\"tri\",\"mesh\":0}],"
+             "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0}}]}],"
              "\"animations\":[{\"channels\":[{\"sampler\":0,\"target\":{\"node\":0,\"path\":\"translation\"}}],"
              "\"samplers\":[{\"input\":1,\"output\":2}]}],"
              "\"accessors\":[{\"bufferView\":0,\"componentType\":5126,\"count\":3,\"type\":\"VEC3\","
