@@ -858,6 +858,7 @@ static void test_bad_inputs_get_clear_errors_and_distinct_statuses(void **state)
     put_text("oob.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 99\n");
     put_text("nan.obj", "v nan 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
     put_text("far.obj", "o far\nv 0 0 0\nv 1e12 0 0\nv 0 1 0\nf 1 2 3\n");
+    put_text("point.obj", "v 0 0 0\nv 0 0 0\nv 0 0 0\nf 1 2 3\nf 3 2 1\n"); /* welded into one vertex */
     put_text("tex.obj",
              "mtllib tex.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\nusemtl red\nf 1/1 2/2 3/3\n");
     put_text("tex.mtl", "newmtl red\nKd 0.8 0.1 0.1\nmap_Kd missing.png\n");
@@ -916,6 +917,10 @@ static void test_bad_inputs_get_clear_errors_and_distinct_statuses(void **state)
         /* The import fuzzer's regress-glb-vertex-beyond-2-36 (test/fuzz/corpus/import): a vertex the renderer
          * cannot trace was baked, and only the check of the finished image refused it, naming no vertex. */
         { "vertex beyond +-2^36", NULL, { "far.obj", "OUT" }, 71, 0, { "far.obj", "object 'far': vertex 1", "2^36" } },
+        /* The import fuzzer's regress-ply-one-vertex: a PLY whose 89 faces all met in one vertex was baked into an
+         * image the runtime refuses (it needs 3 vertices), and only that check said so. */
+        { "all triangles in one point", NULL, { "point.obj", "OUT" }, 68, 0,
+          { "point.obj", "2 triangles have only 1 distinct vertices" } },
         { "truncated .ply.gz", NULL, { "cut.ply.gz", "OUT" }, 68, 0, { "cut.ply.gz", "gzip" } },
         /* assimp 5.2.5 aborts in an assertion on this file: the child's crash becomes status 76. A fixed
          * assimp may refuse it cleanly instead (68); either way the baker survives and names the file. */

@@ -405,6 +405,9 @@ hz_status_t hz_bake_scene_finish(hz_bake_scene_t *s, hz_bake_sidecar_t *sc, hz_b
     memset(img, 0, sizeof *img);
     if (s->tri.len == 0)
         return hz_bake_err(err, HZ_E_FORMAT, "%s: the model has no triangles to bake", s->model);
+    if (s->pos.len < 3) /* the runtime refuses such a scene: every triangle is a point or a line */
+        return hz_bake_err(err, HZ_E_FORMAT, "%s: the model's %zu triangles have only %zu distinct vertices", s->model,
+                           s->tri.len, s->pos.len);
     if (s->objs.len > 65536)
         return hz_bake_err(err, HZ_E_RANGE, "%s: %zu objects, a .hzb holds at most 65536", s->model, s->objs.len);
     if (s->mats.len == 0) {
