@@ -564,7 +564,7 @@ FUZZ_SRCS_ecsv := $(FUZZ_SRCS_vcd)
 FUZZ_SRCS_sidecar := $(HOST_LIB_SRCS) $(BAKE_LIB_SRCS)
 FUZZ_SRCS_import := $(FUZZ_SRCS_sidecar)
 FUZZ_LIBS_sidecar := $(BAKE_LIBS)
-FUZZ_LIBS_import := $(FUZZ_O)/fuzz_counters.o $(BAKE_LIBS)
+FUZZ_LIBS_import := $(FUZZ_O)/fuzz_counters.o $(FUZZ_O)/fuzz_judge.o $(BAKE_LIBS)
 FUZZ := $(FUZZ_TARGETS:%=$(FUZZ_O)/fuzz_%)
 define FUZZ_TARGET
 $(FUZZ_O)/fuzz_$(1): test/fuzz/fuzz_$(1).c $(FUZZ_SRCS_$(1)) $(filter %.o,$(FUZZ_LIBS_$(1))) \
@@ -573,7 +573,7 @@ $(FUZZ_O)/fuzz_$(1): test/fuzz/fuzz_$(1).c $(FUZZ_SRCS_$(1)) $(filter %.o,$(FUZZ
 	$$(call msg,FUZZCC,$$@)$$(FUZZ_CC) $$(FUZZ_FLAGS) -o $$@ $$< $(FUZZ_SRCS_$(1)) $(FUZZ_LIBS_$(1))
 endef
 $(foreach t,$(FUZZ_ALL),$(eval $(call FUZZ_TARGET,$(t))))
-$(FUZZ_O)/fuzz_counters.o: test/fuzz/fuzz_counters.c # not instrumented: see the file
+$(FUZZ_O)/fuzz_counters.o $(FUZZ_O)/fuzz_judge.o: $(FUZZ_O)/%.o: test/fuzz/%.c # not instrumented: see the files
 	@mkdir -p $(dir $@)
 	$(call msg,FUZZCC,$@)$(FUZZ_CC) -std=c99 -O1 -c -o $@ $<
 $(FUZZ_O)/seeds/.stamp: $(FUZZ_SEEDS:%=$(SCENES_O)/%.hzb) $(FUZZ_O)/fuzz_import $(wildcard test/fuzz/corpus/import/*)

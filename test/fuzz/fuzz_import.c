@@ -68,8 +68,11 @@ typedef struct result {
     int leak_scan; /* the heap calls did not balance: LeakSanitizer scanned (and found nothing) */
 } result_t;
 
-/* The coverage counters of this binary (fuzz_counters.c). */
+/* The coverage counters of this binary (fuzz_counters.c) and searches libFuzzer does not see (fuzz_judge.c). */
 uint8_t *hz_fuzz_counters(size_t *n);
+char *hz_fuzz_find(const char *hay, const char *needle);
+int hz_fuzz_starts(const char *s, const char *prefix);
+int hz_fuzz_ub_report(const char *log);
 
 static char dir[256], prefix[1024] = "./";
 static result_t *shared;
@@ -430,19 +433,21 @@ static int plumbing(const char *frame)
                                          " in free", "operator new", "operator delete", "count_malloc",
                                          "count_free", "child_exit_hook", "sample_stack" };
     for (size_t i = 0; i < sizeof marks / sizeof marks[0]; i++)
-        if (strstr(frame, marks[i]))
+        if (hz_fuzz_find(frame, marks[i]))
             return 1;
     return 0;
 }
 
 static const char *library_of(const char *frame)
 {
-    if (strstr(frame, "libassimp") || strstr(frame, "libdraco") || strstr(frame, "libpoly2tri") ||
-        strstr(frame, "libminizip") || strstr(frame, "libpugixml") || strstr(frame, "libIrrXML"))
-        return "assimp";
-    if (strstr(frame, "libstb"))
+    static const char *const assimp[] = { "libassimp", "libdraco", "libpoly2tri", "libminizip", "libpugixml",
+                                          "libIrrXML" };
+    for (size_t i = 0; i < sizeof assimp / sizeof assimp[0]; i++)
+        if (hz_fuzz_find(frame, assimp[i]))
+            return "assimp";
+    if (hz_fuzz_find(frame, "libstb"))
         return "stb_image";
-    if (strstr(frame, "libz.so"))
+    if (hz_fuzz_find(frame, "libz.so"))
         return "zlib";
     return NULL;
 }
@@ -451,8 +456,8 @@ static const char *library_of(const char *frame)
  * this binary without one are the sanitizer runtime, its interceptors (strncmp, memcpy...) and libFuzzer. */
 static int ours(const char *frame)
 {
-    return strstr(frame, "/tools/bake/") || strstr(frame, "/src/") || strstr(frame, "/port/linux/") ||
-        strstr(frame, "/test/fuzz/");
+    return hz_fuzz_find(frame, "/tools/bake/") || hz_fuzz_find(frame, "/src/") ||
+        hz_fuzz_find(frame, "/port/linux/") || hz_fuzz_find(frame, "/test/fuzz/");
 }
 
 /* The first frame of the report's stack (of the allocation, for a leak) that is hzrt's code or a library's,
@@ -460,9 +465,9 @@ static int ours(const char *frame)
  * is none. */
 static char *first_frame(char *log)
 {
-    char *from = strstr(log, "Direct leak");
+    char *from = hz_fuzz_find(log, "Direct leak");
     if (!from)
-        from = strstr(log, "Indirect leak");
+        from = hz_fuzz_find(log, "Indirect leak");
     if (!from)
         from = log;
     for (char *line = from; line && *line;) {
@@ -472,7 +477,7 @@ static char *first_frame(char *log)
         char *hash = line;
         while (*hash == ' ')
             hash++;
-        int frame = hash[0] == '#' && hash[1] >= '0' && hash[1] <= '9' && strstr(hash, " 0x");
+        int frame = hash[0] == '#' && hash[1] >= '0' && hash[1] <= '9' && hz_fuzz_find(hash, " 0x");
         if (frame && !plumbing(hash) && (library_of(hash) || ours(hash)))
             return hash;
         if (end)
@@ -501,14 +506,14 @@ static void library_finding(const char *lib, const char *frame, const char *what
     stats.library++;
     /* The site: the kind of report and the frame's function, or its module and offset when it has no name
      * (never the address, which moves from run to run). */
-    const char *in = strstr(frame, " in "), *mod = strchr(frame, '(');
+    const char *in = hz_fuzz_find(frame, " in "), *mod = strchr(frame, '(');
     const char *where = in ? in + 4 : mod ? mod : frame;
     /* "==PID==ERROR: AddressSanitizer: SEGV on unknown address ...": the word after the tool's name. */
-    const char *kind = strstr(log, "ERROR: ");
+    const char *kind = hz_fuzz_find(log, "ERROR: ");
     kind = kind ? kind + 7 : what;
     if (!strncmp(what, "no answer", 9))
         kind = "hang";
-    else if (!strncmp(kind, "LeakSanitizer", 13))
+    else if (hz_fuzz_starts(kind, "LeakSanitizer"))
         kind = "leak";
     else if (strchr(kind, ':') && strchr(kind, ':') < kind + strcspn(kind, "\n"))
         kind = strchr(kind, ':') + 2;
@@ -556,7 +561,7 @@ static int phase_is(const char *what)
     while (n && buf[n - 1] == '\n')
         buf[--n] = '\0';
     char *last = strrchr(buf, '\n');
-    return !strncmp(last ? last + 1 : buf, what, strlen(what));
+    return hz_fuzz_starts(last ? last + 1 : buf, what);
 }
 
 /* The child died: whose code was it? */
@@ -572,19 +577,19 @@ static void judge_death(int status, int hung, const uint8_t *data, size_t size)
         snprintf(what, sizeof what, "killed by signal %d", WTERMSIG(status));
     else
         snprintf(what, sizeof what, "exit status %d", WEXITSTATUS(status));
-    int ub = strstr(scan, "runtime error:") != NULL;
-    int cxx = strstr(scan, "operator new") || strstr(scan, "libstdc++");
+    int ub = hz_fuzz_ub_report(scan);
+    int cxx = hz_fuzz_find(scan, "operator new") || hz_fuzz_find(scan, "libstdc++");
     const char *frame = NULL, *lib = NULL;
     if (hung) {
         /* Each sample names a library or hzrt's code (or nothing, if it did not unwind). hzrt's code in any
          * sample makes the hang hzrt's: a loop of its own shows its frames on top of whatever it calls. */
         int any_ours = 0;
-        for (char *smp = strstr(scan, SAMPLE_MARK); smp; smp = strstr(smp + 1, SAMPLE_MARK)) {
-            char *next = strstr(smp + 1, SAMPLE_MARK);
+        for (char *smp = hz_fuzz_find(scan, SAMPLE_MARK); smp; smp = hz_fuzz_find(smp + 1, SAMPLE_MARK)) {
+            char *next = hz_fuzz_find(smp + 1, SAMPLE_MARK);
             if (next)
                 *next = '\0';
             /* The sample's own frames end at the signal trampoline in libc; the stuck code is below it. */
-            char *below = strstr(smp, "libc.so");
+            char *below = hz_fuzz_find(smp, "libc.so");
             below = below ? strchr(below, '\n') : NULL;
             char *f = first_frame(below ? below : smp);
             if (f && library_of(f) && !lib)
@@ -680,7 +685,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             counters[i] = shared_counters[i];
     if (shared->status != HZ_OK) {
         /* A refusal says why and names a file of the input. */
-        if (!shared->msg[0] || !strstr(shared->msg, dir))
+        if (!shared->msg[0] || !hz_fuzz_find(shared->msg, dir))
             abort();
         if (verbose)
             fprintf(stderr, "fuzz_import: refused: %s\n", shared->msg);
