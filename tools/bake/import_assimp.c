@@ -14,6 +14,7 @@
  * Triangles keep the source order; OBJ-style repeated vertices are welded. */
 #include "scene.h"
 
+#include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -360,6 +361,8 @@ static int push_matrix_key(ctx_t *c, const struct aiMatrix4x4 *g, float time, fl
     return 0;
 }
 
+#define RIGID_SAMPLES_MAX 1000000u /* per object; what joint keys are capped at */
+
 static hz_status_t rigid_keys(ctx_t *c, const struct aiNode *node, hz_bake_object_t *o)
 {
     hz_bake_vec_t times;
@@ -377,6 +380,15 @@ static hz_status_t rigid_keys(ctx_t *c, const struct aiNode *node, hz_bake_objec
             *(double *)hz_bake_vec_push(&times, 1) = ch->mScalingKeys[i].mTime;
     }
     double step = c->tps / c->sc->rigid_rate;
+    /* The samples are (duration / step) + 1: a long animation or a high rigid_rate could ask for billions (the
+     * import fuzzer's glb asked for 512 million, 4 GiB of sample times). */
+    if (step > 0 && !(dur / step < RIGID_SAMPLES_MAX)) {
+        hz_bake_vec_free(&times);
+        return hz_bake_err(c->err, HZ_E_RANGE,
+                           "%s: object '%s': its %.6g s animation at rigid_rate %g keys/s needs more than %u rigid "
+                           "keys; lower rigid_rate in the sidecar or shorten the animation",
+                           c->s->model, o->name, dur / c->tps, (double)c->sc->rigid_rate, RIGID_SAMPLES_MAX);
+    }
     for (double t = 0; t <= dur && step > 0; t += step)
         *(double *)hz_bake_vec_push(&times, 1) = t;
     double *tv = times.data;
@@ -792,6 +804,52 @@ static void count_uses(ctx_t *c, const struct aiNode *node, unsigned depth)
         count_uses(c, node->mChildren[i], depth + 1);
 }
 
+/* assimp 5.2's PLY reader loops forever on a header that ends without an end_header line (a cut file) or holds a
+ * control byte before it (a damaged one), so the header is checked here first: "ply", then text lines (tabs,
+ * and any byte from 0x20 up: comments may be UTF-8) up to end_header, within its first HEADER_MAX bytes. */
+#define PLY_HEADER_MAX (1u << 20)
+
+static hz_status_t check_ply_header(const char *path, const uint8_t *d, size_t n, hz_error_t *err)
+{
+    size_t lim = n < PLY_HEADER_MAX ? n : PLY_HEADER_MAX, at = 0, line = 1;
+    if (n < 3 || (d[0] | 0x20) != 'p' || (d[1] | 0x20) != 'l' || (d[2] | 0x20) != 'y')
+        return hz_bake_err(err, HZ_E_FORMAT, "%s: not a PLY file (it does not start with 'ply')", path);
+    while (at < lim) {
+        size_t e = at;
+        while (e < lim && d[e] != '\n')
+            e++;
+        size_t len = e - at;
+        while (len && (d[at + len - 1] == '\r' || d[at + len - 1] == ' ' || d[at + len - 1] == '\t'))
+            len--;
+        for (size_t i = at; i < at + len; i++)
+            if (d[i] < 0x20 && d[i] != '\t')
+                return hz_bake_err(err, HZ_E_FORMAT,
+                                   "%s: line %zu of the PLY header holds the control byte 0x%02x (a damaged file?)",
+                                   path, line, d[i]);
+        if (len == 10 && !memcmp(d + at, "end_header", 10))
+            return HZ_OK;
+        at = e + 1;
+        line++;
+    }
+    return hz_bake_err(err, HZ_E_FORMAT, "%s: the PLY header has no end_header line%s (a cut or damaged file?)", path,
+                       n > PLY_HEADER_MAX ? " in its first MiB" : "");
+}
+
+/* The first PLY_HEADER_MAX bytes of a file, for check_ply_header. */
+static hz_status_t check_ply_file(const char *path, hz_error_t *err)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return hz_bake_err(err, HZ_E_IO, "%s: cannot open: %s", path, strerror(errno));
+    uint8_t *head = hz_bake_xmalloc(PLY_HEADER_MAX + 1);
+    size_t n = fread(head, 1, PLY_HEADER_MAX + 1, f);
+    int failed = ferror(f);
+    fclose(f);
+    hz_status_t st = failed ? hz_bake_err(err, HZ_E_IO, "%s: read failed", path) : check_ply_header(path, head, n, err);
+    free(head);
+    return st;
+}
+
 hz_status_t hz_bake_import_assimp(hz_bake_scene_t *s, const char *path, const hz_bake_sidecar_t *sc, hz_error_t *err)
 {
     ctx_t c;
@@ -833,10 +891,10 @@ hz_status_t hz_bake_import_assimp(hz_bake_scene_t *s, const char *path, const hz
             aiReleasePropertyStore(props);
             return st;
         }
-        if (size > UINT32_MAX) {
+        if (size > UINT32_MAX || (st = check_ply_header(path, data, size, err)) != HZ_OK) {
             free(data);
             aiReleasePropertyStore(props);
-            return hz_bake_err(err, HZ_E_UNSUPPORTED, "%s: more than 4 GiB uncompressed", path);
+            return st ? st : hz_bake_err(err, HZ_E_UNSUPPORTED, "%s: more than 4 GiB uncompressed", path);
         }
         ai = aiImportFileFromMemoryWithProperties((const char *)data, (unsigned)size, flags, "ply", props);
         free(data);
@@ -844,6 +902,11 @@ hz_status_t hz_bake_import_assimp(hz_bake_scene_t *s, const char *path, const hz
         if (!hz_bake_file_exists(path)) {
             aiReleasePropertyStore(props);
             return hz_bake_err(err, HZ_E_IO, "%s: no such file", path);
+        }
+        hz_status_t st = c.fmt == FMT_PLY ? check_ply_file(path, err) : HZ_OK;
+        if (st) {
+            aiReleasePropertyStore(props);
+            return st;
         }
         ai = aiImportFileExWithProperties(path, flags, NULL, props);
     }

@@ -7,6 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "hz/accel.h" /* HZ_ACCEL_MAX_COORD */
 #include "hz/hzb_write.h"
 
 #define HZ_BAKE_PI 3.14159265358979323846
@@ -353,11 +354,60 @@ static void trim_ext(const char *path, char *out, size_t size)
         *dot = 0;
 }
 
+static int beyond(const float *p, int n)
+{
+    for (int i = 0; i < n; i++)
+        if (!(fabsf(p[i]) <= HZ_ACCEL_MAX_COORD))
+            return 1;
+    return 0;
+}
+
+/* Coordinates the renderer cannot trace (beyond +-2^36) would make an image the runtime loader refuses; say
+ * which object, vertex, frame or bone instead. */
+static hz_status_t check_coordinate_range(const hz_bake_scene_t *s, hz_error_t *err)
+{
+    for (size_t i = 0; i < s->objs.len; i++) {
+        const hz_bake_object_t *o = HZ_BAKE_AT(s->objs, hz_bake_object_t, i);
+        for (uint32_t v = 0; v < o->o.vertex_count; v++) {
+            const float *p = HZ_BAKE_AT(s->pos, float, (size_t)(o->o.first_vertex + v) * 4);
+            if (beyond(p, 3))
+                return hz_bake_err(err, HZ_E_RANGE,
+                                   "%s: object '%s': vertex %u at (%g %g %g) lies beyond +-2^36 (%.3g), the largest "
+                                   "coordinate hzrt traces",
+                                   s->model, o->name, v, (double)p[0], (double)p[1], (double)p[2],
+                                   (double)HZ_ACCEL_MAX_COORD);
+        }
+        if (o->o.motion == HZ_MOTION_VERTEX)
+            for (uint64_t k = 0; k < (uint64_t)o->o.key_count * o->o.vertex_count; k++) {
+                const float *p = HZ_BAKE_AT(s->vkeys, float, (size_t)(o->o.key_first + k) * 4);
+                if (beyond(p, 3))
+                    return hz_bake_err(err, HZ_E_RANGE,
+                                       "%s: object '%s': vertex %llu in animation frame %llu moves to (%g %g %g), "
+                                       "beyond +-2^36 (%.3g), the largest coordinate hzrt traces",
+                                       s->model, o->name, (unsigned long long)(k % o->o.vertex_count),
+                                       (unsigned long long)(k / o->o.vertex_count), (double)p[0], (double)p[1],
+                                       (double)p[2], (double)HZ_ACCEL_MAX_COORD);
+            }
+    }
+    for (size_t i = 0; i < s->binds.len; i++) {
+        const hz_hzb_skin_bind_t *b = HZ_BAKE_AT(s->binds, hz_hzb_skin_bind_t, i);
+        if (beyond(b->inv_bind, 12))
+            return hz_bake_err(err, HZ_E_RANGE,
+                               "%s: bone %zu (joint '%s') has an offset matrix element beyond +-2^36 (%.3g)", s->model,
+                               i, (const char *)HZ_BAKE_AT(s->joints, hz_hzb_joint_t, b->joint)->name,
+                               (double)HZ_ACCEL_MAX_COORD);
+    }
+    return HZ_OK;
+}
+
 hz_status_t hz_bake_scene_finish(hz_bake_scene_t *s, hz_bake_sidecar_t *sc, hz_bake_image_t *img, hz_error_t *err)
 {
     memset(img, 0, sizeof *img);
     if (s->tri.len == 0)
         return hz_bake_err(err, HZ_E_FORMAT, "%s: the model has no triangles to bake", s->model);
+    if (s->pos.len < 3) /* the runtime refuses such a scene: every triangle is a point or a line */
+        return hz_bake_err(err, HZ_E_FORMAT, "%s: the model's %zu triangles have only %zu distinct vertices", s->model,
+                           s->tri.len, s->pos.len);
     if (s->objs.len > 65536)
         return hz_bake_err(err, HZ_E_RANGE, "%s: %zu objects, a .hzb holds at most 65536", s->model, s->objs.len);
     if (s->mats.len == 0) {
@@ -444,6 +494,10 @@ hz_status_t hz_bake_scene_finish(hz_bake_scene_t *s, hz_bake_sidecar_t *sc, hz_b
         }
         repair_normals(s);
     }
+
+    st = check_coordinate_range(s, err);
+    if (st)
+        return st;
 
     /* Lights and camera. */
     for (size_t i = 0; i < sc->lights.len; i++)
