@@ -799,7 +799,7 @@ VM_TEST_ENV := HZ_SCENES_DIR HZ_SCENES_UNPACK
 # rendered sequences) already run on the same AArch64 binaries under qemu-aarch64 in the board stage.
 VM_HEAVY_TESTS := scene_corrupt accel_build accel_trav accel_water zero_alloc render render_transp errtime et_render \
                   render_speckles pack leaveout scene_clock accel_motion accel_motion_cli render_blur render_skin shade \
-                  accel_par render_lanes render_overlap show render_reconfigure soak
+                  accel_par render_lanes render_overlap show render_reconfigure soak accel_scenes
 VM_TEST_BINS := $(filter-out $(VM_HEAVY_TESTS:%=$(O)/test/unit/test_%),$(TEST_BINS))
 
 vmtest: deps ## boot Debian's arm64 kernel in qemu-system-aarch64: AArch64 unit tests, V4L2 loop-back, GPIO capture
