@@ -227,7 +227,8 @@ PORT_LIB := $(O)/libhzport.a
 
 # The commands (hzrt render, latency, show): option tables and the run of the frame loop; they measure the
 # governor's levels with errtime's metrics.
-CMD_SRCS := port/linux/render_cmd.c port/linux/latency.c port/linux/show.c port/linux/renderopts.c
+CMD_SRCS := port/linux/render_cmd.c port/linux/latency.c port/linux/show.c port/linux/renderopts.c port/linux/showopts.c \
+            port/linux/opttab.c
 CMD_OBJS := $(CMD_SRCS:%.c=$(O)/%.o)
 $(O)/port/linux/show.o: EXTRA_CFLAGS += -Itools/errtime
 HZRT_SRCS := port/linux/main.c port/linux/accel_cmd.c $(CMD_SRCS)
