@@ -49,14 +49,16 @@ static void usage(FILE *f)
             "      --version        version\n"
             "\n"
             "The output is written to a temporary file, validated with the runtime loader and renamed into\n"
-            "place: a failed bake leaves OUT.hzb as it was. Missing textures are warnings (the material keeps\n"
-            "its colour).\n"
+            "place: a failed bake leaves OUT.hzb as it was. OUT.hzb is never one of the inputs: naming the model\n"
+            "or the sidecar is refused before the bake (status 2), a file the import reads (a texture, a .mtl)\n"
+            "when it is read (status 65). Missing textures and a missing .mtl are warnings (the material keeps\n"
+            "its colour, or gets the default grey).\n"
             "\n"
             "exit status: 0 ok (warnings may have been printed), 2 bad command line, and 64 + hz status code:\n"
-            "  66 out of memory, 67 too large, 68 malformed model, sidecar or scene, 70 corrupt .hzb (a\n"
-            "  checksum fails: --info, or the baked image's own check), 71 value out of range\n"
-            "  (e.g. NaN vertex), 72 unsupported format, 73 file missing or unreadable, 75 import timed out,\n"
-            "  76 the importer crashed (or another internal failure)\n");
+            "  65 the output is a file the model reads, 66 out of memory, 67 too large, 68 malformed model,\n"
+            "  sidecar or scene, 70 corrupt .hzb (a checksum fails: --info, or the baked image's own check),\n"
+            "  71 value out of range (e.g. NaN vertex), 72 unsupported format, 73 file missing or unreadable,\n"
+            "  75 import timed out, 76 the importer crashed (or another internal failure)\n");
 }
 
 /* ---- --info ---- */
@@ -235,6 +237,9 @@ static int child(job_t *job, FILE *out)
         st = hz_bake_import_furball(&s, job->model, &job->sc, &err);
     else
         st = hz_bake_import_assimp(&s, job->model, &job->sc, &err);
+    if (st == HZ_OK && hz_bake_input_clash()[0])
+        st = hz_bake_err(&err, HZ_E_INVALID_ARG, "%s: %s, a file the model reads, is the output %s too: baking would "
+                         "replace it; choose another output path", job->model, hz_bake_input_clash(), job->out);
     hz_bake_image_t img = { NULL, 0, { 0 } };
     if (st == HZ_OK) {
         hz_bake_progress("converted: %zu triangles, %zu vertices, %zu objects, %zu materials, %zu textures", s.tri.len,
@@ -362,6 +367,7 @@ static int bake(job_t *job)
                     job->model, dot ? dot : "(no extension)");
         return hz_cli_report(&err);
     }
+    hz_bake_guard_output(job->out); /* the import refuses to read the output (a texture, a .mtl named so) */
     hz_out_t out;
     if (hz_out_open(&out, job->out, &err) != HZ_OK)
         return hz_cli_report(&err);
@@ -575,6 +581,23 @@ int main(int argc, char **argv)
     char *auto_sidecar = NULL;
     if (!sidecar)
         sidecar = auto_sidecar = default_sidecar(job.model);
+    {
+        /* The output is never an input (nor a folder, nor in a folder that is missing): checked before any work. */
+        static hz_outs_t outs;
+        hz_error_t err;
+        hz_outs_init(&outs);
+        hz_outs_output(&outs, job.out, "the output");
+        hz_outs_input(&outs, job.model, "the model");
+        if (sidecar)
+            hz_outs_input(&outs, sidecar, "the sidecar");
+        if (hz_outs_check(&outs, &err) != HZ_OK) {
+            free(auto_sidecar);
+            if (err.code != HZ_E_INVALID_ARG)
+                return hz_cli_report(&err);
+            hz_cli_error("%s", err.msg);
+            return HZ_EXIT_USAGE;
+        }
+    }
     if (sidecar) {
         hz_error_t err;
         if (hz_bake_sidecar_load(&job.sc, sidecar, &err) != HZ_OK) {
