@@ -21,6 +21,7 @@
 #include "filesink.h"
 #include "hz/frameloop.h"
 #include "hz/hz.h"
+#include "hz/marker.h"
 #include "hz/pixconv.h"
 #include "imageio.h"
 #include "latency.h"
@@ -520,8 +521,17 @@ static int show_run(hz_show_cfg_t *c, size_t *made_from)
                      HZ_SHOW_MAX_OFFLINE_FRAMES);
         return usage_error();
     }
-    /* a frame size the command line sets (no sink mode to wait for) is checked against the render scale now */
+    /* a frame size the command line sets (no sink mode to wait for) is checked against the render scale and the
+     * marker now */
     const bool sink_has_mode = sink_bits(skind) & HZ_OW_DEVICE_SINKS;
+    if (!edges_only && (!sink_has_mode || c->size_given) &&
+        (c->marker < 0 ? (strcmp(skind, "none") && !files) : c->marker)) {
+        hz_marker_layout_t ml;
+        if (hz_marker_layout(c->w, c->h, &ml, &err) != HZ_OK) {
+            hz_cli_error("%s: --marker: %s", cmd, err.msg);
+            return usage_error();
+        }
+    }
     if (scene && (!sink_has_mode || c->size_given) && (c->w % c->render_scale || c->h % c->render_scale)) {
         hz_cli_error("%s: the %dx%d frame (--size) is not a multiple of --render-scale %d", cmd, c->w, c->h,
                      c->render_scale);

@@ -132,7 +132,7 @@ static const hz_opt_t table[] = {
       .help = "with the governor: after the run, each level the run used rendered for N frames against level 0: "
               "PSNR and FLIP in the report" },
     { .name = "--marker", .kind = HZ_OPT_FLAG, .where = HZ_OW_FRAMES, .flags = HZ_OF_IMAGE, .id = S_MARKER,
-      .help = "draw the frame-id marker in the top-left corner (default: on with a device sink)" },
+      .needs = "--size 64x36", .help = "draw the frame-id marker in the top-left corner (default: on with a device sink)" },
     { .name = "--no-marker", .kind = HZ_OPT_FLAG, .where = HZ_OW_FRAMES | HZ_OW_DEVICE_SINKS, .flags = HZ_OF_IMAGE,
       .id = S_NO_MARKER, .help = "no frame-id marker on a device sink" },
 

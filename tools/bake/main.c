@@ -87,7 +87,9 @@ static int info(const char *path)
     const hz_hzb_header_t *h = buf;
     char feats[160];
     hz_scene_features_str(h->features, feats, sizeof feats);
-    printf("scene        %s (%s)\n", (const char *)h->name, path);
+    char shown[4 * HZ_HZB_NAME_BYTES + 1]; /* names come from the file: control bytes as \xNN */
+    printf("scene        %s (%s)\n", hz_cli_printable(shown, sizeof shown, (const char *)h->name, HZ_HZB_NAME_BYTES),
+           path);
     printf("format       .hzb version %u, %llu bytes, %u sections\n", h->version, (unsigned long long)h->file_bytes,
            h->section_count);
     printf("features     %s (0x%03x)\n", feats, h->features);
@@ -116,7 +118,8 @@ static int info(const char *path)
     }
     hz_arena_init(&arena, "scene", state, plan.arena_bytes);
     if (hz_scene_load(&scene, buf, size, &arena, &err) == HZ_OK) {
-        static const char *const kinds[] = { "static", "rigid keys", "vertex keys", "spin", "oscillate" };
+        static const char *const kinds[] = { "static", "rigid keys", "vertex keys", "spin", "oscillate", "sway",
+                                             "skinned" };
         printf("objects\n");
         for (uint32_t i = 0; i < scene.object_count; i++) {
             const hz_object_t *o = &scene.objects[i];
@@ -124,14 +127,16 @@ static int info(const char *path)
                 printf("  ... %u more\n", scene.object_count - 40);
                 break;
             }
-            printf("  %-4u %-32s %9u tris %9u verts  %s\n", i, (const char *)o->name, o->triangle_count,
+            printf("  %-4u %-32s %9u tris %9u verts  %s\n", i,
+                   hz_cli_printable(shown, sizeof shown, (const char *)o->name, HZ_HZB_NAME_BYTES), o->triangle_count,
                    o->vertex_count, kinds[o->motion]);
         }
         printf("materials\n");
         for (uint32_t i = 0; i < scene.material_count && i < 64; i++) {
             static const char *const modes[] = { "opaque", "mask", "blend" };
             const hz_material_t *m = &scene.materials[i];
-            printf("  %-4u %-32s color %.3g %.3g %.3g  %s", i, (const char *)m->name, (double)m->base_color[0],
+            printf("  %-4u %-32s color %.3g %.3g %.3g  %s", i,
+                   hz_cli_printable(shown, sizeof shown, (const char *)m->name, HZ_HZB_NAME_BYTES), (double)m->base_color[0],
                    (double)m->base_color[1], (double)m->base_color[2], modes[m->alpha_mode]);
             if (m->alpha_mode == HZ_ALPHA_MASK)
                 printf(" >= %.3g", (double)m->alpha_cutoff);
@@ -483,10 +488,14 @@ static int bake(job_t *job)
         const hz_hzb_header_t *h = buf;
         char feats[160];
         hz_scene_features_str(h->features, feats, sizeof feats);
-        printf("%s: %u triangles, %u vertices, %u objects, %u materials, %u textures, %u lights, %u camera keys; "
-               "features %s; %zu bytes; %.2f s\n",
-               job->out, h->triangle_count, h->vertex_count, h->object_count, h->material_count, h->texture_count,
-               h->light_count, h->camera_key_count, feats, size, hz_bake_now() - t0);
+#define PL(n) ((n) == 1 ? "" : "s")
+        printf("%s: %u triangle%s, %u vert%s, %u object%s, %u material%s, %u texture%s, %u light%s, %u camera "
+               "key%s; features %s; %zu bytes; %.2f s\n",
+               job->out, h->triangle_count, PL(h->triangle_count), h->vertex_count,
+               h->vertex_count == 1 ? "ex" : "ices", h->object_count, PL(h->object_count), h->material_count,
+               PL(h->material_count), h->texture_count, PL(h->texture_count), h->light_count, PL(h->light_count),
+               h->camera_key_count, PL(h->camera_key_count), feats, size, hz_bake_now() - t0);
+#undef PL
     }
     free(buf);
     return 0;
