@@ -173,7 +173,8 @@ hz_status_t hz_file_write_atomic(const char *path, const void *data, size_t size
 hz_status_t hz_file_read(const char *path, void *buf, size_t cap, size_t *size, hz_error_t *err)
 {
     *size = 0;
-    int fd = open(path, O_RDONLY | O_CLOEXEC);
+    /* O_NONBLOCK: opening a FIFO must not wait for a writer (it is refused below, as every non-regular file) */
+    int fd = open(path, O_RDONLY | O_CLOEXEC | O_NONBLOCK);
     if (fd < 0)
         return hz_error_set(err, HZ_E_IO, "%s: %s", path, strerror(errno));
     struct stat st;
@@ -181,6 +182,7 @@ hz_status_t hz_file_read(const char *path, void *buf, size_t cap, size_t *size, 
         close(fd);
         return hz_error_set(err, HZ_E_IO, "%s: not a regular file", path);
     }
+    fcntl(fd, F_SETFL, fcntl(fd, F_GETFL) & ~O_NONBLOCK);
     if ((unsigned long long)st.st_size > cap) {
         close(fd);
         return hz_error_set(err, HZ_E_NO_MEMORY, "%s: file has %lld bytes, the buffer holds %zu", path,

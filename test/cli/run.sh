@@ -244,6 +244,8 @@ if command -v mkfifo >/dev/null 2>&1 && command -v timeout >/dev/null 2>&1; then
         --out "$tmp/l1"
     kill "$writer" 2>/dev/null
     wait "$writer" 2>/dev/null
+    mkfifo "$tmp/ff-scene" # no writer at all: opening it would wait for one
+    expect fifo-scene 73 "not a regular file" timeout 20 "$hzrt" info "$tmp/ff-scene"
 fi
 # An empty trace is refused cheaply: the edge log is sized by the file, not by the whole frame arena.
 : >"$tmp/empty.vcd"

@@ -189,6 +189,14 @@ static void test_messages_say_what_is_wrong(void **state)
     bake(&r, (const char *const[]){ "--info", "esc.hzb", NULL });
     expect(&r, 0, "scene        red\\x1b[31mname");
     assert_null(strchr(r.out, 0x1b));
+    /* a FIFO as the sidecar is refused at once, not waited on (the alarm ends this test if it hangs) */
+    char fifo[128];
+    snprintf(fifo, sizeof fifo, "%s/fifo.hzs", tmpdir);
+    assert_int_equal(mkfifo(fifo, 0600), 0);
+    alarm(60);
+    bake(&r, (const char *const[]){ "-q", "-s", "fifo.hzs", "esc.obj", "x.hzb", NULL });
+    alarm(0);
+    expect(&r, 73, "fifo.hzs: not a regular file");
 }
 
 static int setup(void **state)

@@ -4,6 +4,7 @@
 #include <ctype.h>
 #include <dirent.h>
 #include <errno.h>
+#include <fcntl.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -197,13 +198,20 @@ hz_status_t hz_bake_read_file(const char *path, uint8_t **data, size_t *size, hz
     *size = 0;
     if (!hz_bake_input_ok(path))
         return clash_error(path, err);
-    FILE *f = fopen(path, "rb");
-    if (!f)
+    /* O_NONBLOCK: a FIFO named as an input must not wait for a writer (it is refused below) */
+    int fd = open(path, O_RDONLY | O_NONBLOCK);
+    if (fd < 0)
         return hz_bake_err(err, HZ_E_IO, "%s: %s", path, strerror(errno));
     struct stat st;
-    if (fstat(fileno(f), &st) != 0 || !S_ISREG(st.st_mode)) {
-        fclose(f);
+    if (fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
+        close(fd);
         return hz_bake_err(err, HZ_E_IO, "%s: not a regular file", path);
+    }
+    fcntl(fd, F_SETFL, fcntl(fd, F_GETFL) & ~O_NONBLOCK);
+    FILE *f = fdopen(fd, "rb");
+    if (!f) {
+        close(fd);
+        return hz_bake_err(err, HZ_E_IO, "%s: %s", path, strerror(errno));
     }
     size_t n = (size_t)st.st_size;
     uint8_t *buf = hz_bake_xmalloc(n + 1);
