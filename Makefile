@@ -61,5 +61,5 @@ help: ## list the targets
 
 .PHONY: all deps run bench size tests test-board test check-freestanding check-integer clean help gen-srgb gen-dither errtime \
         bake scenes scenes-baked fuzz test-host report
-.PHONY: vmtest vmtest-tier vmtest-board latency-sim
+.PHONY: vmtest vmtest-tier vmtest-board vmtest-build latency-sim
 .PHONY: stability stability-tier stability-board board-fit soak

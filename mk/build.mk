@@ -10,8 +10,10 @@ BUILD_CONFIG := $(CC) $(HOSTCC) | $(LIB_CFLAGS) | $(HOSTED_CFLAGS) | $(PORT_DEFS
 BUILD_STAMP := $(O)/.build-config
 ifeq ($(filter clean help,$(MAKECMDGOALS)),)
 $(shell mkdir -p $(O))
-$(file >$(BUILD_STAMP).new,$(BUILD_CONFIG))
-$(shell cmp -s $(BUILD_STAMP).new $(BUILD_STAMP) || mv -f $(BUILD_STAMP).new $(BUILD_STAMP); rm -f $(BUILD_STAMP).new)
+# (a name of its own per make process: make test runs several makes on one folder at once)
+BUILD_STAMP_NEW := $(BUILD_STAMP).new.$(shell echo $$$$)
+$(file >$(BUILD_STAMP_NEW),$(BUILD_CONFIG))
+$(shell cmp -s $(BUILD_STAMP_NEW) $(BUILD_STAMP) || mv -f $(BUILD_STAMP_NEW) $(BUILD_STAMP); rm -f $(BUILD_STAMP_NEW))
 endif
 
 $(O)/src/%.o: src/%.c $(BUILD_STAMP)

@@ -25,15 +25,17 @@ vmtest: deps ## boot Debian's arm64 kernel in qemu-system-aarch64: AArch64 unit 
 vmtest-tier:
 	$(Q)$(MAKE) --no-print-directory BOARD=aarch64-generic O=$(BUILD_ROOT)/aarch64-generic$(SAN_SUFFIX) vmtest-board
 
-# Runs with BOARD=aarch64-generic (see vmtest-tier): its test binaries, plus a static hzrt and init.
-vmtest-board: tests $(VM_DEVICE_TEST) $(VM_DRM_TEST) $(VM_ROOT)/init
+# Runs with BOARD=aarch64-generic (see vmtest-tier): its test binaries, plus a static hzrt and init. The build
+# step is apart so that make test builds it with every other tier before the lanes run.
+VM_GPIOD2_LOG := $(VM_ROOT)/gpiod2-vm-build.log
+vmtest-build: tests $(VM_DEVICE_TEST) $(VM_DRM_TEST) $(VM_ROOT)/init
 	$(Q)$(MAKE) --no-print-directory BOARD=aarch64-generic O=$(VM_ROOT)/static BOARD_LDFLAGS=-static SAN= all
-	$(Q)mkdir -p $(O)/test-results; $(MAKE) --no-print-directory $(VM_GPIOD2_TEST) >$(O)/test-results/gpiod2-vm-build.log 2>&1 || \
-		rm -f $(VM_GPIOD2_TEST)
+	$(Q)$(MAKE) --no-print-directory $(VM_GPIOD2_TEST) >$(VM_GPIOD2_LOG) 2>&1 || rm -f $(VM_GPIOD2_TEST)
+vmtest-board: vmtest-build
 	$(Q)VM_ENV="$(foreach v,$(VM_TEST_ENV),$(v)=$($(v)))" sh test/vm/run.sh $(VM_RESULTS) $(VM_ROOT)/kernel \
 		$(VM_ROOT)/init $(VM_ROOT)/static/bin/hzrt $(VM_DEVICE_TEST) $(VM_TEST_BINS) \
 		$(VM_DRM_TEST) $$([ -x $(VM_GPIOD2_TEST) ] && echo $(VM_GPIOD2_TEST))
-	$(Q)[ -x $(VM_GPIOD2_TEST) ] || { echo "  FAIL  vm-aarch64 test_vm_gpiod2: libgpiod 2 could not be fetched or linked (see $(O)/test-results/gpiod2-vm-build.log)"; \
+	$(Q)[ -x $(VM_GPIOD2_TEST) ] || { echo "  FAIL  vm-aarch64 test_vm_gpiod2: libgpiod 2 could not be fetched or linked (see $(VM_GPIOD2_LOG))"; \
 		echo "vm-aarch64/test_vm_gpiod2 0 1 0" >$(VM_RESULTS)/test_vm_gpiod2.res; }
 
 include tools/gpiod2/gpiod2.mk
