@@ -56,6 +56,8 @@ expect_fail "board-missing-setting" "HZ_DISPLAY_HZ" \
 # `make bench` and `make report` on a fresh checkout bake the scenes they read before they run (dry run into an
 # empty build root: the bake of each scene comes before the measuring command).
 root=$here/../..
+# The makes below are make's own children when make test runs this: not of its job server.
+unset MAKEFLAGS MFLAGS MAKELEVEL
 for case in "bench hzbench furball.hzb" "report hzerrtime lost-empire.hzb"; do
     set -- $case
     plan=$(make -n -C "$root" --no-print-directory "$1" BUILD_ROOT="$tmp/fresh" 2>&1)
