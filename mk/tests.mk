@@ -87,11 +87,11 @@ test-lane-native:
 			grep -m 5 error $(GUARDS_O)/build-$$b.log | sed 's/^/        /'; \
 			echo "board-build/$$b 0 1 0" >$(GUARDS_O)/build-$$b.res; fi; \
 	done
-	$(Q)for b in host-sim $(BUILD_CHECK_BOARDS); do $(call board_fit,$$b); done
+	+$(Q)for b in host-sim $(BUILD_CHECK_BOARDS); do $(call board_fit,$$b); done
 test-lane-emulated:
 	$(Q)HZ_TEST_JOBS=$(TEST_EMULATED_JOBS) $(MAKE) --no-print-directory BOARD=aarch64-generic O=$(call board_o,aarch64-generic) test-board \
 		stability-board || exit 1
-	$(Q)$(call board_fit,aarch64-generic)
+	+$(Q)$(call board_fit,aarch64-generic)
 	$(Q)$(MAKE) --no-print-directory vmtest-tier
 board_fit = r=$(GUARDS_O)/board-fit-$(1).res; \
 	$(MAKE) --no-print-directory BOARD=$(1) O=$(call board_o,$(1)) BOARD_FIT_RES=$$r board-fit || \
