@@ -236,7 +236,7 @@ HZRT := $(O)/bin/hzrt
 
 BENCH_SRCS := tools/bench/bench.c tools/bench/bench_accel.c tools/bench/bench_tdense.c tools/bench/bench_transp.c \
               tools/bench/bench_scene.c tools/bench/bench_adaptive.c tools/bench/bench_blur.c tools/bench/bench_util.c \
-              tools/bench/bench_motion.c tools/bench/bench_realtime.c
+              tools/bench/bench_motion.c tools/bench/bench_realtime.c tools/bench/bench_md.c
 BENCH_OBJS := $(BENCH_SRCS:%.c=$(O)/%.o)
 BENCH := $(O)/bin/hzbench
 
