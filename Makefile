@@ -152,7 +152,7 @@ TIMING_SRCS := src/timing/wide.c src/timing/tstat.c src/timing/vsync.c src/timin
                src/timing/frameloop.c src/timing/governor.c
 TIMING_INTEGER_SRCS = $(TIMING_SRCS)
 TIMING_TESTS := tstat vsync marker traceio lockv governor
-TIMING_PORT_TESTS := frameloop latency_cli show
+TIMING_PORT_TESTS := frameloop latency_cli show options
 # Ports of the timing path (port/linux): `timing` (frame loop, report, `hzrt latency`, simulated display,
 # VCD/CSV replay) goes on every board; `fbdev`, `v4l2` and `gpio` where the hardware has them.
 PORT_SRCS_timing := port/linux/timebase.c port/linux/vsrc_timeline.c port/linux/latency_report.c \
@@ -227,7 +227,8 @@ PORT_LIB := $(O)/libhzport.a
 
 # The commands (hzrt render, latency, show): option tables and the run of the frame loop; they measure the
 # governor's levels with errtime's metrics.
-CMD_SRCS := port/linux/render_cmd.c port/linux/latency.c port/linux/show.c port/linux/renderopts.c
+CMD_SRCS := port/linux/render_cmd.c port/linux/latency.c port/linux/show.c port/linux/renderopts.c port/linux/showopts.c \
+            port/linux/opttab.c
 CMD_OBJS := $(CMD_SRCS:%.c=$(O)/%.o)
 $(O)/port/linux/show.o: EXTRA_CFLAGS += -Itools/errtime
 HZRT_SRCS := port/linux/main.c port/linux/accel_cmd.c $(CMD_SRCS)
@@ -331,8 +332,8 @@ $(PORT_TEST_BINS): $(O)/test/unit/test_%: test/unit/test_%.c $(PORT_LIB) $(LIB)
 # `hzrt accel` through its entry point (the command lives in hzrt, not in the port library)
 $(O)/test/unit/test_accel_motion_cli: $(O)/port/linux/accel_cmd.o
 # `hzrt latency` and `render` through their entry points (the commands live in hzrt)
-$(O)/test/unit/test_latency_cli $(O)/test/unit/test_show: $(CMD_OBJS) $(ERRTIME_LIB)
-$(O)/test/unit/test_latency_cli $(O)/test/unit/test_show: TEST_EXTRA_LIBS = $(ERRTIME_LIB)
+$(O)/test/unit/test_latency_cli $(O)/test/unit/test_show $(O)/test/unit/test_options: $(CMD_OBJS) $(ERRTIME_LIB)
+$(O)/test/unit/test_latency_cli $(O)/test/unit/test_show $(O)/test/unit/test_options: TEST_EXTRA_LIBS = $(ERRTIME_LIB)
 
 # The sigrok-cli demo traces (test/traces/README.md) as C arrays, for tests that also run in the VM.
 TRACE_HDR := $(O)/test/gen/hz_traces.h
@@ -436,7 +437,7 @@ BAKE_LIB_SRCS := tools/bake/util.c tools/bake/sidecar.c tools/bake/scene.c tools
                  tools/bake/import_assimp.c tools/bake/import_furball.c
 BAKE_SRCS := tools/bake/main.c $(BAKE_LIB_SRCS)
 BAKE_LIBS := -lassimp -lstb -lz -lm
-HOST_TESTS := sidecar bake
+HOST_TESTS := sidecar bake bake_cli
 
 # $(1): output directory, $(2): extra compiler/linker flags
 define HOST_TREE
@@ -799,7 +800,7 @@ VM_TEST_ENV := HZ_SCENES_DIR HZ_SCENES_UNPACK
 # rendered sequences) already run on the same AArch64 binaries under qemu-aarch64 in the board stage.
 VM_HEAVY_TESTS := scene_corrupt accel_build accel_trav accel_water zero_alloc render render_transp errtime et_render \
                   render_speckles pack leaveout scene_clock accel_motion accel_motion_cli render_blur render_skin shade \
-                  accel_par render_lanes render_overlap show render_reconfigure soak
+                  accel_par render_lanes render_overlap show render_reconfigure soak accel_scenes
 VM_TEST_BINS := $(filter-out $(VM_HEAVY_TESTS:%=$(O)/test/unit/test_%),$(TEST_BINS))
 
 vmtest: deps ## boot Debian's arm64 kernel in qemu-system-aarch64: AArch64 unit tests, V4L2 loop-back, GPIO capture

@@ -21,6 +21,7 @@
 #include <string.h>
 
 #include <assimp/GltfMaterial.h>
+#include <assimp/cfileio.h>
 #include <assimp/cimport.h>
 #include <assimp/material.h>
 #include <assimp/postprocess.h>
@@ -726,6 +727,12 @@ static hz_status_t mesh_instance(ctx_t *c, const struct aiNode *node, unsigned m
         float *p = HZ_BAKE_AT(c->s->pos, float, (size_t)(first + v) * 4);
         float *n = HZ_BAKE_AT(c->s->nrm, float, (size_t)(first + v) * 4);
         struct aiVector3D q = mesh->mVertices[v];
+        if (!isfinite(q.x) || !isfinite(q.y) || !isfinite(q.z)) { /* named as the model gives it, before transforms */
+            char xyz[3][24];
+            return hz_bake_err(c->err, HZ_E_RANGE, "%s: mesh '%s': vertex %u has a non-finite position in the model (%s %s %s)",
+                               c->s->model, mesh->mName.data, v, hz_bake_num(xyz[0], 24, q.x),
+                               hz_bake_num(xyz[1], 24, q.y), hz_bake_num(xyz[2], 24, q.z));
+        }
         struct aiVector3D qn = { 0, 0, 0 };
         if (mesh->mNormals)
             qn = mesh->mNormals[v];
@@ -791,6 +798,103 @@ static hz_status_t walk(ctx_t *c, const struct aiNode *node, unsigned depth)
             return st;
     }
     return HZ_OK;
+}
+
+/* ---- the files assimp opens: never the output, and the ones that are missing named ---- */
+
+typedef struct io_ctx {
+    const char *model;
+    char fallback[512]; /* OBJ: assimp tries MODEL.mtl when the named library is missing: not the model's word */
+    char missing[4][512]; /* files the model names that could not be opened (a .mtl, a .bin) */
+    int n_missing, more_missing;
+} io_ctx_t;
+
+static size_t io_read(struct aiFile *f, char *buf, size_t size, size_t count)
+{
+    return fread(buf, size, count, (FILE *)(void *)f->UserData);
+}
+
+static size_t io_write(struct aiFile *f, const char *buf, size_t size, size_t count)
+{
+    (void)f, (void)buf, (void)size, (void)count;
+    return 0; /* the import reads only */
+}
+
+static size_t io_tell(struct aiFile *f)
+{
+    long at = ftell((FILE *)(void *)f->UserData);
+    return at < 0 ? 0 : (size_t)at;
+}
+
+static size_t io_size(struct aiFile *f)
+{
+    FILE *fp = (FILE *)(void *)f->UserData;
+    long at = ftell(fp), end = -1;
+    if (at >= 0 && fseek(fp, 0, SEEK_END) == 0) {
+        end = ftell(fp);
+        fseek(fp, at, SEEK_SET);
+    }
+    return end < 0 ? 0 : (size_t)end;
+}
+
+static enum aiReturn io_seek(struct aiFile *f, size_t offset, enum aiOrigin origin)
+{
+    int whence = origin == aiOrigin_CUR ? SEEK_CUR : origin == aiOrigin_END ? SEEK_END : SEEK_SET;
+    return fseek((FILE *)(void *)f->UserData, (long)offset, whence) == 0 ? aiReturn_SUCCESS : aiReturn_FAILURE;
+}
+
+static void io_flush(struct aiFile *f)
+{
+    (void)f;
+}
+
+static struct aiFile *io_open(struct aiFileIO *io, const char *path, const char *mode)
+{
+    io_ctx_t *c = (io_ctx_t *)(void *)io->UserData;
+    if (!hz_bake_input_ok(path))
+        return NULL; /* the output: the bake fails after the import (hz_bake_input_clash) */
+    FILE *fp = fopen(path, mode);
+    if (!fp) {
+        while (path[0] == '.' && path[1] == '/')
+            path += 2; /* assimp asks for "./x.mtl" after "x.mtl" */
+        int seen = !strcmp(path, c->model) || (c->n_missing && !strcmp(path, c->fallback));
+        for (int i = 0; i < c->n_missing && !seen; i++)
+            seen = !strcmp(c->missing[i], path);
+        if (!seen && c->n_missing < 4)
+            hz_bake_strcpy(c->missing[c->n_missing++], sizeof c->missing[0], path);
+        else if (!seen)
+            c->more_missing++;
+        return NULL;
+    }
+    struct aiFile *f = hz_bake_xcalloc(1, sizeof *f);
+    f->ReadProc = io_read;
+    f->WriteProc = io_write;
+    f->TellProc = io_tell;
+    f->FileSizeProc = io_size;
+    f->SeekProc = io_seek;
+    f->FlushProc = io_flush;
+    f->UserData = (aiUserData)(void *)fp;
+    return f;
+}
+
+static void io_close(struct aiFileIO *io, struct aiFile *f)
+{
+    (void)io;
+    if (f) {
+        fclose((FILE *)(void *)f->UserData);
+        free(f);
+    }
+}
+
+/* "'a.mtl'" or "'a.mtl', 'b.mtl' and 2 more" */
+static void missing_list(const io_ctx_t *c, char *buf, size_t cap)
+{
+    size_t n = 0;
+    buf[0] = 0;
+    for (int i = 0; i < c->n_missing && n < cap; i++)
+        n += (size_t)snprintf(buf + n, cap - n, "%s'%s'", i ? ", " : "", c->missing[i]);
+    if (c->more_missing && n < cap)
+        snprintf(buf + n, cap - n, " and %d more", c->more_missing);
 }
 
 static void count_uses(ctx_t *c, const struct aiNode *node, unsigned depth)
@@ -883,6 +987,16 @@ hz_status_t hz_bake_import_assimp(hz_bake_scene_t *s, const char *path, const hz
     hz_bake_progress("importing %s", path);
     hz_bake_phase("importing (assimp)");
     const struct aiScene *ai;
+    io_ctx_t ioc;
+    memset(&ioc, 0, sizeof ioc);
+    ioc.model = path;
+    if (c.fmt == FMT_OBJ) {
+        hz_bake_strcpy(ioc.fallback, sizeof ioc.fallback - 4, path);
+        char *dot = strrchr(ioc.fallback, '.');
+        if (dot)
+            strcpy(dot, ".mtl");
+    }
+    struct aiFileIO io = { io_open, io_close, (aiUserData)(void *)&ioc };
     if (gz) {
         uint8_t *data;
         size_t size;
@@ -908,14 +1022,30 @@ hz_status_t hz_bake_import_assimp(hz_bake_scene_t *s, const char *path, const hz
             aiReleasePropertyStore(props);
             return st;
         }
-        ai = aiImportFileExWithProperties(path, flags, NULL, props);
+        ai = aiImportFileExWithProperties(path, flags, &io, props);
     }
     aiReleasePropertyStore(props);
+    char missing[1200] = "";
+    missing_list(&ioc, missing, sizeof missing);
     if (!ai) {
         const char *why = aiGetErrorString();
-        return hz_bake_err(err, strstr(why, "No suitable reader") ? HZ_E_UNSUPPORTED : HZ_E_FORMAT,
-                           "%s: assimp cannot import it: %s", path, why && *why ? why : "unknown error");
+        if (!why || !*why)
+            why = "unknown error";
+        if (hz_bake_input_clash()[0])
+            return hz_bake_err(err, HZ_E_INVALID_ARG, "%s: %s, a file the model reads, is the output too: baking "
+                               "would replace it; choose another output path", path, hz_bake_input_clash());
+        /* The extension is one assimp reads: "no suitable reader" means the file is not what it says (a glTF or
+         * glb cut short fails the reader's own header test). */
+        if (strstr(why, "No suitable reader"))
+            return hz_bake_err(err, HZ_E_FORMAT, "%s: not a readable %s file (truncated or corrupt: no importer "
+                               "recognises its content)", path, c.fmt == FMT_OBJ ? "OBJ" : c.fmt == FMT_PLY ? "PLY" : "glTF");
+        return hz_bake_err(err, HZ_E_FORMAT, "%s: assimp cannot import it: %s%s%s", path, why,
+                           missing[0] ? "; it names files that cannot be opened: " : "", missing);
     }
+    if (missing[0] && !hz_bake_input_clash()[0])
+        hz_bake_warn("%s: names %s, which cannot be opened (missing?): what %s define%s is left out (an OBJ's "
+                     "materials get the default grey)", path, missing, ioc.n_missing + ioc.more_missing == 1 ? "it" : "they",
+                     ioc.n_missing + ioc.more_missing == 1 ? "s" : "");
     hz_bake_progress("imported in %.2f s: %u meshes, %u materials, %u animations", hz_bake_now() - t0, ai->mNumMeshes,
                      ai->mNumMaterials, ai->mNumAnimations);
     hz_bake_phase("converting %u meshes and %u materials", ai->mNumMeshes, ai->mNumMaterials);

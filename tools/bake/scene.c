@@ -164,9 +164,12 @@ hz_status_t hz_bake_object_end(hz_bake_scene_t *s, int has_normals, int weld_ver
         float *p = HZ_BAKE_AT(s->pos, float, (size_t)(first + i) * 4);
         float *nr = HZ_BAKE_AT(s->nrm, float, (size_t)(first + i) * 4);
         const float *uv = HZ_BAKE_AT(s->uv, float, (size_t)(first + i) * 2);
-        if (!finite_n(p, 3))
-            return hz_bake_err(err, HZ_E_RANGE, "%s: object '%s': vertex %u has a non-finite position (%g %g %g)",
-                               s->model, o->name, i, (double)p[0], (double)p[1], (double)p[2]);
+        if (!finite_n(p, 3)) {
+            char xyz[3][24];
+            return hz_bake_err(err, HZ_E_RANGE, "%s: object '%s': vertex %u has a non-finite position (%s %s %s)",
+                               s->model, o->name, i, hz_bake_num(xyz[0], 24, p[0]), hz_bake_num(xyz[1], 24, p[1]),
+                               hz_bake_num(xyz[2], 24, p[2]));
+        }
         if (!finite_n(uv, 2))
             return hz_bake_err(err, HZ_E_RANGE, "%s: object '%s': vertex %u has a non-finite texture coordinate",
                                s->model, o->name, i);
@@ -449,10 +452,13 @@ hz_status_t hz_bake_scene_finish(hz_bake_scene_t *s, hz_bake_sidecar_t *sc, hz_b
             if (hz_bake_sidecar_match(so->pattern, o->name) ||
                 (o->mesh_name[0] && hz_bake_sidecar_match(so->pattern, o->mesh_name)) ||
                 (mat_name && hz_bake_sidecar_match(so->pattern, mat_name))) {
-                so->matched = 1;
+                if (!so->matched)
+                    so->matched = 1;
                 last = so;
             }
         }
+        if (last)
+            last->matched = 2; /* it decides this object's motion */
         if (last && (last->motion != HZ_MOTION_NONE || o->o.motion != HZ_MOTION_NONE)) {
             hz_status_t st = apply_object(s, o, last, sc->path, err);
             if (st)
@@ -462,6 +468,30 @@ hz_status_t hz_bake_scene_finish(hz_bake_scene_t *s, hz_bake_sidecar_t *sc, hz_b
     hz_status_t st = hz_bake_sidecar_unmatched(sc, s, err);
     if (st)
         return st;
+    /* An object section that matches objects but decides none (a later section matches each of them) does
+     * nothing: say which section takes over. */
+    for (size_t j = 0; j < sc->objects.len; j++) {
+        const hz_bake_sc_object_t *so = HZ_BAKE_AT(sc->objects, hz_bake_sc_object_t, j);
+        if (so->matched != 1)
+            continue;
+        for (size_t i = 0; i < s->objs.len; i++) {
+            const hz_bake_object_t *o = HZ_BAKE_AT(s->objs, hz_bake_object_t, i);
+            const hz_bake_sc_object_t *later = NULL;
+            for (size_t k = j + 1; k < sc->objects.len; k++) {
+                const hz_bake_sc_object_t *sk = HZ_BAKE_AT(sc->objects, hz_bake_sc_object_t, k);
+                if (hz_bake_sidecar_match(sk->pattern, o->name) ||
+                    (o->mesh_name[0] && hz_bake_sidecar_match(sk->pattern, o->mesh_name)))
+                    later = sk;
+            }
+            if (later && (hz_bake_sidecar_match(so->pattern, o->name) ||
+                          (o->mesh_name[0] && hz_bake_sidecar_match(so->pattern, o->mesh_name))))
+                return hz_bake_err(err, HZ_E_FORMAT, "%s:%d: [object \"%s\"] does nothing: every object it matches "
+                                   "takes a later section (object '%s': [object \"%s\"], line %d)", sc->path, so->line,
+                                   so->pattern, o->name, later->pattern, later->line);
+        }
+        return hz_bake_err(err, HZ_E_FORMAT, "%s:%d: [object \"%s\"] does nothing: a later section takes every object "
+                           "it matches", sc->path, so->line, so->pattern);
+    }
 
     /* Textures need UVs. */
     if (!s->any_uv)
