@@ -822,6 +822,7 @@ vmtest-board: tests $(VM_DEVICE_TEST) $(VM_DRM_TEST) $(VM_ROOT)/init
 		echo "vm-aarch64/test_vm_gpiod2 0 1 0" >$(VM_RESULTS)/test_vm_gpiod2.res; }
 
 include tools/gpiod2/gpiod2.mk
+include mk/results.mk
 
 $(VM_DEVICE_TEST): test/vm/test_vm_devices.c $(PORT_LIB) $(LIB)
 	@mkdir -p $(dir $@)
