@@ -20,14 +20,15 @@ results: deps ## run make bench and make report, then write doc/results.md from 
 # The documentation guard (test/guard/check-docs.sh; `make test` runs it with the other guards, from
 # test/guard/run-guards.sh): every make target and program option that README.md and doc/ show exists, and
 # neither names an issue number or a commit hash. It reads the programs' --help, so it needs them built.
-export HZ_DOCS_HZRT ?= $(abspath $(BUILD_ROOT)/host-sim$(SAN_SUFFIX)/bin/hzrt)
-export HZ_DOCS_HZBENCH ?= $(abspath $(BUILD_ROOT)/host-sim$(SAN_SUFFIX)/bin/hzbench)
-export HZ_DOCS_HZERRTIME ?= $(abspath $(BUILD_ROOT)/host-sim$(SAN_SUFFIX)/bin/hzerrtime)
+DOCS_HOST_SIM := $(BUILD_ROOT)/host-sim$(SAN_SUFFIX)
+DOCS_PROGS := $(DOCS_HOST_SIM)/bin/hzrt $(DOCS_HOST_SIM)/bin/hzbench $(DOCS_HOST_SIM)/bin/hzerrtime
+export HZ_DOCS_HZRT ?= $(abspath $(DOCS_HOST_SIM)/bin/hzrt)
+export HZ_DOCS_HZBENCH ?= $(abspath $(DOCS_HOST_SIM)/bin/hzbench)
+export HZ_DOCS_HZERRTIME ?= $(abspath $(DOCS_HOST_SIM)/bin/hzerrtime)
 export HZ_DOCS_HZBAKE ?= $(abspath $(HOST_O)/bin/hzbake)
 check-docs: deps ## check the commands README.md and doc/ show (make targets, program options); no issue numbers or hashes
-	$(Q)$(MAKE) --no-print-directory BOARD=host-sim O=$(BUILD_ROOT)/host-sim$(SAN_SUFFIX) \
-		$(HZ_DOCS_HZRT) $(HZ_DOCS_HZBENCH) $(HZ_DOCS_HZERRTIME)
-	$(Q)$(MAKE) --no-print-directory $(HZ_DOCS_HZBAKE)
+	$(Q)$(MAKE) --no-print-directory BOARD=host-sim O=$(DOCS_HOST_SIM) $(DOCS_PROGS)
+	$(Q)$(MAKE) --no-print-directory $(HOST_O)/bin/hzbake
 	$(Q)sh test/guard/check-docs.sh
 
 .PHONY: results check-docs
