@@ -33,11 +33,3 @@ check-docs: deps ## check the commands README.md and doc/ show (make targets, pr
 
 .PHONY: results check-docs
 
-# hzbench's Markdown writer (tools/bench/bench_md.c) has its unit test among the board's tests.
-BENCH_MD_TEST := $(O)/test/unit/test_bench_md
-$(BENCH_MD_TEST): test/unit/test_bench_md.c $(O)/tools/bench/bench_md.o $(LIB)
-	@mkdir -p $(dir $@)
-	$(call msg,CCLD,$@)$(CC) $(TEST_CFLAGS) -Itools/bench $(DEPFLAGS) $(LDFLAGS_ALL) -o $@ $< \
-		$(O)/tools/bench/bench_md.o $(LIB) $(TEST_LIBS) -lm
-TEST_BINS += $(BENCH_MD_TEST)
-tests: $(BENCH_MD_TEST)

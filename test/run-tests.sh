@@ -1,10 +1,12 @@
 #!/bin/sh
 # Runs cmocka test binaries and records their counts for test/summary.sh.
 #   run-tests.sh RESULTS_DIR LABEL "LAUNCHER" BIN...
-# Each binary's output goes to RESULTS_DIR/<bin>.log; RESULTS_DIR/<bin>.res gets "label/bin passed failed skipped".
+# Each binary's output goes to RESULTS_DIR/<bin>.log; RESULTS_DIR/<bin>.res gets "label/bin passed failed skipped
+# seconds".
 # The line printed per binary ends with its wall time (the 20-minute budget of make test is watched by it).
 # A binary that exits non-zero without reporting a failed test (a crash, a sanitizer abort, a missing library)
 # counts as one failure; one that exits 0 without running a test also fails, so nothing passes by silence.
+# HZ_TEST_JOBS=N runs N binaries side by side (for emulated boards, whose binaries are single-threaded).
 # Each binary runs under a time limit (HZ_TEST_TIMEOUT seconds, default 900: generous, the slowest binary takes
 # a few minutes under qemu on 2 cores): a hung test is killed and counts as a failure that names it, instead of
 # stalling the suite.
@@ -15,7 +17,8 @@ shift 3
 export CMOCKA_MESSAGE_OUTPUT=stdout
 status=0
 limit=${HZ_TEST_TIMEOUT:-900}
-for bin in "$@"; do
+run_one() {
+    bin=$1
     name=$(basename "$bin")
     log=$results/$name.log
     t0=$(date +%s)
@@ -46,6 +49,24 @@ for bin in "$@"; do
         printf '  ok    %-18s %-28s %3d passed%s (%d s)\n' "$label" "$name" "$passed" \
             "$( [ "$skipped" -ne 0 ] && echo ", $skipped skipped")" "$secs"
     fi
-    echo "$label/$name $passed $failed $skipped" >"$results/$name.res"
-done
+    echo "$label/$name $passed $failed $skipped $secs" >"$results/$name.res"
+}
+# HZ_TEST_JOBS binaries at once (default 1): lane k runs binaries k, k + N, k + 2N, ... in order.
+jobs=${HZ_TEST_JOBS:-1}
+if [ "$jobs" -le 1 ]; then
+    for bin in "$@"; do run_one "$bin"; done
+else
+    lane=0
+    while [ $lane -lt "$jobs" ]; do
+        (
+            n=0
+            for bin in "$@"; do
+                [ $((n % jobs)) -eq $lane ] && run_one "$bin"
+                n=$((n + 1))
+            done
+        ) &
+        lane=$((lane + 1))
+    done
+    wait
+fi
 exit 0

@@ -10,6 +10,7 @@
  *    table; no timing is asserted.
  * HZ_SOAK_FRAMES sets the frames per configuration (default 1000: the shortened run of make test; make soak runs
  * 100000). Each configuration is one test, so a failure names it.
+ * hz-test: native no-vm (native boards only; heavy under system emulation, runs under qemu-user)
  */
 #define _GNU_SOURCE
 #include "hz_test.h"

@@ -14,6 +14,7 @@
  * through Embree's API). Before the backend switched the geometry to refit on a dynamic scene it was ~53 per
  * frame (a full rebuild each frame). The test counts them, checks every one has libembree on its stack, and
  * fails above 8 per frame.
+ * hz-test: no-vm (heavy under system emulation, runs under qemu-user)
  */
 #define _GNU_SOURCE
 #include "hz_test.h"
