@@ -21,6 +21,8 @@ hzrt=${HZ_DOCS_HZRT:-$root/build/host-sim/bin/hzrt}
 hzbake=${HZ_DOCS_HZBAKE:-$root/build/host/bin/hzbake}
 hzbench=${HZ_DOCS_HZBENCH:-$root/build/host-sim/bin/hzbench}
 hzerrtime=${HZ_DOCS_HZERRTIME:-$root/build/host-sim/bin/hzerrtime}
+# The makes below read the Makefile as a user's would: not with the settings of a make that runs this script.
+unset MAKEFLAGS MFLAGS MAKELEVEL
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 problems=$tmp/problems
