@@ -21,8 +21,6 @@ hzrt=${HZ_DOCS_HZRT:-$root/build/host-sim/bin/hzrt}
 hzbake=${HZ_DOCS_HZBAKE:-$root/build/host/bin/hzbake}
 hzbench=${HZ_DOCS_HZBENCH:-$root/build/host-sim/bin/hzbench}
 hzerrtime=${HZ_DOCS_HZERRTIME:-$root/build/host-sim/bin/hzerrtime}
-# The makes below read the Makefile as a user's would: not with the settings of a make that runs this script.
-unset MAKEFLAGS MFLAGS MAKELEVEL
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 problems=$tmp/problems
@@ -81,7 +79,8 @@ help_of() { # KEY PROGRAM [ARG...]
 targets_of() { # ASSIGNMENTS...
     key=$(printf '%s\n' "$@" | cksum | cut -d' ' -f1)
     if [ ! -f "$tmp/targets-$key" ]; then
-        make -C "$root" -pq --no-print-directory "$@" .hz-docs-probe 2>/dev/null | awk '
+        env -i PATH="$PATH" HOME="${HOME:-/}" make -C "$root" -pq --no-print-directory "$@" .hz-docs-probe \
+            2>/dev/null | awk '
             /^# Not a target:/ { skip = 1; next }
             /^[^#\t[:space:]][^=\t]*:([^=]|$)/ {
                 t = $0; sub(/:.*/, "", t)
