@@ -72,6 +72,47 @@ for case in "bench hzbench furball.hzb" "report hzerrtime lost-empire.hzb"; do
         fails=$((fails + 1))
     fi
 done
+# The documentation's commands (check-docs): a page with a missing make target, unknown options of hzrt's
+# commands, hzbake and hzerrtime, an unknown hzrt command, an option on a continuation line, an issue number and
+# commit hashes is refused, and every mistake is named (the guard runs once; each mistake is one case).
+out=$(sh "$here/check-docs.sh" --root "$here/../.." "$bad/docs/README.md" 2>&1) && docs_rc=0 || docs_rc=$?
+for case in "make-target:make no-such-target: no such target" "hzrt-option:no option --no-such-option" \
+        "hzrt-command:hzrt frobnicate: no such command" "hzbake-option:no option --no-such-bake-option" \
+        "hzerrtime-option:no option --bogus" "continued-line:no option --nope" \
+        "issue-number:names an issue number: issue 12" "short-hash:a commit hash: 1c76226\$" \
+        "long-hash:a commit hash: 1c76226a4c523e04531ee388ba12bc34581d1e5c"; do
+    name=docs-${case%%:*} pattern=${case#*:}
+    if [ "$docs_rc" != 0 ] && printf '%s\n' "$out" | grep -q -- "$pattern"; then
+        echo "  ok    guard $name"
+        record "guard/$name" 1 0
+    else
+        echo "  FAIL  guard $name: check-docs did not refuse a known-bad page with '$pattern':"
+        printf '%s\n' "$out" | head -n 12 | sed 's/^/        /'
+        record "guard/$name" 0 1
+        fails=$((fails + 1))
+    fi
+done
+# ... and accepts what is right in it: the board-fit target, a CRC, a block that is not shell.
+if printf '%s\n' "$out" | grep -q "board-fit\|c8abb741\|not-checked"; then
+    echo "  FAIL  guard docs-no-false-alarm: check-docs refused a correct line of the bad page:"
+    printf '%s\n' "$out" | grep "board-fit\|c8abb741\|not-checked" | sed 's/^/        /'
+    record "guard/docs-no-false-alarm" 0 1
+    fails=$((fails + 1))
+else
+    echo "  ok    guard docs-no-false-alarm"
+    record "guard/docs-no-false-alarm" 1 0
+fi
+# The real documentation passes (the same check, on README.md and doc/).
+out=$(sh "$here/check-docs.sh" --root "$here/../.." 2>&1) && docs_rc=0 || docs_rc=$?
+printf '%s\n' "$out" | sed 's/^/        /'
+if [ "$docs_rc" = 0 ]; then
+    echo "  ok    guard docs"
+    record "guard/docs" 1 0
+else
+    echo "  FAIL  guard docs: README.md or doc/ shows a command that does not parse, an issue number or a hash"
+    record "guard/docs" 0 1
+    fails=$((fails + 1))
+fi
 # Tests are found by pattern: a new test/unit/test_*.c is built and run with no Makefile edit, its hz-test tags
 # keep it off the boards they name, and an unknown tag is refused by name. (A probe folder stands in for
 # test/unit; every real test file must be on some tested board's list.)

@@ -1,5 +1,6 @@
 /*
- * hzbench — `make bench`: measures hzrt's kernels side by side in one run and prints a table (+ CSV).
+ * hzbench — `make bench`: measures hzrt's kernels side by side in one run and prints a table (+ CSV, and with
+ * --md the same figures as Markdown tables: bench_md.h).
  *
  * Every figure in a group is measured in the same process, interleaved round by round, so a shared, noisy
  * machine slows all of them alike and the ratios stay meaningful; absolute times do not transfer between
@@ -12,6 +13,7 @@
 #include <unistd.h>
 
 #include "bench_adaptive.h"
+#include "bench_md.h"
 #include "bench_realtime.h"
 #include "bench_blur.h"
 #include "bench_tdense.h"
@@ -167,10 +169,62 @@ static double bench_srgb8_powf(uint32_t n)
     return n / ((hz_clock_ns() - t0) * 1e-9);
 }
 
+/* --md without a group's CSV path: the CSV goes next to the Markdown file, named after the group. */
+static const char *csv_beside(const char *given, const char *md, const char *name, char *buf, size_t size)
+{
+    if (given || !md)
+        return given;
+    const char *slash = strrchr(md, '/');
+    snprintf(buf, size, "%.*s%s.csv", slash ? (int)(slash - md + 1) : 0, md, name);
+    return buf;
+}
+
+typedef struct md_section {
+    bool ran;
+    const char *title;  /* "## title" */
+    char what[640];     /* what the table measures, how */
+    const char *csv;
+    hz_bench_md_spec_t spec[4];
+    const char *sub[4]; /* a heading per table when a section has several */
+    int tables;
+} md_section_t;
+
+/* The Markdown report: the command, then one section per group that ran, each table read back from its CSV. */
+static int write_md(const char *path, int argc, char **argv, const md_section_t *sec, int n)
+{
+    hz_out_t out;
+    hz_error_t err;
+    if (hz_out_open(&out, path, &err) != HZ_OK)
+        return hz_cli_report(&err);
+    fputs("# hzbench\n\n`hzbench", out.f);
+    for (int i = 1; i < argc; i++)
+        fprintf(out.f, " %s", argv[i]);
+    fputs("`: every figure of a group comes from one run, its rounds interleaved, so ratios within a group are the "
+          "result; absolute times depend on the machine and its load.\n", out.f);
+    for (int k = 0; k < n; k++) {
+        if (!sec[k].ran)
+            continue;
+        fprintf(out.f, "\n## %s\n\n%s (`%s`)\n", sec[k].title, sec[k].what, sec[k].csv);
+        for (int t = 0; t < sec[k].tables; t++) {
+            fputc('\n', out.f);
+            if (sec[k].sub[t])
+                fprintf(out.f, "%s\n\n", sec[k].sub[t]);
+            if (hz_bench_md_csv(out.f, sec[k].csv, &sec[k].spec[t], &err) != HZ_OK) {
+                hz_out_abort(&out);
+                return hz_cli_report(&err);
+            }
+        }
+    }
+    if (hz_out_commit(&out, &err) != HZ_OK)
+        return hz_cli_report(&err);
+    printf("wrote %s\n", path);
+    return 0;
+}
+
 int main(int argc, char **argv)
 {
     hz_cli_prog = "hzbench";
-    const char *csv_path = NULL;
+    const char *csv_path = NULL, *md_path = NULL;
     bool core = true, accel = true, tdense = true, transp = true, adaptive = true, blur = true, motion = true;
     bool realtime = true, only_given = false;
     const char *realtime_csv = NULL;
@@ -189,6 +243,8 @@ int main(int argc, char **argv)
         long v;
         if (!strcmp(argv[i], "--csv") && i + 1 < argc) {
             csv_path = argv[++i];
+        } else if (!strcmp(argv[i], "--md") && i + 1 < argc) {
+            md_path = argv[++i];
         } else if (!strcmp(argv[i], "--accel-csv") && i + 1 < argc) {
             ao.csv_path = argv[++i];
         } else if (!strcmp(argv[i], "--realtime-csv") && i + 1 < argc) {
@@ -322,7 +378,7 @@ int main(int argc, char **argv)
                    "               [--scene NAME]... [--rounds N] [--threads N] [--size WxH] [--tdense-size WxH]\n"
                    "               [--frames N] [--embree-config S] [--transparency-csv FILE]\n"
                    "               [--transparency-size WxH] [--transparency-frames N] [--shutter S] [--blur-size WxH]\n"
-                   "               [--motion-scene NAME]... [--motion-size WxH] [--motion-interval S]\n"
+                   "               [--motion-scene NAME]... [--motion-size WxH] [--motion-interval S] [--md FILE]\n"
                    "\nMeasures hzrt's kernels side by side and prints medians of interleaved rounds, in these parts\n"
                    "(all by default, or those --only names):\n"
                    "  kernels  core kernels (%d rounds)\n"
@@ -351,7 +407,9 @@ int main(int argc, char **argv)
                    "           moving furball and the rotated Sponza (--motion-scene picks others; --motion-size the\n"
                    "           frame, default 512x512; --motion-interval the shutter interval, default 1/24 s)\n"
                    "--scenes: the baked scenes (default $HZ_SCENES_DIR or build/scenes; `make scenes` bakes them),\n"
-                   "--rounds: rounds of the accel and tdense parts (5), --threads: pool size (0: every CPU).\n",
+                   "--rounds: rounds of the accel and tdense parts (5), --threads: pool size (0: every CPU).\n"
+                   "--md FILE: also every group's table in Markdown (a group without its --*-csv writes its CSV\n"
+                   "next to FILE: bench.csv, accel.csv, transparency.csv, adaptive.csv, motion.csv, realtime.csv).\n",
                    ROUNDS);
             return 0;
         } else {
@@ -359,6 +417,13 @@ int main(int argc, char **argv)
             return HZ_EXIT_USAGE;
         }
     }
+    char csv_buf[6][4200];
+    csv_path = csv_beside(csv_path, md_path, "bench", csv_buf[0], sizeof csv_buf[0]);
+    ao.csv_path = csv_beside(ao.csv_path, md_path, "accel", csv_buf[1], sizeof csv_buf[1]);
+    transp_csv = csv_beside(transp_csv, md_path, "transparency", csv_buf[2], sizeof csv_buf[2]);
+    ad.csv_path = csv_beside(ad.csv_path, md_path, "adaptive", csv_buf[3], sizeof csv_buf[3]);
+    mo.csv_path = csv_beside(mo.csv_path, md_path, "motion", csv_buf[4], sizeof csv_buf[4]);
+    realtime_csv = csv_beside(realtime_csv, md_path, "realtime", csv_buf[5], sizeof csv_buf[5]);
     row_t rows[] = {
         { "core", "hash32 (murmur3 fmix)", "Mops/s", { 0 }, 0 },
         { "core", "hash_pcg", "Mops/s", { 0 }, 0 },
@@ -476,8 +541,8 @@ int main(int argc, char **argv)
         if (hz_out_open(&out, csv_path, &err) != HZ_OK)
             return hz_cli_report(&err);
         fprintf(out.f, "group,kernel,median,min,max,unit\n");
-        for (size_t k = 0; k < nrows; k++)
-            fprintf(out.f, "%s,%s,%.3f,%.3f,%.3f,%s\n", rows[k].group, rows[k].name, rows[k].median,
+        for (size_t k = 0; k < nrows; k++) /* quoted: some kernel names hold a comma */
+            fprintf(out.f, "%s,\"%s\",%.3f,%.3f,%.3f,%s\n", rows[k].group, rows[k].name, rows[k].median,
                     rows[k].per_sec[0], rows[k].per_sec[ROUNDS - 1], rows[k].unit);
         for (int k = 0; k < nt; k++) {
             fprintf(out.f, "tdense,%s %ux%u tdense,%.3f,,,ms/frame\n", trows[k].scene, td.width, td.height,
@@ -611,5 +676,73 @@ int main(int argc, char **argv)
     int status = accel ? hz_bench_accel(&ao) : 0;
     if (status == 0 && motion)
         status = hz_bench_motion(&mo);
-    return status;
+    if (status != 0 || !md_path)
+        return status;
+
+    /* What each table measures: the group's settings as this run used them. */
+    static const char *const core_groups[] = { "tdense", "blur", NULL }, *const tdense_group[] = { "tdense", NULL },
+                             *const blur_group[] = { "blur", NULL }, *const primary[] = { "primary", NULL },
+                             *const shadow[] = { "shadow", NULL }, *const diffuse[] = { "diffuse", NULL },
+                             *const rays[] = { "primary", "shadow", "diffuse", NULL },
+                             *const accel_keys[] = { "scene", "triangles", "threads", NULL },
+                             *const other_keys[] = { "scene", "triangles", "what", "threads", NULL };
+    md_section_t sec[8];
+    memset(sec, 0, sizeof sec);
+    sec[0] = (md_section_t){ core && nrows > 0, "Kernels", "", csv_path, { { "group", core_groups, true, 0, 0, 0 } },
+                             { 0 }, 1 };
+    snprintf(sec[0].what, sizeof sec[0].what, "Core kernels, throughput as the median of %d rounds: hashing, the "
+             "arena, CRC-32, sRGB encoding (the exact table against the powf formula), the tdense tile ordering "
+             "(hzbench --only kernels)", ROUNDS);
+    sec[1] = (md_section_t){ tdense && nt > 0, "Temporally dense rendering (seed 001)", "", csv_path,
+                             { { "group", tdense_group, false, 0, 0, 0 } }, { 0 }, 1 };
+    snprintf(sec[1].what, sizeof sec[1].what, "Displayed-frame time of tdense against full-frame 1 spp + TAA on the "
+             "same scene, %ux%u, %d threads, %u frames after %u from t = %.1f s at %u Hz, median of %d rounds "
+             "interleaved; the ratio TAA / tdense per round (median, min, max) and each mode's begin_frame "
+             "(animation, refit, camera), trace pass and resolve pass (hzbench --only tdense)", td.width, td.height,
+             td.threads, td.frames, td.warm, (double)td.start, td.hz, td.rounds);
+    sec[2] = (md_section_t){ transp && transp_csv, "Transparency (seed 004)", "", transp_csv, { { 0 } }, { 0 }, 1 };
+    snprintf(sec[2].what, sizeof sec[2].what, "Per-frame time along sponza-smoke's camera path with TAA, %ux%u, %d "
+             "threads, %u frames, the minimum of %d interleaved rounds per frame, for every --transparency method: "
+             "p50 and p99 ms and rays per frame; the seed's goal is std >= 3x exact at p50 and p99/p50 <= 1.15 "
+             "(hzbench --only transparency)", tp.width, tp.height, tp.threads, tp.frames, tp.rounds);
+    sec[3] = (md_section_t){ blur && nb > 0, "Motion blur in tdense (seed 002)", "", csv_path,
+                             { { "group", blur_group, false, 0, 0, 0 } }, { 0 }, 1 };
+    snprintf(sec[3].what, sizeof sec[3].what, "tdense with the shutter open (%.2f), one motion-BVH key interval and "
+             "refit per 4-subframe cycle against posing and refitting every subframe: ms per displayed frame, its "
+             "begin_frame and trace pass, %ux%u, %d threads, median of %d rounds (hzbench --only blur)",
+             (double)bo.shutter, bo.width, bo.height, bo.threads, bo.rounds);
+    sec[4] = (md_section_t){ realtime && realtime_csv, "Real time: where a frame's time goes", "", realtime_csv,
+                             { { 0 } }, { 0 }, 1 };
+    snprintf(sec[4].what, sizeof sec[4].what, "tdense and TAA at %ux%u on %d threads, %u frames from t = %.1f s at "
+             "%u Hz, %d rounds: p50 and p99 ms per frame; begin, trace (time inside accel calls), shade (the rest "
+             "of the trace pass) and resolve ms; the same frame's rays through Embree alone; overhead = p50 / that "
+             "(hzbench --only realtime)", rt.width, rt.height, rt.threads, rt.frames, (double)rt.start, rt.hz,
+             rt.rounds);
+    sec[5] = (md_section_t){ adaptive && ad.csv_path, "Adaptive supersampling (seed 003)", "", ad.csv_path, { { 0 } },
+                             { 0 }, 1 };
+    snprintf(sec[5].what, sizeof sec[5].what, "Fixed 9 spp against --mode adaptive at several tau, %ux%u, %d "
+             "threads, one frame at t = %.1f s, median of %d interleaved rounds: ms split into presample, subpixel "
+             "test and extra samples, camera rays per pixel, live lanes per extra packet, PSNR (sRGB 8-bit) "
+             "against %u spp (hzbench --only adaptive)", ad.width, ad.height, ad.threads, (double)ad.t, ad.rounds,
+             ad.ref_spp);
+    sec[6] = (md_section_t){ accel && ao.csv_path, "Ray queries: native BVH against Embree", "", ao.csv_path,
+                             { { "what", primary, false, accel_keys, "method", "value" },
+                               { "what", shadow, false, accel_keys, "method", "value" },
+                               { "what", diffuse, false, accel_keys, "method", "value" },
+                               { "what", rays, true, other_keys, "method", "value" } },
+                             { "Primary rays, Mrays/s (ratios: best native SIMD over Embree's best):",
+                               "Shadow rays, Mrays/s:", "Diffuse bounces, Mrays/s:",
+                               "Builds (s; ratios native over Embree), bytes per triangle, agreement with Embree (%):" },
+                             4 };
+    snprintf(sec[6].what, sizeof sec[6].what, "Per scene: Mrays/s of primary rays from the scene's camera, shadow "
+             "rays to its first light and cosine-weighted diffuse bounces, for every native kernel and Embree "
+             "call, on one thread and on the pool (medians of interleaved rounds); build times, bytes per "
+             "triangle and the agreement of native and Embree hits (hzbench --only accel)");
+    sec[7] = (md_section_t){ motion && mo.csv_path, "Motion-blur BVHs (seed 002)", "", mo.csv_path, { { 0 } }, { 0 },
+                             1 };
+    snprintf(sec[7].what, sizeof sec[7].what, "The seed's Table 1 per scene and BVH (msbvh, interp, swept, Embree's "
+             "motion blur): references, nodes, spatial splits, SAH cost, intersections and traversal steps per ray "
+             "(max / average), render ms of a frame of one primary and one shadow ray per pixel at its own time, "
+             "build and refit ms, bytes per triangle, Mrays/s (hzbench --only motion)");
+    return write_md(md_path, argc, argv, sec, 8);
 }
