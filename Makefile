@@ -117,7 +117,7 @@ SCENE_PORT_TESTS :=
 ACCEL_SRCS := src/accel/accel.c src/accel/bvh_build.c src/accel/msbvh.c src/accel/trav_scalar.c src/accel/meshgen.c
 ACCEL_SRCS_avx2 := src/accel/trav_avx2.c
 ACCEL_SRCS_neon := src/accel/trav_neon.c
-ACCEL_TESTS := accel_build accel_trav accel_motion
+ACCEL_TESTS := accel_build accel_build_twin accel_trav accel_motion
 ACCEL_PORT_TESTS := threads accel_water accel_scenes accel_motion_cli
 # The parallel build's determinism test: the builder is scalar C with one operation order (test_accel_build
 # checks it on both ISAs), and under qemu-user this test took 270 s of the 20-minute budget; native boards only.
