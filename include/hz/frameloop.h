@@ -16,6 +16,7 @@
  *  - A silent source is an error, not a hang: HZ_E_TIMEOUT when no edge at all came for edge_timeout_ns.
  *  - Memory: everything comes from the arena passed in (records, edge log, image), sized by hz_loop_bytes();
  *    a run that does not fit is refused up front with both byte counts. The steady state allocates nothing.
+ *  - cfg->stop ends a run early, between frames: what was done is recorded as at a normal end.
  *  - Every input edge is logged (edge log) with its classification, until the log is full; edges beyond it
  *    are still used and counted (edges_unlogged), never dropped silently.
  *  - Every v-sync model event also feeds the lock verdict (hz/lockv.h): res->lock says whether the run held
@@ -74,6 +75,10 @@ typedef struct hz_loop_cfg {
      * level so that it fits the budget (lookahead periods minus the latch lead and the pacing guard); 0 keeps
      * level 0. The governor's own settings (dwell, margins) come from the source's levels. */
     int governor;
+    /* Non-NULL: a flag the port sets (a signal handler, say) to end the run early. The loop looks at it between
+     * frames and while it waits for edges; once it is non-zero no further frame starts, the run settles as at
+     * its normal end and stop_reason says "interrupted". */
+    const volatile int *stop;
 } hz_loop_cfg_t;
 
 typedef struct hz_loop_result {

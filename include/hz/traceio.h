@@ -73,7 +73,8 @@ hz_status_t hz_vcd_finish(hz_vcd_t *p, hz_edge_fn edge, void *ctx, hz_error_t *e
  *    up to 9 fraction digits for seconds); the level is `level` (0/1). Other columns are ignored.
  *  - Without a header the first column is t_ns and an optional second one the level. Without a level column
  *    every row is a rising (v-sync) edge.
- *  - Times must be >= 0 and non-decreasing. Errors name the line and the field.
+ *  - Times must be >= 0 and non-decreasing. Errors name the line and the field (bytes that do not print as
+ *    \xNN). A UTF-8 byte-order mark at the start of the file is skipped.
  */
 #define HZ_ECSV_LINE_MAX 1024
 

@@ -1,6 +1,8 @@
-/* `--mode adaptive` options, activity map and summary figures (see adaptive_cli.h). */
+/* `--mode adaptive`: the focus list and map name, focus names resolved, activity map, summary figures (see
+ * adaptive_cli.h). */
 #include "adaptive_cli.h"
 
+#include <fnmatch.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -8,91 +10,94 @@
 #include "cli.h"
 #include "imageio.h"
 
-static bool parse_tau(const char *opt, const char *v, float *out)
+bool hz_adaptive_cli_focus_ok(const char *list, char *why, size_t cap)
 {
-    char *end = NULL;
-    double t = v ? strtod(v, &end) : 0.0;
-    if (!v || !*v || *end || !(t >= 0.0 && t <= 1.0)) {
-        hz_cli_error("render: %s: '%s' is not a threshold in [0, 1] (1 switches it off)", opt, v ? v : "");
-        return false;
+    uint32_t items = 0;
+    for (const char *p = list;; items++) {
+        const char *e = strchr(p, ',');
+        size_t len = e ? (size_t)(e - p) : strlen(p);
+        if (len == 0) {
+            snprintf(why, cap, "'%s' has an empty item (give object ids or names, comma-separated)", list);
+            return false;
+        }
+        if (len >= HZ_HZB_NAME_BYTES) {
+            snprintf(why, cap, "'%.*s' is longer than an object name (%u bytes)", (int)len, p, HZ_HZB_NAME_BYTES - 1);
+            return false;
+        }
+        if (items == HZ_AMASK_MAX_FOCUS) {
+            snprintf(why, cap, "more than %u items", HZ_AMASK_MAX_FOCUS);
+            return false;
+        }
+        if (!e)
+            return true;
+        p = e + 1;
     }
-    *out = (float)t;
+}
+
+/* Case-insensitive suffix test. */
+static bool has_ext(const char *name, const char *ext)
+{
+    size_t n = strlen(name), e = strlen(ext);
+    if (n < e)
+        return false;
+    for (size_t i = 0; i < e; i++) {
+        char c = name[n - e + i];
+        if (c >= 'A' && c <= 'Z')
+            c = (char)(c - 'A' + 'a');
+        if (c != ext[i])
+            return false;
+    }
     return true;
 }
 
-int hz_adaptive_cli_option(const char *opt, const char *v, hz_adaptive_opts_t *ao, hz_adaptive_cli_t *st)
+bool hz_adaptive_cli_map_ok(const char *path, char *why, size_t cap)
 {
-    if (strncmp(opt, "--tau", 5) && strcmp(opt, "--focus-objects") && strcmp(opt, "--adaptive-map") &&
-        strcmp(opt, "--normal-angle"))
-        return 0;
-    if (!strcmp(opt, "--tau")) {
-        float t;
-        if (!parse_tau(opt, v, &t))
-            return -HZ_EXIT_USAGE;
-        ao->tau[HZ_TAU_COL] = ao->tau[HZ_TAU_PTE] = ao->tau[HZ_TAU_STE] = t; /* the paper's tau_alpha */
-    } else if (!strncmp(opt, "--tau-", 6)) {
-        int k = -1;
-        for (int i = 0; i < HZ_TAU_COUNT; i++)
-            if (!strcmp(opt + 6, hz_tau_name((hz_tau_t)i)))
-                k = i;
-        if (k < 0)
-            return 0; /* not ours: the caller reports the unknown option */
-        if (!parse_tau(opt, v, &ao->tau[k]))
-            return -HZ_EXIT_USAGE;
-    } else if (!strcmp(opt, "--normal-angle")) {
-        char *end = NULL;
-        double d = v ? strtod(v, &end) : 0.0;
-        if (!v || !*v || *end || !(d >= 0.0 && d <= 90.0)) {
-            hz_cli_error("render: --normal-angle: '%s' is not an angle in [0, 90] degrees", v ? v : "");
-            return -HZ_EXIT_USAGE;
-        }
-        ao->normal_angle_deg = (float)d;
-    } else if (!strcmp(opt, "--focus-objects")) {
-        if (!v || !*v) {
-            hz_cli_error("render: --focus-objects: missing list (object ids or names, comma-separated)");
-            return -HZ_EXIT_USAGE;
-        }
-        st->focus = v;
-    } else if (!strcmp(opt, "--adaptive-map")) {
-        if (!v || !*v) {
-            hz_cli_error("render: --adaptive-map: missing file name (e.g. map.png)");
-            return -HZ_EXIT_USAGE;
-        }
-        st->map_path = v;
-    } else {
-        return 0;
+    const char *slash = strrchr(path, '/');
+    const char *base = slash ? slash + 1 : path;
+    if (!*base) {
+        snprintf(why, cap, "'%s' names a folder, not a file (e.g. %smap.png)", path, path);
+        return false;
     }
-    if (!st->first)
-        st->first = opt;
-    return 2;
+    const char *exts[] = { ".png", ".ppm", ".pfm" };
+    for (int k = 0; k < 3; k++) {
+        if (!has_ext(base, exts[k]))
+            continue;
+        if (strlen(base) == 4) {
+            snprintf(why, cap, "'%s' has an extension but no file name before it (e.g. %.*smap%s)", path,
+                     (int)(base - path), path, exts[k]);
+            return false;
+        }
+        if (k == 0 && !hz_png_supported()) {
+            snprintf(why, cap, "'%s': this build writes no PNG (no libpng): use .ppm or .pfm", path);
+            return false;
+        }
+        return true;
+    }
+    const char *dot = strrchr(base, '.');
+    snprintf(why, cap, "'%s': %s%s%s is not an image extension this writes (.png, .ppm or .pfm)", path,
+             dot ? "'" : "", dot ? dot : "no extension", dot ? "'" : "");
+    return false;
 }
 
-int hz_adaptive_cli_check(const hz_adaptive_cli_t *st, hz_render_mode_t mode)
+/* Object names for a message: "0 'floor', 1 'ceiling', ..." (non-printing bytes as \xNN). */
+static void list_objects(char *buf, size_t cap, const hz_scene_t *scene)
 {
-    if (st->first && mode != HZ_MODE_ADAPTIVE) {
-        hz_cli_error("render: %s applies only to --mode adaptive (this run is --mode %s)", st->first,
-                     hz_render_mode_name(mode));
-        return HZ_EXIT_USAGE;
+    size_t n = 0;
+    buf[0] = 0;
+    for (uint32_t i = 0; i < scene->object_count && n + 48 < cap; i++) {
+        char name[4 * HZ_HZB_NAME_BYTES + 1];
+        hz_cli_printable(name, sizeof name, (const char *)scene->objects[i].name, HZ_HZB_NAME_BYTES);
+        n += (size_t)snprintf(buf + n, cap - n, "%s%u '%s'", i ? ", " : "", i, name);
+        if (i == 11 && scene->object_count > 12) {
+            snprintf(buf + n, cap - n, ", ... (%u in all; hzrt info lists them)", scene->object_count);
+            break;
+        }
     }
-    return 0;
 }
 
-void hz_adaptive_cli_usage(FILE *f)
+static int cmp_u16(const void *a, const void *b)
 {
-    fprintf(f,
-            "\nadaptive mode (--mode adaptive; seed 003: presample, activity mask, 4 extra samples per active\n"
-            "subpixel): thresholds in [0, 1], smaller = more samples, 1 switches an attribute off\n"
-            "  --tau T           tau-col, tau-pte and tau-ste together (the paper's tau_alpha); default 0.6\n"
-            "  --tau-col T       colour contrast where no attribute disagrees; default 0.6\n"
-            "  --tau-poid T      primary hit object id; default 0.05    --tau-soid T  mirror hit; default 0.05\n"
-            "  --tau-psn T       primary shading normal; default 0.06   --tau-ssn T   mirror hit; default 0.06\n"
-            "  --tau-psc T       primary shadow count; default 0.06     --tau-ssc T   mirror hit; default 0.06\n"
-            "  --tau-pte T       primary texture; default 0.6           --tau-ste T   mirror hit; default 0.6\n"
-            "  --normal-angle D  normals within D degrees agree; default 15\n"
-            "  --focus-objects L attributes count only where these objects are involved (ids or names, comma-\n"
-            "                    separated; `hzrt info SCENE` lists them)\n"
-            "  --adaptive-map F  write the last frame's active subpixels per pixel (black, red, green, blue, white\n"
-            "                    for 0..4) to F (.png, .ppm or .pfm)\n");
+    return (int)*(const uint16_t *)a - (int)*(const uint16_t *)b;
 }
 
 hz_status_t hz_adaptive_cli_resolve(const hz_adaptive_cli_t *st, const hz_scene_t *scene, hz_adaptive_opts_t *ao,
@@ -101,6 +106,7 @@ hz_status_t hz_adaptive_cli_resolve(const hz_adaptive_cli_t *st, const hz_scene_
     ao->focus_count = 0;
     if (!st->focus)
         return HZ_OK;
+    char names[512];
     for (const char *p = st->focus; *p;) {
         const char *e = strchr(p, ',');
         size_t len = e ? (size_t)(e - p) : strlen(p);
@@ -111,25 +117,43 @@ hz_status_t hz_adaptive_cli_resolve(const hz_adaptive_cli_t *st, const hz_scene_
         item[len] = '\0';
         char *end = NULL;
         long id = strtol(item, &end, 10);
-        if (*end) { /* a name */
-            id = -1;
-            for (uint32_t i = 0; i < scene->object_count; i++)
-                if (!strncmp((const char *)scene->objects[i].name, item, HZ_HZB_NAME_BYTES))
-                    id = (long)i;
-            if (id < 0)
-                return hz_error_set(err, HZ_E_INVALID_ARG, "--focus-objects: the scene has no object named '%s'",
-                                    item);
+        uint32_t before = ao->focus_count;
+        if (*end || end == item) { /* a name: every object called so, or matching the pattern */
+            for (uint32_t i = 0; i < scene->object_count; i++) {
+                char name[HZ_HZB_NAME_BYTES + 1];
+                memcpy(name, scene->objects[i].name, HZ_HZB_NAME_BYTES);
+                name[HZ_HZB_NAME_BYTES] = 0;
+                if (!strcmp(name, item) || fnmatch(item, name, 0) == 0) {
+                    if (ao->focus_count == HZ_AMASK_MAX_FOCUS)
+                        return hz_error_set(err, HZ_E_INVALID_ARG, "--focus-objects: more than %u objects",
+                                            HZ_AMASK_MAX_FOCUS);
+                    ao->focus[ao->focus_count++] = (uint16_t)i;
+                }
+            }
+            if (ao->focus_count == before) {
+                list_objects(names, sizeof names, scene);
+                return hz_error_set(err, HZ_E_INVALID_ARG, "--focus-objects: the scene has no object named '%s' (%s)",
+                                    item, names);
+            }
         } else if (id < 0 || id >= (long)scene->object_count) {
             return hz_error_set(err, HZ_E_INVALID_ARG, "--focus-objects: object id %s outside 0..%u", item,
                                 scene->object_count ? scene->object_count - 1 : 0);
+        } else {
+            if (ao->focus_count == HZ_AMASK_MAX_FOCUS)
+                return hz_error_set(err, HZ_E_INVALID_ARG, "--focus-objects: more than %u objects", HZ_AMASK_MAX_FOCUS);
+            ao->focus[ao->focus_count++] = (uint16_t)id;
         }
-        if (ao->focus_count == HZ_AMASK_MAX_FOCUS)
-            return hz_error_set(err, HZ_E_INVALID_ARG, "--focus-objects: more than %u objects", HZ_AMASK_MAX_FOCUS);
-        ao->focus[ao->focus_count++] = (uint16_t)id;
         if (!e)
             break;
         p = e + 1;
     }
+    /* sorted, each id once: what was taken, as summary.json lists it */
+    qsort(ao->focus, ao->focus_count, sizeof ao->focus[0], cmp_u16);
+    uint32_t n = 0;
+    for (uint32_t i = 0; i < ao->focus_count; i++)
+        if (!n || ao->focus[n - 1] != ao->focus[i])
+            ao->focus[n++] = ao->focus[i];
+    ao->focus_count = n;
     return HZ_OK;
 }
 

@@ -1,15 +1,17 @@
 /*
- * adaptive_cli.h — the command line of `--mode adaptive` (seed 003, hz/adaptive.h) for `hzrt render`: the nine
- * thresholds, --tau, --normal-angle, --focus-objects and --adaptive-map; the map of active subpixels (Fig. 7's
- * colours) and the summary figures.
+ * adaptive_cli.h — what `--mode adaptive` (seed 003, hz/adaptive.h) needs on the command line beyond the option
+ * table (renderopts.c holds its options): the focus-object list and the map file checked before the run, focus
+ * names resolved once the scene is loaded, the map of active subpixels (Fig. 7's colours) and the summary figures.
  *
  * Contract:
- *  - hz_adaptive_cli_option(opt, value, ...) returns 0 when opt is not one of these options, 1 or 2 for the
- *    arguments it consumed, and -HZ_EXIT_USAGE after printing why a value is bad (naming the option).
- *  - hz_adaptive_cli_check refuses (HZ_EXIT_USAGE, naming the first one) any of these options outside
- *    --mode adaptive, where they would do nothing.
- *  - --focus-objects takes object ids or names (hzrt info lists them), comma-separated; hz_adaptive_cli_resolve
- *    turns them into ids once the scene is loaded (an unknown name or an id out of range is HZ_E_INVALID_ARG).
+ *  - hz_adaptive_cli_focus_ok() checks the form of a --focus-objects list (comma-separated, no empty item, no
+ *    item longer than an object name, at most HZ_AMASK_MAX_FOCUS items); hz_adaptive_cli_map_ok() checks an
+ *    --adaptive-map name (a file name before one of .png, .ppm, .pfm; .png only in builds with libpng). On
+ *    failure both put the reason in why and return false: the command line is wrong (exit status 2).
+ *  - hz_adaptive_cli_resolve turns the list into ids once the scene is loaded, by the one naming rule for
+ *    objects: an item is an id (0..objects-1) or a name, and a name takes every object called so (object names
+ *    may repeat: an OBJ's groups often do), a shell pattern (fnmatch) every object it matches. An id out of range
+ *    or a name that matches nothing is HZ_E_INVALID_ARG naming it and the objects; ids come out sorted, each once.
  *  - hz_adaptive_map_write writes the last frame's mask as an image: black, red, green, blue, white for 0..4
  *    active subpixels (the file's extension picks PNG, PPM or PFM). Temp file + rename, as every sink.
  */
@@ -22,14 +24,12 @@
 #include "summary.h"
 
 typedef struct hz_adaptive_cli {
-    const char *first;     /* first adaptive option given (for the error outside adaptive mode) */
     const char *map_path;  /* --adaptive-map */
     const char *focus;     /* --focus-objects, unresolved */
 } hz_adaptive_cli_t;
 
-int hz_adaptive_cli_option(const char *opt, const char *value, hz_adaptive_opts_t *ao, hz_adaptive_cli_t *st);
-int hz_adaptive_cli_check(const hz_adaptive_cli_t *st, hz_render_mode_t mode);
-void hz_adaptive_cli_usage(FILE *f);
+bool hz_adaptive_cli_focus_ok(const char *list, char *why, size_t cap);
+bool hz_adaptive_cli_map_ok(const char *path, char *why, size_t cap);
 hz_status_t hz_adaptive_cli_resolve(const hz_adaptive_cli_t *st, const hz_scene_t *scene, hz_adaptive_opts_t *ao,
                                     hz_error_t *err);
 hz_status_t hz_adaptive_map_write(const char *path, const hz_renderer_t *r, uint32_t width, uint32_t height,

@@ -74,6 +74,22 @@ bad:
     return false;
 }
 
+const char *hz_cli_printable(char *buf, size_t cap, const char *s, size_t max)
+{
+    size_t n = 0;
+    if (!cap)
+        return buf;
+    for (size_t i = 0; i < max && s[i] && n + 5 < cap; i++) {
+        unsigned char c = (unsigned char)s[i];
+        if (c < 0x20 || c == 0x7f)
+            n += (size_t)snprintf(buf + n, cap - n, "\\x%02x", c);
+        else
+            buf[n++] = (char)c;
+    }
+    buf[n] = 0;
+    return buf;
+}
+
 bool hz_cli_stderr_is_tty(void)
 {
     return isatty(STDERR_FILENO) == 1;

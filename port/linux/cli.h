@@ -10,6 +10,7 @@
 #define HZ_PORT_CLI_H
 
 #include <stdbool.h>
+#include <stddef.h>
 
 #include "hz/status.h"
 
@@ -25,6 +26,10 @@ int hz_cli_report(const hz_error_t *err);
 bool hz_cli_parse_long(const char *opt, const char *arg, long min, long max, long *out);
 /* Parse "WxH" with both in [min, max]. */
 bool hz_cli_parse_size(const char *opt, const char *arg, int min, int max, int *w, int *h);
+
+/* Text from a file (a scene's or an object's name) made safe to print: bytes below 0x20 and 0x7f as \xNN, the
+ * rest as they are (names are UTF-8); at most max bytes of s, up to its NUL. Returns buf. */
+const char *hz_cli_printable(char *buf, size_t cap, const char *s, size_t max);
 
 /* True when stderr is a terminal (progress bars only then). */
 bool hz_cli_stderr_is_tty(void);

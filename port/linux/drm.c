@@ -278,6 +278,15 @@ static hz_status_t open_card(drm_impl_t *im, const char *want, hz_error_t *err)
                                     "'video')", path);
             return hz_error_set(err, HZ_E_DEVICE, "DRM card %s: cannot open: %s", path, strerror(e));
         }
+        /* Any file opens: only a DRM driver answers DRM_IOCTL_VERSION. */
+        drmVersionPtr v = drmGetVersion(im->fd);
+        if (!v) {
+            close(im->fd);
+            im->fd = -1;
+            return hz_error_set(err, HZ_E_DEVICE, "DRM card %s: not a DRM device (no DRM driver answers on it; "
+                                "cards are /dev/dri/cardN)", path);
+        }
+        drmFreeVersion(v);
         return HZ_OK;
     }
     for (int n = 0; n < 16; n++) {

@@ -2,6 +2,8 @@
 #include "fileio.h"
 
 #include <errno.h>
+#include <stdbool.h>
+#include <stdio.h>
 #include <fcntl.h>
 #include <signal.h>
 #include <stdlib.h>
@@ -32,13 +34,37 @@ static void untrack(hz_out_t *out)
     out->slot = -1;
 }
 
+static volatile sig_atomic_t *defer_flag;
+static const char *defer_note;
+static size_t defer_len;
+
 static void remove_tracked(int sig)
 {
+    volatile sig_atomic_t *flag = defer_flag;
+    if (flag && !*flag && sig != SIGQUIT) {
+        *flag = sig;
+        if (defer_note)
+            (void)!write(STDERR_FILENO, defer_note, defer_len); /* async-signal-safe */
+        return;
+    }
     for (int i = 0; i < HZ_OUT_TRACKED; i++)
         if (tracked_used[i])
             unlink(tracked_path[i]); /* async-signal-safe */
     signal(sig, SIG_DFL);
     raise(sig);
+}
+
+void hz_out_signals_defer(volatile sig_atomic_t *flag, const char *note)
+{
+    defer_note = note;
+    defer_len = note ? strlen(note) : 0;
+    defer_flag = flag;
+}
+
+void hz_out_die(int sig)
+{
+    defer_flag = NULL;
+    remove_tracked(sig);
 }
 
 void hz_out_remove_on_signals(void)
@@ -147,7 +173,8 @@ hz_status_t hz_file_write_atomic(const char *path, const void *data, size_t size
 hz_status_t hz_file_read(const char *path, void *buf, size_t cap, size_t *size, hz_error_t *err)
 {
     *size = 0;
-    int fd = open(path, O_RDONLY | O_CLOEXEC);
+    /* O_NONBLOCK: opening a FIFO must not wait for a writer (it is refused below, as every non-regular file) */
+    int fd = open(path, O_RDONLY | O_CLOEXEC | O_NONBLOCK);
     if (fd < 0)
         return hz_error_set(err, HZ_E_IO, "%s: %s", path, strerror(errno));
     struct stat st;
@@ -155,6 +182,7 @@ hz_status_t hz_file_read(const char *path, void *buf, size_t cap, size_t *size, 
         close(fd);
         return hz_error_set(err, HZ_E_IO, "%s: not a regular file", path);
     }
+    fcntl(fd, F_SETFL, fcntl(fd, F_GETFL) & ~O_NONBLOCK);
     if ((unsigned long long)st.st_size > cap) {
         close(fd);
         return hz_error_set(err, HZ_E_NO_MEMORY, "%s: file has %lld bytes, the buffer holds %zu", path,
@@ -177,7 +205,7 @@ hz_status_t hz_file_read(const char *path, void *buf, size_t cap, size_t *size, 
     return HZ_OK;
 }
 
-static hz_status_t mkdirs(const char *path, char *created, size_t cap, hz_error_t *err)
+static hz_status_t mkdirs(const char *path, char *created, size_t cap, size_t *made_from, hz_error_t *err)
 {
     char tmp[4096];
     size_t n = strlen(path);
@@ -189,6 +217,8 @@ static hz_status_t mkdirs(const char *path, char *created, size_t cap, hz_error_
             char c = tmp[i];
             tmp[i] = '\0';
             if (mkdir(tmp, 0777) == 0) {
+                if (made_from && !*made_from)
+                    *made_from = i;
                 size_t used = created ? strlen(created) : 0;
                 if (created && used + strlen(tmp) + 3 < cap)
                     snprintf(created + used, cap - used, "%s%s", used ? ", " : "", tmp);
@@ -207,14 +237,41 @@ static hz_status_t mkdirs(const char *path, char *created, size_t cap, hz_error_
 
 hz_status_t hz_mkdirs(const char *path, hz_error_t *err)
 {
-    return mkdirs(path, NULL, 0, err);
+    return mkdirs(path, NULL, 0, NULL, err);
 }
 
 hz_status_t hz_out_dir_prepare(const char *path, char *created, size_t cap, hz_error_t *err)
 {
+    return hz_out_dir_make(path, created, cap, NULL, err);
+}
+
+void hz_out_dir_unmake(const char *path, size_t made_from)
+{
+    char tmp[4096];
+    size_t n = strlen(path);
+    if (!made_from || made_from > n || n >= sizeof tmp)
+        return;
+    memcpy(tmp, path, n + 1);
+    for (size_t i = n; i >= made_from; i--) {
+        if (tmp[i] == '/' || tmp[i] == '\0') {
+            char c = tmp[i];
+            tmp[i] = '\0';
+            if (i > 0 && tmp[i - 1] != '/')
+                rmdir(tmp); /* fails, harmlessly, once a folder holds anything */
+            tmp[i] = c;
+        }
+        if (i == 0)
+            break;
+    }
+}
+
+hz_status_t hz_out_dir_make(const char *path, char *created, size_t cap, size_t *made_from, hz_error_t *err)
+{
     if (created && cap)
         created[0] = '\0';
-    hz_status_t s = mkdirs(path, created, cap, err);
+    if (made_from)
+        *made_from = 0;
+    hz_status_t s = mkdirs(path, created, cap, made_from, err);
     if (s != HZ_OK)
         return s;
     /* A real file, not access(2): that also catches read-only mounts and ACLs access() may not see. */
@@ -226,5 +283,96 @@ hz_status_t hz_out_dir_prepare(const char *path, char *created, size_t cap, hz_e
         return hz_error_set(err, HZ_E_IO, "%s: the output folder is not writable: %s", path, strerror(errno));
     close(fd);
     unlink(probe);
+    return HZ_OK;
+}
+
+/* ---- the outputs of a run, checked before it ---- */
+
+void hz_outs_init(hz_outs_t *o)
+{
+    memset(o, 0, sizeof *o);
+}
+
+void hz_outs_output(hz_outs_t *o, const char *path, const char *what)
+{
+    if (o->n_out < HZ_OUTS_MAX) {
+        snprintf(o->out[o->n_out].path, sizeof o->out[0].path, "%s", path);
+        o->out[o->n_out++].what = what;
+    }
+}
+
+void hz_outs_input(hz_outs_t *o, const char *path, const char *what)
+{
+    if (o->n_in < (int)(sizeof o->in / sizeof o->in[0])) {
+        snprintf(o->in[o->n_in].path, sizeof o->in[0].path, "%s", path);
+        o->in[o->n_in++].what = what;
+    }
+}
+
+/* path's folder ("." for a bare name) into dir; returns the name after it. */
+static const char *split_dir(const char *path, char *dir, size_t cap)
+{
+    const char *slash = strrchr(path, '/');
+    if (!slash) {
+        snprintf(dir, cap, ".");
+        return path;
+    }
+    size_t n = (size_t)(slash - path);
+    if (n == 0)
+        n = 1; /* "/name": the root */
+    snprintf(dir, cap, "%.*s", (int)n, path);
+    return slash + 1;
+}
+
+hz_status_t hz_outs_check(const hz_outs_t *o, hz_error_t *err)
+{
+    struct stat in_st[4];
+    bool in_ok[4];
+    for (int k = 0; k < o->n_in; k++)
+        in_ok[k] = stat(o->in[k].path, &in_st[k]) == 0;
+    struct stat dir_st[HZ_OUTS_MAX];
+    for (int i = 0; i < o->n_out; i++) {
+        const char *path = o->out[i].path, *what = o->out[i].what;
+        char dir[4096];
+        const char *name = split_dir(path, dir, sizeof dir);
+        if (!*name || !strcmp(name, ".") || !strcmp(name, ".."))
+            return hz_error_set(err, HZ_E_IO, "%s: %s names a folder, not a file", path, what);
+        if (stat(dir, &dir_st[i]) != 0)
+            return hz_error_set(err, HZ_E_IO, "%s: %s: the folder %s: %s", path, what, dir, strerror(errno));
+        if (!S_ISDIR(dir_st[i].st_mode))
+            return hz_error_set(err, HZ_E_IO, "%s: %s: %s is not a folder", path, what, dir);
+        struct stat st;
+        if (stat(path, &st) == 0) {
+            if (S_ISDIR(st.st_mode))
+                return hz_error_set(err, HZ_E_IO, "%s: %s is a folder; it needs a file name", path, what);
+            for (int k = 0; k < o->n_in; k++)
+                if (in_ok[k] && st.st_dev == in_st[k].st_dev && st.st_ino == in_st[k].st_ino)
+                    return hz_error_set(err, HZ_E_INVALID_ARG, "%s: %s is %s (%s), an input of this run: a run "
+                                        "never writes over its inputs; choose another output", path, what,
+                                        o->in[k].what, o->in[k].path);
+        }
+        for (int j = 0; j < i; j++) {
+            char dj[4096];
+            const char *nj = split_dir(o->out[j].path, dj, sizeof dj);
+            if (dir_st[j].st_dev == dir_st[i].st_dev && dir_st[j].st_ino == dir_st[i].st_ino && !strcmp(nj, name))
+                return hz_error_set(err, HZ_E_INVALID_ARG, "%s: %s is also %s (%s): give one of them another name",
+                                    path, what, o->out[j].what, o->out[j].path);
+        }
+        /* a real file, not access(2): also read-only mounts and ACLs */
+        bool probed = false;
+        for (int j = 0; j < i && !probed; j++)
+            probed = dir_st[j].st_dev == dir_st[i].st_dev && dir_st[j].st_ino == dir_st[i].st_ino;
+        if (!probed) {
+            char probe[4096 + 32];
+            if (snprintf(probe, sizeof probe, "%s/.hz-probe.XXXXXX", dir) >= (int)sizeof probe)
+                return hz_error_set(err, HZ_E_INVALID_ARG, "%s: path too long", path);
+            int fd = mkstemp(probe);
+            if (fd < 0)
+                return hz_error_set(err, HZ_E_IO, "%s: %s: the folder %s is not writable: %s", path, what, dir,
+                                    strerror(errno));
+            close(fd);
+            unlink(probe);
+        }
+    }
     return HZ_OK;
 }

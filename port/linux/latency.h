@@ -16,10 +16,8 @@
 
 int hz_cmd_latency(int argc, char **argv);
 
-/* The display options `hzrt latency` and `hzrt render` share (source, sink, pacing, lock, run length, output, the
- * governor): like hz_ropts_take, but *i moves past the value itself. */
-int hz_latency_opt_take(hz_show_cfg_t *c, int argc, char **argv, int *i);
-/* The render options into c's scene (after hz_ropts_check): 0 or HZ_EXIT_USAGE. */
+/* The render options into c's scene (after hz_ropts_check; the scene's prepare hook resolves focus names): 0 or
+ * HZ_EXIT_USAGE. */
 int hz_show_from_ropts(hz_show_cfg_t *c, hz_ropts_t *ro, const char *scene);
 
 #endif

@@ -43,10 +43,26 @@ static const char *cls_name(int cls)
     }
 }
 
+bool hz_report_too_short(const hz_lockv_result_t *L)
+{
+    /* no other reason, and fewer edges in the whole run than one locked stretch takes */
+    return L->verdict == HZ_LOCK_NO_RUN && L->inputs < (uint64_t)L->cfg.min_run;
+}
+
+const char *hz_report_lock_verdict(const hz_lockv_result_t *L)
+{
+    return L->verdict == HZ_LOCK_OK ? "locked" : hz_report_too_short(L) ? "too short to judge a lock" : "no lock";
+}
+
 const char *hz_report_lock_reasons(char *buf, size_t cap, const hz_lockv_result_t *L)
 {
     size_t n = 0;
     buf[0] = '\0';
+    if (hz_report_too_short(L)) {
+        snprintf(buf, cap, "%llu v-sync edge%s in the whole run, a locked stretch needs %u in a row (run longer, or "
+                 "lower --lock-min-run)", (unsigned long long)L->inputs, L->inputs == 1 ? "" : "s", L->cfg.min_run);
+        return buf;
+    }
     if (L->verdict & HZ_LOCK_NO_RUN)
         n += (size_t)snprintf(buf + n, n < cap ? cap - n : 0, "%sno locked stretch of %u accepted edges (longest %llu)",
                               n ? "; " : "", L->cfg.min_run, (unsigned long long)L->longest);
@@ -238,7 +254,8 @@ void hz_report_print(FILE *f, hz_report_t *r)
                     hz, (1.0 / (1.0 + L->offset_ppb / 1e9) - 1.0) * 100.0, 1e9 / (double)res->nominal_period_ns);
     } else {
         char why[256];
-        fprintf(f, "          no lock: %s; no rate reported\n", hz_report_lock_reasons(why, sizeof why, L));
+        fprintf(f, "          %s: %s; no rate reported\n", hz_report_lock_verdict(L),
+                hz_report_lock_reasons(why, sizeof why, L));
     }
     if (r->pulses)
         fprintf(f,
@@ -427,7 +444,8 @@ static hz_status_t write_json(const char *path, const hz_report_t *r, hz_error_t
             (long long)res->nominal_period_ns, lk->verdict ? 0.0 : lk->offset_ppb / 1000.0, (long long)res->tol_ns,
             lk->verdict ? "false" : "true");
     char why[256];
-    fprintf(f, "  \"lock\": {\"verdict\": \"%s\", \"reasons\": ", lk->verdict ? "no lock" : "locked");
+    fprintf(f, "  \"lock\": {\"verdict\": \"%s\", \"reasons\": ",
+            lk->verdict == HZ_LOCK_OK ? "locked" : hz_report_too_short(lk) ? "too short" : "no lock");
     json_str(f, lk->verdict ? hz_report_lock_reasons(why, sizeof why, lk) : "");
     fprintf(f, ", \"stretches\": %llu, \"qualifying_stretches\": %llu, \"qualifying_edges\": %llu, "
                "\"longest_stretch\": %llu, \"min_run\": %u, \"max_relock_pct\": %.4f, \"max_spurious_pct\": %.4f, "
@@ -440,6 +458,14 @@ static hz_status_t write_json(const char *path, const hz_report_t *r, hz_error_t
         const hz_frames_summary_t *x = &r->frames;
         fprintf(f, "  \"frames_source\": ");
         json_str(f, r->info.frames);
+        if (r->info.scene_file) {
+            fprintf(f, ",\n  \"scene\": {\"file\": ");
+            json_str(f, r->info.scene_file);
+            fprintf(f, ", \"mode\": ");
+            json_str(f, r->info.mode);
+            fprintf(f, ", \"render_size\": [%d, %d], \"render_scale\": %d, \"threads\": %d}", r->info.render_w,
+                    r->info.render_h, r->info.render_scale, r->info.threads);
+        }
         fprintf(f, ",\n  \"sink\": ");
         json_str(f, r->info.sink);
         fprintf(f, ",\n  \"size\": [%d, %d],\n", r->info.w, r->info.h);

@@ -43,6 +43,10 @@ typedef struct hz_report_info {
     int w, h;
     int marker;
     const hz_report_levels_t *levels; /* NULL: frames without quality levels (the test pattern) */
+    /* a scene's frames: the file (or "builtin"), the mode and render size of level 0, the render scale and the
+     * render threads (report.json's "scene"); scene_file NULL: the test pattern */
+    const char *scene_file, *mode;
+    int render_w, render_h, render_scale, threads;
 } hz_report_info_t;
 
 typedef struct hz_report {
@@ -62,6 +66,12 @@ void hz_report_compute(hz_report_t *r, const hz_loop_cfg_t *cfg, const hz_report
 void hz_report_print(FILE *f, hz_report_t *r);
 hz_status_t hz_report_write(const char *dir, hz_report_t *r, hz_error_t *err);
 
+/* A run too short to judge a lock: no reason but the missing locked stretch, and fewer v-sync edges in the
+ * whole run than one locked stretch (min_run) takes. Not a lock either (exit status 3, no period), but it says
+ * "too short to judge a lock" rather than "no lock". */
+bool hz_report_too_short(const hz_lockv_result_t *lock);
+/* "locked", "no lock" or "too short to judge a lock". */
+const char *hz_report_lock_verdict(const hz_lockv_result_t *lock);
 /* Every reason of a no-lock verdict, in words with the counts and limits. */
 const char *hz_report_lock_reasons(char *buf, size_t cap, const hz_lockv_result_t *lock);
 

@@ -88,6 +88,8 @@ static int cmd_board(int argc, char **argv)
     return 0;
 }
 
+#define PL(n) ((n) == 1 ? "" : "s")
+
 static void print_mib(const char *what, size_t bytes)
 {
     printf("  %-22s %12zu bytes (%.1f MiB)\n", what, bytes, bytes / 1048576.0);
@@ -128,14 +130,17 @@ static int cmd_info(int argc, char **argv)
     const hz_hzb_header_t *h = scene.header;
     char feats[160];
     hz_scene_features_str(scene.features, feats, sizeof feats);
-    printf("scene        %s (%s)\n", h->name[0] ? (const char *)h->name : "(unnamed)", name);
+    char shown[4 * HZ_HZB_NAME_BYTES + 1]; /* names come from the file: control bytes as \xNN, not to the terminal */
+    printf("scene        %s (%s)\n", h->name[0] ? hz_cli_printable(shown, sizeof shown, (const char *)h->name,
+                                                                   HZ_HZB_NAME_BYTES)
+                                               : "(unnamed)", name);
     printf("format       .hzb version %u, %llu bytes, %u sections\n", h->version,
            (unsigned long long)h->file_bytes, h->section_count);
     printf("features     %s\n", feats);
-    printf("geometry     %u triangles, %u vertices, %u objects\n", h->triangle_count, h->vertex_count,
-           h->object_count);
-    printf("materials    %u materials, %u textures (%u texels)\n", h->material_count, h->texture_count,
-           h->texel_count);
+    printf("geometry     %u triangle%s, %u vert%s, %u object%s\n", h->triangle_count, PL(h->triangle_count),
+           h->vertex_count, h->vertex_count == 1 ? "ex" : "ices", h->object_count, PL(h->object_count));
+    printf("materials    %u material%s, %u texture%s (%u texel%s)\n", h->material_count, PL(h->material_count),
+           h->texture_count, PL(h->texture_count), h->texel_count, PL(h->texel_count));
     printf("lights       %u\n", h->light_count);
     printf("animation    %u camera keys, %u rigid keys, %u vertex keys, loop %.3g s\n", h->camera_key_count,
            h->rigid_key_count, h->vertex_key_count, (double)h->duration);
@@ -149,7 +154,8 @@ static int cmd_info(int argc, char **argv)
         static const char *const kinds[] = { "static", "rigid keys", "vertex keys", "spin", "oscillate", "sway",
                                              "skinned" };
         const hz_object_t *o = &scene.objects[i];
-        printf("  object %-3u %-24s %8u tris %8u verts  %s\n", i, (const char *)o->name, o->triangle_count,
+        printf("  object %-3u %-24s %8u tris %8u verts  %s\n", i,
+               hz_cli_printable(shown, sizeof shown, (const char *)o->name, HZ_HZB_NAME_BYTES), o->triangle_count,
                o->vertex_count, kinds[o->motion]);
     }
     /* The whole plan against this board's arenas: what a render at the display's size needs. */

@@ -1,6 +1,7 @@
 /* Memory plans per render mode (see modeplan.h). */
 #include "modeplan.h"
 
+#include <stdbool.h>
 #include <string.h>
 
 static bool arena_fits(const hz_arena_t *a, const char *label, size_t need, char *why, size_t n)
@@ -97,10 +98,22 @@ bool hz_modeplan_print(FILE *f, const hz_scene_t *scene, hz_pools_t *pools, uint
     o.width = width, o.height = height, o.mode = HZ_MODEPLAN_DEFAULT_MODE;
     hz_render_plan_t p;
     hz_error_t err;
-    if (hz_render_plan(scene, &o, &p, &err) == HZ_OK)
-        fprintf(f, "left out     motion vectors: %s; mirror G-buffer: %s; any-hit: %s; transparency stage: %s; "
-                   "animation state: %s\n", p.mv_bytes ? "no" : "yes", p.gbuffer2_bytes ? "no" : "yes",
-                p.anyhit ? "no" : "yes", p.transparency ? "no" : "yes", scene->plan.arena_bytes ? "no" : "yes");
+    if (hz_render_plan(scene, &o, &p, &err) == HZ_OK) {
+        /* two lists, not yes/no after "left out" (which read as a double negative) */
+        const struct { const char *name; bool kept; } parts[] = {
+            { "motion vectors", p.mv_bytes != 0 }, { "mirror G-buffer", p.gbuffer2_bytes != 0 },
+            { "any-hit", p.anyhit }, { "transparency stage", p.transparency },
+            { "animation state", scene->plan.arena_bytes != 0 },
+        };
+        for (int kept = 1; kept >= 0; kept--) {
+            fprintf(f, "%-13s", kept ? "kept" : "left out");
+            int n = 0;
+            for (size_t i = 0; i < sizeof parts / sizeof parts[0]; i++)
+                if (parts[i].kept == (kept != 0))
+                    fprintf(f, "%s%s", n++ ? ", " : "", parts[i].name);
+            fprintf(f, "%s\n", n ? "" : "nothing");
+        }
+    }
     /* Each optional feature's cost: the plan with it minus the plan without it, per mode. */
     static const struct { const char *name; uint32_t bits; } feats[] = {
         { "motion", HZ_FEAT_MOTION | HZ_FEAT_CAMERA_PATH },

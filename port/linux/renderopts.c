@@ -1,85 +1,123 @@
-/* The render options' table and parser (see renderopts.h). */
+/* The render options' table, parser and settings (see renderopts.h). */
 #include "renderopts.h"
 
-#include <errno.h>
-#include <math.h>
-#include <stdlib.h>
 #include <string.h>
 
+#include "accel_backend.h"
 #include "cli.h"
 #include "hz/config.h"
 #include "hz/fixed.h"
+#include "phase.h"
 #include "transp_opt.h"
 
-#define MODE_BIT(m) (1u << (m))
-#define ALL_MODES ((1u << HZ_MODE_COUNT) - 1u)
-
-typedef enum kind { K_FLAG, K_INT, K_REAL, K_WORD, K_SPECIAL } kind_t;
+#define M(m) (1u << (m))
+#define FULL M(HZ_MODE_FULL)
+#define TAA M(HZ_MODE_TAA)
+#define TDENSE M(HZ_MODE_TDENSE)
+#define ADAPTIVE M(HZ_MODE_ADAPTIVE)
+#define IMG HZ_OF_IMAGE
 
 typedef enum opt_id {
     O_MODE, O_SPP, O_MSAA4, O_ORDERING, O_NO_RMV, O_TD_GAMMA, O_TAA_GAMMA, O_TAA_CLIP, O_TAA_CR, O_BOUNCES,
-    O_TRANSP, O_RR_SHADOWS, O_SHUTTER, O_BLUR_BVH, O_BACKEND, O_THREADS, O_START
+    O_TRANSP, O_RR_SHADOWS, O_SHUTTER, O_BLUR_BVH, O_BACKEND, O_THREADS, O_START, O_TAU, O_NORMAL_ANGLE, O_FOCUS,
+    O_MAP,
+    O_TAU_K /* + hz_tau_t: the nine thresholds */
 } opt_id_t;
 
 static const char *const mode_words[] = { "tdense", "full", "taa", "adaptive", NULL };
+static const hz_render_mode_t mode_of_word[] = { HZ_MODE_TDENSE, HZ_MODE_FULL, HZ_MODE_TAA, HZ_MODE_ADAPTIVE };
 static const char *const backend_words[] = { "native", "embree", NULL };
 static const char *const blur_words[] = { "msbvh", "interp", "swept", NULL };
 static const char *const ordering_words[] = { "full", "dominant", "shear-up", "shear-down", "hourglass", "bowtie", NULL };
 
-typedef struct opt {
-    const char *name, *arg;   /* arg NULL: a flag */
-    kind_t kind;
-    double lo, hi;            /* K_INT, K_REAL: the closed range (lo_open: lo excluded) */
-    int lo_open;
-    const char *const *words; /* K_WORD */
-    unsigned modes;           /* the modes it acts in */
-    opt_id_t id;
-    const char *help;
-} opt_t;
+#define TAU(key, k, def, what)                                                                                   \
+    { .name = "--tau-" key, .arg = "T", .kind = HZ_OPT_REAL, .lo = 0, .hi = 1, .modes = ADAPTIVE, .flags = IMG,   \
+      .id = O_TAU_K + (k), .sample = "0.3", .noun = "a threshold", .help = what "; default " def }
 
-static const opt_t table[] = {
-    { "--mode", "M", K_WORD, 0, 0, 0, mode_words, ALL_MODES, O_MODE,
-      "tdense (one sample per 2x2 tile per frame, temporally dense composite), full (N samples per pixel), taa (1 "
-      "jittered sample + temporal resolve) or adaptive (selective and adaptive supersampling)" },
-    { "--spp", "N", K_INT, 1, 1024, 0, NULL, MODE_BIT(HZ_MODE_FULL), O_SPP,
-      "samples per pixel, a square (1, 4, 9, ...); default 1" },
-    { "--msaa4", NULL, K_FLAG, 0, 0, 0, NULL, MODE_BIT(HZ_MODE_FULL), O_MSAA4,
-      "4 spp at the fixed 4x MSAA positions (what tdense converges to)" },
-    { "--ordering", "R", K_WORD, 0, 0, 0, ordering_words, MODE_BIT(HZ_MODE_TDENSE), O_ORDERING,
-      "tile orderings: full (the paper's adaptive choice), dominant, shear-up, shear-down, hourglass or bowtie; "
-      "default full" },
-    { "--no-reflected-mv", NULL, K_FLAG, 0, 0, 0, NULL, MODE_BIT(HZ_MODE_TDENSE), O_NO_RMV,
-      "mirrors use their own motion, not the reflected hit's" },
-    { "--tdense-gamma", "G", K_REAL, 0, 16, 1, NULL, MODE_BIT(HZ_MODE_TDENSE), O_TD_GAMMA,
-      "variance box width in standard deviations; default 1" },
-    { "--taa-gamma", "G", K_REAL, 0, 16, 1, NULL, MODE_BIT(HZ_MODE_TAA), O_TAA_GAMMA,
-      "variance box width in standard deviations; default 1" },
-    { "--taa-clip", NULL, K_FLAG, 0, 0, 0, NULL, MODE_BIT(HZ_MODE_TAA), O_TAA_CLIP,
-      "clip history towards the box centre (default: clamp per channel)" },
-    { "--taa-catmull-rom", NULL, K_FLAG, 0, 0, 0, NULL, MODE_BIT(HZ_MODE_TAA), O_TAA_CR,
-      "fetch history with Catmull-Rom (default: bilinear)" },
-    { "--bounces", "N", K_INT, 0, 3, 0, NULL, ALL_MODES, O_BOUNCES, "mirror reflections per path; default 3" },
-    { "--transparency", "T", K_SPECIAL, 0, 0, 0, NULL, ALL_MODES, O_TRANSP,
-      "blended surfaces: exact (front-to-back compositing, deep shadow rays), rr (Russian roulette), std "
-      "(spatio-temporal dither), dtaa, dtaa-star, or hybrid:X (exact while the visibility > X in [0, 1], then one "
-      "std decision); default exact. The stochastic ones shade one fragment per pixel: use them with taa or "
-      "tdense, or full with N spp (N steps of the dither)" },
-    { "--rr-shadows", NULL, K_FLAG, 0, 0, 0, NULL, ALL_MODES, O_RR_SHADOWS,
-      "stochastic transparency: the shaded fragment's shadow ray takes blended occluders by Russian roulette "
-      "instead of the deep shadow ray's transmittance" },
-    { "--shutter", "S", K_REAL, 0, 1, 0, NULL, MODE_BIT(HZ_MODE_FULL) | MODE_BIT(HZ_MODE_TAA) | MODE_BIT(HZ_MODE_TDENSE),
-      O_SHUTTER, "motion blur: the shutter is open for S of each frame interval 1/hz, centred on the frame's "
-      "time; default 0 (no blur; adaptive mode has none)" },
-    { "--blur-bvh", "B", K_WORD, 0, 0, 0, blur_words, ALL_MODES, O_BLUR_BVH,
-      "motion-blur BVH of the native backend: msbvh (seed 002), interp (interpolated BVH) or swept (static BVH over "
-      "swept boxes); default msbvh; needs --shutter" },
-    { "--backend", "B", K_WORD, 0, 0, 0, backend_words, ALL_MODES, O_BACKEND,
-      "native or embree (host builds); default native" },
-    { "--threads", "N", K_INT, 1, HZ_MAX_THREADS, 0, NULL, ALL_MODES, O_THREADS,
-      "render threads; default: the machine's cores" },
-    { "--start", "T", K_REAL, 0, 1e9, 0, NULL, ALL_MODES, O_START,
-      "scene time of the first frame in seconds (kept to the nanosecond); default 0" },
+static const hz_opt_t table[] = {
+    { .name = "--mode", .arg = "M", .kind = HZ_OPT_WORD, .words = mode_words, .flags = IMG, .id = O_MODE,
+      .sample = "full",
+      .help = "tdense (one sample per 2x2 tile per frame, temporally dense composite: 4 frames make a complete "
+              "image), full (N samples per pixel), taa (1 jittered sample + temporal resolve) or adaptive "
+              "(selective and adaptive supersampling); default the board's, tdense" },
+    { .name = "--spp", .arg = "N", .kind = HZ_OPT_INT, .lo = 1, .hi = 1024, .modes = FULL, .flags = IMG, .id = O_SPP,
+      .sample = "4", .help = "samples per pixel, a square (1, 4, 9, ...); default 1" },
+    { .name = "--msaa4", .kind = HZ_OPT_FLAG, .modes = FULL, .flags = IMG, .id = O_MSAA4, .needs = "--spp 4",
+      .help = "4 spp at the fixed 4x MSAA positions (what tdense converges to; needs --spp 4)" },
+    { .name = "--ordering", .arg = "R", .kind = HZ_OPT_WORD, .words = ordering_words, .modes = TDENSE, .flags = IMG,
+      .id = O_ORDERING, .sample = "bowtie",
+      .help = "tile orderings: full (the paper's adaptive choice), dominant, shear-up, shear-down, hourglass or "
+              "bowtie; default full" },
+    { .name = "--no-reflected-mv", .kind = HZ_OPT_FLAG, .modes = TDENSE, .flags = IMG, .id = O_NO_RMV,
+      .help = "mirrors use their own motion, not the reflected hit's" },
+    { .name = "--tdense-gamma", .arg = "G", .kind = HZ_OPT_REAL, .lo = 0, .hi = 16, .lo_open = true, .modes = TDENSE,
+      .flags = IMG, .id = O_TD_GAMMA, .sample = "2",
+      .help = "variance box width in standard deviations; default 1" },
+    { .name = "--taa-gamma", .arg = "G", .kind = HZ_OPT_REAL, .lo = 0, .hi = 16, .lo_open = true, .modes = TAA,
+      .flags = IMG, .id = O_TAA_GAMMA, .sample = "2",
+      .help = "variance box width in standard deviations; default 1" },
+    { .name = "--taa-clip", .kind = HZ_OPT_FLAG, .modes = TAA, .flags = IMG, .id = O_TAA_CLIP,
+      .help = "clip history towards the box centre (default: clamp per channel)" },
+    { .name = "--taa-catmull-rom", .kind = HZ_OPT_FLAG, .modes = TAA, .flags = IMG, .id = O_TAA_CR,
+      .help = "fetch history with Catmull-Rom (default: bilinear)" },
+    { .name = "--bounces", .arg = "N", .kind = HZ_OPT_INT, .lo = 0, .hi = 3, .flags = IMG, .id = O_BOUNCES,
+      .sample = "1", .help = "mirror reflections per path; default 3" },
+    { .name = "--transparency", .arg = "T", .kind = HZ_OPT_TEXT, .flags = IMG, .id = O_TRANSP, .sample = "std",
+      .help = "blended surfaces: exact (front-to-back compositing, deep shadow rays), rr (Russian roulette), std "
+              "(spatio-temporal dither), dtaa, dtaa-star, or hybrid:X (exact while the visibility > X in [0, 1], "
+              "then one std decision); default exact. The stochastic ones shade one fragment per pixel: use them "
+              "with taa or tdense, or full with N spp (N steps of the dither)" },
+    { .name = "--rr-shadows", .kind = HZ_OPT_FLAG, .flags = IMG, .id = O_RR_SHADOWS, .needs = "--transparency std",
+      .help = "with a stochastic --transparency (rr, std, dtaa, dtaa-star, hybrid:X with X > 0): the shaded "
+              "fragment's shadow ray takes blended occluders by Russian roulette instead of the deep shadow ray's "
+              "transmittance" },
+    { .name = "--shutter", .arg = "S", .kind = HZ_OPT_REAL, .lo = 0, .hi = 1, .modes = FULL | TAA | TDENSE,
+      .flags = IMG, .id = O_SHUTTER, .sample = "0.5",
+      .help = "motion blur: the shutter is open for S of each frame interval 1/hz, centred on the frame's time; "
+              "default 0 (no blur)" },
+    { .name = "--blur-bvh", .arg = "B", .kind = HZ_OPT_WORD, .words = blur_words, .modes = FULL | TAA | TDENSE,
+      .flags = IMG, .id = O_BLUR_BVH, .sample = "interp", .needs = "--shutter 0.5",
+      .help = "motion-blur BVH of the native backend: msbvh (seed 002), interp (interpolated BVH) or swept "
+              "(static BVH over swept boxes); default msbvh; needs --shutter" },
+    { .name = "--backend", .arg = "B", .kind = HZ_OPT_WORD, .words = backend_words, .flags = IMG, .id = O_BACKEND,
+      .sample = "embree", .help = "native or embree (builds with Embree); default native" },
+    { .name = "--threads", .arg = "N", .kind = HZ_OPT_INT, .lo = 1, .hi = HZ_MAX_THREADS, .id = O_THREADS,
+      .help = "render threads (the images do not depend on it); default: the machine's cores" },
+    { .name = "--start", .arg = "T", .kind = HZ_OPT_REAL, .lo = 0, .hi = 1e9, .flags = IMG, .id = O_START,
+      .sample = "0.5", .help = "scene time of the first frame in seconds (kept to the nanosecond); default 0" },
+    /* adaptive (seed 003): presample, activity mask, 4 extra samples per active subpixel */
+    { .name = "--tau", .arg = "T", .kind = HZ_OPT_REAL, .lo = 0, .hi = 1, .modes = ADAPTIVE, .flags = IMG,
+      .id = O_TAU, .sample = "0.3", .noun = "a threshold",
+      .help = "--tau-col, --tau-pte and --tau-ste together (the paper's tau_alpha). Thresholds: smaller = more "
+              "samples, 1 switches an attribute off" },
+    TAU("col", HZ_TAU_COL, "0.6", "colour contrast where no attribute disagrees"),
+    TAU("poid", HZ_TAU_POID, "0.05", "primary hit object id"),
+    TAU("psn", HZ_TAU_PSN, "0.06", "primary shading normal"),
+    TAU("psc", HZ_TAU_PSC, "0.06", "primary shadow count"),
+    TAU("pte", HZ_TAU_PTE, "0.6", "primary texture"),
+    TAU("soid", HZ_TAU_SOID, "0.05", "mirror hit object id"),
+    TAU("ssn", HZ_TAU_SSN, "0.06", "mirror hit shading normal"),
+    TAU("ssc", HZ_TAU_SSC, "0.06", "mirror hit shadow count"),
+    TAU("ste", HZ_TAU_STE, "0.6", "mirror hit texture"),
+    { .name = "--normal-angle", .arg = "D", .kind = HZ_OPT_REAL, .lo = 0, .hi = 90, .modes = ADAPTIVE, .flags = IMG,
+      .id = O_NORMAL_ANGLE, .sample = "30", .noun = "an angle", .help = "normals within D degrees agree; default 15" },
+    { .name = "--focus-objects", .arg = "L", .kind = HZ_OPT_TEXT, .modes = ADAPTIVE, .flags = IMG, .id = O_FOCUS,
+      .sample = "1",
+      .help = "attributes count only where these objects are involved: ids or names, comma-separated (`hzrt info "
+              "SCENE` lists them); a name takes every object of that name, and a shell pattern (*Wall) every "
+              "object it matches; summary.json lists the ids taken; default every object" },
+    { .name = "--adaptive-map", .arg = "F", .kind = HZ_OPT_TEXT, .modes = ADAPTIVE, .flags = HZ_OF_OUTPUT, .id = O_MAP,
+      .help = "write the last frame's active subpixels per pixel (black, red, green, blue, white for 0..4) to F "
+              "(.png, .ppm or .pfm; its folder must exist; not one of the run's other files)" },
 };
+
+#define TABLE_N (sizeof table / sizeof table[0])
+
+const hz_opt_t *hz_ropts_table(size_t *n)
+{
+    *n = TABLE_N;
+    return table;
+}
 
 void hz_ropts_defaults(hz_ropts_t *r, const char *cmd, hz_render_mode_t mode)
 {
@@ -90,88 +128,31 @@ void hz_ropts_defaults(hz_ropts_t *r, const char *cmd, hz_render_mode_t mode)
     r->cmd = cmd;
 }
 
-static int word_index(const char *const *words, const char *v)
-{
-    for (int k = 0; v && words[k]; k++)
-        if (!strcmp(words[k], v))
-            return k;
-    return -1;
-}
-
-static void words_list(char *buf, size_t cap, const char *const *words)
-{
-    size_t n = 0;
-    buf[0] = 0;
-    for (int k = 0; words[k] && n < cap; k++)
-        n += (size_t)snprintf(buf + n, cap - n, "%s%s", k ? (words[k + 1] ? ", " : " or ") : "", words[k]);
-}
-
 int hz_ropts_take(hz_ropts_t *r, int argc, char **argv, int i)
 {
     const char *o = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
-    int used = hz_adaptive_cli_option(o, v, &r->opts.adaptive, &r->adaptive);
-    if (used < 0)
-        return used;
-    if (used > 0) {
-        if (r->given_n < (int)(sizeof r->given / sizeof r->given[0]))
-            r->given[r->given_n++] = o;
-        return used;
-    }
-    const opt_t *t = NULL;
-    for (size_t k = 0; k < sizeof table / sizeof table[0] && !t; k++)
-        if (!strcmp(o, table[k].name))
-            t = &table[k];
+    const hz_opt_t *t = hz_opt_find(table, TABLE_N, o);
     if (!t)
         return 0;
     if (r->given_n < (int)(sizeof r->given / sizeof r->given[0]))
-        r->given[r->given_n++] = o;
+        r->given[r->given_n++] = t;
     if (t->arg && !v) {
         hz_cli_error("%s: %s needs a value %s (try hzrt %s --help)", r->cmd, o, t->arg, r->cmd);
         return -HZ_EXIT_USAGE;
     }
-    long n = 0;
-    double x = 0;
-    int w = -1;
-    char list[160];
-    switch (t->kind) {
-    case K_INT:
-        if (!hz_cli_parse_long(o, v, (long)t->lo, (long)t->hi, &n))
-            return -HZ_EXIT_USAGE;
-        break;
-    case K_REAL: {
-        char *end = NULL;
-        errno = 0;
-        x = strtod(v, &end);
-        bool ok = *v && !*end && !errno && isfinite(x) && (t->lo_open ? x > t->lo : x >= t->lo) && x <= t->hi;
-        if (!ok) {
-            hz_cli_error("%s: %s: '%s' is not a number in %c%g, %g]", r->cmd, o, v, t->lo_open ? '(' : '[', t->lo,
-                         t->hi);
-            return -HZ_EXIT_USAGE;
-        }
-        break;
-    }
-    case K_WORD:
-        w = word_index(t->words, v);
-        if (w < 0) {
-            words_list(list, sizeof list, t->words);
-            hz_cli_error("%s: %s: '%s' is not %s", r->cmd, o, v, list);
-            return -HZ_EXIT_USAGE;
-        }
-        break;
-    default:
-        break;
-    }
+    hz_opt_val_t x;
+    if (!hz_opt_value(t, r->cmd, v, &x))
+        return -HZ_EXIT_USAGE;
     hz_render_opts_t *ro = &r->opts;
-    switch (t->id) {
-    case O_MODE:
-        ro->mode = w == 0 ? HZ_MODE_TDENSE : w == 1 ? HZ_MODE_FULL : w == 2 ? HZ_MODE_TAA : HZ_MODE_ADAPTIVE;
-        break;
+    char why[160];
+    switch ((int)t->id) {
+    case O_MODE: ro->mode = mode_of_word[x.w]; break;
     case O_SPP:
-        if ((long)hz_isqrt_u64((uint64_t)n) * (long)hz_isqrt_u64((uint64_t)n) != n) {
-            hz_cli_error("%s: --spp: %ld is not a square (1, 4, 9, 16, ... 1024)", r->cmd, n);
+        if ((long)hz_isqrt_u64((uint64_t)x.n) * (long)hz_isqrt_u64((uint64_t)x.n) != x.n) {
+            hz_cli_error("%s: --spp: %ld is not a square (1, 4, 9, 16, ... 1024)", r->cmd, x.n);
             return -HZ_EXIT_USAGE;
         }
-        ro->spp = (uint32_t)n;
+        ro->spp = (uint32_t)x.n;
         break;
     case O_MSAA4: ro->msaa4 = true; break;
     case O_ORDERING:
@@ -180,11 +161,11 @@ int hz_ropts_take(hz_ropts_t *r, int argc, char **argv, int i)
                 ro->tdense_rule = (hz_ghat_rule_t)k;
         break;
     case O_NO_RMV: ro->tdense_reflect_mv = false; break;
-    case O_TD_GAMMA: ro->tdense_gamma = (float)x; break;
-    case O_TAA_GAMMA: ro->taa_gamma = (float)x; break;
+    case O_TD_GAMMA: ro->tdense_gamma = (float)x.x; break;
+    case O_TAA_GAMMA: ro->taa_gamma = (float)x.x; break;
     case O_TAA_CLIP: ro->taa_clip = true; break;
     case O_TAA_CR: ro->taa_catmull_rom = true; break;
-    case O_BOUNCES: ro->max_bounces = (uint32_t)n; break;
+    case O_BOUNCES: ro->max_bounces = (uint32_t)x.n; break;
     case O_TRANSP:
         if (!hz_transp_parse(v, &ro->transparency, &ro->hybrid_x)) {
             hz_cli_error("%s: --transparency: '%s' is not exact, rr, std, dtaa, dtaa-star or hybrid:X with X in [0, 1]",
@@ -193,32 +174,72 @@ int hz_ropts_take(hz_ropts_t *r, int argc, char **argv, int i)
         }
         break;
     case O_RR_SHADOWS: ro->rr_shadows = true; break;
-    case O_SHUTTER: ro->shutter = (float)x; break;
+    case O_SHUTTER: ro->shutter = (float)x.x; break;
     case O_BLUR_BVH:
         hz_accel_blur_parse(v, &r->blur);
         r->blur_arg = v;
         break;
-    case O_BACKEND: r->backend = w == 0 ? HZ_ACCEL_NATIVE : HZ_ACCEL_EMBREE; break;
-    case O_THREADS: r->threads = (int)n; break;
-    case O_START: r->start = hz_time_from_s(x); break;
+    case O_BACKEND: r->backend = x.w == 0 ? HZ_ACCEL_NATIVE : HZ_ACCEL_EMBREE; break;
+    case O_THREADS: r->threads = (int)x.n; break;
+    case O_START: r->start = hz_time_from_s(x.x); break;
+    case O_TAU:
+        /* the paper's tau_alpha */
+        ro->adaptive.tau[HZ_TAU_COL] = ro->adaptive.tau[HZ_TAU_PTE] = ro->adaptive.tau[HZ_TAU_STE] = (float)x.x;
+        break;
+    case O_NORMAL_ANGLE: ro->adaptive.normal_angle_deg = (float)x.x; break;
+    case O_FOCUS:
+        if (!hz_adaptive_cli_focus_ok(v, why, sizeof why)) {
+            hz_cli_error("%s: --focus-objects: %s", r->cmd, why);
+            return -HZ_EXIT_USAGE;
+        }
+        r->adaptive.focus = v;
+        break;
+    case O_MAP:
+        if (!hz_adaptive_cli_map_ok(v, why, sizeof why)) {
+            hz_cli_error("%s: --adaptive-map: %s", r->cmd, why);
+            return -HZ_EXIT_USAGE;
+        }
+        r->adaptive.map_path = v;
+        break;
+    default:
+        ro->adaptive.tau[t->id - O_TAU_K] = (float)x.x;
+        break;
     }
     return t->arg ? 2 : 1;
 }
 
+hz_status_t hz_ropts_prepare(void *ctx, const hz_scene_t *scene, hz_render_opts_t *opts, hz_error_t *err)
+{
+    const hz_ropts_t *ro = ctx;
+    hz_status_t s = hz_adaptive_cli_resolve(&ro->adaptive, scene, &opts->adaptive, err);
+    if (s == HZ_OK && opts->transparency != HZ_TRANSP_EXACT && !(scene->features & HZ_FEAT_BLEND) && !hz_phase_muted)
+        fprintf(stderr, "%s: %s: --transparency %s: the scene has no blended surfaces; it renders as exact\n",
+                hz_cli_prog, ro->cmd, hz_transp_name(opts->transparency));
+    return s;
+}
+
+/* A stochastic method that shades a fragment (hybrid:0 composites exactly). */
+static bool stochastic(const hz_render_opts_t *o)
+{
+    return o->transparency != HZ_TRANSP_EXACT && !(o->transparency == HZ_TRANSP_HYBRID && !(o->hybrid_x > 0.0f));
+}
+
 int hz_ropts_check(hz_ropts_t *r)
 {
-    for (int g = 0; g < r->given_n; g++)
-        for (size_t k = 0; k < sizeof table / sizeof table[0]; k++)
-            if (!strcmp(r->given[g], table[k].name) && !(table[k].modes & MODE_BIT(r->opts.mode))) {
-                hz_cli_error("%s: %s does nothing in %s mode (it acts in %s%s%s%s)", r->cmd, table[k].name,
-                             hz_render_mode_name(r->opts.mode),
-                             table[k].modes & MODE_BIT(HZ_MODE_FULL) ? "full " : "",
-                             table[k].modes & MODE_BIT(HZ_MODE_TAA) ? "taa " : "",
-                             table[k].modes & MODE_BIT(HZ_MODE_TDENSE) ? "tdense " : "", "mode");
-                return HZ_EXIT_USAGE;
-            }
-    if (hz_adaptive_cli_check(&r->adaptive, r->opts.mode))
-        return HZ_EXIT_USAGE;
+    for (int g = 0; g < r->given_n; g++) {
+        const hz_opt_t *t = r->given[g];
+        if (t->modes == ADAPTIVE && r->opts.mode != HZ_MODE_ADAPTIVE) {
+            hz_cli_error("%s: %s applies only to --mode adaptive (this run is --mode %s, where it does nothing)", r->cmd,
+                         t->name, hz_render_mode_name(r->opts.mode));
+            return HZ_EXIT_USAGE;
+        }
+        if (t->modes && !(t->modes & M(r->opts.mode))) {
+            char modes[64];
+            hz_cli_error("%s: %s does nothing in %s mode: it acts only in %s mode (--mode)", r->cmd, t->name,
+                         hz_render_mode_name(r->opts.mode), hz_opt_modes_str(modes, sizeof modes, t->modes));
+            return HZ_EXIT_USAGE;
+        }
+    }
     if (r->blur_arg && !(r->opts.shutter > 0.0f)) {
         hz_cli_error("%s: --blur-bvh %s does nothing without motion blur (give --shutter S > 0)", r->cmd, r->blur_arg);
         return HZ_EXIT_USAGE;
@@ -228,43 +249,84 @@ int hz_ropts_check(hz_ropts_t *r)
                      "--blur-bvh or use --backend native)", r->cmd);
         return HZ_EXIT_USAGE;
     }
+    if (r->opts.rr_shadows && !stochastic(&r->opts)) {
+        char t[32];
+        hz_transp_format(t, sizeof t, r->opts.transparency, r->opts.hybrid_x);
+        hz_cli_error("%s: --rr-shadows does nothing with --transparency %s: it changes the shadow rays of stochastic "
+                     "fragments (--transparency rr, std, dtaa, dtaa-star or hybrid:X with X > 0)", r->cmd, t);
+        return HZ_EXIT_USAGE;
+    }
     return 0;
 }
 
 void hz_ropts_usage(FILE *f)
 {
-    fputs("render options (every sink, every v-sync source):\n", f);
-    for (size_t k = 0; k < sizeof table / sizeof table[0]; k++) {
-        const opt_t *t = &table[k];
-        char head[40], lim[96] = "";
-        snprintf(head, sizeof head, "%s%s%s", t->name, t->arg ? " " : "", t->arg ? t->arg : "");
-        if (t->kind == K_INT)
-            snprintf(lim, sizeof lim, " [%g..%g]", t->lo, t->hi);
-        else if (t->kind == K_REAL)
-            snprintf(lim, sizeof lim, " [%s%g..%g]", t->lo_open ? ">" : "", t->lo, t->hi);
-        char modes[48] = "";
-        if (t->modes != ALL_MODES)
-            snprintf(modes, sizeof modes, " (%s%s%s%s only)", t->modes & MODE_BIT(HZ_MODE_FULL) ? "full " : "",
-                     t->modes & MODE_BIT(HZ_MODE_TAA) ? "taa " : "", t->modes & MODE_BIT(HZ_MODE_TDENSE) ? "tdense " : "",
-                     "mode");
-        /* wrapped at about 116 columns under the option */
-        fprintf(f, "  %-19s", head);
-        const char *s = t->help;
-        int col = 21, first = 1;
-        char text[1024];
-        snprintf(text, sizeof text, "%s%s%s", s, lim, modes);
-        for (char *word = strtok(text, " "); word; word = strtok(NULL, " ")) {
-            int len = (int)strlen(word);
-            if (!first && col + 1 + len > 116) {
-                fprintf(f, "\n%21s", "");
-                col = 21;
-                first = 1;
-            }
-            fprintf(f, "%s%s", first ? "" : " ", word);
-            col += len + !first;
-            first = 0;
+    fputs("render options (any sink, any v-sync source; an option of one mode is refused in the others):\n", f);
+    hz_opt_usage(f, table, TABLE_N, 0, 0);
+}
+
+static void member(FILE *f, bool *first, const char *key)
+{
+    fprintf(f, "%s\"%s\": ", *first ? "" : ", ", key);
+    *first = false;
+}
+
+void hz_ropts_settings(FILE *f, const hz_ropts_t *r, const hz_render_opts_t *o, bool *first)
+{
+    char key[40], text[64];
+    for (size_t k = 0; k < TABLE_N; k++) {
+        const hz_opt_t *t = &table[k];
+        if (!(t->flags & HZ_OF_IMAGE) || (t->modes && !(t->modes & M(o->mode))))
+            continue;
+        /* the key: the option's name without dashes (the value is what it set, whatever its sense) */
+        switch ((int)t->id) {
+        case O_NO_RMV: snprintf(key, sizeof key, "reflected_mv"); break;
+        case O_TAU: continue; /* recorded as the three thresholds it sets */
+        default: {
+            size_t n = 0;
+            for (const char *c = t->name + 2; *c && n + 1 < sizeof key; c++)
+                key[n++] = *c == '-' ? '_' : *c;
+            key[n] = 0;
         }
-        fputc('\n', f);
+        }
+        member(f, first, key);
+        switch ((int)t->id) {
+        case O_MODE: fprintf(f, "\"%s\"", hz_render_mode_name(o->mode)); break;
+        case O_SPP: fprintf(f, "%u", o->spp); break;
+        case O_MSAA4: fputs(o->msaa4 ? "true" : "false", f); break;
+        case O_ORDERING: fprintf(f, "\"%s\"", hz_ghat_rule_name(o->tdense_rule)); break;
+        case O_NO_RMV: fputs(o->tdense_reflect_mv ? "true" : "false", f); break;
+        case O_TD_GAMMA: fprintf(f, "%.6g", (double)o->tdense_gamma); break;
+        case O_TAA_GAMMA: fprintf(f, "%.6g", (double)o->taa_gamma); break;
+        case O_TAA_CLIP: fputs(o->taa_clip ? "true" : "false", f); break;
+        case O_TAA_CR: fputs(o->taa_catmull_rom ? "true" : "false", f); break;
+        case O_BOUNCES: fprintf(f, "%u", o->max_bounces); break;
+        case O_TRANSP:
+            hz_transp_format(text, sizeof text, o->transparency, o->hybrid_x);
+            fprintf(f, "\"%s\"", text);
+            break;
+        case O_RR_SHADOWS: fputs(o->rr_shadows ? "true" : "false", f); break;
+        case O_SHUTTER: fprintf(f, "%.6g", (double)o->shutter); break;
+        case O_BLUR_BVH:
+            fprintf(f, "\"%s\"", !(o->shutter > 0.0f)              ? "none"
+                                 : r->backend == HZ_ACCEL_EMBREE ? "embree"
+                                                                 : hz_accel_blur_name(r->blur));
+            break;
+        case O_BACKEND: fprintf(f, "\"%s\"", r->backend == HZ_ACCEL_EMBREE ? "embree" : "native"); break;
+        case O_START: fprintf(f, "%.9g", (double)r->start * 1e-9); break;
+        case O_NORMAL_ANGLE: fprintf(f, "%.6g", (double)o->adaptive.normal_angle_deg); break;
+        case O_FOCUS:
+            fputc('[', f);
+            for (uint32_t i = 0; i < o->adaptive.focus_count; i++)
+                fprintf(f, "%s%u", i ? ", " : "", o->adaptive.focus[i]);
+            fputc(']', f);
+            break;
+        default:
+            if (t->id >= O_TAU_K)
+                fprintf(f, "%.6g", (double)o->adaptive.tau[t->id - O_TAU_K]);
+            else
+                fputs("null", f);
+            break;
+        }
     }
-    hz_adaptive_cli_usage(f);
 }

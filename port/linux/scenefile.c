@@ -13,7 +13,8 @@
 hz_status_t hz_scenefile_read(const char *path, hz_arena_t *arena, const void **data, size_t *size,
                               hz_error_t *err)
 {
-    int fd = open(path, O_RDONLY | O_CLOEXEC);
+    /* O_NONBLOCK: opening a FIFO must not wait for a writer (it is refused below, as every non-regular file) */
+    int fd = open(path, O_RDONLY | O_CLOEXEC | O_NONBLOCK);
     if (fd < 0)
         return hz_error_set(err, HZ_E_IO, "%s: %s", path, strerror(errno));
     struct stat st;
@@ -21,6 +22,7 @@ hz_status_t hz_scenefile_read(const char *path, hz_arena_t *arena, const void **
         close(fd);
         return hz_error_set(err, HZ_E_IO, "%s: not a regular file", path);
     }
+    fcntl(fd, F_SETFL, fcntl(fd, F_GETFL) & ~O_NONBLOCK);
     size_t have = hz_arena_available(arena, 64);
     if ((unsigned long long)st.st_size > have) {
         close(fd);

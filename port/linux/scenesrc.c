@@ -252,6 +252,20 @@ static hz_status_t open_all(scenesrc_t *s, const hz_scenesrc_cfg_t *cfg, hz_pool
     return st;
 }
 
+void hz_scenesrc_cfg_init(hz_scenesrc_cfg_t *c, const char *scene, hz_render_mode_t mode, int w, int h, int scale)
+{
+    memset(c, 0, sizeof *c);
+    c->scene = scene;
+    hz_render_opts_default(&c->opts);
+    c->opts.mode = mode;
+    scale = scale < 1 ? 1 : scale;
+    c->opts.width = (uint32_t)(w / scale), c->opts.height = (uint32_t)(h / scale);
+    c->backend = HZ_ACCEL_NATIVE;
+    c->out_w = w, c->out_h = h;
+    c->clock = HZ_SCENE_CLOCK_DISPLAY;
+    c->quiet = true;
+}
+
 hz_status_t hz_scenesrc_open_simple(hz_framesrc_t *src, const char *scene, int w, int h, int scale, int threads,
                                     hz_render_mode_t mode, hz_error_t *err)
 {
@@ -259,16 +273,8 @@ hz_status_t hz_scenesrc_open_simple(hz_framesrc_t *src, const char *scene, int w
         return hz_error_set(err, HZ_E_INVALID_ARG, "scene source: %dx%d is not a multiple of the render scale %d", w,
                             h, scale);
     hz_scenesrc_cfg_t c;
-    memset(&c, 0, sizeof c);
-    c.scene = scene;
-    hz_render_opts_default(&c.opts);
-    c.opts.mode = mode;
-    c.opts.width = (uint32_t)(w / scale), c.opts.height = (uint32_t)(h / scale);
-    c.backend = HZ_ACCEL_NATIVE;
+    hz_scenesrc_cfg_init(&c, scene, mode, w, h, scale);
     c.threads = threads;
-    c.out_w = w, c.out_h = h;
-    c.clock = HZ_SCENE_CLOCK_DISPLAY;
-    c.quiet = true;
     return hz_scenesrc_open(&c, src, err);
 }
 

@@ -66,9 +66,11 @@ typedef struct hz_scenesrc_stats {
 } hz_scenesrc_stats_t;
 
 hz_status_t hz_scenesrc_open(const hz_scenesrc_cfg_t *cfg, hz_framesrc_t *src, hz_error_t *err);
-/* The same with default render options in `mode`, rendered at (w / scale) x (h / scale) into w x h frames (w, h
- * multiples of scale), `threads` (0: one per core), the display clock from time 0 and one level: frames from a
- * scene for tests and tools. */
+/* A configuration with default render options in `mode`, rendered at (w / scale) x (h / scale) into w x h frames,
+ * the native backend, one thread per core, the display clock from time 0, one level and no progress lines: what
+ * tests and tools start from before they change what they need. */
+void hz_scenesrc_cfg_init(hz_scenesrc_cfg_t *c, const char *scene, hz_render_mode_t mode, int w, int h, int scale);
+/* hz_scenesrc_open of that configuration with `threads` (w, h multiples of scale). */
 hz_status_t hz_scenesrc_open_simple(hz_framesrc_t *src, const char *scene, int w, int h, int scale, int threads,
                                     hz_render_mode_t mode, hz_error_t *err);
 const hz_scenesrc_stats_t *hz_scenesrc_stats(void);

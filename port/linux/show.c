@@ -8,6 +8,8 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/mman.h>
+#include <sys/stat.h>
+#include <signal.h>
 
 #include "et_flip.h"
 #include "et_metrics.h"
@@ -19,11 +21,15 @@
 #include "filesink.h"
 #include "hz/frameloop.h"
 #include "hz/hz.h"
+#include "hz/marker.h"
 #include "hz/pixconv.h"
 #include "imageio.h"
 #include "latency.h"
 #include "latency_report.h"
+#include "phase.h"
 #include "pools.h"
+#include "renderopts.h"
+#include "showopts.h"
 #include "summary.h"
 #include "vsource.h"
 
@@ -187,20 +193,41 @@ static double percentile_of(const double *sorted, uint32_t n, double p)
 
 static double sorted_ms[HZ_SCENESRC_MAX_TIMED];
 
-static hz_status_t write_scene_outputs(const hz_show_cfg_t *c, double run_s, hz_error_t *err)
+static const char *signal_name(int sig)
+{
+    return sig == SIGINT ? "SIGINT" : sig == SIGTERM ? "SIGTERM" : sig == SIGHUP ? "SIGHUP" : "a signal";
+}
+
+/* summary.json's settings: every image-changing option of both tables, as the run used it. */
+static char *settings_json(const hz_show_cfg_t *c, const hz_render_opts_t *eff)
+{
+    char *buf = NULL;
+    size_t len = 0;
+    FILE *f = open_memstream(&buf, &len);
+    if (!f)
+        return NULL;
+    bool first = true;
+    if (c->ropts)
+        hz_ropts_settings(f, c->ropts, eff, &first);
+    hz_sopts_settings(f, c, &first);
+    fclose(f);
+    return buf;
+}
+
+static hz_status_t write_scene_outputs(const hz_show_cfg_t *c, double run_s, int interrupted, hz_error_t *err)
 {
     hz_renderer_t *r = hz_scenesrc_renderer();
     const hz_scenesrc_stats_t *st = hz_scenesrc_stats();
     const hz_scene_t *scene = hz_scenesrc_scene();
-    const hz_render_opts_t *o = &c->scene.opts;
+    const hz_render_opts_t *o = &hz_scenesrc_ladder()->level[0].opts; /* as rendered: focus names resolved */
     char path[4096];
     hz_status_t s;
-    if (c->pfm) {
+    if (c->pfm && st->frames) {
         snprintf(path, sizeof path, "%s/last.pfm", c->out);
         if ((s = hz_pfm_write(path, hz_render_output(r), err)) != HZ_OK)
             return s;
     }
-    if (c->adaptive && c->adaptive->map_path) {
+    if (c->adaptive && c->adaptive->map_path && st->frames) {
         const hz_image_t *img = hz_render_output(r);
         if ((s = hz_adaptive_map_write(c->adaptive->map_path, r, img->width, img->height, err)) != HZ_OK)
             return s;
@@ -221,14 +248,7 @@ static hz_status_t write_scene_outputs(const hz_show_cfg_t *c, double run_s, hz_
     uint32_t frames = (uint32_t)st->frames;
     char feats[160];
     hz_scene_features_str(scene->features, feats, sizeof feats);
-    char note[256];
-    const hz_light_t *dl = hz_render_default_light(r);
-    if (dl)
-        snprintf(note, sizeof note, "the scene has no lights: lit by a default key light at (%.4g %.4g %.4g) "
-                 "(a sidecar 'light = ...' line replaces it)", (double)dl->position[0], (double)dl->position[1],
-                 (double)dl->position[2]);
     hz_summary_t sm = {
-        .note = dl ? note : NULL,
         .scene = c->scene.scene, .mode = hz_render_mode_name(o->mode),
         .spp = frames ? (double)total.primary_rays / ((double)o->width * o->height * frames) : 0.0,
         .start = (double)c->scene.start * 1e-9, .width = o->width, .height = o->height, .hz = o->frame_hz,
@@ -238,26 +258,45 @@ static hz_status_t write_scene_outputs(const hz_show_cfg_t *c, double run_s, hz_
         .ms_mean = n ? sum / n : 0, .ms_max = n ? sorted_ms[n - 1] : 0, .frames_timed = n, .rays = rays,
         .rays_per_frame = frames ? (double)rays / frames : 0, .mrays_per_s = render_s > 0 ? rays / render_s * 1e-6 : 0,
         .run_s = run_s, .features = feats, .stats = total, .pools = hz_pools_get(),
+        .interrupted = interrupted ? signal_name(interrupted) : NULL,
     };
+    char light[256], partial[256];
+    const hz_light_t *dl = hz_render_default_light(r);
+    if (dl) {
+        snprintf(light, sizeof light, "the scene has no lights: lit by a default key light at (%.4g %.4g %.4g) "
+                 "(a sidecar 'light = ...' line replaces it)", (double)dl->position[0], (double)dl->position[1],
+                 (double)dl->position[2]);
+        sm.notes[sm.n_notes++] = light;
+    }
+    if (o->mode == HZ_MODE_TDENSE && frames < 4) {
+        snprintf(partial, sizeof partial, "tdense traces one pixel of every 2x2 tile per frame: %u frame%s leave%s "
+                 "the image partly filled in (4 frames make it complete; --mode full renders a complete frame at once)",
+                 frames, frames == 1 ? "" : "s", frames == 1 ? "s" : "");
+        sm.notes[sm.n_notes++] = partial;
+    }
+    if (o->shutter > 0.0f) {
+        const hz_accel_t *accel = hz_scenesrc_accel();
+        sm.shutter = (double)o->shutter;
+        sm.blur_accel = accel->info.time_keys < 2 ? "static accel (nothing moves: camera blur only)"
+                        : c->scene.backend == HZ_ACCEL_EMBREE ? "Embree motion blur"
+                                                              : hz_accel_blur_name(accel->info.blur);
+        sm.time_keys = accel->info.time_keys, sm.refits = accel->info.refits, sm.rebuilds = accel->info.rebuilds;
+    }
     hz_summary_adaptive_t ads;
     if (o->mode == HZ_MODE_ADAPTIVE) {
         hz_adaptive_summary(&total, frames, o->width, o->height, hz_render_gbuffer(r)->object2 != NULL, &ads);
         sm.adaptive = &ads;
     }
+    char *settings = settings_json(c, o);
+    if (!settings)
+        return hz_error_set(err, HZ_E_NO_MEMORY, "summary.json: no memory for the settings");
+    sm.settings = settings;
     snprintf(path, sizeof path, "%s/summary.json", c->out);
-    if ((s = hz_summary_write_json(&sm, path, err)) != HZ_OK)
-        return s;
-    if (!c->quiet)
+    s = hz_summary_write_json(&sm, path, err);
+    if (s == HZ_OK && !c->quiet)
         hz_summary_print(&sm, stdout);
-    if (!c->quiet && o->shutter > 0.0f) {
-        const hz_accel_t *accel = hz_scenesrc_accel();
-        printf("motion blur  shutter %.3g of each 1/%u s frame, %s, %u time keys, %u refits, %u rebuilds\n",
-               (double)o->shutter, o->frame_hz,
-               accel->info.time_keys < 2 ? "static accel (nothing moves: camera blur only)"
-               : c->scene.backend == HZ_ACCEL_EMBREE ? "Embree motion blur" : hz_accel_blur_name(accel->info.blur),
-               accel->info.time_keys, accel->info.refits, accel->info.rebuilds);
-    }
-    return HZ_OK;
+    free(settings);
+    return s;
 }
 
 /* ---- the error of each quality level ---- */
@@ -335,11 +374,62 @@ static int usage_error(void)
     return HZ_EXIT_USAGE;
 }
 
+/* HZ_OW_* bits of a source or sink kind (the board's for `display`); 0: not a kind there is. */
+static unsigned source_bits(const char *kind)
+{
+    static const struct { const char *kind; unsigned bit; } k[] = {
+        { "offline", HZ_OW_OFFLINE }, { "sim", HZ_OW_SIM }, { "gpio", HZ_OW_GPIO }, { "fbdev", HZ_OW_FBDEV_SRC },
+        { "drm", HZ_OW_DRM_SRC }, { "v4l2", HZ_OW_V4L2_SRC }, { "vcd", HZ_OW_VCD }, { "csv", HZ_OW_CSV },
+    };
+    for (size_t i = 0; i < sizeof k / sizeof k[0]; i++)
+        if (!strcmp(kind, k[i].kind))
+            return k[i].bit;
+    return 0;
+}
+
+static unsigned sink_bits(const char *kind)
+{
+    if (!strcmp(kind, "display"))
+        return !strcmp(HZ_DISPLAY_SINK, "drm") ? HZ_OW_DRM | HZ_OW_FBDEV /* fbdev without a DRM card */
+               : !strcmp(HZ_DISPLAY_SINK, "none") ? HZ_OW_NONE
+                                                  : HZ_OW_FBDEV;
+    static const struct { const char *kind; unsigned bit; } k[] = {
+        { "files", HZ_OW_FILES }, { "none", HZ_OW_NONE }, { "drm", HZ_OW_DRM }, { "fbdev", HZ_OW_FBDEV },
+        { "v4l2", HZ_OW_V4L2 },
+    };
+    for (size_t i = 0; i < sizeof k / sizeof k[0]; i++)
+        if (!strcmp(kind, k[i].kind))
+            return k[i].bit;
+    return 0;
+}
+
+/* Set by the first SIGINT, SIGTERM or SIGHUP while the loop runs (fileio.h): the run ends after the frame in
+ * progress and keeps what it finished. */
+static volatile sig_atomic_t interrupted;
+typedef char sig_atomic_is_int[sizeof(sig_atomic_t) == sizeof(int) ? 1 : -1]; /* the loop reads it as an int */
+static const char interrupt_note[] = "\nhzrt: interrupted: finishing the frame in progress and keeping what is done "
+                                     "(interrupt again to quit at once)\n";
+
+static int show_run(hz_show_cfg_t *c, size_t *made_from);
+
 int hz_show_run(hz_show_cfg_t *c)
+{
+    size_t made_from = 0;
+    interrupted = 0;
+    int rc = show_run(c, &made_from);
+    if (rc != 0 && rc != HZ_EXIT_NOLOCK)
+        hz_out_dir_unmake(c->out, made_from); /* a failed run leaves no (empty) folder it made */
+    if (interrupted)
+        hz_out_die(interrupted); /* what was finished is written: now end as the signal asked */
+    return rc;
+}
+
+static int show_run(hz_show_cfg_t *c, size_t *made_from)
 {
     hz_error_t err;
     hz_error_clear(&err);
     const char *cmd = c->cmd;
+    hz_phase_muted = c->quiet;
     int64_t period = c->hz > 0 ? (int64_t)(1e9 / c->hz + 0.5) : 0;
     char kind[16];
     const char *rest;
@@ -354,6 +444,16 @@ int hz_show_run(hz_show_cfg_t *c)
     split_spec(c->sink, skind, sizeof skind, &srest);
     const bool files = !strcmp(skind, "files");
     /* ---- the combination, before anything is opened ---- */
+    if (!source_bits(kind)) {
+        hz_cli_error("%s: --source: '%s' is not offline, sim, gpio[:CHIP[:LINE]], fbdev[:DEV], v4l2, drm, vcd:FILE or "
+                     "csv:FILE", cmd, c->source);
+        return usage_error();
+    }
+    if (!sink_bits(skind)) {
+        hz_cli_error("%s: --sink: '%s' is not files, none, display, drm[:CARD[:CONNECTOR[:WxH[@HZ]]]], fbdev[:DEV] or "
+                     "v4l2:DEV[:FORMAT]", cmd, c->sink);
+        return usage_error();
+    }
     if (offline && (c->virt || c->model)) {
         hz_cli_error("%s: --virtual and --render-model simulate a display's clock; --source offline renders every "
                      "frame without one", cmd);
@@ -402,6 +502,41 @@ int hz_show_run(hz_show_cfg_t *c)
         hz_cli_error("%s: --no-y4m: only the files sink writes frames.y4m (this run's sink is %s)", cmd, c->sink);
         return usage_error();
     }
+    if (c->hz == 0 && (offline || !strcmp(kind, "sim"))) {
+        hz_cli_error("%s: --hz 0 learns the rate from a display's edges; --source %s needs a rate", cmd, kind);
+        return usage_error();
+    }
+    /* every other option given where it does nothing (the tables say where each acts) */
+    unsigned where = source_bits(kind) | sink_bits(skind) |
+                     (edges_only ? HZ_OW_EDGES : scene ? HZ_OW_SCENE : HZ_OW_PATTERN) |
+                     (c->virt || offline ? HZ_OW_VIRTUAL : HZ_OW_REAL);
+    int rc = hz_sopts_check(c, where);
+    if (rc)
+        return rc;
+    /* offline, by default, one complete image: tdense fills in each 2x2 tile over 4 frames */
+    if (offline && !c->frames && !(c->seconds > 0))
+        c->frames = scene && c->scene.opts.mode == HZ_MODE_TDENSE ? 4 : 1;
+    if (offline && c->frames > HZ_SHOW_MAX_OFFLINE_FRAMES) {
+        hz_cli_error("%s: --frames: %llu is more than %d offline frames", cmd, (unsigned long long)c->frames,
+                     HZ_SHOW_MAX_OFFLINE_FRAMES);
+        return usage_error();
+    }
+    /* a frame size the command line sets (no sink mode to wait for) is checked against the render scale and the
+     * marker now */
+    const bool sink_has_mode = sink_bits(skind) & HZ_OW_DEVICE_SINKS;
+    if (!edges_only && (!sink_has_mode || c->size_given) &&
+        (c->marker < 0 ? (strcmp(skind, "none") && !files) : c->marker)) {
+        hz_marker_layout_t ml;
+        if (hz_marker_layout(c->w, c->h, &ml, &err) != HZ_OK) {
+            hz_cli_error("%s: --marker: %s", cmd, err.msg);
+            return usage_error();
+        }
+    }
+    if (scene && (!sink_has_mode || c->size_given) && (c->w % c->render_scale || c->h % c->render_scale)) {
+        hz_cli_error("%s: the %dx%d frame (--size) is not a multiple of --render-scale %d", cmd, c->w, c->h,
+                     c->render_scale);
+        return usage_error();
+    }
     hz_rtm_cfg_t model;
     if (c->model) {
         if (!parse_model(c->model, period, &model))
@@ -435,12 +570,49 @@ int hz_show_run(hz_show_cfg_t *c)
     }
     cfg.governor = scene && !edges_only && (c->budget == 1 || (c->budget < 0 && !offline && !c->virt));
 
-    /* The output folder before the run: one that cannot be written is refused now, not after it. */
+    /* The output folder before the run (one that cannot be written is refused now, not after it), and every
+     * output in it or elsewhere: none may be an input or another output. */
     char created[1024];
-    if (hz_out_dir_prepare(c->out, created, sizeof created, &err) != HZ_OK)
+    if (hz_out_dir_make(c->out, created, sizeof created, made_from, &err) != HZ_OK)
         return hz_cli_report(&err);
-    if (created[0] && !c->quiet)
-        fprintf(stderr, "%s: %s: --out: created %s\n", hz_cli_prog, cmd, created);
+    {
+        static hz_outs_t outs;
+        hz_outs_init(&outs);
+        char p[4096];
+#define OUT_FILE(name, what)                                                                                   \
+    do {                                                                                                       \
+        snprintf(p, sizeof p, "%s/%s", c->out, name);                                                          \
+        hz_outs_output(&outs, p, what);                                                                        \
+    } while (0)
+        if (files && c->video && (c->frames != 1 || !offline))
+            OUT_FILE("frames.y4m", "the run's frames.y4m");
+        if (files && c->png)
+            OUT_FILE(hz_png_supported() ? "last.png" : "last.ppm", "the run's last frame");
+        if (scene)
+            OUT_FILE("summary.json", "the run's summary.json");
+        if (scene && c->pfm)
+            OUT_FILE("last.pfm", "the run's last.pfm");
+        if (!offline) {
+            if (!edges_only)
+                OUT_FILE("frames.csv", "the run's frames.csv");
+            OUT_FILE("edges.csv", "the run's edges.csv");
+            OUT_FILE("report.json", "the run's report.json");
+            OUT_FILE("histogram.svg", "the run's histogram.svg");
+        }
+#undef OUT_FILE
+        if (scene && c->adaptive && c->adaptive->map_path)
+            hz_outs_output(&outs, c->adaptive->map_path, "--adaptive-map");
+        if (scene && strcmp(c->scene.scene, "builtin"))
+            hz_outs_input(&outs, c->scene.scene, "the scene");
+        if (trace_file && *rest)
+            hz_outs_input(&outs, rest, "the --source trace");
+        if (hz_outs_check(&outs, &err) != HZ_OK) {
+            if (err.code != HZ_E_INVALID_ARG)
+                return hz_cli_report(&err);
+            hz_cli_error("%s: %s", cmd, err.msg);
+            return usage_error();
+        }
+    }
 
     /* Real-time scheduling first: threads started later (the renderer's workers) inherit it. */
     char sched[128] = "";
@@ -628,6 +800,10 @@ int hz_show_run(hz_show_cfg_t *c)
         }
     }
     cfg.marker = c->marker < 0 ? (strcmp(skind, "none") && !files) : c->marker;
+    /* what the run uses, for summary.json's settings */
+    c->marker = cfg.marker;
+    c->budget = cfg.governor;
+    c->w = cfg.w, c->h = cfg.h;
     /* ---- run length and record capacity ---- */
     double hz_cap = c->hz > 0 ? c->hz : 1000;
     double seconds = c->seconds > 0 ? c->seconds : (c->frames ? 0 : 10);
@@ -648,6 +824,11 @@ int hz_show_run(hz_show_cfg_t *c)
             size_t avail = hz_arena_available(&pools->frame, 64);
             cfg.max_frames = 0;
             cfg.max_edges = avail > 1024 ? (avail - 1024) / per : 1;
+            /* but no more than the file can hold: an edge takes at least two bytes of text (a VCD "1!", a CSV
+             * "0\n"), so a small trace is refused or read without touching the whole arena */
+            struct stat fst;
+            if (stat(rest, &fst) == 0 && (uint64_t)fst.st_size / 2 + 16 < (uint64_t)cfg.max_edges)
+                cfg.max_edges = (size_t)(fst.st_size / 2 + 16);
         } else {
             double refreshes = c->frames ? (double)c->frames * 4 : seconds * hz_cap;
             cfg.max_edges = (size_t)(refreshes * 2.5) + 256;
@@ -664,11 +845,14 @@ int hz_show_run(hz_show_cfg_t *c)
         hz_tb_init_real(&tb);
     hz_arena_mark_t mark = pools ? hz_arena_mark(&pools->frame) : 0;
     int64_t run0 = hz_clock_ns();
+    cfg.stop = (const volatile int *)&interrupted;
+    hz_out_signals_defer(&interrupted, c->quiet ? NULL : interrupt_note);
     if (s == HZ_OK)
         s = hz_loop_run(&cfg, &tb, &src, &sink, &frames, &pools->frame, &res, &err);
+    hz_out_signals_defer(NULL, NULL);
     double run_s = (double)(hz_clock_ns() - run0) * 1e-9;
     hz_vsource_close(&src);
-    int rc = 0;
+    rc = 0;
     /* ---- what the run writes ---- */
     if (s == HZ_OK && files) {
         const hz_rgb8_image_t *last = hz_file_sink_last(&sink);
@@ -685,7 +869,7 @@ int hz_show_run(hz_show_cfg_t *c)
     snprintf(sink_name, sizeof sink_name, "%s", sink.name[0] ? sink.name : c->sink);
     hz_sink_close(&sink);
     if (s == HZ_OK && scene)
-        s = write_scene_outputs(c, run_s, &err);
+        s = write_scene_outputs(c, run_s, interrupted, &err);
     hz_report_levels_t levels;
     memset(&levels, 0, sizeof levels);
     if (s == HZ_OK && scene) {
@@ -720,7 +904,15 @@ int hz_show_run(hz_show_cfg_t *c)
                      c->scene.opts.height, c->render_scale, hz_scenesrc_stats()->threads);
         else
             snprintf(what, sizeof what, "%s", frames.name);
-        hz_report_info_t info = { src.name, sink_name, what, clock, cfg.w, cfg.h, cfg.marker, scene ? &levels : NULL };
+        hz_report_info_t info = { src.name, sink_name, what, clock, cfg.w, cfg.h, cfg.marker, scene ? &levels : NULL,
+                                  NULL, NULL, 0, 0, 0, 0 };
+        if (scene) {
+            info.scene_file = c->scene.scene;
+            info.mode = hz_render_mode_name(c->scene.opts.mode);
+            info.render_w = (int)c->scene.opts.width, info.render_h = (int)c->scene.opts.height;
+            info.render_scale = c->render_scale;
+            info.threads = hz_scenesrc_stats()->threads;
+        }
         static hz_report_t rep;
         hz_report_compute(&rep, &cfg, &info, &res);
         if (!c->quiet)
@@ -731,7 +923,8 @@ int hz_show_run(hz_show_cfg_t *c)
                    cfg.frames_mode ? "frames.csv," : "", scene ? ",summary.json" : "");
         if (s == HZ_OK && res.lock.verdict != HZ_LOCK_OK) {
             char why[256];
-            hz_cli_error("%s: no lock: %s", src.name, hz_report_lock_reasons(why, sizeof why, &res.lock));
+            hz_cli_error("%s: %s: %s", src.name, hz_report_lock_verdict(&res.lock),
+                         hz_report_lock_reasons(why, sizeof why, &res.lock));
             rc = HZ_EXIT_NOLOCK;
         } else if (s == HZ_OK && res.lock.far && c->quiet) {
             hz_cli_error("warning: %s: the measured rate %.4f Hz is far from --hz %g", src.name,
@@ -748,5 +941,7 @@ int hz_show_run(hz_show_cfg_t *c)
         hz_scenesrc_close();
     if (s != HZ_OK)
         return hz_cli_report(&err);
+    if (created[0] && !c->quiet)
+        fprintf(stderr, "%s: %s: --out: created %s\n", hz_cli_prog, cmd, created);
     return rc;
 }

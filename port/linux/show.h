@@ -34,6 +34,7 @@
 #include "scenesrc.h"
 
 enum { HZ_SHOW_PATTERN = 0, HZ_SHOW_SCENE = 1, HZ_SHOW_EDGES = 2 };
+#define HZ_SHOW_MAX_OFFLINE_FRAMES 100000
 
 typedef struct hz_show_cfg {
     const char *cmd;               /* "render", "latency", "show": names the command in messages */
@@ -42,6 +43,7 @@ typedef struct hz_show_cfg {
     int render_scale;              /* scene: render 1/N of the frame's width and height, shown as N x N blocks */
     bool render_scale_given;
     const hz_adaptive_cli_t *adaptive; /* scene: focus names to resolve, --adaptive-map (NULL: none) */
+    const struct hz_ropts *ropts;  /* scene: the render options as given (summary.json's settings) */
     /* where */
     const char *sink;              /* files | none | display | drm[:...] | fbdev[:DEV] | v4l2:DEV[:FMT] */
     int drm_buffers;
@@ -70,6 +72,12 @@ typedef struct hz_show_cfg {
     int budget;                    /* governor: 1, 0, -1 (on when a display or real-time simulation paces) */
     uint32_t level_error_frames;   /* 0: no level-error measurement */
     int rt, quiet;
+    /* the command line (showopts.h): the options given, for the applicability check; latency's --render,
+     * --scene, --edges-only */
+    const struct hz_opt *given[64];
+    int given_n;
+    const char *render_what, *scene_path;
+    bool edges_only;
 } hz_show_cfg_t;
 
 /* Defaults of every command: the test pattern, sink none, source the board's, 10 s, 320x180 frames, marker

@@ -18,12 +18,14 @@ void hz_summary_print(const hz_summary_t *s, FILE *f)
     fprintf(f, "scene        %s  [%s]\n", s->scene, s->features);
     fprintf(f, "render       %ux%u, mode %s, %g spp per frame, %d threads, backend %s (built in %.1f ms)\n",
             s->width, s->height, s->mode, s->spp, s->threads, s->backend, s->build_ms);
-    if (s->note)
-        fprintf(f, "note         %s\n", s->note);
+    for (int i = 0; i < s->n_notes; i++)
+        fprintf(f, "note         %s\n", s->notes[i]);
+    if (s->interrupted)
+        fprintf(f, "interrupted  by %s: the frames finished so far are kept\n", s->interrupted);
     fprintf(f, "frames       %u at a simulated %u Hz, scene time %.4g to %.4g s\n", s->frames, s->hz, (double)s->start,
-            (double)s->start + (double)(s->frames - 1) / s->hz);
-    fprintf(f, "frame time   p50 %.3f ms, p99 %.3f ms, mean %.3f ms, max %.3f ms (%u frames timed)\n", s->ms_p50,
-            s->ms_p99, s->ms_mean, s->ms_max, s->frames_timed);
+            (double)s->start + (double)(s->frames ? s->frames - 1 : 0) / s->hz);
+    fprintf(f, "frame time   p50 %.3f ms, p99 %.3f ms, mean %.3f ms, max %.3f ms (%u frame%s timed)\n", s->ms_p50,
+            s->ms_p99, s->ms_mean, s->ms_max, s->frames_timed, s->frames_timed == 1 ? "" : "s");
     double nf = s->frames ? (double)s->frames : 1.0;
     fprintf(f, "rays         %.0f per frame (primary %.0f, shadow %.0f, secondary %.0f), %llu in total, %.2f Mrays/s\n",
             s->rays_per_frame, s->stats.primary_rays / nf, s->stats.shadow_rays / nf, s->stats.secondary_rays / nf,
@@ -37,6 +39,10 @@ void hz_summary_print(const hz_summary_t *s, FILE *f)
                    "active, %.2f live lanes per extra packet, attributes %u B/px\n",
                 s->adaptive->extra_rays_per_pixel, s->adaptive->rays_per_pixel, 100.0 * s->adaptive->sample_ratio_9spp,
                 100.0 * s->adaptive->active_fraction, s->adaptive->lanes_per_packet, s->adaptive->attr_bytes_per_pixel);
+    if (s->shutter > 0)
+        fprintf(f, "motion blur  shutter %.3g of each 1/%u s frame, %s, %u time key%s, %u refit%s, %u rebuild%s\n",
+                s->shutter, s->hz, s->blur_accel, s->time_keys, s->time_keys == 1 ? "" : "s", s->refits,
+                s->refits == 1 ? "" : "s", s->rebuilds, s->rebuilds == 1 ? "" : "s");
     if (s->stats.nonfinite || s->stats.layer_cap || s->stats.queue_full)
         fprintf(f, "warnings     %llu non-finite values zeroed, %llu paths cut at the layer cap, %llu rays dropped\n",
                 (unsigned long long)s->stats.nonfinite, (unsigned long long)s->stats.layer_cap,
@@ -77,20 +83,36 @@ hz_status_t hz_summary_write_json(const hz_summary_t *s, const char *path, hz_er
     json_str(f, s->backend);
     fprintf(f, ",\n  \"board\": ");
     json_str(f, HZ_BOARD_NAME);
-    if (s->note) {
-        fprintf(f, ",\n  \"note\": ");
-        json_str(f, s->note);
+    fprintf(f, ",\n  \"notes\": [");
+    for (int i = 0; i < s->n_notes; i++) {
+        fputs(i ? ", " : "", f);
+        json_str(f, s->notes[i]);
     }
+    fprintf(f, "],\n  \"interrupted\": ");
+    if (s->interrupted)
+        json_str(f, s->interrupted);
+    else
+        fputs("false", f);
+    fprintf(f, ",\n  \"settings\": {%s}", s->settings ? s->settings : "");
     fprintf(f, ",\n  \"width\": %u, \"height\": %u, \"spp\": %.6g, \"hz\": %u, \"threads\": %d, \"start\": %.6g,\n",
             s->width, s->height, s->spp, s->hz, s->threads, (double)s->start);
     fprintf(f, "  \"frames\": %u, \"frames_timed\": %u, \"run_s\": %.6f, \"accel_build_ms\": %.3f,\n", s->frames,
             s->frames_timed, s->run_s, s->build_ms);
     fprintf(f, "  \"frame_ms\": {\"p50\": %.4f, \"p99\": %.4f, \"mean\": %.4f, \"max\": %.4f},\n", s->ms_p50,
             s->ms_p99, s->ms_mean, s->ms_max);
-    fprintf(f, "  \"rays\": {\"total\": %llu, \"per_frame\": %.1f, \"primary\": %llu, \"shadow\": %llu, "
-               "\"secondary\": %llu, \"mrays_per_s\": %.3f},\n",
-            (unsigned long long)s->rays, s->rays_per_frame, (unsigned long long)s->stats.primary_rays,
+    double nf = s->frames ? (double)s->frames : 1.0;
+    fprintf(f, "  \"rays\": {\"total\": %llu, \"primary\": %llu, \"shadow\": %llu, \"secondary\": %llu, "
+               "\"mrays_per_s\": %.3f},\n",
+            (unsigned long long)s->rays, (unsigned long long)s->stats.primary_rays,
             (unsigned long long)s->stats.shadow_rays, (unsigned long long)s->stats.secondary_rays, s->mrays_per_s);
+    fprintf(f, "  \"rays_per_frame\": {\"total\": %.1f, \"primary\": %.1f, \"shadow\": %.1f, \"secondary\": %.1f},\n",
+            s->rays_per_frame, s->stats.primary_rays / nf, s->stats.shadow_rays / nf, s->stats.secondary_rays / nf);
+    if (s->shutter > 0) {
+        fprintf(f, "  \"motion_blur\": {\"shutter\": %.6g, \"accel\": ", s->shutter);
+        json_str(f, s->blur_accel);
+        fprintf(f, ", \"time_keys\": %u, \"refits\": %u, \"rebuilds\": %u},\n", s->time_keys, s->refits,
+                s->rebuilds);
+    }
     fprintf(f, "  \"arenas\": {\"scene\": [%zu, %zu], \"accel\": [%zu, %zu], \"frame\": [%zu, %zu], "
                "\"thread\": [%zu, %zu]},\n",
             p->scene.high_water, p->scene.cap, p->accel.high_water, p->accel.cap, p->frame.high_water, p->frame.cap,

@@ -4,6 +4,9 @@
  * Contract: frame times are wall-clock milliseconds per displayed frame (begin of the frame to end of its last
  * pass, sinks excluded); percentiles are over the timed frames (the first frame of a multi-frame run is left
  * out and frames_timed says how many remain). The JSON is one object, written via temp file + rename.
+ * `settings` (a JSON object's members, from the option tables: renderopts.h, showopts.h) holds every setting
+ * that changes the image, so two runs that differ in one record different settings; the rays are given in
+ * total and per frame in separate objects; an interrupted run says so ("interrupted": the signal's name).
  */
 #ifndef HZ_PORT_SUMMARY_H
 #define HZ_PORT_SUMMARY_H
@@ -25,7 +28,14 @@ typedef struct hz_summary {
     double spp; /* samples traced per pixel per frame: primary rays / (pixels x frames), what was done */
     uint32_t width, height, hz, frames, frames_timed;
     double start; /* scene time of the first frame, seconds */
-    const char *note; /* one line on what the renderer added (e.g. a default light), or NULL */
+    const char *notes[4]; /* lines on what the run added or left out (a default light, a partial tdense image) */
+    int n_notes;
+    const char *settings; /* JSON members of the image-changing settings */
+    const char *interrupted; /* the signal that ended the run early ("SIGINT"), or NULL */
+    /* motion blur (shutter > 0): the accel that blurs, its time keys, refits and rebuilds */
+    double shutter;
+    const char *blur_accel;
+    uint32_t time_keys, refits, rebuilds;
     int threads;
     double build_ms, ms_p50, ms_p99, ms_mean, ms_max, run_s;
     uint64_t rays;

@@ -4,6 +4,7 @@
 #include <fcntl.h>
 #include <stdio.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include "hz/traceio.h"
@@ -176,10 +177,19 @@ static hz_status_t trace_open(hz_vsource_t *s, const char *path, const char *sig
             im = &trace_pool[i];
     if (!im)
         return hz_error_set(err, HZ_E_NO_MEMORY, "trace replay: more than %d open at once", POOL);
-    int fd = open(path, O_RDONLY | O_CLOEXEC);
+    /* O_NONBLOCK: opening a FIFO must not wait for a writer. A trace is replayed from a regular file: a FIFO, a
+     * terminal or a device could block a read for ever, which --timeout-ms (edges, not reads) cannot end. */
+    int fd = open(path, O_RDONLY | O_CLOEXEC | O_NONBLOCK);
     if (fd < 0)
         return hz_error_set(err, HZ_E_IO, "%s: cannot open the trace: %s", path,
                             strerror(errno));
+    struct stat st;
+    if (fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
+        close(fd);
+        return hz_error_set(err, HZ_E_IO, "%s: not a regular file (a FIFO, device or folder): a trace is replayed from "
+                            "a file; save the capture first", path);
+    }
+    fcntl(fd, F_SETFL, fcntl(fd, F_GETFL) & ~O_NONBLOCK);
     memset(im, 0, sizeof *im);
     im->fd = fd;
     im->vcd = vcd;

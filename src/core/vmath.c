@@ -43,15 +43,26 @@ void hz_sincosf(float x, float *s, float *c)
         return;
     }
     /* Cody-Waite reduction with pi/2 split into a 33-bit head and a tail (fdlibm's pio2_1, pio2_1t):
-     * k * head is exact for |k| < 2^20, i.e. |x| < 1.6e6. */
+     * k * head is exact for |k| < 2^20, i.e. |x| < 1.6e6. Beyond that k * head rounds and r can be far outside
+     * [-pi/4, pi/4] (about |x| * 2^-53: thousands at 1e20), where the polynomials leave [-1, 1] and overflow
+     * float; so r is reduced again until it is in range (one pass below ~1e15, at most four for any float). The
+     * angle is meaningless there, but the result stays on the unit circle. */
     const double two_over_pi = 6.36619772367581382433e-01;
     const double pio2_head = 1.57079632673412561417e+00;
     const double pio2_tail = 6.07710050650619224932e-11;
-    double xd = x;
-    double k = round_nearest(xd * two_over_pi);
-    double r = (xd - k * pio2_head) - k * pio2_tail;
+    double r = x;
+    long q = 0;
+    for (int pass = 0; pass < 8; pass++) {
+        double k = round_nearest(r * two_over_pi);
+        r = (r - k * pio2_head) - k * pio2_tail;
+        /* The quadrant k mod 4. From 2^62 up a cast to long would overflow; every double that large is a
+         * multiple of 1024, so its quadrant is 0. */
+        q += (k < 0 ? -k : k) < 4611686018427387904.0 ? (long)k & 3 : 0;
+        if (r >= -0.786 && r <= 0.786)
+            break;
+    }
+    q &= 3;
     double sr = sin_poly(r), cr = cos_poly(r);
-    long q = (long)k & 3;
     double sv, cv;
     switch (q) {
     case 0: sv = sr; cv = cr; break;

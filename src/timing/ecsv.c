@@ -82,6 +82,10 @@ static hz_status_t line(hz_ecsv_t *p, hz_edge_fn edge, void *ctx, hz_error_t *er
         return hz_error_set(err, HZ_E_FORMAT, "line %llu: longer than %u characters",
                             (unsigned long long)p->line_no, (unsigned)HZ_ECSV_LINE_MAX);
     char *s = p->line, *end = p->line + p->len;
+    /* A UTF-8 byte-order mark, as spreadsheets write one, is not part of the first line. */
+    if (p->line_no == 1 && p->len >= 3 && (unsigned char)s[0] == 0xef && (unsigned char)s[1] == 0xbb &&
+        (unsigned char)s[2] == 0xbf)
+        s += 3;
     size_t n;
     char *all = trim(s, end, &n);
     if (n == 0 || all[0] == '#')
@@ -137,10 +141,19 @@ static hz_status_t line(hz_ecsv_t *p, hz_edge_fn edge, void *ctx, hz_error_t *er
                             p->t_col >= nf ? "time" : "level");
     int64_t t;
     if (!parse_time(fb[p->t_col], fl[p->t_col], p->t_unit_digits, &t)) {
-        char shown[40];
-        size_t k = fl[p->t_col] < sizeof shown - 1 ? fl[p->t_col] : sizeof shown - 1;
-        for (size_t i = 0; i < k; i++)
-            shown[i] = fb[p->t_col][i];
+        /* the field as given, bytes that do not print (or are not ASCII) as \xNN: an invisible one is the usual
+         * culprit */
+        static const char hex[] = "0123456789abcdef";
+        char shown[64];
+        size_t k = 0;
+        for (size_t i = 0; i < fl[p->t_col] && k + 5 < sizeof shown; i++) {
+            unsigned char c = (unsigned char)fb[p->t_col][i];
+            if (c >= 0x20 && c < 0x7f) {
+                shown[k++] = (char)c;
+            } else {
+                shown[k++] = '\\', shown[k++] = 'x', shown[k++] = hex[c >> 4], shown[k++] = hex[c & 15];
+            }
+        }
         shown[k] = '\0';
         return hz_error_set(err, HZ_E_FORMAT, "line %llu: time '%s' is not a non-negative number%s",
                             (unsigned long long)p->line_no, shown,

@@ -144,11 +144,19 @@ static hz_status_t silence_error(loop_t *L, int64_t now, hz_error_t *err)
                         (unsigned long long)c->accepted, (long long)((now - L->last_edge_t) / 1000000));
 }
 
-/* Takes in edges until `until` (loop clock). *ended: the timeline ran out. */
+/* The port asked the run to end (cfg->stop). */
+static int stopped(const loop_t *L)
+{
+    return L->cfg->stop && *L->cfg->stop;
+}
+
+/* Takes in edges until `until` (loop clock), or until the port asks the run to end. *ended: the timeline ran out. */
 static hz_status_t wait_until(loop_t *L, int64_t until, int *ended, hz_error_t *err)
 {
     *ended = 0;
     for (;;) {
+        if (stopped(L))
+            return HZ_OK;
         int64_t now = hz_tb_now(L->tb);
         int64_t silent_at = L->last_edge_t + L->edge_timeout;
         if (now >= silent_at && L->src->live)
@@ -385,7 +393,7 @@ hz_status_t hz_loop_run(const hz_loop_cfg_t *cfg, hz_timebase_t *tb, hz_vsource_
         s = wait_until(&L, stop, &ended, err);
         if (s != HZ_OK)
             return s;
-        finish(&L, ended ? "end of trace" : "duration reached");
+        finish(&L, stopped(&L) ? "interrupted" : ended ? "end of trace" : "duration reached");
         return HZ_OK;
     }
 
@@ -433,6 +441,10 @@ hz_status_t hz_loop_run(const hz_loop_cfg_t *cfg, hz_timebase_t *tb, hz_vsource_
         int64_t now = hz_tb_now(tb);
         if (cfg->frames && n >= cfg->frames)
             break;
+        if (stopped(&L)) {
+            why = "interrupted";
+            break;
+        }
         if (cfg->duration_ns && now - t0 >= cfg->duration_ns) {
             why = "duration reached";
             break;
@@ -467,6 +479,10 @@ hz_status_t hz_loop_run(const hz_loop_cfg_t *cfg, hz_timebase_t *tb, hz_vsource_
             return s;
         if (ended) {
             why = "end of the display trace";
+            break;
+        }
+        if (stopped(&L)) {
+            why = "interrupted";
             break;
         }
         int64_t render_ns = 0, wake_ns = 0;

@@ -8,7 +8,8 @@
 
 static int64_t q16_to_ns(int64_t q)
 {
-    return (q + Q16 / 2) / Q16;
+    /* (q + Q16 / 2) / Q16 without the overflow of q + Q16 / 2 near INT64_MAX (a saturated period). */
+    return q >= 0 ? q / Q16 + (q % Q16 >= Q16 / 2) : (q + Q16 / 2) / Q16;
 }
 
 /* a + b and a - b saturated to [INT64_MIN + 1, INT64_MAX] like wide.h's helpers: predictions for slots (or
@@ -87,31 +88,69 @@ static int64_t span_needed(const hz_vsync_t *v)
     return v->nominal_q16 > 0 ? HZ_VSYNC_SPAN_FOR_SLOPE : 4;
 }
 
+/* v * 2^s, saturated like the helpers above. */
+static int64_t sat_shl(int64_t v, int s)
+{
+    if (hz_abs64(v) > ((uint64_t)INT64_MAX >> s))
+        return v < 0 ? INT64_MIN + 1 : INT64_MAX;
+    return v < 0 ? -(int64_t)(hz_abs64(v) << s) : (int64_t)((uint64_t)v << s);
+}
+
 /* Least squares y = a + b x over the ring entries selected by `use` (NULL: all). x, y are relative to the
- * newest entry and the current period; b comes back in Q16 ns per slot, a in ns. */
+ * newest entry and the current period; b comes back in Q16 ns per slot, a in ns.
+ *
+ * The sums are int64. With m entries, |x| <= X and |y| <= Y they stay below 2^61 while m X <= 2^30,
+ * m^2 X Y <= 2^60 and m Y <= 2^46: far beyond a real window (a few thousand slots, microseconds of residual),
+ * where nothing below changes a bit. A trace with gaps of years or residuals of hours (a file's timestamps can
+ * be anything up to 2^63 ns) first has x and y divided by powers of two until they fit, which loses low bits
+ * of an absurd fit instead of overflowing. */
 static void fit_line(const int64_t *x, const int64_t *y, const uint8_t *use, uint32_t n, int slope,
                      int64_t *a, int64_t *b_q16)
 {
     int64_t m = 0, sx = 0, sy = 0, sxx = 0, sxy = 0;
+    uint64_t mx = 0, my = 0;
     for (uint32_t i = 0; i < n; i++) {
         if (use && !use[i])
             continue;
         m++;
-        sx += x[i];
-        sy += y[i];
-        sxx += x[i] * x[i];
-        sxy += x[i] * y[i];
+        if (hz_abs64(x[i]) > mx)
+            mx = hz_abs64(x[i]);
+        if (hz_abs64(y[i]) > my)
+            my = hz_abs64(y[i]);
     }
     *a = 0;
     *b_q16 = 0;
     if (m == 0)
         return;
+    int shx = 0, shy = 0;
+    while ((mx >> shx) > ((uint64_t)1 << 30) / (uint64_t)m)
+        shx++;
+    uint64_t xs = (mx >> shx) ? (mx >> shx) : 1;
+    while ((my >> shy) > ((uint64_t)1 << 60) / ((uint64_t)m * (uint64_t)m) / xs ||
+           (my >> shy) > ((uint64_t)1 << 46) / (uint64_t)m)
+        shy++;
+    int64_t dx = (int64_t)1 << shx, dy = (int64_t)1 << shy;
+    for (uint32_t i = 0; i < n; i++) {
+        if (use && !use[i])
+            continue;
+        int64_t xi = x[i] / dx, yi = y[i] / dy;
+        sx += xi;
+        sy += yi;
+        sxx += xi * xi;
+        sxy += xi * yi;
+    }
     int64_t den = m * sxx - sx * sx;
     if (slope && m >= 2 && den > 0) {
-        *b_q16 = hz_muldiv(m * sxy - sx * sy, Q16, den);
-        *a = hz_muldiv(sy * Q16 - *b_q16 * sx, 1, m * Q16);
+        int64_t b = hz_muldiv(m * sxy - sx * sy, Q16, den), a_s;
+        /* sy Q16 < 2^62 by the limits; b sx is exact while it stays below 2^62, else rounded once more. */
+        if (hz_abs64(b) <= ((uint64_t)1 << 62) / (hz_abs64(sx) + 1))
+            a_s = hz_muldiv(sy * Q16 - b * sx, 1, m * Q16);
+        else
+            a_s = hz_muldiv(sat_sub(sy, hz_mul_q16(sx, b)), 1, m);
+        *a = sat_shl(a_s, shy);
+        *b_q16 = shy >= shx ? sat_shl(b, shy - shx) : hz_muldiv(b, 1, (int64_t)1 << (shx - shy));
     } else {
-        *a = hz_muldiv(sy, 1, m);
+        *a = sat_shl(hz_muldiv(sy, 1, m), shy);
     }
 }
 
@@ -121,23 +160,23 @@ static void refit(hz_vsync_t *v)
     uint32_t newest = (v->ring_next + w - 1) % w, oldest = (v->ring_next + w - n) % w;
     int64_t s_r = v->ring_slot[newest], t_r = v->ring_t[newest];
     int64_t p_ns = q16_to_ns(v->period_q16);
-    int64_t span = s_r - v->ring_slot[oldest];
+    int64_t span = sat_sub(s_r, v->ring_slot[oldest]);
     int slope = span >= span_needed(v);
     int64_t *x = v->fit_x, *y = v->fit_y, *e = v->fit_e;
     uint8_t *use = v->fit_use;
     for (uint32_t i = 0; i < n; i++) {
         uint32_t at = (oldest + i) % w;
-        x[i] = v->ring_slot[at] - s_r;
-        y[i] = v->ring_t[at] - t_r - hz_mul_q16(x[i], v->period_q16);
+        x[i] = sat_sub(v->ring_slot[at], s_r);
+        y[i] = sat_sub(sat_sub(v->ring_t[at], t_r), hz_mul_q16(x[i], v->period_q16));
     }
     int64_t a, b;
     fit_line(x, y, 0, n, slope, &a, &b);
     for (uint32_t i = 0; i < n; i++) {
-        e[i] = y[i] - a - hz_mul_q16(x[i], b);
+        e[i] = sat_sub(sat_sub(y[i], a), hz_mul_q16(x[i], b));
         v->scratch[i] = (int64_t)hz_abs64(e[i]);
     }
     int64_t mad = hz_select_i64(v->scratch, n, (n - 1) / 2);
-    int64_t thr = 6 * mad > 1000 ? 6 * mad : 1000;
+    int64_t thr = mad > INT64_MAX / 6 ? INT64_MAX : (6 * mad > 1000 ? 6 * mad : 1000);
     uint32_t kept = 0;
     for (uint32_t i = 0; i < n; i++) {
         use[i] = (int64_t)hz_abs64(e[i]) <= thr;
@@ -145,17 +184,17 @@ static void refit(hz_vsync_t *v)
     }
     if (kept < n && kept >= 2 && 2 * kept >= n)
         fit_line(x, y, use, n, slope, &a, &b);
-    v->period_q16 += b;
+    v->period_q16 = sat_add(v->period_q16, b);
     if (v->period_q16 < Q16)
         v->period_q16 = Q16; /* a period below 1 ns is nonsense; keep the arithmetic sane */
     v->anchor_slot = s_r;
-    v->anchor_t = t_r + a;
-    v->sigma_ns = mad * 14826 / 10000;
+    v->anchor_t = sat_add(t_r, a);
+    v->sigma_ns = mad <= INT64_MAX / 14826 ? mad * 14826 / 10000 : hz_muldiv(mad, 14826, 10000);
     p_ns = q16_to_ns(v->period_q16);
     if (span < HZ_VSYNC_SPAN_FOR_SLOPE) {
         v->tol_ns = acq_tol(v, v->period_q16);
     } else {
-        int64_t floor = tol_floor(v), cap = p_ns / 4, tol = 8 * v->sigma_ns;
+        int64_t floor = tol_floor(v), cap = p_ns / 4, tol = v->sigma_ns > INT64_MAX / 8 ? INT64_MAX : 8 * v->sigma_ns;
         if (floor > cap)
             floor = cap;
         v->tol_ns = tol < floor ? floor : (tol > cap ? cap : tol);
@@ -176,7 +215,7 @@ static void commit(hz_vsync_t *v, hz_vsync_event_t ev)
 {
     ev.missed_before = 0;
     if (v->has_last) {
-        int64_t gap = ev.slot - v->last_slot - 1;
+        int64_t gap = sat_sub(sat_sub(ev.slot, v->last_slot), 1);
         ev.missed_before = gap > 0 ? (gap > UINT32_MAX ? UINT32_MAX : (uint32_t)gap) : 0;
     }
     v->counts.missed += ev.missed_before;
@@ -202,9 +241,9 @@ static uint32_t grid_count(const hz_vsync_t *v, uint32_t anchor, int64_t p_q16)
     int64_t tol = acq_tol(v, p_q16);
     uint32_t count = 0;
     for (uint32_t j = 0; j < v->acq_n; j++) {
-        int64_t d = v->acq_t[j] - v->acq_t[anchor];
+        int64_t d = sat_sub(v->acq_t[j], v->acq_t[anchor]);
         int64_t k = hz_muldiv(d, Q16, p_q16);
-        if ((int64_t)hz_abs64(d - hz_mul_q16(k, p_q16)) <= tol)
+        if ((int64_t)hz_abs64(sat_sub(d, hz_mul_q16(k, p_q16))) <= tol)
             count++;
     }
     return count;
@@ -225,7 +264,7 @@ static void acquire(hz_vsync_t *v, int final)
         cand[ncand++] = v->nominal_q16;
     if (n >= 4) {
         for (uint32_t i = 1; i < n; i++)
-            v->scratch[i - 1] = v->acq_t[i] - v->acq_t[i - 1];
+            v->scratch[i - 1] = sat_sub(v->acq_t[i], v->acq_t[i - 1]);
         int64_t med = hz_select_i64(v->scratch, n - 1, (n - 2) / 2);
         if (med > 0 && med < INT64_MAX / Q16)
             cand[ncand++] = med * Q16;
@@ -264,9 +303,9 @@ static void acquire(hz_vsync_t *v, int final)
     uint8_t in[HZ_VSYNC_ACQ];
     int64_t tol = acq_tol(v, best_p);
     for (uint32_t j = 0; j < n; j++) {
-        int64_t d = v->acq_t[j] - v->acq_t[best_anchor];
+        int64_t d = sat_sub(v->acq_t[j], v->acq_t[best_anchor]);
         k[j] = hz_muldiv(d, Q16, best_p);
-        r[j] = d - hz_mul_q16(k[j], best_p);
+        r[j] = sat_sub(d, hz_mul_q16(k[j], best_p));
         in[j] = (int64_t)hz_abs64(r[j]) <= tol;
     }
     for (uint32_t j = 0; j < n; j++)
@@ -286,7 +325,7 @@ static void acquire(hz_vsync_t *v, int final)
     if (v->ever_locked && v->period_q16 > 0) {
         base = nearest_slot(v, v->acq_t[first]);
         if (v->has_last && base <= v->last_slot)
-            base = v->last_slot + 1;
+            base = sat_add(v->last_slot, 1);
     }
     int relock = v->ever_locked;
     v->period_q16 = best_p;
@@ -299,16 +338,16 @@ static void acquire(hz_vsync_t *v, int final)
     if (relock)
         v->counts.relocks++;
     for (uint32_t j = 0; j < n; j++) {
-        int64_t slot = base + k[j] - k[first];
+        int64_t slot = sat_add(base, sat_sub(k[j], k[first]));
         if (!in[j]) {
-            emit_spurious(v, v->acq_t[j], v->acq_index[j], slot, v->acq_t[j] - predict(v, slot),
+            emit_spurious(v, v->acq_t[j], v->acq_index[j], slot, sat_sub(v->acq_t[j], predict(v, slot)),
                           (int64_t)hz_abs64(r[j]) <= tol ? HZ_VSYNC_WHY_DUPLICATE : HZ_VSYNC_WHY_OFFGRID);
             continue;
         }
         hz_vsync_event_t ev = { 0 };
         ev.t_ns = v->acq_t[j];
         ev.slot = slot;
-        ev.residual_ns = v->acq_t[j] - predict(v, slot);
+        ev.residual_ns = sat_sub(v->acq_t[j], predict(v, slot));
         ev.index = v->acq_index[j];
         ev.kind = HZ_VSYNC_EDGE;
         ev.relock = (uint8_t)(relock && j == first);
@@ -365,7 +404,7 @@ void hz_vsync_push(hz_vsync_t *v, int64_t t)
         commit_pending(v);
         k = nearest_slot(v, t);
     }
-    int64_t r = t - predict(v, k);
+    int64_t r = sat_sub(t, predict(v, k));
     if ((int64_t)hz_abs64(r) > v->tol_ns) {
         emit_spurious(v, t, index, k, r, HZ_VSYNC_WHY_OFFGRID);
         if (++v->rejects_in_row >= HZ_VSYNC_RELOCK) {

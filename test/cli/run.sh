@@ -164,13 +164,189 @@ p.send_signal(sig)
 rc = p.wait(timeout=60)
 left = glob.glob(out + "/*.tmp.*") + glob.glob(out + "/.hz-probe.*")
 ok = bool(seen) and not left and rc == -sig
+# and it keeps what it finished: the frames so far, the last one, a summary marked interrupted
+import json, os
+kept = all(os.path.exists(out + "/" + f) for f in ("frames.y4m", "summary.json")) and \
+    (os.path.exists(out + "/last.png") or os.path.exists(out + "/last.ppm"))
+if kept:
+    d = json.load(open(out + "/summary.json"))
+    kept = d["interrupted"] == "SIG" + sys.argv[3] and d["frames"] > 0
+ok = ok and kept
 if not ok:
-    print("temporaries seen %s, left %s, status %s" % (seen, left, rc))
+    print("temporaries seen %s, left %s, status %s, finished frames kept %s" % (seen, left, rc, kept))
 sys.exit(0 if ok else 1)
 PYEOF
         then pass=$((pass + 1)); else echo "  FAIL  cli render-sig$sig-leftovers"; fail=$((fail + 1)); fi
     done
 fi
+
+# What a new user and an adversary trip over: each case below failed on the tree before these checks.
+# ok NAME CMD...: CMD succeeds.
+ok() {
+    name=$1
+    shift
+    if "$@" >/dev/null 2>&1; then pass=$((pass + 1)); else echo "  FAIL  cli $name"; fail=$((fail + 1)); fi
+}
+# Every output is checked before the work: never an input or another output; its folder exists and is
+# writable; a run that fails leaves no folder it made.
+expect map-bad-extension 2 "'.jpg' is not an image extension" "$hzrt" render builtin --mode adaptive --size 96x54 \
+    --frames 30 --out "$tmp/d2" --adaptive-map "$tmp/map.jpg"
+ok map-bad-extension-nothing-made test ! -e "$tmp/d2"
+expect map-missing-folder 73 "the folder $tmp/nodir" "$hzrt" render builtin --mode adaptive --size 96x54 --frames 30 \
+    --out "$tmp/d3" --adaptive-map "$tmp/nodir/map.png"
+ok map-missing-folder-nothing-made test ! -e "$tmp/d3"
+expect map-unwritable-folder 73 "not writable" "$hzrt" render builtin --mode adaptive --size 96x54 --frames 30 \
+    --out "$tmp/d4" --adaptive-map "$ro/map.png"
+expect map-is-last-png 2 "is also the run's last frame" "$hzrt" render builtin --mode adaptive --size 96x54 \
+    --frames 2 --out "$tmp/d7" --adaptive-map "$tmp/d7/last.png"
+expect corrupt-scene 68 "not a .hzb file" "$hzrt" render "$tmp/random.hzb" --out "$tmp/d9/sub"
+ok corrupt-scene-no-folder test ! -e "$tmp/d9"
+head -c 100 /dev/urandom >"$tmp/trace-in.csv"
+cp "$tmp/trace-in.csv" "$tmp/edges.csv"
+expect output-is-the-trace 2 "is the --source trace" "$hzrt" latency --source "csv:$tmp/edges.csv" --out "$tmp"
+ok output-is-the-trace-untouched cmp "$tmp/trace-in.csv" "$tmp/edges.csv"
+# Options that would do nothing are refused.
+expect rr-shadows-exact 2 "\-\-rr-shadows does nothing with --transparency exact" "$hzrt" render builtin \
+    --rr-shadows --size 32x18 --out "$tmp/e1"
+expect jitter-offline 2 "\-\-jitter-us does nothing with --source offline" "$hzrt" render builtin --jitter-us 50 \
+    --size 32x18 --out "$tmp/e1"
+expect no-marker-files 2 "\-\-no-marker does nothing with --sink files" "$hzrt" render builtin --no-marker \
+    --size 32x18 --out "$tmp/e1"
+# Object names: a name takes every object it names (or matches, as a shell pattern).
+expect focus-pattern 0 "" "$hzrt" render builtin --mode adaptive --focus-objects 'sp*' --size 32x18 --frames 1 \
+    --quiet --out "$tmp/f0"
+ok focus-pattern-ids grep -q '"focus_objects": \[3\]' "$tmp/f0/summary.json"
+expect focus-unknown-lists 65 "0 'room', 1 'mirror'" "$hzrt" render builtin --mode adaptive --focus-objects nosuch \
+    --size 32x18 --out "$tmp/f9"
+if [ -f "${HZ_SCENES_DIR:-/nonexistent}/CornellBox-Mirror.hzb" ]; then
+    expect focus-every-match 0 "" "$hzrt" render "$HZ_SCENES_DIR/CornellBox-Mirror.hzb" --mode adaptive \
+        --focus-objects leftWall --size 32x18 --frames 1 --quiet --out "$tmp/f1"
+    ok focus-every-match-ids grep -q '"focus_objects": \[4, 5\]' "$tmp/f1/summary.json"
+    # Names from a file go to the terminal with their control bytes shown, not sent.
+    if command -v python3 >/dev/null 2>&1; then
+        python3 - "$HZ_SCENES_DIR/CornellBox-Mirror.hzb" "$tmp/esc.hzb" <<'PYEOF'
+import struct, sys, zlib
+img = bytearray(open(sys.argv[1], "rb").read())
+img[132:164] = b"red\x1b[31mname" + bytes(32 - 12)
+img[252:256] = struct.pack("<I", zlib.crc32(bytes(img[:252])) & 0xffffffff)
+open(sys.argv[2], "wb").write(img)
+PYEOF
+        expect info-control-bytes 0 'red\\x1b\[31mname' "$hzrt" info "$tmp/esc.hzb"
+        ok info-control-bytes-not-sent sh -c "! \"$hzrt\" info \"$tmp/esc.hzb\" | grep -q \"$(printf '\033')\""
+    fi
+fi
+# A FIFO as a trace is refused at once (a time limit guards the test), not waited on for ever.
+if command -v mkfifo >/dev/null 2>&1 && command -v timeout >/dev/null 2>&1; then
+    mkfifo "$tmp/ff"
+    sleep 30 >"$tmp/ff" &
+    writer=$!
+    expect fifo-trace 73 "not a regular file" timeout 20 "$hzrt" latency --source "vcd:$tmp/ff" --timeout-ms 500 \
+        --out "$tmp/l1"
+    kill "$writer" 2>/dev/null
+    wait "$writer" 2>/dev/null
+    mkfifo "$tmp/ff-scene" # no writer at all: opening it would wait for one
+    expect fifo-scene 73 "not a regular file" timeout 20 "$hzrt" info "$tmp/ff-scene"
+fi
+# An empty trace is refused cheaply: the edge log is sized by the file, not by the whole frame arena.
+: >"$tmp/empty.vcd"
+if command -v python3 >/dev/null 2>&1; then
+    if python3 - "$hzrt" "$tmp/empty.vcd" "$tmp/l2" <<'PYEOF'
+import os, subprocess, sys
+p = subprocess.Popen([sys.argv[1], "latency", "--source", "vcd:" + sys.argv[2], "--out", sys.argv[3]],
+                     stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+_, status, usage = os.wait4(p.pid, 0)
+rc = os.waitstatus_to_exitcode(status)
+ok = rc == 68 and usage.ru_maxrss < 64 * 1024  # KiB: it took 268 MB before
+if not ok:
+    print("status %d, max RSS %d KiB" % (rc, usage.ru_maxrss))
+sys.exit(0 if ok else 1)
+PYEOF
+    then pass=$((pass + 1)); else echo "  FAIL  cli empty-trace-light"; fail=$((fail + 1)); fi
+fi
+# Malformed arguments are command-line errors (2), not failures of the run.
+expect focus-empty-item 2 "has an empty item" "$hzrt" render builtin --mode adaptive --focus-objects , --size 32x18 \
+    --out "$tmp/g1"
+expect render-scale-size 2 "not a multiple of --render-scale 3" "$hzrt" render builtin --render-scale 3 \
+    --size 32x18 --out "$tmp/g1"
+expect map-only-extension 2 "no file name before it" "$hzrt" render builtin --mode adaptive --size 32x18 \
+    --adaptive-map "$tmp/x/.png" --out "$tmp/g1"
+expect marker-too-small 2 "\-\-marker: frame-id marker needs" "$hzrt" render builtin --marker --size 32x18 \
+    --out "$tmp/g1"
+ok usage-errors-nothing-made test ! -e "$tmp/g1"
+# summary.json records the settings that change the image (the table walk is test_options), the motion blur
+# also with --quiet, and rays per frame apart from the totals; report.json names the scene's settings.
+expect settings-default 0 "" "$hzrt" render builtin --size 32x18 --frames 2 --threads 2 --quiet --out "$tmp/s0"
+expect settings-changed 0 "" "$hzrt" render builtin --size 32x18 --frames 2 --threads 2 --shutter 1 \
+    --transparency std --quiet --out "$tmp/s1"
+expect report-scene 0 "" "$hzrt" latency --virtual --source sim --render scene --render-model const:1ms --frames 40 \
+    --size 32x18 --render-scale 2 --threads 2 --quiet --out "$tmp/l9"
+if command -v python3 >/dev/null 2>&1; then
+    python3 - "$tmp/s0/summary.json" "$tmp/s1/summary.json" "$tmp/l9/report.json" <<'PYEOF' &&
+import json, sys
+a, b, r = (json.load(open(p)) for p in sys.argv[1:])
+assert a["settings"] != b["settings"], a["settings"]
+assert b["settings"]["shutter"] == 1 and b["settings"]["transparency"] == "std", b["settings"]
+assert a["settings"]["shutter"] == 0 and a["settings"]["transparency"] == "exact", a["settings"]
+assert b["motion_blur"]["time_keys"] >= 2 and "motion_blur" not in a
+assert "per_frame" not in b["rays"] and b["rays_per_frame"]["total"] * 2 == b["rays"]["total"], b["rays_per_frame"]
+assert r["scene"] == {"file": "builtin", "mode": "tdense", "render_size": [16, 9], "render_scale": 2,
+                      "threads": 2}, r["scene"]
+PYEOF
+        pass=$((pass + 1)) || { echo "  FAIL  cli settings-recorded"; fail=$((fail + 1)); }
+    # A recorded trace with a scene renders the scene in real-time replay, in any mode.
+    python3 - "$tmp/good.vcd" <<'PYEOF'
+import sys
+with open(sys.argv[1], "w") as f:
+    f.write("$timescale 1 ns $end $var wire 1 ! v $end $enddefinitions $end\n#0 0!\n")
+    for i in range(100):
+        f.write("#%d 1!\n#%d 0!\n" % (2025764 + i * 4166667, 2025764 + i * 4166667 + 1000))
+PYEOF
+    expect trace-scene-full 0 "" "$hzrt" latency --source "vcd:$tmp/good.vcd" --render scene --mode full \
+        --size 32x18 --threads 2 --quiet --out "$tmp/l10"
+    python3 -c "import json,sys; d=json.load(open(sys.argv[1])); assert d['frames'] > 0 and d['mode'] == 'full'" \
+        "$tmp/l10/summary.json" && pass=$((pass + 1)) ||
+        { echo "  FAIL  cli trace-scene-renders"; fail=$((fail + 1)); }
+    # Messages: a CSV that starts with a byte-order mark reads; a bad time shows its invisible bytes.
+    python3 - "$tmp/bom.csv" "$tmp/nbsp.csv" <<'PYEOF'
+import sys
+rows = "".join("%d\n" % (2025764 + i * 4166667) for i in range(100))
+open(sys.argv[1], "wb").write(b"\xef\xbb\xbf" + rows.encode())
+open(sys.argv[2], "wb").write(b"4166667\xc2\xa0\n")
+PYEOF
+    expect csv-byte-order-mark 0 "" "$hzrt" latency --source "csv:$tmp/bom.csv" --quiet --out "$tmp/l11"
+    expect csv-invisible-bytes 68 "time '4166667\\\\xc2\\\\xa0'" "$hzrt" latency --source "csv:$tmp/nbsp.csv" \
+        --out "$tmp/l12"
+fi
+expect drm-not-a-device 74 "not a DRM device" "$hzrt" latency --sink drm:/dev/null --frames 5 --out "$tmp/m1"
+if "$hzrt" board | grep -q '^board      host-sim'; then
+    expect display-sink-host-sim 0 "display sink none" "$hzrt" latency --help
+fi
+errtime=$(dirname "$hzrt")/hzerrtime
+if [ -x "$errtime" ]; then
+    expect errtime-names-charts 0 "1 chart (synthetic.svg)" "$errtime" --scene synthetic --size 16x16 --frames 8 \
+        --warmup 1 --methods supersample --cache "$tmp/etc" --out "$tmp/eto"
+fi
+# First runs: a tdense render without --frames is one complete image (4 frames); fewer frames say why the image
+# is partly filled in; a short latency run is "too short to judge a lock"; limits are in --help.
+expect first-run-complete 0 "frames       4 at a simulated" "$hzrt" render builtin --size 64x36 --threads 2 \
+    --out "$tmp/fr"
+ok first-run-no-partial-note sh -c "! grep -q 'partly filled' \"$tmp/fr/summary.json\""
+expect one-tdense-frame-note 0 "partly filled in" "$hzrt" render builtin --size 64x36 --frames 1 --threads 2 \
+    --out "$tmp/fr1"
+expect latency-too-short 3 "too short to judge a lock" "$hzrt" latency --virtual --source sim --hz 60 \
+    --render-model const:5ms --frames 8 --out "$tmp/ts"
+ok latency-too-short-json grep -q '"verdict": "too short"' "$tmp/ts/report.json"
+expect help-size 0 "\[8..8192 a side\]" "$hzrt" render --help
+expect help-frames 0 "at most 100000 with --source offline" "$hzrt" render --help
+expect help-hz 0 "\[0..1000\]" "$hzrt" render --help
+expect help-normal-angle 0 "\[0..90\] (only in adaptive mode)" "$hzrt" render --help
+expect help-shutter-modes 0 "(only in full, taa or tdense mode)" "$hzrt" render --help
+expect grammar-frames-timed 0 "(1 frame timed)" "$hzrt" render builtin --size 32x18 --frames 2 --threads 2 \
+    --out "$tmp/gr"
+expect grammar-refit 0 "2 time keys, 1 refit, 0 rebuilds" "$hzrt" render builtin --size 32x18 --frames 2 \
+    --threads 2 --shutter 0.5 --out "$tmp/gr"
+expect info-kept-left-out 0 "^kept         motion vectors" "$hzrt" info builtin
+ok info-no-double-negative sh -c "! \"$hzrt\" info builtin | grep -q 'left out .*: yes'"
 
 # hzbench: a missing scene is named before anything is measured.
 if [ -n "$hzbench" ]; then

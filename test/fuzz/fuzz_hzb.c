@@ -4,17 +4,16 @@
  * Each input is copied into a 64-byte aligned buffer (the loader requires it) and validated as is; then its
  * header and section CRCs are recomputed ("resealed") and it is loaded, so that mutations reach the content
  * checks instead of stopping at the CRCs. The loader must answer every input with HZ_OK or a status plus a
- * message; an accepted scene must have every index in range and must animate and evaluate its camera without
- * a sanitizer report. Any violation aborts, which libFuzzer records as a crash.
+ * message; an accepted scene must pass fuzz_scene.h's checks. Any violation aborts, which libFuzzer records as a
+ * crash.
  */
 #include <stddef.h>
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 
-#include "hz/arena.h"
+#include "fuzz_scene.h"
 #include "hz/crc32.h"
-#include "hz/scene.h"
 
 #define MAX_IMAGE (8u << 20)
 
@@ -43,12 +42,6 @@ static void reseal(uint8_t *img, size_t size)
     memcpy(img, &h, sizeof h);
 }
 
-static void check_error(hz_status_t s, const hz_error_t *err)
-{
-    if (s != HZ_OK && (err->code != s || err->msg[0] == '\0'))
-        abort(); /* a refusal must say why */
-}
-
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
@@ -58,31 +51,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     hz_scene_plan_t plan;
     hz_error_t err;
     hz_error_clear(&err);
-    check_error(hz_scene_plan(image, size, &plan, &err), &err);
-
+    fuzz_check_error(hz_scene_plan(image, size, &plan, &err), &err);
     reseal(image, size);
-    hz_arena_t arena;
-    hz_arena_init(&arena, "scene", state, sizeof state);
-    hz_scene_t s;
-    hz_error_clear(&err);
-    hz_status_t st = hz_scene_load(&s, image, size, &arena, &err);
-    check_error(st, &err);
-    if (st != HZ_OK)
-        return 0;
-    for (uint32_t t = 0; t < s.triangle_count; t++) {
-        for (int c = 0; c < 3; c++)
-            if (s.tri[(size_t)t * 3 + c] >= s.vertex_count)
-                abort();
-        if (hz_scene_tri_material(&s, t) >= s.material_count || hz_scene_tri_object(&s, t) >= s.object_count)
-            abort();
-    }
-    for (uint32_t m = 0; m < s.material_count; m++)
-        if (s.materials[m].base_texture >= (int32_t)s.texture_count ||
-            s.materials[m].alpha_texture >= (int32_t)s.texture_count)
-            abort();
-    hz_scene_animate(&s, 0.37f);
-    hz_scene_animate(&s, 1234.5f);
-    (void)hz_scene_camera(&s, 0.25f);
-    (void)hz_scene_camera(&s, 1e6f);
+    (void)fuzz_load_scene(image, size, state, sizeof state);
     return 0;
 }

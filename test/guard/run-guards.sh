@@ -70,6 +70,34 @@ for case in "bench hzbench furball.hzb" "report hzerrtime lost-empire.hzb"; do
         fails=$((fails + 1))
     fi
 done
+# Tests are found by pattern: a new test/unit/test_*.c is built and run with no Makefile edit, its hz-test tags
+# keep it off the boards they name, and an unknown tag is refused by name. (A probe folder stands in for
+# test/unit; every real test file must be on some tested board's list.)
+mkdir -p "$tmp/unit"
+printf '/* probe */\nint main(void) { return 0; }\n' >"$tmp/unit/test_probe.c"
+printf '/*\n * probe\n * hz-test: native no-vm (why)\n */\nint main(void) { return 0; }\n' >"$tmp/unit/test_probe_native.c"
+host=$(make -s -C "$root" --no-print-directory print-tests BOARD=host-sim TEST_UNIT_DIR="$tmp/unit" 2>&1)
+emul=$(make -s -C "$root" --no-print-directory print-tests BOARD=aarch64-generic TEST_UNIT_DIR="$tmp/unit" 2>&1)
+listed=$( (make -s -C "$root" --no-print-directory print-tests BOARD=host-sim; \
+           make -s -C "$root" --no-print-directory print-tests BOARD=aarch64-generic) 2>&1 | tr ' ' '\n')
+missing=""
+for f in "$root"/test/unit/test_*.c; do
+    n=$(basename "$f" .c)
+    grep -q 'hz-test:.*manual' "$f" && continue
+    printf '%s\n' "$listed" | grep -qx "$n" || missing="$missing $n"
+done
+if [ "$host" = "test_probe test_probe_native" ] && [ "$emul" = "test_probe" ] && [ -z "$missing" ]; then
+    echo "  ok    guard tests-found-by-pattern"
+    record "guard/tests-found-by-pattern" 1 0
+else
+    echo "  FAIL  guard tests-found-by-pattern: host-sim lists '$host', aarch64-generic '$emul'" \
+         "(expected 'test_probe test_probe_native' and 'test_probe'); on no board:${missing:- none}"
+    record "guard/tests-found-by-pattern" 0 1
+    fails=$((fails + 1))
+fi
+printf '/*\n * hz-test: nativ\n */\nint main(void) { return 0; }\n' >"$tmp/unit/test_probe_typo.c"
+expect_fail "test-tag-unknown" "test_probe_typo.c: unknown hz-test tag 'nativ'" \
+    make -s -C "$root" --no-print-directory print-tests TEST_UNIT_DIR="$tmp/unit"
 # The test runner: a binary that hangs is stopped at the time limit and counts as a failure naming it.
 printf '#!/bin/sh\necho "[==========] Running 1 test(s)."\nsleep 60\n' >"$tmp/test_hangs"
 chmod +x "$tmp/test_hangs"

@@ -857,6 +857,8 @@ static void test_bad_inputs_get_clear_errors_and_distinct_statuses(void **state)
     put_text("empty.obj", "");
     put_text("oob.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 99\n");
     put_text("nan.obj", "v nan 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+    put_text("far.obj", "o far\nv 0 0 0\nv 1e12 0 0\nv 0 1 0\nf 1 2 3\n");
+    put_text("point.obj", "v 0 0 0\nv 0 0 0\nv 0 0 0\nf 1 2 3\nf 3 2 1\n"); /* welded into one vertex */
     put_text("tex.obj",
              "mtllib tex.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\nusemtl red\nf 1/1 2/2 3/3\n");
     put_text("tex.mtl", "newmtl red\nKd 0.8 0.1 0.1\nmap_Kd missing.png\n");
@@ -868,11 +870,30 @@ static void test_bad_inputs_get_clear_errors_and_distinct_statuses(void **state)
     size_t plen;
     char *ply = gunzip_all(p, &plen);
     put("cut.ply", ply, 30000); /* header + part of the vertices: assimp 5.2 aborts on this */
+    put("headcut.ply", ply, 120); /* cut inside the header: assimp 5.2 loops forever on this */
+    memcpy(ply + 60, "\0", 1);   /* a NUL in the header (the import fuzzer's lib-1f28d697d72ea06b): the same */
+    put("headnul.ply", ply, 30000);
     free(ply);
     source_path(p, sizeof p, "HZ_SCENES_SRC", "gltf/BoxAnimated/glTF/BoxAnimated.gltf");
     copy_prefix(p, "box.gltf", SIZE_MAX);
     source_path(p, sizeof p, "HZ_SCENES_SRC", "gltf/BoxAnimated/glTF/BoxAnimated0.bin");
     copy_prefix(p, "BoxAnimated0.bin", 3000);
+    /* A triangle whose translation is animated over 1e9 s: 3e10 rigid keys at the default rigid_rate (the import
+     * fuzzer's glb asked for 512 million: 4 GiB of sample times). */
+    put_text("longanim.gltf",
+             "{\"asset\":{\"version\":\"2.0\"},\"scene\":0,\"scenes\":[{\"nodes\":[0]}],"
+             "\"nodes\":[{\"name\":\"tri\",\"mesh\":0}],"
+             "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0}}]}],"
+             "\"animations\":[{\"channels\":[{\"sampler\":0,\"target\":{\"node\":0,\"path\":\"translation\"}}],"
+             "\"samplers\":[{\"input\":1,\"output\":2}]}],"
+             "\"accessors\":[{\"bufferView\":0,\"componentType\":5126,\"count\":3,\"type\":\"VEC3\","
+             "\"min\":[0,0,0],\"max\":[1,1,0]},{\"bufferView\":1,\"componentType\":5126,\"count\":2,"
+             "\"type\":\"SCALAR\",\"min\":[0],\"max\":[1e9]},{\"bufferView\":2,\"componentType\":5126,\"count\":2,"
+             "\"type\":\"VEC3\"}],\"bufferViews\":[{\"buffer\":0,\"byteOffset\":0,\"byteLength\":36},"
+             "{\"buffer\":0,\"byteOffset\":36,\"byteLength\":8},{\"buffer\":0,\"byteOffset\":44,\"byteLength\":24}],"
+             "\"buffers\":[{\"byteLength\":68,\"uri\":\"longanim.bin\"}]}");
+    static const float longanim[17] = { 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 1e9f, 0, 0, 0, 5, 0, 0 };
+    put("longanim.bin", longanim, sizeof longanim);
     put_text("fur.xml",
              "<scene><RoundLineSegments><indices ofs=\"0\" size=\"2\"/>"
              "<positions ofs=\"8\" size=\"2\"/></RoundLineSegments></scene>");
@@ -893,11 +914,25 @@ static void test_bad_inputs_get_clear_errors_and_distinct_statuses(void **state)
         { "empty OBJ", NULL, { "empty.obj", "OUT" }, 68, 0, { "empty.obj", "assimp cannot import" } },
         { "OBJ index out of range", NULL, { "oob.obj", "OUT" }, 68, 0, { "oob.obj", "out of range" } },
         { "NaN vertex", NULL, { "nan.obj", "OUT" }, 71, 0, { "nan.obj", "non-finite position" } },
+        /* The import fuzzer's regress-glb-vertex-beyond-2-36 (test/fuzz/corpus/import): a vertex the renderer
+         * cannot trace was baked, and only the check of the finished image refused it, naming no vertex. */
+        { "vertex beyond +-2^36", NULL, { "far.obj", "OUT" }, 71, 0, { "far.obj", "object 'far': vertex 1", "2^36" } },
+        /* The import fuzzer's regress-ply-one-vertex: a PLY whose 89 faces all met in one vertex was baked into an
+         * image the runtime refuses (it needs 3 vertices), and only that check said so. */
+        { "all triangles in one point", NULL, { "point.obj", "OUT" }, 68, 0,
+          { "point.obj", "2 triangles have only 1 distinct vertices" } },
         { "truncated .ply.gz", NULL, { "cut.ply.gz", "OUT" }, 68, 0, { "cut.ply.gz", "gzip" } },
         /* assimp 5.2.5 aborts in an assertion on this file: the child's crash becomes status 76. A fixed
          * assimp may refuse it cleanly instead (68); either way the baker survives and names the file. */
         { "truncated PLY", NULL, { "cut.ply", "OUT" }, 76, 68, { "cut.ply" } },
+        /* Refused before assimp sees them; --timeout makes a regression fail fast instead of waiting 600 s. */
+        { "PLY cut in its header", NULL, { "--timeout", "1", "headcut.ply", "OUT" }, 68, 0,
+          { "headcut.ply", "no end_header line" } },
+        { "NUL in a PLY header", NULL, { "--timeout", "1", "headnul.ply", "OUT" }, 68, 0,
+          { "headnul.ply", "line 4 of the PLY header holds the control byte 0x00" } },
         { "truncated glTF buffer", NULL, { "box.gltf", "OUT" }, 68, 0, { "box.gltf", "byteLength" } },
+        { "animation needing 3e10 keys", NULL, { "--timeout", "1", "longanim.gltf", "OUT" }, 71, 0,
+          { "longanim.gltf", "object 'tri'", "more than 1000000 rigid keys" } },
         { "furball index out of range",
           NULL,
           { "fur.xml", "OUT" },

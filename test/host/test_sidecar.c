@@ -108,7 +108,10 @@ static const bad_t bad_cases[] = {
     { "background = 1 2\n", 1, HZ_E_FORMAT, "three numbers" },
     { "texture_max = 1.5\n", 1, HZ_E_FORMAT, "not an integer" },
     { "texture_max = 0\n", 1, HZ_E_RANGE, "outside" },
-    { "tube_sides = 2\n", 0, HZ_E_RANGE, "tube_sides = 2" },
+    { "name = a\ntube_sides = 2\n", 2, HZ_E_RANGE, "tube_sides = 2" }, /* with its line */
+    /* a section NAME given twice: the later section would silently take over the earlier one */
+    { "[object a]\nmotion = none\n[object a]\nmotion = none\n", 3, HZ_E_FORMAT, "repeats the section of line 1" },
+    { "[material m]\nmirror = 1\n\n[material m]\nalpha = 0.5\n", 4, HZ_E_FORMAT, "repeats the section of line 1" },
     { "camera_loop = maybe\n", 1, HZ_E_FORMAT, "yes or no" },
     { "camera_loop = yes\n", 0, HZ_E_FORMAT, "needs a duration" },
     { "duration = 4\ncamera_loop = yes\ncamera = 4 eye 0 0 1 target 0 0 0\n", 3, HZ_E_RANGE, "below the duration" },

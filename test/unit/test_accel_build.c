@@ -4,6 +4,7 @@
  * blocks), builds are deterministic, bad geometry is refused with the triangle named, degenerate inputs
  * (coincident triangles, non-finite vertices, nothing at all) build, and refit after moving vertices gives the
  * same hits as a fresh build.
+ * hz-test: no-vm (heavy under system emulation, runs under qemu-user)
  */
 #include "hz_test.h"
 

@@ -6,6 +6,8 @@
  * part: spatial splits (slivers, large overlapping triangles), flat and axis-aligned triangles (cube), -0 / +0
  * and degenerate triangles (soup), and a large soup binned in chunks on a run hook that runs items in reverse
  * order (the chunk merges).
+ *
+ * hz-test: no-vm (heavy under system emulation, runs under qemu-user)
  */
 #include "hz_test.h"
 

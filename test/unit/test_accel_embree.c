@@ -4,6 +4,7 @@
  * the triangle or on t within 1e-5 relative; normals point the same way. Packets of 4 and 8 give Embree's single
  * ray answers; any-hit filters, occlusion, refit, error mapping and the memory monitor work through the same
  * interface.
+ * hz-test: embree (needs the Embree backend)
  */
 #include "hz_test.h"
 

@@ -9,6 +9,7 @@
  *  - a moving triangle against its analytic hit; time clamping; static geometry ignoring time;
  *  - refit after the keys are rewritten in place (still exact), rebuild when the SAH cost grows past the
  *    configured fraction (and not when the fraction is large), the memory bound, and bad motion views.
+ * hz-test: no-vm (heavy under system emulation, runs under qemu-user)
  */
 #include "hz_test.h"
 

@@ -5,6 +5,7 @@
  * motions on the built-in scene (vertices crossing split planes, collapse to a point, 180 degrees in one
  * segment, rotation over 5 and 9 keys). Each run must print exactly "motion-check: N rays, 0 misses,
  * 0 mismatches" and exit 0; bad command lines exit 2.
+ * hz-test: no-vm (heavy under system emulation, runs under qemu-user)
  */
 #include "hz_test.h"
 

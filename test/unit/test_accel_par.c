@@ -10,6 +10,7 @@
  *  - the info the build reports (SAH cost, references, spatial splits, nodes, leaves, blocks, depth) is equal;
  *  - the SAH cost is no worse than that of the builds before (recorded below for 8-wide boards): the serial
  *    SBVH of commit ab4f370 and the parallel builder of 1f2707b (exact sweeps for small nodes since).
+ * hz-test: native no-vm (native boards only; heavy under system emulation, runs under qemu-user)
  */
 #include "hz_test.h"
 

@@ -7,6 +7,7 @@
  *    cross the surface there; not one may pass through (10^6 rays on the host, 10^5 under qemu). Only edges
  *    with exactly two triangles (and vertices whose edges all are) are aimed at, and only rays crossing every
  *    face there at more than ~12 degrees: a ray grazing the surface may rightly miss it.
+ * hz-test: no-vm (heavy under system emulation, runs under qemu-user)
  */
 #include "hz_test.h"
 

@@ -5,6 +5,7 @@
  * the sphere scaled by 1e-6 and 1e6. Also occlusion, shadow rays from surfaces to point lights (packets whose
  * origins spread and whose lanes are blocked at different places), any-hit callbacks, zero direction components, bad rays,
  * statistics, secondary rays from surfaces, and a golden digest that holds x86-64 and AArch64 to the same bits.
+ * hz-test: no-vm (heavy under system emulation, runs under qemu-user)
  */
 #include "hz_test.h"
 

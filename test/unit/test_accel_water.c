@@ -5,6 +5,7 @@
  * in float, hit by axis-parallel rays (two direction components exactly zero) through its grid lines and
  * vertices. A leak is a ray that finds no hit within a small window around the aimed-at point; rays come from
  * outside (the first hit is the aimed-at point: the meshes are convex) and from inside.
+ * hz-test: no-vm (heavy under system emulation, runs under qemu-user)
  */
 #include "hz_test.h"
 

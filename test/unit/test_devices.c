@@ -3,6 +3,7 @@
  * FBIO_WAITFORVSYNC present, absent and silent; V4L2 output format negotiation, conversion, and dequeue
  * timestamps naming the frame shown; missing nodes and wrong device kinds. The real kernel paths run in the
  * VM tier (make vmtest).
+ * hz-test: devices (needs the fbdev or V4L2 port)
  */
 #include "hz_test.h"
 

@@ -3,6 +3,7 @@
  * integration over k frames lowers the error of noise, a method identical to the reference scores FLIP 0,
  * PSNR inf, SSIM 1; the reference cache is built once, reused, keyed by the settings, refused when tampered
  * with, and never left half-written; render failures name the method and frame; timing statistics.
+ * hz-test: no-vm (heavy under system emulation, runs under qemu-user)
  */
 #include "hz_test.h"
 

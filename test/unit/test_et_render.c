@@ -8,6 +8,7 @@
  * and by a failed open; a missing scene file is refused with its path; the tables are well formed.
  *
  * Needs the baked scenes ($HZ_SCENES_DIR, exported by make; `make scenes`); skipped with a message without them.
+ * hz-test: no-vm (heavy under system emulation, runs under qemu-user)
  */
 #include "hz_test.h"
 

@@ -316,7 +316,7 @@ static void test_trace_replay_edges_only(void **state)
     assert_string_equal(out.res.stop_reason, "end of trace");
     /* The report computes pulse widths from the falling edges: 1 ms. */
     static hz_report_t rep;
-    hz_report_info_t info = { src.name, "", "", "trace", 0, 0, 0, NULL };
+    hz_report_info_t info = { src.name, "", "", "trace", 0, 0, 0, NULL, NULL, NULL, 0, 0, 0, 0 };
     hz_report_compute(&rep, &cfg, &info, &out.res);
     assert_int_equal(rep.pulses, 199);
     assert_int_equal(rep.pulse.p50, 1000000);

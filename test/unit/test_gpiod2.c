@@ -3,6 +3,7 @@
  * build folder by tools/gpiod2/fetch.sh, never installed) and linked with its static library: the backend says
  * v2, and the library's own chip-open errors come back as the port's messages. (Edges on a real line: the VM's
  * test_vm_gpiod2, the GPIO part of test/vm/test_vm_devices.c built the same way.)
+ * hz-test: manual (built by tools/gpiod2/gpiod2.mk)
  */
 #include "hz_test.h"
 

@@ -2,7 +2,9 @@
  * scenes (Conference, the dragon) no render mode's plan has a mirror G-buffer, reflected motion, any-hit,
  * transparency stage or animation state, and only the camera path costs motion vectors; under a still camera
  * (dragon-res4-still: one camera key) there are none at all, the renderer really holds no such arrays, and a
- * rendered frame traces no secondary rays. */
+ * rendered frame traces no secondary rays.
+ * hz-test: no-vm (heavy under system emulation, runs under qemu-user)
+ */
 #include "hz_test.h"
 
 #include "hz/tdense.h"

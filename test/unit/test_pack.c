@@ -1,5 +1,7 @@
 /* Compact frame-state formats (hz/pack.h): decoding against libm's ldexp, encoding against brute-force nearest
- * codes, and the edge cases (0, float subnormals, the largest code, NaN/Inf/negative -> finite). */
+ * codes, and the edge cases (0, float subnormals, the largest code, NaN/Inf/negative -> finite).
+ * hz-test: no-vm (heavy under system emulation, runs under qemu-user)
+ */
 #include "hz_test.h"
 
 #include <math.h>

@@ -1,5 +1,7 @@
 /* Renderer: finite output, G-buffer consistency, motion vectors that reproject, bit-identical images for any
- * thread count, and stored references (PSNR >= 40 dB). */
+ * thread count, and stored references (PSNR >= 40 dB).
+ * hz-test: no-vm (heavy under system emulation, runs under qemu-user)
+ */
 #include "hz_test.h"
 
 #include <unistd.h>

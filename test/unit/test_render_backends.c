@@ -1,6 +1,8 @@
 /* Native BVH against Embree through the whole renderer: on every shared scene (and the built-in one) the two
  * backends give images within PSNR >= 50 dB of each other (issue 5). Host builds only (Embree is not packaged
- * for arm64 here). Time t = 0.5 s so animated scenes are compared after refit (native) / rebuild (Embree). */
+ * for arm64 here). Time t = 0.5 s so animated scenes are compared after refit (native) / rebuild (Embree).
+ * hz-test: embree (needs the Embree backend)
+ */
 #include "hz_test.h"
 
 #include "render_fixture.h"

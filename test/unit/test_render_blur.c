@@ -1,7 +1,9 @@
 /* Motion-blurred rendering (hz/render.h "Motion blur"): shutter 0 is the unblurred renderer byte for byte; a
  * blurred frame converges to the average of instantaneous frames over the shutter (the oracle: 16 unblurred
  * renders at times spread over the shutter); the motion BVHs and Embree give the same image; shadow and mirror
- * rays carry the time of the camera ray they come from; tdense refits once per cycle with cycle keys. */
+ * rays carry the time of the camera ray they come from; tdense refits once per cycle with cycle keys.
+ * hz-test: no-vm (heavy under system emulation, runs under qemu-user)
+ */
 #include "hz_test.h"
 
 #include "blur_setup.h"

@@ -1,7 +1,9 @@
 /* The SIMD reconstruction passes (tdense and TAA resolves in lanes) against their scalar twins
  * (hz_render_opts_t.scalar_recon) inside the real renderer: the same scenes, modes and frames give the same
  * bits in every displayed frame. Sizes leave partial tiles and partial groups of lanes at the right and bottom
- * edges; the camera and objects move; a dithered-transparency TAA run sends pixels to the twin's 7x7 box. */
+ * edges; the camera and objects move; a dithered-transparency TAA run sends pixels to the twin's 7x7 box.
+ * hz-test: no-vm (heavy under system emulation, runs under qemu-user)
+ */
 #include "hz_test.h"
 
 #include "render_fixture.h"

@@ -3,7 +3,9 @@
  * other (opts.serial_passes), bit for bit, on any number of threads, frame after frame (history, windows,
  * flags and next orderings included). More pool threads than CPUs shuffle which thread runs what. The rows a
  * unit waits for are also checked against the pixels its resolve reads, worked out here from the image
- * geometry. */
+ * geometry.
+ * hz-test: no-vm (heavy under system emulation, runs under qemu-user)
+ */
 #include "hz_test.h"
 
 #include "hz/tdense.h"

@@ -1,7 +1,9 @@
 /* hz_render_reconfigure (hz/render.h): a renderer switched to another size or mode renders, from then on, bit for
  * bit what a renderer created for that configuration renders as its first frames (the oracle is a fresh
  * renderer); a switch that does not fit the reservation is refused and changes nothing; a change that keeps the
- * layout keeps the history; the shutter cannot change. */
+ * layout keeps the history; the shutter cannot change.
+ * hz-test: no-vm (heavy under system emulation, runs under qemu-user)
+ */
 #include "hz_test.h"
 
 #include "render_fixture.h"

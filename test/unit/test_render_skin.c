@@ -3,7 +3,9 @@
  * sampled at 30 frames/s by the baker through assimp in double precision, an independent implementation of the
  * same skinning). The same motion: vertex positions agree at the sampled frames and between them, and rendered
  * frames agree within 45 dB PSNR at several times. The generated long model (tools/gen/skinned_gltf.c:
- * 48 joints, 61,440 triangles, 35 s) is small on disk and in the arena and animates all through its loop. */
+ * 48 joints, 61,440 triangles, 35 s) is small on disk and in the arena and animates all through its loop.
+ * hz-test: no-vm (heavy under system emulation, runs under qemu-user)
+ */
 #include "hz_test.h"
 
 #include "render_fixture.h"

@@ -7,7 +7,9 @@
  * definition: 48 (native) and 50 (Embree) speckles before the fix; 17 / 18 once the baker's PLY vertex
  * normals are area-weighted (assimp's were one arbitrary adjacent face's normal); 10 / 11 with the
  * shadow-terminator skip as well (hz/terminator.h). The rest are grazing light on the scan's folds and true
- * occlusion. The limit, 14, fails either fix undone. */
+ * occlusion. The limit, 14, fails either fix undone.
+ * hz-test: no-vm (heavy under system emulation, runs under qemu-user)
+ */
 #include "hz_test.h"
 
 #include "render_fixture.h"

@@ -1,6 +1,8 @@
 /* TAA earns its keep: on a moving-camera Sponza sequence its frames are closer to the 256-spp reference frames
  * at the same instants than plain 1-spp frames are (issue 5). Host builds only: the 256-spp reference takes
- * seconds natively and minutes under emulation. */
+ * seconds natively and minutes under emulation.
+ * hz-test: native (native boards only)
+ */
 #include "hz_test.h"
 
 #include "render_fixture.h"

@@ -3,7 +3,9 @@
  * hybrid:0 is exact and hybrid:1 is std by definition; the opacity mask marks dithered pixels only; every
  * stochastic method's temporal average converges to the exact composite (the dither strata of STD and DTAA
  * cover alpha exactly over their periods, so their averages get much closer than Russian roulette's); std + TAA
- * on a still view approaches exact + TAA; stochastic rays trace fewer continuation rays. */
+ * on a still view approaches exact + TAA; stochastic rays trace fewer continuation rays.
+ * hz-test: no-vm (heavy under system emulation, runs under qemu-user)
+ */
 #include "hz_test.h"
 
 #include "render_fixture.h"

@@ -1,7 +1,9 @@
 /* The 64-bit scene clock (hz/scenetime.h): exact wrapping at any time, and animation that keeps moving after a
  * million seconds (`hzrt render --start 1e6`) and after 30 days of the frame loop's scene source (`hzrt latency
  * --render scene`). The oracle is the built-in scene's 8 s loop: a frame at t + k * 8 s must be the frame at t,
- * byte for byte, and consecutive frames must differ as they do at the start. */
+ * byte for byte, and consecutive frames must differ as they do at the start.
+ * hz-test: no-vm (heavy under system emulation, runs under qemu-user)
+ */
 #include "hz_test.h"
 
 #include <stdlib.h>

@@ -7,6 +7,7 @@
  *
  * Images: the built-in scene always; real baked scenes from $HZ_SCENES_DIR when the list below names them
  * (they are produced by `make scenes`, which `make test` runs first).
+ * hz-test: no-vm (heavy under system emulation, runs under qemu-user)
  */
 #include "hz_test.h"
 

@@ -2,7 +2,9 @@
  * random rays from inside the bounds of baked scenes (textured Sponza, blended, cutout and
  * alpha-textured materials, a mirror box, the built-in scene, pose keys at random ray times), packets with some
  * lanes empty, and lanes with extreme ray cones and non-finite barycentrics. Also the motion vectors of still
- * geometry in lanes (hz_view_still_motion_lanes) against hz_view_point_motion. */
+ * geometry in lanes (hz_view_still_motion_lanes) against hz_view_point_motion.
+ * hz-test: no-vm (heavy under system emulation, runs under qemu-user)
+ */
 #include "hz_test.h"
 
 #include <string.h>

@@ -4,6 +4,7 @@
  * every sink that needs no device, and writes its report with each frame's quality level; with the governor off a
  * display run renders exactly the frames the offline files run renders (byte for byte in frames.y4m); usage
  * errors of the combination are refused before anything is written.
+ * hz-test: no-vm (heavy under system emulation, runs under qemu-user)
  */
 #include "hz_test.h"
 

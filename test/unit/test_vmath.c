@@ -48,6 +48,22 @@ static void test_sincos_accuracy(void **state)
     assert_true(isnan(hz_cosf(NAN)));
 }
 
+/* Found by the .hzb fuzzer: an oscillating object whose frequency and phase put -2.3e36 into hz_sinf (a float of
+ * that size is legal in a scene). The quadrant's conversion to long overflowed (UBSan: outside the range of
+ * long); sin and cos of any finite float must come back finite and on the unit circle. */
+static void test_sincos_of_fuzzed_oscillation_phase(void **state)
+{
+    (void)state;
+    static const float xs[] = { -2.32591e36f, 2.32591e36f, 4.6116860e18f, 9.3e18f, -1.7e38f, 3.4028235e38f };
+    for (size_t i = 0; i < sizeof xs / sizeof xs[0]; i++) {
+        float s, c;
+        hz_sincosf(xs[i], &s, &c);
+        assert_true(hz_isfinitef(s) && hz_isfinitef(c));
+        assert_true(hz_absf(s * s + c * c - 1.0f) < 1e-5f);
+        assert_true(hz_sinf(xs[i]) == s && hz_cosf(xs[i]) == c);
+    }
+}
+
 static void test_floor(void **state)
 {
     (void)state;
@@ -215,6 +231,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_sincos_accuracy),
+        cmocka_unit_test(test_sincos_of_fuzzed_oscillation_phase),
         cmocka_unit_test(test_floor),
         cmocka_unit_test(test_q16_from_float),
         cmocka_unit_test(test_vec3),

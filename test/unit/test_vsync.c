@@ -11,6 +11,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "hz/traceio.h"
 #include "hz/vsync.h"
 #include "hz/vsynth.h"
 
@@ -333,6 +334,70 @@ static void test_long_gap_counts_missed(void **state)
     assert_int_equal(c->relocks, 0);
 }
 
+/* Found by the CSV trace fuzzer (test/fuzz/corpus/ecsv/regress-56666667-s-gap.csv): two 60 Hz edges, then one
+ * 56666667 s (1.8 years) later, then a malformed line. The fit's int64 sums of squared slot offsets overflowed
+ * (3.4e9 slots); now the model places the far edge on its slot and keeps the period. */
+static hz_status_t keep_edge(void *ctx, int64_t t, int level, hz_error_t *err)
+{
+    (void)level;
+    (void)err;
+    feed(&model, t, events, (size_t *)ctx);
+    return HZ_OK;
+}
+
+static void test_fuzz_csv_edge_56666667_s_after_33_ms(void **state)
+{
+    (void)state;
+    static const char csv[] = "index,t_s\r\n0,0.016666667\r\n1,0.033333334\r\n2,56666667\r\n1,:::::\n"
+                              "3,0.066666667\r\n";
+    hz_error_t err;
+    hz_vsync_cfg_t vc = { 0 };
+    vc.nominal_period_ns = 16666667;
+    assert_int_equal(hz_vsync_init(&model, &vc, &err), HZ_OK);
+    static hz_ecsv_t p;
+    hz_ecsv_init(&p);
+    size_t n = 0;
+    assert_int_equal(hz_ecsv_feed(&p, csv, sizeof csv - 1, keep_edge, &n, &err), HZ_E_FORMAT);
+    assert_non_null(strstr(err.msg, "line 5"));
+    hz_vsync_flush(&model);
+    while (hz_vsync_pop(&model, &events[n]))
+        n++;
+    assert_int_equal(n, 3);
+    for (size_t i = 0; i < 3; i++)
+        assert_int_equal(events[i].kind, HZ_VSYNC_EDGE);
+    assert_int_equal(events[2].slot - events[0].slot, 3399999951ll); /* (56666667 s - 16.666667 ms) / P */
+    assert_int_equal(events[2].missed_before, 3399999949ll); /* slots 2 .. 3399999950 */
+    assert_true(llabs(hz_vsync_period_ns(&model) - 16666667) <= 1);
+    assert_true(hz_vsync_sigma_ns(&model) < 1000);
+}
+
+/* Three 60 Hz edges with microsecond jitter, 10^11 periods of silence (53 years), three more: the window spans
+ * 10^11 slots. The residuals stay microseconds and so must the model's spread (it was 4.5 ms when the sums
+ * wrapped). */
+static void test_gap_of_1e11_periods(void **state)
+{
+    (void)state;
+    hz_error_t err;
+    hz_vsync_cfg_t vc = { 0 };
+    vc.nominal_period_ns = 16666667;
+    assert_int_equal(hz_vsync_init(&model, &vc, &err), HZ_OK);
+    size_t n = 0;
+    int64_t t = 1000, p = 16666667;
+    for (int i = 0; i < 3; i++, t += p)
+        feed(&model, t + (i % 3) * 1000, events, &n);
+    t += 100000000000ll * p;
+    for (int i = 0; i < 3; i++, t += p)
+        feed(&model, t + (i % 3) * 1000, events, &n);
+    hz_vsync_flush(&model);
+    while (hz_vsync_pop(&model, &events[n]))
+        n++;
+    const hz_vsync_counts_t *c = hz_vsync_counts(&model);
+    assert_int_equal(n, 6);
+    assert_int_equal(c->accepted, 6);
+    assert_true(llabs(hz_vsync_period_ns(&model) - p) <= 1);
+    assert_true(hz_vsync_sigma_ns(&model) < 10000);
+}
+
 static void test_synth_rejects_bad_config(void **state)
 {
     (void)state;
@@ -381,6 +446,8 @@ int main(void)
         cmocka_unit_test(test_relock_after_phase_jump),
         cmocka_unit_test(test_backwards_and_garbage),
         cmocka_unit_test(test_long_gap_counts_missed),
+        cmocka_unit_test(test_fuzz_csv_edge_56666667_s_after_33_ms),
+        cmocka_unit_test(test_gap_of_1e11_periods),
         cmocka_unit_test(test_synth_rejects_bad_config),
     };
     return HZ_RUN(tests);

@@ -151,18 +151,10 @@ static void show_scene(const char *label, hz_render_mode_t mode, hz_transp_t tra
     int w = sink.w, h = sink.h;
     hz_framesrc_t frames;
     hz_scenesrc_cfg_t sc;
-    memset(&sc, 0, sizeof sc);
-    sc.scene = "builtin";
-    hz_render_opts_default(&sc.opts);
-    sc.opts.mode = mode;
+    hz_scenesrc_cfg_init(&sc, "builtin", mode, w, h, SCALE);
     sc.opts.transparency = transp;
     sc.opts.shutter = shutter;
     sc.opts.frame_hz = 60;
-    sc.opts.width = (uint32_t)(w / SCALE), sc.opts.height = (uint32_t)(h / SCALE);
-    sc.backend = HZ_ACCEL_NATIVE;
-    sc.out_w = w, sc.out_h = h;
-    sc.clock = HZ_SCENE_CLOCK_DISPLAY;
-    sc.quiet = true;
     if (hz_scenesrc_open(&sc, &frames, &err) != HZ_OK)
         fail_msg("built-in scene at %dx%d / %d: %s", w, h, SCALE, err.msg);
     print_message("  %s: mode %s, transparency %s, shutter %g\n", label, hz_render_mode_name(mode),

@@ -58,6 +58,8 @@ void hz_bake_phase(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
 /* Formats err (like hz_error_set, but with the full printf language) and returns code. */
 hz_status_t hz_bake_err(hz_error_t *err, hz_status_t code, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
 double hz_bake_now(void);
+/* A number for a message: %g, but "inf", "-inf" and "nan" (never "-nan") where it is not finite. */
+const char *hz_bake_num(char *buf, size_t cap, double v);
 
 /* ---- files ---- */
 
@@ -66,6 +68,13 @@ hz_status_t hz_bake_read_file(const char *path, uint8_t **data, size_t *size, hz
 /* Reads and inflates a gzip file; a truncated or corrupt stream is an HZ_E_FORMAT error. */
 hz_status_t hz_bake_read_gzip(const char *path, uint8_t **data, size_t *size, hz_error_t *err);
 int hz_bake_file_exists(const char *path);
+/* The output is never an input. hz_bake_guard_output(out) notes the output's identity (when it exists) before the
+ * import; every reader then asks hz_bake_input_ok(path) before opening a file: false (and the first such path
+ * kept for hz_bake_input_clash()) when path is the output itself, also through another name or a link. The
+ * readers here (read_file, read_gzip) return HZ_E_INVALID_ARG for it. */
+void hz_bake_guard_output(const char *out);
+int hz_bake_input_ok(const char *path);
+const char *hz_bake_input_clash(void); /* "" when none */
 /* Ends with suffix, ignoring ASCII case. */
 int hz_bake_ends_with(const char *s, const char *suffix);
 /* Directory part of path ("." when none), written to out. */

@@ -14,12 +14,14 @@
  * Triangles keep the source order; OBJ-style repeated vertices are welded. */
 #include "scene.h"
 
+#include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include <assimp/GltfMaterial.h>
+#include <assimp/cfileio.h>
 #include <assimp/cimport.h>
 #include <assimp/material.h>
 #include <assimp/postprocess.h>
@@ -360,6 +362,8 @@ static int push_matrix_key(ctx_t *c, const struct aiMatrix4x4 *g, float time, fl
     return 0;
 }
 
+#define RIGID_SAMPLES_MAX 1000000u /* per object; what joint keys are capped at */
+
 static hz_status_t rigid_keys(ctx_t *c, const struct aiNode *node, hz_bake_object_t *o)
 {
     hz_bake_vec_t times;
@@ -377,6 +381,15 @@ static hz_status_t rigid_keys(ctx_t *c, const struct aiNode *node, hz_bake_objec
             *(double *)hz_bake_vec_push(&times, 1) = ch->mScalingKeys[i].mTime;
     }
     double step = c->tps / c->sc->rigid_rate;
+    /* The samples are (duration / step) + 1: a long animation or a high rigid_rate could ask for billions (the
+     * import fuzzer's glb asked for 512 million, 4 GiB of sample times). */
+    if (step > 0 && !(dur / step < RIGID_SAMPLES_MAX)) {
+        hz_bake_vec_free(&times);
+        return hz_bake_err(c->err, HZ_E_RANGE,
+                           "%s: object '%s': its %.6g s animation at rigid_rate %g keys/s needs more than %u rigid "
+                           "keys; lower rigid_rate in the sidecar or shorten the animation",
+                           c->s->model, o->name, dur / c->tps, (double)c->sc->rigid_rate, RIGID_SAMPLES_MAX);
+    }
     for (double t = 0; t <= dur && step > 0; t += step)
         *(double *)hz_bake_vec_push(&times, 1) = t;
     double *tv = times.data;
@@ -714,6 +727,12 @@ static hz_status_t mesh_instance(ctx_t *c, const struct aiNode *node, unsigned m
         float *p = HZ_BAKE_AT(c->s->pos, float, (size_t)(first + v) * 4);
         float *n = HZ_BAKE_AT(c->s->nrm, float, (size_t)(first + v) * 4);
         struct aiVector3D q = mesh->mVertices[v];
+        if (!isfinite(q.x) || !isfinite(q.y) || !isfinite(q.z)) { /* named as the model gives it, before transforms */
+            char xyz[3][24];
+            return hz_bake_err(c->err, HZ_E_RANGE, "%s: mesh '%s': vertex %u has a non-finite position in the model (%s %s %s)",
+                               c->s->model, mesh->mName.data, v, hz_bake_num(xyz[0], 24, q.x),
+                               hz_bake_num(xyz[1], 24, q.y), hz_bake_num(xyz[2], 24, q.z));
+        }
         struct aiVector3D qn = { 0, 0, 0 };
         if (mesh->mNormals)
             qn = mesh->mNormals[v];
@@ -781,6 +800,103 @@ static hz_status_t walk(ctx_t *c, const struct aiNode *node, unsigned depth)
     return HZ_OK;
 }
 
+/* ---- the files assimp opens: never the output, and the ones that are missing named ---- */
+
+typedef struct io_ctx {
+    const char *model;
+    char fallback[512]; /* OBJ: assimp tries MODEL.mtl when the named library is missing: not the model's word */
+    char missing[4][512]; /* files the model names that could not be opened (a .mtl, a .bin) */
+    int n_missing, more_missing;
+} io_ctx_t;
+
+static size_t io_read(struct aiFile *f, char *buf, size_t size, size_t count)
+{
+    return fread(buf, size, count, (FILE *)(void *)f->UserData);
+}
+
+static size_t io_write(struct aiFile *f, const char *buf, size_t size, size_t count)
+{
+    (void)f, (void)buf, (void)size, (void)count;
+    return 0; /* the import reads only */
+}
+
+static size_t io_tell(struct aiFile *f)
+{
+    long at = ftell((FILE *)(void *)f->UserData);
+    return at < 0 ? 0 : (size_t)at;
+}
+
+static size_t io_size(struct aiFile *f)
+{
+    FILE *fp = (FILE *)(void *)f->UserData;
+    long at = ftell(fp), end = -1;
+    if (at >= 0 && fseek(fp, 0, SEEK_END) == 0) {
+        end = ftell(fp);
+        fseek(fp, at, SEEK_SET);
+    }
+    return end < 0 ? 0 : (size_t)end;
+}
+
+static enum aiReturn io_seek(struct aiFile *f, size_t offset, enum aiOrigin origin)
+{
+    int whence = origin == aiOrigin_CUR ? SEEK_CUR : origin == aiOrigin_END ? SEEK_END : SEEK_SET;
+    return fseek((FILE *)(void *)f->UserData, (long)offset, whence) == 0 ? aiReturn_SUCCESS : aiReturn_FAILURE;
+}
+
+static void io_flush(struct aiFile *f)
+{
+    (void)f;
+}
+
+static struct aiFile *io_open(struct aiFileIO *io, const char *path, const char *mode)
+{
+    io_ctx_t *c = (io_ctx_t *)(void *)io->UserData;
+    if (!hz_bake_input_ok(path))
+        return NULL; /* the output: the bake fails after the import (hz_bake_input_clash) */
+    FILE *fp = fopen(path, mode);
+    if (!fp) {
+        while (path[0] == '.' && path[1] == '/')
+            path += 2; /* assimp asks for "./x.mtl" after "x.mtl" */
+        int seen = !strcmp(path, c->model) || (c->n_missing && !strcmp(path, c->fallback));
+        for (int i = 0; i < c->n_missing && !seen; i++)
+            seen = !strcmp(c->missing[i], path);
+        if (!seen && c->n_missing < 4)
+            hz_bake_strcpy(c->missing[c->n_missing++], sizeof c->missing[0], path);
+        else if (!seen)
+            c->more_missing++;
+        return NULL;
+    }
+    struct aiFile *f = hz_bake_xcalloc(1, sizeof *f);
+    f->ReadProc = io_read;
+    f->WriteProc = io_write;
+    f->TellProc = io_tell;
+    f->FileSizeProc = io_size;
+    f->SeekProc = io_seek;
+    f->FlushProc = io_flush;
+    f->UserData = (aiUserData)(void *)fp;
+    return f;
+}
+
+static void io_close(struct aiFileIO *io, struct aiFile *f)
+{
+    (void)io;
+    if (f) {
+        fclose((FILE *)(void *)f->UserData);
+        free(f);
+    }
+}
+
+/* "'a.mtl'" or "'a.mtl', 'b.mtl' and 2 more" */
+static void missing_list(const io_ctx_t *c, char *buf, size_t cap)
+{
+    size_t n = 0;
+    buf[0] = 0;
+    for (int i = 0; i < c->n_missing && n < cap; i++)
+        n += (size_t)snprintf(buf + n, cap - n, "%s'%s'", i ? ", " : "", c->missing[i]);
+    if (c->more_missing && n < cap)
+        snprintf(buf + n, cap - n, " and %d more", c->more_missing);
+}
+
 static void count_uses(ctx_t *c, const struct aiNode *node, unsigned depth)
 {
     if (depth > 1000)
@@ -790,6 +906,52 @@ static void count_uses(ctx_t *c, const struct aiNode *node, unsigned depth)
             c->mesh_uses[node->mMeshes[i]]++;
     for (unsigned i = 0; i < node->mNumChildren; i++)
         count_uses(c, node->mChildren[i], depth + 1);
+}
+
+/* assimp 5.2's PLY reader loops forever on a header that ends without an end_header line (a cut file) or holds a
+ * control byte before it (a damaged one), so the header is checked here first: "ply", then text lines (tabs,
+ * and any byte from 0x20 up: comments may be UTF-8) up to end_header, within its first HEADER_MAX bytes. */
+#define PLY_HEADER_MAX (1u << 20)
+
+static hz_status_t check_ply_header(const char *path, const uint8_t *d, size_t n, hz_error_t *err)
+{
+    size_t lim = n < PLY_HEADER_MAX ? n : PLY_HEADER_MAX, at = 0, line = 1;
+    if (n < 3 || (d[0] | 0x20) != 'p' || (d[1] | 0x20) != 'l' || (d[2] | 0x20) != 'y')
+        return hz_bake_err(err, HZ_E_FORMAT, "%s: not a PLY file (it does not start with 'ply')", path);
+    while (at < lim) {
+        size_t e = at;
+        while (e < lim && d[e] != '\n')
+            e++;
+        size_t len = e - at;
+        while (len && (d[at + len - 1] == '\r' || d[at + len - 1] == ' ' || d[at + len - 1] == '\t'))
+            len--;
+        for (size_t i = at; i < at + len; i++)
+            if (d[i] < 0x20 && d[i] != '\t')
+                return hz_bake_err(err, HZ_E_FORMAT,
+                                   "%s: line %zu of the PLY header holds the control byte 0x%02x (a damaged file?)",
+                                   path, line, d[i]);
+        if (len == 10 && !memcmp(d + at, "end_header", 10))
+            return HZ_OK;
+        at = e + 1;
+        line++;
+    }
+    return hz_bake_err(err, HZ_E_FORMAT, "%s: the PLY header has no end_header line%s (a cut or damaged file?)", path,
+                       n > PLY_HEADER_MAX ? " in its first MiB" : "");
+}
+
+/* The first PLY_HEADER_MAX bytes of a file, for check_ply_header. */
+static hz_status_t check_ply_file(const char *path, hz_error_t *err)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return hz_bake_err(err, HZ_E_IO, "%s: cannot open: %s", path, strerror(errno));
+    uint8_t *head = hz_bake_xmalloc(PLY_HEADER_MAX + 1);
+    size_t n = fread(head, 1, PLY_HEADER_MAX + 1, f);
+    int failed = ferror(f);
+    fclose(f);
+    hz_status_t st = failed ? hz_bake_err(err, HZ_E_IO, "%s: read failed", path) : check_ply_header(path, head, n, err);
+    free(head);
+    return st;
 }
 
 hz_status_t hz_bake_import_assimp(hz_bake_scene_t *s, const char *path, const hz_bake_sidecar_t *sc, hz_error_t *err)
@@ -825,6 +987,16 @@ hz_status_t hz_bake_import_assimp(hz_bake_scene_t *s, const char *path, const hz
     hz_bake_progress("importing %s", path);
     hz_bake_phase("importing (assimp)");
     const struct aiScene *ai;
+    io_ctx_t ioc;
+    memset(&ioc, 0, sizeof ioc);
+    ioc.model = path;
+    if (c.fmt == FMT_OBJ) {
+        hz_bake_strcpy(ioc.fallback, sizeof ioc.fallback - 4, path);
+        char *dot = strrchr(ioc.fallback, '.');
+        if (dot)
+            strcpy(dot, ".mtl");
+    }
+    struct aiFileIO io = { io_open, io_close, (aiUserData)(void *)&ioc };
     if (gz) {
         uint8_t *data;
         size_t size;
@@ -833,10 +1005,10 @@ hz_status_t hz_bake_import_assimp(hz_bake_scene_t *s, const char *path, const hz
             aiReleasePropertyStore(props);
             return st;
         }
-        if (size > UINT32_MAX) {
+        if (size > UINT32_MAX || (st = check_ply_header(path, data, size, err)) != HZ_OK) {
             free(data);
             aiReleasePropertyStore(props);
-            return hz_bake_err(err, HZ_E_UNSUPPORTED, "%s: more than 4 GiB uncompressed", path);
+            return st ? st : hz_bake_err(err, HZ_E_UNSUPPORTED, "%s: more than 4 GiB uncompressed", path);
         }
         ai = aiImportFileFromMemoryWithProperties((const char *)data, (unsigned)size, flags, "ply", props);
         free(data);
@@ -845,14 +1017,35 @@ hz_status_t hz_bake_import_assimp(hz_bake_scene_t *s, const char *path, const hz
             aiReleasePropertyStore(props);
             return hz_bake_err(err, HZ_E_IO, "%s: no such file", path);
         }
-        ai = aiImportFileExWithProperties(path, flags, NULL, props);
+        hz_status_t st = c.fmt == FMT_PLY ? check_ply_file(path, err) : HZ_OK;
+        if (st) {
+            aiReleasePropertyStore(props);
+            return st;
+        }
+        ai = aiImportFileExWithProperties(path, flags, &io, props);
     }
     aiReleasePropertyStore(props);
+    char missing[1200] = "";
+    missing_list(&ioc, missing, sizeof missing);
     if (!ai) {
         const char *why = aiGetErrorString();
-        return hz_bake_err(err, strstr(why, "No suitable reader") ? HZ_E_UNSUPPORTED : HZ_E_FORMAT,
-                           "%s: assimp cannot import it: %s", path, why && *why ? why : "unknown error");
+        if (!why || !*why)
+            why = "unknown error";
+        if (hz_bake_input_clash()[0])
+            return hz_bake_err(err, HZ_E_INVALID_ARG, "%s: %s, a file the model reads, is the output too: baking "
+                               "would replace it; choose another output path", path, hz_bake_input_clash());
+        /* The extension is one assimp reads: "no suitable reader" means the file is not what it says (a glTF or
+         * glb cut short fails the reader's own header test). */
+        if (strstr(why, "No suitable reader"))
+            return hz_bake_err(err, HZ_E_FORMAT, "%s: not a readable %s file (truncated or corrupt: no importer "
+                               "recognises its content)", path, c.fmt == FMT_OBJ ? "OBJ" : c.fmt == FMT_PLY ? "PLY" : "glTF");
+        return hz_bake_err(err, HZ_E_FORMAT, "%s: assimp cannot import it: %s%s%s", path, why,
+                           missing[0] ? "; it names files that cannot be opened: " : "", missing);
     }
+    if (missing[0] && !hz_bake_input_clash()[0])
+        hz_bake_warn("%s: names %s, which cannot be opened (missing?): what %s define%s is left out (an OBJ's "
+                     "materials get the default grey)", path, missing, ioc.n_missing + ioc.more_missing == 1 ? "it" : "they",
+                     ioc.n_missing + ioc.more_missing == 1 ? "s" : "");
     hz_bake_progress("imported in %.2f s: %u meshes, %u materials, %u animations", hz_bake_now() - t0, ai->mNumMeshes,
                      ai->mNumMaterials, ai->mNumAnimations);
     hz_bake_phase("converting %u meshes and %u materials", ai->mNumMeshes, ai->mNumMaterials);

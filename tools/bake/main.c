@@ -49,14 +49,16 @@ static void usage(FILE *f)
             "      --version        version\n"
             "\n"
             "The output is written to a temporary file, validated with the runtime loader and renamed into\n"
-            "place: a failed bake leaves OUT.hzb as it was. Missing textures are warnings (the material keeps\n"
-            "its colour).\n"
+            "place: a failed bake leaves OUT.hzb as it was. OUT.hzb is never one of the inputs: naming the model\n"
+            "or the sidecar is refused before the bake (status 2), a file the import reads (a texture, a .mtl)\n"
+            "when it is read (status 65). Missing textures and a missing .mtl are warnings (the material keeps\n"
+            "its colour, or gets the default grey).\n"
             "\n"
             "exit status: 0 ok (warnings may have been printed), 2 bad command line, and 64 + hz status code:\n"
-            "  66 out of memory, 67 too large, 68 malformed model, sidecar or scene, 70 corrupt .hzb (a\n"
-            "  checksum fails: --info, or the baked image's own check), 71 value out of range\n"
-            "  (e.g. NaN vertex), 72 unsupported format, 73 file missing or unreadable, 75 import timed out,\n"
-            "  76 the importer crashed (or another internal failure)\n");
+            "  65 the output is a file the model reads, 66 out of memory, 67 too large, 68 malformed model,\n"
+            "  sidecar or scene, 70 corrupt .hzb (a checksum fails: --info, or the baked image's own check),\n"
+            "  71 value out of range (e.g. NaN vertex), 72 unsupported format, 73 file missing or unreadable,\n"
+            "  75 import timed out, 76 the importer crashed (or another internal failure)\n");
 }
 
 /* ---- --info ---- */
@@ -85,7 +87,9 @@ static int info(const char *path)
     const hz_hzb_header_t *h = buf;
     char feats[160];
     hz_scene_features_str(h->features, feats, sizeof feats);
-    printf("scene        %s (%s)\n", (const char *)h->name, path);
+    char shown[4 * HZ_HZB_NAME_BYTES + 1]; /* names come from the file: control bytes as \xNN */
+    printf("scene        %s (%s)\n", hz_cli_printable(shown, sizeof shown, (const char *)h->name, HZ_HZB_NAME_BYTES),
+           path);
     printf("format       .hzb version %u, %llu bytes, %u sections\n", h->version, (unsigned long long)h->file_bytes,
            h->section_count);
     printf("features     %s (0x%03x)\n", feats, h->features);
@@ -114,7 +118,8 @@ static int info(const char *path)
     }
     hz_arena_init(&arena, "scene", state, plan.arena_bytes);
     if (hz_scene_load(&scene, buf, size, &arena, &err) == HZ_OK) {
-        static const char *const kinds[] = { "static", "rigid keys", "vertex keys", "spin", "oscillate" };
+        static const char *const kinds[] = { "static", "rigid keys", "vertex keys", "spin", "oscillate", "sway",
+                                             "skinned" };
         printf("objects\n");
         for (uint32_t i = 0; i < scene.object_count; i++) {
             const hz_object_t *o = &scene.objects[i];
@@ -122,14 +127,16 @@ static int info(const char *path)
                 printf("  ... %u more\n", scene.object_count - 40);
                 break;
             }
-            printf("  %-4u %-32s %9u tris %9u verts  %s\n", i, (const char *)o->name, o->triangle_count,
+            printf("  %-4u %-32s %9u tris %9u verts  %s\n", i,
+                   hz_cli_printable(shown, sizeof shown, (const char *)o->name, HZ_HZB_NAME_BYTES), o->triangle_count,
                    o->vertex_count, kinds[o->motion]);
         }
         printf("materials\n");
         for (uint32_t i = 0; i < scene.material_count && i < 64; i++) {
             static const char *const modes[] = { "opaque", "mask", "blend" };
             const hz_material_t *m = &scene.materials[i];
-            printf("  %-4u %-32s color %.3g %.3g %.3g  %s", i, (const char *)m->name, (double)m->base_color[0],
+            printf("  %-4u %-32s color %.3g %.3g %.3g  %s", i,
+                   hz_cli_printable(shown, sizeof shown, (const char *)m->name, HZ_HZB_NAME_BYTES), (double)m->base_color[0],
                    (double)m->base_color[1], (double)m->base_color[2], modes[m->alpha_mode]);
             if (m->alpha_mode == HZ_ALPHA_MASK)
                 printf(" >= %.3g", (double)m->alpha_cutoff);
@@ -235,6 +242,9 @@ static int child(job_t *job, FILE *out)
         st = hz_bake_import_furball(&s, job->model, &job->sc, &err);
     else
         st = hz_bake_import_assimp(&s, job->model, &job->sc, &err);
+    if (st == HZ_OK && hz_bake_input_clash()[0])
+        st = hz_bake_err(&err, HZ_E_INVALID_ARG, "%s: %s, a file the model reads, is the output %s too: baking would "
+                         "replace it; choose another output path", job->model, hz_bake_input_clash(), job->out);
     hz_bake_image_t img = { NULL, 0, { 0 } };
     if (st == HZ_OK) {
         hz_bake_progress("converted: %zu triangles, %zu vertices, %zu objects, %zu materials, %zu textures", s.tri.len,
@@ -362,6 +372,7 @@ static int bake(job_t *job)
                     job->model, dot ? dot : "(no extension)");
         return hz_cli_report(&err);
     }
+    hz_bake_guard_output(job->out); /* the import refuses to read the output (a texture, a .mtl named so) */
     hz_out_t out;
     if (hz_out_open(&out, job->out, &err) != HZ_OK)
         return hz_cli_report(&err);
@@ -477,10 +488,14 @@ static int bake(job_t *job)
         const hz_hzb_header_t *h = buf;
         char feats[160];
         hz_scene_features_str(h->features, feats, sizeof feats);
-        printf("%s: %u triangles, %u vertices, %u objects, %u materials, %u textures, %u lights, %u camera keys; "
-               "features %s; %zu bytes; %.2f s\n",
-               job->out, h->triangle_count, h->vertex_count, h->object_count, h->material_count, h->texture_count,
-               h->light_count, h->camera_key_count, feats, size, hz_bake_now() - t0);
+#define PL(n) ((n) == 1 ? "" : "s")
+        printf("%s: %u triangle%s, %u vert%s, %u object%s, %u material%s, %u texture%s, %u light%s, %u camera "
+               "key%s; features %s; %zu bytes; %.2f s\n",
+               job->out, h->triangle_count, PL(h->triangle_count), h->vertex_count,
+               h->vertex_count == 1 ? "ex" : "ices", h->object_count, PL(h->object_count), h->material_count,
+               PL(h->material_count), h->texture_count, PL(h->texture_count), h->light_count, PL(h->light_count),
+               h->camera_key_count, PL(h->camera_key_count), feats, size, hz_bake_now() - t0);
+#undef PL
     }
     free(buf);
     return 0;
@@ -575,6 +590,23 @@ int main(int argc, char **argv)
     char *auto_sidecar = NULL;
     if (!sidecar)
         sidecar = auto_sidecar = default_sidecar(job.model);
+    {
+        /* The output is never an input (nor a folder, nor in a folder that is missing): checked before any work. */
+        static hz_outs_t outs;
+        hz_error_t err;
+        hz_outs_init(&outs);
+        hz_outs_output(&outs, job.out, "the output");
+        hz_outs_input(&outs, job.model, "the model");
+        if (sidecar)
+            hz_outs_input(&outs, sidecar, "the sidecar");
+        if (hz_outs_check(&outs, &err) != HZ_OK) {
+            free(auto_sidecar);
+            if (err.code != HZ_E_INVALID_ARG)
+                return hz_cli_report(&err);
+            hz_cli_error("%s", err.msg);
+            return HZ_EXIT_USAGE;
+        }
+    }
     if (sidecar) {
         hz_error_t err;
         if (hz_bake_sidecar_load(&job.sc, sidecar, &err) != HZ_OK) {

@@ -7,6 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "hz/accel.h" /* HZ_ACCEL_MAX_COORD */
 #include "hz/hzb_write.h"
 
 #define HZ_BAKE_PI 3.14159265358979323846
@@ -163,9 +164,12 @@ hz_status_t hz_bake_object_end(hz_bake_scene_t *s, int has_normals, int weld_ver
         float *p = HZ_BAKE_AT(s->pos, float, (size_t)(first + i) * 4);
         float *nr = HZ_BAKE_AT(s->nrm, float, (size_t)(first + i) * 4);
         const float *uv = HZ_BAKE_AT(s->uv, float, (size_t)(first + i) * 2);
-        if (!finite_n(p, 3))
-            return hz_bake_err(err, HZ_E_RANGE, "%s: object '%s': vertex %u has a non-finite position (%g %g %g)",
-                               s->model, o->name, i, (double)p[0], (double)p[1], (double)p[2]);
+        if (!finite_n(p, 3)) {
+            char xyz[3][24];
+            return hz_bake_err(err, HZ_E_RANGE, "%s: object '%s': vertex %u has a non-finite position (%s %s %s)",
+                               s->model, o->name, i, hz_bake_num(xyz[0], 24, p[0]), hz_bake_num(xyz[1], 24, p[1]),
+                               hz_bake_num(xyz[2], 24, p[2]));
+        }
         if (!finite_n(uv, 2))
             return hz_bake_err(err, HZ_E_RANGE, "%s: object '%s': vertex %u has a non-finite texture coordinate",
                                s->model, o->name, i);
@@ -353,11 +357,60 @@ static void trim_ext(const char *path, char *out, size_t size)
         *dot = 0;
 }
 
+static int beyond(const float *p, int n)
+{
+    for (int i = 0; i < n; i++)
+        if (!(fabsf(p[i]) <= HZ_ACCEL_MAX_COORD))
+            return 1;
+    return 0;
+}
+
+/* Coordinates the renderer cannot trace (beyond +-2^36) would make an image the runtime loader refuses; say
+ * which object, vertex, frame or bone instead. */
+static hz_status_t check_coordinate_range(const hz_bake_scene_t *s, hz_error_t *err)
+{
+    for (size_t i = 0; i < s->objs.len; i++) {
+        const hz_bake_object_t *o = HZ_BAKE_AT(s->objs, hz_bake_object_t, i);
+        for (uint32_t v = 0; v < o->o.vertex_count; v++) {
+            const float *p = HZ_BAKE_AT(s->pos, float, (size_t)(o->o.first_vertex + v) * 4);
+            if (beyond(p, 3))
+                return hz_bake_err(err, HZ_E_RANGE,
+                                   "%s: object '%s': vertex %u at (%g %g %g) lies beyond +-2^36 (%.3g), the largest "
+                                   "coordinate hzrt traces",
+                                   s->model, o->name, v, (double)p[0], (double)p[1], (double)p[2],
+                                   (double)HZ_ACCEL_MAX_COORD);
+        }
+        if (o->o.motion == HZ_MOTION_VERTEX)
+            for (uint64_t k = 0; k < (uint64_t)o->o.key_count * o->o.vertex_count; k++) {
+                const float *p = HZ_BAKE_AT(s->vkeys, float, (size_t)(o->o.key_first + k) * 4);
+                if (beyond(p, 3))
+                    return hz_bake_err(err, HZ_E_RANGE,
+                                       "%s: object '%s': vertex %llu in animation frame %llu moves to (%g %g %g), "
+                                       "beyond +-2^36 (%.3g), the largest coordinate hzrt traces",
+                                       s->model, o->name, (unsigned long long)(k % o->o.vertex_count),
+                                       (unsigned long long)(k / o->o.vertex_count), (double)p[0], (double)p[1],
+                                       (double)p[2], (double)HZ_ACCEL_MAX_COORD);
+            }
+    }
+    for (size_t i = 0; i < s->binds.len; i++) {
+        const hz_hzb_skin_bind_t *b = HZ_BAKE_AT(s->binds, hz_hzb_skin_bind_t, i);
+        if (beyond(b->inv_bind, 12))
+            return hz_bake_err(err, HZ_E_RANGE,
+                               "%s: bone %zu (joint '%s') has an offset matrix element beyond +-2^36 (%.3g)", s->model,
+                               i, (const char *)HZ_BAKE_AT(s->joints, hz_hzb_joint_t, b->joint)->name,
+                               (double)HZ_ACCEL_MAX_COORD);
+    }
+    return HZ_OK;
+}
+
 hz_status_t hz_bake_scene_finish(hz_bake_scene_t *s, hz_bake_sidecar_t *sc, hz_bake_image_t *img, hz_error_t *err)
 {
     memset(img, 0, sizeof *img);
     if (s->tri.len == 0)
         return hz_bake_err(err, HZ_E_FORMAT, "%s: the model has no triangles to bake", s->model);
+    if (s->pos.len < 3) /* the runtime refuses such a scene: every triangle is a point or a line */
+        return hz_bake_err(err, HZ_E_FORMAT, "%s: the model's %zu triangles have only %zu distinct vertices", s->model,
+                           s->tri.len, s->pos.len);
     if (s->objs.len > 65536)
         return hz_bake_err(err, HZ_E_RANGE, "%s: %zu objects, a .hzb holds at most 65536", s->model, s->objs.len);
     if (s->mats.len == 0) {
@@ -399,10 +452,13 @@ hz_status_t hz_bake_scene_finish(hz_bake_scene_t *s, hz_bake_sidecar_t *sc, hz_b
             if (hz_bake_sidecar_match(so->pattern, o->name) ||
                 (o->mesh_name[0] && hz_bake_sidecar_match(so->pattern, o->mesh_name)) ||
                 (mat_name && hz_bake_sidecar_match(so->pattern, mat_name))) {
-                so->matched = 1;
+                if (!so->matched)
+                    so->matched = 1;
                 last = so;
             }
         }
+        if (last)
+            last->matched = 2; /* it decides this object's motion */
         if (last && (last->motion != HZ_MOTION_NONE || o->o.motion != HZ_MOTION_NONE)) {
             hz_status_t st = apply_object(s, o, last, sc->path, err);
             if (st)
@@ -412,6 +468,30 @@ hz_status_t hz_bake_scene_finish(hz_bake_scene_t *s, hz_bake_sidecar_t *sc, hz_b
     hz_status_t st = hz_bake_sidecar_unmatched(sc, s, err);
     if (st)
         return st;
+    /* An object section that matches objects but decides none (a later section matches each of them) does
+     * nothing: say which section takes over. */
+    for (size_t j = 0; j < sc->objects.len; j++) {
+        const hz_bake_sc_object_t *so = HZ_BAKE_AT(sc->objects, hz_bake_sc_object_t, j);
+        if (so->matched != 1)
+            continue;
+        for (size_t i = 0; i < s->objs.len; i++) {
+            const hz_bake_object_t *o = HZ_BAKE_AT(s->objs, hz_bake_object_t, i);
+            const hz_bake_sc_object_t *later = NULL;
+            for (size_t k = j + 1; k < sc->objects.len; k++) {
+                const hz_bake_sc_object_t *sk = HZ_BAKE_AT(sc->objects, hz_bake_sc_object_t, k);
+                if (hz_bake_sidecar_match(sk->pattern, o->name) ||
+                    (o->mesh_name[0] && hz_bake_sidecar_match(sk->pattern, o->mesh_name)))
+                    later = sk;
+            }
+            if (later && (hz_bake_sidecar_match(so->pattern, o->name) ||
+                          (o->mesh_name[0] && hz_bake_sidecar_match(so->pattern, o->mesh_name))))
+                return hz_bake_err(err, HZ_E_FORMAT, "%s:%d: [object \"%s\"] does nothing: every object it matches "
+                                   "takes a later section (object '%s': [object \"%s\"], line %d)", sc->path, so->line,
+                                   so->pattern, o->name, later->pattern, later->line);
+        }
+        return hz_bake_err(err, HZ_E_FORMAT, "%s:%d: [object \"%s\"] does nothing: a later section takes every object "
+                           "it matches", sc->path, so->line, so->pattern);
+    }
 
     /* Textures need UVs. */
     if (!s->any_uv)
@@ -444,6 +524,10 @@ hz_status_t hz_bake_scene_finish(hz_bake_scene_t *s, hz_bake_sidecar_t *sc, hz_b
         }
         repair_normals(s);
     }
+
+    st = check_coordinate_range(s, err);
+    if (st)
+        return st;
 
     /* Lights and camera. */
     for (size_t i = 0; i < sc->lights.len; i++)

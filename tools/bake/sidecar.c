@@ -506,6 +506,18 @@ static hz_status_t section_header(parser_t *p, char *s)
     }
     if (!*name || strlen(name) >= 256)
         return perr(p, HZ_E_FORMAT, "[%s NAME]: the name is missing or longer than 255 bytes", kind);
+    /* The same NAME twice: the later section would silently take over the earlier one's objects. */
+    const hz_bake_vec_t *same = !strcmp(kind, "material") ? &p->sc->materials : !strcmp(kind, "object") ? &p->sc->objects
+                                                                                                        : NULL;
+    for (size_t i = 0; same && i < same->len; i++) {
+        const char *pattern = same == &p->sc->materials ? HZ_BAKE_AT(*same, hz_bake_sc_material_t, i)->pattern
+                                                        : HZ_BAKE_AT(*same, hz_bake_sc_object_t, i)->pattern;
+        int line = same == &p->sc->materials ? HZ_BAKE_AT(*same, hz_bake_sc_material_t, i)->line
+                                             : HZ_BAKE_AT(*same, hz_bake_sc_object_t, i)->line;
+        if (!strcmp(pattern, name))
+            return perr(p, HZ_E_FORMAT, "[%s \"%s\"] repeats the section of line %d: merge the two (the later one "
+                        "would take over)", kind, name, line);
+    }
     if (!strcmp(kind, "material")) {
         hz_bake_sc_material_t *m = hz_bake_vec_push(&p->sc->materials, 1);
         snprintf(m->pattern, sizeof m->pattern, "%s", name);
@@ -583,6 +595,8 @@ static hz_status_t key_line(parser_t *p, char *s)
         hz_status_t s = simple_key(p, k, value);
         if (s)
             return s;
+        if (p->section == SEC_SCENE && k->bit == HZ_BAKE_SC_TUBE_SIDES && p->sc->tube_sides == 2)
+            return perr(p, HZ_E_RANGE, "tube_sides = 2 makes a doubled flat ribbon; use 1 (ribbon) or 3..64");
         if (!(k->bit == HZ_BAKE_SC_PIVOT && ((hz_bake_sc_object_t *)p->target)->pivot_center))
             *p->set |= k->bit;
         return HZ_OK;
@@ -654,9 +668,6 @@ hz_status_t hz_bake_sidecar_parse(hz_bake_sidecar_t *sc, const char *path, const
     }
     if (sc->camera_loop && !(sc->duration > 0.0f))
         return hz_bake_err(err, HZ_E_FORMAT, "%s: camera_loop = yes needs a duration > 0", path);
-    if (sc->tube_sides == 2)
-        return hz_bake_err(err, HZ_E_RANGE, "%s: tube_sides = 2 makes a doubled flat ribbon; use 1 (ribbon) or 3..64",
-                           path);
     if (sc->camera_loop && sc->cameras.len) {
         const hz_bake_sc_camera_t *last = HZ_BAKE_AT(sc->cameras, hz_bake_sc_camera_t, sc->cameras.len - 1);
         if (!(last->key.time < sc->duration))

@@ -207,6 +207,8 @@ int hz_bake_texture_get(hz_bake_scene_t *s, const char *path, int alpha_from_lum
                      path, material);
         return -1;
     }
+    if (!hz_bake_input_ok(path))
+        return -1; /* the output: the bake fails after the import (hz_bake_input_clash) */
     int w = 0, h = 0, comp = 0;
     hz_bake_phase("decoding textures (%s)", hz_bake_basename(path));
     uint8_t *px = stbi_load(path, &w, &h, &comp, 4);

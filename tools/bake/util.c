@@ -4,6 +4,7 @@
 #include <ctype.h>
 #include <dirent.h>
 #include <errno.h>
+#include <fcntl.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -143,6 +144,15 @@ hz_status_t hz_bake_err(hz_error_t *err, hz_status_t code, const char *fmt, ...)
     return code;
 }
 
+const char *hz_bake_num(char *buf, size_t cap, double v)
+{
+    if (v != v)
+        snprintf(buf, cap, "nan");
+    else
+        snprintf(buf, cap, "%g", v); /* inf and -inf as themselves */
+    return buf;
+}
+
 double hz_bake_now(void)
 {
     struct timespec ts;
@@ -150,17 +160,58 @@ double hz_bake_now(void)
     return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
 }
 
+static struct stat guard_st;
+static int guard_set;
+static char guard_out[4096], clash[4096];
+
+void hz_bake_guard_output(const char *out)
+{
+    guard_set = stat(out, &guard_st) == 0;
+    hz_bake_strcpy(guard_out, sizeof guard_out, out);
+    clash[0] = 0;
+}
+
+int hz_bake_input_ok(const char *path)
+{
+    struct stat st;
+    if (!guard_set || stat(path, &st) != 0 || st.st_dev != guard_st.st_dev || st.st_ino != guard_st.st_ino)
+        return 1;
+    if (!clash[0])
+        hz_bake_strcpy(clash, sizeof clash, path);
+    return 0;
+}
+
+const char *hz_bake_input_clash(void)
+{
+    return clash;
+}
+
+static hz_status_t clash_error(const char *path, hz_error_t *err)
+{
+    return hz_bake_err(err, HZ_E_INVALID_ARG, "%s is the output %s too: baking would replace one of its own inputs; "
+                       "choose another output path", path, guard_out);
+}
+
 hz_status_t hz_bake_read_file(const char *path, uint8_t **data, size_t *size, hz_error_t *err)
 {
     *data = NULL;
     *size = 0;
-    FILE *f = fopen(path, "rb");
-    if (!f)
+    if (!hz_bake_input_ok(path))
+        return clash_error(path, err);
+    /* O_NONBLOCK: a FIFO named as an input must not wait for a writer (it is refused below) */
+    int fd = open(path, O_RDONLY | O_NONBLOCK);
+    if (fd < 0)
         return hz_bake_err(err, HZ_E_IO, "%s: %s", path, strerror(errno));
     struct stat st;
-    if (fstat(fileno(f), &st) != 0 || !S_ISREG(st.st_mode)) {
-        fclose(f);
+    if (fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
+        close(fd);
         return hz_bake_err(err, HZ_E_IO, "%s: not a regular file", path);
+    }
+    fcntl(fd, F_SETFL, fcntl(fd, F_GETFL) & ~O_NONBLOCK);
+    FILE *f = fdopen(fd, "rb");
+    if (!f) {
+        close(fd);
+        return hz_bake_err(err, HZ_E_IO, "%s: %s", path, strerror(errno));
     }
     size_t n = (size_t)st.st_size;
     uint8_t *buf = hz_bake_xmalloc(n + 1);
@@ -183,6 +234,8 @@ hz_status_t hz_bake_read_gzip(const char *path, uint8_t **data, size_t *size, hz
     *size = 0;
     if (!hz_bake_file_exists(path))
         return hz_bake_err(err, HZ_E_IO, "%s: %s", path, strerror(ENOENT));
+    if (!hz_bake_input_ok(path))
+        return clash_error(path, err);
     gzFile g = gzopen(path, "rb");
     if (!g)
         return hz_bake_err(err, HZ_E_IO, "%s: %s", path, strerror(errno ? errno : ENOMEM));

@@ -299,8 +299,10 @@ int main(int argc, char **argv)
                    stab[k].mean_abs_change);
     }
     free(stab);
-    printf("\nwrote %s/errtime.csv, %s/errtime.md and %zu chart%s (<scene>.svg) in %s\n", out, out, nscenes,
-           nscenes == 1 ? "" : "s", out);
+    printf("\nwrote %s/errtime.csv, %s/errtime.md and %zu chart%s (", out, out, nscenes, nscenes == 1 ? "" : "s");
+    for (size_t k = 0; k < nscenes; k++)
+        printf("%s%s.svg", k ? ", " : "", scenes[k]->name);
+    printf(") in %s\n", out);
     free(mem);
     free(chosen);
     free(rows);
