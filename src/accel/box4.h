@@ -9,7 +9,7 @@
  *    operand on NaN and on equal values, so -0 / +0 come out as the scalar fold gives them), add, sub, mul are
  *    IEEE single precision, i4_from_f4 truncates like a C cast for values that fit an int32. So the builder
  *    makes bit-identical trees on every board.
- *  - f4_put(v, k, x) is v with lane k set to x; f4_rot1(v) is (v1, v2, v3, v0).
+ *  - f4_put(v, k, x) is v with lane k set to x; f4_rot1(v) is (v1, v2, v3, v0); f4_yzx(v) is (v1, v2, v0, v3).
  *  - Does not: assume alignment, touch memory other than through the explicit loads and stores.
  */
 #ifndef HZ_ACCEL_BOX4_H
@@ -43,6 +43,8 @@ HZ_INLINE i4_t i4_clamp(i4_t a, int lo, int hi)
 HZ_INLINE void i4_store(int32_t *p, i4_t v) { _mm_storeu_si128((__m128i *)(void *)p, v); }
 /* (v1, v2, v3, v0) */
 HZ_INLINE f4_t f4_rot1(f4_t v) { return _mm_shuffle_ps(v, v, _MM_SHUFFLE(0, 3, 2, 1)); }
+/* (v1, v2, v0, v3) */
+HZ_INLINE f4_t f4_yzx(f4_t v) { return _mm_shuffle_ps(v, v, _MM_SHUFFLE(3, 0, 2, 1)); }
 /* v with lane k (0..3) replaced by x */
 HZ_INLINE f4_t f4_put(f4_t v, int k, float x)
 {
@@ -79,6 +81,7 @@ HZ_INLINE i4_t i4_from_f4(f4_t a) { return vcvtq_s32_f32(a); }
 HZ_INLINE i4_t i4_clamp(i4_t a, int lo, int hi) { return vminq_s32(vmaxq_s32(a, vdupq_n_s32(lo)), vdupq_n_s32(hi)); }
 HZ_INLINE void i4_store(int32_t *p, i4_t v) { vst1q_s32(p, v); }
 HZ_INLINE f4_t f4_rot1(f4_t v) { return vextq_f32(v, v, 1); }
+HZ_INLINE f4_t f4_yzx(f4_t v) { return vcopyq_laneq_f32(vextq_f32(v, v, 1), 2, v, 0); }
 HZ_INLINE f4_t f4_put(f4_t v, int k, float x)
 {
     static const uint32_t m[4][4] = { { ~0u, 0, 0, 0 }, { 0, ~0u, 0, 0 }, { 0, 0, ~0u, 0 }, { 0, 0, 0, ~0u } };
@@ -160,6 +163,11 @@ HZ_INLINE void i4_store(int32_t *p, i4_t v)
 HZ_INLINE f4_t f4_rot1(f4_t v)
 {
     f4_t r = { { v.v[1], v.v[2], v.v[3], v.v[0] } };
+    return r;
+}
+HZ_INLINE f4_t f4_yzx(f4_t v)
+{
+    f4_t r = { { v.v[1], v.v[2], v.v[0], v.v[3] } };
     return r;
 }
 HZ_INLINE f4_t f4_put(f4_t v, int k, float x)

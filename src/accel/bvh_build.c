@@ -100,7 +100,6 @@ typedef struct build {
     uint32_t spatial_splits;
     obj_bin_t obins[3][OBJ_BINS];
     sp_bin_t sbins[3][SPATIAL_BINS];
-    box_t rbox[OBJ_BINS > SPATIAL_BINS ? OBJ_BINS : SPATIAL_BINS]; /* sweep: union of bins right of i */
     bool failed;
     par_t *par;   /* chunked binning on the pool (the top levels of a parallel build), else NULL */
     /* progress (hz_accel_config_t): references placed in leaves against the first ones' count */
@@ -274,6 +273,17 @@ HZ_INLINE box_t b4_box(const bbox4_t *b)
     r.lo[0] = b->lo[0], r.lo[1] = b->lo[1], r.lo[2] = b->lo[2];
     r.hi[0] = b->hi[0], r.hi[1] = b->hi[1], r.hi[2] = b->hi[2];
     return r;
+}
+
+/* box_area of a four-lane box: the same products and sums in the same order ((dx dy + dy dz) + dz dx) */
+HZ_INLINE float b4_area(f4_t lo, f4_t hi)
+{
+    if (f4_le3(lo, hi) != 7u)
+        return 0.0f;
+    const f4_t d = f4_sub(hi, lo);
+    float p[4];
+    f4_store(p, f4_mul(d, f4_yzx(d))); /* dx dy, dy dz, dz dx */
+    return 2.0f * (p[0] + p[1] + p[2]);
 }
 
 /* a + (b - a) * s, lane by lane */
@@ -644,6 +654,51 @@ static uint32_t partition_sweep(build_t *bd, uint32_t base, uint32_t n, const sp
     return (uint32_t)s->bin + 1u;
 }
 
+/* The SAH sweep over one axis's bins (object or spatial: the box first, then counts; both 48 bytes): nl[i] and
+ * nr[i] are the left and right counts of the split after bin i. The boxes stay in four-lane registers: the
+ * unions, areas and costs are box_grow's and box_area's, in their order, so the result is the scalar one.
+ * Returns whether it improved on *best. */
+HZ_STATIC_ASSERT(sizeof(obj_bin_t) == sizeof(sp_bin_t) && offsetof(sp_bin_t, b) == 0 && offsetof(obj_bin_t, b) == 0,
+                 bins_share_the_sweep);
+static bool sah_sweep(const bbox4_t *bins, int nbins, const uint32_t *nl, const uint32_t *nr, int axis,
+                      split_t *best)
+{
+    const size_t stride = sizeof(obj_bin_t);
+    bool found = false;
+    const uint8_t *bp = (const uint8_t *)bins;
+    bbox4_t rb[OBJ_BINS > SPATIAL_BINS ? OBJ_BINS : SPATIAL_BINS];
+    float rarea[OBJ_BINS > SPATIAL_BINS ? OBJ_BINS : SPATIAL_BINS];
+    const float inf = __builtin_inff();
+    f4_t lo = f4_set1(inf), hi = f4_set1(-inf);
+    for (int i = nbins - 1; i > 0; i--) {
+        const bbox4_t *b = (const bbox4_t *)(const void *)(bp + (size_t)i * stride);
+        lo = f4_min(lo, f4_load(b->lo)), hi = f4_max(hi, f4_load(b->hi));
+        f4_store(rb[i].lo, lo), f4_store(rb[i].hi, hi);
+        rarea[i] = b4_area(lo, hi);
+    }
+    lo = f4_set1(inf), hi = f4_set1(-inf);
+    for (int i = 0; i < nbins - 1; i++) {
+        const bbox4_t *b = (const bbox4_t *)(const void *)(bp + (size_t)i * stride);
+        lo = f4_min(lo, f4_load(b->lo)), hi = f4_max(hi, f4_load(b->hi));
+        if (nl[i] == 0 || nr[i] == 0)
+            continue;
+        float c = b4_area(lo, hi) * sah_count(nl[i]) + rarea[i + 1] * sah_count(nr[i]);
+        if (c < best->cost) {
+            best->cost = c;
+            best->axis = axis;
+            best->bin = i;
+            bbox4_t l;
+            f4_store(l.lo, lo), f4_store(l.hi, hi);
+            best->lb = b4_box(&l);
+            best->rb = b4_box(&rb[i + 1]);
+            best->nl = nl[i];
+            best->nr = nr[i];
+            found = true;
+        }
+    }
+    return found;
+}
+
 static void find_object_split(build_t *bd, uint32_t base, uint32_t n, const box_t *cb, split_t *best)
 {
     best->cost = FLT_MAX;
@@ -676,34 +731,12 @@ static void find_object_split(build_t *bd, uint32_t base, uint32_t n, const box_
         if (!(scale[k] > 0.0f))
             continue;
         const obj_bin_t *bins = bd->obins[k];
-        box_t acc;
-        box_empty(&acc);
-        for (int i = OBJ_BINS - 1; i > 0; i--) {
-            const box_t bb = b4_box(&bins[i].b);
-            box_grow(&acc, &bb);
-            bd->rbox[i] = acc;
+        uint32_t nl[OBJ_BINS], nr[OBJ_BINS], acc = 0;
+        for (int i = 0; i < OBJ_BINS; i++) {
+            acc += bins[i].n;
+            nl[i] = acc, nr[i] = n - acc;
         }
-        box_t lacc;
-        box_empty(&lacc);
-        uint32_t nl = 0;
-        for (int i = 0; i < OBJ_BINS - 1; i++) {
-            const box_t bb = b4_box(&bins[i].b);
-            box_grow(&lacc, &bb);
-            nl += bins[i].n;
-            uint32_t nr = n - nl;
-            if (nl == 0 || nr == 0)
-                continue;
-            float c = box_area(&lacc) * sah_count(nl) + box_area(&bd->rbox[i + 1]) * sah_count(nr);
-            if (c < best->cost) {
-                best->cost = c;
-                best->axis = k;
-                best->bin = i;
-                best->lb = lacc;
-                best->rb = bd->rbox[i + 1];
-                best->nl = nl;
-                best->nr = nr;
-            }
-        }
+        (void)sah_sweep(&bins[0].b, OBJ_BINS, nl, nr, k, best);
     }
 }
 
@@ -756,35 +789,13 @@ static void find_spatial_split(build_t *bd, uint32_t base, uint32_t n, const box
         if (!fr.ok[k])
             continue;
         const sp_bin_t *bins = bd->sbins[k];
-        box_t acc;
-        box_empty(&acc);
-        for (int i = nbins - 1; i > 0; i--) {
-            const box_t bb = b4_box(&bins[i].b);
-            box_grow(&acc, &bb);
-            bd->rbox[i] = acc;
+        uint32_t nl[SPATIAL_BINS], nr[SPATIAL_BINS], l = 0, r = n;
+        for (int i = 0; i < nbins; i++) {
+            l += bins[i].enter, r -= bins[i].exit;
+            nl[i] = l, nr[i] = r;
         }
-        box_t lacc;
-        box_empty(&lacc);
-        uint32_t nl = 0, nr = n;
-        for (int i = 0; i < nbins - 1; i++) {
-            const box_t bb = b4_box(&bins[i].b);
-            box_grow(&lacc, &bb);
-            nl += bins[i].enter;
-            nr -= bins[i].exit;
-            if (nl == 0 || nr == 0)
-                continue;
-            float c = box_area(&lacc) * sah_count(nl) + box_area(&bd->rbox[i + 1]) * sah_count(nr);
-            if (c < best->cost) {
-                best->cost = c;
-                best->axis = k;
-                best->bin = i;
-                best->pos = fr.planes[k][i + 1];
-                best->lb = lacc;
-                best->rb = bd->rbox[i + 1];
-                best->nl = nl;
-                best->nr = nr;
-            }
-        }
+        if (sah_sweep(&bins[0].b, nbins, nl, nr, k, best))
+            best->pos = fr.planes[k][best->bin + 1];
     }
 }
 
