@@ -6,7 +6,9 @@
  * one arena; the result is moved down over the scratch at the end so only the structure stays. Refit lives here
  * too: it shares the box helpers.
  *
- * Everything is scalar C with a fixed operation order, so a build is bit-identical on every ISA.
+ * Everything has a fixed operation order, so a build is bit-identical on every ISA: boxes of the binning loops
+ * are four-lane vectors (box4.h) whose operations round exactly as the scalar C they stand for (the scalar twin,
+ * HZ_BOX4_SCALAR, builds the same bytes: test_accel_build_twin).
  *
  * Top levels and tasks (every build of more than task_limit() references, pool or not): the top levels split
  * on the calling thread, binning large nodes in chunks run as items of cfg->run; subtrees of at most
@@ -20,6 +22,7 @@
  * decision depends on the first pass's trees only, so the tree is still the same for every thread count.
  */
 #include "bvh.h"
+#include "box4.h"
 
 #define OBJ_BINS 32
 #define SPATIAL_BINS 32     /* at most; smaller nodes use fewer (spatial_bins) */
@@ -54,14 +57,19 @@ typedef struct bnode {
 
 #define BLEAF 0x80000000u
 
+/* A bin's box in four lanes (box4.h; lane 3 is never looked at). */
+typedef struct HZ_ALIGNED(16) bbox4 {
+    float lo[4], hi[4];
+} bbox4_t;
+
 typedef struct obj_bin {
-    box_t b;
-    uint32_t n;
+    bbox4_t b;
+    uint32_t n, pad_[3];
 } obj_bin_t;
 
 typedef struct sp_bin {
-    box_t b;
-    uint32_t enter, exit;
+    bbox4_t b;
+    uint32_t enter, exit, pad_[2];
 } sp_bin_t;
 
 #define PAR_CHUNK 8192u      /* references per binning item of a large node */
@@ -92,7 +100,6 @@ typedef struct build {
     uint32_t spatial_splits;
     obj_bin_t obins[3][OBJ_BINS];
     sp_bin_t sbins[3][SPATIAL_BINS];
-    box_t rbox[OBJ_BINS > SPATIAL_BINS ? OBJ_BINS : SPATIAL_BINS]; /* sweep: union of bins right of i */
     bool failed;
     par_t *par;   /* chunked binning on the pool (the top levels of a parallel build), else NULL */
     /* progress (hz_accel_config_t): references placed in leaves against the first ones' count */
@@ -229,131 +236,124 @@ struct sp_frame {
     const box_t *nb;
 };
 
-/* Four-lane boxes for the chopping loop (x, y, z and a lane that is never looked at): written as loops of four
- * so the compiler keeps a box in two vector registers; each lane does the scalar operations in the scalar order,
- * so the result is the same on every ISA (and the same as with named scalars). */
-typedef struct v4 {
-    float v[4];
-} v4_t;
-
-HZ_INLINE v4_t v4_load(const float *p)
+/* ---- four-lane boxes (box4.h): a reference's corners, bins ---- */
+/* (lo x, lo y, lo z, hi x) and (hi x, hi y, hi z, lo z): whole loads, every lane a coordinate of the box */
+HZ_INLINE f4_t ref_lo(const ref_t *r)
 {
-    v4_t r;
-    for (int c = 0; c < 4; c++)
-        r.v[c] = p[c];
+    return f4_load(&r->b.lo[0]);
+}
+
+HZ_INLINE f4_t ref_hi(const ref_t *r)
+{
+    return f4_rot1(f4_load(&r->b.lo[2]));
+}
+
+HZ_INLINE void b4_empty(bbox4_t *b)
+{
+    const float inf = __builtin_inff();
+    f4_store(b->lo, f4_set1(inf));
+    f4_store(b->hi, f4_set1(-inf));
+}
+
+/* b grows by [lo, hi], in box_grow's operand order */
+HZ_INLINE void b4_grow(bbox4_t *b, f4_t lo, f4_t hi)
+{
+    f4_store(b->lo, f4_min(f4_load(b->lo), lo));
+    f4_store(b->hi, f4_max(f4_load(b->hi), hi));
+}
+
+HZ_INLINE void b4_grow_b4(bbox4_t *b, const bbox4_t *o)
+{
+    b4_grow(b, f4_load(o->lo), f4_load(o->hi));
+}
+
+HZ_INLINE box_t b4_box(const bbox4_t *b)
+{
+    box_t r;
+    r.lo[0] = b->lo[0], r.lo[1] = b->lo[1], r.lo[2] = b->lo[2];
+    r.hi[0] = b->hi[0], r.hi[1] = b->hi[1], r.hi[2] = b->hi[2];
     return r;
 }
 
-HZ_INLINE v4_t v4_set(float x, float y, float z)
+/* box_area of a four-lane box: the same products and sums in the same order ((dx dy + dy dz) + dz dx) */
+HZ_INLINE float b4_area(f4_t lo, f4_t hi)
 {
-    v4_t r = { { x, y, z, 0.0f } };
-    return r;
-}
-
-HZ_INLINE v4_t v4_min(v4_t a, v4_t b)
-{
-    v4_t r;
-    for (int c = 0; c < 4; c++)
-        r.v[c] = hz_minf(a.v[c], b.v[c]);
-    return r;
-}
-
-HZ_INLINE v4_t v4_max(v4_t a, v4_t b)
-{
-    v4_t r;
-    for (int c = 0; c < 4; c++)
-        r.v[c] = hz_maxf(a.v[c], b.v[c]);
-    return r;
-}
-
-HZ_INLINE v4_t v4_add(v4_t a, v4_t b)
-{
-    v4_t r;
-    for (int c = 0; c < 4; c++)
-        r.v[c] = a.v[c] + b.v[c];
-    return r;
-}
-
-HZ_INLINE v4_t v4_sub(v4_t a, v4_t b)
-{
-    v4_t r;
-    for (int c = 0; c < 4; c++)
-        r.v[c] = a.v[c] - b.v[c];
-    return r;
+    if (f4_le3(lo, hi) != 7u)
+        return 0.0f;
+    const f4_t d = f4_sub(hi, lo);
+    float p[4];
+    f4_store(p, f4_mul(d, f4_yzx(d))); /* dx dy, dy dz, dz dx */
+    return 2.0f * (p[0] + p[1] + p[2]);
 }
 
 /* a + (b - a) * s, lane by lane */
-HZ_INLINE v4_t v4_lerp(v4_t a, v4_t b, float s)
+HZ_INLINE f4_t f4_lerp(f4_t a, f4_t b, float s)
 {
-    v4_t r;
-    for (int c = 0; c < 4; c++)
-        r.v[c] = a.v[c] + (b.v[c] - a.v[c]) * s;
-    return r;
+    return f4_add(a, f4_mul(f4_sub(b, a), f4_set1(s)));
 }
 
-/* Cross-section of the sorted triangle (lo, mid, hi along axis) at plane x: grows (clo, chi). */
-HZ_INLINE void cross_section4(v4_t lo, v4_t mid, v4_t hi, int axis, float x, v4_t *clo, v4_t *chi)
+/* Cross-section of the sorted triangle (lo, mid, hi along axis, with those coordinates alo, amid, ahi) at plane x:
+ * grows (clo, chi). */
+HZ_INLINE void cross_section4(f4_t lo, f4_t mid, f4_t hi, float alo, float amid, float ahi, int axis, float x, f4_t *clo,
+                              f4_t *chi)
 {
-    if (!(lo.v[axis] < x && x < hi.v[axis]))
+    if (!(alo < x && x < ahi))
         return;
-    const bool below = x < mid.v[axis];
-    const v4_t e0 = below ? lo : mid, e1 = below ? mid : hi;
-    float s = hz_clampf((x - lo.v[axis]) / (hi.v[axis] - lo.v[axis]), 0.0f, 1.0f);
-    float t = e1.v[axis] > e0.v[axis] ? hz_clampf((x - e0.v[axis]) / (e1.v[axis] - e0.v[axis]), 0.0f, 1.0f) : 0.0f;
-    v4_t p = v4_lerp(lo, hi, s), q = v4_lerp(e0, e1, t);
-    p.v[axis] = x;
-    q.v[axis] = x;
-    *clo = v4_min(*clo, p), *chi = v4_max(*chi, p);
-    *clo = v4_min(*clo, q), *chi = v4_max(*chi, q);
+    const bool below = x < amid;
+    const f4_t e0 = below ? lo : mid, e1 = below ? mid : hi;
+    const float a0 = below ? alo : amid, a1 = below ? amid : ahi;
+    float s = hz_clampf((x - alo) / (ahi - alo), 0.0f, 1.0f);
+    float t = a1 > a0 ? hz_clampf((x - a0) / (a1 - a0), 0.0f, 1.0f) : 0.0f;
+    const f4_t p = f4_put(f4_lerp(lo, hi, s), axis, x), q = f4_put(f4_lerp(e0, e1, t), axis, x);
+    *clo = f4_min(*clo, p), *chi = f4_max(*chi, p);
+    *clo = f4_min(*clo, q), *chi = f4_max(*chi, q);
 }
 
 /* Bins one reference for the spatial split search on `axis`: the triangle's part inside each bin [b0, b1]
  * (clipped like split_ref, but walking the planes once: the triangle's cross-section at a plane is a segment
  * whose ends lie on edge lo-hi and on lo-mid or mid-hi of its vertices sorted along the axis). This loop runs for
- * every reference and bin it spans.
+ * every reference and bin it spans. rl, rh: the reference's box (ref_lo, ref_hi); v: its triangle's vertices.
  * Inlined with a constant axis (sp_bin_axis): the axis tests fold away. */
-HZ_INLINE void chop_into_bins(const hz_accel_geom_t *g, const ref_t *r, int axis, const sp_frame_t *fr, int b0, int b1,
-                              sp_bin_t *bins)
+HZ_INLINE void chop_into_bins(const float *const *vp, const ref_t *r, f4_t rl, f4_t rh, int axis, const sp_frame_t *fr,
+                              int b0, int b1, sp_bin_t *bins)
 {
-    const uint32_t *t = g->tri + 3u * (size_t)r->prim;
-    v4_t v0 = v4_load(vtx(g, t[0])), v1 = v4_load(vtx(g, t[1])), v2 = v4_load(vtx(g, t[2])), x;
+    const float *p0 = vp[0], *p1 = vp[1], *p2 = vp[2], *pt;
+    if (p0[axis] > p1[axis]) /* sort the three vertices along the axis */
+        pt = p0, p0 = p1, p1 = pt;
+    if (p1[axis] > p2[axis])
+        pt = p1, p1 = p2, p2 = pt;
+    if (p0[axis] > p1[axis])
+        pt = p0, p0 = p1, p1 = pt;
+    const f4_t v0 = f4_load(p0), v1 = f4_load(p1), v2 = f4_load(p2);
+    const float a0 = p0[axis], a1 = p1[axis], a2 = p2[axis];
     const float *planes = fr->planes[axis];
-    if (v0.v[axis] > v1.v[axis]) /* sort the three vertices along the axis */
-        x = v0, v0 = v1, v1 = x;
-    if (v1.v[axis] > v2.v[axis])
-        x = v1, v1 = v2, v2 = x;
-    if (v0.v[axis] > v1.v[axis])
-        x = v0, v0 = v1, v1 = x;
-    const v4_t rlo = v4_set(r->b.lo[0], r->b.lo[1], r->b.lo[2]), rhi = v4_set(r->b.hi[0], r->b.hi[1], r->b.hi[2]);
-    v4_t pad;
-    for (int c = 0; c < 4; c++)
-        pad.v[c] = c == axis || c == 3 ? 0.0f : (hz_absf(rlo.v[c]) + hz_absf(rhi.v[c])) * (1.0f / 1048576.0f);
+    float pd[3];
+    for (int c = 0; c < 3; c++)
+        pd[c] = c == axis ? 0.0f : (hz_absf(r->b.lo[c]) + hz_absf(r->b.hi[c])) * (1.0f / 1048576.0f);
+    const f4_t pad = f4_set(pd[0], pd[1], pd[2], 0.0f);
     const float inf = __builtin_inff();
-    const v4_t pinf = v4_set(inf, inf, inf), ninf = v4_set(-inf, -inf, -inf);
-    v4_t clo = pinf, chi = ninf; /* cross-section at the piece's lower plane */
+    const f4_t pinf = f4_set1(inf), ninf = f4_set1(-inf);
+    f4_t clo = pinf, chi = ninf; /* cross-section at the piece's lower plane */
     for (int j = b0; j <= b1; j++) {
         const float x0 = j == b0 ? -inf : planes[j];
         const float x1 = j == b1 ? inf : planes[j + 1];
-        v4_t plo = clo, phi = chi;
+        f4_t plo = clo, phi = chi;
         clo = pinf, chi = ninf;
         if (j < b1)
-            cross_section4(v0, v1, v2, axis, x1, &clo, &chi);
-        plo = v4_min(plo, clo), phi = v4_max(phi, chi);
-        if (v0.v[axis] >= x0 && v0.v[axis] <= x1)
-            plo = v4_min(plo, v0), phi = v4_max(phi, v0);
-        if (v1.v[axis] >= x0 && v1.v[axis] <= x1)
-            plo = v4_min(plo, v1), phi = v4_max(phi, v1);
-        if (v2.v[axis] >= x0 && v2.v[axis] <= x1)
-            plo = v4_min(plo, v2), phi = v4_max(phi, v2);
-        /* pad (off the split axis), cut to the bin's slab and to the reference's box */
-        plo = v4_max(v4_sub(plo, pad), rlo), phi = v4_min(v4_add(phi, pad), rhi);
-        plo.v[axis] = hz_maxf(plo.v[axis], x0), phi.v[axis] = hz_minf(phi.v[axis], x1);
-        if (plo.v[0] <= phi.v[0] && plo.v[1] <= phi.v[1] && plo.v[2] <= phi.v[2]) {
-            box_t *bb = &bins[j].b;
-            bb->lo[0] = hz_minf(bb->lo[0], plo.v[0]), bb->hi[0] = hz_maxf(bb->hi[0], phi.v[0]);
-            bb->lo[1] = hz_minf(bb->lo[1], plo.v[1]), bb->hi[1] = hz_maxf(bb->hi[1], phi.v[1]);
-            bb->lo[2] = hz_minf(bb->lo[2], plo.v[2]), bb->hi[2] = hz_maxf(bb->hi[2], phi.v[2]);
-        }
+            cross_section4(v0, v1, v2, a0, a1, a2, axis, x1, &clo, &chi);
+        plo = f4_min(plo, clo), phi = f4_max(phi, chi);
+        if (a0 >= x0 && a0 <= x1)
+            plo = f4_min(plo, v0), phi = f4_max(phi, v0);
+        if (a1 >= x0 && a1 <= x1)
+            plo = f4_min(plo, v1), phi = f4_max(phi, v1);
+        if (a2 >= x0 && a2 <= x1)
+            plo = f4_min(plo, v2), phi = f4_max(phi, v2);
+        /* pad (off the split axis), cut to the reference's box and to the bin's slab (-inf / +inf off the axis:
+         * max(v, -inf) and min(v, inf) are v) */
+        plo = f4_max(f4_max(f4_sub(plo, pad), rl), f4_put(ninf, axis, x0));
+        phi = f4_min(f4_min(f4_add(phi, pad), rh), f4_put(pinf, axis, x1));
+        if (f4_le3(plo, phi) == 7u)
+            b4_grow(&bins[j].b, plo, phi);
     }
 }
 
@@ -401,7 +401,7 @@ static void obj_clear(obj_bin_t bins[3][OBJ_BINS])
 {
     for (int k = 0; k < 3; k++)
         for (int i = 0; i < OBJ_BINS; i++) {
-            box_empty(&bins[k][i].b);
+            b4_empty(&bins[k][i].b);
             bins[k][i].n = 0;
         }
 }
@@ -410,34 +410,39 @@ static void sp_clear(sp_bin_t bins[3][SPATIAL_BINS], int nbins)
 {
     for (int k = 0; k < 3; k++)
         for (int i = 0; i < nbins; i++) {
-            box_empty(&bins[k][i].b);
+            b4_empty(&bins[k][i].b);
             bins[k][i].enter = bins[k][i].exit = 0;
         }
 }
 
-/* Object bins of refs [i0, i1) on every axis with scale[k] > 0 (one pass: each reference is read once). */
+/* Object bins of refs [i0, i1) on every axis (one pass: each reference is read once; an axis with scale 0 puts
+ * everything into bin 0 and is not looked at). The centroid and the bin index as centroid() and obj_bin_of, in
+ * four lanes. */
 static void obj_bin_range(const ref_t *refs, uint32_t i0, uint32_t i1, const box_t *cb, const float *scale,
                           obj_bin_t bins[3][OBJ_BINS])
 {
+    const f4_t lo = f4_set(cb->lo[0], cb->lo[1], cb->lo[2], 0.0f);
+    const f4_t sc = f4_set(scale[0], scale[1], scale[2], 0.0f), half = f4_set1(0.5f);
     for (uint32_t i = i0; i < i1; i++) {
         const ref_t *r = &refs[i];
-        for (int k = 0; k < 3; k++) {
-            if (!(scale[k] > 0.0f))
-                continue;
-            int bi = obj_bin_of(centroid(r, k), cb->lo[k], scale[k]);
-            box_grow(&bins[k][bi].b, &r->b);
-            bins[k][bi].n++;
-        }
+        const f4_t rl = ref_lo(r), rh = ref_hi(r);
+        int32_t bi[4];
+        i4_store(bi, i4_clamp(i4_from_f4(f4_mul(f4_sub(f4_mul(f4_add(rl, rh), half), lo), sc)), 0, OBJ_BINS - 1));
+        obj_bin_t *b0 = &bins[0][bi[0]], *b1 = &bins[1][bi[1]], *b2 = &bins[2][bi[2]];
+        b4_grow(&b0->b, rl, rh);
+        b0->n++;
+        b4_grow(&b1->b, rl, rh);
+        b1->n++;
+        b4_grow(&b2->b, rl, rh);
+        b2->n++;
     }
 }
 
-HZ_INLINE int spatial_bin_of(float x, const sp_frame_t *fr, int k)
+/* The bin of x on axis k: the float index, settled against the planes, which it may miss by one. */
+HZ_INLINE int spatial_settle(int i, float x, const sp_frame_t *fr, int k)
 {
     const int nbins = fr->nbins;
     const float *planes = fr->planes[k];
-    int i = (int)((x - fr->nb->lo[k]) * fr->inv[k]);
-    i = i < 0 ? 0 : (i >= nbins ? nbins - 1 : i);
-    /* The float bin index may disagree with the plane positions by one: settle it against the planes. */
     while (i > 0 && x < planes[i])
         i--;
     while (i < nbins - 1 && x >= planes[i + 1])
@@ -445,42 +450,57 @@ HZ_INLINE int spatial_bin_of(float x, const sp_frame_t *fr, int k)
     return i;
 }
 
-/* Whether bin box b already holds [lo, hi] on axis c so that growing it by any box inside [lo, hi] changes no
+HZ_INLINE int spatial_bin_of(float x, const sp_frame_t *fr, int k)
+{
+    const int nbins = fr->nbins;
+    int i = (int)((x - fr->nb->lo[k]) * fr->inv[k]);
+    i = i < 0 ? 0 : (i >= nbins ? nbins - 1 : i);
+    return spatial_settle(i, x, fr, k);
+}
+
+/* Whether bin box b already holds [lo, hi] on lanes 0..2 so that growing it by any box inside [lo, hi] changes no
  * bit: strictly, or at an equal bound that is not zero (equal non-zero floats are the same bits; the min / max
  * folds could swap -0 for +0). Then the grow is a no-op in any order and any chunking. */
-HZ_INLINE bool holds(const box_t *b, int c, float lo, float hi)
+HZ_INLINE bool holds4(const bbox4_t *b, f4_t lo, f4_t hi)
 {
-    return (b->lo[c] < lo || (b->lo[c] == lo && lo != 0.0f)) && (b->hi[c] > hi || (b->hi[c] == hi && hi != 0.0f));
+    const f4_t bl = f4_load(b->lo), bh = f4_load(b->hi), z = f4_set1(0.0f);
+    const unsigned l = f4_lt3(bl, lo) | (f4_eq3(bl, lo) & ~f4_eq3(lo, z));
+    const unsigned h = f4_lt3(hi, bh) | (f4_eq3(bh, hi) & ~f4_eq3(hi, z));
+    return (l & h) == 7u;
 }
 
 /* Whether every bin b0..b1 already holds what chop_into_bins would add to it (each piece lies inside the
  * reference's box cut to the bin's slab): then the chop is skipped, bit for bit the same bins. Large nodes,
  * whose bins fill early, skip most chops of their straddling references. */
-HZ_INLINE bool chop_is_noop(const ref_t *r, int axis, const sp_frame_t *fr, int b0, int b1, const sp_bin_t *bins)
+HZ_INLINE bool chop_is_noop(const ref_t *r, f4_t rl, f4_t rh, int axis, const sp_frame_t *fr, int b0, int b1,
+                            const sp_bin_t *bins)
 {
     const float *planes = fr->planes[axis];
-    const int o1 = axis == 0 ? 1 : 0, o2 = axis == 2 ? 1 : 2; /* the other two axes */
     for (int j = b0; j <= b1; j++) {
-        const box_t *b = &bins[j].b;
         const float lo = j == b0 ? r->b.lo[axis] : hz_maxf(r->b.lo[axis], planes[j]);
         const float hi = j == b1 ? r->b.hi[axis] : hz_minf(r->b.hi[axis], planes[j + 1]);
-        if (!holds(b, axis, lo, hi) || !holds(b, o1, r->b.lo[o1], r->b.hi[o1]) ||
-            !holds(b, o2, r->b.lo[o2], r->b.hi[o2]))
+        if (!holds4(&bins[j].b, f4_put(rl, axis, lo), f4_put(rh, axis, hi)))
             return false;
     }
     return true;
 }
 
-/* One reference on axis k (a constant at each call, so chop_into_bins is specialised per axis). */
-HZ_INLINE void sp_bin_axis(const hz_accel_geom_t *g, const ref_t *r, int k, const sp_frame_t *fr, sp_bin_t *bins)
+/* One reference on axis k (a constant at each call, so chop_into_bins is specialised per axis), bins b0, b1 from
+ * the float indices; vp: its triangle's vertices, read on the first chop. */
+HZ_INLINE void sp_bin_axis(const hz_accel_geom_t *g, const ref_t *r, f4_t rl, f4_t rh, int k, int b0, int b1,
+                           const sp_frame_t *fr, sp_bin_t *bins, const float **vp)
 {
-    const int b0 = spatial_bin_of(r->b.lo[k], fr, k);
-    int b1 = spatial_bin_of(r->b.hi[k], fr, k);
+    b0 = spatial_settle(b0, r->b.lo[k], fr, k);
+    b1 = spatial_settle(b1, r->b.hi[k], fr, k);
     if (b1 <= b0) {
-        box_grow(&bins[b0].b, &r->b);
+        b4_grow(&bins[b0].b, rl, rh);
         b1 = b0;
-    } else if (!chop_is_noop(r, k, fr, b0, b1, bins)) {
-        chop_into_bins(g, r, k, fr, b0, b1, bins);
+    } else if (!chop_is_noop(r, rl, rh, k, fr, b0, b1, bins)) {
+        if (!vp[0]) {
+            const uint32_t *t = g->tri + 3u * (size_t)r->prim;
+            vp[0] = vtx(g, t[0]), vp[1] = vtx(g, t[1]), vp[2] = vtx(g, t[2]);
+        }
+        chop_into_bins(vp, r, rl, rh, k, fr, b0, b1, bins);
     }
     bins[b0].enter++;
     bins[b1].exit++;
@@ -489,26 +509,42 @@ HZ_INLINE void sp_bin_axis(const hz_accel_geom_t *g, const ref_t *r, int k, cons
 static void sp_bin_range(const hz_accel_geom_t *g, const ref_t *refs, uint32_t i0, uint32_t i1, const sp_frame_t *fr,
                          sp_bin_t bins[3][SPATIAL_BINS])
 {
+    const f4_t lo = f4_set(fr->nb->lo[0], fr->nb->lo[1], fr->nb->lo[2], 0.0f);
+    const f4_t inv = f4_set(fr->inv[0], fr->inv[1], fr->inv[2], 0.0f);
+    const int last = fr->nbins - 1;
     for (uint32_t i = i0; i < i1; i++) {
         const ref_t *r = &refs[i];
+        const f4_t rl = ref_lo(r), rh = ref_hi(r);
+        int32_t b0[4], b1[4];
+        i4_store(b0, i4_clamp(i4_from_f4(f4_mul(f4_sub(rl, lo), inv)), 0, last));
+        i4_store(b1, i4_clamp(i4_from_f4(f4_mul(f4_sub(rh, lo), inv)), 0, last));
+        const float *vp[3] = { NULL, NULL, NULL };
         if (fr->ok[0])
-            sp_bin_axis(g, r, 0, fr, bins[0]);
+            sp_bin_axis(g, r, rl, rh, 0, b0[0], b1[0], fr, bins[0], vp);
         if (fr->ok[1])
-            sp_bin_axis(g, r, 1, fr, bins[1]);
+            sp_bin_axis(g, r, rl, rh, 1, b0[1], b1[1], fr, bins[1], vp);
         if (fr->ok[2])
-            sp_bin_axis(g, r, 2, fr, bins[2]);
+            sp_bin_axis(g, r, rl, rh, 2, b0[2], b1[2], fr, bins[2], vp);
     }
 }
 
+/* The node's box and its references' centroid box (box_grow / box_grow_pt of centroid(), in four lanes). */
 static void bounds_range(const ref_t *refs, uint32_t i0, uint32_t i1, box_t *b, box_t *cb)
 {
-    box_empty(b);
-    box_empty(cb);
+    const float inf = __builtin_inff();
+    const f4_t half = f4_set1(0.5f);
+    f4_t bl = f4_set1(inf), bh = f4_set1(-inf), cl = bl, ch = bh;
     for (uint32_t i = i0; i < i1; i++) {
         const ref_t *r = &refs[i];
-        box_grow(b, &r->b);
-        box_grow_pt(cb, centroid(r, 0), centroid(r, 1), centroid(r, 2));
+        const f4_t rl = ref_lo(r), rh = ref_hi(r), c = f4_mul(f4_add(rl, rh), half);
+        bl = f4_min(bl, rl), bh = f4_max(bh, rh);
+        cl = f4_min(cl, c), ch = f4_max(ch, c);
     }
+    bbox4_t x, y;
+    f4_store(x.lo, bl), f4_store(x.hi, bh);
+    f4_store(y.lo, cl), f4_store(y.hi, ch);
+    *b = b4_box(&x);
+    *cb = b4_box(&y);
 }
 
 static void par_item(void *ctx, uint32_t item)
@@ -618,6 +654,51 @@ static uint32_t partition_sweep(build_t *bd, uint32_t base, uint32_t n, const sp
     return (uint32_t)s->bin + 1u;
 }
 
+/* The SAH sweep over one axis's bins (object or spatial: the box first, then counts; both 48 bytes): nl[i] and
+ * nr[i] are the left and right counts of the split after bin i. The boxes stay in four-lane registers: the
+ * unions, areas and costs are box_grow's and box_area's, in their order, so the result is the scalar one.
+ * Returns whether it improved on *best. */
+HZ_STATIC_ASSERT(sizeof(obj_bin_t) == sizeof(sp_bin_t) && offsetof(sp_bin_t, b) == 0 && offsetof(obj_bin_t, b) == 0,
+                 bins_share_the_sweep);
+static bool sah_sweep(const bbox4_t *bins, int nbins, const uint32_t *nl, const uint32_t *nr, int axis,
+                      split_t *best)
+{
+    const size_t stride = sizeof(obj_bin_t);
+    bool found = false;
+    const uint8_t *bp = (const uint8_t *)bins;
+    bbox4_t rb[OBJ_BINS > SPATIAL_BINS ? OBJ_BINS : SPATIAL_BINS];
+    float rarea[OBJ_BINS > SPATIAL_BINS ? OBJ_BINS : SPATIAL_BINS];
+    const float inf = __builtin_inff();
+    f4_t lo = f4_set1(inf), hi = f4_set1(-inf);
+    for (int i = nbins - 1; i > 0; i--) {
+        const bbox4_t *b = (const bbox4_t *)(const void *)(bp + (size_t)i * stride);
+        lo = f4_min(lo, f4_load(b->lo)), hi = f4_max(hi, f4_load(b->hi));
+        f4_store(rb[i].lo, lo), f4_store(rb[i].hi, hi);
+        rarea[i] = b4_area(lo, hi);
+    }
+    lo = f4_set1(inf), hi = f4_set1(-inf);
+    for (int i = 0; i < nbins - 1; i++) {
+        const bbox4_t *b = (const bbox4_t *)(const void *)(bp + (size_t)i * stride);
+        lo = f4_min(lo, f4_load(b->lo)), hi = f4_max(hi, f4_load(b->hi));
+        if (nl[i] == 0 || nr[i] == 0)
+            continue;
+        float c = b4_area(lo, hi) * sah_count(nl[i]) + rarea[i + 1] * sah_count(nr[i]);
+        if (c < best->cost) {
+            best->cost = c;
+            best->axis = axis;
+            best->bin = i;
+            bbox4_t l;
+            f4_store(l.lo, lo), f4_store(l.hi, hi);
+            best->lb = b4_box(&l);
+            best->rb = b4_box(&rb[i + 1]);
+            best->nl = nl[i];
+            best->nr = nr[i];
+            found = true;
+        }
+    }
+    return found;
+}
+
 static void find_object_split(build_t *bd, uint32_t base, uint32_t n, const box_t *cb, split_t *best)
 {
     best->cost = FLT_MAX;
@@ -640,7 +721,7 @@ static void find_object_split(build_t *bd, uint32_t base, uint32_t n, const box_
         for (uint32_t c = 0; c < chunks; c++)
             for (int k = 0; k < 3; k++)
                 for (int i = 0; i < OBJ_BINS; i++) {
-                    box_grow(&bd->obins[k][i].b, &bd->par->obins[c][k][i].b);
+                    b4_grow_b4(&bd->obins[k][i].b, &bd->par->obins[c][k][i].b);
                     bd->obins[k][i].n += bd->par->obins[c][k][i].n;
                 }
     } else {
@@ -650,32 +731,12 @@ static void find_object_split(build_t *bd, uint32_t base, uint32_t n, const box_
         if (!(scale[k] > 0.0f))
             continue;
         const obj_bin_t *bins = bd->obins[k];
-        box_t acc;
-        box_empty(&acc);
-        for (int i = OBJ_BINS - 1; i > 0; i--) {
-            box_grow(&acc, &bins[i].b);
-            bd->rbox[i] = acc;
+        uint32_t nl[OBJ_BINS], nr[OBJ_BINS], acc = 0;
+        for (int i = 0; i < OBJ_BINS; i++) {
+            acc += bins[i].n;
+            nl[i] = acc, nr[i] = n - acc;
         }
-        box_t lacc;
-        box_empty(&lacc);
-        uint32_t nl = 0;
-        for (int i = 0; i < OBJ_BINS - 1; i++) {
-            box_grow(&lacc, &bins[i].b);
-            nl += bins[i].n;
-            uint32_t nr = n - nl;
-            if (nl == 0 || nr == 0)
-                continue;
-            float c = box_area(&lacc) * sah_count(nl) + box_area(&bd->rbox[i + 1]) * sah_count(nr);
-            if (c < best->cost) {
-                best->cost = c;
-                best->axis = k;
-                best->bin = i;
-                best->lb = lacc;
-                best->rb = bd->rbox[i + 1];
-                best->nl = nl;
-                best->nr = nr;
-            }
-        }
+        (void)sah_sweep(&bins[0].b, OBJ_BINS, nl, nr, k, best);
     }
 }
 
@@ -717,7 +778,7 @@ static void find_spatial_split(build_t *bd, uint32_t base, uint32_t n, const box
             for (int k = 0; k < 3; k++)
                 for (int i = 0; i < nbins; i++) {
                     const sp_bin_t *s = &bd->par->sbins[c][k][i];
-                    box_grow(&bd->sbins[k][i].b, &s->b);
+                    b4_grow_b4(&bd->sbins[k][i].b, &s->b);
                     bd->sbins[k][i].enter += s->enter;
                     bd->sbins[k][i].exit += s->exit;
                 }
@@ -728,33 +789,13 @@ static void find_spatial_split(build_t *bd, uint32_t base, uint32_t n, const box
         if (!fr.ok[k])
             continue;
         const sp_bin_t *bins = bd->sbins[k];
-        box_t acc;
-        box_empty(&acc);
-        for (int i = nbins - 1; i > 0; i--) {
-            box_grow(&acc, &bins[i].b);
-            bd->rbox[i] = acc;
+        uint32_t nl[SPATIAL_BINS], nr[SPATIAL_BINS], l = 0, r = n;
+        for (int i = 0; i < nbins; i++) {
+            l += bins[i].enter, r -= bins[i].exit;
+            nl[i] = l, nr[i] = r;
         }
-        box_t lacc;
-        box_empty(&lacc);
-        uint32_t nl = 0, nr = n;
-        for (int i = 0; i < nbins - 1; i++) {
-            box_grow(&lacc, &bins[i].b);
-            nl += bins[i].enter;
-            nr -= bins[i].exit;
-            if (nl == 0 || nr == 0)
-                continue;
-            float c = box_area(&lacc) * sah_count(nl) + box_area(&bd->rbox[i + 1]) * sah_count(nr);
-            if (c < best->cost) {
-                best->cost = c;
-                best->axis = k;
-                best->bin = i;
-                best->pos = fr.planes[k][i + 1];
-                best->lb = lacc;
-                best->rb = bd->rbox[i + 1];
-                best->nl = nl;
-                best->nr = nr;
-            }
-        }
+        if (sah_sweep(&bins[0].b, nbins, nl, nr, k, best))
+            best->pos = fr.planes[k][best->bin + 1];
     }
 }
 
