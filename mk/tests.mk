@@ -11,6 +11,7 @@ test-board: tests $(if $(BOARD_TEST_LAUNCHER),,$(BENCH))
 		$(CHECK_OBJS) || true
 	$(Q)sh test/guard/check-integer.sh --record $(O)/test-results "$(CC)" "$(BOARD_ARCH)" $(INTEGER_SRCS) || true
 	$(Q)sh test/guard/check-includes.sh --record $(O)/test-results || true
+	$(Q)sh test/guard/check-layers.sh --record $(O)/test-results || true
 	$(Q)$(if $(BOARD_TEST_LAUNCHER),true,sh test/cli/run.sh $(O)/test-results $(HZRT) $(BENCH))
 	$(Q)$(MAKE) --no-print-directory test-gpiod2
 

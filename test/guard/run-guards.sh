@@ -30,6 +30,15 @@ expect_fail() {
 
 # Two modules that include each other: refused, both named.
 expect_fail "include-cycle" "recon <-> render" sh "$here/check-includes.sh" --src "$bad/include-cycle"
+# The layers: a public header, a core file, a port file and a program that each include the wrong way.
+expect_fail "layers-public" "public header includes a non-public file: .*leak.h" \
+    sh "$here/check-layers.sh" --root "$bad/layers"
+expect_fail "layers-core-up" "core file includes a port or program header: .*up.c" \
+    sh "$here/check-layers.sh" --root "$bad/layers"
+expect_fail "layers-port-past" "includes a core header past include/hz: .*past.c" \
+    sh "$here/check-layers.sh" --root "$bad/layers"
+expect_fail "layers-program-internal" "includes a core header past include/hz: .*peek.c" \
+    sh "$here/check-layers.sh" --root "$bad/layers"
 
 for arch in x86_64 aarch64; do
     [ $arch = x86_64 ] && cc=gcc nm=nm || cc=aarch64-linux-gnu-gcc nm=aarch64-linux-gnu-nm

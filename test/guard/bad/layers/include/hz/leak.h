@@ -1,0 +1,1 @@
+#include "../../src/render/render_internal.h"

@@ -1,0 +1,2 @@
+#include "hz/render.h"
+#include "../../src/render/render_internal.h"

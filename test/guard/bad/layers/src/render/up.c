@@ -1,0 +1,2 @@
+#include "hz/render.h"
+#include "../../port/linux/cli.h"

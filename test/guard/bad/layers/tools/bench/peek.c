@@ -1,0 +1,1 @@
+#include "shade_internal.h"
