@@ -7,6 +7,7 @@
 #include "hz_test.h"
 
 #include "render_fixture.h"
+#include "../../src/render/render_internal.h" /* hz_transp_maps */
 
 #define W 64
 #define H 48
@@ -223,6 +224,53 @@ static void test_taa_accumulates(void **state)
     run_free(&one);
 }
 
+/* Dither maps per particle: each quad written with vertices of its own gets its own maps (both of its
+ * triangles the same), a mesh sharing vertices keeps one, an object boundary starts a new group. */
+static void test_maps_per_particle(void **state)
+{
+    (void)state;
+    enum { QUADS = 40, STRIP = 12 };
+    static uint32_t tri[(2 * QUADS + STRIP + 2) * 3], info[2 * QUADS + STRIP + 2], maps[2 * QUADS + STRIP + 2];
+    uint32_t n = 0;
+    for (uint32_t q = 0; q < QUADS; q++) { /* one object: particle quads, vertices 4q..4q+3 */
+        const uint32_t v = 4 * q;
+        const uint32_t t2[6] = { v, v + 1, v + 2, v + 2, v + 1, v + 3 }; /* the second triangle's lowest is v + 1 */
+        for (int k = 0; k < 6; k++)
+            tri[n * 3 + (uint32_t)k] = t2[k];
+        info[n] = info[n + 1] = 5u << 16;
+        n += 2;
+    }
+    const uint32_t s0 = n, base = 4 * QUADS;
+    for (uint32_t i = 0; i < STRIP; i++) { /* one object: a strip, each triangle sharing two vertices */
+        tri[n * 3] = base + i, tri[n * 3 + 1] = base + i + 1, tri[n * 3 + 2] = base + i + 2;
+        info[n++] = 6u << 16;
+    }
+    /* the next object reuses the strip's last vertices: a new group all the same */
+    tri[n * 3] = base + STRIP - 1, tri[n * 3 + 1] = base + STRIP, tri[n * 3 + 2] = base + STRIP + 1;
+    info[n++] = 7u << 16;
+    hz_scene_t sc;
+    memset(&sc, 0, sizeof sc);
+    sc.tri = tri, sc.tri_info = info, sc.triangle_count = n;
+    hz_transp_maps(&sc, maps);
+    uint32_t distinct_std = 0;
+    for (uint32_t q = 0; q < QUADS; q++) {
+        assert_int_equal(maps[2 * q], maps[2 * q + 1]);
+        assert_true(HZ_TRANSP_MAPS_STD(maps[2 * q], 0) < HZ_DITHER_MAPS && HZ_TRANSP_MAPS_STD(maps[2 * q], 1) < HZ_DITHER_MAPS);
+        assert_true(HZ_TRANSP_MAPS_PERM(maps[2 * q], 0) < HZ_DITHER_DTAA_PERMS &&
+                    HZ_TRANSP_MAPS_PERM(maps[2 * q], 1) < HZ_DITHER_DTAA_PERMS);
+        /* the maps are those of the group's key (its first triangle) */
+        assert_int_equal(HZ_TRANSP_MAPS_STD(maps[2 * q], 1), hz_dither_map_index(2 * q, 1));
+        assert_int_equal(HZ_TRANSP_MAPS_PERM(maps[2 * q], 0), hz_dither_dtaa_perm(2 * q, 0));
+        if (q && HZ_TRANSP_MAPS_STD(maps[2 * q], 0) != HZ_TRANSP_MAPS_STD(maps[2 * q - 2], 0))
+            distinct_std++;
+    }
+    assert_true(distinct_std > QUADS * 9 / 10); /* neighbours differ but for the odd hash collision */
+    for (uint32_t i = 1; i < STRIP; i++)
+        assert_int_equal(maps[s0 + i], maps[s0]);
+    assert_int_not_equal(maps[s0], maps[2 * QUADS - 1]);
+    assert_int_not_equal(maps[n - 1], maps[s0]);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -231,6 +279,7 @@ int main(void)
         cmocka_unit_test(test_temporal_average_converges),
         cmocka_unit_test(test_full_spp_walks_the_dither),
         cmocka_unit_test(test_taa_accumulates),
+        cmocka_unit_test(test_maps_per_particle),
     };
     return HZ_RUN(tests);
 }
