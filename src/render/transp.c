@@ -23,10 +23,11 @@ static uint32_t rr_threshold(uint32_t prim, float u, float v, uint32_t frame)
 /* A group starts where the object changes or where a triangle's vertex-index range does not overlap the
  * group's so far: a baker that writes each particle (quad, sprite, small closed mesh) with vertices of its own,
  * one after the other, gets one group per particle; a mesh whose triangles share vertices across their index
- * order stays one group (the object's map, as before). The group's key is its first triangle. */
+ * order stays one group. The key a group's maps are hashed from: the object id for a group that starts with
+ * its object (an object of one group keeps the maps it always had), else 2^16 + the group's first triangle. */
 void hz_transp_maps(const hz_scene_t *s, uint32_t *maps)
 {
-    uint32_t group = 0, glo = 0, ghi = 0, gobj = 0;
+    uint32_t key = 0, glo = 0, ghi = 0, gobj = 0;
     for (uint32_t t = 0; t < s->triangle_count; t++) {
         const uint32_t *v = s->tri + (size_t)t * 3;
         uint32_t lo = v[0], hi = v[0], obj = s->tri_info[t] >> 16;
@@ -34,14 +35,16 @@ void hz_transp_maps(const hz_scene_t *s, uint32_t *maps)
             lo = v[k] < lo ? v[k] : lo;
             hi = v[k] > hi ? v[k] : hi;
         }
-        if (t == 0 || obj != gobj || hi < glo || lo > ghi) {
-            group = t, glo = lo, ghi = hi, gobj = obj;
+        if (t == 0 || obj != gobj) {
+            key = obj, glo = lo, ghi = hi, gobj = obj;
+        } else if (hi < glo || lo > ghi) {
+            key = 0x10000u + t, glo = lo, ghi = hi;
         } else {
             glo = lo < glo ? lo : glo;
             ghi = hi > ghi ? hi : ghi;
         }
-        maps[t] = HZ_TRANSP_MAPS_PACK(hz_dither_map_index(group, 0), hz_dither_map_index(group, 1),
-                                      hz_dither_dtaa_perm(group, 0), hz_dither_dtaa_perm(group, 1));
+        maps[t] = HZ_TRANSP_MAPS_PACK(hz_dither_map_index(key, 0), hz_dither_map_index(key, 1),
+                                      hz_dither_dtaa_perm(key, 0), hz_dither_dtaa_perm(key, 1));
     }
 }
 

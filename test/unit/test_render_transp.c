@@ -258,15 +258,17 @@ static void test_maps_per_particle(void **state)
         assert_true(HZ_TRANSP_MAPS_STD(maps[2 * q], 0) < HZ_DITHER_MAPS && HZ_TRANSP_MAPS_STD(maps[2 * q], 1) < HZ_DITHER_MAPS);
         assert_true(HZ_TRANSP_MAPS_PERM(maps[2 * q], 0) < HZ_DITHER_DTAA_PERMS &&
                     HZ_TRANSP_MAPS_PERM(maps[2 * q], 1) < HZ_DITHER_DTAA_PERMS);
-        /* the maps are those of the group's key (its first triangle) */
-        assert_int_equal(HZ_TRANSP_MAPS_STD(maps[2 * q], 1), hz_dither_map_index(2 * q, 1));
-        assert_int_equal(HZ_TRANSP_MAPS_PERM(maps[2 * q], 0), hz_dither_dtaa_perm(2 * q, 0));
+        /* the maps are those of the group's key: the object's for its first group, else its first triangle's */
+        const uint32_t key = q ? 0x10000u + 2 * q : 5u;
+        assert_int_equal(HZ_TRANSP_MAPS_STD(maps[2 * q], 1), hz_dither_map_index(key, 1));
+        assert_int_equal(HZ_TRANSP_MAPS_PERM(maps[2 * q], 0), hz_dither_dtaa_perm(key, 0));
         if (q && HZ_TRANSP_MAPS_STD(maps[2 * q], 0) != HZ_TRANSP_MAPS_STD(maps[2 * q - 2], 0))
             distinct_std++;
     }
     assert_true(distinct_std > QUADS * 9 / 10); /* neighbours differ but for the odd hash collision */
     for (uint32_t i = 1; i < STRIP; i++)
         assert_int_equal(maps[s0 + i], maps[s0]);
+    assert_int_equal(HZ_TRANSP_MAPS_STD(maps[s0], 0), hz_dither_map_index(6, 0)); /* one group: the object's maps */
     assert_int_not_equal(maps[s0], maps[2 * QUADS - 1]);
     assert_int_not_equal(maps[n - 1], maps[s0]);
 }
