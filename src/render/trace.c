@@ -213,7 +213,8 @@ bool hz_render_anyhit(void *user, uint32_t prim, float u, float v, float t, uint
     return a >= m->alpha_cutoff;
 }
 
-uint32_t hz_render_dither_decide(hz_renderer_t *r, const uint32_t *prims, uint32_t n, uint8_t *keep)
+uint32_t hz_render_dither_decide(hz_renderer_t *r, const uint32_t *prims, const uint8_t *back, uint32_t n,
+                                 uint8_t *keep)
 {
     if (!r->f.dither || r->thread_count < 1)
         return 0;
@@ -221,9 +222,9 @@ uint32_t hz_render_dither_decide(hz_renderer_t *r, const uint32_t *prims, uint32
     hz_transp_cells(w);
     uint32_t kept = 0;
     for (uint32_t i = 0; i < n; i++) {
-        uint32_t slot = i % HZ_TILE_PIXELS;
+        uint32_t slot = prims[i] % HZ_TILE_PIXELS;
         bool k = prims[i] < r->scene->triangle_count &&
-                 hz_render_anyhit(w, prims[i], 0.25f, 0.25f, 1.0f, slot | ID_DITHER, 0, i & 1u);
+                 hz_render_anyhit(w, prims[i], 0.25f, 0.25f, 1.0f, slot | ID_DITHER, 0, back[i] != 0);
         kept += k;
         if (keep)
             keep[i] = k;
