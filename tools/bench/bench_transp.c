@@ -18,9 +18,11 @@
 static const struct {
     hz_transp_t t;
     float x;
+    bool rr_shadows;
 } methods[HZ_BENCH_TRANSP_METHODS] = {
-    { HZ_TRANSP_EXACT, 0.0f },   { HZ_TRANSP_RR, 0.0f },      { HZ_TRANSP_STD, 0.0f },     { HZ_TRANSP_DTAA, 0.0f },
-    { HZ_TRANSP_HYBRID, 0.25f }, { HZ_TRANSP_HYBRID, 0.5f }, { HZ_TRANSP_HYBRID, 0.75f },
+    { HZ_TRANSP_EXACT, 0.0f, false },   { HZ_TRANSP_RR, 0.0f, false },     { HZ_TRANSP_STD, 0.0f, false },
+    { HZ_TRANSP_DTAA, 0.0f, false },    { HZ_TRANSP_HYBRID, 0.25f, false }, { HZ_TRANSP_HYBRID, 0.5f, false },
+    { HZ_TRANSP_HYBRID, 0.75f, false }, { HZ_TRANSP_STD, 0.0f, true },
 };
 
 static int cmp_double(const void *a, const void *b)
@@ -101,7 +103,7 @@ int hz_bench_transp(const hz_bench_transp_opts_t *o, hz_bench_transp_row_t rows[
         hz_render_opts_default(&ro);
         ro.width = o->width, ro.height = o->height;
         ro.mode = HZ_MODE_TAA;
-        ro.transparency = methods[m].t, ro.hybrid_x = methods[m].x;
+        ro.transparency = methods[m].t, ro.hybrid_x = methods[m].x, ro.rr_shadows = methods[m].rr_shadows;
         s = hz_render_create(&r[m], &bs.scene, bs.accel, &ro, &pools->frame, pools->thread, (uint32_t)o->threads,
                              err);
     }
@@ -139,7 +141,11 @@ int hz_bench_transp(const hz_bench_transp_opts_t *o, hz_bench_transp_row_t rows[
             memset(row, 0, sizeof *row);
             snprintf(row->scene, sizeof row->scene, "sponza-smoke");
             hz_transp_format(row->method, sizeof row->method, methods[m].t, methods[m].x);
+            if (methods[m].rr_shadows)
+                strncat(row->method, "+rr-shadows", sizeof row->method - strlen(row->method) - 1);
             row->frames = frames;
+            for (uint32_t i = 0; i < frames; i++)
+                row->frame_ms[i] = best[m][i], row->t_s[i] = duration * (float)i / (float)frames;
             qsort(best[m], frames, sizeof(double), cmp_double);
             row->p50_ms = percentile(best[m], frames, 0.5);
             row->p99_ms = percentile(best[m], frames, 0.99);

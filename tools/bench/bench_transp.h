@@ -1,7 +1,8 @@
 /*
  * bench_transp.h — hzbench's transparency group (seed 004): per-frame time along the smoke scene's camera path
  * (sponza-smoke.hzb: 12000 alpha-blended particles, one light with shadows through them) for exact compositing,
- * Russian roulette, STD, DTAA and the hybrids, in one run.
+ * Russian roulette, STD, DTAA, the hybrids and STD with Russian-roulette shadow rays (--rr-shadows) against
+ * its deep shadows, in one run.
  *
  * Contract: one TAA renderer per method (1 spp + the TAA resolve, the paper's set-up) from the board pools at
  * width x height on `threads` threads. `frames` frames at scene times spread evenly over the camera path
@@ -24,7 +25,7 @@
 #include "hz/dither.h"
 #include "hz/status.h"
 
-#define HZ_BENCH_TRANSP_METHODS 7
+#define HZ_BENCH_TRANSP_METHODS 8
 #define HZ_BENCH_TRANSP_MAX_FRAMES 256
 
 typedef struct hz_bench_transp_opts {
@@ -41,6 +42,8 @@ typedef struct hz_bench_transp_row {
     uint32_t frames;
     double p50_ms, p99_ms, rays_per_frame;
     double reject_ns, reject_share; /* one rejected blended layer's decision; the share rejected */
+    double frame_ms[HZ_BENCH_TRANSP_MAX_FRAMES]; /* per frame along the path (frame i at scene time t_s[i]) */
+    double t_s[HZ_BENCH_TRANSP_MAX_FRAMES];
 } hz_bench_transp_row_t;
 
 int hz_bench_transp(const hz_bench_transp_opts_t *o, hz_bench_transp_row_t rows[HZ_BENCH_TRANSP_METHODS],
