@@ -247,9 +247,12 @@ typedef struct hz_rayhit8 {
 /* ---- query context ---- */
 
 /* Decides a candidate hit on an HZ_ACCEL_TRI_ANYHIT triangle: true accepts it. ray_id is the ray's id field,
- * lane its lane in the packet (0 for single rays). Called from the querying thread. */
+ * lane its lane in the packet (0 for single rays), back the side the ray meets: 1 when its direction runs along
+ * the geometric normal (v1 - v0) x (v2 - v0) (the back face of a counter-clockwise triangle), 0 against it; it
+ * comes from the intersection test's own determinant sign, so it costs nothing and agrees with the hit. Called
+ * from the querying thread. */
 typedef bool (*hz_accel_anyhit_fn)(void *user, uint32_t prim_id, float u, float v, float t, uint32_t ray_id,
-                                   int lane);
+                                   int lane, unsigned back);
 
 typedef struct hz_accel_stats {
     uint64_t rays;         /* rays (active lanes) queried */

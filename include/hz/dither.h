@@ -99,6 +99,39 @@ HZ_INLINE bool hz_dither_keep(uint32_t alpha_q16, uint32_t t_q16)
     return alpha_q16 >= t_q16;
 }
 
+/* The per-sample part of a threshold, so that a layer's decision needs neither the pixel's coordinates nor a
+ * division: the cell (STD: the map cell after the serpentine shift, 3 * row + column, 0..8; DTAA: the stratum,
+ * 0..4) << 12 | the blue-noise rank (0..4095) at (x, y) in frame f. */
+uint16_t hz_dither_std_cell(uint32_t x, uint32_t y, uint32_t frame);
+uint16_t hz_dither_dtaa_cell(uint32_t x, uint32_t y, uint32_t frame);
+
+/* hz_dither_keep(alpha, hz_dither_std_threshold(x, y, f, map)) for cell = hz_dither_std_cell(x, y, f), bit for
+ * bit, with a multiply in place of the division: alpha >= floor(X / D) <=> X < (alpha + 1) D. Every operand
+ * fits 32 bits (X < 9 * 4096 * 65536). */
+HZ_INLINE bool hz_dither_std_keep(uint32_t alpha_q16, unsigned map, uint16_t cell)
+{
+    if (alpha_q16 <= HZ_DITHER_MIN_ALPHA)
+        return false;
+    if (alpha_q16 >= HZ_DITHER_ONE)
+        return true;
+    uint32_t v = hz_dither_maps[map % HZ_DITHER_MAPS][(cell >> 12) % 9u];
+    return (((v << 12) + (cell & 0xfffu)) << 16) < (alpha_q16 + 1u) * (9u * 4096u);
+}
+
+/* The same for DTAA: hz_dither_keep(alpha, hz_dither_dtaa_threshold(x, y, f, perm)) for cell =
+ * hz_dither_dtaa_cell(x, y, f) (perm < 0: plain DTAA). */
+HZ_INLINE bool hz_dither_dtaa_keep(uint32_t alpha_q16, int perm, uint16_t cell)
+{
+    if (alpha_q16 <= HZ_DITHER_MIN_ALPHA)
+        return false;
+    if (alpha_q16 >= HZ_DITHER_ONE)
+        return true;
+    uint32_t st = (cell >> 12) % 5u;
+    if (perm >= 0)
+        st = hz_dither_dtaa_perm_apply((unsigned)perm, st);
+    return (((st << 12) + (cell & 0xfffu)) << 16) < (alpha_q16 + 1u) * (5u * 4096u);
+}
+
 /* Aligns the Q16 motion vector mv (pixels, each within +-2^30) to multiples of `align` pixels (1..15) by a
  * stochastic bilinear choice driven by the hash word h. Any int32 input is safe: where the chosen multiple would
  * not fit 32 bits (past +-2^30, near INT32_MIN/INT32_MAX) the other one is returned (saturation). */

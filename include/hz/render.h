@@ -213,6 +213,16 @@ const hz_image_t *hz_render_output(const hz_renderer_t *r);
 const hz_gbuffer_t *hz_render_gbuffer(const hz_renderer_t *r);
 /* Counters of the last frame (summed over threads at end_frame) and since create. */
 void hz_render_frame_stats(const hz_renderer_t *r, hz_render_stats_t *last, hz_render_stats_t *total);
+
+/* The stochastic transparency decision (hz/dither.h) of a camera path's any-hit callback, run directly on n
+ * candidate hits: triangle prims[i] at barycentrics (1/4, 1/4), met from its back when back[i] is non-zero,
+ * for batch slot prims[i] mod the batch size of the first thread's last batch of the last frame (call it
+ * after a frame; a candidate's decision then depends on nothing else). keep[i] (may be NULL) receives each decision; returns how many were kept. A triangle that is not
+ * blended is kept (opaque), an index past the scene's triangles is not; a renderer without a dither stage
+ * (exact, nothing blended) decides nothing and returns 0. For benchmarks (ns per rejected layer) and tests: it
+ * changes no image. */
+uint32_t hz_render_dither_decide(hz_renderer_t *r, const uint32_t *prims, const uint8_t *back, uint32_t n,
+                                 uint8_t *keep);
 /* tdense mode: the compositor's state (tile orderings, per-pixel flags: hz/tdense.h), for tests and tools that
  * show it; NULL in the other modes. */
 const struct hz_tdense *hz_render_tdense(const hz_renderer_t *r);

@@ -136,8 +136,10 @@ static void filter(const struct RTCFilterFunctionNArguments *args)
         if (!(e->tri_flags[prim] & HZ_ACCEL_TRI_ANYHIT))
             continue;
         /* RTCRayN: org xyz, tnear, dir xyz, time, tfar, mask, id, flags */
+        /* Embree's unnormalised Ng is e2 x e1 with e1 = v0 - v1, e2 = v2 - v0: (v1 - v0) x (v2 - v0), ours. */
+        float dn = ray[4 * n + i] * hit[i] + ray[5 * n + i] * hit[n + i] + ray[6 * n + i] * hit[2 * n + i];
         if (!c->hz->anyhit(c->hz->user, prim, hit[3 * n + i], hit[4 * n + i], ray[8 * n + i], rayu[10 * n + i],
-                           (int)i))
+                           (int)i, dn > 0.0f))
             args->valid[i] = 0;
     }
 }

@@ -169,19 +169,23 @@ bool hz_bvh_anyhit(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, uint32_t slot, cons
                    uint32_t ray_id, int lane)
 {
     float tt, U, V, W, det, u = 0.0f, v = 0.0f;
+    unsigned back = 0;
     hz_bvh_block_t tmp;
     const hz_bvh_block_t *blk =
         bvh->time_keys ? hz_bvh_block_at(bvh, slot / HZ_BVH_W, r, &tmp) : &bvh->blocks[slot / HZ_BVH_W];
     if (hz_bvh_tri_test(blk, slot % HZ_BVH_W, r, &tt, &U, &V, &W, &det)) {
         const float rdet = 1.0f / det; /* the same values the closest hit would report */
         u = V * rdet, v = W * rdet;
+        /* The sheared frame keeps the triangle's winding (ray_prep swaps x and y where dir[kz] < 0), so the
+         * determinant's sign is the side: negative where the ray runs along (v1 - v0) x (v2 - v0). */
+        back = det < 0.0f;
     }
 #if HZ_FEATURE_STATS
     if (ctx->stats)
         ctx->stats->anyhit_calls++;
 #endif
     uint32_t prim = bvh->blocks[slot / HZ_BVH_W].prim[slot % HZ_BVH_W] & HZ_BVH_PRIM_MASK;
-    return ctx->anyhit(ctx->user, prim, u, v, t, ray_id, lane);
+    return ctx->anyhit(ctx->user, prim, u, v, t, ray_id, lane, back);
 }
 
 bool hz_accel_kernel_available(hz_accel_kernel_t kernel)

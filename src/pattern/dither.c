@@ -75,6 +75,19 @@ uint32_t hz_dither_std_threshold(uint32_t x, uint32_t y, uint32_t frame, unsigne
     return (((v << 12) + blue(x, y)) << 16) / (9u * 4096u);
 }
 
+uint16_t hz_dither_std_cell(uint32_t x, uint32_t y, uint32_t frame)
+{
+    unsigned dx, dy;
+    hz_dither_serpentine(frame, &dx, &dy);
+    unsigned cx = (x % 3u + dx) % 3u, cy = (y % 3u + dy) % 3u;
+    return (uint16_t)(((3u * cy + cx) << 12) | blue(x, y));
+}
+
+uint16_t hz_dither_dtaa_cell(uint32_t x, uint32_t y, uint32_t frame)
+{
+    return (uint16_t)((hz_dither_dtaa_stratum(x, y, frame) << 12) | blue(x, y));
+}
+
 unsigned hz_dither_dtaa_stratum(uint32_t x, uint32_t y, uint32_t frame)
 {
     return (unsigned)((x % 5u + 2u * (y % 5u) + 3u * (frame % 5u)) % 5u);

@@ -88,7 +88,8 @@ void hz_render_trace_tile(hz_render_frame_t *f, hz_batch_t *b, uint32_t tile, co
 void hz_render_store(hz_batch_t *b, float *dst, const float *rgb, float scale);
 /* Motion blur: shutter time in [0, 1) of sample `index` of `count` of pixel px (hz/timeseq.h). */
 float hz_render_sample_time(const hz_render_frame_t *f, uint32_t px, uint32_t index, uint32_t count);
-/* Motion-vector alignment (pixels) TAA uses where the method dithered: 3 (STD cell), 5 (DTAA), 1 (RR). */
+/* Side (pixels) of the method's dither cell, the box TAA averages a dithered pixel's sample over: 3 (STD),
+ * 5 (DTAA), 1 (RR). */
 unsigned hz_transp_mv_align(hz_transp_t t);
 
 /* ---- the mode table ---- */

@@ -80,6 +80,7 @@ hz_status_t hz_render_opts_check(const hz_render_opts_t *o, hz_error_t *err)
 
 typedef struct needs {
     bool blend, mask, textures, mirrors, motion, camera_moves, mv;
+    uint32_t blend_tris;       /* triangles of a scene with blended surfaces (their dither maps), else 0 */
 } needs_t;
 
 static needs_t scene_needs(const hz_scene_t *s)
@@ -92,6 +93,7 @@ static needs_t scene_needs(const hz_scene_t *s)
     n.motion = HZ_FEATURE_MOTION && (s->features & HZ_FEAT_MOTION) && s->prev_pos;
     n.camera_moves = (s->features & HZ_FEAT_CAMERA_PATH) != 0;
     n.mv = n.motion || n.camera_moves;
+    n.blend_tris = n.blend ? s->triangle_count : 0u;
     return n;
 }
 
@@ -148,6 +150,12 @@ static void region_layout(hz_render_frame_t *f, void *state, hz_memplan_t *p)
     hz_memplan_part(p, HZ_PART_STATE);
 }
 
+/* The triangles' dither maps (hz_transp_maps), after the region in the frame arena. */
+static size_t maps_bytes(const needs_t *n)
+{
+    return n->blend_tris ? hz_align_up((size_t)n->blend_tris * 4u, HZ_MEMPLAN_ALIGN) + HZ_MEMPLAN_ALIGN : 0u;
+}
+
 /* Counts what a configuration needs: the renderer (with the mode's state inside) and its region (at least
  * opts.reserve_bytes), by part. */
 static void count_plan(const hz_render_opts_t *o, const needs_t *n, hz_render_plan_t *plan)
@@ -163,6 +171,7 @@ static void count_plan(const hz_render_opts_t *o, const needs_t *n, hz_render_pl
     size_t region = p.bytes > o->reserve_bytes ? p.bytes : o->reserve_bytes;
     /* the renderer, then the region, each at 64 bytes (the region's arrays are counted from an aligned start) */
     size_t head = hz_align_up(sizeof(struct hz_renderer), HZ_MEMPLAN_ALIGN) + 2 * HZ_MEMPLAN_ALIGN;
+    head += maps_bytes(n);
     plan->frame_bytes = head + region;
     plan->display_bytes = p.part[HZ_PART_DISPLAY];
     plan->gbuffer_bytes = p.part[HZ_PART_GBUFFER];
@@ -288,9 +297,10 @@ hz_status_t hz_render_create(hz_renderer_t **out, hz_scene_t *scene, hz_accel_t 
     }
     hz_arena_mark_t mark = hz_arena_mark(frame_arena);
     struct hz_renderer *r = hz_arena_alloc(frame_arena, sizeof *r, 64);
-    size_t region_cap = plan.frame_bytes - (hz_align_up(sizeof *r, 64) + 128);
+    size_t region_cap = plan.frame_bytes - (hz_align_up(sizeof *r, 64) + 128) - maps_bytes(&n);
     uint8_t *region = r ? hz_arena_alloc(frame_arena, region_cap, 64) : NULL;
-    if (!r || !region) {
+    uint32_t *maps = region && n.blend_tris ? hz_arena_alloc_array(frame_arena, n.blend_tris, 4, 64) : NULL;
+    if (!r || !region || (n.blend_tris && !maps)) {
         s = hz_arena_error(frame_arena, err);
         hz_arena_reset(frame_arena, mark);
         return s;
@@ -306,6 +316,9 @@ hz_status_t hz_render_create(hz_renderer_t **out, hz_scene_t *scene, hz_accel_t 
     }
     r->accel = accel;
     r->has_blend = n.blend, r->has_mask = n.mask, r->has_textures = n.textures;
+    if (maps)
+        hz_transp_maps(scene, maps);
+    r->tri_maps = maps;
     r->has_motion = n.motion, r->camera_moves = n.camera_moves;
     r->cam_blur = r->f.blur && n.camera_moves;
     r->keys = r->f.blur && n.motion ? opts->keys : NULL;
@@ -606,7 +619,7 @@ void hz_render_set_serial_passes(hz_renderer_t *r, bool serial)
 static needs_t needs_of(const struct hz_renderer *r)
 {
     needs_t n = { r->has_blend, r->has_mask, r->has_textures, r->f.has_mirrors, r->has_motion, r->camera_moves,
-                  r->f.need_mv };
+                  r->f.need_mv, r->has_blend ? r->scene->triangle_count : 0u };
     return n;
 }
 

@@ -71,6 +71,7 @@ typedef struct hz_worker {
     uint32_t shadow_n, shadow_cap;
     uint8_t alpha_touched[HZ_TILE_PIXELS];   /* a cutout was tested on the slot's primary path */
     uint8_t dither_touched[HZ_TILE_PIXELS];  /* a stochastic decision met a blended surface on the slot's path */
+    uint16_t dither_cell[HZ_TILE_PIXELS];    /* the per-sample part of the slot's threshold (hz_transp_cells) */
     bool write_gbuffer;                      /* this batch fills the G-buffer */
     mirror_rec_t mirror[HZ_TILE_PIXELS];
     /* Shadow packet in flight (scenes with blended surfaces): per lane the transmittance of the blended
@@ -95,6 +96,7 @@ struct hz_renderer {
     float offset_scale;        /* scene size for secondary-ray origin offsets (hz_accel_offset_origin) */
     hz_view_t view, prev_view;
     bool have_prev;
+    const uint32_t *tri_maps;  /* scenes with blended surfaces: each triangle's dither maps (hz_transp_maps) */
     float time;                /* scene time inside the loop (seconds), for ray time */
     hz_time_ns_t time_ns;      /* scene time of this frame */
     /* The frame arena's part that holds the G-buffer and the mode (re-laid out by hz_render_reconfigure). */
@@ -149,12 +151,24 @@ size_t hz_texture_level_first(const hz_texture_t *t, uint32_t level, uint32_t *w
 /* trace.c (hz_render_trace in mode.h is its entry) */
 /* Slot -> pixel of tile `tile`, ordered so that consecutive HZ_RENDER_LANES slots form compact packets. */
 void hz_tile_slots(const struct hz_renderer *r, uint32_t tile, uint32_t pixel[HZ_TILE_PIXELS]);
-bool hz_render_anyhit(void *user, uint32_t prim, float u, float v, float t, uint32_t ray_id, int lane);
+bool hz_render_anyhit(void *user, uint32_t prim, float u, float v, float t, uint32_t ray_id, int lane, unsigned back);
 
 /* transp.c: stochastic transparency (seed 004, hz/dither.h) */
-/* Any-hit of a stochastic ray of batch slot `slot` at a blended triangle of opacity alpha: true keeps it (the
- * ray ends there, the fragment is shaded as opaque). Marks the slot's dither_touched unless alpha <= 0.01. */
-bool hz_transp_keep(hz_worker_t *w, uint32_t prim, float u, float v, float alpha, uint32_t slot);
+/* Each triangle's dither maps, one word: the STD map (0..287) of its front and back side, and the DTAA*
+ * permutation (0..119) of both, chosen by hash of the triangle's group (a particle: see hz_transp_maps). */
+#define HZ_TRANSP_MAPS_PACK(std0, std1, perm0, perm1) \
+    ((uint32_t)(std0) | (uint32_t)(std1) << 9 | (uint32_t)(perm0) << 18 | (uint32_t)(perm1) << 25)
+#define HZ_TRANSP_MAPS_STD(w, back) (((w) >> ((back) ? 9u : 0u)) & 0x1ffu)
+#define HZ_TRANSP_MAPS_PERM(w, back) (((w) >> ((back) ? 25u : 18u)) & 0x7fu)
+/* Fills maps[0..triangle_count) (hz_renderer.tri_maps). */
+void hz_transp_maps(const hz_scene_t *s, uint32_t *maps);
+/* The per-sample part of every slot's threshold (worker.dither_cell) for the batch's pixels and dither_frame. */
+void hz_transp_cells(hz_worker_t *w);
+/* Any-hit of a stochastic ray of batch slot `slot` at a blended triangle of opacity a (Q16), met from the side
+ * `back` (the traversal's test): true keeps it (the ray ends there, the fragment is shaded as opaque). Marks
+ * the slot's dither_touched unless a <= 0.01. */
+bool hz_transp_keep(hz_worker_t *w, uint32_t prim, float u, float v, uint32_t a, uint32_t slot, unsigned back);
+uint32_t hz_transp_alpha_q16(float alpha);
 /* Any-hit of a stochastic fragment's shadow ray at a blended triangle: true blocks the light. */
 bool hz_transp_shadow_blocks(const hz_worker_t *w, uint32_t prim, float u, float v, float alpha);
 

@@ -170,7 +170,7 @@ static float blend_alpha(const struct hz_renderer *r, uint32_t prim, float u, fl
     return a;
 }
 
-bool hz_render_anyhit(void *user, uint32_t prim, float u, float v, float t, uint32_t ray_id, int lane)
+bool hz_render_anyhit(void *user, uint32_t prim, float u, float v, float t, uint32_t ray_id, int lane, unsigned back)
 {
     (void)t;
     (void)lane;
@@ -178,8 +178,11 @@ bool hz_render_anyhit(void *user, uint32_t prim, float u, float v, float t, uint
     const hz_scene_t *s = w->r->scene;
     const hz_material_t *m = &s->materials[s->tri_info[prim] & 0xffffu];
     if (m->alpha_mode == HZ_ALPHA_BLEND) {
-        if (ray_id & ID_DITHER)
-            return hz_transp_keep(w, prim, u, v, blend_alpha(w->r, prim, u, v), ray_id & 0xffffu);
+        if (ray_id & ID_DITHER) {
+            /* The common rejected layer: an untextured alpha straight from the material, then integers only. */
+            float a = m->alpha_texture >= 0 && w->r->has_textures ? blend_alpha(w->r, prim, u, v) : m->alpha;
+            return hz_transp_keep(w, prim, u, v, hz_transp_alpha_q16(a), ray_id & 0xffffu, back);
+        }
         if (ray_id & ID_SHADOW_DITHER)
             return hz_transp_shadow_blocks(w, prim, u, v, blend_alpha(w->r, prim, u, v));
         if (!(ray_id & ID_SHADOW))
@@ -208,6 +211,25 @@ bool hz_render_anyhit(void *user, uint32_t prim, float u, float v, float t, uint
         a *= hz_texture_alpha(s, m->alpha_texture, tu, tv);
     }
     return a >= m->alpha_cutoff;
+}
+
+uint32_t hz_render_dither_decide(hz_renderer_t *r, const uint32_t *prims, const uint8_t *back, uint32_t n,
+                                 uint8_t *keep)
+{
+    if (!r->f.dither || r->thread_count < 1)
+        return 0;
+    hz_worker_t *w = r->workers_by_thread[0];
+    hz_transp_cells(w);
+    uint32_t kept = 0;
+    for (uint32_t i = 0; i < n; i++) {
+        uint32_t slot = prims[i] % HZ_TILE_PIXELS;
+        bool k = prims[i] < r->scene->triangle_count &&
+                 hz_render_anyhit(w, prims[i], 0.25f, 0.25f, 1.0f, slot | ID_DITHER, 0, back[i] != 0);
+        kept += k;
+        if (keep)
+            keep[i] = k;
+    }
+    return kept;
 }
 
 /* ---- queues ---- */
@@ -722,6 +744,8 @@ void hz_render_trace(hz_render_frame_t *f, hz_batch_t *b, const float (*jitter)[
     uint32_t count[BATCH_PACKETS];
     hz_memset(w->alpha_touched, 0, sizeof w->alpha_touched);
     hz_memset(w->dither_touched, 0, sizeof w->dither_touched);
+    if (r->f.dither)
+        hz_transp_cells(w);
     w->write_gbuffer = write_gbuffer;
     /* Stochastic from the first hit, unless hybrid's threshold lies below full visibility. */
     uint16_t dither = r->f.dither && (r->f.opts.transparency != HZ_TRANSP_HYBRID || !(1.0f > r->f.opts.hybrid_x));

@@ -1,6 +1,7 @@
 /* Stochastic transparency at a blended hit (seed 004; thresholds in src/pattern/dither.c, hz/dither.h): the
- * any-hit decision of a camera path's stochastic ray and of a stochastic fragment's shadow ray. The float
- * inputs (alpha, barycentrics, the hit's side) become fixed point here; everything after is integer. */
+ * any-hit decision of a camera path's stochastic ray and of a stochastic fragment's shadow ray, and the
+ * per-triangle dither maps they use. The float inputs (alpha, barycentrics) become fixed point here; everything
+ * after is integer. */
 #include "hz/dither.h"
 #include "render_internal.h"
 
@@ -19,46 +20,76 @@ static uint32_t rr_threshold(uint32_t prim, float u, float v, uint32_t frame)
     return hz_dither_rr_threshold(prim, to_q16(u), to_q16(v), frame);
 }
 
-/* Which side of the triangle a camera-path ray meets: its direction is the hit point minus the eye (every
- * stochastic ray lies on a camera ray's line: continuations through blended layers do not bend it). */
-static unsigned back_side(const struct hz_renderer *r, uint32_t prim, float u, float v)
+/* A group starts where the object changes or where a triangle's vertex-index range does not overlap the
+ * group's so far: a baker that writes each particle (quad, sprite, small closed mesh) with vertices of its own,
+ * one after the other, gets one group per particle; a mesh whose triangles share vertices across their index
+ * order stays one group. The key a group's maps are hashed from: the object id for a group that starts with
+ * its object (an object of one group keeps the maps it always had), else 2^16 + the group's first triangle. */
+void hz_transp_maps(const hz_scene_t *s, uint32_t *maps)
 {
-    const hz_scene_t *s = r->scene;
-    const uint32_t *t = s->tri + (size_t)prim * 3;
-    const float *a = s->pos + (size_t)t[0] * 4, *b = s->pos + (size_t)t[1] * 4, *c = s->pos + (size_t)t[2] * 4;
-    hz_vec3_t e1 = hz_v3(b[0] - a[0], b[1] - a[1], b[2] - a[2]), e2 = hz_v3(c[0] - a[0], c[1] - a[1], c[2] - a[2]);
-    float w = 1.0f - u - v;
-    hz_vec3_t p = hz_v3(w * a[0] + u * b[0] + v * c[0], w * a[1] + u * b[1] + v * c[1], w * a[2] + u * b[2] + v * c[2]);
-    return hz_v3_dot(hz_v3_cross(e1, e2), hz_v3_sub(p, r->view.eye)) > 0.0f ? 1u : 0u;
+    uint32_t key = 0, glo = 0, ghi = 0, gobj = 0;
+    for (uint32_t t = 0; t < s->triangle_count; t++) {
+        const uint32_t *v = s->tri + (size_t)t * 3;
+        uint32_t lo = v[0], hi = v[0], obj = s->tri_info[t] >> 16;
+        for (int k = 1; k < 3; k++) {
+            lo = v[k] < lo ? v[k] : lo;
+            hi = v[k] > hi ? v[k] : hi;
+        }
+        if (t == 0 || obj != gobj) {
+            key = obj, glo = lo, ghi = hi, gobj = obj;
+        } else if (hi < glo || lo > ghi) {
+            key = 0x10000u + t, glo = lo, ghi = hi;
+        } else {
+            glo = lo < glo ? lo : glo;
+            ghi = hi > ghi ? hi : ghi;
+        }
+        maps[t] = HZ_TRANSP_MAPS_PACK(hz_dither_map_index(key, 0), hz_dither_map_index(key, 1),
+                                      hz_dither_dtaa_perm(key, 0), hz_dither_dtaa_perm(key, 1));
+    }
 }
 
-bool hz_transp_keep(hz_worker_t *w, uint32_t prim, float u, float v, float alpha, uint32_t slot)
+void hz_transp_cells(hz_worker_t *w)
 {
     const struct hz_renderer *r = w->r;
-    uint32_t a = to_q16(alpha);
+    const hz_transp_t m = r->f.opts.transparency;
+    const uint32_t width = r->f.opts.width, f = w->b.dither_frame;
+    if (m == HZ_TRANSP_RR)
+        return;
+    for (uint32_t slot = 0; slot < HZ_TILE_PIXELS; slot++) {
+        uint32_t px = w->b.pixel[slot];
+        if (px == UINT32_MAX)
+            continue;
+        uint32_t x = px % width, y = px / width;
+        w->dither_cell[slot] = m == HZ_TRANSP_DTAA || m == HZ_TRANSP_DTAA_STAR ? hz_dither_dtaa_cell(x, y, f)
+                                                                                : hz_dither_std_cell(x, y, f);
+    }
+}
+
+bool hz_transp_keep(hz_worker_t *w, uint32_t prim, float u, float v, uint32_t a, uint32_t slot, unsigned back)
+{
+    const struct hz_renderer *r = w->r;
     if (a <= HZ_DITHER_MIN_ALPHA)
         return false;
-    w->dither_touched[slot % HZ_TILE_PIXELS] = 1;
+    slot %= HZ_TILE_PIXELS;
+    w->dither_touched[slot] = 1;
     if (a >= HZ_DITHER_ONE)
         return true;
-    uint32_t px = w->b.pixel[slot % HZ_TILE_PIXELS];
-    uint32_t x = px % r->f.opts.width, y = px / r->f.opts.width, f = w->b.dither_frame;
-    uint32_t object = r->scene->tri_info[prim] >> 16, t;
+    const uint32_t maps = r->tri_maps[prim];
     switch (r->f.opts.transparency) {
     case HZ_TRANSP_RR:
-        t = rr_threshold(prim, u, v, f);
-        break;
+        return hz_dither_keep(a, rr_threshold(prim, u, v, w->b.dither_frame));
     case HZ_TRANSP_DTAA:
-        t = hz_dither_dtaa_threshold(x, y, f, -1);
-        break;
+        return hz_dither_dtaa_keep(a, -1, w->dither_cell[slot]);
     case HZ_TRANSP_DTAA_STAR:
-        t = hz_dither_dtaa_threshold(x, y, f, (int)hz_dither_dtaa_perm(object, back_side(r, prim, u, v)));
-        break;
+        return hz_dither_dtaa_keep(a, (int)HZ_TRANSP_MAPS_PERM(maps, back), w->dither_cell[slot]);
     default: /* std, hybrid */
-        t = hz_dither_std_threshold(x, y, f, hz_dither_map_index(object, back_side(r, prim, u, v)));
-        break;
+        return hz_dither_std_keep(a, HZ_TRANSP_MAPS_STD(maps, back), w->dither_cell[slot]);
     }
-    return hz_dither_keep(a, t);
+}
+
+uint32_t hz_transp_alpha_q16(float alpha)
+{
+    return to_q16(alpha);
 }
 
 bool hz_transp_shadow_blocks(const hz_worker_t *w, uint32_t prim, float u, float v, float alpha)

@@ -1,6 +1,6 @@
 /* Stage dither: stochastic transparency (seed 004: --transparency rr, std, dtaa, dtaa-star, hybrid:X; the
- * thresholds of src/pattern/dither.c, the decision of src/render/transp.c, TAA's 7x7 window and motion-vector
- * alignment for dithered pixels) at the edges: alpha 0, 1e-30, 1 - 1e-7 and 1, 1000 stacked layers, STD and DTAA
+ * thresholds of src/pattern/dither.c, the decision of src/render/transp.c and its division-free cell form, TAA's
+ * 7x7 window and cell mean for dithered pixels, the motion-vector alignment of hz/dither.h) at the edges: alpha 0, 1e-30, 1 - 1e-7 and 1, 1000 stacked layers, STD and DTAA
  * thresholds at the ends of their maps and of the fixed-point range, motion-vector alignment at huge vectors.
  * References: the scene without the layer or with an opaque one, the documented decision rule (hz/dither.h,
  * hz/render.h) evaluated here in double over the layers, the threshold formulas evaluated here from the tables
@@ -106,7 +106,8 @@ static void c_alpha_cut(stab_result_t *r)
 static void c_alpha_1m1e_7(stab_result_t *r) { alpha_case(r, 1.0f - 1e-7f, HZ_ALPHA_OPAQUE, 1e-5); }
 static void c_alpha_1(stab_result_t *r) { alpha_case(r, 1.0f, HZ_ALPHA_OPAQUE, 1e-6); }
 
-/* n parallel blended layers of alpha a, one object, ambient light only, black background. The rule (hz/render.h,
+/* n parallel blended layers of alpha a (quads with vertices of their own), one object, ambient light only, black
+ * background. The rule (hz/render.h,
  * hz/dither.h) in double: the exact prefix composites layer i adding vis a c (vis *= 1 - a) while the path is
  * exact (hybrid: while vis > X; stops below min_visibility or at HZ_RENDER_MAX_LAYERS); a stochastic ray then
  * either keeps one layer (adding vis c: shaded as opaque) or drops them all (alpha <= 0.01: always dropped).
@@ -168,9 +169,17 @@ static void stack_case(stab_result_t *r, uint32_t n, float a, uint32_t shrink)
         STAB_CHECK(r, e <= 1e-4, "%s: %u layers of alpha %g: a pixel is %g off the rule's values (%g or %g)",
                    me->name, n, (double)a, e, P, keep_v);
         double frac = (double)kept / npx;
+        /* rr decides every layer independently; std, dtaa-star and hybrid's std give each quad (a particle: its own
+         * vertices) its own map, so the layers stop masking each other, but all share the pixel's blue-noise rank:
+         * a layer is kept where its map's cell is 0 and rank / 4096 <= K a (K = 9 cells, 5 strata), so many
+         * layers cover min(1, K a) of the pixels; plain DTAA has one map for all: a */
+        const double k = me->t == HZ_TRANSP_DTAA_STAR ? 5.0 : 9.0;
         if (keep_v >= 0 && me->t == HZ_TRANSP_RR)
             STAB_CHECK(r, frac >= 0.95, "rr: %u independent layers of alpha %g: only %.2f of the pixels keep one", n,
                        (double)a, frac);
+        else if (keep_v >= 0 && me->t != HZ_TRANSP_DTAA)
+            STAB_CHECK(r, fabs(frac - fmin(1.0, k * a)) <= 0.1, "%s: %u particles of alpha %g cover %.2f of the "
+                       "pixels, not min(1, %g a)", me->name, n, (double)a, frac, k);
         else if (keep_v >= 0)
             STAB_CHECK(r, fabs(frac - a) <= 0.2, "%s: one object of alpha %g covers %.2f of the pixels", me->name,
                        (double)a, frac);
@@ -258,6 +267,57 @@ static void c_std_thresholds(stab_result_t *r)
               tmin, tmax, t89, (unsigned long long)at_8_9, dmin, dmax);
 }
 
+/* The per-sample cell and the division-free decisions (hz_dither_std_cell / hz_dither_std_keep, the DTAA pair)
+ * against the threshold formula evaluated here in 64 bits: every map (permutation), every cell (stratum), every
+ * blue-noise rank, alpha at threshold - 1, threshold and threshold + 1, and the 0.01 cut and 1; the cell at x, y,
+ * frame near 2^32 decodes to the formula's cell and rank. */
+static void c_cell_keep(stab_result_t *r)
+{
+    uint64_t checked = 0, bad = 0;
+    /* every rank with FULL=1; else every 17th, from an offset that walks all 17 residues over the maps (emulated
+     * AArch64 runs the whole set in minutes) */
+    const uint32_t step = r->full ? 1u : 17u;
+    for (unsigned m = 0; m < HZ_DITHER_MAPS; m++)
+        for (unsigned cell = 0; cell < 9u; cell++)
+            for (uint32_t n = (m + cell) % step; n < 4096u; n += step) {
+                uint64_t t = ((((uint64_t)hz_dither_maps[m][cell] << 12) + n) << 16) / 36864u;
+                const uint64_t as[5] = { t ? t - 1u : 0u, t, t + 1u, HZ_DITHER_MIN_ALPHA, HZ_DITHER_ONE };
+                for (int i = 0; i < 5; i++) {
+                    bool want = as[i] > HZ_DITHER_MIN_ALPHA && (as[i] >= HZ_DITHER_ONE || as[i] >= t);
+                    bad += hz_dither_std_keep((uint32_t)as[i], m, (uint16_t)(cell << 12 | n)) != want;
+                    checked++;
+                }
+            }
+    for (int perm = -1; perm < (int)HZ_DITHER_DTAA_PERMS; perm++)
+        for (unsigned st = 0; st < 5u; st++)
+            for (uint32_t n = ((uint32_t)(perm + 1) + st) % step; n < 4096u; n += step) {
+                uint64_t sv = perm >= 0 ? hz_dither_dtaa_perm_apply((unsigned)perm, st) : st;
+                uint64_t t = (((sv << 12) + n) << 16) / 20480u;
+                for (uint64_t a = t ? t - 1u : 0u; a <= t + 1u; a++) {
+                    bool want = a > HZ_DITHER_MIN_ALPHA && (a >= HZ_DITHER_ONE || a >= t);
+                    bad += hz_dither_dtaa_keep((uint32_t)a, perm, (uint16_t)(st << 12 | n)) != want;
+                    checked++;
+                }
+            }
+    STAB_CHECK(r, bad == 0, "%llu of %llu cell decisions differ from the formula", (unsigned long long)bad,
+               (unsigned long long)checked);
+    const uint32_t big[] = { 0xffffffffu, 0xfffffffeu, 0x80000000u, 0x7fffffffu, 0u };
+    for (size_t i = 0; i < 5; i++)
+        for (size_t j = 0; j < 5; j++)
+            for (unsigned m = 0; m < HZ_DITHER_MAPS; m += 11) {
+                uint32_t x = big[i], y = big[j], f = big[(i + j) % 5] - (uint32_t)m;
+                uint16_t c = hz_dither_std_cell(x, y, f);
+                uint32_t t = ref_std(x, y, f, m);
+                STAB_CHECK(r, (c >> 12) < 9u && hz_dither_std_keep(t, m, c) == (t > HZ_DITHER_MIN_ALPHA) &&
+                                  (t == 0 || !hz_dither_std_keep(t - 1u, m, c)),
+                           "STD cell at (%u, %u, %u) disagrees with the formula", x, y, f);
+                STAB_CHECK(r, (c & 0xfffu) == hz_dither_blue64[(y % 64u) * 64u + x % 64u], "blue rank at (%u, %u)", x, y);
+            }
+    r->status = HZ_OK;
+    stab_note(r, "%llu decisions (288 maps x 9 cells, 121 DTAA orders x 5 strata, x 4096 ranks / %u, at the "
+                 "threshold edges) = formula; cells at the 32-bit ends decode", (unsigned long long)checked, step);
+}
+
 /* Alignment of Q16 motion vectors to multiples of align (1..15) px at the ends of the documented range (+-2^30),
  * past it (INT32_MIN, INT32_MAX: saturated to the representable multiples, no overflow) and random: the result
  * is the lower or the upper multiple (64-bit reference), and over all 2^16 hash values the upper one is taken
@@ -308,7 +368,7 @@ static void c_mv_align_huge(stab_result_t *r)
 }
 
 /* A blended quad (alpha 0.5) of half-size 1e8 sliding ~1e6 px per frame, and one at 1e30 px (speed near the
- * float range): TAA with every stochastic method (aligned motion vectors, 7x7 window) stays finite. */
+ * float range): TAA with every stochastic method (cell mean, 7x7 window) stays finite. */
 static void c_dither_huge_motion(stab_result_t *r)
 {
     static const float speeds[2] = { 1e7f, 1e30f };
@@ -352,6 +412,8 @@ static const stab_case_t cases[] = {
       c_stacked_1000_thin, STAB_FULL_ONLY },
     { "std_thresholds", "STD/DTAA thresholds = formula over all maps; 0 and 8/9 reached; max < 1; decision edges",
       c_std_thresholds, 0 },
+    { "cell_keep", "division-free STD/DTAA decisions from the per-sample cell = formula at every threshold edge",
+      c_cell_keep, 0 },
     { "mv_align_huge", "mv alignment at +-2^30 and the int32 ends: floor/ceil multiple; saturates; exact weights",
       c_mv_align_huge, 0 },
     { "dither_huge_motion", "1e6 px and 1e30 motion under 7 methods in TAA: finite", c_dither_huge_motion, 0 },

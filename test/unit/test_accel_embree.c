@@ -154,10 +154,25 @@ static bool accept_rule(uint32_t prim)
     return (hz_hash32(prim + 991u) % 3u) != 0;
 }
 
-static bool anyhit_cb(void *user, uint32_t prim, float u, float v, float t, uint32_t ray_id, int lane)
+/* The decision depends on the side too: both backends must tell the same one for the hits to agree. */
+static bool side_rule(uint32_t prim, unsigned back)
+{
+    return accept_rule(back ? prim ^ 0x40000000u : prim);
+}
+
+static bool anyhit_cb(void *user, uint32_t prim, float u, float v, float t, uint32_t ray_id, int lane, unsigned back)
 {
     (void)user, (void)u, (void)v, (void)t, (void)ray_id, (void)lane;
-    return accept_rule(prim);
+    return side_rule(prim, back);
+}
+
+/* The geometric side: the ray runs along (v1 - v0) x (v2 - v0). */
+static unsigned geom_back(const hz_mesh_t *m, uint32_t prim, const hz_rayhit_t *r)
+{
+    const uint32_t *tv = m->tri + (size_t)prim * 3;
+    const float *a = m->pos + (size_t)tv[0] * 4, *b = m->pos + (size_t)tv[1] * 4, *c = m->pos + (size_t)tv[2] * 4;
+    hz_vec3_t n = hz_v3_cross(hz_v3(b[0] - a[0], b[1] - a[1], b[2] - a[2]), hz_v3(c[0] - a[0], c[1] - a[1], c[2] - a[2]));
+    return hz_v3_dot(n, hz_v3(r->ray.dir_x, r->ray.dir_y, r->ray.dir_z)) > 0.0f;
 }
 
 static void test_anyhit_filters(void **state)
@@ -186,7 +201,8 @@ static void test_anyhit_filters(void **state)
     assert_agree("any-hit: native vs embree rtcIntersect8", compare(nat, emb, N_RAYS));
     uint32_t rejected = 0;
     for (uint32_t i = 0; i < N_RAYS; i++)
-        rejected += nat[i].hit.geom_id == 0 && m.tri_flags[nat[i].hit.prim_id] && !accept_rule(nat[i].hit.prim_id);
+        rejected += nat[i].hit.geom_id == 0 && m.tri_flags[nat[i].hit.prim_id] &&
+                    !side_rule(nat[i].hit.prim_id, geom_back(&m, nat[i].hit.prim_id, &in[i]));
     assert_int_equal(rejected, 0);
     static uint8_t on[N_RAYS], oe[N_RAYS];
     fx_occlusion(a, HZ_ACCEL_KERNEL_AUTO, 0, 8, in, on, N_RAYS, &ctx);

@@ -206,13 +206,33 @@ static bool accept_rule(uint32_t prim)
 }
 
 static uint64_t anyhit_calls;
-static bool anyhit_cb(void *user, uint32_t prim, float u, float v, float t, uint32_t ray_id, int lane)
+/* The side the callback is told against the geometric one, dot((v1 - v0) x (v2 - v0), dir) > 0 for the back
+ * (rays_in[ray_id] of side_mesh); grazing hits (|cos| < 1e-3) may go either way. */
+static const hz_mesh_t *side_mesh;
+static uint64_t side_seen[2], side_bad;
+static bool anyhit_cb(void *user, uint32_t prim, float u, float v, float t, uint32_t ray_id, int lane, unsigned back)
 {
-    (void)ray_id;
     assert_ptr_equal(user, &anyhit_calls);
     assert_true(u >= 0.0f && v >= 0.0f && u + v <= 1.0001f && t >= 0.0f);
     assert_true(lane >= 0 && lane < 8);
+    assert_true(back <= 1u);
     anyhit_calls++;
+    if (side_mesh && ray_id < N_RAYS) {
+        const uint32_t *tv = side_mesh->tri + (size_t)prim * 3;
+        const float *a = side_mesh->pos + (size_t)tv[0] * 4, *b = side_mesh->pos + (size_t)tv[1] * 4,
+                    *c = side_mesh->pos + (size_t)tv[2] * 4;
+        double e1[3], e2[3], n[3], d[3] = { rays_in[ray_id].ray.dir_x, rays_in[ray_id].ray.dir_y,
+                                             rays_in[ray_id].ray.dir_z };
+        for (int k = 0; k < 3; k++)
+            e1[k] = (double)b[k] - a[k], e2[k] = (double)c[k] - a[k];
+        n[0] = e1[1] * e2[2] - e1[2] * e2[1], n[1] = e1[2] * e2[0] - e1[0] * e2[2], n[2] = e1[0] * e2[1] - e1[1] * e2[0];
+        double dn = n[0] * d[0] + n[1] * d[1] + n[2] * d[2];
+        double len = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]) * sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+        if (fabs(dn) > 1e-3 * len) {
+            side_seen[dn > 0.0]++;
+            side_bad += (dn > 0.0) != (back != 0u);
+        }
+    }
     return accept_rule(prim);
 }
 
@@ -235,8 +255,12 @@ static void test_anyhit(void **state)
     hz_accel_ctx_init(&ctx);
     ctx.anyhit = anyhit_cb;
     ctx.user = &anyhit_calls;
+    side_mesh = &m, side_seen[0] = side_seen[1] = side_bad = 0;
     fx_trace1(a, HZ_ACCEL_KERNEL_SCALAR, rays_in, rays_ref, N_RAYS, &ctx);
     assert_true(anyhit_calls > 1000);
+    /* the side comes from the intersection test: it agrees with the geometric one, both sides occur */
+    assert_int_equal(side_bad, 0);
+    assert_true(side_seen[0] > 100 && side_seen[1] > 100);
     uint32_t bad = 0, rejected = 0;
     for (uint32_t i = 0; i < N_BRUTE; i++) {
         uint32_t j = CAM_W * CAM_H + i;
@@ -258,6 +282,8 @@ static void test_anyhit(void **state)
         fx_trace_tiles(a, ks[q], HZ_ACCEL_COHERENT, HZ_BVH_W, 8, false, rays_in, rays_out, NULL, N_RAYS, &ctx);
         assert_int_equal(count_diff("anyhit tile", hz_accel_kernel_name(ks[q])), 0);
     }
+    assert_int_equal(side_bad, 0); /* every kernel tells the same side */
+    side_mesh = NULL;
     /* occlusion honours the callback too; without the callback flagged triangles are opaque */
     for (uint32_t i = 0; i < N_RAYS; i++)
         occ_ref[i] = rays_ref[i].hit.geom_id == 0;

@@ -330,6 +330,38 @@ static double low_freq_power(const uint16_t *mask, int kmax)
 #define LOW_FREQ_K 8
 #define LOW_FREQ_BOUND 0.01 /* blue noise: the lowest quarter of the band carries < 1% of white noise's power */
 
+/* The per-sample cell and the division-free decisions give the thresholded decisions bit for bit: every map,
+ * cell and permutation, alphas across the whole range (each Q16 boundary of the thresholds included). */
+static void test_cell_keep(void **state)
+{
+    (void)state;
+    uint64_t kept = 0, checked = 0;
+    for (uint32_t y = 0; y < 70; y += 3)
+        for (uint32_t x = 0; x < 70; x += 5)
+            for (uint32_t f = 0; f < HZ_DITHER_SERPENTINE_PERIOD; f += 5) {
+                uint16_t cs = hz_dither_std_cell(x, y, f), cd = hz_dither_dtaa_cell(x, y, f);
+                assert_true((cs >> 12) < 9u && (cd >> 12) < 5u);
+                assert_int_equal(cd >> 12, hz_dither_dtaa_stratum(x, y, f));
+                for (unsigned map = 0; map < HZ_DITHER_MAPS; map += 7) {
+                    uint32_t t = hz_dither_std_threshold(x, y, f, map);
+                    const uint32_t as[] = { 0, 655, 656, t ? t - 1u : 0u, t, t + 1u, 65535, 65536, 70000,
+                                            (map * 2654435761u) >> 16 };
+                    for (size_t i = 0; i < HZ_ARRAY_LEN(as); i++) {
+                        bool want = hz_dither_keep(as[i], t);
+                        assert_int_equal(hz_dither_std_keep(as[i], map, cs), want);
+                        kept += want, checked++;
+                    }
+                }
+                for (int perm = -1; perm < (int)HZ_DITHER_DTAA_PERMS; perm += 3) {
+                    uint32_t t = hz_dither_dtaa_threshold(x, y, f, perm);
+                    const uint32_t as[] = { 656, t ? t - 1u : 0u, t, t + 1u, 65535 };
+                    for (size_t i = 0; i < HZ_ARRAY_LEN(as); i++)
+                        assert_int_equal(hz_dither_dtaa_keep(as[i], perm, cd), hz_dither_keep(as[i], t));
+                }
+            }
+    assert_true(kept > checked / 4 && kept < checked); /* both outcomes exercised */
+}
+
 static void test_blue_noise(void **state)
 {
     (void)state;
@@ -452,6 +484,7 @@ int main(void)
         cmocka_unit_test(test_keep_and_coverage),
         cmocka_unit_test(test_object_choice),
         cmocka_unit_test(test_dtaa),
+        cmocka_unit_test(test_cell_keep),
         cmocka_unit_test(test_blue_noise),
         cmocka_unit_test(test_align_probabilities),
         cmocka_unit_test(test_golden),

@@ -9,6 +9,7 @@
 #include "bench_scene.h"
 #include "clock.h"
 #include "hz/render.h"
+#include "hz/scene.h"
 #include "pools.h"
 #include "render_run.h"
 #include "threads.h"
@@ -17,9 +18,11 @@
 static const struct {
     hz_transp_t t;
     float x;
+    bool rr_shadows;
 } methods[HZ_BENCH_TRANSP_METHODS] = {
-    { HZ_TRANSP_EXACT, 0.0f },   { HZ_TRANSP_RR, 0.0f },      { HZ_TRANSP_STD, 0.0f },     { HZ_TRANSP_DTAA, 0.0f },
-    { HZ_TRANSP_HYBRID, 0.25f }, { HZ_TRANSP_HYBRID, 0.5f }, { HZ_TRANSP_HYBRID, 0.75f },
+    { HZ_TRANSP_EXACT, 0.0f, false },   { HZ_TRANSP_RR, 0.0f, false },     { HZ_TRANSP_STD, 0.0f, false },
+    { HZ_TRANSP_DTAA, 0.0f, false },    { HZ_TRANSP_HYBRID, 0.25f, false }, { HZ_TRANSP_HYBRID, 0.5f, false },
+    { HZ_TRANSP_HYBRID, 0.75f, false }, { HZ_TRANSP_STD, 0.0f, true },
 };
 
 static int cmp_double(const void *a, const void *b)
@@ -33,6 +36,48 @@ static double percentile(const double *sorted, uint32_t n, double p)
 {
     uint32_t k = (uint32_t)(p * n + 0.999999);
     return sorted[k < 1 ? 0 : k > n ? n - 1 : k - 1];
+}
+
+/* ns per rejected layer of renderer r (see bench_transp.h); *share the share of candidates rejected. Every
+ * blended triangle from both sides; -1 if a rejected candidate is kept when repeated (decisions after a frame
+ * depend on nothing else). */
+static double reject_cost(hz_renderer_t *r, const hz_scene_t *scene, double *share)
+{
+    enum { MAX_CAND = 1u << 16 };
+    static uint32_t cand[MAX_CAND];
+    static uint8_t side[MAX_CAND], keep[MAX_CAND];
+    uint32_t n = 0;
+    for (uint32_t t = 0; t < scene->triangle_count && n + 1 < MAX_CAND; t++)
+        if (scene->materials[hz_scene_tri_material(scene, t)].alpha_mode == HZ_ALPHA_BLEND)
+            for (uint8_t b = 0; b < 2; b++)
+                cand[n] = t, side[n++] = b;
+    *share = 0.0;
+    if (n == 0)
+        return 0.0;
+    hz_render_dither_decide(r, cand, side, n, keep);
+    uint32_t nr = 0;
+    for (uint32_t i = 0; i < n; i++)
+        if (!keep[i])
+            cand[nr] = cand[i], side[nr++] = side[i];
+    *share = (double)nr / n;
+    if (nr == 0)
+        return 0.0;
+    double best = 0.0;
+    for (int round = 0; round < 5; round++) {
+        uint64_t calls = 0, kept = 0;
+        int64_t a = hz_clock_ns(), b = a;
+        while (b - a < 4000000) {
+            kept += hz_render_dither_decide(r, cand, side, nr, NULL);
+            calls += nr;
+            b = hz_clock_ns();
+        }
+        if (kept != 0)
+            return -1.0;
+        double ns = (double)(b - a) / (double)calls;
+        if (round == 0 || ns < best)
+            best = ns;
+    }
+    return best;
 }
 
 int hz_bench_transp(const hz_bench_transp_opts_t *o, hz_bench_transp_row_t rows[HZ_BENCH_TRANSP_METHODS],
@@ -58,7 +103,7 @@ int hz_bench_transp(const hz_bench_transp_opts_t *o, hz_bench_transp_row_t rows[
         hz_render_opts_default(&ro);
         ro.width = o->width, ro.height = o->height;
         ro.mode = HZ_MODE_TAA;
-        ro.transparency = methods[m].t, ro.hybrid_x = methods[m].x;
+        ro.transparency = methods[m].t, ro.hybrid_x = methods[m].x, ro.rr_shadows = methods[m].rr_shadows;
         s = hz_render_create(&r[m], &bs.scene, bs.accel, &ro, &pools->frame, pools->thread, (uint32_t)o->threads,
                              err);
     }
@@ -96,15 +141,45 @@ int hz_bench_transp(const hz_bench_transp_opts_t *o, hz_bench_transp_row_t rows[
             memset(row, 0, sizeof *row);
             snprintf(row->scene, sizeof row->scene, "sponza-smoke");
             hz_transp_format(row->method, sizeof row->method, methods[m].t, methods[m].x);
+            if (methods[m].rr_shadows)
+                strncat(row->method, "+rr-shadows", sizeof row->method - strlen(row->method) - 1);
             row->frames = frames;
+            for (uint32_t i = 0; i < frames; i++)
+                row->frame_ms[i] = best[m][i], row->t_s[i] = duration * (float)i / (float)frames;
             qsort(best[m], frames, sizeof(double), cmp_double);
             row->p50_ms = percentile(best[m], frames, 0.5);
             row->p99_ms = percentile(best[m], frames, 0.99);
             row->rays_per_frame = rays[m];
+            row->reject_ns = methods[m].t == HZ_TRANSP_EXACT ? 0.0 : reject_cost(r[m], scene, &row->reject_share);
         }
     }
     hz_bench_scene_close(&bs);
     if (threads)
         hz_threads_stop();
     return s == HZ_OK ? n : -1;
+}
+
+hz_status_t hz_bench_transp_layers(const char *scene, hz_transp_t t, uint32_t width, uint32_t height, double *ns,
+                                   double *share, hz_error_t *err)
+{
+    hz_bench_scene_t bs;
+    hz_status_t s = hz_bench_scene_open(&bs, scene, err);
+    bool threads = false;
+    if (s == HZ_OK)
+        threads = (s = hz_threads_start(1, err)) == HZ_OK;
+    hz_renderer_t *r = NULL;
+    if (s == HZ_OK) {
+        hz_render_opts_t ro;
+        hz_render_opts_default(&ro);
+        ro.width = width, ro.height = height, ro.mode = HZ_MODE_TAA, ro.transparency = t;
+        s = hz_render_create(&r, &bs.scene, bs.accel, &ro, &bs.pools->frame, bs.pools->thread, 1, err);
+    }
+    if (s == HZ_OK)
+        s = hz_render_run_frame(r, 0, 0.0f, err);
+    if (s == HZ_OK)
+        *ns = reject_cost(r, &bs.scene, share);
+    hz_bench_scene_close(&bs);
+    if (threads)
+        hz_threads_stop();
+    return s;
 }
