@@ -19,8 +19,8 @@ awk -v md="$md" -v csv="$csv" '
         print "|---|---|---:|---:|---:|---:|" > md
         for (i = 1; i <= NR; i++) {
             dt = text[i] - on_text[board[i]]; db = bss[i] - on_bss[board[i]]
-            printf "%s,%s,%d,%d,%d,%d,%d\n", board[i], conf[i], text[i], data[i], bss[i], dt, db > csv
-            printf "| %s | %s | %d | %d | %s (%.1f%%) | %s |\n", board[i], label(conf[i]), text[i], bss[i], delta(dt),
+            printf "%s,%s,%s,%s,%s,%s,%s\n", board[i], conf[i], text[i], data[i], bss[i], dt, db > csv
+            printf "| %s | %s | %s | %s | %s (%.1f%%) | %s |\n", board[i], label(conf[i]), text[i], bss[i], delta(dt),
                 100.0 * dt / on_text[board[i]], delta(db) > md
         }
     }' "$list"
