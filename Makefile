@@ -21,6 +21,7 @@
 #   mk/stability.mk  stiff and extreme cases           mk/gen.mk        generated tables
 #   mk/host.mk       host tools: the baker             mk/tests.mk      make test and its tiers
 #   mk/vm.mk         the VM tier (qemu-system)         mk/results.mk    doc/results.md from bench and report
+#   mk/features.mk   compile-out switches: make features, the all-off check
 
 .DEFAULT_GOAL := all
 .SUFFIXES:
@@ -40,6 +41,7 @@ include mk/run.mk
 include mk/gen.mk
 include mk/tests.mk
 include mk/vm.mk
+include mk/features.mk
 -include mk/results.mk
 
 check-freestanding: $(CHECK_OBJS) ## the core links against nothing but memcpy/memset/memmove; no malloc/printf/FILE/errno in src/

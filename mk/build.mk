@@ -27,6 +27,13 @@ $(O)/src/core/rgb8.o: EXTRA_CFLAGS += -ftree-vectorize -fvect-cost-model=dynamic
 # rest of the program keeps the fast small-model addressing.
 $(O)/port/linux/pools.o: EXTRA_CFLAGS += $(if $(filter x86_64,$(BOARD_ARCH)),-mcmodel=medium)
 
+# The refusal of a scene that needs a feature this build leaves out names the boards that have it.
+feature_boards = $(subst $(space),$(comma)$(space),$(sort $(patsubst boards/%/board.h,%,$(shell grep -lE \
+	'^[[:space:]]*\#[[:space:]]*define[[:space:]]+HZ_FEATURE_$(1)[[:space:]]+1' boards/*/board.h))))
+comma := ,
+$(O)/src/render/features.o: EXTRA_CFLAGS += $(foreach f,TEXTURES MIRRORS TRANSPARENCY MOTION, \
+	-DHZ_FEATURE_BOARDS_$(f)='"$(or $(call feature_boards,$(f)),none)"')
+
 $(O)/port/%.o: port/%.c $(BUILD_STAMP)
 	@mkdir -p $(dir $@)
 	$(call msg,CC,$@)$(CC) $(HOSTED_CFLAGS) $(PORT_DEFS) $(EXTRA_CFLAGS) $(DEPFLAGS) -c $< -o $@

@@ -35,8 +35,21 @@ SHELL := /bin/sh
 ifeq ($(SAN),1)
 SAN_SUFFIX := -san
 endif
+# Features a build leaves out of what its board has (hz/config.h; doc/boards.md): FEATURES_OFF="transparency
+# motion", or "all". Such a build has a folder of its own (build/host-sim-no-transparency-motion), so that its
+# objects never mix with the board's.
+FEATURE_NAMES := textures mirrors transparency motion
+FEATURES_OFF ?=
+override FEATURES_OFF := $(if $(filter all,$(FEATURES_OFF)),$(FEATURE_NAMES),$(FEATURES_OFF))
+$(foreach f,$(FEATURES_OFF),$(if $(filter $(f),$(FEATURE_NAMES)),,$(error FEATURES_OFF: unknown feature '$(f)' (features: $(FEATURE_NAMES), or all))))
+FEATURES_OFF_LIST := $(filter $(FEATURES_OFF),$(FEATURE_NAMES))
+empty :=
+space := $(empty) $(empty)
+FEATURES_SUFFIX := $(if $(FEATURES_OFF_LIST),-no-$(subst $(space),-,$(FEATURES_OFF_LIST)))
+FEATURES_DEFS := $(foreach f,$(FEATURES_OFF_LIST),-DHZ_FEATURE_OFF_$(shell echo $(f) | tr a-z A-Z)=1)
+
 BUILD_ROOT ?= build
-O ?= $(BUILD_ROOT)/$(BOARD)$(SAN_SUFFIX)
+O ?= $(BUILD_ROOT)/$(BOARD)$(FEATURES_SUFFIX)$(SAN_SUFFIX)
 
 ifeq ($(V),1)
 Q :=
@@ -53,7 +66,7 @@ WARN := -std=c99 -Wall -Wextra -Werror -pedantic
 # instruction, never a libm call.
 OPT := -O2 -g -ffp-contract=off -fno-math-errno -fno-strict-aliasing
 DEPFLAGS = -MMD -MP
-BOARD_DEFS := -DHZ_BOARD_SIMD_$(shell echo $(BOARD_SIMD) | tr a-z A-Z)=1
+BOARD_DEFS := -DHZ_BOARD_SIMD_$(shell echo $(BOARD_SIMD) | tr a-z A-Z)=1 $(FEATURES_DEFS)
 INCLUDES := -Iinclude -I$(BOARD_DIR)
 
 ifeq ($(SAN),1)

@@ -1,11 +1,11 @@
 # Fuzz targets (test/fuzz, doc/testing.md): libFuzzer with ASan and UBSan on every parser a user hands hzrt:
-# the .hzb loader, VCD and CSV traces, sidecars and the baker's model import (in a child process, as hzbake
-# runs it). Seeds are in test/fuzz/corpus/<target>, the loader's are baked (FUZZ_SEEDS below).
+# the .hzb loader, VCD and CSV traces, sidecars, the baker's model import (in a child process, as hzbake
+# runs it) and the command line of hzrt render, show and latency (checked, never run). Seeds are in test/fuzz/corpus/<target>, the loader's are baked (FUZZ_SEEDS below).
 # `make fuzz` runs each target for FUZZ_SECONDS, FUZZ_JOBS at a time, and reports executions, coverage and
 # findings (test/fuzz/fuzz-all.sh); `make test` runs FUZZ_RUNS inputs of each (test/fuzz/run-fuzz.sh).
 FUZZ_CC ?= clang
 FUZZ_O := $(BUILD_ROOT)/fuzz
-FUZZ_ALL := hzb vcd ecsv sidecar import
+FUZZ_ALL := hzb vcd ecsv sidecar import opts
 FUZZ_TARGETS ?= $(FUZZ_ALL)
 FUZZ_SECONDS ?= 60
 FUZZ_JOBS ?= $(shell nproc)
@@ -21,6 +21,12 @@ FUZZ_SRCS_vcd := $(CORE_SRCS) $(TIMING_SRCS)
 FUZZ_SRCS_ecsv := $(FUZZ_SRCS_vcd)
 FUZZ_SRCS_sidecar := $(HOST_LIB_SRCS) $(BAKE_LIB_SRCS)
 FUZZ_SRCS_import := $(FUZZ_SRCS_sidecar)
+# The commands' entry points link the whole renderer (scalar, the host tools' board.h) and errtime; no device
+# ports: their entry points fail with "not built in" (devices_absent.c), and the target runs none of them.
+FUZZ_SRCS_opts := $(foreach m,$(MODULES),$(call module_srcs,$(m))) $(PORT_SRCS_linux) $(PORT_SRCS_timing) \
+                  $(CMD_SRCS) $(ERRTIME_SRCS)
+FUZZ_LIBS_opts := -lpthread -lm
+$(FUZZ_O)/fuzz_opts: FUZZ_FLAGS += -Itools/errtime
 FUZZ_LIBS_sidecar := $(BAKE_LIBS)
 FUZZ_LIBS_import := $(FUZZ_O)/fuzz_counters.o $(FUZZ_O)/fuzz_judge.o $(BAKE_LIBS)
 FUZZ := $(FUZZ_TARGETS:%=$(FUZZ_O)/fuzz_%)

@@ -81,6 +81,7 @@ test-lane-native:
 	$(Q)$(MAKE) --no-print-directory test-host || exit 1
 	$(Q)$(MAKE) --no-print-directory BOARD=host-sim O=$(call board_o,host-sim) test-board stability-board || exit 1
 	$(Q)sh test/guard/run-guards.sh --record $(GUARDS_O) || true
+	$(Q)$(MAKE) --no-print-directory test-features-off || true
 	$(Q)for b in $(BUILD_CHECK_BOARDS); do \
 		if $(MAKE) --no-print-directory BOARD=$$b O=$(call board_o,$$b) all >$(GUARDS_O)/build-$$b.log 2>&1; \
 		then echo "  ok    board $$b builds"; echo "board-build/$$b 1 0 0" >$(GUARDS_O)/build-$$b.res; \

@@ -87,6 +87,29 @@
 #error "board.h must define HZ_FEATURE_MOTION (0 or 1: animated objects, motion vectors, motion blur)"
 #endif
 
+/* A build may leave out what its board has (make FEATURES_OFF="transparency motion", see doc/boards.md): the
+ * Makefile passes -DHZ_FEATURE_OFF_<NAME>, which turns the board's 1 into 0. Nothing turns a board's 0 into 1. */
+#ifdef HZ_FEATURE_OFF_TEXTURES
+#undef HZ_FEATURE_TEXTURES
+#define HZ_FEATURE_TEXTURES 0
+#endif
+#ifdef HZ_FEATURE_OFF_MIRRORS
+#undef HZ_FEATURE_MIRRORS
+#define HZ_FEATURE_MIRRORS 0
+#endif
+#ifdef HZ_FEATURE_OFF_TRANSPARENCY
+#undef HZ_FEATURE_TRANSPARENCY
+#define HZ_FEATURE_TRANSPARENCY 0
+#endif
+#ifdef HZ_FEATURE_OFF_MOTION
+#undef HZ_FEATURE_MOTION
+#define HZ_FEATURE_MOTION 0
+#endif
+#if (HZ_FEATURE_TEXTURES != 0 && HZ_FEATURE_TEXTURES != 1) || (HZ_FEATURE_MIRRORS != 0 && HZ_FEATURE_MIRRORS != 1) || \
+    (HZ_FEATURE_TRANSPARENCY != 0 && HZ_FEATURE_TRANSPARENCY != 1) || (HZ_FEATURE_MOTION != 0 && HZ_FEATURE_MOTION != 1)
+#error "HZ_FEATURE_TEXTURES, _MIRRORS, _TRANSPARENCY and _MOTION must be 0 or 1"
+#endif
+
 /* ---- sanity of the values (catches typos such as a size in KiB) ---- */
 #if HZ_DISPLAY_WIDTH < 16 || HZ_DISPLAY_HEIGHT < 16 || HZ_DISPLAY_WIDTH > 8192 || HZ_DISPLAY_HEIGHT > 8192
 #error "HZ_DISPLAY_WIDTH/HEIGHT must lie in [16, 8192]"

@@ -117,6 +117,12 @@ typedef struct hz_render_opts {
 void hz_render_opts_default(hz_render_opts_t *o);
 /* Checks sizes, spp, bounces, ranges; HZ_E_INVALID_ARG naming the option. */
 hz_status_t hz_render_opts_check(const hz_render_opts_t *o, hz_error_t *err);
+/* Features a board can compile out (HZ_FEATURE_* in hz/config.h) that the scene or the options need: a scene
+ * with blended or cut-out surfaces (transparency), textures, mirrors (with max_bounces > 0) or moving objects
+ * (motion), a shutter above 0 (motion) or a transparency method other than exact, in a build without that
+ * feature, is refused: HZ_E_UNSUPPORTED naming the feature, its switch and the boards that have it (the others
+ * it also needs are listed). hz_render_plan and hz_render_create check it first. */
+hz_status_t hz_render_features_check(const hz_scene_t *s, const hz_render_opts_t *o, hz_error_t *err);
 const char *hz_render_mode_name(hz_render_mode_t m);
 
 /* G-buffer flags (per hit). */

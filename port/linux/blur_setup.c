@@ -2,6 +2,7 @@
 #include "blur_setup.h"
 
 #include "accel_backend.h"
+#include "hz/config.h"
 #if HZ_HAVE_EMBREE
 #include "embree_accel.h"
 #endif
@@ -27,7 +28,7 @@ hz_status_t hz_blur_build_cfg(const hz_scene_t *scene, hz_render_opts_t *opts, h
     hz_render_plan_t plan;
     if (opts->shutter > 0.0f && (s = hz_render_plan(scene, opts, &plan, err)) != HZ_OK)
         return s;
-    if (opts->shutter <= 0.0f || plan.time_keys < 2)
+    if (!HZ_FEATURE_MOTION || opts->shutter <= 0.0f || plan.time_keys < 2) /* no keys: a build without motion */
         return hz_accel_backend_build_cfg(backend, accel, &geom, base, &pools->accel, err);
     if ((s = hz_posekeys_init(keys, scene, plan.time_keys, &pools->scene, err)) != HZ_OK)
         return s;

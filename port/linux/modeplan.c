@@ -128,6 +128,11 @@ bool hz_modeplan_print(FILE *f, const hz_scene_t *scene, hz_pools_t *pools, uint
     for (size_t i = 0; i < sizeof feats / sizeof feats[0]; i++) {
         hz_scene_t on = with_feature(scene, feats[i].bits, true), off = with_feature(scene, feats[i].bits, false);
         fprintf(f, "  %-13s %-3s", feats[i].name, (scene->features & feats[i].bits) ? "has" : "");
+        o.mode = HZ_MODEPLAN_DEFAULT_MODE;
+        if (plan_frame(&on, &o) == 0 && plan_frame(&off, &o) != 0) { /* refused: hz_render_features_check */
+            fprintf(f, " left out of this build (%s)\n", feats[i].name);
+            continue;
+        }
         for (int m = 0; m < HZ_MODE_COUNT; m++) {
             o.mode = (hz_render_mode_t)m;
             size_t a = plan_frame(&on, &o), b = plan_frame(&off, &o);

@@ -50,8 +50,9 @@ static void usage(FILE *f, const char *cmd)
     fputs("\n"
           "exit status: 0 ok, 2 bad command line (also an output that is an input or another output), 3 no lock\n"
           "or a run too short to judge one (a display run: files written), 64+N failure with hz status N (66:\n"
-          "the scene or the frame does not fit the board's arenas, 68/70: malformed or corrupt scene, 73: a file\n"
-          "that cannot be read or written, e.g. an --out that is not writable); killed by a signal, it removes\n"
+          "the scene or the frame does not fit the board's arenas, 68/70: malformed or corrupt scene, 72: the\n"
+          "scene or an option needs a feature this build leaves out (doc/features.md), 73: a file that cannot\n"
+          "be read or written, e.g. an --out that is not writable); killed by a signal, it removes\n"
           "its temporary files, and on SIGINT, SIGTERM or SIGHUP first keeps the frames it finished\n\n",
           f);
     hz_ropts_usage(f);

@@ -113,6 +113,17 @@ static const hz_opt_t table[] = {
 
 #define TABLE_N (sizeof table / sizeof table[0])
 
+/* The options given, each entry once: the list holds the whole table, so however many options a command line
+ * repeats, every one is checked for where it acts (a full list once let the options after the 64th through). */
+typedef char given_holds_table[sizeof((hz_ropts_t *)0)->given / sizeof((hz_ropts_t *)0)->given[0] >= TABLE_N ? 1 : -1];
+static void note_given(const hz_opt_t **given, int *n, const hz_opt_t *t)
+{
+    for (int g = 0; g < *n; g++)
+        if (given[g] == t)
+            return;
+    given[(*n)++] = t;
+}
+
 const hz_opt_t *hz_ropts_table(size_t *n)
 {
     *n = TABLE_N;
@@ -134,8 +145,7 @@ int hz_ropts_take(hz_ropts_t *r, int argc, char **argv, int i)
     const hz_opt_t *t = hz_opt_find(table, TABLE_N, o);
     if (!t)
         return 0;
-    if (r->given_n < (int)(sizeof r->given / sizeof r->given[0]))
-        r->given[r->given_n++] = t;
+    note_given(r->given, &r->given_n, t);
     if (t->arg && !v) {
         hz_cli_error("%s: %s needs a value %s (try hzrt %s --help)", r->cmd, o, t->arg, r->cmd);
         return -HZ_EXIT_USAGE;

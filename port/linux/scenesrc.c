@@ -187,6 +187,9 @@ static hz_status_t open_all(scenesrc_t *s, const hz_scenesrc_cfg_t *cfg, hz_pool
     int threads = cfg->threads > 0 ? cfg->threads : machine_threads();
     s->cfg.threads = threads > HZ_MAX_THREADS ? HZ_MAX_THREADS : threads;
     hz_status_t st = hz_scenefile_open(cfg->scene, pools, &s->scene, err);
+    /* A feature this build leaves out is refused by name now (the memory plans would only fail). */
+    if (st == HZ_OK && (st = hz_render_features_check(&s->scene, o, err)) != HZ_OK)
+        hz_error_prefix(err, cfg->scene);
     if (st == HZ_OK && cfg->prepare)
         st = cfg->prepare(cfg->prepare_ctx, &s->scene, o, err);
     if (st != HZ_OK)

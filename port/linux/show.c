@@ -412,6 +412,8 @@ static const char interrupt_note[] = "\nhzrt: interrupted: finishing the frame i
 
 static int show_run(hz_show_cfg_t *c, size_t *made_from);
 
+bool hz_show_check_only = false;
+
 int hz_show_run(hz_show_cfg_t *c)
 {
     size_t made_from = 0;
@@ -569,6 +571,8 @@ static int show_run(hz_show_cfg_t *c, size_t *made_from)
         cfg.rtm = c->model ? &model : NULL;
     }
     cfg.governor = scene && !edges_only && (c->budget == 1 || (c->budget < 0 && !offline && !c->virt));
+    if (hz_show_check_only)
+        return 0;
 
     /* The output folder before the run (one that cannot be written is refused now, not after it), and every
      * output in it or elsewhere: none may be an input or another output. */

@@ -84,5 +84,8 @@ typedef struct hz_show_cfg {
  * and budget by default, render scale 1, files' video and last.png on. */
 void hz_show_defaults(hz_show_cfg_t *c);
 int hz_show_run(hz_show_cfg_t *c);
+/* Set (the option parsers' fuzz target): hz_show_run returns 0 once the command line is checked, before --out
+ * is made or anything is opened, rendered or written. */
+extern bool hz_show_check_only;
 
 #endif

@@ -162,6 +162,17 @@ static const hz_opt_t table[] = {
 
 #define TABLE_N (sizeof table / sizeof table[0])
 
+/* The options given, each entry once: the list holds the whole table, so however many options a command line
+ * repeats, every one is checked for where it acts (a full list once let the options after the 64th through). */
+typedef char given_holds_table[sizeof((hz_show_cfg_t *)0)->given / sizeof((hz_show_cfg_t *)0)->given[0] >= TABLE_N ? 1 : -1];
+static void note_given(const hz_opt_t **given, int *n, const hz_opt_t *t)
+{
+    for (int g = 0; g < *n; g++)
+        if (given[g] == t)
+            return;
+    given[(*n)++] = t;
+}
+
 const hz_opt_t *hz_sopts_table(size_t *n)
 {
     *n = TABLE_N;
@@ -185,8 +196,7 @@ int hz_sopts_take(hz_show_cfg_t *c, unsigned cmd, int argc, char **argv, int *i)
     hz_opt_val_t x;
     if (!hz_opt_value(t, c->cmd, v, &x))
         return -HZ_EXIT_USAGE;
-    if (c->given_n < (int)(sizeof c->given / sizeof c->given[0]))
-        c->given[c->given_n++] = t;
+    note_given(c->given, &c->given_n, t);
     switch ((opt_id_t)t->id) {
     case S_SOURCE: c->source = v; break;
     case S_SINK: c->sink = v; break;

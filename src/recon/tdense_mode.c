@@ -74,13 +74,13 @@ static void trace_tile(hz_tdense_t *td, hz_render_frame_t *f, uint32_t tile, hz_
         b->pixel[n] = py * f->opts.width + px;
         where[n][0] = (uint16_t)tx, where[n][1] = (uint16_t)ty;
         /* A pixel is traced once per cycle: its times are stratified over 4 cycles (the static window). */
-        if (f->blur)
+        if (HZ_FEATURE_MOTION && f->blur)
             times[n] = hz_render_sample_time(f, b->pixel[n], (td->frame / 4u) % 4u, 4u);
         n++;
     }
     hz_memset(b->radiance, 0, sizeof b->radiance);
     b->dither_frame = (uint32_t)f->frame;
-    hz_render_trace(f, b, (const float(*)[2])jitter, f->blur ? times : NULL, true);
+    hz_render_trace(f, b, (const float(*)[2])jitter, HZ_FEATURE_MOTION && f->blur ? times : NULL, true);
     const hz_gbuffer_t *gb = &f->gb;
     static const float still[2] = { 0.0f, 0.0f };
     for (uint32_t slot = 0; slot < n; slot++) {

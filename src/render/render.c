@@ -190,6 +190,8 @@ hz_status_t hz_render_plan(const hz_scene_t *scene, const hz_render_opts_t *opts
                            hz_error_t *err)
 {
     hz_status_t s = hz_render_opts_check(opts, err);
+    if (s == HZ_OK)
+        s = hz_render_features_check(scene, opts, err);
     if (s != HZ_OK)
         return s;
     if (hz_render_modes[opts->mode]->state_bytes > HZ_RENDER_MODE_STATE_MAX)
@@ -346,7 +348,7 @@ hz_status_t hz_render_create(hz_renderer_t **out, hz_scene_t *scene, hz_accel_t 
         w->shadows = shadows, w->shadow_cap = SHADOW_JOBS;
         w->r = r;
         hz_accel_ctx_init(&w->ctx);
-        if (n.mask || n.blend) {
+        if (HZ_FEATURE_TRANSPARENCY && (n.mask || n.blend)) {
             w->ctx.anyhit = hz_render_anyhit;
             w->ctx.user = w;
         }
@@ -418,7 +420,7 @@ hz_status_t hz_render_begin_frame_ns(hz_renderer_t *r, uint64_t frame_index, hz_
 {
     float time = hz_time_wrap_s(time_ns, r->scene->header->duration);
     r->frame_refits = 0;
-    if (r->has_motion) {
+    if (HZ_FEATURE_MOTION && r->has_motion) {
         hz_scene_animate_ns(r->scene, time_ns);
         if (!r->have_prev)
             hz_scene_animate_ns(r->scene, time_ns); /* no history yet: previous = current, zero object motion */
@@ -431,7 +433,7 @@ hz_status_t hz_render_begin_frame_ns(hz_renderer_t *r, uint64_t frame_index, hz_
         r->prev_view = r->view;
     hz_camera_t cam = hz_scene_camera_ns(r->scene, time_ns);
     hz_view_setup(&r->view, &cam, r->f.opts.width, r->f.opts.height);
-    if (r->f.blur) {
+    if (HZ_FEATURE_MOTION && r->f.blur) {
         hz_status_t s = blur_begin(r, frame_index, time_ns, err);
         if (s != HZ_OK)
             return s;
@@ -506,12 +508,12 @@ void hz_render_trace_tile(hz_render_frame_t *f, hz_batch_t *b, uint32_t tile, co
                 jitter[slot][0] = (cx + hz_u32_to_unit(h)) / (float)side - 0.5f;
                 jitter[slot][1] = (cy + hz_u32_to_unit(hz_hash32(h))) / (float)side - 0.5f;
             }
-            if (f->blur && b->pixel[slot] != UINT32_MAX)
+            if (HZ_FEATURE_MOTION && f->blur && b->pixel[slot] != UINT32_MAX)
                 times[slot] = s->time_count ? hz_render_sample_time(f, b->pixel[slot], s->time_index, s->time_count)
                                             : hz_render_sample_time(f, b->pixel[slot], k, spp);
         }
         b->dither_frame = (uint32_t)f->frame * spp + k; /* N spp walk N steps of the dither's sequence */
-        hz_render_trace(f, b, (const float(*)[2])jitter, f->blur ? times : NULL, k == 0);
+        hz_render_trace(f, b, (const float(*)[2])jitter, HZ_FEATURE_MOTION && f->blur ? times : NULL, k == 0);
     }
     float scale = 1.0f / (float)spp;
     for (uint32_t slot = 0; slot < HZ_TILE_PIXELS; slot++) {
@@ -636,6 +638,8 @@ static bool same_adaptive(const hz_adaptive_opts_t *a, const hz_adaptive_opts_t 
 hz_status_t hz_render_reconfigure(hz_renderer_t *r, const hz_render_opts_t *o, hz_error_t *err)
 {
     hz_status_t s = hz_render_opts_check(o, err);
+    if (s == HZ_OK)
+        s = hz_render_features_check(r->scene, o, err);
     if (s != HZ_OK)
         return s;
     const hz_render_opts_t *c = &r->f.opts;

@@ -151,6 +151,9 @@ size_t hz_texture_level_first(const hz_texture_t *t, uint32_t level, uint32_t *w
 /* trace.c (hz_render_trace in mode.h is its entry) */
 /* Slot -> pixel of tile `tile`, ordered so that consecutive HZ_RENDER_LANES slots form compact packets. */
 void hz_tile_slots(const struct hz_renderer *r, uint32_t tile, uint32_t pixel[HZ_TILE_PIXELS]);
+/* Motion blur's pose keys; a constant NULL in a build without motion (HZ_FEATURE_MOTION 0), so that the
+ * interpolation at the ray's time compiles out. */
+#define HZ_RENDER_KEYS(r) (HZ_FEATURE_MOTION ? (r)->keys : NULL)
 bool hz_render_anyhit(void *user, uint32_t prim, float u, float v, float t, uint32_t ray_id, int lane, unsigned back);
 
 /* transp.c: stochastic transparency (seed 004, hz/dither.h) */

@@ -295,7 +295,7 @@ void hz_shade_surfaces(const hz_shade_ctx_t *c, const hz_shade_in_t *in, uint32_
     const int32_t *tri = (const int32_t *)(const void *)s->tri;
     vi vid[3] = { vi_gather(tri, prim3), vi_gather(tri, vi_add(prim3, vi_set1(1))),
                   vi_gather(tri, vi_add(prim3, vi_set1(2))) };
-    if (c->keys) {
+    if (HZ_FEATURE_MOTION && c->keys) {
         hz_shade_fetch_scalar(c, in, mask, pos, nrm);
     } else {
         for (int k = 0; k < 3; k++) {
@@ -329,7 +329,7 @@ void hz_shade_surfaces(const hz_shade_ctx_t *c, const hz_shade_in_t *in, uint32_
     vf_store(o->px, p.x), vf_store(o->py, p.y), vf_store(o->pz, p.z);
     vf_store(o->ngx, ngf.x), vf_store(o->ngy, ngf.y), vf_store(o->ngz, ngf.z);
     vf_store(o->nsx, ns.x), vf_store(o->nsy, ns.y), vf_store(o->nsz, ns.z);
-    if (c->keys) { /* the terminator skip looks at the scene's own pose */
+    if (HZ_FEATURE_MOTION && c->keys) { /* the terminator skip looks at the scene's own pose */
         for (int k = 0; k < 3; k++) {
             vi i4 = vi_mul(vid[k], vi_set1(4));
             for (int a = 0; a < 3; a++) {
@@ -356,7 +356,7 @@ void hz_shade_surfaces(const hz_shade_ctx_t *c, const hz_shade_in_t *in, uint32_
         base |= (lt[i].base >= 0 ? 1u : 0u) << i;
         alpha |= (lt[i].alpha >= 0 ? 1u : 0u) << i;
     }
-    if (!any)
+    if (!HZ_FEATURE_TEXTURES || !any)
         return;
     const float *uv = s->uv;
     vi i2[3] = { vi_add(vid[0], vid[0]), vi_add(vid[1], vid[1]), vi_add(vid[2], vid[2]) };

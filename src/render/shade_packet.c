@@ -16,12 +16,14 @@ static void tri_at(const hz_shade_ctx_t *c, uint32_t prim, float time, hz_vec3_t
 {
     const uint32_t *t = c->scene->tri + (size_t)prim * 3;
     for (int i = 0; i < 3; i++)
-        p[i] = c->keys ? hz_posekeys_lerp(c->keys, c->keys->pos, t[i], time) : vtx(c->scene->pos, t[i]);
+        p[i] = HZ_FEATURE_MOTION && c->keys ? hz_posekeys_lerp(c->keys, c->keys->pos, t[i], time)
+                                            : vtx(c->scene->pos, t[i]);
 }
 
 static hz_vec3_t nrm_at(const hz_shade_ctx_t *c, uint32_t v, float time)
 {
-    return c->keys && c->keys->nrm[0] ? hz_posekeys_lerp(c->keys, c->keys->nrm, v, time) : vtx(c->scene->nrm, v);
+    return HZ_FEATURE_MOTION && c->keys && c->keys->nrm[0] ? hz_posekeys_lerp(c->keys, c->keys->nrm, v, time)
+                                                           : vtx(c->scene->nrm, v);
 }
 
 static hz_vec3_t bary(hz_vec3_t a, hz_vec3_t b, hz_vec3_t c, float u, float v)
@@ -62,7 +64,7 @@ void hz_shade_lane_material(const hz_shade_ctx_t *c, const hz_shade_in_t *in, ui
     bool blend = m->alpha_mode == HZ_ALPHA_BLEND;
     if (blend)
         o->alpha[i] = m->alpha;
-    lt->any = c->textures && (m->base_texture >= 0 || (blend && m->alpha_texture >= 0));
+    lt->any = HZ_FEATURE_TEXTURES && c->textures && (m->base_texture >= 0 || (blend && m->alpha_texture >= 0));
     lt->base = m->base_texture >= 0 ? m->base_texture : -1;
     lt->base_alpha = blend && m->alpha_texture == m->base_texture;
     lt->alpha = blend && m->alpha_texture >= 0 && m->alpha_texture != m->base_texture ? m->alpha_texture : -1;
@@ -81,7 +83,7 @@ int hz_shade_lane_level(const hz_shade_ctx_t *c, hz_shade_level_memo_t *memo, in
                         float lod_base, int32_t *first, int32_t *w, int32_t *h)
 {
     const hz_scene_t *s = c->scene;
-    if (!hz_texture_usable(s, tex, tu, tv))
+    if (!HZ_FEATURE_TEXTURES || !hz_texture_usable(s, tex, tu, tv)) /* never asked without textures */
         return HZ_SHADE_TEX_ONE;
     const hz_texture_t *tx = &s->textures[tex];
     if (memo->tex != tex) {
@@ -135,7 +137,7 @@ static void lane_scalar(const hz_shade_ctx_t *c, const hz_shade_in_t *in, uint32
     o->nsx[i] = ns.x, o->nsy[i] = ns.y, o->nsz[i] = ns.z;
     hz_shade_lane_tex_t lt;
     hz_shade_lane_material(c, in, i, o, &lt);
-    if (!lt.any)
+    if (!HZ_FEATURE_TEXTURES || !lt.any)
         return;
     const float *a = s->uv + (size_t)t[0] * 2, *b = s->uv + (size_t)t[1] * 2, *cc = s->uv + (size_t)t[2] * 2;
     float w = 1.0f - hu - hv;

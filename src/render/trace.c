@@ -116,7 +116,7 @@ static void tri_at(const struct hz_renderer *r, uint32_t prim, float time, hz_ve
 {
     const uint32_t *t = r->scene->tri + (size_t)prim * 3;
     for (int i = 0; i < 3; i++)
-        p[i] = r->keys ? hz_posekeys_lerp(r->keys, r->keys->pos, t[i], time) : vtx(r->scene->pos, t[i]);
+        p[i] = HZ_RENDER_KEYS(r) ? hz_posekeys_lerp(r->keys, r->keys->pos, t[i], time) : vtx(r->scene->pos, t[i]);
 }
 
 static hz_vec3_t bary(hz_vec3_t a, hz_vec3_t b, hz_vec3_t c, float u, float v)
@@ -162,7 +162,7 @@ static float blend_alpha(const struct hz_renderer *r, uint32_t prim, float u, fl
     if (m->alpha_mode != HZ_ALPHA_BLEND)
         return 1.0f;
     float a = m->alpha;
-    if (m->alpha_texture >= 0 && r->has_textures) {
+    if (HZ_FEATURE_TEXTURES && m->alpha_texture >= 0 && r->has_textures) {
         float tu, tv, area;
         hit_uv(s, prim, u, v, &tu, &tv, &area);
         a *= hz_texture_alpha(s, m->alpha_texture, tu, tv);
@@ -174,6 +174,8 @@ bool hz_render_anyhit(void *user, uint32_t prim, float u, float v, float t, uint
 {
     (void)t;
     (void)lane;
+    if (!HZ_FEATURE_TRANSPARENCY)
+        return true; /* installed only in builds with transparency: the rest compiles out */
     hz_worker_t *w = (hz_worker_t *)user;
     const hz_scene_t *s = w->r->scene;
     const hz_material_t *m = &s->materials[s->tri_info[prim] & 0xffffu];
@@ -500,7 +502,7 @@ static void shade_hit(hz_worker_t *w, const ray_job_t *j, const hitrec_t *h, con
     const hz_material_t *m = sf.m;
     uint32_t px = w->b.pixel[j->slot];
     hz_gbuffer_t *gb = &r->f.gb;
-    float mirror = r->f.has_mirrors ? m->mirror : 0.0f;
+    float mirror = HZ_FEATURE_MIRRORS && r->f.has_mirrors ? m->mirror : 0.0f;
 
     if (j->gslot == GSLOT_PRIMARY) {
         if (gb->normal) { /* full and adaptive modes (hz_render_mode_keeps_surface) */
@@ -519,7 +521,7 @@ static void shade_hit(hz_worker_t *w, const ray_job_t *j, const hitrec_t *h, con
             if (still_mv) {
                 mv[0] = still_mv[0][lane], mv[1] = still_mv[1][lane];
             } else {
-                pf = r->keys ? frame_point(r, h->prim, h->u, h->v) : sf.p;
+                pf = HZ_RENDER_KEYS(r) ? frame_point(r, h->prim, h->u, h->v) : sf.p;
                 pp = prev_point(r, h->prim, h->u, h->v, pf);
                 point_motion(r, pf, pp, mv);
             }
@@ -549,7 +551,7 @@ static void shade_hit(hz_worker_t *w, const ray_job_t *j, const hitrec_t *h, con
                                    (m->alpha_mode != HZ_ALPHA_OPAQUE ? HZ_GB_ALPHA : 0));
         if (gb->mv_reflect) {
             const mirror_rec_t *mr = &w->mirror[j->slot];
-            hz_vec3_t pf = r->keys ? frame_point(r, h->prim, h->u, h->v) : sf.p;
+            hz_vec3_t pf = HZ_RENDER_KEYS(r) ? frame_point(r, h->prim, h->u, h->v) : sf.p;
             hz_vec3_t pp = prev_point(r, h->prim, h->u, h->v, pf);
             hz_vec3_t v = mirror_point(pf, hz_v3(mr->p[0], mr->p[1], mr->p[2]), hz_v3(mr->n[0], mr->n[1], mr->n[2]));
             hz_vec3_t vp = mirror_point(pp, hz_v3(mr->pp[0], mr->pp[1], mr->pp[2]),
@@ -562,7 +564,7 @@ static void shade_hit(hz_worker_t *w, const ray_job_t *j, const hitrec_t *h, con
 
     /* Blended surface: it takes alpha of what reaches it; the rest continues behind it. A stochastic ray's
      * fragment survived its decision: opaque. */
-    float a = j->dither ? 1.0f : sf.alpha;
+    float a = !HZ_FEATURE_TRANSPARENCY || j->dither ? 1.0f : sf.alpha;
     float wc[3] = { j->w[0] * j->vis * a, j->w[1] * j->vis * a, j->w[2] * j->vis * a };
     if (a < 1.0f) {
         float vis = j->vis * (1.0f - a);
@@ -580,7 +582,7 @@ static void shade_hit(hz_worker_t *w, const ray_job_t *j, const hitrec_t *h, con
             c.layers = (uint16_t)(j->layers + 1u);
             c.gslot = GSLOT_NONE;
             /* hybrid: exact while the path's visibility is above X, then one stochastic ray */
-            c.dither = r->f.dither && j->bounces == 0 && !(vis > r->f.opts.hybrid_x);
+            c.dither = HZ_FEATURE_TRANSPARENCY && r->f.dither && j->bounces == 0 && !(vis > r->f.opts.hybrid_x);
             push_ray(w, &c);
         }
     }
@@ -659,7 +661,8 @@ static void shade_packet(hz_worker_t *w, const ray_job_t *jobs, const hitrec_t *
     const struct hz_renderer *r = w->r;
     hz_shade_in_t in;
     hz_shade_out_t out;
-    const hz_shade_ctx_t c = { r->scene, r->keys, r->has_textures, r->lights, r->light_count, r->offset_scale };
+    const hz_shade_ctx_t c = { r->scene,      HZ_RENDER_KEYS(r), HZ_FEATURE_TEXTURES && r->has_textures,
+                               r->lights,     r->light_count,    r->offset_scale };
     uint32_t mask = 0, live = 0;
     for (uint32_t i = 0; i < n; i++)
         if (hits[i].prim != HZ_ACCEL_INVALID_ID) {
@@ -680,7 +683,8 @@ static void shade_packet(hz_worker_t *w, const ray_job_t *jobs, const hitrec_t *
     /* Primary hits on still geometry (hit point = frame point = previous point) get their motion vectors for
      * the whole packet at once; the scalar twin (scalar_shading) keeps them per hit. */
     float still_mv[2][HZ_SHADE_LANES] HZ_ALIGNED(32);
-    const bool still = mask && w->write_gbuffer && r->f.gb.mv && !r->keys && !r->scene->prev_pos && !r->f.opts.scalar_shading;
+    const bool still = mask && w->write_gbuffer && r->f.gb.mv && !HZ_RENDER_KEYS(r) && !r->scene->prev_pos &&
+                       !r->f.opts.scalar_shading;
     if (still)
         hz_view_still_motion_lanes(&r->view, &r->prev_view, out.px, out.py, out.pz, still_mv[0], still_mv[1]);
     for (uint32_t i = 0; i < n; i++) {
@@ -748,7 +752,8 @@ void hz_render_trace(hz_render_frame_t *f, hz_batch_t *b, const float (*jitter)[
         hz_transp_cells(w);
     w->write_gbuffer = write_gbuffer;
     /* Stochastic from the first hit, unless hybrid's threshold lies below full visibility. */
-    uint16_t dither = r->f.dither && (r->f.opts.transparency != HZ_TRANSP_HYBRID || !(1.0f > r->f.opts.hybrid_x));
+    uint16_t dither = HZ_FEATURE_TRANSPARENCY && r->f.dither &&
+                      (r->f.opts.transparency != HZ_TRANSP_HYBRID || !(1.0f > r->f.opts.hybrid_x));
     /* every camera ray of the batch first, traced as one tile; then packet by packet, shading and all it spawns
      * (the hits do not depend on the order, and the any-hit calls of camera rays touch their own slots only) */
     for (uint32_t base = 0; base < HZ_TILE_PIXELS; base += HZ_RENDER_LANES) {
@@ -761,7 +766,7 @@ void hz_render_trace(hz_render_frame_t *f, hz_batch_t *b, const float (*jitter)[
             j->time = r->time;
             if (times) {
                 j->time = r->tmap_a + times[slot] * r->tmap_b;
-                if (r->cam_blur) {
+                if (HZ_FEATURE_MOTION && r->cam_blur) {
                     view_at(r, times[slot], &vt);
                     v = &vt;
                 }

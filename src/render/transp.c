@@ -5,6 +5,8 @@
 #include "hz/dither.h"
 #include "render_internal.h"
 
+#if HZ_FEATURE_TRANSPARENCY /* the any-hit callback calls these only in builds with transparency */
+
 static uint32_t to_q16(float a)
 {
     if (!(a > 0.0f))
@@ -96,6 +98,8 @@ bool hz_transp_shadow_blocks(const hz_worker_t *w, uint32_t prim, float u, float
 {
     return hz_dither_keep(to_q16(alpha), rr_threshold(prim ^ 0x80000000u, u, v, w->b.dither_frame));
 }
+
+#endif
 
 unsigned hz_transp_mv_align(hz_transp_t t)
 {

@@ -81,6 +81,12 @@ expect render-msaa4-in-taa 2 "\-\-msaa4 does nothing in taa mode" "$hzrt" render
 expect render-reflected-in-taa 2 "\-\-no-reflected-mv does nothing in taa" "$hzrt" render builtin --mode taa --no-reflected-mv
 expect render-help-tdense 0 "--no-reflected-mv" "$hzrt" render --help
 expect render-unknown-option 2 "unknown option '--fast'" "$hzrt" render builtin --fast
+# However many options a command line repeats, each one is checked for where it acts (the options after the
+# 64th once went unchecked).
+expect render-option-after-64 2 "\-\-ordering does nothing in full mode" "$hzrt" render builtin --mode full \
+    $(i=0; while [ $i -lt 70 ]; do printf -- '--spp 1 '; i=$((i + 1)); done) --ordering bowtie
+expect latency-option-after-64 2 "\-\-active-low does nothing with \-\-source sim" "$hzrt" latency --source sim \
+    $(i=0; while [ $i -lt 70 ]; do printf -- '--hz 60 '; i=$((i + 1)); done) --active-low --frames 3
 expect render-bad-transparency 2 "--transparency: 'stochastic' is not exact, rr, std" "$hzrt" render builtin --transparency stochastic
 expect render-bad-hybrid 2 "--transparency: 'hybrid:1.5' is not exact" "$hzrt" render builtin --transparency hybrid:1.5
 expect render-bad-hybrid-empty 2 "--transparency: 'hybrid:' is not exact" "$hzrt" render builtin --transparency hybrid:

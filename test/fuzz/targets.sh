@@ -16,6 +16,8 @@ fuzz_opts() {
         # a malloc limit above the 3 GiB at which the target's ASan refuses an allocation with a stack trace.
         import) echo "-max_len=65536 -rss_limit_mb=0 -malloc_limit_mb=4096 -timeout=60" \
             "-dict=$(dirname "$0")/import.dict" ;;
+        # Every refusal prints a line: output closed (sanitizer reports still come through).
+        opts) echo "-rss_limit_mb=2048 -timeout=30 -close_fd_mask=3 -dict=$(dirname "$0")/opts.dict" ;;
         *) echo "-rss_limit_mb=2048 -timeout=30 -dict=$(dirname "$0")/$1.dict" ;;
     esac
 }
