@@ -218,7 +218,7 @@ bool hz_render_anyhit(void *user, uint32_t prim, float u, float v, float t, uint
 uint32_t hz_render_dither_decide(hz_renderer_t *r, const uint32_t *prims, const uint8_t *back, uint32_t n,
                                  uint8_t *keep)
 {
-    if (!r->f.dither || r->thread_count < 1)
+    if (!HZ_FEATURE_TRANSPARENCY || !r->f.dither || r->thread_count < 1)
         return 0;
     hz_worker_t *w = r->workers_by_thread[0];
     hz_transp_cells(w);
@@ -748,7 +748,7 @@ void hz_render_trace(hz_render_frame_t *f, hz_batch_t *b, const float (*jitter)[
     uint32_t count[BATCH_PACKETS];
     hz_memset(w->alpha_touched, 0, sizeof w->alpha_touched);
     hz_memset(w->dither_touched, 0, sizeof w->dither_touched);
-    if (r->f.dither)
+    if (HZ_FEATURE_TRANSPARENCY && r->f.dither)
         hz_transp_cells(w);
     w->write_gbuffer = write_gbuffer;
     /* Stochastic from the first hit, unless hybrid's threshold lies below full visibility. */
