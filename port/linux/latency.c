@@ -87,18 +87,11 @@ int hz_cmd_latency(int argc, char **argv)
             usage(stdout);
             return 0;
         }
-        int used = hz_sopts_take(&c, HZ_OC_LATENCY, argc, argv, &i);
+        int used = hz_opts_take(&c, HZ_OC_LATENCY, &ro, argc, argv, &i);
         if (used < 0)
             return -used;
         if (used)
             continue;
-        used = hz_ropts_take(&ro, argc, argv, i);
-        if (used < 0)
-            return -used;
-        if (used) {
-            i += used - 1;
-            continue;
-        }
         hz_cli_error("latency: unknown option '%s' (try hzrt latency --help)", a);
         return HZ_EXIT_USAGE;
     }

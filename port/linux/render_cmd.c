@@ -83,18 +83,11 @@ static int run(int argc, char **argv, const char *cmd, const char *default_scene
             usage(stdout, cmd);
             return 0;
         }
-        int used = hz_sopts_take(&c, display ? HZ_OC_SHOW : HZ_OC_RENDER, argc, argv, &i);
+        int used = hz_opts_take(&c, display ? HZ_OC_SHOW : HZ_OC_RENDER, &ro, argc, argv, &i);
         if (used < 0)
             return -used;
         if (used)
             continue;
-        used = hz_ropts_take(&ro, argc, argv, i);
-        if (used < 0)
-            return -used;
-        if (used) {
-            i += used - 1;
-            continue;
-        }
         if (a[0] == '-') {
             hz_cli_error("%s: unknown option '%s' (try hzrt %s --help)", cmd, a, cmd);
             return HZ_EXIT_USAGE;

@@ -311,3 +311,15 @@ void hz_sopts_settings(FILE *f, const hz_show_cfg_t *c, bool *first)
         }
     }
 }
+
+int hz_opts_take(hz_show_cfg_t *c, unsigned cmd, hz_ropts_t *r, int argc, char **argv, int *i)
+{
+    int used = hz_sopts_take(c, cmd, argc, argv, i);
+    if (used)
+        return used < 0 ? used : 1;
+    used = hz_ropts_take(r, argc, argv, *i);
+    if (used <= 0)
+        return used;
+    *i += used - 1;
+    return 1;
+}

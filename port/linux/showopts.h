@@ -20,9 +20,14 @@
 #include <stdio.h>
 
 #include "opttab.h"
+#include "renderopts.h"
 #include "show.h"
 
 int hz_sopts_take(hz_show_cfg_t *c, unsigned cmd, int argc, char **argv, int *i);
+/* One argument of a command that takes both tables (render, show, latency): the run options of `cmd`, then the
+ * render options. Returns 1 when one of them took argv[*i] (*i left on its last value), 0 when neither knows it,
+ * or minus the exit status of a bad value (already reported). */
+int hz_opts_take(hz_show_cfg_t *c, unsigned cmd, hz_ropts_t *r, int argc, char **argv, int *i);
 int hz_sopts_check(const hz_show_cfg_t *c, unsigned run_where);
 void hz_sopts_usage(FILE *f, unsigned cmd);
 void hz_sopts_settings(FILE *f, const hz_show_cfg_t *c, bool *first);
