@@ -248,7 +248,7 @@ static void loopback(hz_pix_fmt_t fmt, int count, int scene)
     cfg.w = W;
     cfg.h = H;
     cfg.max_frames = (size_t)count;
-    cfg.max_edges = 4 * (size_t)count + 64;
+    cfg.max_edges = 16 * (size_t)count + 64; /* a slow render sees several refreshes a frame */
     hz_timebase_t tb;
     hz_tb_init_real(&tb);
     static hz_loop_result_t res;
@@ -337,7 +337,26 @@ static void loopback(hz_pix_fmt_t fmt, int count, int scene)
     assert_true(cs.decoded - cs.too_old > 0);          /* frames were compared, not merely decoded */
     assert_true(captured >= (size_t)count / 3);        /* most frames made it through the loop */
     assert_true(n > 0);                                 /* and latency was measured */
-    assert_true(sum.resolved >= (uint64_t)count - 2);  /* the refresh edges placed (nearly) every frame */
+    /* Which frames the refresh edges place depends on when vivid's kernel thread returns buffers, and an
+     * emulated CPU on a busy host runs it late: the last frames can still wait for their edge when the loop's
+     * bounded settle ends. What must hold whatever the timing: every frame submitted before the last v-sync
+     * edge the loop took is placed, so the unplaced ones are only the tail after it. */
+    int64_t last_edge = INT64_MIN;
+    for (size_t i = 0; i < res.n_edges; i++)
+        if (res.edges[i].cls == HZ_ECLS_VSYNC && res.edges[i].t_ns > last_edge)
+            last_edge = res.edges[i].t_ns;
+    size_t placeable = 0, unplaced_early = 0;
+    for (size_t i = 0; i < res.n_frames; i++) {
+        const hz_frame_rec_t *r = &res.frames[i];
+        if (r->submit_ns + cfg.pace.latch_ns > last_edge)
+            continue;
+        placeable++;
+        unplaced_early += !(r->flags & HZ_FRAME_RESOLVED);
+    }
+    print_message("  %zu frames submitted before the last v-sync edge (%zu of them not placed)\n", placeable,
+                  unplaced_early);
+    assert_int_equal(unplaced_early, 0);
+    assert_true(sum.resolved >= (uint64_t)count / 2); /* the edges kept coming for most of the run */
     assert_true(res.period_ns > 15000000 && res.period_ns < 18500000); /* vivid runs at 59.94 Hz */
 }
 
