@@ -102,7 +102,7 @@ BENCH_SRCS := $(wildcard tools/bench/*.c)
 BENCH_OBJS := $(BENCH_SRCS:%.c=$(O)/%.o)
 BENCH := $(O)/bin/hzbench
 
-TEST_CFLAGS := $(HOSTED_CFLAGS) -Itest
+TEST_CFLAGS := $(HOSTED_CFLAGS) -Itest $(if $(BOARD_TEST_LAUNCHER),-DHZ_TEST_EMULATED)
 TEST_LIBS := -lcmocka
 
 # errtime (tools/errtime): image metrics (PSNR, SSIM, FLIP), report writers and the error-against-run-time driver.

@@ -14,4 +14,19 @@
 
 #define HZ_RUN(tests) cmocka_run_group_tests(tests, NULL, NULL)
 
+/* HZ_NATIVE_ONLY(why): the case runs where the tests run natively and is skipped, with the reason printed and
+ * counted as a skip in the summary, where they run under emulation (HZ_TEST_EMULATED: a board with a test
+ * launcher, i.e. qemu). Only for cases whose arithmetic is the same on every ISA and that cost minutes under
+ * qemu: a NEON kernel they go through must be held to its scalar twin by a cheaper case that does run there.
+ * A whole file that qualifies says "hz-test: native" instead. */
+#if defined(HZ_TEST_EMULATED)
+#define HZ_NATIVE_ONLY(why)                                                                                    \
+    do {                                                                                                       \
+        print_message("  native boards only (%s)\n", why);                                                     \
+        skip();                                                                                                \
+    } while (0)
+#else
+#define HZ_NATIVE_ONLY(why) ((void)0)
+#endif
+
 #endif

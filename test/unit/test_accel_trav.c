@@ -15,18 +15,20 @@
 static uint8_t mem[MEM_BYTES] HZ_ALIGNED(64);
 static hz_arena_t arena;
 
-/* Kernel-vs-kernel rays per mesh. Under qemu-user (NEON) every traversal is emulated: fewer of them through the
- * same meshes, kernels and forms (the camera rays, the brute-force sample and the golden digest's 40000 stay
- * whole). */
+/* N_RAYS rays are made per mesh; N_CHECK of them go through every kernel and form. Under qemu-user (NEON) every
+ * traversal is emulated: fewer of them through the same meshes, kernels and forms (the camera rays and the
+ * brute-force sample stay whole, and the golden digest takes its 40000 from the N_RAYS made). */
 #if defined(HZ_SIMD_NEON)
 #define N_RAYS 40000u
+#define N_CHECK 20000u
 #else
 #define N_RAYS 100000u
+#define N_CHECK N_RAYS
 #endif
 #define N_BRUTE 2000u   /* of which checked against brute force */
 #define CAM_W 128u
 #define CAM_H 128u
-#if N_RAYS < CAM_W * CAM_H + N_BRUTE || N_RAYS < 40000u
+#if N_CHECK < CAM_W * CAM_H + N_BRUTE || N_RAYS < 40000u || N_CHECK > N_RAYS
 #error "the camera rays, the random rays checked against brute force and the golden digest's must fit in N_RAYS"
 #endif
 
@@ -100,7 +102,7 @@ static void check_brute(const hz_accel_geom_t *g, const char *what)
 static uint32_t count_diff(const char *what, const char *kname)
 {
     uint32_t bad = 0;
-    for (uint32_t i = 0; i < N_RAYS; i++)
+    for (uint32_t i = 0; i < N_CHECK; i++)
         if (!fx_same(&rays_ref[i], &rays_out[i]) && bad++ < 3)
             print_message("%s %s: ray %u: prim %u/%u t %.9g/%.9g u %.9g/%.9g\n", what, kname, i,
                           rays_ref[i].hit.prim_id, rays_out[i].hit.prim_id, (double)rays_ref[i].ray.tfar,
@@ -120,12 +122,12 @@ static void check_mesh(mesh_kind_t mk)
     make_rays(&m, 1000u + (uint64_t)mk);
 
     /* the reference: scalar single rays, checked against brute force */
-    fx_trace1(a, HZ_ACCEL_KERNEL_SCALAR, rays_in, rays_ref, N_RAYS, NULL);
+    fx_trace1(a, HZ_ACCEL_KERNEL_SCALAR, rays_in, rays_ref, N_CHECK, NULL);
     check_brute(&g, mesh_name[mk]);
     uint32_t hits = 0;
-    for (uint32_t i = 0; i < N_RAYS; i++)
+    for (uint32_t i = 0; i < N_CHECK; i++)
         hits += rays_ref[i].hit.geom_id == 0;
-    assert_true(hits > N_RAYS / 20); /* the ray sets do exercise hits */
+    assert_true(hits > N_CHECK / 20); /* the ray sets do exercise hits */
 
     /* every SIMD kernel: single rays, packets of the native width (coherent hint on, holes in the valid mask:
      * lanes switched off stay untouched) and of the other width; AUTO with both hints */
@@ -135,20 +137,20 @@ static void check_mesh(mesh_kind_t mk)
     for (size_t q = 0; q < HZ_ARRAY_LEN(ks); q++) {
         const char *kn = hz_accel_kernel_name(ks[q]);
         assert_true(hz_accel_kernel_available(ks[q]) == (HZ_SIMD_LANES > 1));
-        fx_trace1(a, ks[q], rays_in, rays_out, N_RAYS, NULL);
+        fx_trace1(a, ks[q], rays_in, rays_out, N_CHECK, NULL);
         assert_int_equal(count_diff(mesh_name[mk], kn), 0);
-        fx_trace_packets(a, ks[q], HZ_ACCEL_COHERENT, native, true, rays_in, rays_out, N_RAYS, NULL);
-        for (uint32_t i = 6; i < N_RAYS; i += 7) {
+        fx_trace_packets(a, ks[q], HZ_ACCEL_COHERENT, native, true, rays_in, rays_out, N_CHECK, NULL);
+        for (uint32_t i = 6; i < N_CHECK; i += 7) {
             assert_true(fx_same(&rays_in[i], &rays_out[i]));
             rays_out[i] = rays_ref[i];
         }
         assert_int_equal(count_diff(mesh_name[mk], kn), 0);
-        fx_trace_packets(a, ks[q], 0, other, false, rays_in, rays_out, N_RAYS, NULL);
+        fx_trace_packets(a, ks[q], 0, other, false, rays_in, rays_out, N_CHECK, NULL);
         assert_int_equal(count_diff(mesh_name[mk], kn), 0);
     }
     for (int coh = 0; coh < 2; coh++) {
         fx_trace_packets(a, HZ_ACCEL_KERNEL_AUTO, coh ? HZ_ACCEL_COHERENT : 0, native, false, rays_in, rays_out,
-                         N_RAYS, NULL);
+                         N_CHECK, NULL);
         assert_int_equal(count_diff(mesh_name[mk], "auto"), 0);
     }
     /* tiles: calls of 8 packets (a coherent camera tile for the first rays, mixed directions for the random
@@ -162,8 +164,8 @@ static void check_mesh(mesh_kind_t mk)
     for (size_t q = 0; q < HZ_ARRAY_LEN(tiles); q++) {
         const bool holes = tiles[q][2] != 0;
         fx_trace_tiles(a, HZ_ACCEL_KERNEL_AUTO, HZ_ACCEL_COHERENT, tiles[q][0], tiles[q][1], holes, rays_in,
-                       rays_out, NULL, N_RAYS, NULL);
-        for (uint32_t i = 6; holes && i < N_RAYS; i += 7) {
+                       rays_out, NULL, N_CHECK, NULL);
+        for (uint32_t i = 6; holes && i < N_CHECK; i += 7) {
             assert_true(fx_same(&rays_in[i], &rays_out[i]));
             rays_out[i] = rays_ref[i];
         }
@@ -171,15 +173,15 @@ static void check_mesh(mesh_kind_t mk)
             print_message("tile width %d x %d packets\n", tiles[q][0], tiles[q][1]);
         assert_int_equal(count_diff(mesh_name[mk], "tile"), 0);
         fx_trace_tiles(a, HZ_ACCEL_KERNEL_AUTO, HZ_ACCEL_COHERENT, tiles[q][0], tiles[q][1], false, rays_in, NULL,
-                       occ_out, N_RAYS, NULL);
+                       occ_out, N_CHECK, NULL);
         uint32_t bad = 0;
-        for (uint32_t i = 0; i < N_RAYS; i++)
+        for (uint32_t i = 0; i < N_CHECK; i++)
             bad += occ_out[i] != (rays_ref[i].hit.geom_id == 0);
         assert_int_equal(bad, 0);
     }
 
     /* occlusion: occluded exactly when a closest hit exists, in every form */
-    for (uint32_t i = 0; i < N_RAYS; i++)
+    for (uint32_t i = 0; i < N_CHECK; i++)
         occ_ref[i] = rays_ref[i].hit.geom_id == 0;
     struct {
         hz_accel_kernel_t k;
@@ -188,9 +190,9 @@ static void check_mesh(mesh_kind_t mk)
                 { HZ_ACCEL_KERNEL_SIMD_PACKET, native }, { HZ_ACCEL_KERNEL_SIMD_MASKED, native },
                 { HZ_ACCEL_KERNEL_AUTO, other } };
     for (size_t q = 0; q < HZ_ARRAY_LEN(occ); q++) {
-        fx_occlusion(a, occ[q].k, HZ_ACCEL_COHERENT, occ[q].width, rays_in, occ_out, N_RAYS, NULL);
+        fx_occlusion(a, occ[q].k, HZ_ACCEL_COHERENT, occ[q].width, rays_in, occ_out, N_CHECK, NULL);
         uint32_t bad = 0;
-        for (uint32_t i = 0; i < N_RAYS; i++)
+        for (uint32_t i = 0; i < N_CHECK; i++)
             bad += occ_out[i] != occ_ref[i];
         if (bad)
             print_message("%s occlusion %s width %d: %u differ\n", mesh_name[mk], hz_accel_kernel_name(occ[q].k),
@@ -218,7 +220,7 @@ static bool anyhit_cb(void *user, uint32_t prim, float u, float v, float t, uint
     assert_true(lane >= 0 && lane < 8);
     assert_true(back <= 1u);
     anyhit_calls++;
-    if (side_mesh && ray_id < N_RAYS) {
+    if (side_mesh && ray_id < N_CHECK) {
         const uint32_t *tv = side_mesh->tri + (size_t)prim * 3;
         const float *a = side_mesh->pos + (size_t)tv[0] * 4, *b = side_mesh->pos + (size_t)tv[1] * 4,
                     *c = side_mesh->pos + (size_t)tv[2] * 4;
@@ -257,7 +259,7 @@ static void test_anyhit(void **state)
     ctx.anyhit = anyhit_cb;
     ctx.user = &anyhit_calls;
     side_mesh = &m, side_seen[0] = side_seen[1] = side_bad = 0;
-    fx_trace1(a, HZ_ACCEL_KERNEL_SCALAR, rays_in, rays_ref, N_RAYS, &ctx);
+    fx_trace1(a, HZ_ACCEL_KERNEL_SCALAR, rays_in, rays_ref, N_CHECK, &ctx);
     assert_true(anyhit_calls > 1000);
     /* the side comes from the intersection test: it agrees with the geometric one, both sides occur */
     assert_int_equal(side_bad, 0);
@@ -276,29 +278,29 @@ static void test_anyhit(void **state)
     const hz_accel_kernel_t ks[] = { HZ_ACCEL_KERNEL_SIMD_SINGLE, HZ_ACCEL_KERNEL_SIMD_PACKET,
                                      HZ_ACCEL_KERNEL_SIMD_MASKED };
     for (size_t q = 0; q < HZ_ARRAY_LEN(ks); q++) {
-        fx_trace1(a, ks[q], rays_in, rays_out, N_RAYS, &ctx);
+        fx_trace1(a, ks[q], rays_in, rays_out, N_CHECK, &ctx);
         assert_int_equal(count_diff("anyhit", hz_accel_kernel_name(ks[q])), 0);
-        fx_trace_packets(a, ks[q], HZ_ACCEL_COHERENT, HZ_BVH_W, false, rays_in, rays_out, N_RAYS, &ctx);
+        fx_trace_packets(a, ks[q], HZ_ACCEL_COHERENT, HZ_BVH_W, false, rays_in, rays_out, N_CHECK, &ctx);
         assert_int_equal(count_diff("anyhit", hz_accel_kernel_name(ks[q])), 0);
-        fx_trace_tiles(a, ks[q], HZ_ACCEL_COHERENT, HZ_BVH_W, 8, false, rays_in, rays_out, NULL, N_RAYS, &ctx);
+        fx_trace_tiles(a, ks[q], HZ_ACCEL_COHERENT, HZ_BVH_W, 8, false, rays_in, rays_out, NULL, N_CHECK, &ctx);
         assert_int_equal(count_diff("anyhit tile", hz_accel_kernel_name(ks[q])), 0);
     }
     assert_int_equal(side_bad, 0); /* every kernel tells the same side */
     side_mesh = NULL;
     /* occlusion honours the callback too; without the callback flagged triangles are opaque */
-    for (uint32_t i = 0; i < N_RAYS; i++)
+    for (uint32_t i = 0; i < N_CHECK; i++)
         occ_ref[i] = rays_ref[i].hit.geom_id == 0;
     for (size_t q = 0; q < HZ_ARRAY_LEN(ks); q++) {
-        fx_occlusion(a, ks[q], HZ_ACCEL_COHERENT, HZ_BVH_W, rays_in, occ_out, N_RAYS, &ctx);
-        assert_memory_equal(occ_ref, occ_out, N_RAYS);
-        fx_trace_tiles(a, ks[q], HZ_ACCEL_COHERENT, HZ_BVH_W, 8, false, rays_in, NULL, occ_out, N_RAYS, &ctx);
-        assert_memory_equal(occ_ref, occ_out, N_RAYS);
+        fx_occlusion(a, ks[q], HZ_ACCEL_COHERENT, HZ_BVH_W, rays_in, occ_out, N_CHECK, &ctx);
+        assert_memory_equal(occ_ref, occ_out, N_CHECK);
+        fx_trace_tiles(a, ks[q], HZ_ACCEL_COHERENT, HZ_BVH_W, 8, false, rays_in, NULL, occ_out, N_CHECK, &ctx);
+        assert_memory_equal(occ_ref, occ_out, N_CHECK);
     }
-    fx_occlusion(a, HZ_ACCEL_KERNEL_SCALAR, 0, 0, rays_in, occ_out, N_RAYS, &ctx);
-    assert_memory_equal(occ_ref, occ_out, N_RAYS);
-    fx_trace1(a, HZ_ACCEL_KERNEL_AUTO, rays_in, rays_out, N_RAYS, NULL);
+    fx_occlusion(a, HZ_ACCEL_KERNEL_SCALAR, 0, 0, rays_in, occ_out, N_CHECK, &ctx);
+    assert_memory_equal(occ_ref, occ_out, N_CHECK);
+    fx_trace1(a, HZ_ACCEL_KERNEL_AUTO, rays_in, rays_out, N_CHECK, NULL);
     uint32_t more = 0;
-    for (uint32_t i = 0; i < N_RAYS; i++)
+    for (uint32_t i = 0; i < N_CHECK; i++)
         more += rays_out[i].hit.geom_id == 0 && rays_ref[i].hit.geom_id != 0;
     assert_true(more > 10);
     hz_arena_reset(&arena, m0);
