@@ -35,6 +35,10 @@ typedef struct hz_adaptive_opts {
     float normal_angle_deg;      /* normals within this angle agree; default 15 */
     uint32_t focus_count;        /* 0: all objects */
     uint16_t focus[HZ_AMASK_MAX_FOCUS]; /* object ids (any order; duplicates allowed) */
+    /* 1: in a pixel with active subpixels, each inactive one takes the presample's colours interpolated
+     * bilinearly at its own centre instead of the pixel's centre colour (seed 003 section 6); costs px x 12
+     * bytes (a copy of the presample). 0 (default): Fig. 5's weights. */
+    int bilinear;
 } hz_adaptive_opts_t;
 
 void hz_adaptive_opts_default(hz_adaptive_opts_t *o);

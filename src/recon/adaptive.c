@@ -13,6 +13,7 @@ typedef struct adaptive_state {
     hz_amask_hit_t *attr;      /* levels hits per pixel (primary, then the mirror hit where the scene has mirrors) */
     uint32_t levels;
     uint8_t *mask;             /* bit q: subpixel q active */
+    float *pre;                /* bilinear only: the presample's colours (out is rewritten in pass 2) */
 } adaptive_state_t;
 
 void hz_adaptive_opts_default(hz_adaptive_opts_t *o)
@@ -108,6 +109,7 @@ static void ad_layout(void *state, const hz_render_frame_t *f, hz_memplan_t *p)
     a->levels = f->has_mirrors ? 2u : 1u;
     a->attr = hz_memplan_array(p, px * a->levels, sizeof(hz_amask_hit_t));
     a->mask = hz_memplan_alloc(p, px);
+    a->pre = f->opts.adaptive.bilinear ? hz_memplan_array(p, px, 12) : NULL;
 }
 
 static hz_status_t ad_init(void *state, const hz_render_frame_t *f, hz_error_t *err)
@@ -193,6 +195,31 @@ static void test_tile(adaptive_state_t *a, const hz_render_frame_t *f, uint32_t 
             }
         }
     hz_amask_block(&a->cfg, win, S, tw, th, a->mask + (size_t)y0 * f->opts.width + x0, f->opts.width);
+    if (a->pre) /* every tile's copy is made before pass 2 rewrites any pixel of out */
+        for (uint32_t y = 0; y < th; y++) {
+            size_t row = ((size_t)(y0 + y) * f->opts.width + x0) * 3;
+            hz_memcpy(a->pre + row, a->out.rgb + row, (size_t)tw * 12);
+        }
+}
+
+/* The presample's colour c at (x, y) in pixel units (pixel centres at integers + 0.5), interpolated bilinearly
+ * between the four nearest centres; the image edge replicates. */
+static void bilinear_at(const adaptive_state_t *a, uint32_t w, uint32_t h, float x, float y, float c[3])
+{
+    float fx = x - 0.5f, fy = y - 0.5f;
+    int32_t ix = (int32_t)(fx < 0.0f ? -1.0f : fx), iy = (int32_t)(fy < 0.0f ? -1.0f : fy);
+    float tx = fx - (float)ix, ty = fy - (float)iy;
+    int32_t xs[2] = { ix, ix + 1 }, ys[2] = { iy, iy + 1 };
+    for (int k = 0; k < 2; k++) {
+        xs[k] = xs[k] < 0 ? 0 : xs[k] >= (int32_t)w ? (int32_t)w - 1 : xs[k];
+        ys[k] = ys[k] < 0 ? 0 : ys[k] >= (int32_t)h ? (int32_t)h - 1 : ys[k];
+    }
+    const float *p00 = a->pre + ((size_t)ys[0] * w + (size_t)xs[0]) * 3, *p10 = a->pre + ((size_t)ys[0] * w + (size_t)xs[1]) * 3;
+    const float *p01 = a->pre + ((size_t)ys[1] * w + (size_t)xs[0]) * 3, *p11 = a->pre + ((size_t)ys[1] * w + (size_t)xs[1]) * 3;
+    for (int ch = 0; ch < 3; ch++) {
+        float top = p00[ch] + (p10[ch] - p00[ch]) * tx, bottom = p01[ch] + (p11[ch] - p01[ch]) * tx;
+        c[ch] = top + (bottom - top) * ty;
+    }
 }
 
 /* ---- pass 2: extra samples ---- */
@@ -201,7 +228,8 @@ static void extra_tile(adaptive_state_t *a, hz_render_frame_t *f, uint32_t tile,
 {
     uint16_t list[4 * HZ_TILE_PIXELS];
     float acc[HZ_TILE_PIXELS * 3];
-    float jitter[HZ_TILE_PIXELS][2];
+    float jitter[HZ_TILE_PIXELS][2], times[HZ_TILE_PIXELS];
+    const bool blur = HZ_FEATURE_MOTION && f->blur;
     uint32_t x0, y0, tw, th;
     tile_rect(f, tile, &x0, &y0, &tw, &th);
     const uint32_t W = f->opts.width;
@@ -230,9 +258,13 @@ static void extra_tile(adaptive_state_t *a, hz_render_frame_t *f, uint32_t tile,
             uint32_t h = hz_hash3(px, cy * 4u + cx, f->opts.seed);
             jitter[slot][0] = ((float)cx + hz_u32_to_unit(h)) / 4.0f - 0.5f;
             jitter[slot][1] = ((float)cy + hz_u32_to_unit(hz_hash32(h))) / 4.0f - 0.5f;
+            /* With motion blur every extra sample takes its own time: the stratum of its 4x4 cell among the
+             * pixel's 16, as the full mode's 16 spp would (the presample took one time over the whole shutter). */
+            if (blur)
+                times[slot] = hz_render_sample_time(f, px, cy * 4u + cx, 16u);
         }
         hz_memset(b->radiance, 0, sizeof b->radiance);
-        hz_render_trace(f, b, (const float(*)[2])jitter, NULL, false);
+        hz_render_trace(f, b, (const float(*)[2])jitter, blur ? times : NULL, false);
         for (uint32_t slot = 0; slot < count; slot++)
             for (int c = 0; c < 3; c++)
                 acc[owner[slot] * 3u + (uint32_t)c] += b->radiance[slot * 3 + (uint32_t)c];
@@ -241,14 +273,30 @@ static void extra_tile(adaptive_state_t *a, hz_render_frame_t *f, uint32_t tile,
     b->stats.extra_rays += rays;
     b->stats.active_subpixels += n;
     for (uint32_t p = 0; p < tw * th; p++) {
-        uint32_t m = hz_amask_count(mask[(p / tw) * W + p % tw]);
+        const uint8_t bits = mask[(p / tw) * W + p % tw];
+        uint32_t m = hz_amask_count(bits);
         if (m == 0)
             continue;
         float cw, sw;
         hz_adaptive_weights(m, &cw, &sw);
-        float *dst = a->out.rgb + ((size_t)(y0 + p / tw) * W + x0 + p % tw) * 3;
+        const uint32_t x = x0 + p % tw, y = y0 + p / tw;
+        float *dst = a->out.rgb + ((size_t)y * W + x) * 3;
+        float inactive[3] = { dst[0] * cw, dst[1] * cw, dst[2] * cw };
+        if (a->pre && m < 4) {
+            /* each inactive subpixel q (bit q: x side q & 1, y side q >> 1) at its own centre */
+            inactive[0] = inactive[1] = inactive[2] = 0.0f;
+            for (uint32_t q = 0; q < 4; q++) {
+                if (bits & (1u << q))
+                    continue;
+                float c[3];
+                bilinear_at(a, W, f->opts.height, (float)x + 0.25f + 0.5f * (float)(q & 1u),
+                            (float)y + 0.25f + 0.5f * (float)(q >> 1), c);
+                for (int ch = 0; ch < 3; ch++)
+                    inactive[ch] += 0.25f * c[ch];
+            }
+        }
         for (int c = 0; c < 3; c++) {
-            float v = dst[c] * cw + acc[p * 3 + (uint32_t)c] * sw;
+            float v = inactive[c] + acc[p * 3 + (uint32_t)c] * sw;
             if (!hz_isfinitef(v)) {
                 b->stats.nonfinite++;
                 v = 0.0f;
@@ -262,9 +310,9 @@ static void extra_tile(adaptive_state_t *a, hz_render_frame_t *f, uint32_t tile,
 
 static hz_status_t ad_check(const hz_render_opts_t *o, hz_error_t *err)
 {
-    /* The subpixel pass traces at the frame's time; blurred presamples against sharp subpixels would mix. */
-    if (o->shutter > 0.0f)
-        return hz_error_set(err, HZ_E_INVALID_ARG, "motion blur (shutter > 0) is not built for adaptive mode");
+    /* Motion blur needs nothing of its own: the presample and every extra sample carry their own shutter time,
+     * so the estimate converges to the blurred pixel; moving edges differ more between neighbours and get more
+     * subpixels. */
     hz_amask_config_t c;
     return hz_adaptive_config(&o->adaptive, &c, err);
 }

@@ -627,7 +627,8 @@ static needs_t needs_of(const struct hz_renderer *r)
 
 static bool same_adaptive(const hz_adaptive_opts_t *a, const hz_adaptive_opts_t *b)
 {
-    bool same = a->normal_angle_deg == b->normal_angle_deg && a->focus_count == b->focus_count;
+    bool same = a->normal_angle_deg == b->normal_angle_deg && a->focus_count == b->focus_count &&
+                (a->bilinear != 0) == (b->bilinear != 0);
     for (int k = 0; k < HZ_TAU_COUNT; k++)
         same = same && a->tau[k] == b->tau[k];
     for (uint32_t i = 0; same && i < a->focus_count && i < HZ_AMASK_MAX_FOCUS; i++)

@@ -97,14 +97,14 @@ static hz_render_opts_t blur_opts(hz_render_mode_t mode, float shutter)
     return o;
 }
 
-/* Renders `frames` frames from t0 (seconds, step dt) with shutter 1 in full (4 spp), TAA and tdense over every
+/* Renders `frames` frames from t0 (seconds, step dt) with shutter 1 in full (4 spp), TAA, tdense and adaptive over every
  * motion BVH: every output finite, the pose keys in use (opts.keys set, K >= 2). Returns K. */
 static uint32_t render_blurred(stab_result_t *r, const su_scene_t *b, hz_time_ns_t t0, hz_time_ns_t dt,
                                uint32_t frames)
 {
-    static const hz_render_mode_t modes[3] = { HZ_MODE_FULL, HZ_MODE_TAA, HZ_MODE_TDENSE };
+    static const hz_render_mode_t modes[4] = { HZ_MODE_FULL, HZ_MODE_TAA, HZ_MODE_TDENSE, HZ_MODE_ADAPTIVE };
     uint32_t k = 0;
-    for (int m = 0; m < 3; m++)
+    for (int m = 0; m < 4; m++)
         for (int bl = 0; bl < HZ_ACCEL_BLUR_COUNT; bl++) {
             if (m != 1 && bl != 0)
                 continue; /* every BVH once (TAA), every mode once (MSBVH) */

@@ -145,6 +145,80 @@ static void test_defaults_threads_and_mask(void **state)
     rfix_close(&f);
 }
 
+/* Bilinear colour for inactive subpixels (seed 003 section 6, opts.adaptive.bilinear), against an oracle built
+ * here from the plain mode's output: a pixel with n active subpixels is centre x (4 - n)/4 + its extra samples /
+ * 16 there; with bilinear each inactive subpixel q takes instead the 1-spp image interpolated (in double, edge
+ * replicated) at its centre, x 1/4. Pixels with no active subpixel or all four keep their colours bit for bit;
+ * the mask, the rays and the thread counts do not change; the option costs a copy of the presample. */
+static double bilerp(const float *img, int w, int h, double x, double y, int c)
+{
+    double fx = x - 0.5, fy = y - 0.5;
+    int ix = (int)floor(fx), iy = (int)floor(fy);
+    double tx = fx - ix, ty = fy - iy, v[2][2];
+    for (int j = 0; j < 2; j++)
+        for (int i = 0; i < 2; i++) {
+            int xx = ix + i < 0 ? 0 : ix + i >= w ? w - 1 : ix + i;
+            int yy = iy + j < 0 ? 0 : iy + j >= h ? h - 1 : iy + j;
+            v[j][i] = img[((size_t)yy * (size_t)w + (size_t)xx) * 3 + (size_t)c];
+        }
+    return (v[0][0] * (1 - tx) + v[0][1] * tx) * (1 - ty) + (v[1][0] * (1 - tx) + v[1][1] * tx) * ty;
+}
+
+static void test_bilinear_inactive_subpixels(void **state)
+{
+    (void)state;
+    rfix_t f;
+    open_scene(&f, "builtin", HZ_ACCEL_NATIVE);
+    hz_render_opts_t o;
+    hz_render_opts_default(&o);
+    o.width = W + 3, o.height = H + 5;
+    const int w = (int)o.width, h = (int)o.height;
+    const size_t px = (size_t)w * (size_t)h;
+    hz_render_stats_t s0, s1, s2;
+    float *one = render_copy(&f, &o, 2, 0.75f, &s0);
+    o.mode = HZ_MODE_ADAPTIVE;
+    hz_render_plan_t plain_plan, bil_plan;
+    hz_error_t err;
+    assert_int_equal(hz_render_plan(&f.scene, &o, &plain_plan, &err), HZ_OK);
+    float *plain = render_copy(&f, &o, 2, 0.75f, &s1);
+    uint8_t *mask = malloc(px);
+    memcpy(mask, hz_render_adaptive_mask(f.r), px);
+    o.adaptive.bilinear = 1;
+    assert_int_equal(hz_render_plan(&f.scene, &o, &bil_plan, &err), HZ_OK);
+    assert_true(bil_plan.frame_bytes >= plain_plan.frame_bytes + px * 12);
+    float *bil = render_copy(&f, &o, 1, 0.75f, &s2);
+    assert_memory_equal(mask, hz_render_adaptive_mask(f.r), px);
+    assert_int_equal(s2.extra_rays, s1.extra_rays);
+    float *bil2 = render_copy(&f, &o, 2, 0.75f, &s2);
+    assert_memory_equal(bil, bil2, px * 3 * sizeof(float));
+    size_t partial = 0;
+    double worst = 0;
+    for (size_t i = 0; i < px; i++) {
+        uint32_t n = hz_amask_count(mask[i]);
+        if (n == 0 || n == 4) {
+            assert_memory_equal(bil + i * 3, plain + i * 3, 3 * sizeof(float));
+            continue;
+        }
+        partial++;
+        const int x = (int)(i % (size_t)w), y = (int)(i / (size_t)w);
+        for (int c = 0; c < 3; c++) {
+            double want = plain[i * 3 + (size_t)c] - one[i * 3 + (size_t)c] * (4.0 - n) / 4.0;
+            for (int q = 0; q < 4; q++)
+                if (!(mask[i] & (1u << q)))
+                    want += 0.25 * bilerp(one, w, h, x + 0.25 + 0.5 * (q & 1), y + 0.25 + 0.5 * (q >> 1), c);
+            want = want > 0 ? want : 0;
+            double d = fabs(bil[i * 3 + (size_t)c] - want) / (fabs(want) + 1e-3);
+            worst = d > worst ? d : worst;
+        }
+    }
+    print_message("bilinear: %zu partly active pixels of %zu, worst relative difference to the oracle %.2g\n", partial,
+                  px, worst);
+    assert_true(partial > px / 50);
+    assert_true(worst < 1e-4);
+    free(one), free(plain), free(mask), free(bil), free(bil2);
+    rfix_close(&f);
+}
+
 static void test_mirror_scene(void **state)
 {
     (void)state;
@@ -237,6 +311,7 @@ int main(void)
         cmocka_unit_test(test_weights_sum_to_one),
         cmocka_unit_test(test_limits),
         cmocka_unit_test(test_defaults_threads_and_mask),
+        cmocka_unit_test(test_bilinear_inactive_subpixels),
         cmocka_unit_test(test_mirror_scene),
 #if HZ_HAVE_EMBREE
         cmocka_unit_test(test_embree_backend),

@@ -2,7 +2,8 @@
  * blurred frame converges to the average of instantaneous frames over the shutter (the oracle: 16 unblurred
  * renders at times spread over the shutter); the motion BVHs and Embree give the same image; shadow and mirror
  * rays carry the time of the camera ray they come from; tdense refits once per cycle with cycle keys. The
- * convergence to the shutter average runs on native boards only (HZ_NATIVE_ONLY).
+ * convergence to the shutter average runs on native boards only (HZ_NATIVE_ONLY). Adaptive supersampling
+ * under a shutter has the blurred full mode's 1-spp and 16-spp images as its limits.
  * hz-test: no-vm (heavy under system emulation, runs under qemu-user)
  */
 #include "hz_test.h"
@@ -122,6 +123,66 @@ static void test_blur_converges_to_the_shutter_average(void **state)
     check_backend_converges(HZ_ACCEL_EMBREE, HZ_ACCEL_BLUR_MSBVH, "embree");
 #endif
     check_backend_converges(HZ_ACCEL_NATIVE, HZ_ACCEL_BLUR_MSBVH, "msbvh");
+}
+
+/* Adaptive supersampling under a shutter (each extra sample at its own time, the stratum of its 4x4 cell): its
+ * two limits are the blurred full mode's images, as without blur. Every threshold 1: the presample alone, the
+ * blurred 1-spp image bit for bit; every threshold 0: the 16 extra samples take the full mode's 16 positions and
+ * times, so the blurred 16-spp image up to the order of the float sums. And the blur shows: the tau-0 image is
+ * far from the unblurred 16-spp one. */
+static void adaptive_blurred(float shutter, uint32_t spp, hz_render_mode_t mode, float tau, float *out,
+                             hz_render_stats_t *st)
+{
+    rfix_t f;
+    hz_error_t err;
+    hz_render_opts_t o;
+    opts_for(&o, shutter, spp);
+    o.mode = mode;
+    for (int k = 0; k < HZ_TAU_COUNT; k++)
+        o.adaptive.tau[k] = tau;
+    hz_status_t s = bopen(&f, "builtin", HZ_ACCEL_NATIVE, HZ_ACCEL_BLUR_MSBVH, &o, &err);
+    if (s == HZ_OK)
+        s = rfix_renderer(&f, &o, 2, &err);
+    if (s == HZ_OK)
+        s = rfix_frame(&f, 0, T0, &err);
+    if (s != HZ_OK)
+        print_error("builtin %s shutter %g: %s\n", hz_render_mode_name(mode), (double)shutter, err.msg);
+    assert_int_equal(s, HZ_OK);
+    hz_render_frame_stats(f.r, st, NULL);
+    memcpy(out, hz_render_output(f.r)->rgb, sizeof img_a);
+    rfix_close(&f);
+}
+
+static void test_adaptive_blur_limits(void **state)
+{
+    (void)state;
+    static float one[W * H * 3], sixteen[W * H * 3], sharp[W * H * 3];
+    hz_render_stats_t st;
+    adaptive_blurred(1.0f, 1, HZ_MODE_FULL, 0.6f, one, &st);
+    adaptive_blurred(1.0f, 16, HZ_MODE_FULL, 0.6f, sixteen, &st);
+    adaptive_blurred(0.0f, 16, HZ_MODE_FULL, 0.6f, sharp, &st);
+    adaptive_blurred(1.0f, 1, HZ_MODE_ADAPTIVE, 1.0f, img_a, &st);
+    assert_int_equal(st.extra_rays, 0);
+    assert_memory_equal(img_a, one, sizeof img_a);
+    adaptive_blurred(1.0f, 1, HZ_MODE_ADAPTIVE, 0.0f, img_b, &st);
+    assert_int_equal(st.extra_rays, 16 * W * H);
+    double worst = 0;
+    for (size_t i = 0; i < (size_t)W * H * 3; i++) {
+        double d = fabs((double)img_b[i] - sixteen[i]) / (fabs((double)sixteen[i]) + 1e-3);
+        worst = d > worst ? d : worst;
+    }
+    double to_sharp = psnr(img_b, sharp), to_blurred = psnr(img_b, sixteen);
+    print_message("adaptive tau 0 under shutter 1: worst relative difference to blurred 16 spp %.2g; %.2f dB from "
+                  "it, %.2f dB from the unblurred 16 spp\n", worst, to_blurred, to_sharp);
+    assert_true(worst < 1e-4);
+    assert_true(to_sharp < 40.0); /* the built-in scene's object moves: blur is visible at this rate */
+    /* the default thresholds: between the limits, extra rays where neighbours differ */
+    adaptive_blurred(1.0f, 1, HZ_MODE_ADAPTIVE, 0.06f, img_c, &st);
+    assert_true(st.extra_rays > 0 && st.extra_rays < 16 * W * H);
+    assert_int_equal(st.nonfinite, 0);
+    print_message("adaptive tau 0.06 under shutter 1: %.2f dB from blurred 16 spp (1 spp: %.2f dB), %llu extra "
+                  "rays\n", psnr(img_c, sixteen), psnr(one, sixteen), (unsigned long long)st.extra_rays);
+    assert_true(psnr(img_c, sixteen) > psnr(one, sixteen));
 }
 
 static void test_bvhs_agree(void **state)
@@ -286,6 +347,7 @@ int main(void)
         cmocka_unit_test(test_shutter_zero_is_the_unblurred_renderer),
         cmocka_unit_test(test_blur_converges_to_the_shutter_average),
         cmocka_unit_test(test_bvhs_agree),
+        cmocka_unit_test(test_adaptive_blur_limits),
         cmocka_unit_test(test_secondary_rays_inherit_time),
         cmocka_unit_test(test_tdense_refits_once_per_cycle),
     };
