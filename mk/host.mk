@@ -6,7 +6,7 @@
 HOSTAR ?= ar
 HOST_CFLAGS := $(WARN) $(OPT) -D_POSIX_C_SOURCE=200809L -Iinclude -Itools/host -Iport/linux -Iprograms/opt
 HOST_SAN_FLAGS := -fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer
-HOST_LIB_SRCS := $(CORE_SRCS) $(SCENE_SRCS) port/linux/cli.c port/linux/fileio.c
+HOST_LIB_SRCS := $(CORE_SRCS) $(SCENE_SRCS) port/linux/cli.c port/linux/fileio.c programs/opt/opttab.c
 BAKE_LIB_SRCS := programs/hzbake/util.c programs/hzbake/sidecar.c programs/hzbake/scene.c programs/hzbake/texture.c \
                  programs/hzbake/import_assimp.c programs/hzbake/import_furball.c
 BAKE_SRCS := programs/hzbake/main.c $(BAKE_LIB_SRCS)
