@@ -116,6 +116,6 @@ void hz_opt_usage(FILE *f, const hz_opt_t *t, size_t n, unsigned cmd, unsigned f
                                       group_str(s, sizeof s, &groups[g], bits));
             }
         }
-        hz_opt_print_entry(f, o, only, false);
+        hz_opt_print_entry(f, o, only, false, 24);
     }
 }

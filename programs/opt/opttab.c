@@ -143,10 +143,11 @@ int hz_opt_parse(const hz_opt_prog_t *p, int argc, char **argv, hz_opt_take_fn t
 
 /* ---- help ---- */
 
-#define HELP_COL 24
+#define HELP_COL 24 /* hzrt's commands */
+#define HELP_COL_MAX 34
 #define HELP_WIDTH 116
 
-void hz_opt_print_entry(FILE *f, const hz_opt_t *o, const char *note, bool wide)
+void hz_opt_print_entry(FILE *f, const hz_opt_t *o, const char *note, bool wide, int col0)
 {
     char head[64], lim[96] = "", lo[32], hi[32];
     snprintf(head, sizeof head, "%s%s%s%s%s", o->alias ? o->alias : wide ? "    " : "", o->alias ? ", " : "",
@@ -161,17 +162,17 @@ void hz_opt_print_entry(FILE *f, const hz_opt_t *o, const char *note, bool wide)
     snprintf(text, sizeof text, "%s%s%s%s%s", o->help, lim, note && note[0] ? " (only " : "", note ? note : "",
              note && note[0] ? ")" : "");
     /* wrapped under the option */
-    int col = HELP_COL;
-    if ((int)strlen(head) + 2 < HELP_COL - 1)
-        fprintf(f, "  %-*s", HELP_COL - 2, head);
+    int col = col0;
+    if ((int)strlen(head) + 2 < col0 - 1)
+        fprintf(f, "  %-*s", col0 - 2, head);
     else
-        fprintf(f, "  %s\n%*s", head, HELP_COL, "");
+        fprintf(f, "  %s\n%*s", head, col0, "");
     int first = 1;
     for (char *word = strtok(text, " "); word; word = strtok(NULL, " ")) {
         int len = (int)strlen(word);
         if (!first && col + 1 + len > HELP_WIDTH) {
-            fprintf(f, "\n%*s", HELP_COL, "");
-            col = HELP_COL;
+            fprintf(f, "\n%*s", col0, "");
+            col = col0;
             first = 1;
         }
         fprintf(f, "%s%s", first ? "" : " ", word);
@@ -186,11 +187,19 @@ void hz_opt_help(FILE *f, const hz_opt_prog_t *p)
     bool wide = false;
     for (size_t k = 0; k < p->n; k++)
         wide |= p->table[k].alias != NULL;
+    /* the help column after the longest option (up to HELP_COL_MAX; longer ones get a line of their own) */
+    int col = HELP_COL;
+    for (size_t k = 0; k < p->n; k++) {
+        const hz_opt_t *o = &p->table[k];
+        int len = 2 + (wide ? 4 : 0) + (int)strlen(o->name) + (o->arg ? 1 + (int)strlen(o->arg) : 0) + 3;
+        if (len > col)
+            col = len < HELP_COL_MAX ? len : HELP_COL_MAX;
+    }
     fputs(p->synopsis, f);
     for (size_t k = 0; k < p->n; k++) {
         if (p->table[k].section)
             fprintf(f, "%s:\n", p->table[k].section);
-        hz_opt_print_entry(f, &p->table[k], NULL, wide);
+        hz_opt_print_entry(f, &p->table[k], NULL, wide, col);
     }
     if (p->epilogue)
         fputs(p->epilogue, f);

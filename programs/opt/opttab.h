@@ -92,7 +92,8 @@ int hz_opt_parse(const hz_opt_prog_t *p, int argc, char **argv, hz_opt_take_fn t
 void hz_opt_help(FILE *f, const hz_opt_prog_t *p);
 
 /* One entry of a help text, `note` (NULL: none) after its help and limits in parentheses ("only ..."); wide: the
- * table has aliases, so an entry without one is indented to line up. */
-void hz_opt_print_entry(FILE *f, const hz_opt_t *o, const char *note, bool wide);
+ * table has aliases, so an entry without one is indented to line up; col: the column the help text starts in
+ * (hzrt's commands: 24). */
+void hz_opt_print_entry(FILE *f, const hz_opt_t *o, const char *note, bool wide, int col);
 
 #endif
