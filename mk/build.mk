@@ -38,9 +38,9 @@ $(O)/port/%.o: port/%.c $(BUILD_STAMP)
 	@mkdir -p $(dir $@)
 	$(call msg,CC,$@)$(CC) $(HOSTED_CFLAGS) $(PORT_DEFS) $(EXTRA_CFLAGS) $(DEPFLAGS) -c $< -o $@
 
-$(O)/tools/%.o: tools/%.c $(BUILD_STAMP)
+$(O)/programs/%.o: programs/%.c $(BUILD_STAMP)
 	@mkdir -p $(dir $@)
-	$(call msg,CC,$@)$(CC) $(HOSTED_CFLAGS) $(PORT_DEFS) -Iport/linux $(DEPFLAGS) -c $< -o $@
+	$(call msg,CC,$@)$(CC) $(HOSTED_CFLAGS) $(PORT_DEFS) $(PROGRAM_CFLAGS) $(EXTRA_CFLAGS) $(DEPFLAGS) -c $< -o $@
 
 $(LIB): $(LIB_OBJS)
 	$(call msg,AR,$@)rm -f $@ && $(AR) rcs $@ $^
@@ -48,13 +48,16 @@ $(LIB): $(LIB_OBJS)
 $(PORT_LIB): $(PORT_OBJS)
 	$(call msg,AR,$@)rm -f $@ && $(AR) rcs $@ $^
 
-$(HZRT): $(HZRT_OBJS) $(ERRTIME_LIB) $(PORT_LIB) $(LIB)
-	@mkdir -p $(dir $@)
-	$(call msg,LD,$@)$(CC) $(LDFLAGS_ALL) -o $@ $(HZRT_OBJS) $(ERRTIME_LIB) $(PORT_LIB) $(LIB) $(PORT_LIBS)
+$(OPT_LIB): $(OPT_OBJS)
+	$(call msg,AR,$@)rm -f $@ && $(AR) rcs $@ $^
 
-$(BENCH): $(BENCH_OBJS) $(PORT_LIB) $(LIB)
+$(HZRT): $(HZRT_OBJS) $(ERRTIME_LIB) $(OPT_LIB) $(PORT_LIB) $(LIB)
 	@mkdir -p $(dir $@)
-	$(call msg,LD,$@)$(CC) $(LDFLAGS_ALL) -o $@ $(BENCH_OBJS) $(PORT_LIB) $(LIB) $(PORT_LIBS)
+	$(call msg,LD,$@)$(CC) $(LDFLAGS_ALL) -o $@ $(HZRT_OBJS) $(ERRTIME_LIB) $(OPT_LIB) $(PORT_LIB) $(LIB) $(PORT_LIBS)
+
+$(BENCH): $(BENCH_OBJS) $(OPT_LIB) $(PORT_LIB) $(LIB)
+	@mkdir -p $(dir $@)
+	$(call msg,LD,$@)$(CC) $(LDFLAGS_ALL) -o $@ $(BENCH_OBJS) $(OPT_LIB) $(PORT_LIB) $(LIB) $(PORT_LIBS)
 
 # The sigrok-cli demo traces (test/traces/README.md) as C arrays, for tests that also run in the VM.
 TRACE_HDR := $(O)/test/gen/hz_traces.h
@@ -65,9 +68,9 @@ $(TRACE_HDR): test/traces/mkheader.sh test/traces/sigrok-demo-200k.vcd test/trac
 $(ERRTIME_LIB): $(ERRTIME_OBJS)
 	$(call msg,AR,$@)rm -f $@ && $(AR) rcs $@ $^
 
-$(ERRTIME): $(ERRTIME_MAIN_OBJS) $(ERRTIME_LIB) $(PORT_LIB) $(LIB)
+$(ERRTIME): $(ERRTIME_MAIN_OBJS) $(ERRTIME_LIB) $(OPT_LIB) $(PORT_LIB) $(LIB)
 	@mkdir -p $(dir $@)
-	$(call msg,LD,$@)$(CC) $(LDFLAGS_ALL) -o $@ $(ERRTIME_MAIN_OBJS) $(ERRTIME_LIB) $(PORT_LIB) $(LIB) $(PORT_LIBS)
+	$(call msg,LD,$@)$(CC) $(LDFLAGS_ALL) -o $@ $(ERRTIME_MAIN_OBJS) $(ERRTIME_LIB) $(OPT_LIB) $(PORT_LIB) $(LIB) $(PORT_LIBS)
 
 errtime: $(ERRTIME) ## build hzerrtime (error against run time; `hzerrtime --help`) into O/bin
 tests: $(ERRTIME)
@@ -75,12 +78,13 @@ tests: $(ERRTIME)
 # Every unit test links the same libraries (archives: a test takes only what it calls). The commands' archive
 # lets tests drive `hzrt render`, `show`, `latency` and `accel` through their entry points.
 CMD_LIB := $(O)/libhzcmd.a
-$(CMD_LIB): $(CMD_OBJS) $(O)/port/linux/accel_cmd.o
+$(CMD_LIB): $(CMD_OBJS)
 	$(call msg,AR,$@)rm -f $@ && $(AR) rcs $@ $^
-TEST_DEP_LIBS := $(CMD_LIB) $(ERRTIME_LIB) $(PORT_LIB) $(LIB)
+TEST_DEP_LIBS := $(CMD_LIB) $(ERRTIME_LIB) $(OPT_LIB) $(PORT_LIB) $(LIB)
+TEST_PROGRAM_CFLAGS := -Iprograms/hzrt -Iprograms/hzerrtime -Iprograms/opt -Iport/linux
 $(TEST_BINS): $(O)/test/unit/%: $(TEST_UNIT_DIR)/%.c $(TEST_DEP_LIBS) $(TRACE_HDR) $(BUILD_STAMP)
 	@mkdir -p $(dir $@)
-	$(call msg,CCLD,$@)$(CC) $(TEST_CFLAGS) $(PORT_DEFS) -Itools/errtime -Iport/linux -I$(O)/test/gen \
+	$(call msg,CCLD,$@)$(CC) $(TEST_CFLAGS) $(PORT_DEFS) $(TEST_PROGRAM_CFLAGS) -I$(O)/test/gen \
 		-DHZ_HAVE_PNG=$(HAVE_PNG) $(DEPFLAGS) $(LDFLAGS_ALL) -o $@ $< $(TEST_DEP_LIBS) $(TEST_LIBS) $(PORT_LIBS) -ldl
 
 -include $(ALL_OBJS:.o=.d) $(TEST_BINS:=.d)

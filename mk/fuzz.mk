@@ -15,7 +15,7 @@ FUZZ_RUNS ?= 4000
 FUZZ_SEEDS := CornellBox-Original CornellBox-Mirror BoxAnimated AlphaBlendModeTest-small
 FUZZ_FLAGS := -std=c99 -O1 -g -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=undefined \
               -ffp-contract=off -fno-math-errno -fno-strict-aliasing -D_POSIX_C_SOURCE=200809L \
-              -Iinclude -Itools/host -Itools/bake -Iport/linux -Isrc/timing
+              -Iinclude -Itools/host -Iprograms/hzbake -Iport/linux -Iprograms/opt -Isrc/timing
 FUZZ_SRCS_hzb := $(CORE_SRCS) $(SCENE_SRCS)
 FUZZ_SRCS_vcd := $(CORE_SRCS) $(TIMING_SRCS)
 FUZZ_SRCS_ecsv := $(FUZZ_SRCS_vcd)
@@ -24,15 +24,15 @@ FUZZ_SRCS_import := $(FUZZ_SRCS_sidecar)
 # The commands' entry points link the whole renderer (scalar, the host tools' board.h) and errtime; no device
 # ports: their entry points fail with "not built in" (devices_absent.c), and the target runs none of them.
 FUZZ_SRCS_opts := $(foreach m,$(MODULES),$(call module_srcs,$(m))) $(PORT_SRCS_linux) $(PORT_SRCS_timing) \
-                  $(CMD_SRCS) $(ERRTIME_SRCS)
+                  $(CMD_SRCS) $(OPT_SRCS) $(ERRTIME_SRCS)
 FUZZ_LIBS_opts := -lpthread -lm
-$(FUZZ_O)/fuzz_opts: FUZZ_FLAGS += -Itools/errtime
+$(FUZZ_O)/fuzz_opts: FUZZ_FLAGS += -Iprograms/hzerrtime -Iprograms/hzrt
 FUZZ_LIBS_sidecar := $(BAKE_LIBS)
 FUZZ_LIBS_import := $(FUZZ_O)/fuzz_counters.o $(FUZZ_O)/fuzz_judge.o $(BAKE_LIBS)
 FUZZ := $(FUZZ_TARGETS:%=$(FUZZ_O)/fuzz_%)
 define FUZZ_TARGET
 $(FUZZ_O)/fuzz_$(1): test/fuzz/fuzz_$(1).c $(FUZZ_SRCS_$(1)) $(filter %.o,$(FUZZ_LIBS_$(1))) \
-                     $(wildcard include/hz/*.h src/*/*.h tools/bake/*.h test/fuzz/*.h)
+                     $(wildcard include/hz/*.h src/*/*.h programs/hzbake/*.h test/fuzz/*.h)
 	@mkdir -p $$(dir $$@)
 	$$(call msg,FUZZCC,$$@)$$(FUZZ_CC) $$(FUZZ_FLAGS) -o $$@ $$< $(FUZZ_SRCS_$(1)) $(FUZZ_LIBS_$(1))
 endef

@@ -1,4 +1,4 @@
-# `make report`: every renderer method of tools/errtime/et_methods.c on the standard scenes, each at its table
+# `make report`: every renderer method of programs/hzerrtime/et_methods.c on the standard scenes, each at its table
 # entry's size, length and display rate: the general set (full-frame 1/4/9/16 spp, TAA, adaptive supersampling
 # at tau 0.1/0.3/0.6/1) on CornellBox-Mirror, Sponza, Lost Empire, Conference and the built-in scene, and temporally dense rendering against 1 spp and TAA at 60 and
 # 240 Hz on a 240 Hz display (the @240 scenes). References cached in $(BUILD_ROOT)/errtime-cache (delete it for

@@ -1,11 +1,11 @@
 # Real scenes (../shared/scenes, see SOURCES.md there): zips are unpacked into $(BUILD_ROOT)/scenes-src, each
-# scene is baked with its sidecar tools/bake/scenes/<name>.hzs into $(BUILD_ROOT)/scenes/<name>.hzb. A scene is
+# scene is baked with its sidecar programs/hzbake/scenes/<name>.hzs into $(BUILD_ROOT)/scenes/<name>.hzb. A scene is
 # re-baked when its model, sidecar or the baker changes. The -small variants are the same models with tiny
 # textures and few vertex-key frames: seeds for the fuzzer and images for the exhaustive corruption test.
 SCENES_SRC ?= ../shared/scenes
 SCENES_O := $(BUILD_ROOT)/scenes
 SCENES_UNPACK := $(BUILD_ROOT)/scenes-src
-SIDECAR_DIR := tools/bake/scenes
+SIDECAR_DIR := programs/hzbake/scenes
 SCENE_ZIPS := CornellBox conference sponza lost-empire pine
 SCENE_MODEL_CornellBox-Original := $(SCENES_UNPACK)/CornellBox/CornellBox-Original.obj
 SCENE_MODEL_CornellBox-Mirror := $(SCENES_UNPACK)/CornellBox/CornellBox-Mirror.obj

@@ -23,7 +23,7 @@ PORT_SRCS_embree := port/embree/embree_accel.c
 
 # Ports of the timing path (port/linux): `timing` (frame loop, report, `hzrt latency`, simulated display,
 # VCD/CSV replay) goes on every board; `fbdev`, `v4l2` and `gpio` where the hardware has them.
-PORT_SRCS_timing := port/linux/timebase.c port/linux/vsrc_timeline.c port/linux/latency_report.c \
+PORT_SRCS_timing := port/linux/timebase.c port/linux/vsrc_timeline.c \
                     port/linux/scenesrc.c port/linux/filesink.c port/linux/devices_absent.c port/linux/sysio.c
 PORT_SRCS_fbdev := port/linux/fbdev.c
 PORT_SRCS_v4l2 := port/linux/v4l2.c
@@ -66,8 +66,8 @@ LIB := $(O)/libhz.a
 # Ports: each board lists the ones it links (BOARD_PORTS); accel backends come from BOARD_ACCEL.
 KNOWN_PORTS := linux timing fbdev v4l2 gpio drm
 PORT_SRCS_linux := port/linux/pools.c port/linux/cli.c port/linux/clock.c port/linux/fileio.c port/linux/scenefile.c \
-                   port/linux/threads.c port/linux/summary.c port/linux/accel_backend.c \
-                   port/linux/render_run.c port/linux/adaptive_cli.c port/linux/transp_opt.c
+                   port/linux/threads.c port/linux/accel_backend.c \
+                   port/linux/render_run.c
 PORT_SRCS_linux += port/linux/phase.c port/linux/modeplan.c port/linux/blur_setup.c port/linux/motion_check.c
 $(foreach p,$(BOARD_PORTS),$(if $(filter $(p),$(KNOWN_PORTS)),,$(error $(BOARD_DIR)/board.mk: unknown port '$(p)' (known: $(KNOWN_PORTS)))))
 # Image files (port/linux/imageio.c): PNG needs libpng for the target. It is on when the target's compiler links
@@ -88,37 +88,43 @@ endif
 PORT_OBJS := $(PORT_SRCS:%.c=$(O)/%.o)
 PORT_LIB := $(O)/libhzport.a
 
-# The commands (hzrt render, latency, show): option tables and the run of the frame loop; they measure the
-# governor's levels with errtime's metrics.
-CMD_SRCS := port/linux/render_cmd.c port/linux/latency.c port/linux/show.c port/linux/renderopts.c port/linux/showopts.c \
-            port/linux/opttab.c
+# The programs (programs/, doc/layout.md), found by pattern: programs/<name>/*.c is one program, its main() in
+# main.c (hzbench's in bench.c). programs/opt is the option parser and option forms every program shares. A
+# program sees the port's headers and programs/opt; hzrt also sees errtime's metrics (its governor's levels).
+PROGRAM_CFLAGS := -Iport/linux -Iprograms/opt
+OPT_SRCS := $(wildcard programs/opt/*.c)
+OPT_OBJS := $(OPT_SRCS:%.c=$(O)/%.o)
+OPT_LIB := $(O)/libhzopt.a
+# hzrt: the commands (render, show, latency, accel, info, board); every file but main.c is also the commands'
+# archive the unit tests drive them through.
+CMD_SRCS := $(filter-out programs/hzrt/main.c,$(wildcard programs/hzrt/*.c))
 CMD_OBJS := $(CMD_SRCS:%.c=$(O)/%.o)
-$(O)/port/linux/show.o: EXTRA_CFLAGS += -Itools/errtime
-HZRT_SRCS := port/linux/main.c port/linux/accel_cmd.c $(CMD_SRCS)
+$(O)/programs/hzrt/show.o: EXTRA_CFLAGS += -Iprograms/hzerrtime
+HZRT_SRCS := programs/hzrt/main.c $(CMD_SRCS)
 HZRT_OBJS := $(HZRT_SRCS:%.c=$(O)/%.o)
 HZRT := $(O)/bin/hzrt
 
-BENCH_SRCS := $(wildcard tools/bench/*.c)
+BENCH_SRCS := $(wildcard programs/hzbench/*.c)
 BENCH_OBJS := $(BENCH_SRCS:%.c=$(O)/%.o)
 BENCH := $(O)/bin/hzbench
 
 TEST_CFLAGS := $(HOSTED_CFLAGS) -Itest $(if $(BOARD_TEST_LAUNCHER),-DHZ_TEST_EMULATED)
 TEST_LIBS := -lcmocka
 
-# errtime (tools/errtime): image metrics (PSNR, SSIM, FLIP), report writers and the error-against-run-time driver.
-# Built with the board's compiler, like hzbench: it times the board's renderer. Hosted C99 with libm.
-# Its files are prefixed et_ because it also sees port/linux (which has report.h, for instance).
-ERRTIME_SRCS := $(filter-out tools/errtime/main.c,$(wildcard tools/errtime/*.c))
-ERRTIME_MAIN_SRCS := tools/errtime/main.c
+# errtime (programs/hzerrtime): image metrics (PSNR, SSIM, FLIP), report writers and the error-against-run-time
+# driver. Built with the board's compiler, like hzbench: it times the board's renderer. Hosted C99 with libm.
+# Its files are prefixed et_ because hzrt and the tests see them beside port/linux.
+ERRTIME_SRCS := $(filter-out programs/hzerrtime/main.c,$(wildcard programs/hzerrtime/*.c))
+ERRTIME_MAIN_SRCS := programs/hzerrtime/main.c
 ERRTIME_OBJS := $(ERRTIME_SRCS:%.c=$(O)/%.o)
 ERRTIME_MAIN_OBJS := $(ERRTIME_MAIN_SRCS:%.c=$(O)/%.o)
 ERRTIME_LIB := $(O)/liberrtime.a
 ERRTIME := $(O)/bin/hzerrtime
 # The metric filters' inner loops run over x: vectorising them keeps every pixel's sum in the same order (same
 # results) and makes FLIP ~2x faster; -O2's "very cheap" cost model leaves them scalar.
-$(O)/tools/errtime/et_flip.o $(O)/tools/errtime/et_metrics.o: HOSTED_CFLAGS += -fvect-cost-model=dynamic
+$(O)/programs/hzerrtime/et_flip.o $(O)/programs/hzerrtime/et_metrics.o: HOSTED_CFLAGS += -fvect-cost-model=dynamic
 
-ALL_OBJS := $(LIB_OBJS) $(PORT_OBJS) $(HZRT_OBJS) $(BENCH_OBJS) $(ERRTIME_OBJS) $(ERRTIME_MAIN_OBJS)
+ALL_OBJS := $(LIB_OBJS) $(PORT_OBJS) $(OPT_OBJS) $(HZRT_OBJS) $(BENCH_OBJS) $(ERRTIME_OBJS) $(ERRTIME_MAIN_OBJS)
 
 # Unit tests, found by pattern: every $(TEST_UNIT_DIR)/test_<name>.c is a test binary linked with the core, the
 # port, errtime and the commands' library (archives: each binary takes only what it calls). A line

@@ -1,7 +1,7 @@
 /*
  * hz/hzb.h — the baked scene format (.hzb), version 2, field by field.
  *
- * A firmware-like renderer never parses text formats: scenes are imported on the host (tools/bake) and stored
+ * A firmware-like renderer never parses text formats: scenes are imported on the host (programs/hzbake) and stored
  * in this compact binary form, which the core validates completely (src/scene/load.c) before using it in place.
  *
  * Layout (all integers and floats little-endian, IEEE-754 binary32 floats):
@@ -43,7 +43,7 @@
  *  For rigid, spin and oscillate, POSITIONS are world positions at t = 0 (spin/oscillate) or in object space (rigid).
  *
  * Texture coordinates (UVS): (0, 0) is the top-left corner of a texture's level 0, u grows to the right and v
- * downwards (glTF's convention; tools/bake flips OBJ's); texel (x, y) of a w x h level covers u in [x/w, (x+1)/w)
+ * downwards (glTF's convention; programs/hzbake flips OBJ's); texel (x, y) of a w x h level covers u in [x/w, (x+1)/w)
  * and v in [y/h, (y+1)/h); coordinates outside [0, 1) repeat. Texel rows are stored top row first.
  */
 #ifndef HZ_HZB_H

@@ -27,7 +27,7 @@
  *    position now, in pixels. With motion blur they stay those of the frame's time. mv_reflect: the same for the reflected hit seen in a mirror (the motion of its
  *    virtual image behind the mirror plane), or the primary value where there is no mirror (seed 001 Fig. 5).
  *  - Motion blur (seed 002): with opts.shutter S > 0 the shutter is open for S / frame_hz seconds centred on
- *    the frame's time. Each sample draws its time from hz/timeseq.h (full mode: sample k of N, stratified over
+ *    the frame's time. Each sample draws its time from src/pattern/timeseq.h (full mode: sample k of N, stratified over
  *    the N samples of the pixel; TAA: over 16 frames; tdense: over 4 cycles), the camera is evaluated at it
  *    (views at HZ_RENDER_CAMERA_KEYS times across the shutter, interpolated linearly) and every ray carries
  *    it (ray.time, normalised to the accel's key interval); shadow, mirror and continuation rays inherit it
@@ -103,7 +103,7 @@ typedef struct hz_render_opts {
     /* The tdense and TAA resolves run with the board's SIMD (8 pixels at a time on AVX2, 4 on NEON); true runs
      * their scalar twins instead, which give bit-identical frames (for tests and side-by-side timing). */
     bool scalar_recon;
-    /* Packet shading through the kernels' scalar twin (hz/shade.h), same images: benchmarks compare the two. */
+    /* Packet shading through the kernels' scalar twin (src/render/shade.h), same images: benchmarks compare the two. */
     bool scalar_shading;
     /* tdense and TAA frames overlap their trace and resolve passes (hz_render_overlap_units); true keeps a
      * barrier between them instead (same images: for tests and side-by-side timing). */
@@ -235,7 +235,7 @@ const struct hz_tdense *hz_render_tdense(const hz_renderer_t *r);
 /* adaptive mode: the last frame's activity mask (width * height bytes, bit q = subpixel q: 0 top-left, 1
  * top-right, 2 bottom-left, 3 bottom-right); NULL in the other modes. */
 const uint8_t *hz_render_adaptive_mask(const hz_renderer_t *r);
-/* The key light the renderer added because the scene has none (hz/deflight.h), or NULL when the scene brings
+/* The key light the renderer added because the scene has none (src/render/deflight.h), or NULL when the scene brings
  * its own lights. */
 const hz_light_t *hz_render_default_light(const hz_renderer_t *r);
 /* Switches r to configuration o from the next frame on (the governor's quality levels: another size, mode,

@@ -1,5 +1,5 @@
-/* Stratified shutter times (see hz/timeseq.h). Integer-only: built with -mgeneral-regs-only. */
-#include "hz/timeseq.h"
+/* Stratified shutter times (see src/pattern/timeseq.h). Integer-only: built with -mgeneral-regs-only. */
+#include "timeseq.h"
 
 #include "hz/hash.h"
 

@@ -1,7 +1,7 @@
 /* Pinhole camera: basis, ray directions and the matching projection for motion vectors. Ray generation and
  * projection use the same basis, so a point on a pixel's ray projects back to that pixel: static content
  * under a still camera gets motion vectors of exactly zero. */
-#include "hz/shade.h"
+#include "shade.h"
 #include "render_internal.h"
 
 void hz_view_setup(hz_view_t *v, const hz_camera_t *cam, uint32_t width, uint32_t height)

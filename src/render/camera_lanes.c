@@ -3,7 +3,7 @@
  * TAA frame. Each lane does hz_view_project's operations in its order (no FMA, correctly rounded division), so
  * the results are hz_view_point_motion's bits; test_shade compares the two. */
 #include "../core/lanes.h"
-#include "hz/shade.h"
+#include "shade.h"
 #include "render_internal.h"
 
 #if HZ_LANES != HZ_SHADE_LANES

@@ -1,5 +1,5 @@
-/* The default key light of a scene without lights (see hz/deflight.h). */
-#include "hz/deflight.h"
+/* The default key light of a scene without lights (see src/render/deflight.h). */
+#include "deflight.h"
 
 #include "hz/base.h"
 #include "hz/vmath.h"

@@ -86,7 +86,7 @@ void hz_render_trace_tile(hz_render_frame_t *f, hz_batch_t *b, uint32_t tile, co
                           hz_image_t *dst);
 /* rgb * scale -> dst, non-finite or negative values replaced by 0 (non-finite ones counted in b->stats). */
 void hz_render_store(hz_batch_t *b, float *dst, const float *rgb, float scale);
-/* Motion blur: shutter time in [0, 1) of sample `index` of `count` of pixel px (hz/timeseq.h). */
+/* Motion blur: shutter time in [0, 1) of sample `index` of `count` of pixel px (src/pattern/timeseq.h). */
 float hz_render_sample_time(const hz_render_frame_t *f, uint32_t px, uint32_t index, uint32_t count);
 /* Side (pixels) of the method's dither cell, the box TAA averages a dithered pixel's sample over: 3 (STD),
  * 5 (DTAA), 1 (RR). */

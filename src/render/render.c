@@ -1,9 +1,9 @@
 /* Renderer set-up and frame sequencing (see hz/render.h); everything a render mode does is behind its row of
  * hz_render_modes[] (mode.h). */
-#include "hz/deflight.h"
+#include "deflight.h"
 #include "hz/fixed.h"
 #include "hz/hash.h"
-#include "hz/timeseq.h"
+#include "../pattern/timeseq.h"
 #include "render_internal.h"
 
 #define STACK_JOBS 4096u   /* depth-first ray queue per worker (bounded growth: see render_internal.h) */

@@ -115,7 +115,7 @@ struct hz_renderer {
     hz_worker_t *workers_by_thread[HZ_MAX_THREADS]; /* each from its thread's arena */
     uint32_t thread_count;
     hz_render_stats_t last, total;
-    const hz_light_t *lights;  /* the scene's, or default_light when it has none (hz/deflight.h) */
+    const hz_light_t *lights;  /* the scene's, or default_light when it has none (src/render/deflight.h) */
     uint32_t light_count;
     hz_light_t default_light;
     bool default_lit;

@@ -1,9 +1,9 @@
-/* AVX2 packet surfaces (hz/shade.h; scalar twin in shade_packet.c): the kernel of shade_kernel.h on 8 lanes,
+/* AVX2 packet surfaces (src/render/shade.h; scalar twin in shade_packet.c): the kernel of shade_kernel.h on 8 lanes,
  * with hardware gathers for vertices, uvs, texels and the sRGB decode table. Multiplies and adds stay separate
  * instructions (the build's -ffp-contract=off, and no FMA intrinsics here): the twin's roundings exactly. */
 #include <immintrin.h>
 
-#include "hz/shade.h"
+#include "shade.h"
 
 typedef __m256 vf;
 typedef __m256i vi;

@@ -6,7 +6,7 @@
 #ifndef HZ_SHADE_INTERNAL_H
 #define HZ_SHADE_INTERNAL_H
 
-#include "hz/shade.h"
+#include "shade.h"
 #include "render_internal.h"
 
 #define HZ_SHADE_INV_PI 0.31830988618379067f

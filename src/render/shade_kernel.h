@@ -1,5 +1,5 @@
 /*
- * shade_kernel.h — hz_shade_surfaces (hz/shade.h) written once over a vector type; included by shade_avx2.c and
+ * shade_kernel.h — hz_shade_surfaces (src/render/shade.h) written once over a vector type; included by shade_avx2.c and
  * shade_neon.c after they define the operations below on their registers:
  *   vf (floats), vi (int32), vm (lane masks);
  *   vf_load vf_store vf_set1 vf_add vf_sub vf_mul vf_div vf_sqrt vf_abs vf_gt vf_lt vf_sel(m, a, b)

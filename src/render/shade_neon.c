@@ -1,9 +1,9 @@
-/* NEON packet surfaces (hz/shade.h; scalar twin in shade_packet.c): the kernel of shade_kernel.h on 4 lanes.
+/* NEON packet surfaces (src/render/shade.h; scalar twin in shade_packet.c): the kernel of shade_kernel.h on 4 lanes.
  * AArch64 has no gather: the "gathers" load lane by lane; the arithmetic is one vector instruction per scalar
  * operation of the twin (vmulq/vaddq, never vfmaq; vdivq and vsqrtq are correctly rounded). */
 #include <arm_neon.h>
 
-#include "hz/shade.h"
+#include "shade.h"
 
 typedef float32x4_t vf;
 typedef int32x4_t vi;

@@ -1,9 +1,9 @@
-/* Packet surfaces (hz/shade.h): the scalar twin, which is the renderer's per-hit surface code looping over the
+/* Packet surfaces (src/render/shade.h): the scalar twin, which is the renderer's per-hit surface code looping over the
  * lanes, and the per-lane helpers the SIMD kernels (shade_avx2.c, shade_neon.c over shade_kernel.h) share with it.
  * On scalar boards hz_shade_surfaces is the twin. */
-#include "hz/shade.h"
+#include "shade.h"
 
-#include "hz/terminator.h"
+#include "terminator.h"
 #include "shade_internal.h"
 
 static hz_vec3_t vtx(const float *arr, uint32_t i)

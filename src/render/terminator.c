@@ -1,5 +1,5 @@
-/* Shadow-ray start on smooth-shaded facets (see hz/terminator.h). */
-#include "hz/terminator.h"
+/* Shadow-ray start on smooth-shaded facets (see src/render/terminator.h). */
+#include "terminator.h"
 
 static hz_vec3_t vec4_at(const float *arr, uint32_t i)
 {

@@ -1,7 +1,7 @@
 /* Tracing and Whitted shading of one tile batch (see render_internal.h for the work organisation). */
 #include "hz/image.h"
 #include "hz/posekeys.h"
-#include "hz/shade.h"
+#include "shade.h"
 #include "render_internal.h"
 
 
@@ -137,7 +137,7 @@ static void hit_uv(const hz_scene_t *s, uint32_t prim, float u, float v, float *
     *uv_area2 = hz_absf(cr);
 }
 
-/* Lane i of a packet's surfaces (hz/shade.h) with the hit's material. */
+/* Lane i of a packet's surfaces (src/render/shade.h) with the hit's material. */
 static void surface_from(const struct hz_renderer *r, const hitrec_t *h, const hz_shade_out_t *o, uint32_t i,
                          surface_t *sf)
 {
@@ -654,7 +654,7 @@ static void shade_hit(hz_worker_t *w, const ray_job_t *j, const hitrec_t *h, con
     }
 }
 
-/* Shades a packet's n jobs in order: their surfaces first, all lanes at once (hz/shade.h), then job by job
+/* Shades a packet's n jobs in order: their surfaces first, all lanes at once (src/render/shade.h), then job by job
  * what each adds (G-buffer, continuation and mirror rays, the light loop's shadow rays). */
 static void shade_packet(hz_worker_t *w, const ray_job_t *jobs, const hitrec_t *hits, uint32_t n)
 {

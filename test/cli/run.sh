@@ -331,6 +331,20 @@ errtime=$(dirname "$hzrt")/hzerrtime
 if [ -x "$errtime" ]; then
     expect errtime-names-charts 0 "1 chart (synthetic.svg)" "$errtime" --scene synthetic --size 16x16 --frames 8 \
         --warmup 1 --methods supersample --cache "$tmp/etc" --out "$tmp/eto"
+    # Its command line comes from its option table: refusals name the option and the reason, status 2, before
+    # anything runs; the help shows the table's limits.
+    expect errtime-unknown-option 2 "^hzerrtime: unknown option '--fast' (try hzerrtime --help)" "$errtime" --fast
+    expect errtime-missing-value 2 "^hzerrtime: --frames needs a value N" "$errtime" --out "$tmp/etx" --frames
+    expect errtime-frames-range 2 "^hzerrtime: --frames: 0 is outside \[1, 1000000\]" "$errtime" --frames 0 \
+        --out "$tmp/etx"
+    expect errtime-shutter-range 2 "^hzerrtime: --shutter: '1.5' is not a fraction in (0, 1\]" "$errtime" \
+        --shutter 1.5 --out "$tmp/etx"
+    expect errtime-size-range 2 "^hzerrtime: --size: 8x8: width and height must lie in \[11, " "$errtime" \
+        --size 8x8 --out "$tmp/etx"
+    expect errtime-stray-argument 2 "^hzerrtime: unexpected argument 'synthetic'" "$errtime" synthetic
+    ok errtime-refusals-ran-nothing sh -c "! [ -e \"$tmp/etx\" ]"
+    expect errtime-help-limits 0 "--refresh HZ .*\[1..960\]" "$errtime" --help
+    expect errtime-list 0 "^synthetic: " "$errtime" --list
 fi
 # First runs: a tdense render without --frames is one complete image (4 frames); fewer frames say why the image
 # is partly filled in; a short latency run is "too short to judge a lock"; limits are in --help.
@@ -354,10 +368,20 @@ expect grammar-refit 0 "2 time keys, 1 refit, 0 rebuilds" "$hzrt" render builtin
 expect info-kept-left-out 0 "^kept         motion vectors" "$hzrt" info builtin
 ok info-no-double-negative sh -c "! \"$hzrt\" info builtin | grep -q 'left out .*: yes'"
 
-# hzbench: a missing scene is named before anything is measured.
+# hzbench: a missing scene is named before anything is measured; its command line comes from its option table
+# (refusals name the option and the reason, status 2, before anything is measured; the help shows the limits).
 if [ -n "$hzbench" ]; then
     expect bench-missing-scene 73 "scene 'dragon' is missing: $tmp/noscenes/dragon.hzb" \
         "$hzbench" --only accel --scenes "$tmp/noscenes" --scene dragon --rounds 1
+    expect bench-unknown-option 2 "^hzbench: unknown option '--fast' (try hzbench --help)" "$hzbench" --fast
+    expect bench-missing-value 2 "^hzbench: --csv needs a value FILE" "$hzbench" --only kernels --csv
+    expect bench-rounds-range 2 "^hzbench: --rounds: 16 is outside \[1, 15\]" "$hzbench" --rounds 16
+    expect bench-only-word 2 "^hzbench: --only: 'kernel' is not kernels, accel, tdense" "$hzbench" --only kernel
+    expect bench-interval-range 2 "^hzbench: --motion-interval: '0' is not a number of seconds in (0, 10\]" \
+        "$hzbench" --motion-interval 0
+    expect bench-scene-count 2 "^hzbench: --scene: at most 16 scenes" "$hzbench" --only accel \
+        $(for k in 1 2 3 4 5 6 7 8 9 10 11 12 13 14 15 16 17; do printf -- '--scene s%s ' $k; done)
+    expect bench-help-limits 0 "--realtime-frames N .*\[1..512\]" "$hzbench" --help
 fi
 
 echo "  ok    cli                    $pass passed$( [ $fail -ne 0 ] && echo ", $fail failed")"

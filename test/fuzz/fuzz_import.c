@@ -1,5 +1,5 @@
 /*
- * libFuzzer target for the baker's model import (tools/bake): OBJ, PLY (also gzipped) and glTF/glb through
+ * libFuzzer target for the baker's model import (programs/hzbake): OBJ, PLY (also gzipped) and glTF/glb through
  * assimp, and the baker's own furball XML reader, followed by the conversion to a .hzb image
  * (hz_bake_scene_finish) with a sidecar.
  *
@@ -456,7 +456,7 @@ static const char *library_of(const char *frame)
  * this binary without one are the sanitizer runtime, its interceptors (strncmp, memcpy...) and libFuzzer. */
 static int ours(const char *frame)
 {
-    return hz_fuzz_find(frame, "/tools/bake/") || hz_fuzz_find(frame, "/src/") ||
+    return hz_fuzz_find(frame, "/programs/") || hz_fuzz_find(frame, "/src/") ||
         hz_fuzz_find(frame, "/port/linux/") || hz_fuzz_find(frame, "/test/fuzz/");
 }
 

@@ -31,7 +31,7 @@ char *hz_fuzz_find(const char *hay, const char *needle)
  * with ": runtime error: ". A baker warning that quotes an input starts with "hzbake:". */
 int hz_fuzz_ub_report(const char *log)
 {
-    static const char *const roots[] = { "src/", "tools/bake/", "port/linux/", "test/fuzz/", "include/" };
+    static const char *const roots[] = { "src/", "programs/", "port/linux/", "test/fuzz/", "include/" };
     for (const char *line = log; line && *line;) {
         for (size_t i = 0; i < sizeof roots / sizeof roots[0]; i++)
             if (hz_fuzz_starts(line, roots[i])) {

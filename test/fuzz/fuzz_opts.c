@@ -1,5 +1,5 @@
 /*
- * libFuzzer target for the command-line option parsers: the tables of port/linux/opttab.c, the render options
+ * libFuzzer target for the command-line option parsers: the tables of programs/opt/opttab.c, the render options
  * (renderopts.c: hz_ropts_take, hz_ropts_check) and the frame loop's options (showopts.c: hz_sopts_take,
  * hz_sopts_check), through the commands' own entry points (hz_cmd_render, hz_cmd_show, hz_cmd_latency), so the
  * combination checks of show.c (--render-model, --guard, --latch, the marker's layout, ...) run too. With

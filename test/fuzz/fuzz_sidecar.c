@@ -1,5 +1,5 @@
 /*
- * libFuzzer target for the sidecar parser (tools/bake/sidecar.c), the .hzs text a user writes next to a model.
+ * libFuzzer target for the sidecar parser (programs/hzbake/sidecar.c), the .hzs text a user writes next to a model.
  *
  * Each input is parsed as "fuzz.hzs". A refusal must carry its status (HZ_E_FORMAT or HZ_E_RANGE, the contract
  * of sidecar.h) and a message that starts with the file name. An accepted sidecar must hold only values inside

@@ -30,7 +30,7 @@ expect_fail() {
 
 # Two modules that include each other: refused, both named.
 expect_fail "include-cycle" "recon <-> render" sh "$here/check-includes.sh" --src "$bad/include-cycle"
-# The layers: a public header, a core file, a port file and a program that each include the wrong way.
+# The layers: a public header, core files, port files and a program that each include the wrong way.
 expect_fail "layers-public" "public header includes a non-public file: .*leak.h" \
     sh "$here/check-layers.sh" --root "$bad/layers"
 expect_fail "layers-core-up" "core file includes a port or program header: .*up.c" \
@@ -38,6 +38,10 @@ expect_fail "layers-core-up" "core file includes a port or program header: .*up.
 expect_fail "layers-port-past" "includes a core header past include/hz: .*past.c" \
     sh "$here/check-layers.sh" --root "$bad/layers"
 expect_fail "layers-program-internal" "includes a core header past include/hz: .*peek.c" \
+    sh "$here/check-layers.sh" --root "$bad/layers"
+expect_fail "layers-core-program" "core file includes a port or program header: .*prog.c" \
+    sh "$here/check-layers.sh" --root "$bad/layers"
+expect_fail "layers-port-program" "port file includes a program header: .*down.c:2:" \
     sh "$here/check-layers.sh" --root "$bad/layers"
 
 for arch in x86_64 aarch64; do

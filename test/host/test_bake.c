@@ -1307,7 +1307,7 @@ static void test_obj_glass_and_bump_maps(void **state)
     /* Phases are named while the import child works: the skinning bake is not "importing". */
     char cm[4096], cms[4096];
     source_path(cm, sizeof cm, "HZ_SCENES_SRC", "gltf/CesiumMan/glTF/CesiumMan.gltf");
-    snprintf(cms, sizeof cms, "tools/bake/scenes/CesiumMan-small.hzs"); /* tests run from the repository root */
+    snprintf(cms, sizeof cms, "programs/hzbake/scenes/CesiumMan-small.hzs"); /* tests run from the repository root */
     const char *skin[] = { "-s", cms, cm, out, NULL };
     setenv("HZ_PROGRESS", "all", 1);
     bake(&r, NULL, skin);
@@ -1397,7 +1397,7 @@ static void test_long_skinned_model_bakes_small(void **state)
     char model[4096], out[256], sc[300];
     source_path(model, sizeof model, "HZ_SCENES_GEN", "tentacles.gltf");
     snprintf(out, sizeof out, "%s/t.hzb", tmpdir);
-    const char *args[] = { "-q", "-s", "tools/bake/scenes/tentacles.hzs", model, out, NULL };
+    const char *args[] = { "-q", "-s", "programs/hzbake/scenes/tentacles.hzs", model, out, NULL };
     long long rt = bake_size(args, out);
     print_message("tentacles, skinned at run time: %lld bytes\n", rt);
     assert_true(rt < 20 << 20);

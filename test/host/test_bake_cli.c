@@ -199,6 +199,44 @@ static void test_messages_say_what_is_wrong(void **state)
     expect(&r, 73, "fifo.hzs: not a regular file");
 }
 
+/* The command line is read from hzbake's option table: an unknown option, a missing value and a value outside
+ * the entry's limits are each refused with status 2, naming the option and the reason, before any file is
+ * touched; the help lists every option with its limits from the same table. */
+static void test_bad_command_lines_are_refused_by_name(void **state)
+{
+    (void)state;
+    run_t r;
+    put("box.obj", obj, sizeof obj - 1);
+    bake(&r, (const char *const[]){ "--fast", "box.obj", "a.hzb", NULL });
+    expect(&r, 2, "unknown option '--fast' (try hzbake --help)");
+    bake(&r, (const char *const[]){ "box.obj", "a.hzb", "-s", NULL });
+    expect(&r, 2, "-s needs a value FILE");
+    bake(&r, (const char *const[]){ "--info", NULL });
+    expect(&r, 2, "--info needs a value FILE.hzb");
+    bake(&r, (const char *const[]){ "--texture-max", "20000", "box.obj", "a.hzb", NULL });
+    expect(&r, 2, "--texture-max: 20000 is outside [1, 16384]");
+    bake(&r, (const char *const[]){ "--timeout", "0", "box.obj", "a.hzb", NULL });
+    expect(&r, 2, "--timeout: 0 is outside [1, 86400]");
+    bake(&r, (const char *const[]){ "--timeout", "10s", "box.obj", "a.hzb", NULL });
+    expect(&r, 2, "--timeout: '10s' is not an integer in [1, 86400]");
+    bake(&r, (const char *const[]){ "box.obj", "a.hzb", "b.hzb", NULL });
+    expect(&r, 2, "unexpected argument 'b.hzb'");
+    char out[128];
+    struct stat st;
+    snprintf(out, sizeof out, "%s/a.hzb", tmpdir);
+    assert_int_not_equal(stat(out, &st), 0); /* nothing was baked */
+    bake(&r, (const char *const[]){ "--help", NULL });
+    expect(&r, 0, "  -s, --sidecar FILE");
+    expect(&r, 0, "--texture-max N   largest stored texture level (overrides the sidecar; default 1024) [1..16384]");
+    expect(&r, 0, "--timeout S");
+    bake(&r, (const char *const[]){ "-h", NULL });
+    expect(&r, 0, "usage: hzbake [options] MODEL OUT.hzb");
+    /* a good line still bakes: the short forms are the table's aliases */
+    bake(&r, (const char *const[]){ "-q", "--texture-max", "16", "box.obj", "a.hzb", NULL });
+    expect(&r, 0, NULL);
+    assert_int_equal(stat(out, &st), 0);
+}
+
 static int setup(void **state)
 {
     (void)state;
@@ -220,6 +258,7 @@ int main(void)
         cmocka_unit_test(test_the_output_is_never_an_input),
         cmocka_unit_test(test_sidecar_sections_that_do_nothing_are_refused),
         cmocka_unit_test(test_messages_say_what_is_wrong),
+        cmocka_unit_test(test_bad_command_lines_are_refused_by_name),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }

@@ -1,4 +1,4 @@
-/* Sidecar parser (tools/bake/sidecar.c): a complete valid sidecar reads back exactly, and each kind of mistake
+/* Sidecar parser (programs/hzbake/sidecar.c): a complete valid sidecar reads back exactly, and each kind of mistake
  * is refused with "FILE:LINE: reason", the right line and the right status. */
 #include "hz_test.h"
 

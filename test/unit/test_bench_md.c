@@ -1,4 +1,4 @@
-/* hzbench's Markdown tables (tools/bench/bench_md.h): a CSV read back as a table exactly, quoting and escaping,
+/* hzbench's Markdown tables (programs/hzbench/bench_md.h): a CSV read back as a table exactly, quoting and escaping,
  * alignment by column, row filters, the pivot, and each bad input refused by name with nothing written. The
  * expected tables are written out by hand from the CSVs here. */
 #include "hz_test.h"
@@ -10,7 +10,7 @@
 
 /* hzbench's own source, compiled into the test: the unit tests link the core, port and errtime libraries,
  * not hzbench's objects. */
-#include "../../tools/bench/bench_md.c"
+#include "../../programs/hzbench/bench_md.c"
 
 static char csv_path[512];
 

@@ -1,4 +1,4 @@
-/* Packet surfaces (hz/shade.h): the board's SIMD kernel against its scalar twin, bit for bit, on real hits —
+/* Packet surfaces (src/render/shade.h): the board's SIMD kernel against its scalar twin, bit for bit, on real hits —
  * random rays from inside the bounds of baked scenes (textured Sponza, blended, cutout and
  * alpha-textured materials, a mirror box, the built-in scene, pose keys at random ray times), packets with some
  * lanes empty, and lanes with extreme ray cones and non-finite barycentrics. Also the motion vectors of still
@@ -10,7 +10,7 @@
 #include <string.h>
 
 #include "hz/hash.h"
-#include "hz/shade.h"
+#include "../../src/render/shade.h"
 #include "render_fixture.h"
 #include "../../src/render/render_internal.h" /* hz_view_point_motion and its lanes */
 

@@ -1,11 +1,11 @@
-/* Stratified shutter times (hz/timeseq.h): every pixel's samples cover each stratum exactly once and lie inside
+/* Stratified shutter times (src/pattern/timeseq.h): every pixel's samples cover each stratum exactly once and lie inside
  * it, and golden values that x86-64 and AArch64 (under qemu) must both reproduce. The golden values come from an
- * independent Python model of the definition in hz/timeseq.h: tools/gen/timeseq_golden.py. */
+ * independent Python model of the definition in src/pattern/timeseq.h: tools/gen/timeseq_golden.py. */
 #include "hz_test.h"
 
 #include <string.h>
 
-#include "hz/timeseq.h"
+#include "../../src/pattern/timeseq.h"
 
 static void test_strata_are_a_permutation(void **state)
 {

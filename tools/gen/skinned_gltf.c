@@ -1,7 +1,7 @@
 /* Writes a long skinned test model as glTF 2.0 (.gltf JSON + .bin): a ring of swaying tentacles on one skeleton,
  * the stand-in for a large public skinned model (about 60k triangles, tens of joints, tens of seconds of
  * animation) in runtime-skinning tests and figures. Host tool; `make scenes` runs it and bakes the result with
- * tools/bake/scenes/tentacles.hzs.
+ * programs/hzbake/scenes/tentacles.hzs.
  *
  *     skinned_gltf OUT_DIR [TENTACLES JOINTS SECONDS]
  *         writes OUT_DIR/tentacles.gltf and OUT_DIR/tentacles.bin (each via a temp file and rename);

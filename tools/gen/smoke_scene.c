@@ -1,7 +1,7 @@
 /* Writes the dense smoke scene of seed 004's Emerald Square test into the unpacked Sponza folder: a cloud of
  * SMOKE_COUNT alpha-blended particle quads (soft round sprites, each its own object so that every particle picks
  * its own dither map) in the middle of the atrium, appended to a copy of sponza.obj. Host tool; `make scenes`
- * runs it and bakes the result with tools/bake/scenes/sponza-smoke.hzs (the light and the camera path through
+ * runs it and bakes the result with programs/hzbake/scenes/sponza-smoke.hzs (the light and the camera path through
  * the cloud).
  *
  *     smoke_scene SPONZA_DIR     reads sponza.obj and sponza.mtl there; writes sponza-smoke.obj,

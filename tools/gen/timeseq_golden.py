@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Independent model of src/pattern/timeseq.c (stratified shutter times, hz/timeseq.h's definition) and of the
+"""Independent model of src/pattern/timeseq.c (stratified shutter times, src/pattern/timeseq.h's definition) and of the
 sweep in test/unit/test_timeseq.c (test_golden_sweep). Prints the golden value that test asserts, so a change
 of the sequence, or a difference between ISAs, shows up as a mismatch.
 

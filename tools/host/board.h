@@ -1,4 +1,4 @@
-/* host-tool — not a board: the settings the host tools (tools/bake, its tests, the loader fuzzer) compile the
+/* host-tool — not a board: the settings the host tools (programs/hzbake, its tests, the loader fuzzer) compile the
  * core with. They run on the build machine, take no display and allocate their own memory, so only the
  * required macros are set; the arenas here are never instantiated. */
 #ifndef HZ_BOARD_H

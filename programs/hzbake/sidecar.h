@@ -1,5 +1,5 @@
 /*
- * tools/bake/sidecar.h — scene sidecars (*.hzs): what model formats lack (lights, a camera path, mirror and
+ * programs/hzbake/sidecar.h — scene sidecars (*.hzs): what model formats lack (lights, a camera path, mirror and
  * transparency overrides per material, procedural motion per object, scene-wide settings), as key = value text.
  *
  * Contract: hz_bake_sidecar_parse() reads the whole text strictly: every line is a comment, blank, a section header

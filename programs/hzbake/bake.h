@@ -1,5 +1,5 @@
 /*
- * tools/bake/bake.h — the pieces of the scene baker (hzbake) that its modules share: growable arrays,
+ * programs/hzbake/bake.h — the pieces of the scene baker (hzbake) that its modules share: growable arrays,
  * messages, whole-file and gzip input, paths, and the in-memory scene that the importers fill and
  * scene.c turns into a .hzb image.
  *

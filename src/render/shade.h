@@ -1,5 +1,5 @@
 /*
- * hz/shade.h — surface interpolation and texturing of a packet of hits, in structure-of-arrays (the renderer's
+ * shade.h — surface interpolation and texturing of a packet of hits, in structure-of-arrays (the renderer's
  * shading front end; src/render/shade_packet.c with its SIMD kernels shade_avx2.c / shade_neon.c).
  *
  * Contract:
@@ -18,7 +18,7 @@
  *    normalisation, texel indices beyond 2^31) are done by the scalar helpers themselves. Tests compare the two.
  *  - Then, for the same lanes, what the light loop needs (the renderer's per-hit code, bit for bit too): the
  *    shadow-ray origin off the surface (hz_accel_offset_origin of the point along ng with the context's
- *    offset_scale; also the mirror ray's origin), the terminator skip (hz/terminator.h, on the scene's own pose),
+ *    offset_scale; also the mirror ray's origin), the terminator skip (src/render/terminator.h, on the scene's own pose),
  *    and for each of the first HZ_SHADE_LIGHTS lights of the context: whether it lights the surface (in front of
  *    both normals, at a positive distance), the unit direction to it, the shadow ray's start (moved along it by
  *    the skip) and length, and the factor k = cos / pi (/ distance^2 for inverse-square falloff) the light's

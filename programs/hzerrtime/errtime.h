@@ -1,7 +1,7 @@
 /*
  * errtime.h — error against run time: renders a sequence with every requested method and knob setting, scores
  * each displayed frame against a reference sequence and times it, and fills one report row per setting
- * (et_report.h). Later issues add methods by adding table entries (tools/errtime/et_methods.c); the driver does not
+ * (et_report.h). Later issues add methods by adding table entries (programs/hzerrtime/et_methods.c); the driver does not
  * change.
  *
  * Contract:

@@ -25,6 +25,7 @@
 #include "hz/crc32.h"
 #include "hz/image.h"
 #include "hz/tileorder.h"
+#include "opttab.h"
 
 #include "bench_accel.h"
 #include "bench_transp.h"
@@ -293,202 +294,206 @@ static hz_status_t write_curve(const char *csv, const hz_bench_transp_row_t *row
     return HZ_OK;
 }
 
+#define STR_(x) #x
+#define STR(x) STR_(x)
+
+/* The command line (opttab.h): the help is printed from this table. */
+enum { B_ONLY, B_CSV, B_MD, B_SCENES, B_ROUNDS, B_THREADS, B_RT_CSV, B_RT_SIZE, B_RT_FRAMES, B_RT_TWIN, B_RT_SCALING,
+       B_TD_SIZE, B_FRAMES, B_TP_CSV, B_TP_SIZE, B_TP_FRAMES, B_AD_CSV, B_SHUTTER, B_BLUR_SIZE, B_ACCEL_CSV, B_SCENE,
+       B_SIZE, B_EMBREE, B_MO_CSV, B_MO_SCENE, B_MO_SIZE, B_MO_INTERVAL };
+
+static const char *const group_words[] = { "kernels", "accel", "tdense", "transparency", "adaptive", "blur", "motion",
+                                           "realtime", NULL };
+
+static const hz_opt_t options[] = {
+    { .name = "--help", .alias = "-h", .kind = HZ_OPT_FLAG, .id = HZ_OPT_ID_HELP, .help = "this text" },
+    { .name = "--only", .arg = "G", .kind = HZ_OPT_WORD, .words = group_words, .id = B_ONLY,
+      .help = "run only this group (kernels, accel, tdense, transparency, adaptive, blur, motion or realtime); "
+              "repeat for more; default every group" },
+    { .name = "--csv", .arg = "FILE", .kind = HZ_OPT_TEXT, .id = B_CSV, .help = "the kernels' table as CSV" },
+    { .name = "--md", .arg = "FILE", .kind = HZ_OPT_TEXT, .id = B_MD,
+      .help = "also every group's table in Markdown (a group without its --*-csv writes its CSV next to FILE: "
+              "bench.csv, accel.csv, transparency.csv, adaptive.csv, motion.csv, realtime.csv)" },
+    { .name = "--scenes", .arg = "DIR", .kind = HZ_OPT_TEXT, .id = B_SCENES,
+      .help = "the baked scenes (default $HZ_SCENES_DIR or build/scenes; `make scenes` bakes them)" },
+    { .name = "--rounds", .arg = "N", .kind = HZ_OPT_INT, .lo = 1,
+      .hi = HZ_BENCH_TDENSE_MAX_ROUNDS < 15 ? HZ_BENCH_TDENSE_MAX_ROUNDS : 15, .id = B_ROUNDS,
+      .help = "rounds of the scene groups (default 5; realtime takes at most " STR(HZ_BENCH_REALTIME_MAX_ROUNDS) ")" },
+    { .name = "--threads", .arg = "N", .kind = HZ_OPT_INT, .lo = 0, .hi = HZ_MAX_THREADS, .id = B_THREADS,
+      .help = "pool size (0: every CPU; adaptive and realtime default to 2)" },
+    { .section = "realtime", .name = "--realtime-csv", .arg = "FILE", .kind = HZ_OPT_TEXT, .id = B_RT_CSV,
+      .help = "its table as CSV" },
+    { .name = "--realtime-size", .arg = "WxH", .kind = HZ_OPT_SIZE, .lo = 16, .hi = 8192, .id = B_RT_SIZE,
+      .help = "frame size (default 640x360)" },
+    { .name = "--realtime-frames", .arg = "N", .kind = HZ_OPT_INT, .lo = 1, .hi = HZ_BENCH_REALTIME_MAX_FRAMES,
+      .id = B_RT_FRAMES, .help = "timed frames (default 96)" },
+    { .name = "--realtime-shading-twin", .kind = HZ_OPT_FLAG, .id = B_RT_TWIN,
+      .help = "tdense with the packet shading against its scalar twin instead of tdense and TAA" },
+    { .name = "--realtime-scaling", .kind = HZ_OPT_FLAG, .id = B_RT_SCALING,
+      .help = "the table again on 1 thread, and each row's speedup and efficiency" },
+    { .section = "tdense", .name = "--tdense-size", .arg = "WxH", .kind = HZ_OPT_SIZE, .lo = 16, .hi = 8192,
+      .id = B_TD_SIZE, .help = "frame size (default 640x360)" },
+    { .name = "--frames", .arg = "N", .kind = HZ_OPT_INT, .lo = 1, .hi = 1000, .id = B_FRAMES,
+      .help = "timed frames (default 12)" },
+    { .section = "transparency", .name = "--transparency-csv", .arg = "FILE", .kind = HZ_OPT_TEXT, .id = B_TP_CSV,
+      .help = "its table as CSV" },
+    { .name = "--transparency-size", .arg = "WxH", .kind = HZ_OPT_SIZE, .lo = 8, .hi = 8192, .id = B_TP_SIZE,
+      .help = "frame size (default 192x108)" },
+    { .name = "--transparency-frames", .arg = "N", .kind = HZ_OPT_INT, .lo = 1, .hi = HZ_BENCH_TRANSP_MAX_FRAMES,
+      .id = B_TP_FRAMES, .help = "frames along the camera path (default 24)" },
+    { .section = "adaptive", .name = "--adaptive-csv", .arg = "FILE", .kind = HZ_OPT_TEXT, .id = B_AD_CSV,
+      .help = "its table as CSV" },
+    { .section = "blur", .name = "--shutter", .arg = "S", .kind = HZ_OPT_REAL, .lo = 0, .hi = 1, .lo_open = true,
+      .noun = "a fraction", .id = B_SHUTTER, .help = "the shutter's share of the frame interval (default 1)" },
+    { .name = "--blur-size", .arg = "WxH", .kind = HZ_OPT_SIZE, .lo = 16, .hi = 8192, .id = B_BLUR_SIZE,
+      .help = "frame size (default 320x180)" },
+    { .section = "accel", .name = "--accel-csv", .arg = "FILE", .kind = HZ_OPT_TEXT, .id = B_ACCEL_CSV,
+      .help = "its table as CSV" },
+    { .name = "--scene", .arg = "NAME", .kind = HZ_OPT_TEXT, .id = B_SCENE,
+      .help = "a baked scene to measure; repeat for more (at most " STR(HZ_BENCH_MAX_SCENES) "; default conference "
+              "sponza lost-empire furball dragon-res4 dragon-res3 dragon-res2 dragon)" },
+    { .name = "--size", .arg = "WxH", .kind = HZ_OPT_SIZE, .lo = 8, .hi = 8192, .id = B_SIZE,
+      .help = "the primary rays (default 1024x1024)" },
+    { .name = "--embree-config", .arg = "S", .kind = HZ_OPT_TEXT, .id = B_EMBREE, .help = "Embree's device config" },
+    { .section = "motion", .name = "--motion-csv", .arg = "FILE", .kind = HZ_OPT_TEXT, .id = B_MO_CSV,
+      .help = "its table as CSV" },
+    { .name = "--motion-scene", .arg = "NAME", .kind = HZ_OPT_TEXT, .id = B_MO_SCENE,
+      .help = "a baked scene to measure; repeat for more (at most " STR(HZ_BENCH_MOTION_MAX_SCENES) "; default the "
+              "moving furball and the rotated Sponza)" },
+    { .name = "--motion-size", .arg = "WxH", .kind = HZ_OPT_SIZE, .lo = 8, .hi = 8192, .id = B_MO_SIZE,
+      .help = "frame size (default 512x512)" },
+    { .name = "--motion-interval", .arg = "S", .kind = HZ_OPT_REAL, .lo = 0, .hi = 10, .lo_open = true,
+      .noun = "a number of seconds", .id = B_MO_INTERVAL, .help = "the shutter interval (default 1/24 s)" },
+};
+
+static const hz_opt_prog_t program = {
+    .name = "hzbench",
+    .table = options,
+    .n = sizeof options / sizeof options[0],
+    .synopsis =
+        "usage: hzbench [options]\n"
+        "\nMeasures hzrt's kernels side by side and prints medians of interleaved rounds, in these groups\n"
+        "(all by default, or those --only names):\n"
+        "  kernels  core kernels (" STR(ROUNDS) " rounds)\n"
+        "  tdense   displayed-frame time of tdense against full-frame 1 spp + TAA on the built-in scene\n"
+        "           and sponza/conference\n"
+        "  transparency  per-frame time along sponza-smoke's camera path of exact, rr, std, dtaa and\n"
+        "           hybrid:0.25/0.5/0.75 with TAA (min over 3 rounds)\n"
+        "  realtime tdense and TAA on 2 threads (or --threads) on the built-in scene, Sponza and Conference,\n"
+        "           frames from t = 1 s: p50/p99 ms, begin/trace/shade/resolve, the same rays through Embree\n"
+        "           alone (8-ray packets, no shading) and overhead = p50 / that; with --realtime-scaling the\n"
+        "           speedup over 1 thread and efficiency = p50 on 1 thread / (threads x p50) (the goal is\n"
+        "           >= 85% at 16 threads)\n"
+        "  adaptive fixed 9 spp against --mode adaptive (tau 0.3, 0.6, 1) at 640x360 on 2 threads (or\n"
+        "           --threads): presample / test / extra ms, live lanes per packet, PSNR vs 256 spp\n"
+        "  blur     motion blur in tdense: one MSBVH key interval and refit per 4-subframe cycle against\n"
+        "           posing and refitting every subframe, on the built-in scene, sponza-rotated and furball-sway\n"
+        "  accel    native BVH against Embree on the baked scenes\n"
+        "  motion   motion-blur BVHs (seed 002: msbvh, interp, swept) against Embree's motion blur\n"
+        "\noptions (a group's own under its name):\n",
+};
+
+typedef struct args {
+    const char *csv_path, *md_path, *realtime_csv, *transp_csv;
+    bool core, accel, tdense, transp, adaptive, blur, motion, realtime, only_given, realtime_scaling;
+    hz_bench_realtime_opts_t rt;
+    hz_bench_transp_opts_t tp;
+    hz_bench_adaptive_opts_t ad;
+    hz_bench_blur_opts_t bo;
+    hz_bench_accel_opts_t ao;
+    hz_bench_motion_opts_t mo;
+    hz_bench_tdense_opts_t td;
+} args_t;
+
+static int take(void *ctx, const hz_opt_t *o, const hz_opt_val_t *v)
+{
+    args_t *a = ctx;
+    switch (o->id) {
+    case B_ONLY: {
+        if (!a->only_given)
+            a->core = a->accel = a->tdense = a->transp = a->adaptive = a->blur = a->motion = a->realtime = false;
+        a->only_given = true;
+        bool *group[] = { &a->core, &a->accel, &a->tdense, &a->transp, &a->adaptive, &a->blur, &a->motion,
+                          &a->realtime };
+        *group[v->w] = true;
+        break;
+    }
+    case B_CSV: a->csv_path = v->s; break;
+    case B_MD: a->md_path = v->s; break;
+    case B_SCENES:
+        a->ao.scenes_dir = a->td.scenes_dir = a->tp.scenes_dir = a->ad.scenes_dir = a->bo.scenes_dir =
+            a->mo.scenes_dir = a->rt.scenes_dir = v->s;
+        break;
+    case B_ROUNDS:
+        a->ao.rounds = a->td.rounds = a->tp.rounds = a->ad.rounds = a->bo.rounds = a->mo.rounds = (int)v->n;
+        a->rt.rounds = v->n < HZ_BENCH_REALTIME_MAX_ROUNDS ? (int)v->n : HZ_BENCH_REALTIME_MAX_ROUNDS;
+        break;
+    case B_THREADS:
+        a->ao.threads = a->td.threads = a->tp.threads = a->bo.threads = (int)v->n;
+        a->ad.threads = a->rt.threads = v->n ? (int)v->n : 2;
+        break;
+    case B_RT_CSV: a->realtime_csv = v->s; break;
+    case B_RT_SIZE: a->rt.width = (uint32_t)v->w, a->rt.height = (uint32_t)v->h; break;
+    case B_RT_FRAMES: a->rt.frames = (uint32_t)v->n; break;
+    case B_RT_TWIN: a->rt.compare_shading = true; break;
+    case B_RT_SCALING: a->realtime_scaling = true; break;
+    case B_TD_SIZE: a->td.width = (uint32_t)v->w, a->td.height = (uint32_t)v->h; break;
+    case B_FRAMES: a->td.frames = (uint32_t)v->n; break;
+    case B_TP_CSV: a->transp_csv = v->s; break;
+    case B_TP_SIZE: a->tp.width = (uint32_t)v->w, a->tp.height = (uint32_t)v->h; break;
+    case B_TP_FRAMES: a->tp.frames = (uint32_t)v->n; break;
+    case B_AD_CSV: a->ad.csv_path = v->s; break;
+    case B_SHUTTER: a->bo.shutter = (float)v->x; break;
+    case B_BLUR_SIZE: a->bo.width = (uint32_t)v->w, a->bo.height = (uint32_t)v->h; break;
+    case B_ACCEL_CSV: a->ao.csv_path = v->s; break;
+    case B_SCENE:
+        if (a->ao.scene_count == HZ_BENCH_MAX_SCENES) {
+            hz_cli_error("--scene: at most %d scenes", HZ_BENCH_MAX_SCENES);
+            return HZ_EXIT_USAGE;
+        }
+        a->ao.scenes[a->ao.scene_count++] = v->s;
+        break;
+    case B_SIZE: a->ao.width = (uint32_t)v->w, a->ao.height = (uint32_t)v->h; break;
+    case B_EMBREE: a->ao.embree_config = v->s; break;
+    case B_MO_CSV: a->mo.csv_path = v->s; break;
+    case B_MO_SCENE:
+        if (a->mo.scene_count == HZ_BENCH_MOTION_MAX_SCENES) {
+            hz_cli_error("--motion-scene: at most %d scenes", HZ_BENCH_MOTION_MAX_SCENES);
+            return HZ_EXIT_USAGE;
+        }
+        a->mo.scenes[a->mo.scene_count++] = v->s;
+        break;
+    case B_MO_SIZE: a->mo.width = (uint32_t)v->w, a->mo.height = (uint32_t)v->h; break;
+    case B_MO_INTERVAL: a->mo.interval = (float)v->x; break;
+    }
+    return 0;
+}
+
 int main(int argc, char **argv)
 {
     hz_cli_prog = "hzbench";
-    const char *csv_path = NULL, *md_path = NULL;
-    bool core = true, accel = true, tdense = true, transp = true, adaptive = true, blur = true, motion = true;
-    bool realtime = true, only_given = false;
-    const char *realtime_csv = NULL;
-    bool realtime_scaling = false;
-    hz_bench_realtime_opts_t rt = { NULL, 640, 360, 2, 3, 8, 96, 1.0f, 240, false, false };
-    const char *transp_csv = NULL;
-    hz_bench_transp_opts_t tp = { NULL, 192, 108, 0, 3, 24, false };
-    hz_bench_adaptive_opts_t ad = { NULL, NULL, 640, 360, 2, 5, 1, 3, 1.0f, 256, false };
-    hz_bench_blur_opts_t bo = { NULL, 320, 180, 0, 5, 4, 12, 1.0f, 1.0f, 240, HZ_ACCEL_BLUR_MSBVH, false };
-    hz_bench_accel_opts_t ao;
-    memset(&ao, 0, sizeof ao);
-    hz_bench_motion_opts_t mo;
-    memset(&mo, 0, sizeof mo);
-    hz_bench_tdense_opts_t td = { NULL, 640, 360, 0, 5, 4, 12, 1.0f, 240, false };
-    for (int i = 1; i < argc; i++) {
-        long v;
-        if (!strcmp(argv[i], "--csv") && i + 1 < argc) {
-            csv_path = argv[++i];
-        } else if (!strcmp(argv[i], "--md") && i + 1 < argc) {
-            md_path = argv[++i];
-        } else if (!strcmp(argv[i], "--accel-csv") && i + 1 < argc) {
-            ao.csv_path = argv[++i];
-        } else if (!strcmp(argv[i], "--realtime-csv") && i + 1 < argc) {
-            realtime_csv = argv[++i];
-        } else if (!strcmp(argv[i], "--realtime-shading-twin")) {
-            rt.compare_shading = true;
-        } else if (!strcmp(argv[i], "--realtime-scaling")) {
-            realtime_scaling = true;
-        } else if (!strcmp(argv[i], "--realtime-frames") && i + 1 < argc) {
-            if (!hz_cli_parse_long("--realtime-frames", argv[++i], 1, HZ_BENCH_REALTIME_MAX_FRAMES, &v))
-                return HZ_EXIT_USAGE;
-            rt.frames = (uint32_t)v;
-        } else if (!strcmp(argv[i], "--realtime-size") && i + 1 < argc) {
-            int w, h;
-            if (!hz_cli_parse_size("--realtime-size", argv[++i], 16, 8192, &w, &h))
-                return HZ_EXIT_USAGE;
-            rt.width = (uint32_t)w, rt.height = (uint32_t)h;
-        } else if (!strcmp(argv[i], "--adaptive-csv") && i + 1 < argc) {
-            ad.csv_path = argv[++i];
-        } else if (!strcmp(argv[i], "--only") && i + 1 < argc) {
-            const char *what = argv[++i];
-            if (!only_given)
-                core = accel = tdense = transp = adaptive = blur = motion = realtime = false;
-            only_given = true;
-            if (!strcmp(what, "kernels"))
-                core = true;
-            else if (!strcmp(what, "motion"))
-                motion = true;
-            else if (!strcmp(what, "accel"))
-                accel = true;
-            else if (!strcmp(what, "tdense"))
-                tdense = true;
-            else if (!strcmp(what, "transparency"))
-                transp = true;
-            else if (!strcmp(what, "adaptive"))
-                adaptive = true;
-            else if (!strcmp(what, "realtime"))
-                realtime = true;
-            else if (!strcmp(what, "blur"))
-                blur = true;
-            else {
-                hz_cli_error("--only: '%s' is not kernels, accel, tdense, transparency, adaptive, blur, motion or "
-                             "realtime", what);
-                return HZ_EXIT_USAGE;
-            }
-        } else if (!strcmp(argv[i], "--motion-csv") && i + 1 < argc) {
-            mo.csv_path = argv[++i];
-        } else if (!strcmp(argv[i], "--motion-scene") && i + 1 < argc) {
-            if (mo.scene_count == HZ_BENCH_MOTION_MAX_SCENES) {
-                hz_cli_error("--motion-scene: at most %d scenes", HZ_BENCH_MOTION_MAX_SCENES);
-                return HZ_EXIT_USAGE;
-            }
-            mo.scenes[mo.scene_count++] = argv[++i];
-        } else if (!strcmp(argv[i], "--motion-size") && i + 1 < argc) {
-            int w, h;
-            if (!hz_cli_parse_size("--motion-size", argv[++i], 8, 8192, &w, &h))
-                return HZ_EXIT_USAGE;
-            mo.width = (uint32_t)w, mo.height = (uint32_t)h;
-        } else if (!strcmp(argv[i], "--motion-interval") && i + 1 < argc) {
-            char *end;
-            double t = strtod(argv[++i], &end);
-            if (*end || end == argv[i] || !(t > 0.0 && t <= 10.0)) {
-                hz_cli_error("--motion-interval: '%s' is not a number of seconds in (0, 10]", argv[i]);
-                return HZ_EXIT_USAGE;
-            }
-            mo.interval = (float)t;
-        } else if (!strcmp(argv[i], "--scenes") && i + 1 < argc) {
-            ao.scenes_dir = td.scenes_dir = tp.scenes_dir = ad.scenes_dir = bo.scenes_dir = mo.scenes_dir = rt.scenes_dir = argv[++i];
-        } else if (!strcmp(argv[i], "--scene") && i + 1 < argc) {
-            if (ao.scene_count == HZ_BENCH_MAX_SCENES) {
-                hz_cli_error("--scene: at most %d scenes", HZ_BENCH_MAX_SCENES);
-                return HZ_EXIT_USAGE;
-            }
-            ao.scenes[ao.scene_count++] = argv[++i];
-        } else if (!strcmp(argv[i], "--rounds") && i + 1 < argc) {
-            if (!hz_cli_parse_long("--rounds", argv[++i], 1, HZ_BENCH_TDENSE_MAX_ROUNDS < 15 ? HZ_BENCH_TDENSE_MAX_ROUNDS : 15, &v))
-                return HZ_EXIT_USAGE;
-            ao.rounds = td.rounds = tp.rounds = ad.rounds = bo.rounds = mo.rounds = (int)v;
-            rt.rounds = v < HZ_BENCH_REALTIME_MAX_ROUNDS ? (int)v : HZ_BENCH_REALTIME_MAX_ROUNDS;
-        } else if (!strcmp(argv[i], "--threads") && i + 1 < argc) {
-            if (!hz_cli_parse_long("--threads", argv[++i], 0, HZ_MAX_THREADS, &v))
-                return HZ_EXIT_USAGE;
-            ao.threads = td.threads = tp.threads = bo.threads = (int)v;
-            ad.threads = rt.threads = v ? (int)v : 2;
-        } else if (!strcmp(argv[i], "--size") && i + 1 < argc) {
-            int w, h;
-            if (!hz_cli_parse_size("--size", argv[++i], 8, 8192, &w, &h))
-                return HZ_EXIT_USAGE;
-            ao.width = (uint32_t)w, ao.height = (uint32_t)h;
-        } else if (!strcmp(argv[i], "--tdense-size") && i + 1 < argc) {
-            int w, h;
-            if (!hz_cli_parse_size("--tdense-size", argv[++i], 16, 8192, &w, &h))
-                return HZ_EXIT_USAGE;
-            td.width = (uint32_t)w, td.height = (uint32_t)h;
-        } else if (!strcmp(argv[i], "--frames") && i + 1 < argc) {
-            if (!hz_cli_parse_long("--frames", argv[++i], 1, 1000, &v))
-                return HZ_EXIT_USAGE;
-            td.frames = (uint32_t)v;
-        } else if (!strcmp(argv[i], "--transparency-csv") && i + 1 < argc) {
-            transp_csv = argv[++i];
-        } else if (!strcmp(argv[i], "--transparency-size") && i + 1 < argc) {
-            int w, h;
-            if (!hz_cli_parse_size("--transparency-size", argv[++i], 8, 8192, &w, &h))
-                return HZ_EXIT_USAGE;
-            tp.width = (uint32_t)w, tp.height = (uint32_t)h;
-        } else if (!strcmp(argv[i], "--transparency-frames") && i + 1 < argc) {
-            if (!hz_cli_parse_long("--transparency-frames", argv[++i], 1, HZ_BENCH_TRANSP_MAX_FRAMES, &v))
-                return HZ_EXIT_USAGE;
-            tp.frames = (uint32_t)v;
-        } else if (!strcmp(argv[i], "--shutter") && i + 1 < argc) {
-            char *end;
-            const char *a = argv[++i];
-            double d = strtod(a, &end);
-            if (end == a || *end || !(d > 0.0 && d <= 1.0)) {
-                hz_cli_error("--shutter: '%s' is not a fraction in (0, 1]", a);
-                return HZ_EXIT_USAGE;
-            }
-            bo.shutter = (float)d;
-        } else if (!strcmp(argv[i], "--blur-size") && i + 1 < argc) {
-            int w, h;
-            if (!hz_cli_parse_size("--blur-size", argv[++i], 16, 8192, &w, &h))
-                return HZ_EXIT_USAGE;
-            bo.width = (uint32_t)w, bo.height = (uint32_t)h;
-        } else if (!strcmp(argv[i], "--embree-config") && i + 1 < argc) {
-            ao.embree_config = argv[++i];
-        } else if (!strcmp(argv[i], "-h") || !strcmp(argv[i], "--help")) {
-            printf("usage: hzbench [--only kernels|accel|tdense|transparency|adaptive|blur|motion|realtime]...\n"
-                   "               [--csv FILE] [--realtime-csv FILE] [--realtime-size WxH] [--realtime-frames N]\n"
-                   "               [--realtime-shading-twin] [--realtime-scaling]\n"
-                   "               [--accel-csv FILE] [--adaptive-csv FILE] [--motion-csv FILE] [--scenes DIR]\n"
-                   "               [--scene NAME]... [--rounds N] [--threads N] [--size WxH] [--tdense-size WxH]\n"
-                   "               [--frames N] [--embree-config S] [--transparency-csv FILE]\n"
-                   "               [--transparency-size WxH] [--transparency-frames N] [--shutter S] [--blur-size WxH]\n"
-                   "               [--motion-scene NAME]... [--motion-size WxH] [--motion-interval S] [--md FILE]\n"
-                   "\nMeasures hzrt's kernels side by side and prints medians of interleaved rounds, in these parts\n"
-                   "(all by default, or those --only names):\n"
-                   "  kernels  core kernels (%d rounds)\n"
-                   "  tdense   displayed-frame time of tdense against full-frame 1 spp + TAA on the built-in scene\n"
-                   "           and sponza/conference (--tdense-size, default 640x360; --frames timed frames, 12)\n"
-                   "  transparency  per-frame time along sponza-smoke's camera path of exact, rr, std, dtaa and\n"
-                   "           hybrid:0.25/0.5/0.75 with TAA (--transparency-size, default 192x108;\n"
-                   "           --transparency-frames, default 24; min over 3 rounds; CSV with --transparency-csv)\n"
-                   "  realtime tdense and TAA at 640x360 (--realtime-size) on 2 threads (or --threads) on the built-in\n"
-                   "           scene, Sponza and Conference, 96 frames from t = 1 s (--realtime-frames): p50/p99 ms,\n"
-                   "           begin/trace/shade/resolve, the same rays through Embree alone (8-ray packets, no\n"
-                   "           shading) and overhead = p50 / that; CSV with --realtime-csv; with\n"
-                   "           --realtime-shading-twin tdense with the packet shading against its scalar twin\n"
-                   "           (rounds interleaved) instead of tdense and TAA; with --realtime-scaling the\n"
-                   "           table again on 1 thread, and each row's speedup and efficiency (p50 on 1 thread /\n"
-                   "           (threads x p50); the goal is >= 85%% at 16 threads)\n"
-                   "  adaptive fixed 9 spp against --mode adaptive (tau 0.3, 0.6, 1) at 640x360 on 2 threads (or\n"
-                   "           --threads): presample / test / extra ms, live lanes per packet, PSNR vs 256 spp\n"
-                   "  blur     motion blur in tdense (--shutter, default 1; --blur-size, default 320x180): one MSBVH\n"
-                   "           key interval and refit per 4-subframe cycle against posing and refitting every\n"
-                   "           subframe, on the built-in scene, sponza-rotated and furball-sway\n"
-                   "  accel    native BVH against Embree on the baked scenes (--scene picks them, default\n"
-                   "           conference sponza lost-empire furball dragon-res4 dragon-res3 dragon-res2 dragon;\n"
-                   "           --size the primary rays, default 1024x1024; --embree-config Embree's device config)\n"
-                   "  motion   motion-blur BVHs (seed 002: msbvh, interp, swept) against Embree's motion blur on the\n"
-                   "           moving furball and the rotated Sponza (--motion-scene picks others; --motion-size the\n"
-                   "           frame, default 512x512; --motion-interval the shutter interval, default 1/24 s)\n"
-                   "--scenes: the baked scenes (default $HZ_SCENES_DIR or build/scenes; `make scenes` bakes them),\n"
-                   "--rounds: rounds of the accel and tdense parts (5), --threads: pool size (0: every CPU).\n"
-                   "--md FILE: also every group's table in Markdown (a group without its --*-csv writes its CSV\n"
-                   "next to FILE: bench.csv, accel.csv, transparency.csv, adaptive.csv, motion.csv, realtime.csv).\n",
-                   ROUNDS);
-            return 0;
-        } else {
-            hz_cli_error("unknown option '%s' (try --help)", argv[i]);
-            return HZ_EXIT_USAGE;
-        }
-    }
+    static args_t a = { .core = true, .accel = true, .tdense = true, .transp = true, .adaptive = true,
+                        .blur = true, .motion = true, .realtime = true,
+                        .rt = { NULL, 640, 360, 2, 3, 8, 96, 1.0f, 240, false, false },
+                        .tp = { NULL, 192, 108, 0, 3, 24, false },
+                        .ad = { NULL, NULL, 640, 360, 2, 5, 1, 3, 1.0f, 256, false },
+                        .bo = { NULL, 320, 180, 0, 5, 4, 12, 1.0f, 1.0f, 240, HZ_ACCEL_BLUR_MSBVH, false },
+                        .td = { NULL, 640, 360, 0, 5, 4, 12, 1.0f, 240, false } };
+    int nops = 0;
+    int rc = hz_opt_parse(&program, argc, argv, take, &a, NULL, &nops);
+    if (rc)
+        return rc == HZ_OPT_DONE ? 0 : rc;
+    const char *csv_path = a.csv_path, *md_path = a.md_path, *realtime_csv = a.realtime_csv;
+    const char *transp_csv = a.transp_csv;
+    bool core = a.core, accel = a.accel, tdense = a.tdense, transp = a.transp, adaptive = a.adaptive, blur = a.blur;
+    bool motion = a.motion, realtime = a.realtime, realtime_scaling = a.realtime_scaling;
+    hz_bench_realtime_opts_t rt = a.rt;
+    hz_bench_transp_opts_t tp = a.tp;
+    hz_bench_adaptive_opts_t ad = a.ad;
+    hz_bench_blur_opts_t bo = a.bo;
+    hz_bench_accel_opts_t ao = a.ao;
+    hz_bench_motion_opts_t mo = a.mo;
+    hz_bench_tdense_opts_t td = a.td;
     char csv_buf[6][4200];
     csv_path = csv_beside(csv_path, md_path, "bench", csv_buf[0], sizeof csv_buf[0]);
     ao.csv_path = csv_beside(ao.csv_path, md_path, "accel", csv_buf[1], sizeof csv_buf[1]);

@@ -1,5 +1,5 @@
 /*
- * tools/bake/scene.h — from the baker's in-memory scene to a .hzb image, and the importers that fill it.
+ * programs/hzbake/scene.h — from the baker's in-memory scene to a .hzb image, and the importers that fill it.
  *
  * Contract:
  *  - hz_bake_import_assimp() reads OBJ (+ .mtl), PLY (also .ply.gz) and glTF/glb through assimp;

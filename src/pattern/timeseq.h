@@ -1,5 +1,5 @@
 /*
- * hz/timeseq.h — shutter times of pixel samples: a stratified sequence built on the integer hash (motion blur,
+ * timeseq.h — shutter times of pixel samples: a stratified sequence built on the integer hash (motion blur,
  * seed 002). Integer-only (src/pattern/, -mgeneral-regs-only): identical results on every ISA.
  *
  * Contract:

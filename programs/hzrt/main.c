@@ -101,7 +101,7 @@ static int cmd_info(int argc, char **argv)
     for (int i = 1; i < argc; i++) {
         if (!strcmp(argv[i], "-h") || !strcmp(argv[i], "--help")) {
             printf("usage: hzrt info SCENE\n\n"
-                   "Validates SCENE (a .hzb file from tools/bake, or `builtin`) exactly as a render would load it,\n"
+                   "Validates SCENE (a .hzb file from hzbake, or `builtin`) exactly as a render would load it,\n"
                    "then prints its header, counts, feature mask and memory plan against this board's arenas.\n\n"
                    "exit status: 0 ok, 2 bad command line, 64+N failure with hz status N: 66 does not load into the\n"
                    "scene arena, 68 malformed, 69 unsupported version, 70 corrupt (a checksum fails), 73 missing or\n"

@@ -27,7 +27,7 @@
 #include "hz/accel.h"
 #include "hz/render.h"
 #include "hz/scenetime.h"
-#include "opttab.h"
+#include "optwhere.h"
 
 typedef struct hz_ropts {
     hz_render_opts_t opts;         /* mode and every option of level 0 (size and rate: the command's) */

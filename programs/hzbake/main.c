@@ -21,45 +21,60 @@
 #include "cli.h"
 #include "fileio.h"
 #include "hz/scene.h"
+#include "opttab.h"
 #include "scene.h"
 #include "sidecar.h"
 
 #define BAKE_VERSION "1.0"
 
-static void usage(FILE *f)
-{
-    fprintf(f,
-            "usage: hzbake [options] MODEL OUT.hzb\n"
-            "       hzbake --info FILE.hzb\n"
-            "\n"
-            "Bakes MODEL and its sidecar into OUT.hzb, the scene format hzrt loads (include/hz/hzb.h).\n"
-            "MODEL: .obj (+ .mtl), .ply, .ply.gz, .gltf, .glb (through assimp), or an Embree furball .xml\n"
-            "(+ .bin or .bin.gz beside it). Textures (PNG, JPEG) are decoded and get mip levels.\n"
-            "\n"
-            "options:\n"
-            "  -s, --sidecar FILE   scene settings (.hzs: lights, camera path, material and motion overrides);\n"
-            "                       default: MODEL's name with .hzs instead of its extension, if that exists\n"
-            "      --texture-max N  largest stored texture level (overrides the sidecar; default 1024)\n"
-            "      --timeout S      give up on an import that takes longer than S seconds (default 600)\n"
-            "      --info FILE.hzb  validate a baked scene and print its header, sections, objects and\n"
-            "                       memory plan\n"
-            "  -q, --quiet          no summary line\n"
-            "  -v, --verbose        progress of each step\n"
-            "  -h, --help           this text\n"
-            "      --version        version\n"
-            "\n"
-            "The output is written to a temporary file, validated with the runtime loader and renamed into\n"
-            "place: a failed bake leaves OUT.hzb as it was. OUT.hzb is never one of the inputs: naming the model\n"
-            "or the sidecar is refused before the bake (status 2), a file the import reads (a texture, a .mtl)\n"
-            "when it is read (status 65). Missing textures and a missing .mtl are warnings (the material keeps\n"
-            "its colour, or gets the default grey).\n"
-            "\n"
-            "exit status: 0 ok (warnings may have been printed), 2 bad command line, and 64 + hz status code:\n"
-            "  65 the output is a file the model reads, 66 out of memory, 67 too large, 68 malformed model,\n"
-            "  sidecar or scene, 70 corrupt .hzb (a checksum fails: --info, or the baked image's own check),\n"
-            "  71 value out of range (e.g. NaN vertex), 72 unsupported format, 73 file missing or unreadable,\n"
-            "  75 import timed out, 76 the importer crashed (or another internal failure)\n");
-}
+/* The command line (opttab.h): the help is printed from this table. */
+enum { B_SIDECAR, B_TEXTURE_MAX, B_TIMEOUT, B_INFO, B_QUIET, B_VERBOSE, B_VERSION };
+
+static const hz_opt_t options[] = {
+    { .name = "--sidecar", .alias = "-s", .arg = "FILE", .kind = HZ_OPT_TEXT, .id = B_SIDECAR,
+      .help = "scene settings (.hzs: lights, camera path, material and motion overrides); default: MODEL's name "
+              "with .hzs instead of its extension, if that exists" },
+    { .name = "--texture-max", .arg = "N", .kind = HZ_OPT_INT, .lo = 1, .hi = 16384, .id = B_TEXTURE_MAX,
+      .help = "largest stored texture level (overrides the sidecar; default 1024)" },
+    { .name = "--timeout", .arg = "S", .kind = HZ_OPT_INT, .lo = 1, .hi = 86400, .id = B_TIMEOUT,
+      .help = "give up on an import that takes longer than S seconds (default 600)" },
+    { .name = "--info", .arg = "FILE.hzb", .kind = HZ_OPT_TEXT, .id = B_INFO,
+      .help = "validate a baked scene and print its header, sections, objects and memory plan" },
+    { .name = "--quiet", .alias = "-q", .kind = HZ_OPT_FLAG, .id = B_QUIET, .help = "no summary line" },
+    { .name = "--verbose", .alias = "-v", .kind = HZ_OPT_FLAG, .id = B_VERBOSE, .help = "progress of each step" },
+    { .name = "--help", .alias = "-h", .kind = HZ_OPT_FLAG, .id = HZ_OPT_ID_HELP, .help = "this text" },
+    { .name = "--version", .kind = HZ_OPT_FLAG, .id = B_VERSION, .help = "version" },
+};
+
+static const hz_opt_prog_t program = {
+    .name = "hzbake",
+    .table = options,
+    .n = sizeof options / sizeof options[0],
+    .max_operands = 2,
+    .synopsis =
+        "usage: hzbake [options] MODEL OUT.hzb\n"
+        "       hzbake --info FILE.hzb\n"
+        "\n"
+        "Bakes MODEL and its sidecar into OUT.hzb, the scene format hzrt loads (include/hz/hzb.h).\n"
+        "MODEL: .obj (+ .mtl), .ply, .ply.gz, .gltf, .glb (through assimp), or an Embree furball .xml\n"
+        "(+ .bin or .bin.gz beside it). Textures (PNG, JPEG) are decoded and get mip levels.\n"
+        "\n"
+        "options:\n",
+    .epilogue =
+        "\n"
+        "The output is written to a temporary file, validated with the runtime loader and renamed into\n"
+        "place: a failed bake leaves OUT.hzb as it was. OUT.hzb is never one of the inputs: naming the model\n"
+        "or the sidecar is refused before the bake (status 2), a file the import reads (a texture, a .mtl)\n"
+        "when it is read (status 65). Missing textures and a missing .mtl are warnings (the material keeps\n"
+        "its colour, or gets the default grey).\n"
+        "\n"
+        "exit status: 0 ok (warnings may have been printed), 2 bad command line (an unknown option, a missing\n"
+        "  value, a value outside its limits), and 64 + hz status code:\n"
+        "  65 the output is a file the model reads, 66 out of memory, 67 too large, 68 malformed model,\n"
+        "  sidecar or scene, 70 corrupt .hzb (a checksum fails: --info, or the baked image's own check),\n"
+        "  71 value out of range (e.g. NaN vertex), 72 unsupported format, 73 file missing or unreadable,\n"
+        "  75 import timed out, 76 the importer crashed (or another internal failure)\n",
+};
 
 /* ---- --info ---- */
 
@@ -519,6 +534,29 @@ static char *default_sidecar(const char *model)
     return p;
 }
 
+typedef struct args {
+    job_t *job;
+    const char *sidecar, *info_path;
+    long texture_max;
+} args_t;
+
+static int take(void *ctx, const hz_opt_t *o, const hz_opt_val_t *v)
+{
+    args_t *a = ctx;
+    switch (o->id) {
+    case B_SIDECAR: a->sidecar = v->s; break;
+    case B_TEXTURE_MAX: a->texture_max = v->n; break;
+    case B_TIMEOUT: a->job->timeout_s = v->n; break;
+    case B_INFO: a->info_path = v->s; break;
+    case B_QUIET: a->job->quiet = 1; break;
+    case B_VERBOSE: hz_bake_verbose = 1; break;
+    case B_VERSION:
+        printf("hzbake %s (.hzb version %u)\n", BAKE_VERSION, HZ_HZB_VERSION);
+        return HZ_OPT_DONE;
+    }
+    return 0;
+}
+
 int main(int argc, char **argv)
 {
     hz_cli_prog = "hzbake";
@@ -526,53 +564,14 @@ int main(int argc, char **argv)
     job_t job;
     memset(&job, 0, sizeof job);
     job.timeout_s = 600;
-    const char *sidecar = NULL, *info_path = NULL;
+    args_t args = { &job, NULL, NULL, -1 };
     const char *pos[2] = { NULL, NULL };
     int npos = 0;
-    long texture_max = -1;
-    for (int i = 1; i < argc; i++) {
-        const char *a = argv[i];
-        const char *v = i + 1 < argc ? argv[i + 1] : NULL;
-        if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
-            usage(stdout);
-            return 0;
-        } else if (!strcmp(a, "--version")) {
-            printf("hzbake %s (.hzb version %u)\n", BAKE_VERSION, HZ_HZB_VERSION);
-            return 0;
-        } else if (!strcmp(a, "-s") || !strcmp(a, "--sidecar")) {
-            if (!v) {
-                hz_cli_error("%s: missing file name", a);
-                return HZ_EXIT_USAGE;
-            }
-            sidecar = v, i++;
-        } else if (!strcmp(a, "--texture-max")) {
-            if (!hz_cli_parse_long(a, v, 1, 16384, &texture_max))
-                return HZ_EXIT_USAGE;
-            i++;
-        } else if (!strcmp(a, "--timeout")) {
-            if (!hz_cli_parse_long(a, v, 1, 86400, &job.timeout_s))
-                return HZ_EXIT_USAGE;
-            i++;
-        } else if (!strcmp(a, "--info")) {
-            if (!v) {
-                hz_cli_error("--info: which .hzb file?");
-                return HZ_EXIT_USAGE;
-            }
-            info_path = v, i++;
-        } else if (!strcmp(a, "-q") || !strcmp(a, "--quiet")) {
-            job.quiet = 1;
-        } else if (!strcmp(a, "-v") || !strcmp(a, "--verbose")) {
-            hz_bake_verbose = 1;
-        } else if (a[0] == '-' && a[1]) {
-            hz_cli_error("unknown option '%s' (try hzbake --help)", a);
-            return HZ_EXIT_USAGE;
-        } else if (npos < 2) {
-            pos[npos++] = a;
-        } else {
-            hz_cli_error("unexpected argument '%s' (try hzbake --help)", a);
-            return HZ_EXIT_USAGE;
-        }
-    }
+    int rc = hz_opt_parse(&program, argc, argv, take, &args, pos, &npos);
+    if (rc)
+        return rc == HZ_OPT_DONE ? 0 : rc;
+    const char *sidecar = args.sidecar, *info_path = args.info_path;
+    long texture_max = args.texture_max;
     if (info_path) {
         if (npos || sidecar) {
             hz_cli_error("--info takes one .hzb file and nothing else");
@@ -619,7 +618,7 @@ int main(int argc, char **argv)
     }
     if (texture_max > 0)
         job.sc.texture_max = (uint32_t)texture_max;
-    int rc = bake(&job);
+    rc = bake(&job);
     hz_bake_sidecar_free(&job.sc);
     free(auto_sidecar);
     return rc;

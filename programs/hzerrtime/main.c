@@ -12,40 +12,65 @@
 #include "hz/config.h"
 #include "et_methods.h"
 #include "et_stability.h"
+#include "opttab.h"
 
-static void usage(FILE *f)
-{
-    fprintf(f,
-            "usage: hzerrtime [options]\n"
-            "\n"
-            "Renders a reference sequence (cached), runs every method of a scene on the same frames, and writes\n"
-            "error (mean FLIP, PSNR, SSIM, display-integrated FLIP/PSNR) against ms per displayed frame.\n"
-            "\n"
-            "  --scene A,B        scenes (default synthetic; --list shows them); one CSV and Markdown table\n"
-            "                     for all, one chart per scene. An item ending in .hzb is any baked scene file\n"
-            "                     (its camera path and lights) run with the renderer's standard methods\n"
-            "                     (full-frame 1/4/9/16 spp, TAA, adaptive) against 256 spp\n"
-            "  --size WxH         frame size (default: the scene's, else 96x64)\n"
-            "  --frames N         displayed frames (default: the scene's, else 48)\n"
-            "  --warmup N         leading frames neither timed nor scored (default: the scene's, else 8)\n"
-            "  --refresh HZ       display refresh rate (default the board's, %d Hz)\n"
-            "  --methods A,B      only these methods (names as in --list)\n"
-            "  --shutter S        motion-blur scenes (*-blur): shutter open for S in (0, 1] of each frame\n"
-            "                     interval (default 1)\n"
-            "  --skip A,B         all but these methods\n"
-            "  --ppd X            FLIP observer, pixels per degree (default 67.02)\n"
-            "  --cache DIR        reference cache (default build/errtime-cache)\n"
-            "  --out DIR          report directory (default build/errtime): errtime.csv, errtime.md, <scene>.svg\n"
-            "  --video DIR        also write each method's displayed frames (and the reference) as Y4M videos\n"
-            "  --scenes DIR       baked scenes (.hzb) for the rendered scenes (default $HZ_SCENES_DIR, else\n"
-            "                     build/scenes; `make scenes` bakes them)\n"
-            "  --threads N        render threads (default: one per online CPU)\n"
-            "  --arena-mib N      working memory (default 1024; touched only as needed)\n"
-            "  --list             scenes and their methods\n"
-            "\n"
-            "exit status: 0 ok, 2 bad command line, 64+N a failure with hz status code N\n",
-            HZ_DISPLAY_HZ);
-}
+#define STR_(x) #x
+#define STR(x) STR_(x)
+
+/* The command line (opttab.h): the help is printed from this table. */
+enum { E_SCENE, E_SIZE, E_FRAMES, E_WARMUP, E_REFRESH, E_METHODS, E_SHUTTER, E_SKIP, E_PPD, E_CACHE, E_OUT, E_VIDEO,
+       E_SCENES, E_THREADS, E_ARENA, E_LIST };
+
+static const hz_opt_t options[] = {
+    { .name = "--scene", .arg = "A,B", .kind = HZ_OPT_TEXT, .id = E_SCENE,
+      .help = "scenes (default synthetic; --list shows them); one CSV and Markdown table for all, one chart per "
+              "scene. An item ending in .hzb is any baked scene file (its camera path and lights) run with the "
+              "renderer's standard methods (full-frame 1/4/9/16 spp, TAA, adaptive) against 256 spp" },
+    { .name = "--size", .arg = "WxH", .kind = HZ_OPT_SIZE, .lo = 11, .hi = HZ_IMAGE_MAX_DIM, .id = E_SIZE,
+      .help = "frame size (default: the scene's, else 96x64)" },
+    { .name = "--frames", .arg = "N", .kind = HZ_OPT_INT, .lo = 1, .hi = 1000000, .id = E_FRAMES,
+      .help = "displayed frames (default: the scene's, else 48)" },
+    { .name = "--warmup", .arg = "N", .kind = HZ_OPT_INT, .lo = 0, .hi = 1000000, .id = E_WARMUP,
+      .help = "leading frames neither timed nor scored (default: the scene's, else 8)" },
+    { .name = "--refresh", .arg = "HZ", .kind = HZ_OPT_INT, .lo = 1, .hi = 960, .id = E_REFRESH,
+      .help = "display refresh rate (default the board's, " STR(HZ_DISPLAY_HZ) " Hz)" },
+    { .name = "--methods", .arg = "A,B", .kind = HZ_OPT_TEXT, .id = E_METHODS,
+      .help = "only these methods (names as in --list)" },
+    { .name = "--shutter", .arg = "S", .kind = HZ_OPT_REAL, .lo = 0, .hi = 1, .lo_open = true, .noun = "a fraction",
+      .id = E_SHUTTER, .help = "motion-blur scenes (*-blur): shutter open for S of each frame interval (default 1)" },
+    { .name = "--skip", .arg = "A,B", .kind = HZ_OPT_TEXT, .id = E_SKIP, .help = "all but these methods" },
+    { .name = "--ppd", .arg = "X", .kind = HZ_OPT_REAL, .lo = 0, .hi = 1000, .lo_open = true, .id = E_PPD,
+      .help = "FLIP observer, pixels per degree (default 67.02)" },
+    { .name = "--cache", .arg = "DIR", .kind = HZ_OPT_TEXT, .id = E_CACHE,
+      .help = "reference cache (default build/errtime-cache)" },
+    { .name = "--out", .arg = "DIR", .kind = HZ_OPT_TEXT, .id = E_OUT,
+      .help = "report directory (default build/errtime): errtime.csv, errtime.md, <scene>.svg" },
+    { .name = "--video", .arg = "DIR", .kind = HZ_OPT_TEXT, .id = E_VIDEO,
+      .help = "also write each method's displayed frames (and the reference) as Y4M videos" },
+    { .name = "--scenes", .arg = "DIR", .kind = HZ_OPT_TEXT, .id = E_SCENES,
+      .help = "baked scenes (.hzb) for the rendered scenes (default $HZ_SCENES_DIR, else build/scenes; `make "
+              "scenes` bakes them)" },
+    { .name = "--threads", .arg = "N", .kind = HZ_OPT_INT, .lo = 1, .hi = HZ_MAX_THREADS, .id = E_THREADS,
+      .help = "render threads (default: one per online CPU)" },
+    { .name = "--arena-mib", .arg = "N", .kind = HZ_OPT_INT, .lo = 1, .hi = 1 << 20, .id = E_ARENA,
+      .help = "working memory (default 1024; touched only as needed)" },
+    { .name = "--list", .kind = HZ_OPT_FLAG, .id = E_LIST, .help = "scenes and their methods" },
+    { .name = "--help", .alias = "-h", .kind = HZ_OPT_FLAG, .id = HZ_OPT_ID_HELP, .help = "this text" },
+};
+
+static const hz_opt_prog_t program = {
+    .name = "hzerrtime",
+    .table = options,
+    .n = sizeof options / sizeof options[0],
+    .synopsis = "usage: hzerrtime [options]\n"
+                "\n"
+                "Renders a reference sequence (cached), runs every method of a scene on the same frames, and writes\n"
+                "error (mean FLIP, PSNR, SSIM, display-integrated FLIP/PSNR) against ms per displayed frame.\n"
+                "\n",
+    .epilogue = "\n"
+                "exit status: 0 ok, 2 bad command line (an unknown option, a missing value, a value outside its\n"
+                "limits), 64+N a failure with hz status code N\n",
+};
 
 static bool wanted(const char *list, const char *name)
 {
@@ -79,86 +104,54 @@ static int list(void)
     return 0;
 }
 
+typedef struct args {
+    const char *scene_names, *methods, *cache, *out, *skip, *video, *scene_dir;
+    bool size_given, frames_given, warmup_given, refresh_given;
+    long threads, frames, warmup, refresh, arena_mib;
+    int w, h;
+    float ppd;
+} args_t;
+
+static int take(void *ctx, const hz_opt_t *o, const hz_opt_val_t *v)
+{
+    args_t *a = ctx;
+    switch (o->id) {
+    case E_SCENE: a->scene_names = v->s; break;
+    case E_SIZE: a->w = v->w, a->h = v->h, a->size_given = true; break;
+    case E_FRAMES: a->frames = v->n, a->frames_given = true; break;
+    case E_WARMUP: a->warmup = v->n, a->warmup_given = true; break;
+    case E_REFRESH: a->refresh = v->n, a->refresh_given = true; break;
+    case E_METHODS: a->methods = v->s; break;
+    case E_SHUTTER: hz_et_render_set_shutter((float)v->x); break;
+    case E_SKIP: a->skip = v->s; break;
+    case E_PPD: a->ppd = (float)v->x; break;
+    case E_CACHE: a->cache = v->s; break;
+    case E_OUT: a->out = v->s; break;
+    case E_VIDEO: a->video = v->s; break;
+    case E_SCENES: a->scene_dir = v->s; break;
+    case E_THREADS: a->threads = v->n; break;
+    case E_ARENA: a->arena_mib = v->n; break;
+    case E_LIST: list(); return HZ_OPT_DONE;
+    }
+    return 0;
+}
+
 int main(int argc, char **argv)
 {
     hz_cli_prog = "hzerrtime";
-    const char *scene_names = "synthetic", *methods = NULL, *cache = "build/errtime-cache", *out = "build/errtime";
-    const char *skip = NULL, *video = NULL, *scene_dir = getenv("HZ_SCENES_DIR");
-    bool size_given = false, frames_given = false, warmup_given = false, refresh_given = false;
-    long threads = 0;
-    int w = 96, h = 64;
-    long frames = 48, warmup = 8, refresh = HZ_DISPLAY_HZ, arena_mib = 1024;
-    float ppd = HZ_FLIP_DEFAULT_PPD;
-    for (int i = 1; i < argc; i++) {
-        const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
-        bool takes = strcmp(a, "--list") && strcmp(a, "-h") && strcmp(a, "--help");
-        if (takes && !v) {
-            hz_cli_error("%s needs a value (try --help)", a);
-            return HZ_EXIT_USAGE;
-        }
-        if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
-            usage(stdout);
-            return 0;
-        } else if (!strcmp(a, "--list")) {
-            return list();
-        } else if (!strcmp(a, "--scene")) {
-            scene_names = v;
-        } else if (!strcmp(a, "--size")) {
-            if (!hz_cli_parse_size(a, v, 11, (int)HZ_IMAGE_MAX_DIM, &w, &h))
-                return HZ_EXIT_USAGE;
-            size_given = true;
-        } else if (!strcmp(a, "--frames")) {
-            if (!hz_cli_parse_long(a, v, 1, 1000000, &frames))
-                return HZ_EXIT_USAGE;
-            frames_given = true;
-        } else if (!strcmp(a, "--warmup")) {
-            if (!hz_cli_parse_long(a, v, 0, 1000000, &warmup))
-                return HZ_EXIT_USAGE;
-            warmup_given = true;
-        } else if (!strcmp(a, "--threads")) {
-            if (!hz_cli_parse_long(a, v, 1, HZ_MAX_THREADS, &threads))
-                return HZ_EXIT_USAGE;
-        } else if (!strcmp(a, "--scenes")) {
-            scene_dir = v;
-        } else if (!strcmp(a, "--refresh")) {
-            if (!hz_cli_parse_long(a, v, 1, 960, &refresh))
-                return HZ_EXIT_USAGE;
-            refresh_given = true;
-        } else if (!strcmp(a, "--arena-mib")) {
-            if (!hz_cli_parse_long(a, v, 1, 1 << 20, &arena_mib))
-                return HZ_EXIT_USAGE;
-        } else if (!strcmp(a, "--ppd")) {
-            char *end;
-            double d = strtod(v, &end);
-            if (end == v || *end || !(d > 0.0 && d <= 1000.0)) {
-                hz_cli_error("--ppd: '%s' is not a number in (0, 1000]", v);
-                return HZ_EXIT_USAGE;
-            }
-            ppd = (float)d;
-        } else if (!strcmp(a, "--shutter")) {
-            char *end;
-            double d = strtod(v, &end);
-            if (end == v || *end || !(d > 0.0 && d <= 1.0)) {
-                hz_cli_error("--shutter: '%s' is not a fraction in (0, 1]", v);
-                return HZ_EXIT_USAGE;
-            }
-            hz_et_render_set_shutter((float)d);
-        } else if (!strcmp(a, "--methods")) {
-            methods = v;
-        } else if (!strcmp(a, "--skip")) {
-            skip = v;
-        } else if (!strcmp(a, "--cache")) {
-            cache = v;
-        } else if (!strcmp(a, "--out")) {
-            out = v;
-        } else if (!strcmp(a, "--video")) {
-            video = v;
-        } else {
-            hz_cli_error("unknown option '%s' (try --help)", a);
-            return HZ_EXIT_USAGE;
-        }
-        i++;
-    }
+    args_t a = { "synthetic", NULL, "build/errtime-cache", "build/errtime", NULL, NULL, getenv("HZ_SCENES_DIR"),
+                 false, false, false, false, 0, 48, 8, HZ_DISPLAY_HZ, 1024, 96, 64, HZ_FLIP_DEFAULT_PPD };
+    int nops = 0;
+    int rc = hz_opt_parse(&program, argc, argv, take, &a, NULL, &nops);
+    if (rc)
+        return rc == HZ_OPT_DONE ? 0 : rc;
+    const char *scene_names = a.scene_names, *methods = a.methods, *cache = a.cache, *out = a.out, *skip = a.skip;
+    const char *video = a.video, *scene_dir = a.scene_dir;
+    bool size_given = a.size_given, frames_given = a.frames_given, warmup_given = a.warmup_given;
+    bool refresh_given = a.refresh_given;
+    long threads = a.threads, frames = a.frames, warmup = a.warmup, refresh = a.refresh, arena_mib = a.arena_mib;
+    int w = a.w, h = a.h;
+    float ppd = a.ppd;
     /* The scenes asked for, validated before anything runs. */
     const hz_et_scene_t *scenes[64];
     static hz_et_scene_t files[64];

@@ -19,7 +19,7 @@
 #include <stdbool.h>
 #include <stdio.h>
 
-#include "opttab.h"
+#include "optwhere.h"
 #include "renderopts.h"
 #include "show.h"
 

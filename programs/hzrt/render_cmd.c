@@ -29,7 +29,7 @@ static void usage(FILE *f, const char *cmd)
         fprintf(f,
                 "usage: hzrt render SCENE|builtin [options]\n"
                 "\n"
-                "Renders SCENE (a .hzb file from tools/bake, or the built-in scene) in any mode, through the one frame\n"
+                "Renders SCENE (a .hzb file from hzbake, or the built-in scene) in any mode, through the one frame\n"
                 "loop that also drives displays. By default every frame goes to files at a simulated refresh rate\n"
                 "(--source offline: frame n shows scene time start + n / hz, however long it takes):\n"
                 "  frames.y4m    the sequence (when more than one frame; plays in mpv/ffplay, converts with ffmpeg)\n"

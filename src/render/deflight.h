@@ -1,5 +1,5 @@
 /*
- * hz/deflight.h — the light a scene gets when it brings none.
+ * deflight.h — the light a scene gets when it brings none.
  *
  * A model baked without a sidecar has an automatic camera but no light, and at the ambient level alone it renders
  * nearly black. The renderer then lights it with one key light placed from the scene itself: at the camera of

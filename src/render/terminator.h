@@ -1,5 +1,5 @@
 /*
- * hz/terminator.h — where a shadow ray from a smooth-shaded triangle starts looking for occluders.
+ * terminator.h — where a shadow ray from a smooth-shaded triangle starts looking for occluders.
  *
  * A triangle of a dense scan is a flat facet of a curved surface; its shading normal (interpolated from the
  * vertex normals) says how the smooth surface faces a light, but a shadow ray leaving the flat facet runs into

@@ -1,0 +1,1 @@
+/* a port header of the same name as nothing in programs: accepted */

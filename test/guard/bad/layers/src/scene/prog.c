@@ -1,0 +1,2 @@
+#include "hz/scene.h"
+#include "../../programs/opt/opttab.h"
