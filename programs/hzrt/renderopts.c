@@ -20,7 +20,7 @@
 typedef enum opt_id {
     O_MODE, O_SPP, O_MSAA4, O_ORDERING, O_NO_RMV, O_TD_GAMMA, O_TAA_GAMMA, O_TAA_CLIP, O_TAA_CR, O_BOUNCES,
     O_TRANSP, O_RR_SHADOWS, O_SHUTTER, O_BLUR_BVH, O_BACKEND, O_THREADS, O_START, O_TAU, O_NORMAL_ANGLE, O_FOCUS,
-    O_MAP,
+    O_MAP, O_BILINEAR,
     O_TAU_K /* + hz_tau_t: the nine thresholds */
 } opt_id_t;
 
@@ -71,11 +71,11 @@ static const hz_opt_t table[] = {
       .help = "with a stochastic --transparency (rr, std, dtaa, dtaa-star, hybrid:X with X > 0): the shaded "
               "fragment's shadow ray takes blended occluders by Russian roulette instead of the deep shadow ray's "
               "transmittance" },
-    { .name = "--shutter", .arg = "S", .kind = HZ_OPT_REAL, .lo = 0, .hi = 1, .modes = FULL | TAA | TDENSE,
-      .flags = IMG, .id = O_SHUTTER, .sample = "0.5",
+    { .name = "--shutter", .arg = "S", .kind = HZ_OPT_REAL, .lo = 0, .hi = 1,
+      .modes = FULL | TAA | TDENSE | ADAPTIVE, .flags = IMG, .id = O_SHUTTER, .sample = "0.5",
       .help = "motion blur: the shutter is open for S of each frame interval 1/hz, centred on the frame's time; "
               "default 0 (no blur)" },
-    { .name = "--blur-bvh", .arg = "B", .kind = HZ_OPT_WORD, .words = blur_words, .modes = FULL | TAA | TDENSE,
+    { .name = "--blur-bvh", .arg = "B", .kind = HZ_OPT_WORD, .words = blur_words, .modes = FULL | TAA | TDENSE | ADAPTIVE,
       .flags = IMG, .id = O_BLUR_BVH, .sample = "interp", .needs = "--shutter 0.5",
       .help = "motion-blur BVH of the native backend: msbvh (seed 002), interp (interpolated BVH) or swept "
               "(static BVH over swept boxes); default msbvh; needs --shutter" },
@@ -106,6 +106,10 @@ static const hz_opt_t table[] = {
       .help = "attributes count only where these objects are involved: ids or names, comma-separated (`hzrt info "
               "SCENE` lists them); a name takes every object of that name, and a shell pattern (*Wall) every "
               "object it matches; summary.json lists the ids taken; default every object" },
+    { .name = "--adaptive-bilinear", .kind = HZ_OPT_FLAG, .modes = ADAPTIVE, .flags = IMG, .id = O_BILINEAR,
+      .help = "in a pixel with active subpixels, each inactive one takes the presample's colours interpolated "
+              "bilinearly at its own centre, not the pixel's centre colour (the paper's future work; costs 12 "
+              "bytes a pixel)" },
     { .name = "--adaptive-map", .arg = "F", .kind = HZ_OPT_TEXT, .modes = ADAPTIVE, .flags = HZ_OF_OUTPUT, .id = O_MAP,
       .help = "write the last frame's active subpixels per pixel (black, red, green, blue, white for 0..4) to F "
               "(.png, .ppm or .pfm; its folder must exist; not one of the run's other files)" },
@@ -197,6 +201,7 @@ int hz_ropts_take(hz_ropts_t *r, int argc, char **argv, int i)
         ro->adaptive.tau[HZ_TAU_COL] = ro->adaptive.tau[HZ_TAU_PTE] = ro->adaptive.tau[HZ_TAU_STE] = (float)x.x;
         break;
     case O_NORMAL_ANGLE: ro->adaptive.normal_angle_deg = (float)x.x; break;
+    case O_BILINEAR: ro->adaptive.bilinear = 1; break;
     case O_FOCUS:
         if (!hz_adaptive_cli_focus_ok(v, why, sizeof why)) {
             hz_cli_error("%s: --focus-objects: %s", r->cmd, why);
@@ -325,6 +330,7 @@ void hz_ropts_settings(FILE *f, const hz_ropts_t *r, const hz_render_opts_t *o, 
         case O_BACKEND: fprintf(f, "\"%s\"", r->backend == HZ_ACCEL_EMBREE ? "embree" : "native"); break;
         case O_START: fprintf(f, "%.9g", (double)r->start * 1e-9); break;
         case O_NORMAL_ANGLE: fprintf(f, "%.6g", (double)o->adaptive.normal_angle_deg); break;
+        case O_BILINEAR: fputs(o->adaptive.bilinear ? "true" : "false", f); break;
         case O_FOCUS:
             fputc('[', f);
             for (uint32_t i = 0; i < o->adaptive.focus_count; i++)

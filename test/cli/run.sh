@@ -360,7 +360,9 @@ expect help-size 0 "\[8..8192 a side\]" "$hzrt" render --help
 expect help-frames 0 "at most 100000 with --source offline" "$hzrt" render --help
 expect help-hz 0 "\[0..1000\]" "$hzrt" render --help
 expect help-normal-angle 0 "\[0..90\] (only in adaptive mode)" "$hzrt" render --help
-expect help-shutter-modes 0 "(only in full, taa or tdense mode)" "$hzrt" render --help
+expect help-ordering-modes 0 "(only in tdense mode)" "$hzrt" render --help
+expect adaptive-shutter 0 "motion blur  shutter 0.5" "$hzrt" render builtin --mode adaptive --shutter 0.5 \
+    --adaptive-bilinear --size 32x18 --threads 2 --out "$tmp/as"
 expect grammar-frames-timed 0 "(1 frame timed)" "$hzrt" render builtin --size 32x18 --frames 2 --threads 2 \
     --out "$tmp/gr"
 expect grammar-refit 0 "2 time keys, 1 refit, 0 rebuilds" "$hzrt" render builtin --size 32x18 --frames 2 \
