@@ -67,8 +67,10 @@ static void opts_for(const hz_et_render_params_t *p, uint32_t w, uint32_t h, hz_
     o->taa_clip = p->taa_clip;
     o->taa_catmull_rom = p->taa_catmull_rom;
     o->seed = p->seed;
-    if (p->mode == HZ_MODE_ADAPTIVE)
+    if (p->mode == HZ_MODE_ADAPTIVE) {
         o->adaptive.tau[HZ_TAU_COL] = o->adaptive.tau[HZ_TAU_PTE] = o->adaptive.tau[HZ_TAU_STE] = p->adaptive_tau;
+        o->adaptive.bilinear = p->adaptive_bilinear;
+    }
     o->transparency = p->transparency;
     o->hybrid_x = p->hybrid_x;
     o->shutter = shutter_of(p);
@@ -167,6 +169,9 @@ static const hz_et_render_params_t p_taa_clip_cr = { .mode = HZ_MODE_TAA, .spp =
 #define ADAPTIVE(t) { .mode = HZ_MODE_ADAPTIVE, .spp = 1, .adaptive_tau = t }
 static const hz_et_render_params_t p_ad01 = ADAPTIVE(0.1f), p_ad03 = ADAPTIVE(0.3f), p_ad06 = ADAPTIVE(0.6f),
                                    p_ad10 = ADAPTIVE(1.0f);
+#define ADAPTIVE_BILINEAR(t) { .mode = HZ_MODE_ADAPTIVE, .spp = 1, .adaptive_tau = t, .adaptive_bilinear = true }
+static const hz_et_render_params_t p_ab01 = ADAPTIVE_BILINEAR(0.1f), p_ab03 = ADAPTIVE_BILINEAR(0.3f),
+                                   p_ab06 = ADAPTIVE_BILINEAR(0.6f);
 /* The reference: 256 stratified samples with a seed no method uses. */
 static const hz_et_render_params_t p_ref = { .mode = HZ_MODE_FULL, .spp = 256, .seed = 0x5eed };
 
@@ -190,6 +195,9 @@ const hz_et_method_t hz_et_render_methods[HZ_ET_RENDER_METHOD_COUNT] = {
     METHOD("adaptive", "tau", 0.3, &p_ad03),
     METHOD("adaptive", "tau", 0.6, &p_ad06),
     METHOD("adaptive", "tau", 1.0, &p_ad10),
+    METHOD("adaptive-bilinear", "tau", 0.1, &p_ab01),  /* seed 003 section 6: inactive subpixels interpolated */
+    METHOD("adaptive-bilinear", "tau", 0.3, &p_ab03),
+    METHOD("adaptive-bilinear", "tau", 0.6, &p_ab06),
 };
 
 /* Motion blur (see et_render.h). */

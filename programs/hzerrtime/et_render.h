@@ -47,6 +47,7 @@ typedef struct hz_et_render_params {
     bool taa_catmull_rom; /* TAA: history fetched with Catmull-Rom instead of bilinear */
     uint32_t seed;
     float adaptive_tau;   /* adaptive: tau_col = tau_pte = tau_ste (the paper's tau_alpha); the rest Table 2's */
+    bool adaptive_bilinear; /* adaptive: inactive subpixels interpolated (hz_adaptive_opts_t.bilinear) */
     hz_transp_t transparency; /* blended surfaces (hz/dither.h); 0 = exact */
     float hybrid_x;
     /* motion blur (hz/render.h "Motion blur"): shutter > 0 builds pose keys and a motion accel for the run */
@@ -55,9 +56,9 @@ typedef struct hz_et_render_params {
     bool embree;          /* Embree's motion blur instead of the native BVH */
 } hz_et_render_params_t;
 
-/* The renderer's methods (full-frame, TAA, adaptive supersampling at tau_alpha 0.1, 0.3, 0.6 and 1; later modes
- * add rows here) and the 256-spp reference. */
-#define HZ_ET_RENDER_METHOD_COUNT 12
+/* The renderer's methods (full-frame, TAA, adaptive supersampling at tau_alpha 0.1, 0.3, 0.6 and 1, and with
+ * bilinear inactive subpixels at 0.1, 0.3 and 0.6; later modes add rows here) and the 256-spp reference. */
+#define HZ_ET_RENDER_METHOD_COUNT 15
 extern const hz_et_method_t hz_et_render_methods[HZ_ET_RENDER_METHOD_COUNT];
 extern const hz_et_method_t hz_et_render_reference;
 
