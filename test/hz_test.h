@@ -9,10 +9,19 @@
 #include <stdarg.h>
 #include <stddef.h>
 #include <stdint.h>
+#include <stdlib.h>
 
 #include <cmocka.h>
 
-#define HZ_RUN(tests) cmocka_run_group_tests(tests, NULL, NULL)
+/* HZ_TEST_FILTER=PATTERN (cmocka's wildcards * and ?) runs only the matching cases of a test that uses HZ_RUN. */
+static inline void hz_test_filter(void)
+{
+    const char *f = getenv("HZ_TEST_FILTER");
+    if (f && *f)
+        cmocka_set_test_filter(f);
+}
+
+#define HZ_RUN(tests) (hz_test_filter(), cmocka_run_group_tests(tests, NULL, NULL))
 
 /* HZ_NATIVE_ONLY(why): the case runs where the tests run natively and is skipped, with the reason printed and
  * counted as a skip in the summary, where they run under emulation (HZ_TEST_EMULATED: a board with a test

@@ -200,6 +200,12 @@ static void test_tdense_blur(void **state)
     soak("tdense+blur", HZ_MODE_TDENSE, HZ_TRANSP_EXACT, 0.5f);
 }
 
+static void test_adaptive_blur(void **state)
+{
+    (void)state;
+    soak("adaptive+blur", HZ_MODE_ADAPTIVE, HZ_TRANSP_EXACT, 0.5f);
+}
+
 static void test_taa_transparency(void **state)
 {
     (void)state;
@@ -216,7 +222,8 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_full),        cmocka_unit_test(test_taa),         cmocka_unit_test(test_tdense),
-        cmocka_unit_test(test_adaptive),    cmocka_unit_test(test_tdense_blur), cmocka_unit_test(test_taa_transparency),
+        cmocka_unit_test(test_adaptive),    cmocka_unit_test(test_tdense_blur), cmocka_unit_test(test_adaptive_blur),
+        cmocka_unit_test(test_taa_transparency),
     };
     return HZ_RUN(tests);
 }
