@@ -122,12 +122,13 @@ static bool normals_differ(const int8_t *a, const int8_t *b, int32_t cos_q15)
 }
 
 /* Classes on which hit level h of P and Q disagree (object id, shadow count, normal), honouring the focus. */
-static uint32_t pair_bits(const hz_amask_config_t *c, const hz_amask_hit_t *a, bool a_in, const hz_amask_hit_t *b,
-                          uint32_t h)
+static uint32_t hit_bits(const hz_amask_config_t *c, const hz_amask_hit_t *a, const hz_amask_hit_t *b, uint32_t h)
 {
     static const hz_tau_t oid[2] = { HZ_TAU_POID, HZ_TAU_SOID }, sn[2] = { HZ_TAU_PSN, HZ_TAU_SSN };
     static const hz_tau_t sc[2] = { HZ_TAU_PSC, HZ_TAU_SSC };
-    if (!a_in && !in_focus(c, b->object))
+    /* the same hit (a flat surface): nothing differs, normals included (a normal agrees with itself) */
+    if (a->object == b->object && a->shadow == b->shadow && a->n[0] == b->n[0] && a->n[1] == b->n[1] &&
+        a->n[2] == b->n[2])
         return 0;
     uint32_t why = 0;
     if (a->object != b->object)
@@ -137,6 +138,15 @@ static uint32_t pair_bits(const hz_amask_config_t *c, const hz_amask_hit_t *a, b
     if (normals_differ(a->n, b->n, c->normal_cos))
         why |= HZ_AMASK_BIT(sn[h]);
     return why;
+}
+
+/* The same, honouring the focus: nothing when neither P (a_in) nor Q is involved. Symmetric in P and Q. */
+static uint32_t pair_bits(const hz_amask_config_t *c, const hz_amask_hit_t *a, bool a_in, const hz_amask_hit_t *b,
+                          uint32_t h)
+{
+    if (!a_in && !in_focus(c, b->object))
+        return 0;
+    return hit_bits(c, a, b, h);
 }
 
 /* Whether P's hit at level h takes part (focus), and its texture-existence bit. */
@@ -199,65 +209,135 @@ bool hz_amask_subpixel(const hz_amask_config_t *c, const hz_amask_px_t *p, const
     return colour_active(p, nb, tau);
 }
 
-static bool same_hit(const hz_amask_hit_t *a, const hz_amask_hit_t *b)
+/* hz_amask_block over column strips of at most STRIP pixels, row by row, with every comparison that two
+ * pixels' subpixels share made once (bit-identical to hz_amask_subpixel per subpixel, which test_adaptive_mask
+ * checks):
+ *  - the attribute comparison of two neighbours is symmetric (focus: either is involved), so each pair of the
+ *    window is compared once: per window row the horizontal pairs, and between two rows the vertical and both
+ *    diagonal pairs, the latter kept for the next pixel row;
+ *  - the four colour references of a subpixel are the 2x2 block of pixels on its corner (P's top-left subpixel:
+ *    the block of NW, N, W, P), and each block is the corner of four subpixels of four pixels: its per-channel
+ *    extremes are found once. */
+#define STRIP 16u
+
+typedef struct block_ext {
+    uint64_t a[3], b[3];
+    uint32_t used[3];
+} block_ext_t;
+
+/* Window pixel (x, y) of the strip: involved at hit 0 (bit 0) and hit 1 (bit 1), and its texture bits. */
+typedef struct px_in {
+    uint8_t in;
+    uint32_t tex;
+} px_in_t;
+
+static void row_involved(const hz_amask_config_t *c, const hz_amask_px_t *row, uint32_t n, px_in_t *out)
 {
-    return a->object == b->object && a->n[0] == b->n[0] && a->n[1] == b->n[1] && a->n[2] == b->n[2] &&
-           a->shadow == b->shadow && a->flags == b->flags;
+    for (uint32_t i = 0; i < n; i++) {
+        uint32_t tex = 0;
+        bool i0 = involved(c, &row[i], 0, &tex), i1 = involved(c, &row[i], 1, &tex);
+        out[i].in = (uint8_t)((i0 ? 1u : 0u) | (i1 ? 2u : 0u));
+        out[i].tex = tex;
+    }
 }
 
-static bool same_px(const hz_amask_px_t *a, const hz_amask_px_t *b)
+static uint32_t pair_of(const hz_amask_config_t *c, const hz_amask_px_t *p, px_in_t pi, const hz_amask_px_t *q,
+                        px_in_t qi)
 {
-    return a->rgb[0] == b->rgb[0] && a->rgb[1] == b->rgb[1] && a->rgb[2] == b->rgb[2] &&
-           same_hit(&a->hit[0], &b->hit[0]) && same_hit(&a->hit[1], &b->hit[1]);
+    uint32_t why = 0;
+    for (uint32_t h = 0; h < 2; h++)
+        if ((pi.in | qi.in) & (1u << h))
+            why |= hit_bits(c, &p->hit[h], &q->hit[h], h);
+    return why;
+}
+
+/* Extremes of each 2x2 block of rows r0 (above) and r1, blocks k = 0..n-1 (columns k and k + 1). */
+static void row_blocks(const hz_amask_px_t *r0, const hz_amask_px_t *r1, uint32_t n, block_ext_t *out)
+{
+    for (uint32_t k = 0; k < n; k++)
+        for (uint32_t ch = 0; ch < 3; ch++) {
+            uint32_t v[4] = { r0[k].rgb[ch], r0[k + 1].rgb[ch], r1[k].rgb[ch], r1[k + 1].rgb[ch] };
+            out[k].used[ch] = extremes(v, 4, &out[k].a[ch], &out[k].b[ch]);
+        }
+}
+
+/* hz_amask_contrast_at_least on a block's extremes, for each channel at its factor of tau. */
+static bool block_active(const block_ext_t *e, uint32_t tau)
+{
+    for (uint32_t ch = 0; ch < 3; ch++) {
+        uint32_t thr = (uint32_t)(((uint64_t)hz_amask_channel_q16[ch] * tau + 32768u) >> 16);
+        if (e->used[ch] < 2 || thr > HZ_AMASK_ONE)
+            continue;
+        if (e->a[ch] == 0 ? thr == 0 : ((e->a[ch] - e->b[ch]) << 16) >= (uint64_t)thr * (e->a[ch] + e->b[ch]))
+            return true;
+    }
+    return false;
+}
+
+/* Pairs between window rows `up` and `dn` (strip width n window pixels): vertical v[x] = (x, up)-(x, dn);
+ * diagonal d1[x] = (x, up)-(x + 1, dn), d2[x] = (x + 1, up)-(x, dn). */
+static void row_pairs(const hz_amask_config_t *c, const hz_amask_px_t *up, const px_in_t *iu, const hz_amask_px_t *dn,
+                      const px_in_t *id, uint32_t n, uint32_t *v, uint32_t *d1, uint32_t *d2)
+{
+    for (uint32_t x = 0; x < n; x++)
+        v[x] = pair_of(c, &up[x], iu[x], &dn[x], id[x]);
+    for (uint32_t x = 0; x + 1 < n; x++) {
+        d1[x] = pair_of(c, &up[x], iu[x], &dn[x + 1], id[x + 1]);
+        d2[x] = pair_of(c, &up[x + 1], iu[x + 1], &dn[x], id[x]);
+    }
+}
+
+static uint32_t block_strip(const hz_amask_config_t *c, const hz_amask_px_t *win, uint32_t stride, uint32_t w,
+                            uint32_t h, uint8_t *mask, uint32_t mask_stride)
+{
+    const uint32_t n = w + 2; /* window pixels of a strip row */
+    px_in_t in[3][STRIP + 2];
+    uint32_t hrow[STRIP + 1], v[2][STRIP + 2], d1[2][STRIP + 1], d2[2][STRIP + 1];
+    block_ext_t ext[2][STRIP + 1];
+    uint32_t tau_none;
+    select_tau(c, 0, &tau_none); /* no class disagrees: tau_col */
+    row_involved(c, win, n, in[0]);
+    row_involved(c, win + stride, n, in[1]);
+    row_pairs(c, win, in[0], win + stride, in[1], n, v[0], d1[0], d2[0]);
+    row_blocks(win, win + stride, n - 1, ext[0]);
+    uint32_t active = 0;
+    for (uint32_t y = 0; y < h; y++) {
+        /* window rows y (above), y + 1 (the pixels), y + 2 (below); buffers [up] and [dn] alternate */
+        const uint32_t up = y & 1u, dn = up ^ 1u;
+        const hz_amask_px_t *row = win + (size_t)(y + 1) * stride, *below = row + stride;
+        px_in_t *ir = in[(y + 1) % 3], *ib = in[(y + 2) % 3];
+        row_involved(c, below, n, ib);
+        row_pairs(c, row, ir, below, ib, n, v[dn], d1[dn], d2[dn]);
+        row_blocks(row, below, n - 1, ext[dn]);
+        for (uint32_t x = 0; x + 1 < n; x++)
+            hrow[x] = pair_of(c, &row[x], ir[x], &row[x + 1], ir[x + 1]);
+        for (uint32_t x = 0; x < w; x++) {
+            const uint32_t X = x + 1, tex = ir[X].tex;
+            const uint32_t W = hrow[X - 1], E = hrow[X], N = v[up][X], S = v[dn][X];
+            const uint32_t NW = d1[up][X - 1], SE = d1[dn][X], NE = d2[up][X], SW = d2[dn][X - 1];
+            const uint32_t why[4] = { tex | W | NW | N, tex | N | NE | E, tex | S | SW | W, tex | E | SE | S };
+            const block_ext_t *corner[4] = { &ext[up][X - 1], &ext[up][X], &ext[dn][X - 1], &ext[dn][X] };
+            uint8_t m = 0;
+            for (uint32_t q = 0; q < 4; q++) {
+                uint32_t tau = tau_none;
+                if (why[q])
+                    select_tau(c, why[q], &tau);
+                if (block_active(corner[q], tau))
+                    m |= (uint8_t)(1u << q);
+            }
+            mask[(size_t)y * mask_stride + x] = m;
+            active += hz_amask_count(m);
+        }
+    }
+    return active;
 }
 
 uint32_t hz_amask_block(const hz_amask_config_t *c, const hz_amask_px_t *win, uint32_t stride, uint32_t w,
                         uint32_t h, uint8_t *mask, uint32_t mask_stride)
 {
     uint32_t active = 0;
-    for (uint32_t y = 0; y < h; y++)
-        for (uint32_t x = 0; x < w; x++) {
-            const hz_amask_px_t *p = &win[(size_t)(y + 1) * stride + x + 1];
-            uint32_t pair[3][3], tex = 0;
-            bool in[2] = { involved(c, p, 0, &tex), involved(c, p, 1, &tex) };
-            /* A neighbourhood of copies of P (flat walls, sky): no attribute disagrees and C = 0 everywhere, so
-             * all four subpixels share one answer, the same the general path would give. */
-            bool flat = true;
-            for (int k = 0; k < 9 && flat; k++)
-                flat = same_px(p + (ptrdiff_t)(k / 3 - 1) * (ptrdiff_t)stride + (k % 3 - 1), p);
-            if (flat) {
-                const hz_amask_px_t *self[3] = { p, p, p };
-                uint32_t tau;
-                select_tau(c, tex, &tau);
-                uint8_t m = colour_active(p, self, tau) ? 0xf : 0;
-                mask[(size_t)y * mask_stride + x] = m;
-                active += hz_amask_count(m);
-                continue;
-            }
-            /* Each of the 8 neighbours is compared once; subpixels share them (Fig. 4). */
-            for (int dy = -1; dy <= 1; dy++)
-                for (int dx = -1; dx <= 1; dx++) {
-                    const hz_amask_px_t *q = p + (ptrdiff_t)dy * (ptrdiff_t)stride + dx;
-                    pair[dy + 1][dx + 1] = dx || dy ? pair_bits(c, &p->hit[0], in[0], &q->hit[0], 0) |
-                                                          pair_bits(c, &p->hit[1], in[1], &q->hit[1], 1)
-                                                    : 0u;
-                }
-            uint8_t m = 0;
-            for (uint32_t sq = 0; sq < 4; sq++) {
-                const hz_amask_px_t *nb[3];
-                uint32_t why = tex, tau;
-                for (uint32_t k = 0; k < 3; k++) {
-                    int dx = hz_amask_neighbours[sq][k][0], dy = hz_amask_neighbours[sq][k][1];
-                    nb[k] = p + (ptrdiff_t)dy * (ptrdiff_t)stride + dx;
-                    why |= pair[dy + 1][dx + 1];
-                }
-                select_tau(c, why, &tau);
-                if (colour_active(p, nb, tau))
-                    m |= (uint8_t)(1u << sq);
-            }
-            mask[(size_t)y * mask_stride + x] = m;
-            active += hz_amask_count(m);
-        }
+    for (uint32_t x0 = 0; x0 < w; x0 += STRIP)
+        active += block_strip(c, win + x0, stride, w - x0 < STRIP ? w - x0 : STRIP, h, mask + x0, mask_stride);
     return active;
 }
 
