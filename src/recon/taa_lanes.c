@@ -1,8 +1,9 @@
 /* The TAA resolve of one 8x8 tile in SIMD lanes (src/core/lanes.h: a tile row at a time on AVX2, half a row on
  * NEON), bit-identical to hz_taa_resolve_pixel (taa.c), its scalar twin.
  *
- * The neighbourhood box reads each pixel's YCoCg from a 10x10 block converted once per tile (the scalar twin
- * converts all nine neighbours of every pixel: the same values, summed in the same order). Motion, the
+ * The neighbourhood box reads each pixel's YCoCg from a 10x10 block converted once per tile, in lanes (the
+ * scalar twin converts all nine neighbours of every pixel: the same values, summed in the same order); the
+ * motion vectors come in with deinterleaving loads, not gathers. Motion, the
  * off-screen and disocclusion tests, the bilinear history fetch, the clamp, the blend and the half-float codes
  * run lane by lane with the twin's operations. Left to the twin: tiles cut by the image edge, pixels whose
  * path dithered (a 7x7 box and a hashed motion alignment), and the non-default Catmull-Rom fetch and clip. */
@@ -78,10 +79,10 @@ static void resolve_lanes(hz_taa_t *t, const hz_render_frame_t *f, uint32_t x, u
     hz_lf_t hx = hz_lf_add(hz_lf_from_li(xi), hz_lf_set(0.5f)), hy = hz_lf_set((float)y + 0.5f);
     hz_li_t reset = t->hist_valid ? zero : hz_li_set(-1);
     if (t->hist_valid && gb->mv) {
-        hz_li_t i2 = hz_li_shl(hz_li_add(hz_li_set((int32_t)x), hz_li_iota()), 1);
-        const float *mv = gb->mv + 2 * (size_t)y * (size_t)w;
-        hx = hz_lf_add(hx, hz_lf_gather(mv, i2));
-        hy = hz_lf_add(hy, hz_lf_gather(mv, hz_li_add(i2, one)));
+        hz_lf_t mx, my;
+        hz_lf_load2(gb->mv + 2 * p0, &mx, &my);
+        hx = hz_lf_add(hx, mx);
+        hy = hz_lf_add(hy, my);
     }
     hz_li_t inside = hz_li_and(hz_li_and(hz_li_not(hz_lf_lt(hx, hz_lf_set(0.0f))), hz_li_not(hz_lf_lt(hy, hz_lf_set(0.0f)))),
                                hz_li_and(hz_lf_lt(hx, hz_lf_set((float)w)), hz_lf_lt(hy, hz_lf_set((float)h))));
@@ -140,6 +141,32 @@ static void resolve_lanes(hz_taa_t *t, const hz_render_frame_t *f, uint32_t x, u
     hz_li_store3_u16(t->hist[t->hist_index ^ 1u] + p0 * 3, codes[0], codes[1], codes[2]);
 }
 
+/* The tile's rows of every array the resolve reads, requested at once: each row lies in its own cache lines
+ * (w pixels apart) and, resolved row after row, their misses would otherwise come one after another (the
+ * history fetch waits for the motion vector, which waited for its own miss). The history is requested at the
+ * pixels' own position: motion is mostly small, and a far fetch only misses as it did before. */
+static void prefetch_tile(const hz_taa_t *t, const hz_render_frame_t *f, uint32_t x0, uint32_t y0)
+{
+    const uint32_t w = f->opts.width, h = f->opts.height;
+    const hz_gbuffer_t *gb = &f->gb;
+    const uint16_t *hist = t->hist[t->hist_index];
+    for (uint32_t y = y0 ? y0 - 1 : 0; y <= y0 + T && y < h; y++) {
+        const size_t p = (size_t)y * w + x0;
+        HZ_PREFETCH(t->cur.rgb + 3 * p - (x0 ? 3 : 0));
+        HZ_PREFETCH(t->cur.rgb + 3 * (p + T) + 2);
+        if (y < y0 || y >= y0 + T)
+            continue;
+        if (gb->mv) {
+            HZ_PREFETCH(gb->mv + 2 * p);
+            HZ_PREFETCH(gb->mv + 2 * (p + T) - 1);
+        }
+        HZ_PREFETCH(gb->object + p);
+        HZ_PREFETCH(t->prev_object + p);
+        HZ_PREFETCH(hist + 3 * p);
+        HZ_PREFETCH(hist + 3 * (p + T) - 1);
+    }
+}
+
 void hz_taa_resolve_tile(hz_taa_t *t, const hz_render_frame_t *f, uint32_t tile)
 {
     const uint32_t w = f->opts.width, h = f->opts.height;
@@ -148,18 +175,31 @@ void hz_taa_resolve_tile(hz_taa_t *t, const hz_render_frame_t *f, uint32_t tile)
         hz_taa_resolve_tile_scalar(t, f, tile);
         return;
     }
+    const hz_image_t *cur = &t->cur;
+    prefetch_tile(t, f, x0, y0);
     /* YCoCg of the tile and its ring (edge-clamped), one plane per channel */
     float yc[3][B][B];
-    const hz_image_t *cur = &t->cur;
+    /* Block columns lo .. hi are image columns x0 - 1 + bx, read HZ_LANES at a time (the last group ends at hi,
+     * overlapping the one before: the same values again); a column off the image is its neighbour, copied. */
+    const uint32_t lo = x0 ? 0u : 1u, hi = x0 + T < w ? B - 1u : B - 2u;
     for (uint32_t by = 0; by < B; by++) {
         int32_t y = (int32_t)(y0 + by) - 1;
         y = y < 0 ? 0 : y >= (int32_t)h ? (int32_t)h - 1 : y;
-        for (uint32_t bx = 0; bx < B; bx++) {
-            int32_t x = (int32_t)(x0 + bx) - 1;
-            x = x < 0 ? 0 : x >= (int32_t)w ? (int32_t)w - 1 : x;
-            float q[3];
-            hz_taa_to_ycocg(cur->rgb + 3 * ((size_t)y * w + (size_t)x), q);
-            yc[0][by][bx] = q[0], yc[1][by][bx] = q[1], yc[2][by][bx] = q[2];
+        const size_t row = (size_t)y * w + x0; /* block column bx is image column x0 + bx - 1 */
+        for (uint32_t bx = lo;; bx += HZ_LANES) {
+            if (bx + HZ_LANES > hi + 1u)
+                bx = hi + 1u - HZ_LANES;
+            hz_lrgb_t c, q;
+            hz_lf_load3(cur->rgb + 3 * (row + bx - 1u), &c.c[0], &c.c[1], &c.c[2]);
+            to_ycocg_lanes(&c, &q);
+            for (int k = 0; k < 3; k++)
+                hz_lf_store(&yc[k][by][bx], q.c[k]);
+            if (bx + HZ_LANES == hi + 1u)
+                break;
+        }
+        for (int k = 0; k < 3; k++) {
+            yc[k][by][0] = yc[k][by][lo];
+            yc[k][by][B - 1] = yc[k][by][hi];
         }
     }
     for (uint32_t y = y0; y < y0 + T; y++) {
