@@ -73,6 +73,37 @@ HZ_INLINE hz_lf_t hz_lanes_half_unpack(hz_li_t h)
     return hz_lanes_half_unpack_bits(h);
 }
 
+#ifdef HZ_LANES_HW_HALF
+/* HZ_LANES consecutive half RGB pixels at p (3 HZ_LANES codes) into *o, as hz_half_unpack reads them; false
+ * (and *o untouched) when a code has exponent 31, which the instruction reads otherwise. */
+HZ_INLINE int hz_lanes_half3_load(const uint16_t *p, hz_lrgb_t *o)
+{
+#if defined(HZ_BOARD_SIMD_AVX2)
+    const __m128i a = _mm_loadu_si128((const __m128i *)(const void *)p);
+    const __m128i b = _mm_loadu_si128((const __m128i *)(const void *)(p + 8));
+    const __m128i c = _mm_loadu_si128((const __m128i *)(const void *)(p + 16));
+    const __m128i top = _mm_set1_epi16(0x7c00);
+    const __m128i e31 = _mm_or_si128(_mm_or_si128(_mm_cmpeq_epi16(_mm_and_si128(a, top), top),
+                                                  _mm_cmpeq_epi16(_mm_and_si128(b, top), top)),
+                                     _mm_cmpeq_epi16(_mm_and_si128(c, top), top));
+    if (HZ_UNLIKELY(!_mm_testz_si128(e31, e31)))
+        return 0;
+    hz_lf_deinterleave3(_mm256_cvtph_ps(a), _mm256_cvtph_ps(b), _mm256_cvtph_ps(c), &o->c[0], &o->c[1], &o->c[2]);
+#else
+    const uint16x4x3_t v = vld3_u16(p);
+    const uint16x4_t top = vdup_n_u16(0x7c00);
+    const uint16x4_t e31 = vorr_u16(vorr_u16(vceq_u16(vand_u16(v.val[0], top), top),
+                                             vceq_u16(vand_u16(v.val[1], top), top)),
+                                    vceq_u16(vand_u16(v.val[2], top), top));
+    if (HZ_UNLIKELY(vget_lane_u64(vreinterpret_u64_u16(e31), 0) != 0))
+        return 0;
+    for (int k = 0; k < 3; k++)
+        o->c[k] = vcvt_f32_f16(vreinterpret_f16_u16(v.val[k]));
+#endif
+    return 1;
+}
+#endif
+
 HZ_INLINE hz_lrgb_t hz_lanes_rgb9e5_unpack(hz_li_t code)
 {
     hz_lrgb_t o;

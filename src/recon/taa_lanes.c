@@ -101,18 +101,43 @@ static void resolve_lanes(hz_taa_t *t, const hz_render_frame_t *f, uint32_t x, u
     const int32_t n = w * h;
     const hz_li_t wv = hz_li_set(w);
     hz_li_t ra = hz_li_mul(ya, wv), rb = hz_li_mul(yb, wv);
-    hz_li_t seen = hz_li_eq(object_at(t->prev_object, hz_li_add(ra, xa), n), object);
-    seen = hz_li_or(seen, hz_li_eq(object_at(t->prev_object, hz_li_add(ra, xb), n), object));
-    seen = hz_li_or(seen, hz_li_eq(object_at(t->prev_object, hz_li_add(rb, xa), n), object));
-    seen = hz_li_or(seen, hz_li_eq(object_at(t->prev_object, hz_li_add(rb, xb), n), object));
+    /* Where the lanes' footprints are side by side in the same two rows (the motion's integer part alike, none
+     * clamped at the edge: most of every frame), the four taps are runs of consecutive pixels: loads instead of
+     * gathers, the same values. */
+    const int32_t xa0 = hz_li_first(xa), ra0 = hz_li_first(ra), rb0 = hz_li_first(rb);
+    const hz_li_t run = hz_li_add(hz_li_set(xa0), hz_li_iota());
+    const int contiguous = xa0 + HZ_LANES < w && !hz_li_any(hz_li_or(
+        hz_li_or(hz_li_not(hz_li_eq(xa, run)), hz_li_not(hz_li_eq(xb, hz_li_add(run, one)))),
+        hz_li_or(hz_li_not(hz_li_eq(ra, hz_li_set(ra0))), hz_li_not(hz_li_eq(rb, hz_li_set(rb0))))));
+    hz_li_t seen;
+    if (contiguous) {
+        const uint16_t *oa = t->prev_object + ra0 + xa0, *ob = t->prev_object + rb0 + xa0;
+        seen = hz_li_eq(hz_li_load_u16(oa), object);
+        seen = hz_li_or(seen, hz_li_eq(hz_li_load_u16(oa + 1), object));
+        seen = hz_li_or(seen, hz_li_eq(hz_li_load_u16(ob), object));
+        seen = hz_li_or(seen, hz_li_eq(hz_li_load_u16(ob + 1), object));
+    } else {
+        seen = hz_li_eq(object_at(t->prev_object, hz_li_add(ra, xa), n), object);
+        seen = hz_li_or(seen, hz_li_eq(object_at(t->prev_object, hz_li_add(ra, xb), n), object));
+        seen = hz_li_or(seen, hz_li_eq(object_at(t->prev_object, hz_li_add(rb, xa), n), object));
+        seen = hz_li_or(seen, hz_li_eq(object_at(t->prev_object, hz_li_add(rb, xb), n), object));
+    }
     reset = hz_li_or(reset, hz_li_not(seen));
 
     hz_lrgb_t res = c;
     if (hz_li_any(hz_li_not(reset))) {
         const uint16_t *hist = t->hist[t->hist_index];
         hz_lf_t ax = hz_lf_sub(fx, flx), ay = hz_lf_sub(fy, fly);
-        hz_lrgb_t a = hist_at(hist, xa, ya, w), b = hist_at(hist, xb, ya, w);
-        hz_lrgb_t cc = hist_at(hist, xa, yb, w), d = hist_at(hist, xb, yb, w), hrgb, hy3;
+        hz_lrgb_t a, b, cc, d, hrgb, hy3;
+#ifdef HZ_LANES_HW_HALF
+        const uint16_t *ha = hist + 3 * ((size_t)ra0 + (size_t)xa0), *hb = hist + 3 * ((size_t)rb0 + (size_t)xa0);
+        if (!(contiguous && hz_lanes_half3_load(ha, &a) && hz_lanes_half3_load(ha + 3, &b) &&
+              hz_lanes_half3_load(hb, &cc) && hz_lanes_half3_load(hb + 3, &d)))
+#endif
+        {
+            a = hist_at(hist, xa, ya, w), b = hist_at(hist, xb, ya, w);
+            cc = hist_at(hist, xa, yb, w), d = hist_at(hist, xb, yb, w);
+        }
         for (int k = 0; k < 3; k++) {
             hz_lf_t top = hz_lf_add(a.c[k], hz_lf_mul(hz_lf_sub(b.c[k], a.c[k]), ax));
             hz_lf_t bot = hz_lf_add(cc.c[k], hz_lf_mul(hz_lf_sub(d.c[k], cc.c[k]), ax));
