@@ -17,9 +17,6 @@
 #define HZ_UNLIKELY(x) __builtin_expect(!!(x), 0)
 #define HZ_ARRAY_LEN(a) (sizeof(a) / sizeof((a)[0]))
 #define HZ_UNUSED(x) ((void)(x))
-/* A hint that *p will soon be read (never faults, changes no result): starts cache misses early so that a
- * kernel whose loads hop between rows has them in flight together instead of one after another. */
-#define HZ_PREFETCH(p) __builtin_prefetch((const void *)(p), 0, 3)
 
 #define hz_memcpy(d, s, n) __builtin_memcpy((d), (s), (n))
 #define hz_memset(d, c, n) __builtin_memset((d), (c), (n))

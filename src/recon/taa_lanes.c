@@ -166,32 +166,6 @@ static void resolve_lanes(hz_taa_t *t, const hz_render_frame_t *f, uint32_t x, u
     hz_li_store3_u16(t->hist[t->hist_index ^ 1u] + p0 * 3, codes[0], codes[1], codes[2]);
 }
 
-/* The tile's rows of every array the resolve reads, requested at once: each row lies in its own cache lines
- * (w pixels apart) and, resolved row after row, their misses would otherwise come one after another (the
- * history fetch waits for the motion vector, which waited for its own miss). The history is requested at the
- * pixels' own position: motion is mostly small, and a far fetch only misses as it did before. */
-static void prefetch_tile(const hz_taa_t *t, const hz_render_frame_t *f, uint32_t x0, uint32_t y0)
-{
-    const uint32_t w = f->opts.width, h = f->opts.height;
-    const hz_gbuffer_t *gb = &f->gb;
-    const uint16_t *hist = t->hist[t->hist_index];
-    for (uint32_t y = y0 ? y0 - 1 : 0; y <= y0 + T && y < h; y++) {
-        const size_t p = (size_t)y * w + x0;
-        HZ_PREFETCH(t->cur.rgb + 3 * p - (x0 ? 3 : 0));
-        HZ_PREFETCH(t->cur.rgb + 3 * (p + T) + 2);
-        if (y < y0 || y >= y0 + T)
-            continue;
-        if (gb->mv) {
-            HZ_PREFETCH(gb->mv + 2 * p);
-            HZ_PREFETCH(gb->mv + 2 * (p + T) - 1);
-        }
-        HZ_PREFETCH(gb->object + p);
-        HZ_PREFETCH(t->prev_object + p);
-        HZ_PREFETCH(hist + 3 * p);
-        HZ_PREFETCH(hist + 3 * (p + T) - 1);
-    }
-}
-
 void hz_taa_resolve_tile(hz_taa_t *t, const hz_render_frame_t *f, uint32_t tile)
 {
     const uint32_t w = f->opts.width, h = f->opts.height;
@@ -201,7 +175,6 @@ void hz_taa_resolve_tile(hz_taa_t *t, const hz_render_frame_t *f, uint32_t tile)
         return;
     }
     const hz_image_t *cur = &t->cur;
-    prefetch_tile(t, f, x0, y0);
     /* YCoCg of the tile and its ring (edge-clamped), one plane per channel */
     float yc[3][B][B];
     /* Block columns lo .. hi are image columns x0 - 1 + bx, read HZ_LANES at a time (the last group ends at hi,
