@@ -278,6 +278,37 @@ static void test_lanes_half_pack_at_every_boundary(void **state)
     assert_true(checked == 0x7c00u * PER);
 }
 
+#ifdef HZ_LANES_HW_HALF
+/* The half RGB run load reads HZ_LANES pixels as hz_half_unpack does, and refuses a run holding an exponent-31
+ * code (which the instruction would read as an infinity or NaN). */
+static void test_lanes_half3_load(void **state)
+{
+    (void)state;
+    uint16_t codes[3 * HZ_LANES];
+    for (uint32_t h = 0; h < 0x7c00u; h += 3 * HZ_LANES - 1) {
+        for (int i = 0; i < 3 * HZ_LANES; i++)
+            codes[i] = (uint16_t)((h + (uint32_t)i * 977u) % 0x7c00u | (i & 1 ? 0x8000u : 0u));
+        hz_lrgb_t o;
+        memset(&o, 0, sizeof o);
+        assert_true(hz_lanes_half3_load(codes, &o));
+        float c[3][HZ_LANES];
+        for (int k = 0; k < 3; k++)
+            hz_lf_store(c[k], o.c[k]);
+        for (int i = 0; i < HZ_LANES; i++)
+            for (int k = 0; k < 3; k++)
+                assert_int_equal(hz_float_bits(c[k][i]), hz_float_bits(hz_half_unpack(codes[3 * i + k])));
+    }
+    for (int j = 0; j < 3 * HZ_LANES; j++) {
+        for (int i = 0; i < 3 * HZ_LANES; i++)
+            codes[i] = 0x3c00;
+        codes[j] = (uint16_t)(j & 1 ? 0x7c00 : 0xfe01);
+        hz_lrgb_t o;
+        memset(&o, 0, sizeof o);
+        assert_false(hz_lanes_half3_load(codes, &o));
+    }
+}
+#endif
+
 /* The deinterleaving loads are hz_lf_store3's inverse and read pairs in order. */
 static void test_lanes_deinterleaving_loads(void **state)
 {
@@ -310,6 +341,9 @@ int main(void)
         cmocka_unit_test(test_lanes_codecs_match_scalar),
         cmocka_unit_test(test_lanes_half_pack_at_every_boundary),
         cmocka_unit_test(test_lanes_deinterleaving_loads),
+#ifdef HZ_LANES_HW_HALF
+        cmocka_unit_test(test_lanes_half3_load),
+#endif
 #endif
     };
     return HZ_RUN(tests);
