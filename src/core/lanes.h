@@ -75,6 +75,8 @@ HZ_INLINE hz_li_t hz_li_shr_by(hz_li_t a, int n) { return _mm256_srl_epi32(a, _m
 /* Logical right shift of each lane by its own count; counts outside 0..31 (as unsigned) give 0. */
 HZ_INLINE hz_li_t hz_li_shr_lanes(hz_li_t a, hz_li_t n) { return _mm256_srlv_epi32(a, n); }
 HZ_INLINE int hz_li_any(hz_li_t m) { return !_mm256_testz_si256(m, m); }
+/* Lane 0. */
+HZ_INLINE int32_t hz_li_first(hz_li_t v) { return _mm256_cvtsi256_si32(v); }
 /* Bit i set when lane i of the mask is set. */
 HZ_INLINE unsigned hz_li_bits(hz_li_t m) { return (unsigned)_mm256_movemask_ps(_mm256_castsi256_ps(m)); }
 
@@ -125,6 +127,32 @@ HZ_INLINE void hz_li_store3_u16(uint16_t *dst, hz_li_t a, hz_li_t b, hz_li_t c)
     const __m128i p2 = _mm_packus_epi32(_mm256_castsi256_si128(v2), _mm256_extracti128_si256(v2, 1));
     _mm256_storeu_si256((__m256i *)(void *)dst, p01);
     _mm_storeu_si128((__m128i *)(void *)(dst + 16), p2);
+}
+
+/* Deinterleaving load of HZ_LANES (r, g, b) triples: lane i of *r, *g, *b = src[3 i], src[3 i + 1], src[3 i + 2]
+ * (hz_lf_store3's inverse: each channel blended from the three vectors, then put in lane order). */
+HZ_INLINE void hz_lf_deinterleave3(__m256 v0, __m256 v1, __m256 v2, hz_lf_t *r, hz_lf_t *g, hz_lf_t *b)
+{
+    /* element 3 i + k lies in vector (3 i + k) / 8 at position (3 i + k) % 8 */
+    const __m256 tr = _mm256_blend_ps(_mm256_blend_ps(v0, v1, 0x92), v2, 0x24);
+    const __m256 tg = _mm256_blend_ps(_mm256_blend_ps(v0, v1, 0x24), v2, 0x49);
+    const __m256 tb = _mm256_blend_ps(_mm256_blend_ps(v0, v1, 0x49), v2, 0x92);
+    *r = _mm256_permutevar8x32_ps(tr, _mm256_setr_epi32(0, 3, 6, 1, 4, 7, 2, 5));
+    *g = _mm256_permutevar8x32_ps(tg, _mm256_setr_epi32(1, 4, 7, 2, 5, 0, 3, 6));
+    *b = _mm256_permutevar8x32_ps(tb, _mm256_setr_epi32(2, 5, 0, 3, 6, 1, 4, 7));
+}
+HZ_INLINE void hz_lf_load3(const float *src, hz_lf_t *r, hz_lf_t *g, hz_lf_t *b)
+{
+    hz_lf_deinterleave3(_mm256_loadu_ps(src), _mm256_loadu_ps(src + 8), _mm256_loadu_ps(src + 16), r, g, b);
+}
+
+/* Deinterleaving load of HZ_LANES pairs: lane i of *a, *b = src[2 i], src[2 i + 1]. */
+HZ_INLINE void hz_lf_load2(const float *src, hz_lf_t *a, hz_lf_t *b)
+{
+    const __m256 v0 = _mm256_loadu_ps(src), v1 = _mm256_loadu_ps(src + 8);
+    /* per 128-bit half: [a0 a1 a4 a5 | a2 a3 a6 a7], then the 64-bit quarters in order */
+    *a = _mm256_castpd_ps(_mm256_permute4x64_pd(_mm256_castps_pd(_mm256_shuffle_ps(v0, v1, 0x88)), 0xd8));
+    *b = _mm256_castpd_ps(_mm256_permute4x64_pd(_mm256_castps_pd(_mm256_shuffle_ps(v0, v1, 0xdd)), 0xd8));
 }
 
 /* Each lane one to the right, lane 0 from p's last: [p7, c0 .. c6]. */
@@ -208,6 +236,7 @@ HZ_INLINE hz_li_t hz_li_shr_lanes(hz_li_t a, hz_li_t n)
     return vreinterpretq_s32_u32(vandq_u32(r, vcltq_u32(vreinterpretq_u32_s32(n), vdupq_n_u32(32))));
 }
 HZ_INLINE int hz_li_any(hz_li_t m) { return vmaxvq_u32(vreinterpretq_u32_s32(m)) != 0; }
+HZ_INLINE int32_t hz_li_first(hz_li_t v) { return vgetq_lane_s32(v, 0); }
 HZ_INLINE unsigned hz_li_bits(hz_li_t m)
 {
     static const int32_t w[4] = { 1, 2, 4, 8 };
@@ -280,6 +309,18 @@ HZ_INLINE void hz_li_store3_u16(uint16_t *dst, hz_li_t a, hz_li_t b, hz_li_t c)
     v.val[1] = vmovn_u32(vreinterpretq_u32_s32(b));
     v.val[2] = vmovn_u32(vreinterpretq_u32_s32(c));
     vst3_u16(dst, v);
+}
+
+HZ_INLINE void hz_lf_load3(const float *src, hz_lf_t *r, hz_lf_t *g, hz_lf_t *b)
+{
+    float32x4x3_t v = vld3q_f32(src);
+    *r = v.val[0], *g = v.val[1], *b = v.val[2];
+}
+
+HZ_INLINE void hz_lf_load2(const float *src, hz_lf_t *a, hz_lf_t *b)
+{
+    float32x4x2_t v = vld2q_f32(src);
+    *a = v.val[0], *b = v.val[1];
 }
 
 HZ_INLINE hz_lf_t hz_lf_shift_in_left(hz_lf_t p, hz_lf_t c) { return vextq_f32(p, c, 3); }

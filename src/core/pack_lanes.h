@@ -1,7 +1,9 @@
 /*
  * pack_lanes.h — hz/pack.h's codecs in SIMD lanes (lanes.h), each bit-identical to its scalar function for
  * every input: RGB9E5 pack and unpack, half unpack (hz_half_unpack, the e == 31 codes included) and half pack
- * (hz_half_pack: non-negative, round to nearest even, subnormals kept).
+ * (hz_half_pack: non-negative, round to nearest even, subnormals kept). The half codecs use the ISA's
+ * conversion instructions where the board has them; the *_bits variants are the same codecs in plain lane
+ * arithmetic (for boards without them, and for the tests that compare the two).
  *
  * Contract: as lanes.h (AVX2 and NEON boards only). Half codes travel in the low 16 bits of int32 lanes.
  */
@@ -15,8 +17,35 @@ typedef struct hz_lrgb {
     hz_lf_t c[3];
 } hz_lrgb_t;
 
-/* hz_half_unpack of the half codes in the low 16 bits of each lane. */
-HZ_INLINE hz_lf_t hz_lanes_half_unpack(hz_li_t h)
+/* The ISA's half <-> single conversions (x86-64-v3's F16C, AArch64's FCVT), where the board has them: exact for
+ * every finite half, and round to nearest even from single (the rounding mode is fixed in the instruction on
+ * x86 and the default FPCR's on AArch64), so on the codes and values below they give hz/pack.h's bits. */
+#if defined(HZ_BOARD_SIMD_AVX2) && defined(__F16C__)
+#define HZ_LANES_HW_HALF 1
+HZ_INLINE hz_lf_t hz_lanes_half_hw_unpack(hz_li_t h)
+{
+    const __m128i p = _mm_packus_epi32(_mm256_castsi256_si128(h), _mm256_extracti128_si256(h, 1));
+    return _mm256_cvtph_ps(p);
+}
+/* v finite, 0 <= v <= HZ_HALF_MAX */
+HZ_INLINE hz_li_t hz_lanes_half_hw_pack(hz_lf_t v)
+{
+    return _mm256_cvtepu16_epi32(_mm256_cvtps_ph(v, _MM_FROUND_TO_NEAREST_INT | _MM_FROUND_NO_EXC));
+}
+#elif defined(HZ_BOARD_SIMD_NEON) && defined(__aarch64__)
+#define HZ_LANES_HW_HALF 1
+HZ_INLINE hz_lf_t hz_lanes_half_hw_unpack(hz_li_t h)
+{
+    return vcvt_f32_f16(vreinterpret_f16_u16(vmovn_u32(vreinterpretq_u32_s32(h))));
+}
+HZ_INLINE hz_li_t hz_lanes_half_hw_pack(hz_lf_t v)
+{
+    return vreinterpretq_s32_u32(vmovl_u16(vreinterpret_u16_f16(vcvt_f16_f32(v))));
+}
+#endif
+
+/* hz_half_unpack of the half codes in the low 16 bits of each lane, by the bit assembly below. */
+HZ_INLINE hz_lf_t hz_lanes_half_unpack_bits(hz_li_t h)
 {
     const hz_li_t e = hz_li_and(hz_li_shr(h, 10), hz_li_set(0x1f)), m = hz_li_and(h, hz_li_set(0x3ff));
     const hz_li_t sign = hz_li_shl(hz_li_and(h, hz_li_set(0x8000)), 16);
@@ -30,6 +59,50 @@ HZ_INLINE hz_lf_t hz_lanes_half_unpack(hz_li_t h)
     hz_li_t r = hz_li_sel(hz_li_eq(e, hz_li_set(0)), hz_li_or(sub, sign), hz_li_or(normal, sign));
     return hz_lf_from_bits(hz_li_sel(hz_li_eq(e, hz_li_set(31)), hz_li_or(inf, sign_inf), r));
 }
+
+/* hz_half_unpack of the half codes in the low 16 bits of each lane (the upper 16 bits must be zero). The
+ * conversion instruction where there is one; codes with exponent 31 (infinities and NaNs, which hz_half_pack
+ * never writes) are read as hz_half_unpack reads them. */
+HZ_INLINE hz_lf_t hz_lanes_half_unpack(hz_li_t h)
+{
+#ifdef HZ_LANES_HW_HALF
+    const hz_li_t top = hz_li_set(0x7c00);
+    if (HZ_LIKELY(!hz_li_any(hz_li_eq(hz_li_and(h, top), top))))
+        return hz_lanes_half_hw_unpack(h);
+#endif
+    return hz_lanes_half_unpack_bits(h);
+}
+
+#ifdef HZ_LANES_HW_HALF
+/* HZ_LANES consecutive half RGB pixels at p (3 HZ_LANES codes) into *o, as hz_half_unpack reads them; false
+ * (and *o untouched) when a code has exponent 31, which the instruction reads otherwise. */
+HZ_INLINE int hz_lanes_half3_load(const uint16_t *p, hz_lrgb_t *o)
+{
+#if defined(HZ_BOARD_SIMD_AVX2)
+    const __m128i a = _mm_loadu_si128((const __m128i *)(const void *)p);
+    const __m128i b = _mm_loadu_si128((const __m128i *)(const void *)(p + 8));
+    const __m128i c = _mm_loadu_si128((const __m128i *)(const void *)(p + 16));
+    const __m128i top = _mm_set1_epi16(0x7c00);
+    const __m128i e31 = _mm_or_si128(_mm_or_si128(_mm_cmpeq_epi16(_mm_and_si128(a, top), top),
+                                                  _mm_cmpeq_epi16(_mm_and_si128(b, top), top)),
+                                     _mm_cmpeq_epi16(_mm_and_si128(c, top), top));
+    if (HZ_UNLIKELY(!_mm_testz_si128(e31, e31)))
+        return 0;
+    hz_lf_deinterleave3(_mm256_cvtph_ps(a), _mm256_cvtph_ps(b), _mm256_cvtph_ps(c), &o->c[0], &o->c[1], &o->c[2]);
+#else
+    const uint16x4x3_t v = vld3_u16(p);
+    const uint16x4_t top = vdup_n_u16(0x7c00);
+    const uint16x4_t e31 = vorr_u16(vorr_u16(vceq_u16(vand_u16(v.val[0], top), top),
+                                             vceq_u16(vand_u16(v.val[1], top), top)),
+                                    vceq_u16(vand_u16(v.val[2], top), top));
+    if (HZ_UNLIKELY(vget_lane_u64(vreinterpret_u64_u16(e31), 0) != 0))
+        return 0;
+    for (int k = 0; k < 3; k++)
+        o->c[k] = vcvt_f32_f16(vreinterpret_f16_u16(v.val[k]));
+#endif
+    return 1;
+}
+#endif
 
 HZ_INLINE hz_lrgb_t hz_lanes_rgb9e5_unpack(hz_li_t code)
 {
@@ -78,8 +151,8 @@ HZ_INLINE hz_li_t hz_lanes_rgb9e5_pack(const hz_lrgb_t *in)
     return hz_li_sel(hz_lf_eq(m, hz_lf_set(0.0f)), hz_li_set(0), code);
 }
 
-/* hz_half_pack, lane by lane. */
-HZ_INLINE hz_li_t hz_lanes_half_pack(hz_lf_t v)
+/* hz_half_pack, lane by lane, by bit steps: round to nearest even. */
+HZ_INLINE hz_li_t hz_lanes_half_pack_bits(hz_lf_t v)
 {
     v = hz_lanes_pack_clamp(v, HZ_HALF_MAX);
     const hz_li_t u = hz_lf_bits(v), zero = hz_li_set(0);
@@ -100,6 +173,17 @@ HZ_INLINE hz_li_t hz_lanes_half_pack(hz_lf_t v)
     hz_li_t r = hz_li_sel(hz_li_gt(hz_li_set(-14), e), sub, h);
     hz_li_t none = hz_li_or(hz_lf_eq(v, hz_lf_set(0.0f)), hz_li_gt(hz_li_set(-25), e));
     return hz_li_sel(none, zero, r);
+}
+
+/* hz_half_pack, lane by lane: clamped to [0, HZ_HALF_MAX] (NaN to 0), then the conversion instruction where
+ * there is one, else hz_lanes_half_pack_bits. */
+HZ_INLINE hz_li_t hz_lanes_half_pack(hz_lf_t v)
+{
+#ifdef HZ_LANES_HW_HALF
+    return hz_lanes_half_hw_pack(hz_lanes_pack_clamp(v, HZ_HALF_MAX));
+#else
+    return hz_lanes_half_pack_bits(v);
+#endif
 }
 
 #endif /* HZ_PACK_LANES_H */

@@ -1,8 +1,9 @@
 /* The TAA resolve of one 8x8 tile in SIMD lanes (src/core/lanes.h: a tile row at a time on AVX2, half a row on
  * NEON), bit-identical to hz_taa_resolve_pixel (taa.c), its scalar twin.
  *
- * The neighbourhood box reads each pixel's YCoCg from a 10x10 block converted once per tile (the scalar twin
- * converts all nine neighbours of every pixel: the same values, summed in the same order). Motion, the
+ * The neighbourhood box reads each pixel's YCoCg from a 10x10 block converted once per tile, in lanes (the
+ * scalar twin converts all nine neighbours of every pixel: the same values, summed in the same order); the
+ * motion vectors come in with deinterleaving loads, not gathers. Motion, the
  * off-screen and disocclusion tests, the bilinear history fetch, the clamp, the blend and the half-float codes
  * run lane by lane with the twin's operations. Left to the twin: tiles cut by the image edge, pixels whose
  * path dithered (a 7x7 box and a hashed motion alignment), and the non-default Catmull-Rom fetch and clip. */
@@ -78,10 +79,10 @@ static void resolve_lanes(hz_taa_t *t, const hz_render_frame_t *f, uint32_t x, u
     hz_lf_t hx = hz_lf_add(hz_lf_from_li(xi), hz_lf_set(0.5f)), hy = hz_lf_set((float)y + 0.5f);
     hz_li_t reset = t->hist_valid ? zero : hz_li_set(-1);
     if (t->hist_valid && gb->mv) {
-        hz_li_t i2 = hz_li_shl(hz_li_add(hz_li_set((int32_t)x), hz_li_iota()), 1);
-        const float *mv = gb->mv + 2 * (size_t)y * (size_t)w;
-        hx = hz_lf_add(hx, hz_lf_gather(mv, i2));
-        hy = hz_lf_add(hy, hz_lf_gather(mv, hz_li_add(i2, one)));
+        hz_lf_t mx, my;
+        hz_lf_load2(gb->mv + 2 * p0, &mx, &my);
+        hx = hz_lf_add(hx, mx);
+        hy = hz_lf_add(hy, my);
     }
     hz_li_t inside = hz_li_and(hz_li_and(hz_li_not(hz_lf_lt(hx, hz_lf_set(0.0f))), hz_li_not(hz_lf_lt(hy, hz_lf_set(0.0f)))),
                                hz_li_and(hz_lf_lt(hx, hz_lf_set((float)w)), hz_lf_lt(hy, hz_lf_set((float)h))));
@@ -100,18 +101,43 @@ static void resolve_lanes(hz_taa_t *t, const hz_render_frame_t *f, uint32_t x, u
     const int32_t n = w * h;
     const hz_li_t wv = hz_li_set(w);
     hz_li_t ra = hz_li_mul(ya, wv), rb = hz_li_mul(yb, wv);
-    hz_li_t seen = hz_li_eq(object_at(t->prev_object, hz_li_add(ra, xa), n), object);
-    seen = hz_li_or(seen, hz_li_eq(object_at(t->prev_object, hz_li_add(ra, xb), n), object));
-    seen = hz_li_or(seen, hz_li_eq(object_at(t->prev_object, hz_li_add(rb, xa), n), object));
-    seen = hz_li_or(seen, hz_li_eq(object_at(t->prev_object, hz_li_add(rb, xb), n), object));
+    /* Where the lanes' footprints are side by side in the same two rows (the motion's integer part alike, none
+     * clamped at the edge: most of every frame), the four taps are runs of consecutive pixels: loads instead of
+     * gathers, the same values. */
+    const int32_t xa0 = hz_li_first(xa), ra0 = hz_li_first(ra), rb0 = hz_li_first(rb);
+    const hz_li_t run = hz_li_add(hz_li_set(xa0), hz_li_iota());
+    const int contiguous = xa0 + HZ_LANES < w && !hz_li_any(hz_li_or(
+        hz_li_or(hz_li_not(hz_li_eq(xa, run)), hz_li_not(hz_li_eq(xb, hz_li_add(run, one)))),
+        hz_li_or(hz_li_not(hz_li_eq(ra, hz_li_set(ra0))), hz_li_not(hz_li_eq(rb, hz_li_set(rb0))))));
+    hz_li_t seen;
+    if (contiguous) {
+        const uint16_t *oa = t->prev_object + ra0 + xa0, *ob = t->prev_object + rb0 + xa0;
+        seen = hz_li_eq(hz_li_load_u16(oa), object);
+        seen = hz_li_or(seen, hz_li_eq(hz_li_load_u16(oa + 1), object));
+        seen = hz_li_or(seen, hz_li_eq(hz_li_load_u16(ob), object));
+        seen = hz_li_or(seen, hz_li_eq(hz_li_load_u16(ob + 1), object));
+    } else {
+        seen = hz_li_eq(object_at(t->prev_object, hz_li_add(ra, xa), n), object);
+        seen = hz_li_or(seen, hz_li_eq(object_at(t->prev_object, hz_li_add(ra, xb), n), object));
+        seen = hz_li_or(seen, hz_li_eq(object_at(t->prev_object, hz_li_add(rb, xa), n), object));
+        seen = hz_li_or(seen, hz_li_eq(object_at(t->prev_object, hz_li_add(rb, xb), n), object));
+    }
     reset = hz_li_or(reset, hz_li_not(seen));
 
     hz_lrgb_t res = c;
     if (hz_li_any(hz_li_not(reset))) {
         const uint16_t *hist = t->hist[t->hist_index];
         hz_lf_t ax = hz_lf_sub(fx, flx), ay = hz_lf_sub(fy, fly);
-        hz_lrgb_t a = hist_at(hist, xa, ya, w), b = hist_at(hist, xb, ya, w);
-        hz_lrgb_t cc = hist_at(hist, xa, yb, w), d = hist_at(hist, xb, yb, w), hrgb, hy3;
+        hz_lrgb_t a, b, cc, d, hrgb, hy3;
+#ifdef HZ_LANES_HW_HALF
+        const uint16_t *ha = hist + 3 * ((size_t)ra0 + (size_t)xa0), *hb = hist + 3 * ((size_t)rb0 + (size_t)xa0);
+        if (!(contiguous && hz_lanes_half3_load(ha, &a) && hz_lanes_half3_load(ha + 3, &b) &&
+              hz_lanes_half3_load(hb, &cc) && hz_lanes_half3_load(hb + 3, &d)))
+#endif
+        {
+            a = hist_at(hist, xa, ya, w), b = hist_at(hist, xb, ya, w);
+            cc = hist_at(hist, xa, yb, w), d = hist_at(hist, xb, yb, w);
+        }
         for (int k = 0; k < 3; k++) {
             hz_lf_t top = hz_lf_add(a.c[k], hz_lf_mul(hz_lf_sub(b.c[k], a.c[k]), ax));
             hz_lf_t bot = hz_lf_add(cc.c[k], hz_lf_mul(hz_lf_sub(d.c[k], cc.c[k]), ax));
@@ -148,18 +174,30 @@ void hz_taa_resolve_tile(hz_taa_t *t, const hz_render_frame_t *f, uint32_t tile)
         hz_taa_resolve_tile_scalar(t, f, tile);
         return;
     }
+    const hz_image_t *cur = &t->cur;
     /* YCoCg of the tile and its ring (edge-clamped), one plane per channel */
     float yc[3][B][B];
-    const hz_image_t *cur = &t->cur;
+    /* Block columns lo .. hi are image columns x0 - 1 + bx, read HZ_LANES at a time (the last group ends at hi,
+     * overlapping the one before: the same values again); a column off the image is its neighbour, copied. */
+    const uint32_t lo = x0 ? 0u : 1u, hi = x0 + T < w ? B - 1u : B - 2u;
     for (uint32_t by = 0; by < B; by++) {
         int32_t y = (int32_t)(y0 + by) - 1;
         y = y < 0 ? 0 : y >= (int32_t)h ? (int32_t)h - 1 : y;
-        for (uint32_t bx = 0; bx < B; bx++) {
-            int32_t x = (int32_t)(x0 + bx) - 1;
-            x = x < 0 ? 0 : x >= (int32_t)w ? (int32_t)w - 1 : x;
-            float q[3];
-            hz_taa_to_ycocg(cur->rgb + 3 * ((size_t)y * w + (size_t)x), q);
-            yc[0][by][bx] = q[0], yc[1][by][bx] = q[1], yc[2][by][bx] = q[2];
+        const size_t row = (size_t)y * w + x0; /* block column bx is image column x0 + bx - 1 */
+        for (uint32_t bx = lo;; bx += HZ_LANES) {
+            if (bx + HZ_LANES > hi + 1u)
+                bx = hi + 1u - HZ_LANES;
+            hz_lrgb_t c, q;
+            hz_lf_load3(cur->rgb + 3 * (row + bx - 1u), &c.c[0], &c.c[1], &c.c[2]);
+            to_ycocg_lanes(&c, &q);
+            for (int k = 0; k < 3; k++)
+                hz_lf_store(&yc[k][by][bx], q.c[k]);
+            if (bx + HZ_LANES == hi + 1u)
+                break;
+        }
+        for (int k = 0; k < 3; k++) {
+            yc[k][by][0] = yc[k][by][lo];
+            yc[k][by][B - 1] = yc[k][by][hi];
         }
     }
     for (uint32_t y = y0; y < y0 + T; y++) {

@@ -2,7 +2,8 @@
  * bit-identical to hz_tdense_resolve_pixel (tdense.c), which is its scalar twin.
  *
  * Every lane computes all of Fig. 3's cases (the sliding 3x3 longest motion, the newest-subframe box, the
- * bilinear reprojection and clamp, the RGB9E5 codes) and selects per lane, with the scalar code's operations
+ * bilinear reprojection and clamp (its taps loaded, not gathered, where the lanes' footprints are consecutive),
+ * the RGB9E5 codes) and selects per lane, with the scalar code's operations
  * in its order, so each result has the same bits. Two things stay scalar: a static pixel that receives a
  * jittered sample (its moving window is updated slot by slot) and the pixels of a row past its last full
  * group of lanes; both go to hz_tdense_resolve_pixel. A profile of the scalar resolve on a 640x360 Sponza run
@@ -139,8 +140,24 @@ static lrgb_t fetch_bilinear(const uint32_t *prev, uint32_t w, uint32_t h, hz_lf
     const hz_li_t wv = hz_li_set((int32_t)w);
     hz_li_t row0 = hz_li_mul(y0, wv), row1 = hz_li_mul(y1, wv);
     const int32_t *img = (const int32_t *)(const void *)prev;
-    lrgb_t a = hz_lanes_rgb9e5_unpack(hz_li_gather(img, hz_li_add(row0, x0))), b = hz_lanes_rgb9e5_unpack(hz_li_gather(img, hz_li_add(row0, x1)));
-    lrgb_t c = hz_lanes_rgb9e5_unpack(hz_li_gather(img, hz_li_add(row1, x0))), d = hz_lanes_rgb9e5_unpack(hz_li_gather(img, hz_li_add(row1, x1)));
+    /* Footprints side by side in the same two rows (the motion's integer part alike, none clamped at the right
+     * edge: most pixels): the four taps are runs of consecutive codes, loaded instead of gathered. */
+    const int32_t x00 = hz_li_first(x0), r0 = hz_li_first(row0), r1 = hz_li_first(row1);
+    const hz_li_t run = hz_li_add(hz_li_set(x00), hz_li_iota());
+    const int contiguous = x00 + HZ_LANES < (int32_t)w &&
+                           !hz_li_any(hz_li_or(hz_li_not(hz_li_eq(x0, run)),
+                                               hz_li_or(hz_li_not(hz_li_eq(row0, hz_li_set(r0))),
+                                                        hz_li_not(hz_li_eq(row1, hz_li_set(r1))))));
+    hz_li_t ca, cb, cc, cd;
+    if (contiguous) { /* x1 = x0 + 1 in every lane then */
+        ca = hz_li_load(img + r0 + x00), cb = hz_li_load(img + r0 + x00 + 1);
+        cc = hz_li_load(img + r1 + x00), cd = hz_li_load(img + r1 + x00 + 1);
+    } else {
+        ca = hz_li_gather(img, hz_li_add(row0, x0)), cb = hz_li_gather(img, hz_li_add(row0, x1));
+        cc = hz_li_gather(img, hz_li_add(row1, x0)), cd = hz_li_gather(img, hz_li_add(row1, x1));
+    }
+    lrgb_t a = hz_lanes_rgb9e5_unpack(ca), b = hz_lanes_rgb9e5_unpack(cb);
+    lrgb_t c = hz_lanes_rgb9e5_unpack(cc), d = hz_lanes_rgb9e5_unpack(cd);
     lrgb_t o;
     for (int k = 0; k < 3; k++) {
         hz_lf_t top = hz_lf_add(a.c[k], hz_lf_mul(hz_lf_sub(b.c[k], a.c[k]), fx));

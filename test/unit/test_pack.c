@@ -243,6 +243,92 @@ static void test_lanes_codecs_match_scalar(void **state)
         }
     }
 }
+
+/* The half pack at every rounding boundary: for each code, its value, the midpoint to the next code and one
+ * ulp either side of both, through the board's pack (the conversion instruction where it has one), the
+ * lanes' bit steps and the scalar codec: all three agree. */
+static void test_lanes_half_pack_at_every_boundary(void **state)
+{
+    (void)state;
+    enum { PER = 5 };
+    float v[HZ_LANES];
+    int32_t hw[HZ_LANES], bits[HZ_LANES];
+    int n = 0;
+    uint32_t checked = 0;
+    for (uint32_t h = 0; h < 0x7c00u; h++) {
+        float a = hz_half_unpack((uint16_t)h), b = h + 1 < 0x7c00u ? hz_half_unpack((uint16_t)(h + 1)) : 65520.0f;
+        float mid = (float)(0.5 * ((double)a + (double)b));
+        const float probes[PER] = { a, nextafterf(a, 0.0f), mid, nextafterf(mid, 0.0f), nextafterf(mid, INFINITY) };
+        for (int j = 0; j < PER; j++) {
+            v[n++] = probes[j];
+            if (n < HZ_LANES && !(h + 1 == 0x7c00u && j == PER - 1))
+                continue;
+            hz_li_store(hw, hz_lanes_half_pack(hz_lf_load(v)));
+            hz_li_store(bits, hz_lanes_half_pack_bits(hz_lf_load(v)));
+            for (int i = 0; i < n; i++) {
+                uint32_t ref = hz_half_pack(v[i]);
+                if ((uint32_t)hw[i] != ref || (uint32_t)bits[i] != ref)
+                    fail_msg("half pack of %08x: lanes %04x, lane bits %04x, scalar %04x", hz_float_bits(v[i]),
+                             hw[i], bits[i], ref);
+            }
+            checked += (uint32_t)n;
+            n = 0;
+        }
+    }
+    assert_true(checked == 0x7c00u * PER);
+}
+
+#ifdef HZ_LANES_HW_HALF
+/* The half RGB run load reads HZ_LANES pixels as hz_half_unpack does, and refuses a run holding an exponent-31
+ * code (which the instruction would read as an infinity or NaN). */
+static void test_lanes_half3_load(void **state)
+{
+    (void)state;
+    uint16_t codes[3 * HZ_LANES];
+    for (uint32_t h = 0; h < 0x7c00u; h += 3 * HZ_LANES - 1) {
+        for (int i = 0; i < 3 * HZ_LANES; i++)
+            codes[i] = (uint16_t)((h + (uint32_t)i * 977u) % 0x7c00u | (i & 1 ? 0x8000u : 0u));
+        hz_lrgb_t o;
+        memset(&o, 0, sizeof o);
+        assert_true(hz_lanes_half3_load(codes, &o));
+        float c[3][HZ_LANES];
+        for (int k = 0; k < 3; k++)
+            hz_lf_store(c[k], o.c[k]);
+        for (int i = 0; i < HZ_LANES; i++)
+            for (int k = 0; k < 3; k++)
+                assert_int_equal(hz_float_bits(c[k][i]), hz_float_bits(hz_half_unpack(codes[3 * i + k])));
+    }
+    for (int j = 0; j < 3 * HZ_LANES; j++) {
+        for (int i = 0; i < 3 * HZ_LANES; i++)
+            codes[i] = 0x3c00;
+        codes[j] = (uint16_t)(j & 1 ? 0x7c00 : 0xfe01);
+        hz_lrgb_t o;
+        memset(&o, 0, sizeof o);
+        assert_false(hz_lanes_half3_load(codes, &o));
+    }
+}
+#endif
+
+/* The deinterleaving loads are hz_lf_store3's inverse and read pairs in order. */
+static void test_lanes_deinterleaving_loads(void **state)
+{
+    (void)state;
+    float src[3 * HZ_LANES], back[3 * HZ_LANES], r[HZ_LANES], g[HZ_LANES], b[HZ_LANES];
+    for (int i = 0; i < 3 * HZ_LANES; i++)
+        src[i] = (float)(100 + i);
+    hz_lf_t x, y, z;
+    hz_lf_load3(src, &x, &y, &z);
+    hz_lf_store(r, x), hz_lf_store(g, y), hz_lf_store(b, z);
+    for (int i = 0; i < HZ_LANES; i++) {
+        assert_true(r[i] == src[3 * i] && g[i] == src[3 * i + 1] && b[i] == src[3 * i + 2]);
+    }
+    hz_lf_store3(back, x, y, z);
+    assert_memory_equal(back, src, sizeof src);
+    hz_lf_load2(src + 1, &x, &y);
+    hz_lf_store(r, x), hz_lf_store(g, y);
+    for (int i = 0; i < HZ_LANES; i++)
+        assert_true(r[i] == src[1 + 2 * i] && g[i] == src[2 + 2 * i]);
+}
 #endif
 
 int main(void)
@@ -253,6 +339,11 @@ int main(void)
         cmocka_unit_test(test_9e5_edges),              cmocka_unit_test(test_half_signed),
 #if defined(HZ_BOARD_SIMD_AVX2) || defined(HZ_BOARD_SIMD_NEON)
         cmocka_unit_test(test_lanes_codecs_match_scalar),
+        cmocka_unit_test(test_lanes_half_pack_at_every_boundary),
+        cmocka_unit_test(test_lanes_deinterleaving_loads),
+#ifdef HZ_LANES_HW_HALF
+        cmocka_unit_test(test_lanes_half3_load),
+#endif
 #endif
     };
     return HZ_RUN(tests);
