@@ -38,4 +38,12 @@ static inline void hz_test_filter(void)
 #define HZ_NATIVE_ONLY(why) ((void)0)
 #endif
 
+/* HZ_EMULATED_LESS(native, emulated): a work size (frames, pixels) that is `native` where the tests run natively
+ * and the smaller `emulated` under qemu, for cases that check the same paths with less of the same work. */
+#if defined(HZ_TEST_EMULATED)
+#define HZ_EMULATED_LESS(native, emulated) (emulated)
+#else
+#define HZ_EMULATED_LESS(native, emulated) (native)
+#endif
+
 #endif

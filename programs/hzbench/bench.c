@@ -13,6 +13,7 @@
 #include <unistd.h>
 
 #include "bench_adaptive.h"
+#include "bench_fit.h"
 #include "bench_md.h"
 #include "bench_realtime.h"
 #include "bench_blur.h"
@@ -300,7 +301,7 @@ static hz_status_t write_curve(const char *csv, const hz_bench_transp_row_t *row
 /* The command line (opttab.h): the help is printed from this table. */
 enum { B_ONLY, B_CSV, B_MD, B_SCENES, B_ROUNDS, B_THREADS, B_RT_CSV, B_RT_SIZE, B_RT_FRAMES, B_RT_TWIN, B_RT_SCALING,
        B_TD_SIZE, B_FRAMES, B_TP_CSV, B_TP_SIZE, B_TP_FRAMES, B_AD_CSV, B_SHUTTER, B_BLUR_SIZE, B_ACCEL_CSV, B_SCENE,
-       B_SIZE, B_EMBREE, B_MO_CSV, B_MO_SCENE, B_MO_SIZE, B_MO_INTERVAL };
+       B_SIZE, B_EMBREE, B_MO_CSV, B_MO_SCENE, B_MO_SIZE, B_MO_INTERVAL, B_CHECK_FIT };
 
 static const char *const group_words[] = { "kernels", "accel", "tdense", "transparency", "adaptive", "blur", "motion",
                                            "realtime", NULL };
@@ -310,6 +311,9 @@ static const hz_opt_t options[] = {
     { .name = "--only", .arg = "G", .kind = HZ_OPT_WORD, .words = group_words, .id = B_ONLY,
       .help = "run only this group (kernels, accel, tdense, transparency, adaptive, blur, motion or realtime); "
               "repeat for more; default every group" },
+    { .name = "--check-fit", .kind = HZ_OPT_FLAG, .id = B_CHECK_FIT,
+      .help = "measure nothing: check that every scene of the groups fits the board's arenas as the group uses it "
+              "(its native build's bound, its renderers' plans, its pose keys) and exit 66 if one does not" },
     { .name = "--csv", .arg = "FILE", .kind = HZ_OPT_TEXT, .id = B_CSV, .help = "the kernels' table as CSV" },
     { .name = "--md", .arg = "FILE", .kind = HZ_OPT_TEXT, .id = B_MD,
       .help = "also every group's table in Markdown (a group without its --*-csv writes its CSV next to FILE: "
@@ -395,7 +399,7 @@ static const hz_opt_prog_t program = {
 
 typedef struct args {
     const char *csv_path, *md_path, *realtime_csv, *transp_csv;
-    bool core, accel, tdense, transp, adaptive, blur, motion, realtime, only_given, realtime_scaling;
+    bool core, accel, tdense, transp, adaptive, blur, motion, realtime, only_given, realtime_scaling, check_fit;
     hz_bench_realtime_opts_t rt;
     hz_bench_transp_opts_t tp;
     hz_bench_adaptive_opts_t ad;
@@ -419,6 +423,7 @@ static int take(void *ctx, const hz_opt_t *o, const hz_opt_val_t *v)
         break;
     }
     case B_CSV: a->csv_path = v->s; break;
+    case B_CHECK_FIT: a->check_fit = true; break;
     case B_MD: a->md_path = v->s; break;
     case B_SCENES:
         a->ao.scenes_dir = a->td.scenes_dir = a->tp.scenes_dir = a->ad.scenes_dir = a->bo.scenes_dir =
@@ -469,6 +474,34 @@ static int take(void *ctx, const hz_opt_t *o, const hz_opt_val_t *v)
     return 0;
 }
 
+/* --check-fit (bench_fit.h): each selected group's scenes against the board's arenas, nothing measured. */
+static int check_fit(const args_t *a)
+{
+    hz_bench_fit_t fit = { a->td.scenes_dir, 0, 0, false };
+    if (!fit.scenes_dir)
+        fit.scenes_dir = getenv("HZ_SCENES_DIR") ? getenv("HZ_SCENES_DIR") : "build/scenes";
+    printf("fit: the scenes of every group against board %s's arenas (%s)\n", HZ_BOARD_NAME, fit.scenes_dir);
+    if (a->accel)
+        hz_bench_accel_fit(&a->ao, &fit);
+    if (a->tdense)
+        hz_bench_tdense_fit(&a->td, &fit);
+    if (a->transp)
+        hz_bench_transp_fit(&a->tp, &fit);
+    if (a->adaptive)
+        hz_bench_adaptive_fit(&a->ad, &fit);
+    if (a->blur)
+        hz_bench_blur_fit(&a->bo, &fit);
+    if (a->motion)
+        hz_bench_motion_fit(&a->mo, &fit);
+    if (a->realtime)
+        hz_bench_realtime_fit(&a->rt, &fit);
+    printf("fit: %d checks, %d do not fit\n", fit.checked, fit.failed);
+    if (fit.failed)
+        hz_cli_error("%d of %d checks do not fit board %s's arenas (lines marked above)", fit.failed, fit.checked,
+                     HZ_BOARD_NAME);
+    return fit.failed ? hz_status_exit_code(HZ_E_NO_MEMORY) : 0;
+}
+
 int main(int argc, char **argv)
 {
     hz_cli_prog = "hzbench";
@@ -483,6 +516,8 @@ int main(int argc, char **argv)
     int rc = hz_opt_parse(&program, argc, argv, take, &a, NULL, &nops);
     if (rc)
         return rc == HZ_OPT_DONE ? 0 : rc;
+    if (a.check_fit)
+        return check_fit(&a);
     const char *csv_path = a.csv_path, *md_path = a.md_path, *realtime_csv = a.realtime_csv;
     const char *transp_csv = a.transp_csv;
     bool core = a.core, accel = a.accel, tdense = a.tdense, transp = a.transp, adaptive = a.adaptive, blur = a.blur;

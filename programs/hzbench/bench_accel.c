@@ -10,6 +10,7 @@
 #include <unistd.h>
 
 #include "cli.h"
+#include "bench_fit.h"
 #include "bench_util.h"
 #include "clock.h"
 #include "fileio.h"
@@ -637,12 +638,17 @@ static int bench_scene(const hz_bench_accel_opts_t *o, const char *name, FILE *c
     return 0;
 }
 
+static void scene_list(hz_bench_accel_opts_t *o)
+{
+    static const char *const defaults[] = { "conference", "sponza", "lost-empire", "furball",
+                                            "dragon-res4", "dragon-res3", "dragon-res2", "dragon" };
+    hz_bench_scene_list(&o->scenes_dir, o->scenes, &o->scene_count, defaults, (int)HZ_ARRAY_LEN(defaults));
+}
+
 int hz_bench_accel(const hz_bench_accel_opts_t *opts)
 {
     hz_bench_accel_opts_t o = *opts;
-    static const char *const defaults[] = { "conference", "sponza", "lost-empire", "furball",
-                                      "dragon-res4", "dragon-res3", "dragon-res2", "dragon" };
-    hz_bench_scene_list(&o.scenes_dir, o.scenes, &o.scene_count, defaults, (int)HZ_ARRAY_LEN(defaults));
+    scene_list(&o);
     if (o.rounds <= 0)
         o.rounds = 5;
     if (o.rounds > MAX_ROUNDS)
@@ -733,4 +739,19 @@ int hz_bench_accel(const hz_bench_accel_opts_t *opts)
         }
     }
     return status;
+}
+
+void hz_bench_accel_fit(const hz_bench_accel_opts_t *opts, hz_bench_fit_t *fit)
+{
+    hz_bench_accel_opts_t o = *opts;
+    scene_list(&o);
+    for (int i = 0; i < o.scene_count; i++) {
+        char file[300];
+        snprintf(file, sizeof file, "%s.hzb", o.scenes[i]);
+        hz_bench_fit_scene_t fs;
+        if (!hz_bench_fit_open(fit, "accel", o.scenes[i], file, &fs))
+            continue;
+        hz_bench_fit_accel(&fs, NULL, 0, "native BVH");
+        hz_bench_fit_close(&fs);
+    }
 }

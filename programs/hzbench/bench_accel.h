@@ -35,4 +35,8 @@ typedef struct hz_bench_accel_opts {
 /* Runs the accel benchmark; returns a process exit status (0, or the failure's). */
 int hz_bench_accel(const hz_bench_accel_opts_t *opts);
 
+/* --check-fit: each scene and its native build against the board's arenas (bench_fit.h). */
+struct hz_bench_fit;
+void hz_bench_accel_fit(const hz_bench_accel_opts_t *opts, struct hz_bench_fit *fit);
+
 #endif

@@ -9,6 +9,7 @@
 
 #include "accel_backend.h"
 #include "bench_common.h"
+#include "bench_fit.h"
 #include "clock.h"
 #include "fileio.h"
 #include "hz/image.h"
@@ -51,6 +52,16 @@ static double psnr_srgb8(const hz_image_t *ref, const hz_image_t *img)
     return se == 0 ? INFINITY : 10.0 * log10(255.0 * 255.0 * (double)n / se);
 }
 
+static const char *const scenes[][2] = { { "conference", "conference.hzb" }, { "sponza", "sponza.hzb" },
+                                         { "CornellBox-Mirror", "CornellBox-Mirror.hzb" },
+                                         { "lost-empire", "lost-empire.hzb" } };
+
+static void ref_opts(const hz_bench_adaptive_opts_t *o, hz_render_opts_t *ro)
+{
+    hz_render_opts_default(ro);
+    ro->width = o->width, ro->height = o->height, ro->spp = o->ref_spp, ro->seed = 0x5eed;
+}
+
 static void opts_for(int m, const hz_bench_adaptive_opts_t *o, hz_render_opts_t *ro)
 {
     hz_render_opts_default(ro);
@@ -78,8 +89,7 @@ static hz_status_t bench_scene(const char *label, const char *path, const hz_ben
     }
     if (s == HZ_OK) {
         hz_render_opts_t ro;
-        hz_render_opts_default(&ro);
-        ro.width = o->width, ro.height = o->height, ro.spp = o->ref_spp, ro.seed = 0x5eed;
+        ref_opts(o, &ro);
         hz_renderer_t *rr = NULL;
         s = hz_render_create(&rr, &bs.scene, bs.accel, &ro, &pools->frame, pools->thread, (uint32_t)o->threads, err);
         if (s == HZ_OK && o->progress)
@@ -174,9 +184,6 @@ static hz_status_t write_csv(const char *path, const hz_bench_adaptive_row_t *ro
 int hz_bench_adaptive(const hz_bench_adaptive_opts_t *o, hz_bench_adaptive_row_t *rows, int max_rows,
                       hz_error_t *err)
 {
-    static const char *const scenes[][2] = { { "conference", "conference.hzb" }, { "sponza", "sponza.hzb" },
-                                             { "CornellBox-Mirror", "CornellBox-Mirror.hzb" },
-                                             { "lost-empire", "lost-empire.hzb" } };
     int n = 0;
     if (hz_threads_start(o->threads, err) != HZ_OK)
         return -1;
@@ -197,4 +204,21 @@ int hz_bench_adaptive(const hz_bench_adaptive_opts_t *o, hz_bench_adaptive_row_t
     if (o->csv_path && write_csv(o->csv_path, rows, n, err) != HZ_OK)
         return -1;
     return n;
+}
+
+static void fit_scene(hz_bench_fit_scene_t *fs, const void *ctx)
+{
+    const hz_bench_adaptive_opts_t *o = ctx;
+    hz_render_opts_t ro[METHODS];
+    hz_bench_fit_accel(fs, NULL, 0, "native BVH");
+    ref_opts(o, &ro[0]);
+    hz_bench_fit_render(fs, ro, 1, "reference");
+    for (int m = 0; m < METHODS; m++)
+        opts_for(m, o, &ro[m]);
+    hz_bench_fit_render(fs, ro, METHODS, "9 spp + adaptive at each tau");
+}
+
+void hz_bench_adaptive_fit(const hz_bench_adaptive_opts_t *o, hz_bench_fit_t *fit)
+{
+    hz_bench_fit_scenes(fit, "adaptive", scenes, sizeof scenes / sizeof scenes[0], fit_scene, o);
 }

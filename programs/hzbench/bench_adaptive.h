@@ -49,4 +49,8 @@ typedef struct hz_bench_adaptive_row {
 int hz_bench_adaptive(const hz_bench_adaptive_opts_t *o, hz_bench_adaptive_row_t *rows, int max_rows,
                       hz_error_t *err);
 
+/* --check-fit: the scenes, the reference and the methods' renderers against the board's arenas (bench_fit.h). */
+struct hz_bench_fit;
+void hz_bench_adaptive_fit(const hz_bench_adaptive_opts_t *o, struct hz_bench_fit *fit);
+
 #endif

@@ -4,6 +4,7 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "bench_fit.h"
 #include "bench_util.h"
 #include "blur_setup.h"
 #include "clock.h"
@@ -37,6 +38,20 @@ static hz_status_t run_frames(hz_renderer_t *r, const hz_bench_blur_opts_t *o, d
     return HZ_OK;
 }
 
+static const char *const scenes[][2] = { { "builtin", NULL }, { "sponza-rotated", "sponza-rotated.hzb" },
+                                         { "furball-sway", "furball-sway.hzb" } };
+
+/* m 0: keys per cycle, 1: posed and refitted every subframe. */
+static void opts_for(const hz_bench_blur_opts_t *o, int m, hz_render_opts_t *ro)
+{
+    hz_render_opts_default(ro);
+    ro->width = o->width, ro->height = o->height;
+    ro->mode = HZ_MODE_TDENSE;
+    ro->shutter = o->shutter;
+    ro->frame_hz = o->hz;
+    ro->tdense_cycle_keys = m == 0;
+}
+
 static hz_status_t bench_scene(const char *label, const char *path, const hz_bench_blur_opts_t *o,
                                hz_bench_blur_row_t *row, hz_error_t *err)
 {
@@ -49,14 +64,8 @@ static hz_status_t bench_scene(const char *label, const char *path, const hz_ben
     hz_accel_t *accel = NULL;
     static hz_posekeys_t keys;
     hz_render_opts_t ro[2];
-    for (int m = 0; m < 2; m++) {
-        hz_render_opts_default(&ro[m]);
-        ro[m].width = o->width, ro[m].height = o->height;
-        ro[m].mode = HZ_MODE_TDENSE;
-        ro[m].shutter = o->shutter;
-        ro[m].frame_hz = o->hz;
-        ro[m].tdense_cycle_keys = m == 0;
-    }
+    for (int m = 0; m < 2; m++)
+        opts_for(o, m, &ro[m]);
     hz_status_t s = hz_scenefile_open(path, pools, &scene, err);
     /* The keys for the cycle's interval (the longer one); the per-subframe renderer uses the same ones. */
     if (s == HZ_OK)
@@ -112,9 +121,25 @@ static hz_status_t scene_fn(const char *label, const char *path, void *ctx, int 
 
 int hz_bench_blur(const hz_bench_blur_opts_t *o, hz_bench_blur_row_t *rows, int max_rows, hz_error_t *err)
 {
-    static const char *const scenes[][2] = { { "builtin", NULL }, { "sponza-rotated", "sponza-rotated.hzb" },
-                                             { "furball-sway", "furball-sway.hzb" } };
     void *ctx[2] = { (void *)o, rows };
     return hz_bench_scenes("blur", scenes, sizeof scenes / sizeof scenes[0], o->scenes_dir, o->threads, scene_fn, ctx,
                            max_rows, err);
+}
+
+static void fit_scene(hz_bench_fit_scene_t *fs, const void *ctx)
+{
+    const hz_bench_blur_opts_t *o = ctx;
+    hz_render_opts_t ro[2];
+    for (int m = 0; m < 2; m++)
+        opts_for(o, m, &ro[m]);
+    uint32_t keys = hz_bench_fit_render(fs, ro, 2, "tdense per cycle + per subframe");
+    hz_accel_config_t cfg;
+    hz_accel_config_default(&cfg);
+    cfg.blur = o->blur;
+    hz_bench_fit_accel(fs, &cfg, HZ_FEATURE_MOTION ? keys : 0u, keys >= 2u ? "native motion BVH" : "native BVH");
+}
+
+void hz_bench_blur_fit(const hz_bench_blur_opts_t *o, hz_bench_fit_t *fit)
+{
+    hz_bench_fit_scenes(fit, "blur", scenes, sizeof scenes / sizeof scenes[0], fit_scene, o);
 }

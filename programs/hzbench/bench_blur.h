@@ -47,4 +47,8 @@ typedef struct hz_bench_blur_row {
 
 int hz_bench_blur(const hz_bench_blur_opts_t *o, hz_bench_blur_row_t *rows, int max_rows, hz_error_t *err);
 
+/* --check-fit: the scenes, both renderers and the motion BVH against the board's arenas (bench_fit.h). */
+struct hz_bench_fit;
+void hz_bench_blur_fit(const hz_bench_blur_opts_t *o, struct hz_bench_fit *fit);
+
 #endif

@@ -18,6 +18,7 @@
 #include "hz/scene.h"
 #include "pools.h"
 #include "scenefile.h"
+#include "bench_fit.h"
 #include "bench_util.h"
 #if defined(HZ_HAVE_EMBREE)
 #include "embree_accel.h"
@@ -173,6 +174,43 @@ static uint64_t render(const hz_accel_t *a, frame_t *fr, hz_accel_stats_t *st, b
     return rays;
 }
 
+/* The keys a scene moves with over the interval: its own animation's (K from the interval, capped for scenes
+ * over 1M triangles), or for a scene that does not move a procedural sway (furball) or rotation (others) of 2
+ * keys; taken from `arena`, the view g pointed at them, `motion` says which. */
+static hz_status_t scene_keys(const hz_bench_motion_opts_t *o, const char *name, const hz_scene_t *sc,
+                              hz_accel_geom_t *g, hz_posekeys_t *keys, uint32_t *K_out, char *motion, size_t motion_size,
+                              hz_arena_t *arena, hz_error_t *err)
+{
+    uint32_t K = hz_posekeys_count(sc, o->interval);
+    if (K >= 2u) {
+        if (g->tri_count > 1000000u && K > o->max_keys) {
+            snprintf(motion, motion_size, "its animation over %.4f s, %u keys (the scene asks for %u; capped for memory)",
+                     (double)o->interval, o->max_keys, K);
+            K = o->max_keys;
+        } else {
+            snprintf(motion, motion_size, "its animation over %.4f s, %u keys", (double)o->interval, K);
+        }
+        hz_status_t s = hz_posekeys_init(keys, sc, K, arena, err);
+        if (s != HZ_OK)
+            return s;
+        hz_posekeys_eval(keys, sc, 1.0f, -0.5f * o->interval, 0.5f * o->interval);
+        hz_posekeys_geom(keys, g);
+    } else {
+        const float *lo = sc->header->bounds_min, *hi = sc->header->bounds_max;
+        float size = fmaxf(hi[0] - lo[0], fmaxf(hi[1] - lo[1], hi[2] - lo[2]));
+        hz_vec3_t c = hz_v3(0.5f * (lo[0] + hi[0]), 0.5f * (lo[1] + hi[1]), 0.5f * (lo[2] + hi[2]));
+        const bool fur = strstr(name, "furball") != NULL;
+        if (hz_meshgen_motion(g, g->pos, fur ? HZ_MESHGEN_SWAY : HZ_MESHGEN_ROTATE, 2, c, size, 1.0f / 48.0f,
+                              arena) != HZ_OK)
+            return hz_error_set(err, HZ_E_NO_MEMORY, "bench: %s: no memory for procedural keys in arena '%s'", name,
+                                arena->name ? arena->name : "?");
+        K = 2;
+        snprintf(motion, motion_size, "no animation: procedural %s, 2 keys", fur ? "sway" : "rotation (7.5 deg)");
+    }
+    *K_out = K;
+    return HZ_OK;
+}
+
 /* ---- one scene ---- */
 static int bench_scene(const hz_bench_motion_opts_t *o, const char *name, FILE *csv, row_t *rows)
 {
@@ -183,35 +221,11 @@ static int bench_scene(const hz_bench_motion_opts_t *o, const char *name, FILE *
     int rc = hz_bench_open_named(o->scenes_dir, name, P, &sc, &g);
     if (rc)
         return rc;
-    uint32_t K = hz_posekeys_count(&sc, o->interval);
     hz_posekeys_t keys;
     char motion[160];
-    if (K >= 2u) {
-        if (g.tri_count > 1000000u && K > o->max_keys) {
-            snprintf(motion, sizeof motion, "its animation over %.4f s, %u keys (the scene asks for %u; capped for memory)",
-                     (double)o->interval, o->max_keys, K);
-            K = o->max_keys;
-        } else {
-            snprintf(motion, sizeof motion, "its animation over %.4f s, %u keys", (double)o->interval, K);
-        }
-        if (hz_posekeys_init(&keys, &sc, K, &P->scene, &err) != HZ_OK)
-            return hz_cli_report(&err);
-        hz_posekeys_eval(&keys, &sc, 1.0f, -0.5f * o->interval, 0.5f * o->interval);
-        hz_posekeys_geom(&keys, &g);
-    } else {
-        /* a scene that does not move: procedural sway of its geometry (furball) / rotation (others) */
-        const float *lo = sc.header->bounds_min, *hi = sc.header->bounds_max;
-        float size = fmaxf(hi[0] - lo[0], fmaxf(hi[1] - lo[1], hi[2] - lo[2]));
-        hz_vec3_t c = hz_v3(0.5f * (lo[0] + hi[0]), 0.5f * (lo[1] + hi[1]), 0.5f * (lo[2] + hi[2]));
-        const bool fur = strstr(name, "furball") != NULL;
-        if (hz_meshgen_motion(&g, g.pos, fur ? HZ_MESHGEN_SWAY : HZ_MESHGEN_ROTATE, 2, c, size, 1.0f / 48.0f,
-                              &P->scene) != HZ_OK) {
-            hz_cli_error("bench: %s: no memory for procedural keys", name);
-            return hz_status_exit_code(HZ_E_NO_MEMORY);
-        }
-        K = 2;
-        snprintf(motion, sizeof motion, "no animation: procedural %s, 2 keys", fur ? "sway" : "rotation (7.5 deg)");
-    }
+    uint32_t K = 0;
+    if (scene_keys(o, name, &sc, &g, &keys, &K, motion, sizeof motion, &P->scene, &err) != HZ_OK)
+        return hz_cli_report(&err);
     printf("\n%s: %u triangles, %s; %ux%u pixels, one primary + one shadow ray each\n", name, g.tri_count, motion,
            o->width, o->height);
     fflush(stdout);
@@ -356,21 +370,26 @@ static int bench_scene(const hz_bench_motion_opts_t *o, const char *name, FILE *
     return bad ? hz_status_exit_code(HZ_E_INTERNAL) : 0;
 }
 
+static void with_defaults(hz_bench_motion_opts_t *o)
+{
+    static const char *const defaults[] = { "furball-sway", "sponza-rotated" };
+    hz_bench_scene_list(&o->scenes_dir, o->scenes, &o->scene_count, defaults, (int)HZ_ARRAY_LEN(defaults));
+    if (o->rounds <= 0)
+        o->rounds = 3;
+    if (o->rounds > MAX_ROUNDS)
+        o->rounds = MAX_ROUNDS;
+    if (!o->width || !o->height)
+        o->width = o->height = 512;
+    if (!(o->interval > 0.0f))
+        o->interval = 1.0f / 24.0f;
+    if (o->max_keys != 2u && o->max_keys != 3u && o->max_keys != 5u && o->max_keys != 9u)
+        o->max_keys = 2u;
+}
+
 int hz_bench_motion(const hz_bench_motion_opts_t *opts)
 {
     hz_bench_motion_opts_t o = *opts;
-    static const char *const defaults[] = { "furball-sway", "sponza-rotated" };
-    hz_bench_scene_list(&o.scenes_dir, o.scenes, &o.scene_count, defaults, (int)HZ_ARRAY_LEN(defaults));
-    if (o.rounds <= 0)
-        o.rounds = 3;
-    if (o.rounds > MAX_ROUNDS)
-        o.rounds = MAX_ROUNDS;
-    if (!o.width || !o.height)
-        o.width = o.height = 512;
-    if (!(o.interval > 0.0f))
-        o.interval = 1.0f / 24.0f;
-    if (o.max_keys != 2u && o.max_keys != 3u && o.max_keys != 5u && o.max_keys != 9u)
-        o.max_keys = 2u;
+    with_defaults(&o);
     printf("\nmotion blur (seed 002): native motion BVHs vs Embree motion blur (one thread, 8-ray packets; "
            "%% of the interpolated BVH as in the paper's Table 1)\n");
     hz_out_t out;
@@ -400,4 +419,41 @@ int hz_bench_motion(const hz_bench_motion_opts_t *opts)
         }
     }
     return status;
+}
+
+void hz_bench_motion_fit(const hz_bench_motion_opts_t *opts, hz_bench_fit_t *fit)
+{
+    hz_bench_motion_opts_t o = *opts;
+    with_defaults(&o);
+    for (int i = 0; i < o.scene_count; i++) {
+        char file[300];
+        snprintf(file, sizeof file, "%s.hzb", o.scenes[i]);
+        hz_bench_fit_scene_t fs;
+        if (!hz_bench_fit_open(fit, "motion", o.scenes[i], file, &fs))
+            continue;
+        hz_arena_t *scene_arena = &fs.bs.pools->scene;
+        hz_accel_geom_t g;
+        hz_posekeys_t keys;
+        hz_error_t err;
+        uint32_t K = 0;
+        char motion[160];
+        size_t before = hz_arena_available(scene_arena, 64);
+        if (hz_accel_geom_from_scene(&g, &fs.bs.scene, scene_arena, &err) != HZ_OK ||
+            scene_keys(&o, o.scenes[i], &fs.bs.scene, &g, &keys, &K, motion, sizeof motion, scene_arena, &err) != HZ_OK) {
+            /* what the keys asked for, from the arena's own refusal */
+            fit->checked++, fit->failed++;
+            printf("fit %-12s %-18s pose keys DO NOT FIT: %s\n", "motion", o.scenes[i], err.msg);
+        } else {
+            hz_bench_fit_line(&fs, "pose keys", "scene", before - hz_arena_available(scene_arena, 64), before);
+            static const hz_accel_blur_t kinds[] = { HZ_ACCEL_BLUR_MSBVH, HZ_ACCEL_BLUR_INTERP, HZ_ACCEL_BLUR_SWEPT };
+            static const char *const what[] = { "native msbvh", "native interp", "native swept" };
+            for (int b = 0; b < 3; b++) {
+                hz_accel_config_t cfg;
+                hz_accel_config_default(&cfg);
+                cfg.blur = kinds[b];
+                hz_bench_fit_accel(&fs, &cfg, K, what[b]);
+            }
+        }
+        hz_bench_fit_close(&fs);
+    }
 }

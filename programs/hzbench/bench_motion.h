@@ -34,4 +34,8 @@ typedef struct hz_bench_motion_opts {
 
 int hz_bench_motion(const hz_bench_motion_opts_t *opts);
 
+/* --check-fit: each scene's pose keys and its three native motion BVHs against the board's arenas (bench_fit.h). */
+struct hz_bench_fit;
+void hz_bench_motion_fit(const hz_bench_motion_opts_t *opts, struct hz_bench_fit *fit);
+
 #endif

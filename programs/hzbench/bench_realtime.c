@@ -8,6 +8,7 @@
 
 #include "accel_backend.h"
 #include "bench_common.h"
+#include "bench_fit.h"
 #include "clock.h"
 #include "hz/render.h"
 #include "render_run.h"
@@ -285,10 +286,21 @@ static hz_status_t run_round(hz_renderer_t *r, const hz_bench_realtime_opts_t *o
     return HZ_OK;
 }
 
+static const char *const scenes[][2] = { { "builtin", NULL }, { "sponza", "sponza.hzb" },
+                                         { "conference", "conference.hzb" } };
+
+/* m 0: tdense; 1: TAA, or tdense with the scalar shading twin. */
+static void opts_for(const hz_bench_realtime_opts_t *o, int m, hz_render_opts_t *ro)
+{
+    hz_render_opts_default(ro);
+    ro->width = o->width, ro->height = o->height;
+    ro->mode = m == 1 && !o->compare_shading ? HZ_MODE_TAA : HZ_MODE_TDENSE;
+    ro->scalar_shading = o->compare_shading && m == 1;
+}
+
 static hz_status_t bench_scene(const char *label, const char *path, const hz_bench_realtime_opts_t *o,
                                hz_bench_realtime_row_t *rows, hz_error_t *err)
 {
-    const hz_render_mode_t modes[2] = { HZ_MODE_TDENSE, o->compare_shading ? HZ_MODE_TDENSE : HZ_MODE_TAA };
     static mode_acc_t acc[2], twin[2], serial[2];
     hz_bench_scene_t bs;
     hz_status_t s = hz_bench_scene_open(&bs, path, err);
@@ -301,9 +313,7 @@ static hz_status_t bench_scene(const char *label, const char *path, const hz_ben
     }
     for (int m = 0; m < 2 && s == HZ_OK; m++) {
         hz_render_opts_t ro;
-        hz_render_opts_default(&ro);
-        ro.width = o->width, ro.height = o->height, ro.mode = modes[m];
-        ro.scalar_shading = o->compare_shading && m == 1;
+        opts_for(o, m, &ro);
         s = hz_render_create(&r[m], &bs.scene, &wrapped, &ro, &bs.pools->frame, bs.pools->thread,
                              (uint32_t)o->threads, err);
         acc[m].nframes = 0;
@@ -349,7 +359,8 @@ static hz_status_t bench_scene(const char *label, const char *path, const hz_ben
         hz_bench_realtime_row_t *w = &rows[m];
         memset(w, 0, sizeof *w);
         snprintf(w->scene, sizeof w->scene, "%s", label);
-        w->mode = o->compare_shading && m == 1 ? "tdense-scalar" : hz_render_mode_name(modes[m]);
+        w->mode = o->compare_shading && m == 1 ? "tdense-scalar"
+                                               : hz_render_mode_name(m == 1 ? HZ_MODE_TAA : HZ_MODE_TDENSE);
         w->threads = o->threads;
         w->p50_ms = hz_bench_quantile(acc[m].frame_ms, acc[m].nframes, 0.50);
         w->p99_ms = hz_bench_quantile(acc[m].frame_ms, acc[m].nframes, 0.99);
@@ -380,8 +391,6 @@ static hz_status_t scene_fn(const char *label, const char *path, void *ctx, int 
 int hz_bench_realtime(const hz_bench_realtime_opts_t *o, hz_bench_realtime_row_t *rows, int max_rows,
                       hz_error_t *err)
 {
-    static const char *const scenes[][2] = { { "builtin", NULL }, { "sponza", "sponza.hzb" },
-                                             { "conference", "conference.hzb" } };
     if (o->rounds < 1 || o->rounds > HZ_BENCH_REALTIME_MAX_ROUNDS || o->frames < 1 ||
         o->frames > HZ_BENCH_REALTIME_MAX_FRAMES || o->threads < 1) {
         hz_error_set(err, HZ_E_INVALID_ARG, "realtime: rounds 1..%d, frames 1..%d, threads >= 1",
@@ -399,4 +408,19 @@ int hz_bench_realtime(const hz_bench_realtime_opts_t *o, hz_bench_realtime_row_t
     free(g_rec.packets);
     g_rec.packets = NULL;
     return n < 0 ? n : 2 * n;
+}
+
+static void fit_scene(hz_bench_fit_scene_t *fs, const void *ctx)
+{
+    hz_render_opts_t ro[2];
+    for (int m = 0; m < 2; m++)
+        opts_for(ctx, m, &ro[m]);
+    hz_bench_fit_accel(fs, NULL, 0, "native BVH");
+    hz_bench_fit_render(fs, ro, 2, ((const hz_bench_realtime_opts_t *)ctx)->compare_shading
+                                       ? "tdense + its scalar shading twin" : "tdense + taa");
+}
+
+void hz_bench_realtime_fit(const hz_bench_realtime_opts_t *o, hz_bench_fit_t *fit)
+{
+    hz_bench_fit_scenes(fit, "realtime", scenes, sizeof scenes / sizeof scenes[0], fit_scene, o);
 }

@@ -63,4 +63,8 @@ typedef struct hz_bench_realtime_row {
 int hz_bench_realtime(const hz_bench_realtime_opts_t *o, hz_bench_realtime_row_t *rows, int max_rows,
                       hz_error_t *err);
 
+/* --check-fit: the scenes and both renderers against the board's arenas (bench_fit.h). */
+struct hz_bench_fit;
+void hz_bench_realtime_fit(const hz_bench_realtime_opts_t *o, struct hz_bench_fit *fit);
+
 #endif

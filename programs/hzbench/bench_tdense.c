@@ -9,6 +9,7 @@
 
 #include "accel_backend.h"
 #include "bench_common.h"
+#include "bench_fit.h"
 #include "clock.h"
 #include "hz/render.h"
 #include "pools.h"
@@ -43,6 +44,17 @@ static hz_status_t run_frames(hz_renderer_t *r, uint32_t warm, uint32_t frames, 
     return HZ_OK;
 }
 
+static const char *const scenes[][2] = { { "builtin", NULL }, { "sponza", "sponza.hzb" },
+                                         { "conference", "conference.hzb" } };
+
+/* The renderer of mode m: 0 tdense, 1 TAA. */
+static void opts_for(const hz_bench_tdense_opts_t *o, int m, hz_render_opts_t *ro)
+{
+    hz_render_opts_default(ro);
+    ro->width = o->width, ro->height = o->height;
+    ro->mode = m == 0 ? HZ_MODE_TDENSE : HZ_MODE_TAA;
+}
+
 /* One scene: both renderers from the same pools, rounds alternating which mode goes first. */
 static hz_status_t bench_scene(const char *label, const char *path, const hz_bench_tdense_opts_t *o,
                                hz_bench_tdense_row_t *row, hz_error_t *err)
@@ -53,9 +65,7 @@ static hz_status_t bench_scene(const char *label, const char *path, const hz_ben
     hz_renderer_t *r[2] = { NULL, NULL };
     for (int m = 0; m < 2 && s == HZ_OK; m++) {
         hz_render_opts_t ro;
-        hz_render_opts_default(&ro);
-        ro.width = o->width, ro.height = o->height;
-        ro.mode = m == 0 ? HZ_MODE_TDENSE : HZ_MODE_TAA;
+        opts_for(o, m, &ro);
         s = hz_render_create(&r[m], &bs.scene, bs.accel, &ro, &pools->frame, pools->thread, (uint32_t)o->threads,
                              err);
     }
@@ -106,9 +116,21 @@ static hz_status_t scene_fn(const char *label, const char *path, void *ctx, int 
 
 int hz_bench_tdense(const hz_bench_tdense_opts_t *o, hz_bench_tdense_row_t *rows, int max_rows, hz_error_t *err)
 {
-    static const char *const scenes[][2] = { { "builtin", NULL }, { "sponza", "sponza.hzb" },
-                                             { "conference", "conference.hzb" } };
     void *ctx[2] = { (void *)o, rows };
     return hz_bench_scenes("tdense", scenes, sizeof scenes / sizeof scenes[0], o->scenes_dir, o->threads, scene_fn,
                            ctx, max_rows, err);
+}
+
+static void fit_scene(hz_bench_fit_scene_t *fs, const void *ctx)
+{
+    hz_render_opts_t ro[2];
+    for (int m = 0; m < 2; m++)
+        opts_for(ctx, m, &ro[m]);
+    hz_bench_fit_accel(fs, NULL, 0, "native BVH");
+    hz_bench_fit_render(fs, ro, 2, "tdense + taa");
+}
+
+void hz_bench_tdense_fit(const hz_bench_tdense_opts_t *o, hz_bench_fit_t *fit)
+{
+    hz_bench_fit_scenes(fit, "tdense", scenes, sizeof scenes / sizeof scenes[0], fit_scene, o);
 }

@@ -6,6 +6,7 @@
 #include <string.h>
 #include <unistd.h>
 
+#include "bench_fit.h"
 #include "bench_scene.h"
 #include "clock.h"
 #include "hz/render.h"
@@ -80,6 +81,14 @@ static double reject_cost(hz_renderer_t *r, const hz_scene_t *scene, double *sha
     return best;
 }
 
+static void opts_for(const hz_bench_transp_opts_t *o, int m, hz_render_opts_t *ro)
+{
+    hz_render_opts_default(ro);
+    ro->width = o->width, ro->height = o->height;
+    ro->mode = HZ_MODE_TAA;
+    ro->transparency = methods[m].t, ro->hybrid_x = methods[m].x, ro->rr_shadows = methods[m].rr_shadows;
+}
+
 int hz_bench_transp(const hz_bench_transp_opts_t *o, hz_bench_transp_row_t rows[HZ_BENCH_TRANSP_METHODS],
                     hz_error_t *err)
 {
@@ -100,10 +109,7 @@ int hz_bench_transp(const hz_bench_transp_opts_t *o, hz_bench_transp_row_t rows[
     hz_renderer_t *r[HZ_BENCH_TRANSP_METHODS] = { NULL };
     for (int m = 0; m < HZ_BENCH_TRANSP_METHODS && s == HZ_OK; m++) {
         hz_render_opts_t ro;
-        hz_render_opts_default(&ro);
-        ro.width = o->width, ro.height = o->height;
-        ro.mode = HZ_MODE_TAA;
-        ro.transparency = methods[m].t, ro.hybrid_x = methods[m].x, ro.rr_shadows = methods[m].rr_shadows;
+        opts_for(o, m, &ro);
         s = hz_render_create(&r[m], &bs.scene, bs.accel, &ro, &pools->frame, pools->thread, (uint32_t)o->threads,
                              err);
     }
@@ -182,4 +188,19 @@ hz_status_t hz_bench_transp_layers(const char *scene, hz_transp_t t, uint32_t wi
     if (threads)
         hz_threads_stop();
     return s;
+}
+
+static void fit_scene(hz_bench_fit_scene_t *fs, const void *ctx)
+{
+    hz_render_opts_t ro[HZ_BENCH_TRANSP_METHODS];
+    for (int m = 0; m < HZ_BENCH_TRANSP_METHODS; m++)
+        opts_for(ctx, m, &ro[m]);
+    hz_bench_fit_accel(fs, NULL, 0, "native BVH");
+    hz_bench_fit_render(fs, ro, HZ_BENCH_TRANSP_METHODS, "taa, every transparency method");
+}
+
+void hz_bench_transp_fit(const hz_bench_transp_opts_t *o, hz_bench_fit_t *fit)
+{
+    static const char *const scenes[][2] = { { "sponza-smoke", "sponza-smoke.hzb" } };
+    hz_bench_fit_scenes(fit, "transparency", scenes, 1, fit_scene, o);
 }

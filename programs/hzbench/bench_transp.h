@@ -49,6 +49,10 @@ typedef struct hz_bench_transp_row {
 int hz_bench_transp(const hz_bench_transp_opts_t *o, hz_bench_transp_row_t rows[HZ_BENCH_TRANSP_METHODS],
                     hz_error_t *err);
 
+/* --check-fit: the smoke scene and every method's renderer against the board's arenas (bench_fit.h). */
+struct hz_bench_fit;
+void hz_bench_transp_fit(const hz_bench_transp_opts_t *o, struct hz_bench_fit *fit);
+
 /* The same per-layer cost for method t on `scene` ("builtin": its 160 particles have untextured blended
  * materials, the cheap path; sponza-smoke's sprites take their alpha from a texture), after one TAA frame at
  * width x height on one thread: *ns per rejected layer, *share rejected. HZ_OK or err set. */

@@ -384,6 +384,13 @@ if [ -n "$hzbench" ]; then
     expect bench-scene-count 2 "^hzbench: --scene: at most 16 scenes" "$hzbench" --only accel \
         $(for k in 1 2 3 4 5 6 7 8 9 10 11 12 13 14 15 16 17; do printf -- '--scene s%s ' $k; done)
     expect bench-help-limits 0 "--realtime-frames N .*\[1..512\]" "$hzbench" --help
+    # Every group of `make bench` fits this board's arenas with the scenes it measures (checked from the plans,
+    # nothing built), and the check refuses a group that would not: a frame no frame arena holds.
+    if [ -n "${HZ_SCENES_DIR:-}" ]; then
+        expect bench-check-fit 0 "^fit: [0-9]* checks, 0 do not fit" "$hzbench" --check-fit --scenes "$HZ_SCENES_DIR"
+    fi
+    expect bench-check-fit-refuses 66 "tdense + taa 8192x8192 *frame .*DOES NOT FIT" "$hzbench" --check-fit \
+        --only tdense --tdense-size 8192x8192
 fi
 
 echo "  ok    cli                    $pass passed$( [ $fail -ne 0 ] && echo ", $fail failed")"

@@ -84,6 +84,12 @@ static char *out(const char *sub)
 
 /* Every mode, each with an option of its own, on a simulated display (virtual clock) into the null sink and into
  * files; the report's frames.csv has a level column (all 0: the governor is off with a simulated clock). */
+/* The frame size of the display-path runs: a quarter of the pixels under qemu (the same paths; 40 frames each, so
+ * the lock is judged as natively). */
+#define SIZE_W HZ_EMULATED_LESS(48, 24)
+#define SIZE_H HZ_EMULATED_LESS(32, 16)
+#define SIZE HZ_EMULATED_LESS("48x32", "24x16")
+
 static void test_every_mode_on_the_display_path(void **state)
 {
     (void)state;
@@ -100,7 +106,7 @@ static void test_every_mode_on_the_display_path(void **state)
             snprintf(sub, sizeof sub, "%s-%d", modes[m][0], files);
             int rc = latency("--virtual", "--source", "sim", "--hz", "120", "--render-model", "const:2ms", "--render",
                              "scene", "--mode", modes[m][0], modes[m][1], modes[m][2], modes[m][3],
-                             last[m] ? last[m] : "--quiet", "--sink", files ? "files" : "none", "--size", "48x32",
+                             last[m] ? last[m] : "--quiet", "--sink", files ? "files" : "none", "--size", SIZE,
                              "--frames", "40", "--threads", "2", "--quiet", "--out", out(sub), NULL);
             if (rc)
                 fail_msg("%s: exit %d", sub, rc);
@@ -120,7 +126,7 @@ static void test_every_mode_on_the_display_path(void **state)
             assert_int_equal(rows, 40);
             free(csv);
             if (files)
-                assert_true(file_size(sub, "frames.y4m") > 48 * 32 * 40 &&
+                assert_true(file_size(sub, "frames.y4m") > SIZE_W * SIZE_H * 40 &&
                             (file_size(sub, "last.png") > 0 || file_size(sub, "last.ppm") > 0)); /* no libpng: PPM */
             else
                 assert_int_equal(file_size(sub, "frames.y4m"), -1);
@@ -145,7 +151,7 @@ static void test_every_mode_on_a_recorded_trace(void **state)
         char sub[32];
         snprintf(sub, sizeof sub, "trace-%s", modes[m]);
         int rc = latency("--virtual", "--source", src, "--hz", "120", "--render-model", "const:3ms", "--render", "scene",
-                         "--mode", modes[m], "--size", "40x24", "--frames", "60", "--threads", "2", "--quiet", "--out",
+                         "--mode", modes[m], "--size", HZ_EMULATED_LESS("40x24", "20x12"), "--frames", "60", "--threads", "2", "--quiet", "--out",
                          out(sub), NULL);
         if (rc)
             fail_msg("%s: exit %d", sub, rc);
