@@ -5,8 +5,9 @@
  * Contract:
  *  - Level 0 is the configuration asked for, unchanged (so a run whose governor never leaves level 0 renders
  *    exactly what it would without one). Each further level is cheaper by a prior estimate (its weight, relative
- *    to level 0): the render scale (3/4, 1/2, 1/3, 1/4, 1/6, 1/8 of width and height, shown upscaled), then the knobs that
- *    cost per pixel — mirror bounces (at most 1, then 0), blended surfaces' exact compositing traded for
+ *    to level 0): the render scale (3/4, 1/2, 1/3, 1/4, 1/6, 1/8, 1/12, 1/16 of width and height, shown
+ *    upscaled; the last two for per-ray costs such as a dense particle cloud that even 1/8 does not absorb),
+ *    then the knobs that cost per pixel — mirror bounces (at most 1, then 0), blended surfaces' exact compositing traded for
  *    hybrid:X (X 0.5, then 1: one stochastic decision), adaptive thresholds doubled — and a cheaper mode where one
  *    is (adaptive -> taa -> tdense, full -> tdense).
  *  - A knob the scene does not use (no mirrors, nothing blended) is left alone and makes no level of its own;

@@ -117,7 +117,7 @@ hz_status_t hz_ladder_build(hz_ladder_t *l, const hz_scene_t *scene, const hz_re
     struct { hz_render_mode_t mode; uint32_t num, den; const knobs_t *k; } cand[] = {
         { m, 1, 1, &k0 }, { m, 1, 1, &k1 }, { m, 3, 4, &k1 }, { m, 1, 2, &k1 }, { m, 1, 2, &k2 },
         { f1, 1, 2, &k2 }, { f1, 1, 3, &k2 }, { f2, 1, 3, &k2 }, { f2, 1, 4, &k2 }, { f2, 1, 6, &k2 },
-        { f2, 1, 8, &k2 },
+        { f2, 1, 8, &k2 }, { f2, 1, 12, &k2 }, { f2, 1, 16, &k2 },
     };
     const float base_cost = mode_cost(base) * (float)base->width * (float)base->height;
     float last = 0.0f;
