@@ -497,7 +497,7 @@ static int check_fit(const args_t *a)
         hz_bench_realtime_fit(&a->rt, &fit);
     printf("fit: %d checks, %d do not fit\n", fit.checked, fit.failed);
     if (fit.failed)
-        hz_cli_error("%d of %d checks do not fit board %s's arenas (lines marked above)", fit.failed, fit.checked,
+        hz_cli_error("%d of %d checks fail on board %s's arenas (the lines marked above)", fit.failed, fit.checked,
                      HZ_BOARD_NAME);
     return fit.failed ? hz_status_exit_code(HZ_E_NO_MEMORY) : 0;
 }

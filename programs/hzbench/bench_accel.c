@@ -741,17 +741,15 @@ int hz_bench_accel(const hz_bench_accel_opts_t *opts)
     return status;
 }
 
+static void fit_scene(hz_bench_fit_scene_t *fs, const void *ctx)
+{
+    (void)ctx;
+    hz_bench_fit_accel(fs, NULL, 0, "native BVH");
+}
+
 void hz_bench_accel_fit(const hz_bench_accel_opts_t *opts, hz_bench_fit_t *fit)
 {
     hz_bench_accel_opts_t o = *opts;
     scene_list(&o);
-    for (int i = 0; i < o.scene_count; i++) {
-        char file[300];
-        snprintf(file, sizeof file, "%s.hzb", o.scenes[i]);
-        hz_bench_fit_scene_t fs;
-        if (!hz_bench_fit_open(fit, "accel", o.scenes[i], file, &fs))
-            continue;
-        hz_bench_fit_accel(&fs, NULL, 0, "native BVH");
-        hz_bench_fit_close(&fs);
-    }
+    hz_bench_fit_named(fit, "accel", o.scenes, o.scene_count, fit_scene, NULL);
 }

@@ -100,3 +100,14 @@ void hz_bench_fit_scenes(hz_bench_fit_t *fit, const char *group, const char *con
         hz_bench_fit_close(&fs);
     }
 }
+
+void hz_bench_fit_named(hz_bench_fit_t *fit, const char *group, const char *const *names, int count,
+                        hz_bench_fit_fn fn, const void *ctx)
+{
+    for (int i = 0; i < count; i++) {
+        char file[300];
+        snprintf(file, sizeof file, "%s.hzb", names[i]);
+        const char *const scene[1][2] = { { names[i], file } };
+        hz_bench_fit_scenes(fit, group, scene, 1, fn, ctx);
+    }
+}

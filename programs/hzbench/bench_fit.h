@@ -12,7 +12,8 @@
  *    arena's free bytes. Embree's builds are not bounded beforehand (its memory monitor refuses past the
  *    arena's free bytes while it builds); the check says so once.
  *  - hz_bench_fit_scenes(fit, group, scenes, count, fn, ctx) opens each scene {label, file} of a group's list
- *    in turn and calls fn(fs, ctx) between open and close.
+ *    in turn and calls fn(fs, ctx) between open and close; hz_bench_fit_named does the same for scene names
+ *    (file NAME.hzb).
  *  - hz_bench_fit_line(fs, what, arena, need, have) prints and counts one check.
  *  - hz_bench_fit_render(fs, ro, n, what) checks that the n renderers `ro` (alive at once, as the group
  *    creates them) fit: their plans' frame bytes summed against the frame arena, their thread bytes summed
@@ -51,6 +52,8 @@ typedef void (*hz_bench_fit_fn)(hz_bench_fit_scene_t *fs, const void *ctx);
 
 void hz_bench_fit_scenes(hz_bench_fit_t *fit, const char *group, const char *const (*scenes)[2], size_t count,
                          hz_bench_fit_fn fn, const void *ctx);
+void hz_bench_fit_named(hz_bench_fit_t *fit, const char *group, const char *const *names, int count,
+                        hz_bench_fit_fn fn, const void *ctx);
 void hz_bench_fit_line(hz_bench_fit_scene_t *fs, const char *what, const char *arena, size_t need, size_t have);
 uint32_t hz_bench_fit_render(hz_bench_fit_scene_t *fs, const hz_render_opts_t *ro, int n, const char *what);
 void hz_bench_fit_close(hz_bench_fit_scene_t *fs);

@@ -421,39 +421,37 @@ int hz_bench_motion(const hz_bench_motion_opts_t *opts)
     return status;
 }
 
+static void fit_scene(hz_bench_fit_scene_t *fs, const void *ctx)
+{
+    const hz_bench_motion_opts_t *o = ctx;
+    hz_arena_t *scene_arena = &fs->bs.pools->scene;
+    hz_accel_geom_t g;
+    hz_posekeys_t keys;
+    hz_error_t err;
+    uint32_t K = 0;
+    char motion[160];
+    size_t before = hz_arena_available(scene_arena, 64);
+    if (hz_accel_geom_from_scene(&g, &fs->bs.scene, scene_arena, &err) != HZ_OK ||
+        scene_keys(o, fs->label, &fs->bs.scene, &g, &keys, &K, motion, sizeof motion, scene_arena, &err) != HZ_OK) {
+        /* what the keys asked for, from the arena's own refusal */
+        fs->fit->checked++, fs->fit->failed++;
+        printf("fit %-12s %-18s pose keys DO NOT FIT: %s\n", fs->group, fs->label, err.msg);
+        return;
+    }
+    hz_bench_fit_line(fs, "pose keys", "scene", before - hz_arena_available(scene_arena, 64), before);
+    static const hz_accel_blur_t kinds[] = { HZ_ACCEL_BLUR_MSBVH, HZ_ACCEL_BLUR_INTERP, HZ_ACCEL_BLUR_SWEPT };
+    static const char *const what[] = { "native msbvh", "native interp", "native swept" };
+    for (int b = 0; b < 3; b++) {
+        hz_accel_config_t cfg;
+        hz_accel_config_default(&cfg);
+        cfg.blur = kinds[b];
+        hz_bench_fit_accel(fs, &cfg, K, what[b]);
+    }
+}
+
 void hz_bench_motion_fit(const hz_bench_motion_opts_t *opts, hz_bench_fit_t *fit)
 {
     hz_bench_motion_opts_t o = *opts;
     with_defaults(&o);
-    for (int i = 0; i < o.scene_count; i++) {
-        char file[300];
-        snprintf(file, sizeof file, "%s.hzb", o.scenes[i]);
-        hz_bench_fit_scene_t fs;
-        if (!hz_bench_fit_open(fit, "motion", o.scenes[i], file, &fs))
-            continue;
-        hz_arena_t *scene_arena = &fs.bs.pools->scene;
-        hz_accel_geom_t g;
-        hz_posekeys_t keys;
-        hz_error_t err;
-        uint32_t K = 0;
-        char motion[160];
-        size_t before = hz_arena_available(scene_arena, 64);
-        if (hz_accel_geom_from_scene(&g, &fs.bs.scene, scene_arena, &err) != HZ_OK ||
-            scene_keys(&o, o.scenes[i], &fs.bs.scene, &g, &keys, &K, motion, sizeof motion, scene_arena, &err) != HZ_OK) {
-            /* what the keys asked for, from the arena's own refusal */
-            fit->checked++, fit->failed++;
-            printf("fit %-12s %-18s pose keys DO NOT FIT: %s\n", "motion", o.scenes[i], err.msg);
-        } else {
-            hz_bench_fit_line(&fs, "pose keys", "scene", before - hz_arena_available(scene_arena, 64), before);
-            static const hz_accel_blur_t kinds[] = { HZ_ACCEL_BLUR_MSBVH, HZ_ACCEL_BLUR_INTERP, HZ_ACCEL_BLUR_SWEPT };
-            static const char *const what[] = { "native msbvh", "native interp", "native swept" };
-            for (int b = 0; b < 3; b++) {
-                hz_accel_config_t cfg;
-                hz_accel_config_default(&cfg);
-                cfg.blur = kinds[b];
-                hz_bench_fit_accel(&fs, &cfg, K, what[b]);
-            }
-        }
-        hz_bench_fit_close(&fs);
-    }
+    hz_bench_fit_named(fit, "motion", o.scenes, o.scene_count, fit_scene, &o);
 }
