@@ -606,6 +606,13 @@ static void judge_death(int status, int hung, const uint8_t *data, size_t size)
         else if (!lib && phase_is("importing (assimp)"))
             frame = "assimp's import (the baker's last phase; no stack sample unwound)", lib = "assimp";
     } else {
+        /* A leak report lists the direct leaks, then the indirect ones: memory reachable only from a leaked
+         * object, which its owner's code leaked with it. So the direct leaks say whose leak it is: assimp
+         * losing a stream it opened through the baker's file callbacks shows the baker's allocation only as an
+         * indirect leak. */
+        char *direct = hz_fuzz_find(scan, "Direct leak of"), *indirect = hz_fuzz_find(scan, "Indirect leak of");
+        if (direct && indirect && indirect > direct)
+            *indirect = '\0';
         frame = ub ? NULL : first_frame(scan);
         lib = frame ? library_of(frame) : NULL;
     }

@@ -41,8 +41,10 @@ for t in "$@"; do
     fi
 done
 
-# The model import's judge: a failure in hzrt's code (an overflow, a leak, a hang) must stop the fuzzer, and an
-# input that crashes assimp 5.2.5 (test/fuzz/judge/) must be kept as a library finding, not stop it.
+# The model import's judge: a failure in hzrt's code (an overflow, a leak, a hang) must stop the fuzzer, and each
+# input of test/fuzz/judge/ (assimp 5.2.5 crashing on an OBJ's material library; assimp leaking a glTF stream it
+# opened through the baker's file callbacks, the baker's allocation an indirect leak) must be kept as a library
+# finding, not stop it.
 case " $* " in *" import "*)
     name=fuzz_import_judge log=$results/$name.log seed=$(fuzz_seeds import "$out")/xml-furball-strands
     work=$(mktemp -d) bad=""
@@ -52,10 +54,12 @@ case " $* " in *" import "*)
             bad="$bad $st: not a failure;"
         grep -q "abnormally .* in hzrt's code" "$log.$st" || bad="$bad $st: not blamed on hzrt;"
     done
-    TMPDIR=$work "$out/fuzz_import" -rss_limit_mb=0 -artifact_prefix="$work/" "$(dirname "$0")"/judge/* >"$log" 2>&1 ||
-        bad="$bad an assimp crash stopped the fuzzer;"
-    grep -q 'library finding (assimp\|1 refused' "$log" ||
-        bad="$bad the assimp crash was not kept as a library finding;"
+    for input in "$(dirname "$0")"/judge/*; do
+        j=$(basename "$input")
+        TMPDIR=$work "$out/fuzz_import" -rss_limit_mb=0 -artifact_prefix="$work/" "$input" >"$log.$j" 2>&1 ||
+            bad="$bad $j stopped the fuzzer;"
+        grep -q 'library finding (assimp\|1 refused' "$log.$j" || bad="$bad $j was not kept as a library finding;"
+    done
     rm -rf "$work"
     if [ -z "$bad" ]; then
         printf '  ok    %-18s %-28s %3d passed\n' host "$name" 1
