@@ -10,7 +10,7 @@ FEATURE_CONFIGS := on $(FEATURE_NAMES) all
 features_o = $(BUILD_ROOT)/$(1)$(if $(filter-out on,$(2)),-no-$(subst $(space),-,$(if $(filter all,$(2)),$(FEATURE_NAMES),$(2))))$(SAN_SUFFIX)
 
 features: ## build hzrt for FEATURES_BOARDS with all features on, each off alone and all off; table of text and bss (build/features)
-	$(Q)mkdir -p $(FEATURES_O)
+	$(Q)mkdir -p $(FEATURES_O) && rm -f $(FEATURES_O)/list.new # a run stopped half-way left its list
 	$(Q)for b in $(FEATURES_BOARDS); do for c in $(FEATURE_CONFIGS); do \
 		o=$$(case $$c in on) echo $(BUILD_ROOT)/$$b ;; all) echo $(BUILD_ROOT)/$$b-no-$(subst $(space),-,$(FEATURE_NAMES)) ;; \
 			*) echo $(BUILD_ROOT)/$$b-no-$$c ;; esac); \

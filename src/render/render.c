@@ -318,7 +318,7 @@ hz_status_t hz_render_create(hz_renderer_t **out, hz_scene_t *scene, hz_accel_t 
     }
     r->accel = accel;
     r->has_blend = n.blend, r->has_mask = n.mask, r->has_textures = n.textures;
-    if (maps)
+    if (HZ_FEATURE_TRANSPARENCY && maps) /* a build without transparency has no maps (transp.c leaves them out) */
         hz_transp_maps(scene, maps);
     r->tri_maps = maps;
     r->has_motion = n.motion, r->camera_moves = n.camera_moves;
