@@ -4,7 +4,6 @@
 #include <stdio.h>
 #include <string.h>
 
-#include "scenefile.h"
 
 void hz_bench_fit_line(hz_bench_fit_scene_t *fs, const char *what, const char *arena, size_t need, size_t have)
 {
@@ -15,6 +14,12 @@ void hz_bench_fit_line(hz_bench_fit_scene_t *fs, const char *what, const char *a
            need / 1048576.0, have / 1048576.0, ok ? "fits" : "DOES NOT FIT");
 }
 
+void hz_bench_fit_fail(hz_bench_fit_scene_t *fs, const char *what, const char *why)
+{
+    fs->fit->checked++, fs->fit->failed++;
+    printf("fit %-12s %-18s %s: %s\n", fs->group, fs->label, what, why);
+}
+
 bool hz_bench_fit_open(hz_bench_fit_t *fit, const char *group, const char *label, const char *file,
                        hz_bench_fit_scene_t *fs)
 {
@@ -22,16 +27,11 @@ bool hz_bench_fit_open(hz_bench_fit_t *fit, const char *group, const char *label
     fs->fit = fit, fs->group = group, fs->label = label;
     char path[4096];
     snprintf(path, sizeof path, "%s/%s", fit->scenes_dir, file ? file : "");
-    hz_bench_scene_t *b = &fs->bs;
-    hz_pools_t *pools = b->pools = hz_pools_get();
-    b->ms = hz_arena_mark(&pools->scene), b->ma = hz_arena_mark(&pools->accel), b->mf = hz_arena_mark(&pools->frame);
-    for (int t = 0; t < HZ_MAX_THREADS; t++)
-        b->mt[t] = hz_arena_mark(&pools->thread[t]);
     hz_error_t err;
-    if (hz_scenefile_open(file ? path : "builtin", pools, &b->scene, &err) != HZ_OK) {
-        fit->checked++, fit->failed++;
-        printf("fit %-12s %-18s DOES NOT LOAD: %s%s\n", group, label, err.msg,
-               err.code == HZ_E_IO ? " (make scenes bakes it)" : "");
+    if (hz_bench_scene_load(&fs->bs, file ? path : "builtin", &err) != HZ_OK) {
+        char why[HZ_ERROR_MSG_BYTES + 32];
+        snprintf(why, sizeof why, "%s%s", err.msg, err.code == HZ_E_IO ? " (make scenes bakes it)" : "");
+        hz_bench_fit_fail(fs, "DOES NOT LOAD", why);
         hz_bench_fit_close(fs);
         return false;
     }
@@ -50,11 +50,6 @@ void hz_bench_fit_accel(hz_bench_fit_scene_t *fs, const hz_accel_config_t *cfg, 
     if (g.time_keys)
         snprintf(w, sizeof w, "%s, %u keys", what, g.time_keys);
     hz_bench_fit_line(fs, g.time_keys ? w : what, "accel", b.peak, hz_arena_available(&fs->bs.pools->accel, 64));
-    if (!fs->fit->embree_said) {
-        fs->fit->embree_said = true;
-        printf("fit (Embree's builds take what they need from the accel arena's free bytes as they build: not "
-               "bounded beforehand, not checked here)\n");
-    }
 }
 
 uint32_t hz_bench_fit_render(hz_bench_fit_scene_t *fs, const hz_render_opts_t *ro, int n, const char *what)
@@ -65,8 +60,9 @@ uint32_t hz_bench_fit_render(hz_bench_fit_scene_t *fs, const hz_render_opts_t *r
         hz_render_plan_t p;
         hz_error_t err;
         if (hz_render_plan(&fs->bs.scene, &ro[i], &p, &err) != HZ_OK) {
-            fs->fit->checked++, fs->fit->failed++;
-            printf("fit %-12s %-18s %-36s NO PLAN: %s\n", fs->group, fs->label, what, err.msg);
+            char w[96];
+            snprintf(w, sizeof w, "%s: NO PLAN", what);
+            hz_bench_fit_fail(fs, w, err.msg);
             return 0;
         }
         frame += p.frame_bytes, thread += p.thread_bytes;

@@ -433,9 +433,7 @@ static void fit_scene(hz_bench_fit_scene_t *fs, const void *ctx)
     size_t before = hz_arena_available(scene_arena, 64);
     if (hz_accel_geom_from_scene(&g, &fs->bs.scene, scene_arena, &err) != HZ_OK ||
         scene_keys(o, fs->label, &fs->bs.scene, &g, &keys, &K, motion, sizeof motion, scene_arena, &err) != HZ_OK) {
-        /* what the keys asked for, from the arena's own refusal */
-        fs->fit->checked++, fs->fit->failed++;
-        printf("fit %-12s %-18s pose keys DO NOT FIT: %s\n", fs->group, fs->label, err.msg);
+        hz_bench_fit_fail(fs, "pose keys DO NOT FIT", err.msg); /* the arena's own refusal says what they asked */
         return;
     }
     hz_bench_fit_line(fs, "pose keys", "scene", before - hz_arena_available(scene_arena, 64), before);

@@ -359,8 +359,9 @@ static hz_status_t bench_scene(const char *label, const char *path, const hz_ben
         hz_bench_realtime_row_t *w = &rows[m];
         memset(w, 0, sizeof *w);
         snprintf(w->scene, sizeof w->scene, "%s", label);
-        w->mode = o->compare_shading && m == 1 ? "tdense-scalar"
-                                               : hz_render_mode_name(m == 1 ? HZ_MODE_TAA : HZ_MODE_TDENSE);
+        hz_render_opts_t ro;
+        opts_for(o, m, &ro);
+        w->mode = ro.scalar_shading ? "tdense-scalar" : hz_render_mode_name(ro.mode);
         w->threads = o->threads;
         w->p50_ms = hz_bench_quantile(acc[m].frame_ms, acc[m].nframes, 0.50);
         w->p99_ms = hz_bench_quantile(acc[m].frame_ms, acc[m].nframes, 0.99);

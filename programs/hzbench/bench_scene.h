@@ -3,7 +3,8 @@
  * the pools given back as they were afterwards (shared by the tdense and transparency groups).
  *
  * Contract: hz_bench_scene_open marks every pool, loads `path` ("builtin" or a .hzb file) and builds the native
- * BVH; on failure err is set and close must still be called. hz_bench_scene_close releases the accel and resets
+ * BVH; on failure err is set and close must still be called. hz_bench_scene_load does the same without the
+ * BVH (b->accel stays NULL). hz_bench_scene_close releases the accel and resets
  * the scene, accel, frame and thread arenas to the marks (renderers created from them in between are gone);
  * hz_bench_scene_reset_frames resets only the frame and thread arenas.
  */
@@ -22,6 +23,7 @@ typedef struct hz_bench_scene {
 } hz_bench_scene_t;
 
 hz_status_t hz_bench_scene_open(hz_bench_scene_t *b, const char *path, hz_error_t *err);
+hz_status_t hz_bench_scene_load(hz_bench_scene_t *b, const char *path, hz_error_t *err);
 void hz_bench_scene_close(hz_bench_scene_t *b);
 /* Gives the frame and thread arenas back to where open left them (between renderers). */
 void hz_bench_scene_reset_frames(hz_bench_scene_t *b);
