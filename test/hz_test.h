@@ -13,7 +13,8 @@
 
 #include <cmocka.h>
 
-/* HZ_TEST_FILTER=PATTERN (cmocka's wildcards * and ?) runs only the matching cases of a test that uses HZ_RUN. */
+/* HZ_TEST_FILTER=PATTERN (cmocka's wildcards * and ?) runs only the matching cases of a test (every test's main
+ * runs its cases through HZ_RUN or HZ_RUN_GROUP). */
 static inline void hz_test_filter(void)
 {
     const char *f = getenv("HZ_TEST_FILTER");
@@ -22,6 +23,7 @@ static inline void hz_test_filter(void)
 }
 
 #define HZ_RUN(tests) (hz_test_filter(), cmocka_run_group_tests(tests, NULL, NULL))
+#define HZ_RUN_GROUP(tests, setup, teardown) (hz_test_filter(), cmocka_run_group_tests(tests, setup, teardown))
 
 /* HZ_NATIVE_ONLY(why): the case runs where the tests run natively and is skipped, with the reason printed and
  * counted as a skip in the summary, where they run under emulation (HZ_TEST_EMULATED: a board with a test

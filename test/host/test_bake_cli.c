@@ -260,5 +260,5 @@ int main(void)
         cmocka_unit_test(test_messages_say_what_is_wrong),
         cmocka_unit_test(test_bad_command_lines_are_refused_by_name),
     };
-    return cmocka_run_group_tests(tests, setup, teardown);
+    return HZ_RUN_GROUP(tests, setup, teardown);
 }

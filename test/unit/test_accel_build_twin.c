@@ -138,5 +138,5 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test_setup(test_same_tree, setup),
     };
-    return cmocka_run_group_tests(tests, NULL, NULL);
+    return HZ_RUN(tests);
 }

@@ -324,5 +324,5 @@ int main(void)
         cmocka_unit_test(test_scene_cornell),
         cmocka_unit_test(test_scene_sponza),
     };
-    return cmocka_run_group_tests(tests, setup, NULL);
+    return HZ_RUN_GROUP(tests, setup, NULL);
 }

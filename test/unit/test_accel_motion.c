@@ -454,5 +454,5 @@ int main(void)
         cmocka_unit_test(test_msbvh_splits),     cmocka_unit_test(test_refit_rebuild),
         cmocka_unit_test(test_motion_cases),
     };
-    return cmocka_run_group_tests(tests, setup, NULL);
+    return HZ_RUN_GROUP(tests, setup, NULL);
 }

@@ -132,7 +132,7 @@ int main(void)
         cmocka_unit_test(test_procedural_extremes),
         cmocka_unit_test(test_scene_animation),
     };
-    int rc = cmocka_run_group_tests(tests, NULL, NULL);
+    int rc = HZ_RUN(tests);
     remove(out_path);
     return rc;
 }

@@ -323,5 +323,5 @@ int main(void)
         cmocka_unit_test(test_dragon),
         cmocka_unit_test(test_sah_no_worse),
     };
-    return cmocka_run_group_tests(tests, NULL, NULL);
+    return HZ_RUN(tests);
 }

@@ -630,5 +630,5 @@ int main(void)
         cmocka_unit_test(test_offset_origin),
         cmocka_unit_test(test_golden),
     };
-    return cmocka_run_group_tests(tests, setup, NULL);
+    return HZ_RUN_GROUP(tests, setup, NULL);
 }

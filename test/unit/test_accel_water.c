@@ -216,5 +216,5 @@ int main(void)
         cmocka_unit_test(test_scaled),
         cmocka_unit_test(test_axis_parallel_exact),
     };
-    return cmocka_run_group_tests(tests, setup, NULL);
+    return HZ_RUN_GROUP(tests, setup, NULL);
 }

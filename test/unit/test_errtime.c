@@ -468,5 +468,5 @@ int main(void)
         cmocka_unit_test(test_argument_errors),
         cmocka_unit_test(test_window_and_time_stats),
     };
-    return cmocka_run_group_tests(tests, setup, teardown);
+    return HZ_RUN_GROUP(tests, setup, teardown);
 }

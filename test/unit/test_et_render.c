@@ -331,5 +331,5 @@ int main(void)
         cmocka_unit_test(test_missing_scene_is_refused_and_pools_given_back),
         cmocka_unit_test(test_adaptive_rows_and_scene_file),
     };
-    return cmocka_run_group_tests(tests, setup, teardown);
+    return HZ_RUN_GROUP(tests, setup, teardown);
 }

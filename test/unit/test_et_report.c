@@ -254,5 +254,5 @@ int main(void)
         cmocka_unit_test(test_markdown_table), cmocka_unit_test(test_svg_structure),
         cmocka_unit_test(test_write_errors),  cmocka_unit_test(test_progress_bar),
     };
-    return cmocka_run_group_tests(tests, setup, teardown);
+    return HZ_RUN_GROUP(tests, setup, teardown);
 }

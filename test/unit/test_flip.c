@@ -473,5 +473,5 @@ int main(int argc, char **argv)
         cmocka_unit_test(test_matches_nvidia_reference),
         cmocka_unit_test(test_matches_nvidia_on_renders),
     };
-    return cmocka_run_group_tests(tests, setup, NULL);
+    return HZ_RUN_GROUP(tests, setup, NULL);
 }

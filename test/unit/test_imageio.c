@@ -743,5 +743,5 @@ int main(void)
         cmocka_unit_test(test_y4m_420_averages_the_block),
         cmocka_unit_test(test_y4m_errors),
     };
-    return cmocka_run_group_tests(tests, setup, teardown);
+    return HZ_RUN_GROUP(tests, setup, teardown);
 }

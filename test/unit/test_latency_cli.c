@@ -317,5 +317,5 @@ int main(void)
         cmocka_unit_test(test_sigrok_demo_is_no_lock),
         cmocka_unit_test(test_lock_verdict_and_rate_warning),
     };
-    return cmocka_run_group_tests(tests, setup, teardown);
+    return HZ_RUN_GROUP(tests, setup, teardown);
 }

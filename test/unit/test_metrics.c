@@ -299,5 +299,5 @@ int main(void)
         cmocka_unit_test(test_argument_errors),
         cmocka_unit_test(test_image_mean),
     };
-    return cmocka_run_group_tests(tests, setup, NULL);
+    return HZ_RUN_GROUP(tests, setup, NULL);
 }

@@ -359,5 +359,5 @@ int main(void)
         cmocka_unit_test(test_help_lists_every_option_with_its_limits),
         cmocka_unit_test(test_idle_options_are_refused),
     };
-    return cmocka_run_group_tests(tests, setup, teardown);
+    return HZ_RUN_GROUP(tests, setup, teardown);
 }

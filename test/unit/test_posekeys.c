@@ -131,5 +131,5 @@ int main(void)
         cmocka_unit_test(test_keys_span_the_interval),
         cmocka_unit_test(test_refusals),
     };
-    return cmocka_run_group_tests(tests, setup, NULL);
+    return HZ_RUN_GROUP(tests, setup, NULL);
 }

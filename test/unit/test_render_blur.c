@@ -351,5 +351,5 @@ int main(void)
         cmocka_unit_test(test_secondary_rays_inherit_time),
         cmocka_unit_test(test_tdense_refits_once_per_cycle),
     };
-    return cmocka_run_group_tests(tests, NULL, NULL);
+    return HZ_RUN(tests);
 }

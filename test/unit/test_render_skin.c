@@ -177,5 +177,5 @@ int main(void)
         cmocka_unit_test(test_cesiumman_renders_like_keys),
         cmocka_unit_test(test_long_model_is_small_and_moves),
     };
-    return cmocka_run_group_tests(tests, NULL, NULL);
+    return HZ_RUN(tests);
 }

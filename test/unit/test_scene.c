@@ -411,5 +411,5 @@ int main(void)
         cmocka_unit_test(test_refuses_bad_content),
         cmocka_unit_test(test_arena_refusal_names_both_counts),
     };
-    return cmocka_run_group_tests(tests, setup, NULL);
+    return HZ_RUN_GROUP(tests, setup, NULL);
 }

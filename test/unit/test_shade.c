@@ -328,5 +328,5 @@ int main(void)
         cmocka_unit_test(test_blended),  cmocka_unit_test(test_mirror_box), cmocka_unit_test(test_pose_keys),
         cmocka_unit_test(test_still_motion_lanes),
     };
-    return cmocka_run_group_tests(tests, NULL, NULL);
+    return HZ_RUN(tests);
 }

@@ -218,5 +218,5 @@ int main(void)
         cmocka_unit_test(test_display_run_renders_the_offline_frames),
         cmocka_unit_test(test_usage_errors),
     };
-    return cmocka_run_group_tests(tests, setup, teardown);
+    return HZ_RUN_GROUP(tests, setup, teardown);
 }

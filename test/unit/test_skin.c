@@ -391,5 +391,5 @@ int main(void)
         cmocka_unit_test(test_corrupt_skin_sections),
         cmocka_unit_test(test_arena_plan_includes_joint_matrices),
     };
-    return cmocka_run_group_tests(tests, NULL, NULL);
+    return HZ_RUN(tests);
 }

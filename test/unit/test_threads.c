@@ -195,5 +195,5 @@ int main(void)
         cmocka_unit_test(test_default_count),
         cmocka_unit_test(test_back_to_back),
     };
-    return cmocka_run_group_tests(tests, setup, NULL);
+    return HZ_RUN_GROUP(tests, setup, NULL);
 }

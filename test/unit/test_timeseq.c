@@ -69,5 +69,5 @@ int main(void)
         cmocka_unit_test(test_shuffles_differ_between_pixels),
         cmocka_unit_test(test_golden_sweep),
     };
-    return cmocka_run_group_tests(tests, NULL, NULL);
+    return HZ_RUN(tests);
 }
