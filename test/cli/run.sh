@@ -159,15 +159,37 @@ if command -v python3 >/dev/null 2>&1; then
         if python3 - "$hzrt" "$tmp/sig-$sig" "$sig" <<'PYEOF'
 import glob, os, signal, subprocess, sys, time
 hzrt, out, sig = sys.argv[1], sys.argv[2], getattr(signal, "SIG" + sys.argv[3])
+# hzrt leaves a signal ignored when it starts ignored (nohup; a shell starts background jobs with SIGINT
+# ignored, and make test may run in one): start it as a terminal would, with the signal at its default.
+def default_signals():
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+    signal.signal(signal.SIGTERM, signal.SIG_DFL)
 p = subprocess.Popen([hzrt, "render", "builtin", "--size", "320x180", "--frames", "100000", "--threads", "1",
-                      "--quiet", "--out", out], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+                      "--quiet", "--out", out], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
+                     preexec_fn=default_signals)
 deadline = time.time() + 60
 while time.time() < deadline and not glob.glob(out + "/*.tmp.*"):
     time.sleep(0.05)
 seen = glob.glob(out + "/*.tmp.*")
 time.sleep(0.3)
 p.send_signal(sig)
-rc = p.wait(timeout=60)
+try:
+    rc = p.wait(timeout=60)
+except subprocess.TimeoutExpired:
+    # what the process was doing, for the failure report; then it goes
+    def read(path):
+        try:
+            return open(path).read().strip().replace("\n", "; ")
+        except OSError as e:
+            return str(e)
+    print("still running 60 s after the signal: %s; wchan %s; syscall %s; files %s" % (
+        [l for l in read("/proc/%d/status" % p.pid).split("; ") if l.startswith(("State", "SigPnd", "ShdPnd",
+                                                                                  "SigBlk", "SigCgt"))],
+        read("/proc/%d/wchan" % p.pid), read("/proc/%d/syscall" % p.pid),
+        sorted((f, os.path.getsize(f)) for f in glob.glob(out + "/*"))))
+    p.kill()
+    p.wait()
+    sys.exit(1)
 left = glob.glob(out + "/*.tmp.*") + glob.glob(out + "/.hz-probe.*")
 ok = bool(seen) and not left and rc == -sig
 # and it keeps what it finished: the frames so far, the last one, a summary marked interrupted

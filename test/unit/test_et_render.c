@@ -24,6 +24,11 @@
 #include "et_render.h"
 #include "pools.h"
 
+/* Frames per sequence; under qemu half of them (each is a reference at many samples per pixel plus every
+ * method's render of it, all emulated): the same paths and orderings, from the same seeds. */
+#define ET_FRAMES HZ_EMULATED_LESS(8, 4)
+#define ET_BLUR_FRAMES HZ_EMULATED_LESS(4, 2)
+
 static char cache[64];
 static uint8_t mem[96 << 20] HZ_ALIGNED(64);
 static hz_arena_t arena;
@@ -99,7 +104,7 @@ static void test_full_frame_error_falls_as_rays_grow(void **state)
         skip();
     const hz_et_scene_t *sc = hz_et_scene_find("CornellBox-Mirror");
     hz_et_env_t env = { dir, 2 };
-    hz_et_sequence_t seq = { sc->name, 0, NULL, NULL, 40, 24, 8, 0, 240, NULL };
+    hz_et_sequence_t seq = { sc->name, 0, NULL, NULL, 40, 24, ET_FRAMES, 0, 240, NULL };
     hz_error_t err;
     size_t used = pools_used();
     if (sc->open(sc, &env, &seq, &arena, &err) != HZ_OK)
@@ -126,7 +131,7 @@ static void test_full_frame_error_falls_as_rays_grow(void **state)
         print_message("full-frame %2g spp: FLIP %.4f  PSNR %.2f dB  SSIM %.4f  %.0f rays/frame  %.3f ms (not "
                       "asserted)\n", r->value, r->flip, r->psnr_srgb8, r->ssim, r->rays_per_frame, r->ms_median);
         assert_true(r->value == spp[i]);
-        assert_int_equal(r->measured, 8);
+        assert_int_equal(r->measured, ET_FRAMES);
         assert_true(r->rays_per_frame >= 40.0 * 24.0 * spp[i]); /* the primary rays alone */
         assert_true(r->flip > 0.0 && r->flip < 1.0 && isfinite(r->psnr_srgb8));
         if (i > 0) {
@@ -147,7 +152,7 @@ static void test_blur_rows_agree_and_give_back(void **state)
     assert_non_null(sc);
     assert_true(sc->reference == &hz_et_blur_reference);
     hz_et_env_t env = { scene_dir(), 2 };
-    hz_et_sequence_t seq = { sc->name, 0, NULL, NULL, 32, 18, 4, 0, 30, NULL };
+    hz_et_sequence_t seq = { sc->name, 0, NULL, NULL, 32, 18, ET_BLUR_FRAMES, 0, 30, NULL };
     hz_error_t err;
     size_t used = pools_used();
     if (sc->open(sc, &env, &seq, &arena, &err) != HZ_OK)
@@ -178,7 +183,7 @@ static void test_taa_runs_one_ray_per_pixel(void **state)
         skip();
     const hz_et_scene_t *sc = hz_et_scene_find("CornellBox-Mirror");
     hz_et_env_t env = { dir, 2 };
-    hz_et_sequence_t seq = { sc->name, 0, NULL, NULL, 40, 24, 8, 0, 240, NULL };
+    hz_et_sequence_t seq = { sc->name, 0, NULL, NULL, 40, 24, ET_FRAMES, 0, 240, NULL };
     hz_error_t err;
     if (sc->open(sc, &env, &seq, &arena, &err) != HZ_OK)
         fail_msg("%s", err.msg);
@@ -218,7 +223,7 @@ static void test_cache_key_is_content_and_renderer(void **state)
     const hz_et_scene_t *sc = hz_et_scene_find("CornellBox-Mirror");
     for (int k = 0; k < 2; k++) { /* 1 and 3 threads: the renderer's images, hence the key, are the same */
         hz_et_env_t env = { dir, k ? 3u : 1u };
-        hz_et_sequence_t seq = { sc->name, 0, NULL, NULL, 40, 24, 8, 0, 240, NULL };
+        hz_et_sequence_t seq = { sc->name, 0, NULL, NULL, 40, 24, ET_FRAMES, 0, 240, NULL };
         if (sc->open(sc, &env, &seq, &arena, &err) != HZ_OK)
             fail_msg("%s", err.msg);
         snprintf(settings[k], sizeof settings[k], "%s", seq.settings);
@@ -231,7 +236,7 @@ static void test_cache_key_is_content_and_renderer(void **state)
     assert_true(hash[0] == hash[1]);
     const hz_et_scene_t *other = hz_et_scene_find("builtin");
     hz_et_env_t env = { dir, 2 };
-    hz_et_sequence_t seq = { other->name, 0, NULL, NULL, 40, 24, 8, 0, 240, NULL };
+    hz_et_sequence_t seq = { other->name, 0, NULL, NULL, 40, 24, ET_FRAMES, 0, 240, NULL };
     if (other->open(other, &env, &seq, &arena, &err) != HZ_OK)
         fail_msg("%s", err.msg);
     hash[2] = seq.scene_hash;
@@ -252,7 +257,7 @@ static void test_missing_scene_is_refused_and_pools_given_back(void **state)
     size_t used = pools_used();
     hz_et_env_t env = { "/nonexistent-hz-scenes", 2 };
     const hz_et_scene_t *sc = hz_et_scene_find("sponza");
-    hz_et_sequence_t seq = { sc->name, 0, NULL, NULL, 40, 24, 8, 0, 240, NULL };
+    hz_et_sequence_t seq = { sc->name, 0, NULL, NULL, 40, 24, ET_FRAMES, 0, 240, NULL };
     assert_int_equal(sc->open(sc, &env, &seq, &arena, &err), HZ_E_IO);
     print_message("%s\n", err.msg);
     assert_non_null(strstr(err.msg, "/nonexistent-hz-scenes/sponza.hzb"));
@@ -288,7 +293,7 @@ static void test_adaptive_rows_and_scene_file(void **state)
     assert_int_equal(file.width, 0);
     assert_true(hz_et_scene_is_file("a/b.hzb", 7) && !hz_et_scene_is_file("sponza", 6));
     hz_et_env_t env = { "/nonexistent", 2 }; /* a path does not go through the scene folder */
-    hz_et_sequence_t seq = { file.name, 0, NULL, NULL, 40, 24, 8, 0, 240, NULL };
+    hz_et_sequence_t seq = { file.name, 0, NULL, NULL, 40, 24, ET_FRAMES, 0, 240, NULL };
     hz_error_t err;
     if (file.open(&file, &env, &seq, &arena, &err) != HZ_OK)
         fail_msg("%s", err.msg);

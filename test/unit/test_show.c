@@ -89,6 +89,9 @@ static char *out(const char *sub)
 #define SIZE_W HZ_EMULATED_LESS(48, 24)
 #define SIZE_H HZ_EMULATED_LESS(32, 16)
 #define SIZE HZ_EMULATED_LESS("48x32", "24x16")
+/* Each mode into both sinks; under qemu into one, alternating (full and tdense to none, TAA and adaptive to
+ * files): the sink takes the same 8-bit frames from every mode, and adaptive's 40 frames cost half the case. */
+#define SINKS_PER_MODE HZ_EMULATED_LESS(2, 1)
 
 static void test_every_mode_on_the_display_path(void **state)
 {
@@ -101,7 +104,8 @@ static void test_every_mode_on_the_display_path(void **state)
     };
     static const char *const last[] = { "1", NULL, NULL, "20" };
     for (int m = 0; m < 4; m++) {
-        for (int files = 0; files < 2; files++) {
+        for (int k = 0; k < SINKS_PER_MODE; k++) {
+            const int files = SINKS_PER_MODE == 2 ? k : m % 2;
             char sub[32];
             snprintf(sub, sizeof sub, "%s-%d", modes[m][0], files);
             int rc = latency("--virtual", "--source", "sim", "--hz", "120", "--render-model", "const:2ms", "--render",
