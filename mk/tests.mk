@@ -44,10 +44,11 @@ BUILD_CHECK_BOARDS := x86-kiosk rpi4
 GUARDS_O := $(BUILD_ROOT)/guards$(SAN_SUFFIX)
 board_o = $(BUILD_ROOT)/$(1)$(SAN_SUFFIX)
 # make test in three steps: bake the scenes; build everything every tier runs, TEST_JOBS compilers at once;
-# run the tiers in two lanes side by side — the native one (host tools and fuzz smoke, host-sim, its stability
-# run, the design guards, the build-only boards, every board's fit) and the emulated one (AArch64 under
-# qemu-user, its stability run, the VM) — each lane's tiers one after the other. The emulated lane is the longer;
-# the native lane fills the cores it leaves idle (the VM and the simulated displays wait on their clocks).
+# run the tiers in three lanes side by side — the native one (host tools and fuzz smoke, host-sim, its stability
+# run, the design guards, the build-only boards, every board's fit), the emulated one (AArch64 under qemu-user,
+# its stability run and fit) and the VM — each lane's tiers one after the other. The emulated lane is the
+# longest; the others fill the cores it leaves idle (the VM's device checks and the simulated displays wait on
+# their clocks much of the time).
 TEST_JOBS ?= $(shell nproc)
 # Test binaries run side by side in the emulated lane (qemu-user runs each on one core; the native lane is
 # short, and the cores it leaves go to these).
@@ -57,9 +58,9 @@ test: deps ## build and run every test: scenes, host tools, host-sim, AArch64 un
 	$(MAKE) --no-print-directory scenes || exit 1; \
 	echo "  TEST     building every tier ($(TEST_JOBS) jobs)"; \
 	$(MAKE) --no-print-directory -j$(TEST_JOBS) test-build || exit 1; \
-	echo "  TEST     built in $$(( $$(date +%s) - t0 )) s; running the native and the emulated lane side by side"; \
+	echo "  TEST     built in $$(( $$(date +%s) - t0 )) s; running the native, the emulated and the VM lane side by side"; \
 	rm -rf $(GUARDS_O) $(STAB_O) && mkdir -p $(GUARDS_O) $(STAB_O)/test-results; \
-	$(MAKE) --no-print-directory -j2 test-lane-native test-lane-emulated || exit 1; \
+	$(MAKE) --no-print-directory -j3 test-lane-native test-lane-emulated test-lane-vm || exit 1; \
 	sh test/stability/report.sh $(STAB_O) $(STAB_BOARDS); \
 	sh test/summary.sh $(HOST_O)/test-results $(foreach b,$(TEST_BOARDS),$(call board_o,$(b))/test-results) \
 		$(TEST_TIER_RESULTS) $(GUARDS_O); rc=$$?; \
@@ -76,7 +77,7 @@ test-build-vm: test-build-aarch64-generic
 test-board-build: tests $(STAB) $(if $(BOARD_TEST_LAUNCHER),,$(BENCH)) \
 	$(foreach s,$(filter-out builtin,$(BOARD_FIT_SCENES)),$(SCENES_O)/$(s).hzb)
 
-# Step 3: the lanes (make -j2 runs them side by side). A failing test is recorded for the summary, not fatal.
+# Step 3: the lanes (make -j3 runs them side by side). A failing test is recorded for the summary, not fatal.
 test-lane-native:
 	$(Q)$(MAKE) --no-print-directory test-host || exit 1
 	$(Q)$(MAKE) --no-print-directory BOARD=host-sim O=$(call board_o,host-sim) test-board stability-board || exit 1
@@ -94,12 +95,13 @@ test-lane-emulated:
 	$(Q)HZ_TEST_JOBS=$(TEST_EMULATED_JOBS) $(MAKE) --no-print-directory BOARD=aarch64-generic O=$(call board_o,aarch64-generic) test-board \
 		stability-board || exit 1
 	+$(Q)$(call board_fit,aarch64-generic)
+test-lane-vm:
 	$(Q)$(MAKE) --no-print-directory vmtest-tier
 board_fit = r=$(GUARDS_O)/board-fit-$(1).res; \
 	$(MAKE) --no-print-directory BOARD=$(1) O=$(call board_o,$(1)) BOARD_FIT_RES=$$r board-fit || \
 	[ -f $$r ] || echo "board-fit/$(1) 0 1 0" >$$r
 .PHONY: test-build test-build-host $(TEST_BOARDS:%=test-build-%) test-build-vm test-board-build test-lane-native \
-        test-lane-emulated
+        test-lane-emulated test-lane-vm
 
 # Host-side tests (run by `make test`): the baker's tests and a bounded run of each fuzz target, results for the summary.
 test-host: $(HOST_TEST_BINS) $(HOST_O)/bin/hzbake $(FUZZ) $(FUZZ_O)/seeds/.stamp scenes

@@ -68,7 +68,7 @@ help_of() { # KEY PROGRAM [ARG...]
         elif "$@" --help >"$tmp/help-$key" 2>&1; then
             echo "ok" >"$tmp/help-$key.status"
         elif [ "$(od -An -tx1 -j18 -N2 "$1" | tr -d ' ')" = b700 ] && command -v qemu-aarch64-static >/dev/null &&
-            qemu-aarch64-static -L /usr/aarch64-linux-gnu -E LD_LIBRARY_PATH=/lib:/usr/lib/aarch64-linux-gnu "$@" --help >"$tmp/help-$key" 2>&1; then
+            qemu-aarch64-static -cpu cortex-a72 -L /usr/aarch64-linux-gnu -E LD_LIBRARY_PATH=/lib:/usr/lib/aarch64-linux-gnu "$@" --help >"$tmp/help-$key" 2>&1; then
             echo "ok" >"$tmp/help-$key.status" # an AArch64 build (e_machine 183), run under qemu as the board launcher does
         else
             echo "refused" >"$tmp/help-$key.status"
