@@ -3,7 +3,7 @@
 #   run-tests.sh RESULTS_DIR LABEL "LAUNCHER" BIN...
 # Each binary's output goes to RESULTS_DIR/<bin>.log; RESULTS_DIR/<bin>.res gets "label/bin passed failed skipped
 # seconds".
-# The line printed per binary ends with its wall time (the 20-minute budget of make test is watched by it).
+# The line printed per binary ends with its wall time (the 15-minute budget of make test is watched by it).
 # A binary that exits non-zero without reporting a failed test (a crash, a sanitizer abort, a missing library)
 # counts as one failure; one that exits 0 without running a test also fails, so nothing passes by silence.
 # HZ_TEST_JOBS=N runs N binaries side by side (for emulated boards, whose binaries are single-threaded).
