@@ -51,9 +51,11 @@ $(PORT_LIB): $(PORT_OBJS)
 $(OPT_LIB): $(OPT_OBJS)
 	$(call msg,AR,$@)rm -f $@ && $(AR) rcs $@ $^
 
-$(HZRT): $(HZRT_OBJS) $(ERRTIME_LIB) $(OPT_LIB) $(PORT_LIB) $(LIB)
+# What hzrt links (also the VM's static hzrt, mk/vm.mk).
+HZRT_LINK := $(HZRT_OBJS) $(ERRTIME_LIB) $(OPT_LIB) $(PORT_LIB) $(LIB)
+$(HZRT): $(HZRT_LINK)
 	@mkdir -p $(dir $@)
-	$(call msg,LD,$@)$(CC) $(LDFLAGS_ALL) -o $@ $(HZRT_OBJS) $(ERRTIME_LIB) $(OPT_LIB) $(PORT_LIB) $(LIB) $(PORT_LIBS)
+	$(call msg,LD,$@)$(CC) $(LDFLAGS_ALL) -o $@ $(HZRT_LINK) $(PORT_LIBS)
 
 $(BENCH): $(BENCH_OBJS) $(OPT_LIB) $(PORT_LIB) $(LIB)
 	@mkdir -p $(dir $@)

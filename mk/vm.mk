@@ -57,10 +57,9 @@ $(VM_DRM_TEST): test/vm/test_vm_drm.c $(PORT_LIB) $(LIB)
 ifeq ($(abspath $(O)),$(abspath $(VM_ROOT)/static))
 # (the SAN=1 sub-make below: there $(HZRT) is the static hzrt)
 else ifeq ($(SAN),)
-$(VM_HZRT): $(HZRT_OBJS) $(ERRTIME_LIB) $(OPT_LIB) $(PORT_LIB) $(LIB)
+$(VM_HZRT): $(HZRT_LINK)
 	@mkdir -p $(dir $@)
-	$(call msg,LD,$@)$(CC) $(LDFLAGS_ALL) -static -o $@ $(HZRT_OBJS) $(ERRTIME_LIB) $(OPT_LIB) $(PORT_LIB) $(LIB) \
-		$(PORT_LIBS)
+	$(call msg,LD,$@)$(CC) $(LDFLAGS_ALL) -static -o $@ $(HZRT_LINK) $(PORT_LIBS)
 else
 .PHONY: $(VM_HZRT)
 $(VM_HZRT):

@@ -22,8 +22,8 @@ static inline void hz_test_filter(void)
         cmocka_set_test_filter(f);
 }
 
-#define HZ_RUN(tests) (hz_test_filter(), cmocka_run_group_tests(tests, NULL, NULL))
 #define HZ_RUN_GROUP(tests, setup, teardown) (hz_test_filter(), cmocka_run_group_tests(tests, setup, teardown))
+#define HZ_RUN(tests) HZ_RUN_GROUP(tests, NULL, NULL)
 
 /* HZ_NATIVE_ONLY(why): the case runs where the tests run natively and is skipped, with the reason printed and
  * counted as a skip in the summary, where they run under emulation (HZ_TEST_EMULATED: a board with a test

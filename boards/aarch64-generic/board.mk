@@ -18,5 +18,6 @@ BOARD_DEPS := gcc-aarch64-linux-gnu libc6-dev-arm64-cross binutils-aarch64-linux
 # emulate: the same tests ran about a quarter faster as an A72).
 BOARD_TEST_LAUNCHER := qemu-aarch64-static -cpu cortex-a72 -L /usr/aarch64-linux-gnu -E LD_LIBRARY_PATH=/lib:/usr/lib/aarch64-linux-gnu
 BOARD_TEST_DEPS := qemu-user-static libcmocka-dev:arm64
-# Scenes `make test` checks this board with (test/boards/fit.sh): the default mode fits the display, one frame renders.
+# Scenes `make test` checks this board with (test/boards/fit.sh): the default mode fits the display and the default
+# command (`hzrt show`) runs it there.
 BOARD_FIT_SCENES := builtin sponza

@@ -12,5 +12,6 @@ BOARD_PORTS := linux timing drm
 BOARD_DEPS := gcc make libc6-dev binutils libembree-dev libtbb-dev libpng-dev libdrm-dev
 BOARD_TEST_LAUNCHER :=
 BOARD_TEST_DEPS := libcmocka-dev
-# Scenes `make test` checks this board with (test/boards/fit.sh): the default mode fits the display, one frame renders.
+# Scenes `make test` checks this board with (test/boards/fit.sh): the default mode fits the display and the default
+# command (`hzrt show`) runs it there.
 BOARD_FIT_SCENES := builtin conference

@@ -184,7 +184,7 @@ except subprocess.TimeoutExpired:
             return str(e)
     print("still running 60 s after the signal: %s; wchan %s; syscall %s; files %s" % (
         [l for l in read("/proc/%d/status" % p.pid).split("; ") if l.startswith(("State", "SigPnd", "ShdPnd",
-                                                                                  "SigBlk", "SigCgt"))],
+                                                                                  "SigBlk", "SigIgn", "SigCgt"))],
         read("/proc/%d/wchan" % p.pid), read("/proc/%d/syscall" % p.pid),
         sorted((f, os.path.getsize(f)) for f in glob.glob(out + "/*"))))
     p.kill()

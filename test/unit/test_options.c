@@ -222,6 +222,7 @@ static void test_every_image_option_is_recorded(void **state)
                   baseline_count);
     for (size_t i = 0; i < baseline_count; i++)
         free(baselines[i].settings);
+    baseline_count = 0;
     assert_true(walked >= 30);
 }
 
