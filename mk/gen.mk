@@ -12,7 +12,11 @@ $(GEN_BIN)/smoke_scene: tools/gen/smoke_scene.c tools/gen/genio.h
 	@mkdir -p $(dir $@)
 	$(call msg,HOSTCC,$@)$(HOSTCC) $(WARN) -D_POSIX_C_SOURCE=200809L -O2 -o $@ $< -lm
 
-$(GEN_BIN)/skinned_gltf: tools/gen/skinned_gltf.c tools/gen/genio.h
+$(GEN_BIN)/skinned_gltf: tools/gen/skinned_gltf.c tools/gen/genio.h tools/gen/gltfio.h
+	@mkdir -p $(dir $@)
+	$(call msg,HOSTCC,$@)$(HOSTCC) $(WARN) -D_POSIX_C_SOURCE=200809L -O2 -o $@ $< -lm
+
+$(GEN_BIN)/crossing_gltf: tools/gen/crossing_gltf.c tools/gen/genio.h tools/gen/gltfio.h
 	@mkdir -p $(dir $@)
 	$(call msg,HOSTCC,$@)$(HOSTCC) $(WARN) -D_POSIX_C_SOURCE=200809L -O2 -o $@ $< -lm
 

@@ -80,6 +80,8 @@ const hz_et_scene_t hz_et_scenes[] = {
            "AlphaBlendModeTest.hzb", 160, 90, 40, 16),
     TRANSP("builtin-transp", "built-in scene (blended particles): transparency methods + TAA", "builtin", 160, 90, 40,
            16),
+    TRANSP("crossing", "blended panes and confetti moving through each other (crossing.hzb): transparency methods + "
+           "TAA", "crossing.hzb", 160, 90, 40, 16),
     TRANSP240("sponza-smoke@240", "smoke on a 240 Hz display: std and exact under tdense vs + TAA at 60 Hz",
               "sponza-smoke.hzb", 64, 36, 32, 16),
     TRANSP240("AlphaBlendModeTest@240", "AlphaBlendModeTest on a 240 Hz display: std and exact under tdense vs "

@@ -47,7 +47,7 @@ static const char *num(char *buf, size_t size, const char *fmt, double v)
     return buf;
 }
 
-static void csv_text(FILE *f, const char *s)
+void hz_et_csv_text(FILE *f, const char *s)
 {
     if (!strpbrk(s, ",\"\n\r")) {
         fputs(s, f);
@@ -104,11 +104,11 @@ hz_status_t hz_et_write_csv(const char *path, const hz_et_row_t *rows, size_t n,
     for (size_t i = 0; i < n; i++) {
         const hz_et_row_t *r = &rows[i];
         char b[10][48];
-        csv_text(f, r->scene);
+        hz_et_csv_text(f, r->scene);
         fputc(',', f);
-        csv_text(f, r->method);
+        hz_et_csv_text(f, r->method);
         fputc(',', f);
-        csv_text(f, r->knob);
+        hz_et_csv_text(f, r->knob);
         fprintf(f, ",%s,%u,%u,%u,%u,%u,%s,%s,%s,%s,%s,%s,%s,%u,%s,%s,%d,%d,", num(b[0], 48, "%g", r->value),
                 (unsigned)r->width, (unsigned)r->height, (unsigned)r->frames, (unsigned)r->measured,
                 (unsigned)r->refresh_hz, num(b[1], 48, "%.4f", r->ms_median), num(b[2], 48, "%.4f", r->ms_p99),

@@ -55,6 +55,9 @@ typedef struct hz_et_row {
 
 void hz_et_pareto(hz_et_row_t *rows, size_t n);
 
+/* A CSV text field: as it is, or quoted (quotes doubled) when it holds a comma, quote or line break. */
+void hz_et_csv_text(FILE *f, const char *s);
+
 hz_status_t hz_et_write_csv(const char *path, const hz_et_row_t *rows, size_t n, hz_error_t *err);
 hz_status_t hz_et_write_markdown(const char *path, const hz_et_row_t *rows, size_t n, hz_error_t *err);
 void hz_et_print_markdown(FILE *f, const hz_et_row_t *rows, size_t n);

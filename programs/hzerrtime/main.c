@@ -11,6 +11,7 @@
 #include "et_flip.h"
 #include "hz/config.h"
 #include "et_methods.h"
+#include "et_search.h"
 #include "et_stability.h"
 #include "opttab.h"
 
@@ -19,7 +20,7 @@
 
 /* The command line (opttab.h): the help is printed from this table. */
 enum { E_SCENE, E_SIZE, E_FRAMES, E_WARMUP, E_REFRESH, E_METHODS, E_SHUTTER, E_SKIP, E_PPD, E_CACHE, E_OUT, E_VIDEO,
-       E_SCENES, E_THREADS, E_ARENA, E_LIST };
+       E_SCENES, E_THREADS, E_ARENA, E_SEARCH, E_LIST };
 
 static const hz_opt_t options[] = {
     { .name = "--scene", .arg = "A,B", .kind = HZ_OPT_TEXT, .id = E_SCENE,
@@ -54,6 +55,10 @@ static const hz_opt_t options[] = {
       .help = "render threads (default: one per online CPU)" },
     { .name = "--arena-mib", .arg = "N", .kind = HZ_OPT_INT, .lo = 1, .hi = 1 << 20, .id = E_ARENA,
       .help = "working memory (default 1024; touched only as needed)" },
+    { .name = "--adaptive-search", .kind = HZ_OPT_FLAG, .id = E_SEARCH,
+      .help = "also find, per scene and adaptive method (adaptive, adaptive-bilinear: those --methods/--skip leave), "
+              "the largest tau whose PSNR reaches full-frame 9 spp's, by bisection (up to " STR(HZ_ET_SEARCH_PROBES)
+              " runs each, rows <method>-search); adaptive-search.csv and .md next to errtime.csv" },
     { .name = "--list", .kind = HZ_OPT_FLAG, .id = E_LIST, .help = "scenes and their methods" },
     { .name = "--help", .alias = "-h", .kind = HZ_OPT_FLAG, .id = HZ_OPT_ID_HELP, .help = "this text" },
 };
@@ -106,7 +111,7 @@ static int list(void)
 
 typedef struct args {
     const char *scene_names, *methods, *cache, *out, *skip, *video, *scene_dir;
-    bool size_given, frames_given, warmup_given, refresh_given;
+    bool size_given, frames_given, warmup_given, refresh_given, search;
     long threads, frames, warmup, refresh, arena_mib;
     int w, h;
     float ppd;
@@ -131,16 +136,67 @@ static int take(void *ctx, const hz_opt_t *o, const hz_opt_val_t *v)
     case E_SCENES: a->scene_dir = v->s; break;
     case E_THREADS: a->threads = v->n; break;
     case E_ARENA: a->arena_mib = v->n; break;
+    case E_SEARCH: a->search = true; break;
     case E_LIST: list(); return HZ_OPT_DONE;
     }
     return 0;
+}
+
+/* The adaptive methods --adaptive-search knows. */
+enum { FAMILIES = 2 };
+static const char *const families[FAMILIES] = { "adaptive", "adaptive-bilinear" };
+
+/* The row of `name` at knob value v among rows[first, count), or NULL. */
+static const hz_et_row_t *row_of(const hz_et_row_t *rows, size_t first, size_t count, const char *name, double v)
+{
+    for (size_t j = first; j < count; j++)
+        if (!strcmp(rows[j].method, name) && rows[j].value == v)
+            return &rows[j];
+    return NULL;
+}
+
+/* --adaptive-search on one open scene: full-frame 9 and 16 spp (run now if --methods left them out), then the
+ * search of every adaptive family --methods/--skip leave; probe rows appended after the scene's rows. */
+static hz_status_t search_scene(const hz_et_scene_t *scene, const hz_et_sequence_t *seq, const hz_et_config_t *cfg,
+                                const char *methods, const char *skip, hz_et_row_t *rows, size_t first, size_t *count,
+                                size_t capacity, hz_et_search_t *found, size_t *nfound, hz_error_t *err)
+{
+    static const double spp[2] = { 9.0, 16.0 };
+    hz_status_t s = HZ_OK;
+    for (int i = 0; i < 2 && s == HZ_OK; i++)
+        for (size_t j = 0; j < scene->method_count && s == HZ_OK; j++) {
+            const hz_et_method_t *m = &scene->methods[j];
+            if (strcmp(m->name, "full-frame") || m->value != spp[i] || row_of(rows, first, *count, m->name, spp[i]))
+                continue;
+            if (*count >= capacity)
+                return hz_error_set(err, HZ_E_RANGE, "adaptive search: no room for more rows");
+            if ((s = hz_et_run(seq, scene->reference, m, 1, cfg, &rows[*count], err)) == HZ_OK)
+                (*count)++;
+        }
+    const hz_et_row_t *r9 = row_of(rows, first, *count, "full-frame", 9.0);
+    const hz_et_row_t *r16 = row_of(rows, first, *count, "full-frame", 16.0);
+    for (int f = 0; f < FAMILIES && s == HZ_OK; f++) {
+        if (!wanted(methods, families[f]) || (skip && wanted(skip, families[f])))
+            continue;
+        const hz_et_method_t *fam = NULL;
+        for (size_t j = 0; j < scene->method_count && !fam; j++)
+            if (!strcmp(scene->methods[j].name, families[f]))
+                fam = &scene->methods[j];
+        if (!fam || !r9 || !r16)
+            continue;
+        s = hz_et_adaptive_search(seq, scene->reference, fam, r9, r16, cfg, rows, capacity, count, &found[*nfound],
+                                  err);
+        *nfound += s == HZ_OK;
+    }
+    hz_et_pareto(rows + first, *count - first);
+    return s;
 }
 
 int main(int argc, char **argv)
 {
     hz_cli_prog = "hzerrtime";
     args_t a = { "synthetic", NULL, "build/errtime-cache", "build/errtime", NULL, NULL, getenv("HZ_SCENES_DIR"),
-                 false, false, false, false, 0, 48, 8, HZ_DISPLAY_HZ, 1024, 96, 64, HZ_FLIP_DEFAULT_PPD };
+                 false, false, false, false, false, 0, 48, 8, HZ_DISPLAY_HZ, 1024, 96, 64, HZ_FLIP_DEFAULT_PPD };
     int nops = 0;
     int rc = hz_opt_parse(&program, argc, argv, take, &a, NULL, &nops);
     if (rc)
@@ -201,9 +257,36 @@ int main(int argc, char **argv)
             break;
         p = e + 1;
     }
-    hz_et_method_t *chosen = calloc(total ? total : 1, sizeof *chosen);
-    hz_et_row_t *rows = calloc(total ? total : 1, sizeof *rows);
-    if (!chosen || !rows) {
+    /* --adaptive-search: per scene, the adaptive families to search and full-frame 9 and 16 spp to compare with */
+    size_t capacity = total;
+    if (a.search) {
+        for (size_t k = 0; k < nscenes; k++) {
+            const hz_et_scene_t *sc = scenes[k];
+            bool fam = false, f9 = false, f16 = false;
+            for (size_t j = 0; j < sc->method_count; j++) {
+                const hz_et_method_t *m = &sc->methods[j];
+                for (int f = 0; f < FAMILIES; f++)
+                    fam |= !strcmp(m->name, families[f]) && wanted(methods, m->name) &&
+                           !(skip && wanted(skip, m->name));
+                f9 |= !strcmp(m->name, "full-frame") && m->value == 9.0;
+                f16 |= !strcmp(m->name, "full-frame") && m->value == 16.0;
+            }
+            if (!fam || !f9 || !f16) {
+                hz_cli_error("--adaptive-search: scene %s has %s", sc->name,
+                             !fam ? "no adaptive method to search (adaptive or adaptive-bilinear, left by --methods/"
+                                    "--skip)"
+                                  : "no full-frame 9 and 16 spp to compare with");
+                return HZ_EXIT_USAGE;
+            }
+        }
+        capacity += nscenes * (2 + FAMILIES * HZ_ET_SEARCH_PROBES);
+    }
+    hz_et_search_t *found = calloc(nscenes * FAMILIES + 1, sizeof *found);
+    size_t nfound = 0;
+    /* chosen[] and rows[] share their index: a scene's methods follow the previous scene's rows, probes included */
+    hz_et_method_t *chosen = calloc(capacity ? capacity : 1, sizeof *chosen);
+    hz_et_row_t *rows = calloc(capacity ? capacity : 1, sizeof *rows);
+    if (!chosen || !rows || !found) {
         hz_cli_error("no memory for %zu methods", total);
         return hz_status_exit_code(HZ_E_NO_MEMORY);
     }
@@ -260,6 +343,8 @@ int main(int argc, char **argv)
             s = hz_et_stability(&seq, &chosen[j], scene->still_frames, &arena, &stab[nstab], &err);
             nstab += s == HZ_OK;
         }
+        if (a.search && s == HZ_OK)
+            s = search_scene(scene, &seq, &cfg, methods, skip, rows, first, &count, capacity, found, &nfound, &err);
         if (scene->close)
             scene->close();
         if (s != HZ_OK)
@@ -292,6 +377,18 @@ int main(int argc, char **argv)
                    stab[k].mean_abs_change);
     }
     free(stab);
+    if (a.search) {
+        snprintf(path, sizeof path, "%s/adaptive-search.csv", out);
+        if (hz_et_write_search_csv(path, found, nfound, &err) != HZ_OK)
+            return hz_cli_report(&err);
+        snprintf(path, sizeof path, "%s/adaptive-search.md", out);
+        if (hz_et_write_search_markdown(path, found, nfound, &err) != HZ_OK)
+            return hz_cli_report(&err);
+        printf("\n");
+        hz_et_print_search(stdout, found, nfound);
+        printf("\nwrote %s/adaptive-search.csv and %s/adaptive-search.md\n", out, out);
+    }
+    free(found);
     printf("\nwrote %s/errtime.csv, %s/errtime.md and %zu chart%s (", out, out, nscenes, nscenes == 1 ? "" : "s");
     for (size_t k = 0; k < nscenes; k++)
         printf("%s%s.svg", k ? ", " : "", scenes[k]->name);

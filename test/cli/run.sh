@@ -364,6 +364,10 @@ if [ -x "$errtime" ]; then
     expect errtime-size-range 2 "^hzerrtime: --size: 8x8: width and height must lie in \[11, " "$errtime" \
         --size 8x8 --out "$tmp/etx"
     expect errtime-stray-argument 2 "^hzerrtime: unexpected argument 'synthetic'" "$errtime" synthetic
+    expect errtime-search-needs-adaptive 2 "^hzerrtime: --adaptive-search: scene synthetic has no adaptive method" \
+        "$errtime" --scene synthetic --adaptive-search --out "$tmp/etx"
+    expect errtime-search-left-out 2 "^hzerrtime: --adaptive-search: scene sponza has no adaptive method to search" \
+        "$errtime" --scene sponza --methods full-frame,taa --adaptive-search --out "$tmp/etx"
     ok errtime-refusals-ran-nothing sh -c "! [ -e \"$tmp/etx\" ]"
     expect errtime-help-limits 0 "--refresh HZ .*\[1..960\]" "$errtime" --help
     expect errtime-list 0 "^synthetic: " "$errtime" --list

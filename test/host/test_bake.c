@@ -1395,7 +1395,7 @@ static void test_long_skinned_model_bakes_small(void **state)
     snprintf(tmpdir, sizeof tmpdir, "/tmp/hzbake-test.XXXXXX");
     assert_non_null(mkdtemp(tmpdir));
     char model[4096], out[256], sc[300];
-    source_path(model, sizeof model, "HZ_SCENES_GEN", "tentacles.gltf");
+    source_path(model, sizeof model, "HZ_SCENES_GEN", "tentacles/tentacles.gltf");
     snprintf(out, sizeof out, "%s/t.hzb", tmpdir);
     const char *args[] = { "-q", "-s", "programs/hzbake/scenes/tentacles.hzs", model, out, NULL };
     long long rt = bake_size(args, out);

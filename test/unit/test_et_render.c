@@ -5,7 +5,8 @@
  * rising), not as time: the house rules forbid timed assertions, so the driver's median times are printed only.
  * Also: TAA runs and traces one primary ray per pixel; the scene's cache key (content hash and renderer
  * fingerprint) is the same for every thread count and differs between scenes; the pools are given back by close
- * and by a failed open; a missing scene file is refused with its path; the tables are well formed.
+ * and by a failed open; a missing scene file is refused with its path; the tables are well formed; the adaptive
+ * operating-point search brackets its answer.
  *
  * Needs the baked scenes ($HZ_SCENES_DIR, exported by make; `make scenes`); skipped with a message without them.
  * hz-test: no-vm (heavy under system emulation, runs under qemu-user)
@@ -22,6 +23,8 @@
 #include "et_flip.h"
 #include "et_methods.h"
 #include "et_render.h"
+#include "et_search.h"
+#include "fileio.h"
 #include "pools.h"
 
 /* Frames per sequence; under qemu half of them (each is a reference at many samples per pixel plus every
@@ -325,6 +328,103 @@ static void test_adaptive_rows_and_scene_file(void **state)
     assert_true(rows[2].psnr_srgb8 > rows[0].psnr_srgb8);
 }
 
+/* The operating-point search (et_search.h) on CornellBox-Mirror, with the target PSNR set by hand so that each
+ * branch runs: a target every threshold reaches (tau 1, one probe), one none reaches (tau 1 and the smallest,
+ * reached false) and one between the two (the bisection). Whatever the PSNR does between probes, the answer is
+ * the largest probed tau that reached: every probe that reached lies at or below it, every one that failed above
+ * it, and the bisection narrows the bracket to (1 / HZ_ET_SEARCH_TAU_MIN)^(2^-steps). The CSV has a line per
+ * search. */
+static void test_adaptive_search_brackets(void **state)
+{
+    (void)state;
+    const char *dir = scene_dir();
+    if (!dir)
+        skip();
+    const hz_et_scene_t *sc = hz_et_scene_find("CornellBox-Mirror");
+    assert_non_null(sc);
+    hz_et_env_t env = { dir, 2 };
+    hz_et_sequence_t seq = { sc->name, 0, NULL, NULL, 40, 24, ET_FRAMES, 0, 240, NULL };
+    hz_error_t err;
+    if (sc->open(sc, &env, &seq, &arena, &err) != HZ_OK)
+        fail_msg("%s", err.msg);
+    const hz_et_method_t *fam = NULL;
+    for (size_t i = 0; i < sc->method_count && !fam; i++)
+        if (!strcmp(sc->methods[i].name, "adaptive"))
+            fam = &sc->methods[i];
+    assert_non_null(fam);
+    hz_et_config_t cfg = { cache, HZ_FLIP_DEFAULT_PPD, &arena, NULL, false, NULL };
+    hz_et_row_t r9, r16, rows[3 * HZ_ET_SEARCH_PROBES];
+    memset(&r9, 0, sizeof r9);
+    snprintf(r9.scene, sizeof r9.scene, "%s", sc->name);
+    r9.ms_median = 1.0;
+    r16 = r9;
+    hz_et_search_t res[3];
+    size_t n = 0;
+    /* everything reaches */
+    r9.psnr_srgb8 = -1e9;
+    hz_status_t s = hz_et_adaptive_search(&seq, sc->reference, fam, &r9, &r16, &cfg, rows, 3 * HZ_ET_SEARCH_PROBES,
+                                          &n, &res[0], &err);
+    if (s != HZ_OK) {
+        sc->close();
+        fail_msg("%s", err.msg);
+    }
+    assert_int_equal(n, 1);
+    assert_true(res[0].reached && res[0].tau == 1.0 && res[0].probes == 1);
+    assert_string_equal(rows[0].method, "adaptive-search");
+    assert_string_equal(rows[0].knob, "tau");
+    const double psnr_hi_tau = rows[0].psnr_srgb8;
+    /* nothing reaches */
+    r9.psnr_srgb8 = 1e9;
+    s = hz_et_adaptive_search(&seq, sc->reference, fam, &r9, &r16, &cfg, rows, 3 * HZ_ET_SEARCH_PROBES, &n, &res[1],
+                              &err);
+    if (s != HZ_OK) {
+        sc->close();
+        fail_msg("%s", err.msg);
+    }
+    assert_int_equal(n, 3);
+    assert_true(!res[1].reached && res[1].probes == 2);
+    assert_true(res[1].tau == (double)(float)HZ_ET_SEARCH_TAU_MIN);
+    const double psnr_lo_tau = rows[2].psnr_srgb8;
+    print_message("adaptive: PSNR %.2f dB at tau 1, %.2f dB at tau %g\n", psnr_hi_tau, psnr_lo_tau,
+                  HZ_ET_SEARCH_TAU_MIN);
+    assert_true(psnr_lo_tau > psnr_hi_tau); /* the smallest threshold takes more samples here */
+    /* in between: the bisection */
+    r9.psnr_srgb8 = 0.5 * (psnr_lo_tau + psnr_hi_tau);
+    const size_t first = n;
+    s = hz_et_adaptive_search(&seq, sc->reference, fam, &r9, &r16, &cfg, rows, 3 * HZ_ET_SEARCH_PROBES, &n, &res[2],
+                              &err);
+    sc->close();
+    if (s != HZ_OK)
+        fail_msg("%s", err.msg);
+    assert_int_equal(n - first, HZ_ET_SEARCH_PROBES);
+    assert_true(res[2].reached && res[2].probes == HZ_ET_SEARCH_PROBES);
+    double above = 1.0;
+    for (size_t i = first; i < n; i++) {
+        print_message("  probe tau %.4f: PSNR %.2f dB (target %.2f)\n", rows[i].value, rows[i].psnr_srgb8,
+                      r9.psnr_srgb8);
+        if (rows[i].psnr_srgb8 >= r9.psnr_srgb8) {
+            assert_true(rows[i].value <= res[2].tau);
+        } else {
+            assert_true(rows[i].value > res[2].tau);
+            above = fmin(above, rows[i].value);
+        }
+    }
+    assert_true(res[2].psnr >= r9.psnr_srgb8);
+    assert_true(above / res[2].tau <= 1.001 * pow(1.0 / HZ_ET_SEARCH_TAU_MIN, 1.0 / (1 << HZ_ET_SEARCH_STEPS)));
+    char path[128], text[4096];
+    snprintf(path, sizeof path, "%s/search.csv", cache);
+    if (hz_et_write_search_csv(path, res, 3, &err) != HZ_OK)
+        fail_msg("%s", err.msg);
+    size_t bytes = 0;
+    assert_int_equal(hz_file_read(path, text, sizeof text - 1, &bytes, &err), HZ_OK);
+    text[bytes] = '\0';
+    assert_true(!strncmp(text, HZ_ET_SEARCH_CSV_HEADER "\n", strlen(HZ_ET_SEARCH_CSV_HEADER) + 1));
+    size_t lines = 0;
+    for (size_t i = 0; i < bytes; i++)
+        lines += text[i] == '\n';
+    assert_int_equal(lines, 4);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -335,6 +435,7 @@ int main(void)
         cmocka_unit_test(test_cache_key_is_content_and_renderer),
         cmocka_unit_test(test_missing_scene_is_refused_and_pools_given_back),
         cmocka_unit_test(test_adaptive_rows_and_scene_file),
+        cmocka_unit_test(test_adaptive_search_brackets),
     };
     return HZ_RUN_GROUP(tests, setup, teardown);
 }

@@ -22,6 +22,7 @@
 #define GEN_PROG "skinned_gltf"
 #define GEN_EXIT 74
 #include "genio.h"
+#include "gltfio.h"
 
 #define SIDES 16
 #define RINGS 321 /* 320 segments per tentacle: 16 * 320 * 2 = 10240 triangles */
@@ -30,65 +31,6 @@
 #define RADIUS 0.12
 #define RING_R 0.9 /* tentacle bases on a circle of this radius */
 #define PI 3.14159265358979323846
-
-/* The .bin is built in memory: views are appended 4-byte aligned. */
-static unsigned char *bin;
-static size_t bin_len, bin_cap;
-
-static size_t bin_put(const void *p, size_t n)
-{
-    while (bin_len % 4)
-        bin_len++;
-    if (bin_len + n > bin_cap) {
-        bin_cap = (bin_len + n) * 2;
-        bin = realloc(bin, bin_cap);
-        if (!bin) {
-            fprintf(stderr, "skinned_gltf: out of memory\n");
-            exit(70);
-        }
-    }
-    size_t at = bin_len;
-    memcpy(bin + at, p, n);
-    bin_len += n;
-    return at;
-}
-
-/* Accessors and buffer views are one-to-one; their JSON is collected as text. */
-static char *acc_json, *view_json;
-static size_t acc_len, view_len;
-static int acc_count;
-
-static void append(char **buf, size_t *len, const char *text)
-{
-    size_t n = strlen(text);
-    *buf = realloc(*buf, *len + n + 1);
-    if (!*buf) {
-        fprintf(stderr, "skinned_gltf: out of memory\n");
-        exit(70);
-    }
-    memcpy(*buf + *len, text, n + 1);
-    *len += n;
-}
-
-/* Adds a view + accessor of `count` elements of `type` ("VEC3"...) with component type `ctype` (5126 float,
- * 5123 u16, 5125 u32); min/max (3 floats) for positions. Returns the accessor index. */
-static int add_accessor(const void *data, size_t bytes, int count, const char *type, int ctype, int target,
-                        const float *mn, const float *mx)
-{
-    size_t off = bin_put(data, bytes);
-    char t[512];
-    snprintf(t, sizeof t, "%s{\"buffer\":0,\"byteOffset\":%zu,\"byteLength\":%zu%s}", acc_count ? "," : "", off,
-             bytes, target == 1 ? ",\"target\":34962" : target == 2 ? ",\"target\":34963" : "");
-    append(&view_json, &view_len, t);
-    char range[256] = "";
-    if (mn)
-        snprintf(range, sizeof range, ",\"min\":[%.6g,%.6g,%.6g],\"max\":[%.6g,%.6g,%.6g]", mn[0], mn[1], mn[2],
-                 mx[0], mx[1], mx[2]);
-    snprintf(t, sizeof t, "%s{\"bufferView\":%d,\"componentType\":%d,\"count\":%d,\"type\":\"%s\"%s}",
-             acc_count ? "," : "", acc_count, ctype, count, type, range);
-    append(&acc_json, &acc_len, t);
-    return acc_count++;
-}
 
 static void *xmalloc(size_t n)
 {
@@ -156,11 +98,11 @@ int main(int argc, char **argv)
                 idx[n++] = a, idx[n++] = c, idx[n++] = b; /* outward facing, counter-clockwise */
                 idx[n++] = b, idx[n++] = c, idx[n++] = d;
             }
-        mesh_pos[t] = add_accessor(pos, sizeof(float) * 3 * nv, nv, "VEC3", 5126, 1, mn, mx);
-        mesh_nrm[t] = add_accessor(nrm, sizeof(float) * 3 * nv, nv, "VEC3", 5126, 1, NULL, NULL);
-        mesh_jnt[t] = add_accessor(jnt, sizeof(uint16_t) * 4 * nv, nv, "VEC4", 5123, 1, NULL, NULL);
-        mesh_wgt[t] = add_accessor(wgt, sizeof(float) * 4 * nv, nv, "VEC4", 5126, 1, NULL, NULL);
-        mesh_idx[t] = add_accessor(idx, sizeof(uint32_t) * 3 * ntri, ntri * 3, "SCALAR", 5125, 2, NULL, NULL);
+        mesh_pos[t] = gltf_accessor(pos, sizeof(float) * 3 * nv, nv, "VEC3", 5126, 1, mn, mx);
+        mesh_nrm[t] = gltf_accessor(nrm, sizeof(float) * 3 * nv, nv, "VEC3", 5126, 1, NULL, NULL);
+        mesh_jnt[t] = gltf_accessor(jnt, sizeof(uint16_t) * 4 * nv, nv, "VEC4", 5123, 1, NULL, NULL);
+        mesh_wgt[t] = gltf_accessor(wgt, sizeof(float) * 4 * nv, nv, "VEC4", 5126, 1, NULL, NULL);
+        mesh_idx[t] = gltf_accessor(idx, sizeof(uint32_t) * 3 * ntri, ntri * 3, "SCALAR", 5125, 2, NULL, NULL);
     }
     /* Inverse bind matrices: joint j of tentacle t sits at (bx, j * seg, bz) in the bind pose (no rotation). */
     int njt = nt * nj;
@@ -174,19 +116,13 @@ int main(int argc, char **argv)
             m[13] = (float)(-j * seg);
             m[14] = (float)(-RING_R * sin(2 * PI * t / nt));
         }
-    int acc_ibm = add_accessor(ibm, sizeof(float) * 16 * njt, njt, "MAT4", 5126, 0, NULL, NULL);
+    int acc_ibm = gltf_accessor(ibm, sizeof(float) * 16 * njt, njt, "MAT4", 5126, 0, NULL, NULL);
     /* Animation: shared key times, one rotation track per joint. */
     int nk = (int)ceil(seconds * KEY_RATE) + 1;
     float *times = xmalloc(sizeof(float) * nk), *rot = xmalloc(sizeof(float) * 4 * nk);
     for (int k = 0; k < nk; k++)
         times[k] = (float)(k == nk - 1 ? seconds : (double)k / KEY_RATE);
-    float tmin = times[0], tmax = times[nk - 1];
-    int acc_time = add_accessor(times, sizeof(float) * nk, nk, "SCALAR", 5126, 0, NULL, NULL);
-    /* glTF requires min/max on animation inputs: patch them in (the accessor JSON is the last one added). */
-    acc_len -= 1; /* drop the closing brace */
-    char mm[128];
-    snprintf(mm, sizeof mm, ",\"min\":[%.9g],\"max\":[%.9g]}", tmin, tmax);
-    append(&acc_json, &acc_len, mm);
+    int acc_time = gltf_accessor_times(times, nk);
     int *acc_rot = xmalloc(sizeof(int) * njt);
     for (int t = 0; t < nt; t++)
         for (int j = 0; j < nj; j++) {
@@ -201,13 +137,13 @@ int main(int argc, char **argv)
                 rot[k * 4 + 0] = (float)(ax * sn), rot[k * 4 + 1] = 0.0f, rot[k * 4 + 2] = (float)(az * sn),
                 rot[k * 4 + 3] = (float)cos(ang / 2);
             }
-            acc_rot[t * nj + j] = add_accessor(rot, sizeof(float) * 4 * nk, nk, "VEC4", 5126, 0, NULL, NULL);
+            acc_rot[t * nj + j] = gltf_accessor(rot, sizeof(float) * 4 * nk, nk, "VEC4", 5126, 0, NULL, NULL);
         }
 
     char path[8192], tmp[8300];
     snprintf(path, sizeof path, "%s/tentacles.bin", argv[1]);
     FILE *f = gen_open_tmp(path, tmp, sizeof tmp);
-    fwrite(bin, 1, bin_len, f);
+    fwrite(gltf_bin, 1, gltf_bin_len, f);
     gen_finish(f, tmp, path);
 
     snprintf(path, sizeof path, "%s/tentacles.gltf", argv[1]);
@@ -246,12 +182,12 @@ int main(int argc, char **argv)
     fprintf(f, "],\n\"channels\":[");
     for (int j = 0; j < njt; j++)
         fprintf(f, "{\"sampler\":%d,\"target\":{\"node\":%d,\"path\":\"rotation\"}}%s", j, j, j + 1 < njt ? "," : "");
-    fprintf(f, "]}],\n\"accessors\":[%s],\n\"bufferViews\":[%s],\n", acc_json, view_json);
-    fprintf(f, "\"buffers\":[{\"uri\":\"tentacles.bin\",\"byteLength\":%zu}]}\n", bin_len);
+    fprintf(f, "]}],\n\"accessors\":[%s],\n\"bufferViews\":[%s],\n", gltf_acc_json, gltf_view_json);
+    fprintf(f, "\"buffers\":[{\"uri\":\"tentacles.bin\",\"byteLength\":%zu}]}\n", gltf_bin_len);
     gen_finish(f, tmp, path);
     printf("skinned_gltf: %s: %d meshes, %d triangles, %d joints, %d keys per joint over %.3g s\n", path, nt,
            nt * ntri, njt, nk, seconds);
     free(pos), free(nrm), free(wgt), free(jnt), free(idx), free(ibm), free(times), free(rot), free(acc_rot);
-    free(bin), free(acc_json), free(view_json);
+    gltf_free();
     return 0;
 }
