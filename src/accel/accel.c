@@ -165,21 +165,14 @@ void hz_bvh_best_finish_at(const hz_bvh_t *bvh, const hz_bvh_best_t *best, const
     hz_bvh_best_finish(&one, &b1, ng, u, v);
 }
 
-bool hz_bvh_anyhit(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, uint32_t slot, const hz_bvh_ray_t *r, float t,
+bool hz_bvh_anyhit(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, uint32_t slot, float t, float V, float W, float det,
                    uint32_t ray_id, int lane)
 {
-    float tt, U, V, W, det, u = 0.0f, v = 0.0f;
-    unsigned back = 0;
-    hz_bvh_block_t tmp;
-    const hz_bvh_block_t *blk =
-        bvh->time_keys ? hz_bvh_block_at(bvh, slot / HZ_BVH_W, r, &tmp) : &bvh->blocks[slot / HZ_BVH_W];
-    if (hz_bvh_tri_test(blk, slot % HZ_BVH_W, r, &tt, &U, &V, &W, &det)) {
-        const float rdet = 1.0f / det; /* the same values the closest hit would report */
-        u = V * rdet, v = W * rdet;
-        /* The sheared frame keeps the triangle's winding (ray_prep swaps x and y where dir[kz] < 0), so the
-         * determinant's sign is the side: negative where the ray runs along (v1 - v0) x (v2 - v0). */
-        back = det < 0.0f;
-    }
+    const float rdet = 1.0f / det; /* the same values the closest hit would report (hz_bvh_best_finish) */
+    const float u = V * rdet, v = W * rdet;
+    /* The sheared frame keeps the triangle's winding (ray_prep swaps x and y where dir[kz] < 0), so the
+     * determinant's sign is the side: negative where the ray runs along (v1 - v0) x (v2 - v0). */
+    const unsigned back = det < 0.0f;
 #if HZ_FEATURE_STATS
     if (ctx->stats)
         ctx->stats->anyhit_calls++;

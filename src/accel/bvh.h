@@ -277,8 +277,10 @@ HZ_INLINE const hz_bvh_block_t *hz_bvh_block_at(const hz_bvh_t *bvh, uint32_t bl
     return tmp;
 }
 
-/* Asks the any-hit callback about block slot `slot`; true = the hit counts. */
-bool hz_bvh_anyhit(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, uint32_t slot, const hz_bvh_ray_t *r, float t,
+/* Asks the any-hit callback about block slot `slot`, hit at t with edge weights V, W and determinant det: the
+ * watertight test's own values (every kernel's are hz_bvh_tri_test's bit for bit), so the callback's barycentrics
+ * and side are those the closest hit would report, without testing the triangle again. True = the hit counts. */
+bool hz_bvh_anyhit(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, uint32_t slot, float t, float V, float W, float det,
                    uint32_t ray_id, int lane);
 
 /* ---- kernels ---- */

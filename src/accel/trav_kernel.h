@@ -258,7 +258,7 @@ HZ_INLINE void closest_core(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, hz_bvh_ray
                     const uint32_t hs = (slot / W) * W + i;
                     if (anyhit && (pw & HZ_BVH_PRIM_ANYHIT)) {
                         r->tfar = tfar; /* the callback's ray as the caller sees it */
-                        if (!hz_bvh_anyhit(bvh, ctx, hs, r, tv[i], ray_id, lane))
+                        if (!hz_bvh_anyhit(bvh, ctx, hs, tv[i], vv[i], wv[i], dv[i], ray_id, lane))
                             continue;
                     }
                     tfar = tv[i];
@@ -349,13 +349,13 @@ HZ_INLINE bool any_core(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const hz_bvh_r
                     hit = true;
                     break;
                 }
-                float tv[W] HZ_ALIGNED(32);
-                vf_store(tv, t);
+                float tv[W] HZ_ALIGNED(32), vv[W] HZ_ALIGNED(32), wv[W] HZ_ALIGNED(32), dv[W] HZ_ALIGNED(32);
+                vf_store(tv, t), vf_store(vv, V), vf_store(wv, Wv), vf_store(dv, det);
                 do {
                     const unsigned i = (unsigned)__builtin_ctz(m);
                     m &= m - 1;
                     if (!(b->prim[i] & HZ_BVH_PRIM_ANYHIT) ||
-                        hz_bvh_anyhit(bvh, ctx, (slot / W) * W + i, r, tv[i], ray_id, lane))
+                        hz_bvh_anyhit(bvh, ctx, (slot / W) * W + i, tv[i], vv[i], wv[i], dv[i], ray_id, lane))
                         hit = true;
                 } while (m && !hit);
                 if (hit)
@@ -579,14 +579,19 @@ HZ_INLINE unsigned fr_tri_hit(const hz_bvh_block_t *b, unsigned s, const frustum
                 v_out, w_out, det_out);
 }
 
-/* Asks the any-hit callback about lane i (the ray prepared as the scalar kernels do). */
-static bool fr_anyhit(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, uint32_t slot, const hz_bvh_rayw_t *ray, unsigned i,
-                      float t)
+/* Asks the any-hit callback about the lanes lm of a packet's hits on block slot `slot` (the test's t, V, W,
+ * det; lane i's ray id in id[i]); returns the lanes it accepts. */
+static unsigned lanes_anyhit(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, uint32_t slot, unsigned lm, vf t, vf V, vf Wv,
+                             vf det, const uint32_t *id)
 {
-    hz_bvh_ray_t r;
-    hz_bvh_ray_prep(&r, ray->org_x[i], ray->org_y[i], ray->org_z[i], ray->dir_x[i], ray->dir_y[i], ray->dir_z[i],
-                    ray->tnear[i], ray->tfar[i]);
-    return hz_bvh_anyhit(bvh, ctx, slot, &r, t, ray->id[i], (int)i);
+    float tv[W] HZ_ALIGNED(32), vv[W] HZ_ALIGNED(32), wv[W] HZ_ALIGNED(32), dv[W] HZ_ALIGNED(32);
+    vf_store(tv, t), vf_store(vv, V), vf_store(wv, Wv), vf_store(dv, det);
+    for (unsigned x = lm; x; x &= x - 1) {
+        const unsigned i = (unsigned)__builtin_ctz(x);
+        if (!hz_bvh_anyhit(bvh, ctx, slot, tv[i], vv[i], wv[i], dv[i], id[i], (int)i))
+            lm &= ~(1u << i);
+    }
+    return lm;
 }
 
 /* Closest hits of a packet. The best hit of every lane lives in vectors (t, triangle, slot, weights, normal); a
@@ -642,17 +647,9 @@ static void frustum_closest(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const frus
                     unsigned bm = vm_bits(vm_or(vf_lt(t, tfar), vm_and(vf_eq(t, tfar), vi_gt(bprim, vprim)))) & mm;
                     if (!bm)
                         continue;
-                    if (anyhit && (pw & HZ_BVH_PRIM_ANYHIT)) {
-                        float tv[W] HZ_ALIGNED(32);
-                        vf_store(tv, t);
-                        for (unsigned x = bm; x; x &= x - 1) {
-                            const unsigned i = (unsigned)__builtin_ctz(x);
-                            if (!fr_anyhit(bvh, ctx, hs, &rh->ray, i, tv[i]))
-                                bm &= ~(1u << i);
-                        }
-                        if (!bm)
-                            continue;
-                    }
+                    if (anyhit && (pw & HZ_BVH_PRIM_ANYHIT) &&
+                        !(bm = lanes_anyhit(bvh, ctx, hs, bm, t, V, Wv, det, rh->ray.id)))
+                        continue;
                     const vm better = vm_of(bm);
                     tfar = vf_sel(better, t, tfar);
                     bv = vf_sel(better, V, bv);
@@ -771,15 +768,8 @@ static unsigned frustum_any(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const frus
                     if (!mm)
                         continue;
                     const uint32_t hs = (slot / W) * W + s;
-                    if (anyhit && (b->prim[s] & HZ_BVH_PRIM_ANYHIT)) {
-                        float tv[W] HZ_ALIGNED(32);
-                        vf_store(tv, t);
-                        for (unsigned x = mm; x; x &= x - 1) {
-                            const unsigned i = (unsigned)__builtin_ctz(x);
-                            if (!fr_anyhit(bvh, ctx, hs, ray, i, tv[i]))
-                                mm &= ~(1u << i);
-                        }
-                    }
+                    if (anyhit && (b->prim[s] & HZ_BVH_PRIM_ANYHIT))
+                        mm = lanes_anyhit(bvh, ctx, hs, mm, t, V, Wv, det, ray->id);
                     done |= mm;
                     lanes &= ~mm;
                 }
@@ -1348,13 +1338,19 @@ static void tile_lane_ray(const tsrc_t *s, uint16_t li, hz_bvh_ray_t *r, uint32_
     *id = p->id[l];
 }
 
-static bool tile_anyhit(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const tsrc_t *s, uint16_t li, uint32_t slot,
-                        float t)
+/* lanes_anyhit for the lanes lm of a tile's chunk, whose lane i is source lane li[i]. */
+static unsigned tile_anyhit(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const tsrc_t *s, const uint16_t *li,
+                            uint32_t slot, unsigned lm, vf t, vf V, vf Wv, vf det)
 {
-    hz_bvh_ray_t r;
-    uint32_t id;
-    tile_lane_ray(s, li, &r, &id);
-    return hz_bvh_anyhit(bvh, ctx, slot, &r, t, id, (int)(li % W));
+    float tv[W] HZ_ALIGNED(32), vv[W] HZ_ALIGNED(32), wv[W] HZ_ALIGNED(32), dv[W] HZ_ALIGNED(32);
+    vf_store(tv, t), vf_store(vv, V), vf_store(wv, Wv), vf_store(dv, det);
+    for (unsigned x = lm; x; x &= x - 1) {
+        const unsigned i = (unsigned)__builtin_ctz(x);
+        const uint32_t id = src_packet(s, li[i] / W)->id[li[i] % W];
+        if (!hz_bvh_anyhit(bvh, ctx, slot, tv[i], vv[i], wv[i], dv[i], id, (int)(li[i] % W)))
+            lm &= ~(1u << i);
+    }
+    return lm;
 }
 
 /* Leaf (slots [slot, slot + cnt)) against the lanes `lanes` of chunk c: the best hits move in the vectors (held
@@ -1381,17 +1377,9 @@ HZ_INLINE bool leaf_closest(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const tsrc
         unsigned bm = vm_bits(vm_or(vf_lt(t, tfar), vm_and(vf_eq(t, tfar), vi_gt(bprim, vprim)))) & mm;
         if (!bm)
             continue;
-        if (anyhit && (pw & HZ_BVH_PRIM_ANYHIT)) {
-            float tv[W] HZ_ALIGNED(32);
-            vf_store(tv, t);
-            for (unsigned x = bm; x; x &= x - 1) {
-                const unsigned i = (unsigned)__builtin_ctz(x);
-                if (!tile_anyhit(bvh, ctx, src, g->src[c][i], hs, tv[i]))
-                    bm &= ~(1u << i);
-            }
-            if (!bm)
-                continue;
-        }
+        if (anyhit && (pw & HZ_BVH_PRIM_ANYHIT) &&
+            !(bm = tile_anyhit(bvh, ctx, src, g->src[c], hs, bm, t, V, Wv, det)))
+            continue;
         const vm better = vm_of(bm);
         tfar = vf_sel(better, t, tfar);
         bv = vf_sel(better, V, bv);
@@ -1660,15 +1648,8 @@ HZ_INLINE void any_tile_core(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const tsr
                         unsigned mm = tri_hit_lanes(b, s, g, ch, ch->tfar, lanes, &t, &V, &Wv, &det);
                         if (!mm)
                             continue;
-                        if (anyhit && (b->prim[s] & HZ_BVH_PRIM_ANYHIT)) {
-                            float tv[W] HZ_ALIGNED(32);
-                            vf_store(tv, t);
-                            for (unsigned y = mm; y; y &= y - 1) {
-                                const unsigned i = (unsigned)__builtin_ctz(y);
-                                if (!tile_anyhit(bvh, ctx, src, g->src[c][i], (slot / W) * W + s, tv[i]))
-                                    mm &= ~(1u << i);
-                            }
-                        }
+                        if (anyhit && (b->prim[s] & HZ_BVH_PRIM_ANYHIT))
+                            mm = tile_anyhit(bvh, ctx, src, g->src[c], (slot / W) * W + s, mm, t, V, Wv, det);
                         done |= mm;
                         lanes &= ~mm;
                     }

@@ -75,7 +75,7 @@ HZ_INLINE void closest_core(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, hz_bvh_ray
             if (!(t >= r->tnear) || !hz_bvh_better(t, prim, r->tfar, best->prim))
                 continue;
             uint32_t hs = (slot / HZ_BVH_W) * HZ_BVH_W + s;
-            if (anyhit && (pw & HZ_BVH_PRIM_ANYHIT) && !hz_bvh_anyhit(bvh, ctx, hs, r, t, ray_id, lane))
+            if (anyhit && (pw & HZ_BVH_PRIM_ANYHIT) && !hz_bvh_anyhit(bvh, ctx, hs, t, V, W, det, ray_id, lane))
                 continue;
             r->tfar = t;
             best->prim = prim;
@@ -128,7 +128,8 @@ HZ_INLINE bool any_core(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const hz_bvh_r
             if (!(t >= r->tnear) || !(t <= r->tfar))
                 continue;
             uint32_t hs = (slot / HZ_BVH_W) * HZ_BVH_W + s;
-            if (anyhit && (b->prim[s] & HZ_BVH_PRIM_ANYHIT) && !hz_bvh_anyhit(bvh, ctx, hs, r, t, ray_id, lane))
+            if (anyhit && (b->prim[s] & HZ_BVH_PRIM_ANYHIT) &&
+                !hz_bvh_anyhit(bvh, ctx, hs, t, V, W, det, ray_id, lane))
                 continue;
             hit = true;
         }

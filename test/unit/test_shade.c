@@ -2,11 +2,13 @@
  * random rays from inside the bounds of baked scenes (textured Sponza, blended, cutout and
  * alpha-textured materials, a mirror box, the built-in scene, pose keys at random ray times), packets with some
  * lanes empty, and lanes with extreme ray cones and non-finite barycentrics. Also the motion vectors of still
- * geometry in lanes (hz_view_still_motion_lanes) against hz_view_point_motion.
+ * geometry in lanes (hz_view_still_motion_lanes) against hz_view_point_motion, and the any-hit tests' texture alpha
+ * against an oracle.
  * hz-test: no-vm (heavy under system emulation, runs under qemu-user)
  */
 #include "hz_test.h"
 
+#include <math.h>
 #include <string.h>
 
 #include "hz/hash.h"
@@ -232,6 +234,68 @@ static void test_builtin(void **state)
     assert_true(t.lanes > PACKETS);
 }
 
+/* The any-hit tests' alpha (hz_texture_alpha: level 0, alpha only) against an oracle written here from the
+ * texels: bilinear at texel centres, corners wrapped with %, the same float steps. Bit for bit, on every texture of
+ * the smoke sprites and Lost Empire's cut-outs, at random coordinates far outside [0, 1) and at the ones where
+ * wrapping and rounding bite (texel edges, -1e-9, 1, exact integers); non-finite coordinates read as 1. */
+static float alpha_oracle(const hz_scene_t *s, const hz_texture_t *t, float u, float v)
+{
+    const int32_t w = (int32_t)t->width, h = (int32_t)t->height;
+    const uint8_t *px = s->texels + t->first_texel * 4;
+    float fu = (u - floorf(u)) * (float)w - 0.5f, fv = (v - floorf(v)) * (float)h - 0.5f;
+    float x0f = floorf(fu), y0f = floorf(fv), ax = fu - x0f, ay = fv - y0f;
+    int32_t x[2] = { (int32_t)x0f, (int32_t)x0f + 1 }, y[2] = { (int32_t)y0f, (int32_t)y0f + 1 };
+    float c[2][2];
+    for (int j = 0; j < 2; j++)
+        for (int i = 0; i < 2; i++) {
+            int32_t xi = ((x[i] % w) + w) % w, yj = ((y[j] % h) + h) % h;
+            c[j][i] = (float)px[((size_t)yj * (size_t)w + (size_t)xi) * 4 + 3] * (1.0f / 255.0f);
+        }
+    float top = c[0][0] + (c[0][1] - c[0][0]) * ax, bot = c[1][0] + (c[1][1] - c[1][0]) * ax;
+    return top + (bot - top) * ay;
+}
+
+static void test_texture_alpha(void **state)
+{
+    (void)state;
+    static const char *const files[] = { "sponza-smoke.hzb", "lost-empire.hzb" };
+    hz_rng_t rng;
+    hz_rng_seed(&rng, 7, 1);
+    uint32_t checked = 0;
+    for (size_t fi = 0; fi < sizeof files / sizeof files[0]; fi++) {
+        rfix_t f;
+        open_scene(&f, files[fi]);
+        const hz_scene_t *s = &f.scene;
+        for (uint32_t ti = 0; ti < s->texture_count; ti++) {
+            const hz_texture_t *t = &s->textures[ti];
+            for (int k = 0; k < 400; k++) {
+                float u, v;
+                if (k < 64) { /* texel edges and centres, and just outside [0, 1) */
+                    static const float edge[] = { -1e-9f, 0.0f, 1.0f, -1.0f, 2.0f, 0.99999994f, -0.5f, 3.0f };
+                    u = k < 8 ? edge[k] : (float)(k % 9) / (float)t->width;
+                    v = k < 8 ? edge[7 - k] : (float)(k / 9) / (float)t->height + (k & 1 ? 0.5f / (float)t->height : 0);
+                } else {
+                    u = (unit(&rng) - 0.5f) * (k < 200 ? 4.0f : 3000.0f);
+                    v = (unit(&rng) - 0.5f) * (k < 200 ? 4.0f : 3000.0f);
+                }
+                float got = hz_texture_alpha(s, (int32_t)ti, u, v), want = alpha_oracle(s, t, u, v);
+                if (memcmp(&got, &want, sizeof got) != 0)
+                    fail_msg("%s texture %u at (%.9g, %.9g): %.9g, oracle %.9g", files[fi], ti, (double)u, (double)v,
+                             (double)got, (double)want);
+                float rgba[4];
+                hz_texture_sample(s, (int32_t)ti, u, v, 0.0f, rgba); /* the colour path's alpha: the same */
+                assert_memory_equal(&rgba[3], &got, sizeof got);
+                checked++;
+            }
+            assert_true(hz_texture_alpha(s, (int32_t)ti, NAN, 0.5f) == 1.0f);
+            assert_true(hz_texture_alpha(s, (int32_t)ti, 0.5f, INFINITY) == 1.0f);
+        }
+        rfix_close(&f);
+    }
+    print_message("%u alpha lookups agree with the oracle\n", checked);
+    assert_true(checked >= 800);
+}
+
 static void test_pose_keys(void **state)
 {
     (void)state;
@@ -326,7 +390,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_path),     cmocka_unit_test(test_builtin),    cmocka_unit_test(test_sponza),
         cmocka_unit_test(test_blended),  cmocka_unit_test(test_mirror_box), cmocka_unit_test(test_pose_keys),
-        cmocka_unit_test(test_still_motion_lanes),
+        cmocka_unit_test(test_still_motion_lanes), cmocka_unit_test(test_texture_alpha),
     };
     return HZ_RUN(tests);
 }
