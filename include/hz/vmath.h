@@ -33,7 +33,15 @@ HZ_INLINE float hz_clampf(float x, float lo, float hi) { return x < lo ? lo : (x
 HZ_INLINE int hz_isfinitef(float x) { return __builtin_isfinite(x); }
 HZ_INLINE int hz_isnanf(float x) { return x != x; }
 
-float hz_floorf(float x);
+/* floor; |x| >= 2^23 is already integral, NaN and infinities come back unchanged. Inline: texture lookups call it
+ * four times a sample. */
+HZ_INLINE float hz_floorf(float x)
+{
+    if (!(hz_absf(x) < 8388608.0f))
+        return x;
+    float t = (float)(int32_t)x; /* truncation toward zero */
+    return t > x ? t - 1.0f : t;
+}
 float hz_sinf(float x);
 float hz_cosf(float x);
 float hz_tanf(float x);

@@ -10,15 +10,6 @@ static double round_nearest(double v)
     return t - shifter;
 }
 
-float hz_floorf(float x)
-{
-    /* |x| >= 2^23 is already integral; NaN and infinities fall in the same branch and come back unchanged. */
-    if (!(hz_absf(x) < 8388608.0f))
-        return x;
-    float t = (float)(int32_t)x; /* truncation toward zero */
-    return t > x ? t - 1.0f : t;
-}
-
 /* sin and cos on |r| <= pi/4 by their Taylor series; the truncation error is below 1e-11. */
 static double sin_poly(double r)
 {
