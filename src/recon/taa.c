@@ -22,17 +22,12 @@
  * reaches the history, which is then read at the true motion. Measured on sponza-smoke, taa std, 320x180,
  * 48 frames from 2 s against exact: 34.7 dB with snapping, 39.4 dB with the cell mean, and the period-3
  * component of the smoke at exact's level (doc/transparency.md). */
-#define DITHER_RADIUS 3
-/* The box is widened there by 1.5: the dither's own spread is signal the history must average, not a change to
- * follow (make report: std within 1 dB of exact on builtin-transp and sponza-smoke with it, 1.0 and 0.3 dB
- * behind without). */
-#define DITHER_GAMMA 1.5f
-
-/* Half the side of the dither's cell: 1 (STD, hybrid), 2 (DTAA), 0 (RR: white noise, no period). */
-static int cell_radius(const hz_render_frame_t *f)
-{
-    return (int)(hz_transp_mv_align(f->opts.transparency) / 2u);
-}
+#define DITHER_RADIUS HZ_TAA_DITHER_RADIUS
+/* The box is widened there by HZ_TAA_DITHER_GAMMA (1.5): the dither's own spread is signal the history must
+ * average, not a change to follow (make report: std within 1 dB of exact on builtin-transp and sponza-smoke with
+ * it, 1.0 and 0.3 dB behind without). */
+#define DITHER_GAMMA HZ_TAA_DITHER_GAMMA
+#define cell_radius hz_taa_cell_radius
 #include "hz/pack.h"
 
 

@@ -23,6 +23,17 @@ void hz_taa_resolve_tile(hz_taa_t *t, const hz_render_frame_t *f, uint32_t tile)
 void hz_taa_resolve_tile_scalar(hz_taa_t *t, const hz_render_frame_t *f, uint32_t tile);
 void hz_taa_resolve_pixel(hz_taa_t *t, const hz_render_frame_t *f, uint32_t x, uint32_t y);
 
+/* A dithered pixel's variance box is (2 HZ_TAA_DITHER_RADIUS + 1)^2 pixels, widened by HZ_TAA_DITHER_GAMMA, and
+ * its sample the mean over the dither's cell of half-side hz_taa_cell_radius (taa.c says why). */
+#define HZ_TAA_DITHER_RADIUS 3
+#define HZ_TAA_DITHER_GAMMA 1.5f
+
+/* Half the side of the dither's cell: 1 (STD, hybrid), 2 (DTAA), 0 (RR: white noise, no period). */
+HZ_INLINE int hz_taa_cell_radius(const hz_render_frame_t *f)
+{
+    return (int)(hz_transp_mv_align(f->opts.transparency) / 2u);
+}
+
 /* RGB -> YCoCg, the TAA box's colour space; one definition for the resolve and its SIMD twin (whose 10x10 block
  * must hold exactly the values the twin computes). */
 HZ_INLINE void hz_taa_to_ycocg(const float *rgb, float *o)

@@ -5,13 +5,89 @@
  * scalar twin converts all nine neighbours of every pixel: the same values, summed in the same order); the
  * motion vectors come in with deinterleaving loads, not gathers. Motion, the
  * off-screen and disocclusion tests, the bilinear history fetch, the clamp, the blend and the half-float codes
- * run lane by lane with the twin's operations. Left to the twin: tiles cut by the image edge, pixels whose
- * path dithered (a 7x7 box and a hashed motion alignment), and the non-default Catmull-Rom fetch and clip. */
+ * run lane by lane with the twin's operations. Pixels whose path dithered take the twin's 7x7 box, read from a
+ * 14x14 block of the tile's YCoCg and dither flags built only for tiles that have such pixels, and the mean over
+ * the dither's cell (masked sums: adding +0 where the twin skips a pixel gives the same bits, since the sum
+ * starts at +0 and never becomes -0). Left to the twin: tiles cut by the image edge, and the non-default
+ * Catmull-Rom fetch and clip. */
 #include "../core/pack_lanes.h"
 #include "taa_internal.h"
 
 #define T HZ_RENDER_TILE
 #define B (T + 2) /* the tile and a ring of one pixel */
+#define DR HZ_TAA_DITHER_RADIUS
+#define BW (T + 2 * DR) /* the tile and a ring of DR pixels */
+
+/* A tile's YCoCg and dither flags with a ring of DR pixels, edge-clamped as the twin reads them (pix). */
+typedef struct wide {
+    float yc[3][BW][BW];
+    uint8_t dith[BW][BW];
+} wide_t;
+
+static void wide_fill(wide_t *wb, const hz_taa_t *t, const hz_render_frame_t *f, uint32_t x0, uint32_t y0)
+{
+    const int32_t w = (int32_t)f->opts.width, h = (int32_t)f->opts.height;
+    for (int32_t by = 0; by < BW; by++) {
+        int32_t y = (int32_t)y0 + by - DR;
+        y = y < 0 ? 0 : y >= h ? h - 1 : y;
+        for (int32_t bx = 0; bx < BW; bx++) {
+            int32_t x = (int32_t)x0 + bx - DR;
+            x = x < 0 ? 0 : x >= w ? w - 1 : x;
+            const size_t px = (size_t)y * (size_t)w + (size_t)x;
+            float q[3];
+            hz_taa_to_ycocg(t->cur.rgb + 3 * px, q);
+            for (int k = 0; k < 3; k++)
+                wb->yc[k][by][bx] = q[k];
+            wb->dith[by][bx] = (f->gb.flags[px] & HZ_GB_DITHER) ? 0xFFu : 0u;
+        }
+    }
+}
+
+/* The dithered lanes' sample, box mean and extent (hz_taa_resolve_pixel's dither branch): (tx, ty) the lanes'
+ * first pixel in the tile; moving: lanes whose camera or surface moved. */
+static void dither_box_lanes(const wide_t *wb, const hz_render_frame_t *f, uint32_t tx, uint32_t ty, hz_li_t moving,
+                             hz_lrgb_t *c, hz_lrgb_t *mean, hz_lrgb_t *ext)
+{
+    hz_lrgb_t sum, sum2;
+    for (int k = 0; k < 3; k++)
+        sum.c[k] = sum2.c[k] = hz_lf_set(0.0f);
+    for (uint32_t dy = 0; dy <= 2 * DR; dy++)
+        for (uint32_t dx = 0; dx <= 2 * DR; dx++)
+            for (int k = 0; k < 3; k++) {
+                hz_lf_t q = hz_lf_load(&wb->yc[k][ty + dy][tx + dx]);
+                sum.c[k] = hz_lf_add(sum.c[k], q);
+                sum2.c[k] = hz_lf_add(sum2.c[k], hz_lf_mul(q, q));
+            }
+    const hz_lf_t count = hz_lf_set((float)((2 * DR + 1) * (2 * DR + 1)));
+    float g = f->opts.taa_gamma;
+    g *= HZ_TAA_DITHER_GAMMA;
+    const hz_lf_t gamma = hz_lf_set(g);
+    for (int k = 0; k < 3; k++) {
+        mean->c[k] = hz_lf_div(sum.c[k], count);
+        hz_lf_t var = hz_lf_sub(hz_lf_div(sum2.c[k], count), hz_lf_mul(mean->c[k], mean->c[k]));
+        var = hz_lf_sel(hz_lf_gt(var, hz_lf_set(0.0f)), var, hz_lf_set(0.0f));
+        ext->c[k] = hz_lf_mul(gamma, hz_lf_sqrt(var));
+    }
+    const int cell = hz_taa_cell_radius(f);
+    if (cell <= 0 || !hz_li_any(moving))
+        return;
+    hz_lrgb_t cs;
+    for (int k = 0; k < 3; k++)
+        cs.c[k] = hz_lf_set(0.0f);
+    hz_li_t n = hz_li_set(0);
+    for (int dy = -cell; dy <= cell; dy++)
+        for (int dx = -cell; dx <= cell; dx++) {
+            const uint32_t by = (uint32_t)((int)ty + DR + dy), bx = (uint32_t)((int)tx + DR + dx);
+            const hz_li_t in = hz_li_not(hz_li_eq(hz_li_load_u8(&wb->dith[by][bx]), hz_li_set(0)));
+            for (int k = 0; k < 3; k++)
+                cs.c[k] = hz_lf_add(cs.c[k], hz_lf_sel(in, hz_lf_load(&wb->yc[k][by][bx]), hz_lf_set(0.0f)));
+            n = hz_li_sub(n, in); /* in is -1 where the pixel counts */
+        }
+    /* n >= 1 in every dithered lane (the pixel itself); other lanes are not used */
+    const hz_lf_t inv = hz_lf_div(hz_lf_set(1.0f), hz_lf_from_li(hz_li_max(n, hz_li_set(1))));
+    for (int k = 0; k < 3; k++)
+        c->c[k] = hz_lf_sel(moving, hz_lf_mul(cs.c[k], inv), c->c[k]);
+}
 
 HZ_INLINE void to_ycocg_lanes(const hz_lrgb_t *c, hz_lrgb_t *o)
 {
@@ -47,8 +123,10 @@ HZ_INLINE hz_lrgb_t hist_at(const uint16_t *hist, hz_li_t x, hz_li_t y, int32_t 
     return o;
 }
 
-/* Lanes x .. x + HZ_LANES - 1 of row y; yc: the tile's YCoCg block, (bx, by) the lanes' first pixel in it. */
-static void resolve_lanes(hz_taa_t *t, const hz_render_frame_t *f, uint32_t x, uint32_t y, float (*yc)[B][B], uint32_t bx, uint32_t by)
+/* Lanes x .. x + HZ_LANES - 1 of row y; yc: the tile's YCoCg block, (bx, by) the lanes' first pixel in it; wb:
+ * the wide block where the tile has dithered pixels, else NULL. */
+static void resolve_lanes(hz_taa_t *t, const hz_render_frame_t *f, uint32_t x, uint32_t y, float (*yc)[B][B],
+                          uint32_t bx, uint32_t by, const wide_t *wb)
 {
     const int32_t w = (int32_t)f->opts.width, h = (int32_t)f->opts.height;
     const hz_gbuffer_t *gb = &f->gb;
@@ -88,6 +166,29 @@ static void resolve_lanes(hz_taa_t *t, const hz_render_frame_t *f, uint32_t x, u
                                hz_li_and(hz_lf_lt(hx, hz_lf_set((float)w)), hz_lf_lt(hy, hz_lf_set((float)h))));
     /* hx >= 0 is "not below 0 and not NaN": NaN fails lt(hx, w) anyway */
     reset = hz_li_or(reset, hz_li_not(inside));
+    /* Dithered lanes: the wide box and the cell's mean; their object changes by design (no disocclusion test). */
+    hz_li_t dith = zero;
+    if (wb) {
+        dith = hz_li_not(hz_li_eq(hz_li_and(hz_li_load_u8(gb->flags + p0), hz_li_set(HZ_GB_DITHER)), zero));
+        if (hz_li_any(dith)) {
+            hz_li_t moving = hz_li_set(-1);
+            if (!f->camera_moved) {
+                moving = zero;
+                if (gb->mv) {
+                    hz_lf_t mx, my;
+                    hz_lf_load2(gb->mv + 2 * p0, &mx, &my);
+                    moving = hz_li_not(hz_li_and(hz_lf_eq(mx, hz_lf_set(0.0f)), hz_lf_eq(my, hz_lf_set(0.0f))));
+                }
+            }
+            hz_lrgb_t dc = c, dmean, dext;
+            dither_box_lanes(wb, f, bx - 1u, by - 1u, hz_li_and(moving, dith), &dc, &dmean, &dext);
+            for (int k = 0; k < 3; k++) {
+                c.c[k] = hz_lf_sel(dith, dc.c[k], c.c[k]);
+                mean.c[k] = hz_lf_sel(dith, dmean.c[k], mean.c[k]);
+                ext.c[k] = hz_lf_sel(dith, dext.c[k], ext.c[k]);
+            }
+        }
+    }
 
     /* history footprint: the four pixels around (hx - 0.5, hy - 0.5) */
     hz_lf_t fx = hz_lf_sub(hx, hz_lf_set(0.5f)), fy = hz_lf_sub(hy, hz_lf_set(0.5f));
@@ -122,7 +223,7 @@ static void resolve_lanes(hz_taa_t *t, const hz_render_frame_t *f, uint32_t x, u
         seen = hz_li_or(seen, hz_li_eq(object_at(t->prev_object, hz_li_add(rb, xa), n), object));
         seen = hz_li_or(seen, hz_li_eq(object_at(t->prev_object, hz_li_add(rb, xb), n), object));
     }
-    reset = hz_li_or(reset, hz_li_not(seen));
+    reset = hz_li_or(reset, hz_li_andnot(hz_li_not(seen), dith));
 
     hz_lrgb_t res = c;
     if (hz_li_any(hz_li_not(reset))) {
@@ -200,12 +301,17 @@ void hz_taa_resolve_tile(hz_taa_t *t, const hz_render_frame_t *f, uint32_t tile)
             yc[k][by][B - 1] = yc[k][by][hi];
         }
     }
-    for (uint32_t y = y0; y < y0 + T; y++) {
+    /* the wide block, where the tile has a dithered pixel */
+    wide_t wbuf;
+    const wide_t *wb = NULL;
+    for (uint32_t y = y0; f->dither && !wb && y < y0 + T; y++)
+        for (uint32_t x = x0; x < x0 + T; x++)
+            if (f->gb.flags[(size_t)y * w + x] & HZ_GB_DITHER) {
+                wide_fill(&wbuf, t, f, x0, y0);
+                wb = &wbuf;
+                break;
+            }
+    for (uint32_t y = y0; y < y0 + T; y++)
         for (uint32_t x = x0; x < x0 + T; x += HZ_LANES)
-            resolve_lanes(t, f, x, y, yc, x - x0 + 1, y - y0 + 1);
-        if (f->dither) /* dithered paths: the twin's 7x7 box and aligned motion */
-            for (uint32_t x = x0; x < x0 + T; x++)
-                if (f->gb.flags[(size_t)y * w + x] & HZ_GB_DITHER)
-                    hz_taa_resolve_pixel(t, f, x, y);
-    }
+            resolve_lanes(t, f, x, y, yc, x - x0 + 1, y - y0 + 1, wb);
 }

@@ -1,7 +1,8 @@
 /* The SIMD reconstruction passes (tdense and TAA resolves in lanes) against their scalar twins
  * (hz_render_opts_t.scalar_recon) inside the real renderer: the same scenes, modes and frames give the same
  * bits in every displayed frame. Sizes leave partial tiles and partial groups of lanes at the right and bottom
- * edges; the camera and objects move; a dithered-transparency TAA run sends pixels to the twin's 7x7 box.
+ * edges; the camera and objects move; dithered-transparency TAA runs (std, dtaa, rr) take the 7x7 box and the
+ * dither cell's mean in lanes.
  * hz-test: no-vm (heavy under system emulation, runs under qemu-user)
  */
 #include "hz_test.h"
@@ -68,6 +69,10 @@ static void test_lanes_match_scalar_in_the_renderer(void **state)
         { "CesiumMan-small.hzb", HZ_MODE_TAA, HZ_TRANSP_EXACT },
         { "CesiumMan-small.hzb", HZ_MODE_TDENSE, HZ_TRANSP_EXACT },
         { "AlphaBlendModeTest-small.hzb", HZ_MODE_TAA, HZ_TRANSP_STD },
+        /* the built-in scene's moving particles: the cell mean over 3x3 (std), 5x5 (dtaa) and none (rr) */
+        { "builtin", HZ_MODE_TAA, HZ_TRANSP_STD },
+        { "builtin", HZ_MODE_TAA, HZ_TRANSP_DTAA },
+        { "builtin", HZ_MODE_TAA, HZ_TRANSP_RR },
     };
     for (size_t i = 0; i < HZ_ARRAY_LEN(runs); i++) {
         render(&runs[i], false, false);
