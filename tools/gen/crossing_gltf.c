@@ -20,7 +20,6 @@
 
 #define GEN_PROG "crossing_gltf"
 #define GEN_EXIT 74
-#include "genio.h"
 #include "gltfio.h"
 
 #define PANES 6
@@ -154,15 +153,7 @@ int main(int argc, char **argv)
     }
 
     char path[8192], tmp[8300];
-    snprintf(path, sizeof path, "%s/crossing.bin", argv[1]);
-    FILE *f = gen_open_tmp(path, tmp, sizeof tmp);
-    fwrite(gltf_bin, 1, gltf_bin_len, f);
-    gen_finish(f, tmp, path);
-
-    snprintf(path, sizeof path, "%s/crossing.gltf", argv[1]);
-    f = gen_open_tmp(path, tmp, sizeof tmp);
-    fprintf(f, "{\"asset\":{\"version\":\"2.0\",\"generator\":\"hzrt tools/gen/crossing_gltf\"},\n");
-    fprintf(f, "\"scene\":0,\"scenes\":[{\"nodes\":[");
+    FILE *f = gltf_files(argv[1], "crossing", path, sizeof path, tmp, sizeof tmp);
     for (int i = 0; i < nm; i++)
         fprintf(f, "%d%s", i, i + 1 < nm ? "," : "");
     fprintf(f, "]}],\n\"nodes\":[\n");

@@ -8,6 +8,8 @@
  * It returns the accessor's index. gltf_accessor_range() does the same for animation inputs (one float each: the
  * min and max glTF requires). gltf_acc_json / gltf_view_json hold the JSON arrays' contents, gltf_bin / gltf_bin_len
  * the buffer. Out of memory exits with status 70 after a message naming GEN_PROG (define it before including).
+ * gltf_files() writes OUT_DIR/NAME.bin from the buffer and opens OUT_DIR/NAME.gltf (a temporary, into `tmp`,
+ * until gen_finish) with its asset line and the scene's first words written, for the generator to go on.
  */
 #ifndef HZ_GEN_GLTFIO_H
 #define HZ_GEN_GLTFIO_H
@@ -16,9 +18,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#ifndef GEN_PROG
-#error "define GEN_PROG (the program's name for messages) before including gltfio.h"
-#endif
+#include "genio.h"
 
 static unsigned char *gltf_bin;
 static size_t gltf_bin_len, gltf_bin_cap;
@@ -85,6 +85,19 @@ static int gltf_accessor_times(const float *times, int count)
     snprintf(mm, sizeof mm, ",\"min\":[%.9g],\"max\":[%.9g]}", times[0], times[count - 1]);
     gltf_append(&gltf_acc_json, &gltf_acc_len, mm);
     return a;
+}
+
+static FILE *gltf_files(const char *dir, const char *name, char *path, size_t psize, char *tmp, size_t tsize)
+{
+    snprintf(path, psize, "%s/%s.bin", dir, name);
+    FILE *f = gen_open_tmp(path, tmp, tsize);
+    fwrite(gltf_bin, 1, gltf_bin_len, f);
+    gen_finish(f, tmp, path);
+    snprintf(path, psize, "%s/%s.gltf", dir, name);
+    f = gen_open_tmp(path, tmp, tsize);
+    fprintf(f, "{\"asset\":{\"version\":\"2.0\",\"generator\":\"hzrt tools/gen/%s\"},\n", GEN_PROG);
+    fprintf(f, "\"scene\":0,\"scenes\":[{\"nodes\":[");
+    return f;
 }
 
 static void gltf_free(void)

@@ -21,7 +21,6 @@
 
 #define GEN_PROG "skinned_gltf"
 #define GEN_EXIT 74
-#include "genio.h"
 #include "gltfio.h"
 
 #define SIDES 16
@@ -141,15 +140,7 @@ int main(int argc, char **argv)
         }
 
     char path[8192], tmp[8300];
-    snprintf(path, sizeof path, "%s/tentacles.bin", argv[1]);
-    FILE *f = gen_open_tmp(path, tmp, sizeof tmp);
-    fwrite(gltf_bin, 1, gltf_bin_len, f);
-    gen_finish(f, tmp, path);
-
-    snprintf(path, sizeof path, "%s/tentacles.gltf", argv[1]);
-    f = gen_open_tmp(path, tmp, sizeof tmp);
-    fprintf(f, "{\"asset\":{\"version\":\"2.0\",\"generator\":\"hzrt tools/gen/skinned_gltf\"},\n");
-    fprintf(f, "\"scene\":0,\"scenes\":[{\"nodes\":[");
+    FILE *f = gltf_files(argv[1], "tentacles", path, sizeof path, tmp, sizeof tmp);
     /* Nodes: joints first (tentacle t's chain is t*nj .. t*nj+nj-1), then one mesh node per tentacle. */
     for (int t = 0; t < nt; t++)
         fprintf(f, "%d,", t * nj);
