@@ -146,6 +146,23 @@ static int take(void *ctx, const hz_opt_t *o, const hz_opt_val_t *v)
 enum { FAMILIES = 2 };
 static const char *const families[FAMILIES] = { "adaptive", "adaptive-bilinear" };
 
+/* The scene's method `name` (at knob value v; v < 0: any), or NULL. */
+static const hz_et_method_t *method_of(const hz_et_scene_t *scene, const char *name, double v)
+{
+    for (size_t j = 0; j < scene->method_count; j++)
+        if (!strcmp(scene->methods[j].name, name) && (v < 0.0 || scene->methods[j].value == v))
+            return &scene->methods[j];
+    return NULL;
+}
+
+/* Adaptive family f of the scene, if it has one and --methods/--skip leave it, else NULL. */
+static const hz_et_method_t *family_of(const hz_et_scene_t *scene, int f, const char *methods, const char *skip)
+{
+    if (!wanted(methods, families[f]) || (skip && wanted(skip, families[f])))
+        return NULL;
+    return method_of(scene, families[f], -1.0);
+}
+
 /* The row of `name` at knob value v among rows[first, count), or NULL. */
 static const hz_et_row_t *row_of(const hz_et_row_t *rows, size_t first, size_t count, const char *name, double v)
 {
@@ -163,25 +180,19 @@ static hz_status_t search_scene(const hz_et_scene_t *scene, const hz_et_sequence
 {
     static const double spp[2] = { 9.0, 16.0 };
     hz_status_t s = HZ_OK;
-    for (int i = 0; i < 2 && s == HZ_OK; i++)
-        for (size_t j = 0; j < scene->method_count && s == HZ_OK; j++) {
-            const hz_et_method_t *m = &scene->methods[j];
-            if (strcmp(m->name, "full-frame") || m->value != spp[i] || row_of(rows, first, *count, m->name, spp[i]))
-                continue;
-            if (*count >= capacity)
-                return hz_error_set(err, HZ_E_RANGE, "adaptive search: no room for more rows");
-            if ((s = hz_et_run(seq, scene->reference, m, 1, cfg, &rows[*count], err)) == HZ_OK)
-                (*count)++;
-        }
+    for (int i = 0; i < 2 && s == HZ_OK; i++) {
+        const hz_et_method_t *m = method_of(scene, "full-frame", spp[i]);
+        if (!m || row_of(rows, first, *count, m->name, spp[i]))
+            continue;
+        if (*count >= capacity)
+            return hz_error_set(err, HZ_E_RANGE, "adaptive search: no room for more rows");
+        if ((s = hz_et_run(seq, scene->reference, m, 1, cfg, &rows[*count], err)) == HZ_OK)
+            (*count)++;
+    }
     const hz_et_row_t *r9 = row_of(rows, first, *count, "full-frame", 9.0);
     const hz_et_row_t *r16 = row_of(rows, first, *count, "full-frame", 16.0);
     for (int f = 0; f < FAMILIES && s == HZ_OK; f++) {
-        if (!wanted(methods, families[f]) || (skip && wanted(skip, families[f])))
-            continue;
-        const hz_et_method_t *fam = NULL;
-        for (size_t j = 0; j < scene->method_count && !fam; j++)
-            if (!strcmp(scene->methods[j].name, families[f]))
-                fam = &scene->methods[j];
+        const hz_et_method_t *fam = family_of(scene, f, methods, skip);
         if (!fam || !r9 || !r16)
             continue;
         s = hz_et_adaptive_search(seq, scene->reference, fam, r9, r16, cfg, rows, capacity, count, &found[*nfound],
@@ -262,16 +273,10 @@ int main(int argc, char **argv)
     if (a.search) {
         for (size_t k = 0; k < nscenes; k++) {
             const hz_et_scene_t *sc = scenes[k];
-            bool fam = false, f9 = false, f16 = false;
-            for (size_t j = 0; j < sc->method_count; j++) {
-                const hz_et_method_t *m = &sc->methods[j];
-                for (int f = 0; f < FAMILIES; f++)
-                    fam |= !strcmp(m->name, families[f]) && wanted(methods, m->name) &&
-                           !(skip && wanted(skip, m->name));
-                f9 |= !strcmp(m->name, "full-frame") && m->value == 9.0;
-                f16 |= !strcmp(m->name, "full-frame") && m->value == 16.0;
-            }
-            if (!fam || !f9 || !f16) {
+            bool fam = false;
+            for (int f = 0; f < FAMILIES; f++)
+                fam |= family_of(sc, f, methods, skip) != NULL;
+            if (!fam || !method_of(sc, "full-frame", 9.0) || !method_of(sc, "full-frame", 16.0)) {
                 hz_cli_error("--adaptive-search: scene %s has %s", sc->name,
                              !fam ? "no adaptive method to search (adaptive or adaptive-bilinear, left by --methods/"
                                     "--skip)"

@@ -579,19 +579,47 @@ HZ_INLINE unsigned fr_tri_hit(const hz_bvh_block_t *b, unsigned s, const frustum
                 v_out, w_out, det_out);
 }
 
-/* Asks the any-hit callback about the lanes lm of a packet's hits on block slot `slot` (the test's t, V, W,
- * det; lane i's ray id in id[i]); returns the lanes it accepts. */
-static unsigned lanes_anyhit(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, uint32_t slot, unsigned lm, vf t, vf V, vf Wv,
-                             vf det, const uint32_t *id)
+/* The rays of a call: packets of KW lanes (a packet kernel's one packet, or a tile's source packets). */
+typedef struct tsrc {
+    const hz_bvh_rayw_t *ray; /* the first packet's rays; `stride` bytes from one packet to the next */
+    size_t stride;
+    uint32_t n; /* packets */
+} tsrc_t;
+
+HZ_INLINE const hz_bvh_rayw_t *src_packet(const tsrc_t *s, uint32_t p)
+{
+    return (const hz_bvh_rayw_t *)(const void *)((const char *)s->ray + (size_t)p * s->stride);
+}
+
+/* Lane i of a single packet is lane i of its call. */
+static const uint16_t packet_lanes[W] = { 0, 1, 2, 3,
+#if W > 4
+                                          4, 5, 6, 7
+#endif
+};
+
+/* Asks the any-hit callback about the lanes lm of a test's hits on block slot `slot` (its t, V, W, det), lane i
+ * being lane li[i] of the call's rays s; returns the lanes it accepts. */
+static unsigned lanes_anyhit(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const tsrc_t *s, const uint16_t *li,
+                             uint32_t slot, unsigned lm, vf t, vf V, vf Wv, vf det)
 {
     float tv[W] HZ_ALIGNED(32), vv[W] HZ_ALIGNED(32), wv[W] HZ_ALIGNED(32), dv[W] HZ_ALIGNED(32);
     vf_store(tv, t), vf_store(vv, V), vf_store(wv, Wv), vf_store(dv, det);
     for (unsigned x = lm; x; x &= x - 1) {
         const unsigned i = (unsigned)__builtin_ctz(x);
-        if (!hz_bvh_anyhit(bvh, ctx, slot, tv[i], vv[i], wv[i], dv[i], id[i], (int)i))
+        const uint32_t id = src_packet(s, li[i] / W)->id[li[i] % W];
+        if (!hz_bvh_anyhit(bvh, ctx, slot, tv[i], vv[i], wv[i], dv[i], id, (int)(li[i] % W)))
             lm &= ~(1u << i);
     }
     return lm;
+}
+
+/* lanes_anyhit for one packet's lanes. */
+static unsigned packet_anyhit(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const hz_bvh_rayw_t *ray, uint32_t slot,
+                              unsigned lm, vf t, vf V, vf Wv, vf det)
+{
+    const tsrc_t s = { ray, sizeof *ray, 1 };
+    return lanes_anyhit(bvh, ctx, &s, packet_lanes, slot, lm, t, V, Wv, det);
 }
 
 /* Closest hits of a packet. The best hit of every lane lives in vectors (t, triangle, slot, weights, normal); a
@@ -648,7 +676,7 @@ static void frustum_closest(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const frus
                     if (!bm)
                         continue;
                     if (anyhit && (pw & HZ_BVH_PRIM_ANYHIT) &&
-                        !(bm = lanes_anyhit(bvh, ctx, hs, bm, t, V, Wv, det, rh->ray.id)))
+                        !(bm = packet_anyhit(bvh, ctx, &rh->ray, hs, bm, t, V, Wv, det)))
                         continue;
                     const vm better = vm_of(bm);
                     tfar = vf_sel(better, t, tfar);
@@ -769,7 +797,7 @@ static unsigned frustum_any(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const frus
                         continue;
                     const uint32_t hs = (slot / W) * W + s;
                     if (anyhit && (b->prim[s] & HZ_BVH_PRIM_ANYHIT))
-                        mm = lanes_anyhit(bvh, ctx, hs, mm, t, V, Wv, det, ray->id);
+                        mm = packet_anyhit(bvh, ctx, ray, hs, mm, t, V, Wv, det);
                     done |= mm;
                     lanes &= ~mm;
                 }
@@ -860,17 +888,6 @@ typedef struct tgroup {
 } tgroup_t;
 
 /* The rays of the call as arrays (the packet structs of the board's width, read through these). */
-typedef struct tsrc {
-    const hz_bvh_rayw_t *ray; /* the first packet's rays; `stride` bytes from one packet to the next */
-    size_t stride;
-    uint32_t n; /* packets */
-} tsrc_t;
-
-HZ_INLINE const hz_bvh_rayw_t *src_packet(const tsrc_t *s, uint32_t p)
-{
-    return (const hz_bvh_rayw_t *)(const void *)((const char *)s->ray + (size_t)p * s->stride);
-}
-
 /* Per lane of the call: KEY_NONE, KEY_SINGLE, or the group key (direction signs | kz << 3), with
  * hz_bvh_ray_prep's contract check and axis choice, a packet at a time; act[p]: packet p's lanes with a group
  * key. Returns the key every such lane shares, or KEY_NONE when they differ (or there are none) or some lane
@@ -1338,20 +1355,6 @@ static void tile_lane_ray(const tsrc_t *s, uint16_t li, hz_bvh_ray_t *r, uint32_
     *id = p->id[l];
 }
 
-/* lanes_anyhit for the lanes lm of a tile's chunk, whose lane i is source lane li[i]. */
-static unsigned tile_anyhit(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const tsrc_t *s, const uint16_t *li,
-                            uint32_t slot, unsigned lm, vf t, vf V, vf Wv, vf det)
-{
-    float tv[W] HZ_ALIGNED(32), vv[W] HZ_ALIGNED(32), wv[W] HZ_ALIGNED(32), dv[W] HZ_ALIGNED(32);
-    vf_store(tv, t), vf_store(vv, V), vf_store(wv, Wv), vf_store(dv, det);
-    for (unsigned x = lm; x; x &= x - 1) {
-        const unsigned i = (unsigned)__builtin_ctz(x);
-        const uint32_t id = src_packet(s, li[i] / W)->id[li[i] % W];
-        if (!hz_bvh_anyhit(bvh, ctx, slot, tv[i], vv[i], wv[i], dv[i], id, (int)(li[i] % W)))
-            lm &= ~(1u << i);
-    }
-    return lm;
-}
 
 /* Leaf (slots [slot, slot + cnt)) against the lanes `lanes` of chunk c: the best hits move in the vectors (held
  * in registers through the loop: the chunk is memory the compiler cannot tell from the block's). */
@@ -1378,7 +1381,7 @@ HZ_INLINE bool leaf_closest(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const tsrc
         if (!bm)
             continue;
         if (anyhit && (pw & HZ_BVH_PRIM_ANYHIT) &&
-            !(bm = tile_anyhit(bvh, ctx, src, g->src[c], hs, bm, t, V, Wv, det)))
+            !(bm = lanes_anyhit(bvh, ctx, src, g->src[c], hs, bm, t, V, Wv, det)))
             continue;
         const vm better = vm_of(bm);
         tfar = vf_sel(better, t, tfar);
@@ -1649,7 +1652,7 @@ HZ_INLINE void any_tile_core(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const tsr
                         if (!mm)
                             continue;
                         if (anyhit && (b->prim[s] & HZ_BVH_PRIM_ANYHIT))
-                            mm = tile_anyhit(bvh, ctx, src, g->src[c], (slot / W) * W + s, mm, t, V, Wv, det);
+                            mm = lanes_anyhit(bvh, ctx, src, g->src[c], (slot / W) * W + s, mm, t, V, Wv, det);
                         done |= mm;
                         lanes &= ~mm;
                     }

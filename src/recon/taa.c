@@ -22,12 +22,9 @@
  * reaches the history, which is then read at the true motion. Measured on sponza-smoke, taa std, 320x180,
  * 48 frames from 2 s against exact: 34.7 dB with snapping, 39.4 dB with the cell mean, and the period-3
  * component of the smoke at exact's level (doc/transparency.md). */
-#define DITHER_RADIUS HZ_TAA_DITHER_RADIUS
-/* The box is widened there by HZ_TAA_DITHER_GAMMA (1.5): the dither's own spread is signal the history must
- * average, not a change to follow (make report: std within 1 dB of exact on builtin-transp and sponza-smoke with
- * it, 1.0 and 0.3 dB behind without). */
-#define DITHER_GAMMA HZ_TAA_DITHER_GAMMA
-#define cell_radius hz_taa_cell_radius
+/* (HZ_TAA_DITHER_RADIUS, taa_internal.h.) The box is widened there by HZ_TAA_DITHER_GAMMA (1.5): the dither's own
+ * spread is signal the history must average, not a change to follow (make report: std within 1 dB of exact on
+ * builtin-transp and sponza-smoke with it, 1.0 and 0.3 dB behind without). */
 #include "hz/pack.h"
 
 
@@ -147,12 +144,12 @@ void hz_taa_resolve_pixel(hz_taa_t *t, const hz_render_frame_t *f, uint32_t x, u
     size_t px = (size_t)y * w + x;
     float c[3], sum[3] = { 0, 0, 0 }, sum2[3] = { 0, 0, 0 };
     bool dither = f->dither && (gb->flags[px] & HZ_GB_DITHER);
-    const int rad = dither ? DITHER_RADIUS : 1;
+    const int rad = dither ? HZ_TAA_DITHER_RADIUS : 1;
     if (dither)
-        gamma *= DITHER_GAMMA;
-    const float count = dither ? (float)((2 * DITHER_RADIUS + 1) * (2 * DITHER_RADIUS + 1)) : 9.0f;
+        gamma *= HZ_TAA_DITHER_GAMMA;
+    const float count = dither ? (float)((2 * HZ_TAA_DITHER_RADIUS + 1) * (2 * HZ_TAA_DITHER_RADIUS + 1)) : 9.0f;
     hz_taa_to_ycocg(cur->rgb + px * 3, c);
-    const int cell = dither ? cell_radius(f) : 0;
+    const int cell = dither ? hz_taa_cell_radius(f) : 0;
     /* A still view keeps the pixel's own sample: it walks the full threshold cycle in place and stays sharp. */
     const bool moving = f->camera_moved || (gb->mv && (gb->mv[px * 2] != 0.0f || gb->mv[px * 2 + 1] != 0.0f));
     if (cell > 0 && moving) {

@@ -43,6 +43,16 @@ static void wide_fill(wide_t *wb, const hz_taa_t *t, const hz_render_frame_t *f,
     }
 }
 
+/* Whether a pixel of the tile at (x0, y0) took a dithered path. */
+static bool tile_dithered(const hz_render_frame_t *f, uint32_t x0, uint32_t y0)
+{
+    for (uint32_t y = y0; f->dither && y < y0 + T; y++)
+        for (uint32_t x = x0; x < x0 + T; x++)
+            if (f->gb.flags[(size_t)y * f->opts.width + x] & HZ_GB_DITHER)
+                return true;
+    return false;
+}
+
 /* The dithered lanes' sample, box mean and extent (hz_taa_resolve_pixel's dither branch): (tx, ty) the lanes'
  * first pixel in the tile; moving: lanes whose camera or surface moved. */
 static void dither_box_lanes(const wide_t *wb, const hz_render_frame_t *f, uint32_t tx, uint32_t ty, hz_li_t moving,
@@ -156,9 +166,10 @@ static void resolve_lanes(hz_taa_t *t, const hz_render_frame_t *f, uint32_t x, u
     const hz_li_t xi = hz_li_add(hz_li_set((int32_t)x), hz_li_iota());
     hz_lf_t hx = hz_lf_add(hz_lf_from_li(xi), hz_lf_set(0.5f)), hy = hz_lf_set((float)y + 0.5f);
     hz_li_t reset = t->hist_valid ? zero : hz_li_set(-1);
-    if (t->hist_valid && gb->mv) {
-        hz_lf_t mx, my;
+    hz_lf_t mx = hz_lf_set(0.0f), my = mx;
+    if (gb->mv)
         hz_lf_load2(gb->mv + 2 * p0, &mx, &my);
+    if (t->hist_valid && gb->mv) {
         hx = hz_lf_add(hx, mx);
         hy = hz_lf_add(hy, my);
     }
@@ -171,15 +182,10 @@ static void resolve_lanes(hz_taa_t *t, const hz_render_frame_t *f, uint32_t x, u
     if (wb) {
         dith = hz_li_not(hz_li_eq(hz_li_and(hz_li_load_u8(gb->flags + p0), hz_li_set(HZ_GB_DITHER)), zero));
         if (hz_li_any(dith)) {
-            hz_li_t moving = hz_li_set(-1);
-            if (!f->camera_moved) {
-                moving = zero;
-                if (gb->mv) {
-                    hz_lf_t mx, my;
-                    hz_lf_load2(gb->mv + 2 * p0, &mx, &my);
-                    moving = hz_li_not(hz_li_and(hz_lf_eq(mx, hz_lf_set(0.0f)), hz_lf_eq(my, hz_lf_set(0.0f))));
-                }
-            }
+            /* camera moved, or the surface (no motion vectors: mx = my = 0, still) */
+            const hz_li_t moving = f->camera_moved ? hz_li_set(-1)
+                                                   : hz_li_not(hz_li_and(hz_lf_eq(mx, hz_lf_set(0.0f)),
+                                                                         hz_lf_eq(my, hz_lf_set(0.0f))));
             hz_lrgb_t dc = c, dmean, dext;
             dither_box_lanes(wb, f, bx - 1u, by - 1u, hz_li_and(moving, dith), &dc, &dmean, &dext);
             for (int k = 0; k < 3; k++) {
@@ -304,13 +310,10 @@ void hz_taa_resolve_tile(hz_taa_t *t, const hz_render_frame_t *f, uint32_t tile)
     /* the wide block, where the tile has a dithered pixel */
     wide_t wbuf;
     const wide_t *wb = NULL;
-    for (uint32_t y = y0; f->dither && !wb && y < y0 + T; y++)
-        for (uint32_t x = x0; x < x0 + T; x++)
-            if (f->gb.flags[(size_t)y * w + x] & HZ_GB_DITHER) {
-                wide_fill(&wbuf, t, f, x0, y0);
-                wb = &wbuf;
-                break;
-            }
+    if (tile_dithered(f, x0, y0)) {
+        wide_fill(&wbuf, t, f, x0, y0);
+        wb = &wbuf;
+    }
     for (uint32_t y = y0; y < y0 + T; y++)
         for (uint32_t x = x0; x < x0 + T; x += HZ_LANES)
             resolve_lanes(t, f, x, y, yc, x - x0 + 1, y - y0 + 1, wb);
