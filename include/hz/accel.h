@@ -93,12 +93,14 @@
  *  boxes bound polygons computed in floats (clipping at the midpoint, barycentric transfer to the keys), so each
  *  side of a leaf's key-k box is widened by delta_k = 2^-14 * e_k + 2^-18 * m_k (e_k: largest extent, m_k:
  *  largest absolute coordinate of the triangle at key k) and then cut to the triangle's own key-k box widened
- *  by delta_k; the midpoint clip runs against the leaf box widened likewise. The rounding it covers: the clip's
+ *  by delta_k; the midpoint clip (and a refit's clips at the previous first and last keys, against the leaf's
+ *  boxes there) runs against the leaf box widened likewise. The rounding it covers: the clip's
  *  barycentric vertices are off the exact polygon by a few ulps of 1 (at most ~2^-21 of the triangle at key
- *  k after transfer, 2^-14 is a 128x allowance), the transfer v0 + b1 e1 + b2 e2 and the lerp of a box against
+ *  k after transfer, 2^-14 is a 128x allowance), the transfer b0 v0 + b1 v1 + b2 v2 and the lerp of a box against
  *  the lerp of a point each add at most ~8 ulps of the coordinates' magnitude (2^-20; 2^-18 is 4x that), and
  *  the clip planes widened by delta_mid make pieces of adjacent leaves overlap rather than leave slivers. A
- *  triangle seen through several leaves is covered by the union of their pieces. hzrt accel --motion-check
+ *  triangle seen through several leaves is covered by the union of their pieces (after a refit too: each new
+ *  piece contains the previous one). hzrt accel --motion-check
  *  proves it against brute force (0 misses, 0 mismatches) on scenes and extreme procedural motions.
  *
  *  Layout note: the native node's child words reserve a "motion node" type (src/accel/bvh.h); the motion BVH

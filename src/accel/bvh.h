@@ -67,12 +67,6 @@ typedef struct HZ_ALIGNED(32) hz_bvh_mbox {
     float lo_z[HZ_BVH_W], hi_z[HZ_BVH_W];
 } hz_bvh_mbox_t;
 
-/* One reference's piece of its triangle (MSBVH): the part with barycentrics lo[i] <= b_i <= hi[i] (b_0 =
- * weight of vertex 0), in units of 1/65535, rounded outwards. Full pieces (0..65535) are whole triangles. */
-typedef struct hz_bvh_piece {
-    uint16_t lo[3], hi[3];
-} hz_bvh_piece_t;
-
 typedef struct hz_bvh {
     hz_bvh_node_t *nodes;
     hz_bvh_block_t *blocks;
@@ -89,7 +83,7 @@ typedef struct hz_bvh {
     hz_accel_blur_t blur;
     hz_bvh_mbox_t *mbox;
     hz_bvh_block_t *kblocks[HZ_ACCEL_MAX_TIME_KEYS];
-    hz_bvh_piece_t *pieces; /* per block slot (MSBVH only, else NULL: whole triangles) */
+    uint8_t *clipped; /* per block slot, 1: a piece of a triangle spatial splits cut (MSBVH only, else NULL) */
 } hz_bvh_t;
 
 /* Per-query traversal counters of every kernel (nodes visited, triangles tested), added to ctx->stats when the
@@ -338,7 +332,8 @@ bool hz_bvh_fill_slot(hz_bvh_block_t *bl, uint32_t s, const hz_accel_geom_t *g, 
 /* Builds the motion BVH of cfg->blur for g (time_keys >= 2) into bvh, all from `arena`. */
 hz_status_t hz_bvh_motion_build(hz_bvh_t *bvh, const hz_accel_geom_t *g, const hz_accel_config_t *cfg,
                                 hz_arena_t *arena, hz_bvh_build_out_t *out, hz_error_t *err);
-/* Re-reads g's keys: triangle copies, and boxes per key from the stored pieces (re-clipped), up the tree. */
+/* Re-reads g's keys: triangle copies, and boxes per key (the MSBVH's pieces re-clipped against the previous
+ * boxes), up the tree. */
 void hz_bvh_motion_refit(hz_bvh_t *bvh, const hz_accel_geom_t *g);
 /* SAH cost of the wide tree (boxes averaged over the keys), relative to the root; also for static trees. */
 float hz_bvh_wide_sah(const hz_bvh_t *bvh);

@@ -5,15 +5,15 @@
  * then this file adds the triangle copies at every key and the node boxes at every key.
  *
  * MSBVH leaf boxes (paper section 3.1): every reference of a triangle that spatial splits cut into several
- * references is clipped (Sutherland-Hodgman) against its leaf's midpoint box; the piece is kept as the range of
- * each barycentric coordinate over the clipped polygon (hz_bvh_piece_t, 12 bytes per slot, rounded outwards),
- * and at each key the piece (the triangle's barycentric domain clipped to those ranges) is carried by its
- * barycentrics to that key's vertices; its bounds, widened by the margin of the accel.h contract, extend the
- * leaf's box at the key. Boxes then propagate up. Keeping the piece in barycentric form instead of a box in
- * space is what makes refit safe: after the keys move (a new shutter interval) the same pieces still cover the
- * triangle, so refit re-clips them against nothing but the triangle itself, at any motion. References of
- * unsplit triangles are whole triangles: their key boxes are the vertices' exact bounds, as in the interpolated
- * BVH (which, like the swept one, needs no margin: see accel.h).
+ * references (marked in bvh->clipped, a byte per slot) is clipped (Sutherland-Hodgman) against its leaf's
+ * midpoint box; the clipped polygon, its vertices as barycentrics, is carried to each key's vertices and its
+ * bounds, widened by the margin of the accel.h contract, extend the leaf's box at that key. Boxes then
+ * propagate up. Nothing of the polygon is stored: a refit (section 5) cuts each such triangle again, at the
+ * previous keys, against the leaf's previous boxes at the first and the last key, and carries that polygon to
+ * the new keys. The previous piece lay inside those boxes, so the new piece contains it and the pieces of a
+ * triangle cover it at any new motion. References of unsplit triangles are whole triangles: their key boxes are
+ * the vertices' exact bounds, as in the interpolated BVH (which, like the swept one, needs no margin: see
+ * accel.h).
  *
  * Everything is scalar C with a fixed operation order: a build is bit-identical on every ISA.
  */
@@ -83,7 +83,7 @@ static void box_node_set(float *lo_x, uint32_t c, const box_t *b)
 }
 
 /* ---- clipping ---- */
-#define POLY_MAX 12 /* a triangle cut by 6 half-planes has at most 9 vertices */
+#define POLY_MAX 16 /* a triangle cut by two boxes (12 half-planes) has at most 15 vertices */
 
 typedef struct pvert {
     float b[3]; /* barycentrics (weights of vertices 0, 1, 2) */
@@ -145,23 +145,10 @@ static const float *key_vtx(const hz_accel_geom_t *g, const float *pos, uint32_t
     return pos + 4u * (size_t)g->tri[3u * (size_t)prim + (uint32_t)i];
 }
 
-static void piece_full(hz_bvh_piece_t *p)
+/* The margin of the contract for the triangle tv[] clipped against box cb: from the triangle's box, and cb's
+ * coordinates where finite. */
+static float clip_margin(const float *const *tv, const box_t *cb)
 {
-    for (int k = 0; k < 3; k++)
-        p->lo[k] = 0, p->hi[k] = (uint16_t)PIECE_ONE;
-}
-
-static bool piece_is_full(const hz_bvh_piece_t *p)
-{
-    return p->lo[0] == 0 && p->lo[1] == 0 && p->lo[2] == 0 && p->hi[0] == PIECE_ONE && p->hi[1] == PIECE_ONE &&
-           p->hi[2] == PIECE_ONE;
-}
-
-/* The piece of triangle prim (positions `mid`) inside box cb widened by the margin (section 3.1: Sutherland-
- * Hodgman against the leaf's midpoint box), as barycentric ranges rounded out by one unit. */
-static void piece_of(const hz_accel_geom_t *g, const float *mid, uint32_t prim, const box_t *cb, hz_bvh_piece_t *out)
-{
-    const float *tv[3] = { key_vtx(g, mid, prim, 0), key_vtx(g, mid, prim, 1), key_vtx(g, mid, prim, 2) };
     box_t tb;
     box_empty(&tb);
     for (int i = 0; i < 3; i++)
@@ -169,44 +156,73 @@ static void piece_of(const hz_accel_geom_t *g, const float *mid, uint32_t prim, 
     float cm = 0.0f;
     for (int k = 0; k < 3; k++)
         cm = hz_maxf(cm, hz_maxf(hz_absf(cb->lo[k]), hz_absf(cb->hi[k])));
-    const float mg = margin(&tb, hz_isfinitef(cm) ? cm : 0.0f);
-    pvert_t a[POLY_MAX];
-    tri_poly(a, tv);
+    return margin(&tb, hz_isfinitef(cm) ? cm : 0.0f);
+}
+
+/* A reference's piece of its triangle: the clipped polygon, its vertices as barycentrics. */
+typedef struct poly {
+    int n;
+    pvert_t v[POLY_MAX];
+} poly_t;
+
+/* Cuts pl (its vertices' barycentrics) to box cb widened by the margin, at the triangle's positions tv[]; an
+ * empty result (rounding at a touching plane, an empty or non-finite box) leaves pl as it was: conservative. */
+static void poly_clip(poly_t *pl, const float *const *tv, const box_t *cb)
+{
+    const float mg = clip_margin(tv, cb);
     float lo[3], hi[3];
     for (int k = 0; k < 3; k++)
         lo[k] = cb->lo[k] - mg, hi[k] = cb->hi[k] + mg;
-    const int n = clip_to_box(a, 3, lo, hi, false);
-    if (n == 0) { /* rounding at a touching plane: stay conservative */
-        piece_full(out);
+    pvert_t a[POLY_MAX];
+    for (int i = 0; i < pl->n; i++) {
+        a[i] = pl->v[i];
+        for (int k = 0; k < 3; k++) /* the same transfer as the key boxes': v0 b0 + v1 b1 + v2 b2 */
+            a[i].p[k] = a[i].b[0] * tv[0][k] + a[i].b[1] * tv[1][k] + a[i].b[2] * tv[2][k];
+    }
+    const int n = clip_to_box(a, pl->n, lo, hi, false);
+    if (n < 3)
         return;
-    }
-    for (int k = 0; k < 3; k++) {
-        float lo = 1.0f, hi = 0.0f;
-        for (int i = 0; i < n; i++)
-            lo = hz_minf(lo, a[i].b[k]), hi = hz_maxf(hi, a[i].b[k]);
-        float ql = lo * (float)PIECE_ONE - 1.0f, qh = hi * (float)PIECE_ONE + 2.0f;
-        out->lo[k] = (uint16_t)hz_clampf(ql, 0.0f, (float)PIECE_ONE); /* truncation of a value >= 0: floor */
-        out->hi[k] = (uint16_t)hz_clampf(qh, 0.0f, (float)PIECE_ONE);
-    }
+    pl->n = n;
+    for (int i = 0; i < n; i++)
+        pl->v[i] = a[i];
 }
 
-/* The piece's polygon in the barycentric domain (the triangle cut to the piece's ranges). */
-static int piece_poly(const hz_bvh_piece_t *pc, float (*bo)[3])
+static void poly_whole(poly_t *pl)
 {
-    pvert_t a[POLY_MAX];
     const float e0[3] = { 1, 0, 0 }, e1[3] = { 0, 1, 0 }, e2[3] = { 0, 0, 1 };
     const float *tv[3] = { e0, e1, e2 };
-    tri_poly(a, tv);
-    float lo[3], hi[3];
-    for (int k = 0; k < 3; k++) { /* full ranges cut nothing: the triangle's own sides stay exact */
-        lo[k] = pc->lo[k] == 0 ? -FLT_MAX : (float)pc->lo[k] * (1.0f / (float)PIECE_ONE);
-        hi[k] = pc->hi[k] == PIECE_ONE ? FLT_MAX : (float)pc->hi[k] * (1.0f / (float)PIECE_ONE);
+    pl->n = 3;
+    tri_poly(pl->v, tv);
+}
+
+/* The build's piece (paper section 3.1.1): triangle prim at the midpoint positions `mid` clipped
+ * (Sutherland-Hodgman) against its leaf's midpoint box cb widened by the margin. */
+static void piece_at_build(const hz_accel_geom_t *g, const float *mid, uint32_t prim, const box_t *cb, poly_t *pl)
+{
+    const float *tv[3] = { key_vtx(g, mid, prim, 0), key_vtx(g, mid, prim, 1), key_vtx(g, mid, prim, 2) };
+    poly_whole(pl);
+    poly_clip(pl, tv, cb);
+}
+
+/* The refit's piece (section 5): the triangle as the previous keys had it (block slot s of kb0 and kb1, the
+ * first and last key) clipped against the leaf's boxes at those keys, b0 and b1. The previous piece lay inside
+ * both boxes at both keys, so the new one contains it, and the pieces of a triangle still cover it whatever
+ * the new keys are. Clipping at both ends of the shutter instead of the paper's closing time alone keeps a
+ * refit over unchanged keys close to the build's boxes. */
+static void piece_at_refit(const hz_bvh_block_t *kb0, const hz_bvh_block_t *kb1, uint32_t s, const box_t *b0,
+                           const box_t *b1, poly_t *pl)
+{
+    poly_whole(pl);
+    const hz_bvh_block_t *kb[2] = { kb0, kb1 };
+    const box_t *bb[2] = { b0, b1 };
+    for (int e = 0; e < 2; e++) {
+        float p[3][3];
+        for (int v = 0; v < 3; v++)
+            for (int k = 0; k < 3; k++)
+                p[v][k] = kb[e]->v[v][k][s];
+        const float *tv[3] = { p[0], p[1], p[2] };
+        poly_clip(pl, tv, bb[e]);
     }
-    const int n = clip_to_box(a, 3, lo, hi, true);
-    for (int i = 0; i < n; i++)
-        for (int k = 0; k < 3; k++)
-            bo[i][k] = a[i].b[k];
-    return n;
 }
 
 /* ---- fitting boxes at the keys ---- */
@@ -214,10 +230,12 @@ typedef struct fit {
     const hz_accel_geom_t *g;
     hz_bvh_t *bvh;
     uint32_t keys;
+    const float *mid; /* build: the midpoint positions the topology was built on; refit: NULL */
 } fit_t;
 
-/* Boxes of block slot `slot` at every key (empty for a slot that never hits). */
-static void slot_boxes(const fit_t *ft, uint32_t slot, box_t *kb)
+/* Boxes of block slot `slot` at every key (empty for a slot that never hits); pl: its piece, or NULL for the
+ * whole triangle. */
+static void slot_boxes(const fit_t *ft, uint32_t slot, const poly_t *pl, box_t *kb)
 {
     const hz_bvh_t *bvh = ft->bvh;
     const uint32_t blk = slot / HZ_BVH_W, s = slot % HZ_BVH_W;
@@ -238,11 +256,7 @@ static void slot_boxes(const fit_t *ft, uint32_t slot, box_t *kb)
             box_pt(&kb[key], p);
         }
     }
-    if (point || !bvh->pieces || piece_is_full(&bvh->pieces[slot]))
-        return;
-    float poly[POLY_MAX][3];
-    const int n = piece_poly(&bvh->pieces[slot], poly);
-    if (n == 0)
+    if (point || !pl)
         return;
     for (uint32_t key = 0; key < ft->keys; key++) {
         const hz_bvh_block_t *bl = &bvh->kblocks[key][blk];
@@ -250,16 +264,69 @@ static void slot_boxes(const fit_t *ft, uint32_t slot, box_t *kb)
         const float mg = margin(&tb, 0.0f);
         box_t pb;
         box_empty(&pb);
-        for (int i = 0; i < n; i++) {
+        for (int i = 0; i < pl->n; i++) {
             float p[3];
             for (int k = 0; k < 3; k++) /* barycentric transfer to this key */
-                p[k] = poly[i][0] * bl->v[0][k][s] + poly[i][1] * bl->v[1][k][s] + poly[i][2] * bl->v[2][k][s];
+                p[k] = pl->v[i].b[0] * bl->v[0][k][s] + pl->v[i].b[1] * bl->v[1][k][s] +
+                       pl->v[i].b[2] * bl->v[2][k][s];
             box_pt(&pb, p);
         }
         for (int k = 0; k < 3; k++) {
             kb[key].lo[k] = hz_maxf(pb.lo[k] - mg, tb.lo[k] - mg);
             kb[key].hi[k] = hz_minf(pb.hi[k] + mg, tb.hi[k] + mg);
         }
+    }
+}
+
+/* Triangle copies of block slot (b, s) at every key; a triangle with a non-finite coordinate at some key is
+ * zeroed at all keys. */
+static void fill_slot(const fit_t *ft, uint32_t b, uint32_t s)
+{
+    hz_bvh_t *bvh = ft->bvh;
+    const uint32_t pw = bvh->kblocks[0][b].prim[s];
+    if (pw == HZ_BVH_PRIM_PAD) {
+        for (uint32_t key = 1; key < ft->keys; key++)
+            bvh->kblocks[key][b].prim[s] = HZ_BVH_PRIM_PAD;
+        return;
+    }
+    bool ok = true;
+    for (uint32_t key = 0; key < ft->keys; key++)
+        ok = hz_bvh_fill_slot(&bvh->kblocks[key][b], s, ft->g, ft->g->pos_keys[key], pw & HZ_BVH_PRIM_MASK) && ok;
+    if (!ok)
+        for (uint32_t key = 0; key < ft->keys; key++)
+            for (int v = 0; v < 3; v++)
+                for (int k = 0; k < 3; k++)
+                    bvh->kblocks[key][b].v[v][k][s] = 0.0f;
+}
+
+/* Boxes of leaf `cw` (child c of node i) at every key. A build has filled the slots already; a refit fills each
+ * slot from g's keys after its piece has been cut from the previous keys and boxes. */
+static void leaf_boxes(const fit_t *ft, uint32_t i, uint32_t c, uint32_t cw, box_t *kb)
+{
+    hz_bvh_t *bvh = ft->bvh;
+    const uint32_t K = ft->keys;
+    box_t cb0, cb1;
+    if (!ft->mid && bvh->clipped) {
+        box_node_get(bvh->mbox[(size_t)i * K].lo_x, c, &cb0);
+        box_node_get(bvh->mbox[(size_t)i * K + K - 1u].lo_x, c, &cb1);
+    } else if (ft->mid && bvh->clipped) {
+        box_node_get(bvh->nodes[i].lo_x, c, &cb0); /* the leaf's box at the midpoint, from the SBVH build */
+    }
+    const uint32_t slot = hz_bvh_leaf_slot(cw), n = hz_bvh_leaf_count(cw);
+    for (uint32_t sl = slot; sl < slot + n; sl++) {
+        const uint32_t b = sl / HZ_BVH_W, s = sl % HZ_BVH_W;
+        const bool cut = bvh->clipped && bvh->clipped[sl];
+        poly_t pl;
+        if (cut && ft->mid)
+            piece_at_build(ft->g, ft->mid, bvh->kblocks[0][b].prim[s] & HZ_BVH_PRIM_MASK, &cb0, &pl);
+        else if (cut)
+            piece_at_refit(&bvh->kblocks[0][b], &bvh->kblocks[K - 1u][b], s, &cb0, &cb1, &pl);
+        if (!ft->mid)
+            fill_slot(ft, b, s);
+        box_t sb[HZ_ACCEL_MAX_TIME_KEYS];
+        slot_boxes(ft, sl, cut ? &pl : NULL, sb);
+        for (uint32_t key = 0; key < K; key++)
+            box_grow(&kb[key], &sb[key]);
     }
 }
 
@@ -280,13 +347,7 @@ static void fit_boxes(const fit_t *ft)
             if (cw == HZ_BVH_EMPTY) {
                 /* stays empty */
             } else if (hz_bvh_is_leaf(cw)) {
-                const uint32_t slot = hz_bvh_leaf_slot(cw), n = hz_bvh_leaf_count(cw);
-                for (uint32_t s = slot; s < slot + n; s++) {
-                    box_t sb[HZ_ACCEL_MAX_TIME_KEYS];
-                    slot_boxes(ft, s, sb);
-                    for (uint32_t key = 0; key < K; key++)
-                        box_grow(&kb[key], &sb[key]);
-                }
+                leaf_boxes(ft, i, c, cw, kb);
             } else {
                 for (uint32_t key = 0; key < K; key++)
                     for (uint32_t j = 0; j < HZ_BVH_W; j++) {
@@ -316,28 +377,12 @@ static void fit_boxes(const fit_t *ft)
     }
 }
 
-/* Triangle copies at every key; a triangle with a non-finite coordinate at some key is zeroed at all keys. */
+/* Triangle copies at every key (a build's; a refit fills each slot in leaf_boxes). */
 static void fill_keys(const fit_t *ft)
 {
-    hz_bvh_t *bvh = ft->bvh;
-    for (uint32_t b = 0; b < bvh->block_count; b++)
-        for (uint32_t s = 0; s < HZ_BVH_W; s++) {
-            const uint32_t pw = bvh->kblocks[0][b].prim[s];
-            if (pw == HZ_BVH_PRIM_PAD) {
-                for (uint32_t key = 1; key < ft->keys; key++)
-                    bvh->kblocks[key][b].prim[s] = HZ_BVH_PRIM_PAD;
-                continue;
-            }
-            bool ok = true;
-            for (uint32_t key = 0; key < ft->keys; key++)
-                ok = hz_bvh_fill_slot(&bvh->kblocks[key][b], s, ft->g, ft->g->pos_keys[key], pw & HZ_BVH_PRIM_MASK) &&
-                     ok;
-            if (!ok)
-                for (uint32_t key = 0; key < ft->keys; key++)
-                    for (int v = 0; v < 3; v++)
-                        for (int k = 0; k < 3; k++)
-                            bvh->kblocks[key][b].v[v][k][s] = 0.0f;
-        }
+    for (uint32_t b = 0; b < ft->bvh->block_count; b++)
+        for (uint32_t s = 0; s < HZ_BVH_W; s++)
+            fill_slot(ft, b, s);
 }
 
 /* ---- SAH of the wide tree ---- */
@@ -402,7 +447,7 @@ uint64_t hz_bvh_motion_kept_bound(uint64_t refs, uint32_t keys, hz_accel_blur_t 
     if (blur != HZ_ACCEL_BLUR_SWEPT)
         b += nodes * keys * sizeof(hz_bvh_mbox_t);
     if (blur == HZ_ACCEL_BLUR_MSBVH)
-        b += blocks * HZ_BVH_W * sizeof(hz_bvh_piece_t);
+        b += blocks * HZ_BVH_W; /* a byte per slot: clipped or whole */
     return b;
 }
 
@@ -412,7 +457,7 @@ void hz_bvh_relocate(hz_bvh_t *bvh, ptrdiff_t delta)
     MOVE(bvh->nodes);
     MOVE(bvh->blocks);
     MOVE(bvh->mbox);
-    MOVE(bvh->pieces);
+    MOVE(bvh->clipped);
     for (int k = 0; k < HZ_ACCEL_MAX_TIME_KEYS; k++)
         MOVE(bvh->kblocks[k]);
 #undef MOVE
@@ -484,12 +529,12 @@ hz_status_t hz_bvh_motion_build(hz_bvh_t *bvh, const hz_accel_geom_t *g, const h
         ok = bvh->mbox != 0;
     }
     if (ok && cfg->blur == HZ_ACCEL_BLUR_MSBVH && bvh->block_count) {
-        bvh->pieces = hz_arena_alloc_array(arena, (size_t)bvh->block_count * HZ_BVH_W, sizeof(hz_bvh_piece_t), 16);
-        ok = bvh->pieces != 0;
+        bvh->clipped = hz_arena_alloc_array(arena, (size_t)bvh->block_count * HZ_BVH_W, 1, 16);
+        ok = bvh->clipped != 0;
     }
     const hz_arena_mark_t m2 = hz_arena_mark(arena);
-    uint8_t *refs = ok && bvh->pieces ? hz_arena_calloc(arena, g->tri_count ? g->tri_count : 1u, 1, 16) : 0;
-    if (!ok || (bvh->pieces && !refs)) {
+    uint8_t *refs = ok && bvh->clipped ? hz_arena_calloc(arena, g->tri_count ? g->tri_count : 1u, 1, 16) : 0;
+    if (!ok || (bvh->clipped && !refs)) {
         hz_arena_error(arena, err);
         hz_error_prefix(err, "accel: motion boxes");
         hz_arena_reset(arena, m0);
@@ -502,34 +547,23 @@ hz_status_t hz_bvh_motion_build(hz_bvh_t *bvh, const hz_accel_geom_t *g, const h
                 for (int i = 0; i < HZ_BVH_W; i++)
                     bvh->kblocks[k][b].prim[i] = bvh->blocks ? bvh->blocks[b].prim[i] : HZ_BVH_PRIM_PAD;
             }
-    if (bvh->pieces) {
-        /* pieces: clipped only for triangles that spatial splits put in several leaves */
+    if (bvh->clipped) {
+        /* clipped: the references of triangles that spatial splits put in several leaves */
         const uint32_t nslots = bvh->block_count * HZ_BVH_W;
         for (uint32_t sl = 0; sl < nslots; sl++) {
-            uint32_t pw = bvh->blocks[sl / HZ_BVH_W].prim[sl % HZ_BVH_W];
-            piece_full(&bvh->pieces[sl]);
+            const uint32_t pw = bvh->blocks[sl / HZ_BVH_W].prim[sl % HZ_BVH_W];
             if (pw != HZ_BVH_PRIM_PAD && refs[pw & HZ_BVH_PRIM_MASK] < 2u)
                 refs[pw & HZ_BVH_PRIM_MASK]++;
         }
-        for (uint32_t i = 0; i < bvh->node_count; i++)
-            for (uint32_t c = 0; c < HZ_BVH_W; c++) {
-                const uint32_t cw = bvh->nodes[i].child[c];
-                if (cw == HZ_BVH_EMPTY || !hz_bvh_is_leaf(cw))
-                    continue;
-                box_t cb; /* the leaf's box at the midpoint, from the SBVH build */
-                box_node_get(bvh->nodes[i].lo_x, c, &cb);
-                const uint32_t slot = hz_bvh_leaf_slot(cw), n = hz_bvh_leaf_count(cw);
-                for (uint32_t sl = slot; sl < slot + n; sl++) {
-                    const uint32_t prim = bvh->blocks[sl / HZ_BVH_W].prim[sl % HZ_BVH_W] & HZ_BVH_PRIM_MASK;
-                    if (refs[prim] >= 2u)
-                        piece_of(g, mid, prim, &cb, &bvh->pieces[sl]);
-                }
-            }
+        for (uint32_t sl = 0; sl < nslots; sl++) {
+            const uint32_t pw = bvh->blocks[sl / HZ_BVH_W].prim[sl % HZ_BVH_W];
+            bvh->clipped[sl] = pw != HZ_BVH_PRIM_PAD && refs[pw & HZ_BVH_PRIM_MASK] >= 2u;
+        }
     }
     if (hz_arena_mark(arena) - m0 > out->bytes_peak)
         out->bytes_peak = hz_arena_mark(arena) - m0;
     hz_arena_reset(arena, m2); /* the reference counts */
-    fit_t ft = { g, bvh, K };
+    fit_t ft = { g, bvh, K, mid };
     fill_keys(&ft);
     fit_boxes(&ft);
     /* K = 2: move the structure down over the midpoint positions */
@@ -548,7 +582,6 @@ hz_status_t hz_bvh_motion_build(hz_bvh_t *bvh, const hz_accel_geom_t *g, const h
 
 void hz_bvh_motion_refit(hz_bvh_t *bvh, const hz_accel_geom_t *g)
 {
-    fit_t ft = { g, bvh, bvh->time_keys };
-    fill_keys(&ft);
+    fit_t ft = { g, bvh, bvh->time_keys, NULL };
     fit_boxes(&ft);
 }

@@ -24,9 +24,11 @@ static hz_arena_t arena;
 #if defined(HZ_SIMD_NEON)
 #define N_RAYS 1600u
 #define N_BRUTE 100u
+#define N_COVER 8000u
 #else
 #define N_RAYS 12000u
 #define N_BRUTE 800u
+#define N_COVER 50000u
 #endif
 
 static hz_rayhit_t rays_in[N_RAYS], rays_ref[N_RAYS], rays_out[N_RAYS];
@@ -233,6 +235,100 @@ static void test_msbvh_splits(void **state)
     assert_true(ms->info.ref_count > ip->info.ref_count);
     assert_int_equal(ip->info.spatial_splits, 0);
     hz_arena_reset(&arena, m0);
+}
+
+/* Coverage, the oracle a clipped piece must pass: rays aimed at random points of random triangles at random
+ * times (keys included), each from a random point of the bounds; every one must hit at or before its target
+ * (direction = target - origin, so the target is t = 1), or else agree with brute force. A piece that leaves
+ * part of its triangle outside every leaf lets such rays through. Returns the count that did neither. */
+static uint32_t check_cover(const hz_accel_t *a, const hz_accel_geom_t *g, uint32_t seed, uint32_t n,
+                            const char *what)
+{
+    uint32_t st = seed * 2654435761u + 7u, bad = 0, tried = 0;
+    make_rays(g, seed);
+    for (uint32_t i = 0; i < n; i++) {
+        hz_rayhit_t r = rays_in[i % N_RAYS];
+        float time = unit01(&st);
+        if (i % 4u == 1u)
+            time = (float)(uint32_t)(unit01(&st) * (float)g->time_keys) / (float)(g->time_keys - 1u);
+        const uint32_t t = (uint32_t)(unit01(&st) * (float)g->tri_count) % g->tri_count;
+        float b1 = 0.02f + 0.96f * unit01(&st), b2 = 0.02f + 0.96f * unit01(&st);
+        if (b1 + b2 > 0.98f)
+            b1 = 0.98f - b1 * 0.96f, b2 = 0.98f - b2 * 0.96f;
+        if (b1 < 0.01f || b2 < 0.01f || b1 + b2 > 0.99f)
+            continue;
+        const hz_vec3_t p = hz_meshgen_tri_point(g, t, time, b1, b2);
+        r.ray.time = time;
+        r.ray.dir_x = p.x - r.ray.org_x, r.ray.dir_y = p.y - r.ray.org_y, r.ray.dir_z = p.z - r.ray.org_z;
+        r.ray.tnear = 0.0f, r.ray.tfar = INFINITY;
+        if (!isfinite(p.x) || !isfinite(p.y) || !isfinite(p.z))
+            continue;
+        tried++;
+        hz_rayhit_t out;
+        fx_trace1(a, HZ_ACCEL_KERNEL_SCALAR, &r, &out, 1, NULL);
+        if (out.hit.geom_id == 0 && out.ray.tfar <= 1.0001f)
+            continue;
+        /* a grazing ray can pass its target in floats: brute force over the triangles decides */
+        hz_rayhit_t b = r;
+        hz_accel_brute_intersect1(g, &b);
+        if (!fx_same(&b, &out) && bad++ < 3)
+            print_message("%s: ray at triangle %u (time %g): accel prim %u t %.9g, brute force prim %u t %.9g\n",
+                          what, t, (double)time, out.hit.prim_id, (double)out.ray.tfar, b.hit.prim_id,
+                          (double)b.ray.tfar);
+    }
+    assert_true(tried > n / 2);
+    return bad;
+}
+
+/* The MSBVH's refit cuts each split triangle again at the previous keys against its leaf's previous boxes
+ * (seed 002 section 5): over unchanged keys the pieces can only grow (the boxes contain the build's, the SAH
+ * grows little), and over new motions, again and again, every ray still finds what brute force finds. */
+static void test_msbvh_refit_reclip(void **state)
+{
+    (void)state;
+    static const struct { hz_meshgen_motion_kind_t kind; float size; } moves[] = {
+        { HZ_MESHGEN_CROSS, 1.5f }, { HZ_MESHGEN_ROTATE, 2.0f }, { HZ_MESHGEN_SWAY, 2.0f }, { HZ_MESHGEN_COLLAPSE, 1.0f },
+    };
+    for (uint32_t K = 2; K <= 5; K += 3) {
+        hz_arena_mark_t m0 = hz_arena_mark(&arena);
+        hz_mesh_t m;
+        hz_error_t err;
+        assert_int_equal(hz_meshgen_soup(&m, &arena, 6000, 1.0f, 0.25f, 11, &err), HZ_OK); /* long slivers */
+        hz_accel_geom_t g = hz_meshgen_geom(&m);
+        assert_int_equal(hz_meshgen_motion(&g, m.pos, HZ_MESHGEN_SWAY, K, hz_v3(0, 0, 0), 2.0f, 0.0f, &arena), HZ_OK);
+        hz_accel_config_t cfg;
+        hz_accel_config_default(&cfg);
+        cfg.rebuild_sah_growth = 1e9f; /* refits only */
+        hz_accel_t *a;
+        assert_int_equal(hz_accel_build_native(&a, &g, &cfg, &arena, &err), HZ_OK);
+        assert_true(a->info.spatial_splits > 0);
+        assert_int_equal(check_cover(a, &g, 400u + K, N_COVER, "built"), 0);
+        const float sah0 = a->info.sah_cost;
+        assert_int_equal(hz_accel_refit(a, &err), HZ_OK);
+        print_message("K=%u: sah built %.3f, refit over the same keys %.3f\n", K, (double)sah0, (double)a->info.sah_cost);
+        assert_true(a->info.sah_cost >= sah0);
+        assert_true(a->info.sah_cost <= sah0 * 1.05f);
+        for (size_t i = 0; i < HZ_ARRAY_LEN(moves); i++) {
+            hz_accel_geom_t mv = g;
+            assert_int_equal(hz_meshgen_motion(&mv, m.pos, moves[i].kind, K, hz_v3(0.1f, 0, 0), moves[i].size, 0.5f,
+                                               &arena),
+                             HZ_OK);
+            for (uint32_t k = 0; k < K; k++)
+                memcpy((void *)(uintptr_t)g.pos_keys[k], mv.pos_keys[k], 4u * sizeof(float) * m.vertex_count);
+            assert_int_equal(hz_accel_refit(a, &err), HZ_OK);
+            assert_int_equal(a->info.rebuilds, 0);
+            char what[64];
+            snprintf(what, sizeof what, "K=%u refit %zu (%s)", K, i, hz_meshgen_motion_name(moves[i].kind));
+            print_message("%s: sah %.2f\n", what, (double)a->info.sah_cost);
+            assert_int_equal(check_cover(a, &g, 500u + (uint32_t)i, N_COVER, what), 0);
+            make_rays(&g, 300u + (uint32_t)i);
+            fx_trace1(a, HZ_ACCEL_KERNEL_SCALAR, rays_in, rays_ref, N_RAYS, NULL);
+            check_brute(&g, what);
+            fx_trace1(a, HZ_ACCEL_KERNEL_AUTO, rays_in, rays_out, N_RAYS, NULL);
+            assert_int_equal(count_diff(what), 0);
+        }
+        hz_arena_reset(&arena, m0);
+    }
 }
 
 /* One triangle in the z = 2t plane (translating along z): a ray down the z axis at time t hits at 10 - 2t. */
@@ -451,7 +547,8 @@ int main(void)
         cmocka_unit_test(test_time_segment),     cmocka_unit_test(test_analytic),
         cmocka_unit_test(test_static_ignores_time), cmocka_unit_test(test_bad_motion),
         cmocka_unit_test(test_motion_edge_geometry),
-        cmocka_unit_test(test_msbvh_splits),     cmocka_unit_test(test_refit_rebuild),
+        cmocka_unit_test(test_msbvh_splits),     cmocka_unit_test(test_msbvh_refit_reclip),
+        cmocka_unit_test(test_refit_rebuild),
         cmocka_unit_test(test_motion_cases),
     };
     return HZ_RUN_GROUP(tests, setup, NULL);
