@@ -20,6 +20,10 @@ $(GEN_BIN)/crossing_gltf: tools/gen/crossing_gltf.c tools/gen/genio.h tools/gen/
 	@mkdir -p $(dir $@)
 	$(call msg,HOSTCC,$@)$(HOSTCC) $(WARN) -D_POSIX_C_SOURCE=200809L -O2 -o $@ $< -lm
 
+$(GEN_BIN)/hairball_gltf: tools/gen/hairball_gltf.c tools/gen/genio.h tools/gen/gltfio.h
+	@mkdir -p $(dir $@)
+	$(call msg,HOSTCC,$@)$(HOSTCC) $(WARN) -D_POSIX_C_SOURCE=200809L -O2 -o $@ $< -lm
+
 $(GEN_BIN)/dither_tables: tools/gen/dither_tables.c tools/gen/vac.h
 	@mkdir -p $(dir $@)
 	$(call msg,HOSTCC,$@)$(HOSTCC) $(WARN) -O2 -o $@ $< -lm

@@ -32,13 +32,16 @@ SCENE_MODEL_tentacles := $(BUILD_ROOT)/scenes-gen/tentacles/tentacles.gltf
 # crossing: blended panes and confetti moving through each other (seed 004, moving transparency), written by
 # tools/gen/crossing_gltf.c.
 SCENE_MODEL_crossing := $(BUILD_ROOT)/scenes-gen/crossing/crossing.gltf
+# hairball: 348,000 triangles of curly strands in 64 groups swinging past each other (seed 002's moving hairball),
+# written by tools/gen/hairball_gltf.c.
+SCENE_MODEL_hairball := $(BUILD_ROOT)/scenes-gen/hairball/hairball.gltf
 SCENE_MODEL_AlphaBlendModeTest-small := $(SCENE_MODEL_AlphaBlendModeTest)
 SCENE_MODEL_furball-sway := $(SCENE_MODEL_furball)
 SCENE_MODEL_sponza-rotated := $(SCENE_MODEL_sponza)
 SCENES := CornellBox-Original CornellBox-Mirror conference sponza lost-empire pine dragon-res4 dragon-res3 \
           dragon-res2 dragon furball BoxAnimated CesiumMan AlphaBlendModeTest CesiumMan-small \
           AlphaBlendModeTest-small sponza-smoke dragon-res4-still furball-sway sponza-rotated \
-          CesiumMan-keys CesiumMan-skin-small tentacles crossing
+          CesiumMan-keys CesiumMan-skin-small tentacles crossing hairball
 SCENE_FILES := $(SCENES:%=$(SCENES_O)/%.hzb)
 # What each scene reads besides its model: the unpacked zip (its stamp) or every file beside the model.
 scene_inputs = $(if $(filter $(SCENES_UNPACK)/%,$(1)),$(dir $(1)).unpacked,$(1) $(wildcard $(dir $(1))*))
@@ -62,6 +65,10 @@ $(SCENE_MODEL_crossing): $(BUILD_ROOT)/host/tools/gen/crossing_gltf
 	@mkdir -p $(dir $@)
 	$(call msg,GEN,$@)$(BUILD_ROOT)/host/tools/gen/crossing_gltf $(dir $@)
 $(SCENES_O)/crossing.hzb: $(SCENE_MODEL_crossing)
+$(SCENE_MODEL_hairball): $(BUILD_ROOT)/host/tools/gen/hairball_gltf
+	@mkdir -p $(dir $@)
+	$(call msg,GEN,$@)$(BUILD_ROOT)/host/tools/gen/hairball_gltf $(dir $@)
+$(SCENES_O)/hairball.hzb: $(SCENE_MODEL_hairball)
 
 ifeq ($(wildcard $(SCENES_SRC)/SOURCES.md),)
 scenes:

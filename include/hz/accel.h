@@ -126,6 +126,8 @@
 /* Largest coordinate magnitude a triangle may have (2^36, about 6.9e10; see "Geometry" above). The scene
  * loader refuses positions beyond it. */
 #define HZ_ACCEL_MAX_COORD 68719476736.0f
+/* The largest split_budget: 4 extra references per triangle (seed 002's MSBVHs replicate up to 2.5x). */
+#define HZ_ACCEL_SPLIT_BUDGET_MAX 4.0f
 /* Most triangles one accel takes (the native leaf encoding's limit). */
 #define HZ_ACCEL_MAX_TRIS (1u << 25)
 
@@ -324,7 +326,8 @@ typedef struct hz_accel_config {
     uint32_t leaf_max;     /* triangles per leaf, 1..HZ_BVH_WIDTH (default HZ_BVH_WIDTH) */
     bool spatial_splits;   /* SBVH (Stich et al. 2009); false gives a plain binned-SAH BVH */
     float split_alpha;     /* try spatial splits where children overlap > alpha * root area (1e-5) */
-    float split_budget;    /* extra references allowed, as a fraction of the triangle count (0.25) */
+    float split_budget;    /* extra references allowed, as a fraction of the triangle count (0.25; at most
+                              HZ_ACCEL_SPLIT_BUDGET_MAX, more is taken as that; the memory bound counts it) */
     /* Embree */
     bool robust;           /* RTC_SCENE_FLAG_ROBUST (watertight, slower) */
     int quality;           /* 0 low, 1 medium (default), 2 high (Embree's own spatial splits) */
@@ -377,6 +380,9 @@ typedef struct hz_accel_info {
     uint32_t tri_skipped;    /* triangles left out (non-finite vertices) */
     uint32_t ref_count;      /* triangle references after spatial splits (native) */
     uint32_t spatial_splits; /* nodes split spatially (native) */
+    uint32_t budget_stops;   /* spatial split searches skipped and straddling references kept whole because the
+                                replication budget was spent (native): 0 means the budget never bound, the tree
+                                is the one the overlap threshold alone gives */
     uint32_t tasks_rebuilt;  /* parallel-build tasks built a second time because the first pass went over the
                                 replication budget (native) */
     uint32_t node_count;     /* wide nodes (native) */

@@ -301,7 +301,7 @@ static hz_status_t write_curve(const char *csv, const hz_bench_transp_row_t *row
 /* The command line (opttab.h): the help is printed from this table. */
 enum { B_ONLY, B_CSV, B_MD, B_SCENES, B_ROUNDS, B_THREADS, B_RT_CSV, B_RT_SIZE, B_RT_FRAMES, B_RT_TWIN, B_RT_SCALING,
        B_TD_SIZE, B_FRAMES, B_TP_CSV, B_TP_SIZE, B_TP_FRAMES, B_AD_CSV, B_SHUTTER, B_BLUR_SIZE, B_ACCEL_CSV, B_SCENE,
-       B_SIZE, B_EMBREE, B_MO_CSV, B_MO_SCENE, B_MO_SIZE, B_MO_INTERVAL, B_CHECK_FIT };
+       B_SIZE, B_EMBREE, B_MO_CSV, B_MO_SCENE, B_MO_SIZE, B_MO_INTERVAL, B_MO_BUDGET, B_CHECK_FIT };
 
 static const char *const group_words[] = { "kernels", "accel", "tdense", "transparency", "adaptive", "blur", "motion",
                                            "realtime", NULL };
@@ -363,11 +363,15 @@ static const hz_opt_t options[] = {
       .help = "its table as CSV" },
     { .name = "--motion-scene", .arg = "NAME", .kind = HZ_OPT_TEXT, .id = B_MO_SCENE,
       .help = "a baked scene to measure; repeat for more (at most " STR(HZ_BENCH_MOTION_MAX_SCENES) "; default the "
-              "moving furball and the rotated Sponza)" },
+              "moving hairball, the rotated Sponza and the swaying furball)" },
     { .name = "--motion-size", .arg = "WxH", .kind = HZ_OPT_SIZE, .lo = 8, .hi = 8192, .id = B_MO_SIZE,
       .help = "frame size (default 512x512)" },
     { .name = "--motion-interval", .arg = "S", .kind = HZ_OPT_REAL, .lo = 0, .hi = 10, .lo_open = true,
       .noun = "a number of seconds", .id = B_MO_INTERVAL, .help = "the shutter interval (default 1/24 s)" },
+    { .name = "--motion-budget", .arg = "B", .kind = HZ_OPT_REAL, .lo = 0, .hi = HZ_ACCEL_SPLIT_BUDGET_MAX,
+      .noun = "a fraction of the triangles", .id = B_MO_BUDGET,
+      .help = "an MSBVH split budget to measure; repeat for more (at most " STR(HZ_BENCH_MOTION_MAX_BUDGETS) "; "
+              "default 0.25 0.5 1 4, the largest standing for unbounded where it stops no split)" },
 };
 
 static const hz_opt_prog_t program = {
@@ -470,6 +474,13 @@ static int take(void *ctx, const hz_opt_t *o, const hz_opt_val_t *v)
         break;
     case B_MO_SIZE: a->mo.width = (uint32_t)v->w, a->mo.height = (uint32_t)v->h; break;
     case B_MO_INTERVAL: a->mo.interval = (float)v->x; break;
+    case B_MO_BUDGET:
+        if (a->mo.budget_count == HZ_BENCH_MOTION_MAX_BUDGETS) {
+            hz_cli_error("--motion-budget: at most %d budgets", HZ_BENCH_MOTION_MAX_BUDGETS);
+            return HZ_EXIT_USAGE;
+        }
+        a->mo.budgets[a->mo.budget_count++] = (float)v->x;
+        break;
     }
     return 0;
 }
@@ -869,7 +880,8 @@ int main(int argc, char **argv)
                              1 };
     snprintf(sec[7].what, sizeof sec[7].what, "The seed's Table 1 per scene and BVH (msbvh, interp, swept, Embree's "
              "motion blur): references, nodes, spatial splits, SAH cost, intersections and traversal steps per ray "
-             "(max / average), render ms of a frame of one primary and one shadow ray per pixel at its own time, "
-             "build and refit ms, bytes per triangle, Mrays/s (hzbench --only motion)");
+             "(max / average), render ms of a frame of one primary and one shadow or ambient-occlusion ray per pixel "
+             "at its own time, build and refit ms, bytes per triangle, Mrays/s, the MSBVH at several split budgets "
+             "(hzbench --only motion)");
     return write_md(md_path, argc, argv, sec, 8);
 }

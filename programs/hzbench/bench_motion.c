@@ -25,19 +25,25 @@
 #endif
 
 #define MAX_ROUNDS 9
-enum { B_MSBVH, B_INTERP, B_SWEPT, B_EMBREE, B_COUNT };
-static const char *const bvh_name[B_COUNT] = { "msbvh", "interp", "swept", "embree-mb" };
+#define MAX_ROWS (HZ_BENCH_MOTION_MAX_BUDGETS + 3)
+/* The secondary ray of a pixel: the kinds of frame each BVH renders. */
+enum { S_SHADOW, S_AO, S_COUNT };
+static const char *const secondary_name[S_COUNT] = { "shadow", "ao" };
 
 typedef struct row {
-    bool ran;
+    const char *name;      /* msbvh, interp, swept, embree-mb */
+    hz_accel_blur_t blur;
+    bool embree;
+    float budget;          /* the MSBVH's split budget (the others: 0) */
+    bool ran, skipped;     /* skipped: its memory bound does not fit the accel arena */
     hz_accel_info_t info;
-    double build_ms[MAX_ROUNDS], refit_ms[MAX_ROUNDS], render_ms[MAX_ROUNDS];
+    double build_ms[MAX_ROUNDS], refit_ms[MAX_ROUNDS], render_ms[S_COUNT][MAX_ROUNDS];
     int n;
-    hz_accel_stats_t st;
+    hz_accel_stats_t st[S_COUNT];
     bool have_stats;
     double bytes_per_tri;
-    uint64_t rays; /* primary + shadow rays of one frame */
-    double agree;  /* Embree: fraction of primary rays with the MSBVH's triangle */
+    uint64_t rays[S_COUNT]; /* primary + secondary rays of one frame */
+    double agree[S_COUNT];  /* Embree: fraction of pixels with the first MSBVH's hits */
 } row_t;
 
 static double thread_cpu_s(void)
@@ -59,7 +65,7 @@ typedef struct frame {
     hz_rayhit8_t *prim;
     uint32_t packets, pixels;
     hz_vec3_t light;
-    float scale;
+    float scale, ao_len;
     uint32_t *hit_prim; /* per pixel: the primary hit of the reference BVH, then of the one measured */
     uint8_t *shadowed;
 } frame_t;
@@ -72,8 +78,8 @@ static bool make_frame(frame_t *fr, const hz_scene_t *sc, uint32_t w, uint32_t h
     if (posix_memalign(&a, 64, (size_t)fr->packets * sizeof(hz_rayhit8_t)) != 0)
         return false;
     fr->prim = a;
-    fr->hit_prim = malloc((size_t)fr->pixels * sizeof(uint32_t) * 2u);
-    fr->shadowed = malloc((size_t)fr->pixels * 2u);
+    fr->hit_prim = malloc((size_t)fr->pixels * sizeof(uint32_t) * 2u * S_COUNT);
+    fr->shadowed = malloc((size_t)fr->pixels * 2u * S_COUNT);
     if (!fr->hit_prim || !fr->shadowed)
         return false;
     memset(fr->prim, 0, (size_t)fr->packets * sizeof(hz_rayhit8_t));
@@ -113,6 +119,8 @@ static bool make_frame(frame_t *fr, const hz_scene_t *sc, uint32_t w, uint32_t h
     fr->scale = 0.0f;
     for (int k = 0; k < 3; k++)
         fr->scale = fmaxf(fr->scale, fmaxf(fabsf(bmin[k]), fabsf(bmax[k])));
+    fr->ao_len = 0.1f * sqrtf((bmax[0] - bmin[0]) * (bmax[0] - bmin[0]) + (bmax[1] - bmin[1]) * (bmax[1] - bmin[1]) +
+                              (bmax[2] - bmin[2]) * (bmax[2] - bmin[2]));
     fr->light = sc->light_count ? hz_v3(sc->lights[0].position[0], sc->lights[0].position[1], sc->lights[0].position[2])
                                 : hz_v3(0.5f * (bmin[0] + bmax[0]), bmin[1] + 0.9f * (bmax[1] - bmin[1]),
                                         0.5f * (bmin[2] + bmax[2]));
@@ -126,9 +134,20 @@ static void free_frame(frame_t *fr)
     free(fr->shadowed);
 }
 
-/* One frame: primary packets, then shadow packets from their hits at the same times. Records hits in slot
- * `which` (0: the reference) when record; returns the rays traced. */
-static uint64_t render(const hz_accel_t *a, frame_t *fr, hz_accel_stats_t *st, bool record, int which)
+/* A cosine-distributed direction about n for pixel px (two hashes of it). */
+static hz_vec3_t ao_dir(hz_vec3_t n, uint32_t px)
+{
+    const float u1 = hz_u32_to_unit(hz_hash2(px, 0x616f31u)), u2 = hz_u32_to_unit(hz_hash2(px, 0x616f32u));
+    const float r = sqrtf(u1), phi = 6.28318531f * u2;
+    const hz_vec3_t a = fabsf(n.x) > 0.5f ? hz_v3(0, 1, 0) : hz_v3(1, 0, 0);
+    const hz_vec3_t t = hz_v3_normalize(hz_v3_cross(a, n)), b = hz_v3_cross(n, t);
+    return hz_v3_add(hz_v3_add(hz_v3_scale(t, r * cosf(phi)), hz_v3_scale(b, r * sinf(phi))),
+                     hz_v3_scale(n, sqrtf(fmaxf(0.0f, 1.0f - u1))));
+}
+
+/* One frame: primary packets, then secondary packets (kind: shadow or AO) from their hits at the same times.
+ * Records hits in slot `which` (0: the reference) when record; returns the rays traced. */
+static uint64_t render(const hz_accel_t *a, frame_t *fr, int kind, hz_accel_stats_t *st, bool record, int which)
 {
     hz_accel_ctx_t ctx;
     hz_accel_ctx_init(&ctx);
@@ -149,7 +168,7 @@ static uint64_t render(const hz_accel_t *a, frame_t *fr, hz_accel_stats_t *st, b
                 continue;
             rays++;
             if (record)
-                fr->hit_prim[(size_t)which * fr->pixels + px] = P.hit.geom_id[l] == 0 ? P.hit.prim_id[l] : HZ_ACCEL_INVALID_ID;
+                fr->hit_prim[((size_t)kind * 2u + (size_t)which) * fr->pixels + px] = P.hit.geom_id[l] == 0 ? P.hit.prim_id[l] : HZ_ACCEL_INVALID_ID;
             if (P.hit.geom_id[l] != 0)
                 continue;
             hz_vec3_t o = hz_v3(P.ray.org_x[l], P.ray.org_y[l], P.ray.org_z[l]);
@@ -159,17 +178,19 @@ static uint64_t render(const hz_accel_t *a, frame_t *fr, hz_accel_stats_t *st, b
             if (hz_v3_dot(n, d) > 0.0f)
                 n = hz_v3_neg(n);
             hz_vec3_t org = hz_accel_offset_origin(hp, n, fr->scale);
-            hz_vec3_t tl = hz_v3_sub(fr->light, org);
+            hz_vec3_t tl = kind == S_SHADOW ? hz_v3_sub(fr->light, org) : ao_dir(hz_v3_normalize(n), px);
             S.org_x[l] = org.x, S.org_y[l] = org.y, S.org_z[l] = org.z;
             S.dir_x[l] = tl.x, S.dir_y[l] = tl.y, S.dir_z[l] = tl.z;
-            S.tnear[l] = 0.0f, S.tfar[l] = 1.0f, S.time[l] = P.ray.time[l], S.mask[l] = 0xFFFFFFFFu;
+            S.tnear[l] = 0.0f, S.tfar[l] = kind == S_SHADOW ? 1.0f : fr->ao_len, S.time[l] = P.ray.time[l];
+            S.mask[l] = 0xFFFFFFFFu;
             valid[l] = -1;
             rays++;
         }
         hz_accel_occluded8(valid, a, &ctx, &S);
         if (record)
             for (uint32_t l = 0; l < 8 && p * 8u + l < fr->pixels; l++)
-                fr->shadowed[(size_t)which * fr->pixels + p * 8u + l] = valid[l] && S.tfar[l] < 0.0f;
+                fr->shadowed[((size_t)kind * 2u + (size_t)which) * fr->pixels + p * 8u + l] =
+                    valid[l] && S.tfar[l] < 0.0f;
     }
     return rays;
 }
@@ -212,7 +233,107 @@ static hz_status_t scene_keys(const hz_bench_motion_opts_t *o, const char *name,
 }
 
 /* ---- one scene ---- */
-static int bench_scene(const hz_bench_motion_opts_t *o, const char *name, FILE *csv, row_t *rows)
+/* The rows of a scene: the MSBVH at each budget, the interpolated and swept BVHs, Embree's motion blur. */
+static int make_rows(const hz_bench_motion_opts_t *o, row_t *rows)
+{
+    int n = 0;
+    for (int i = 0; i < o->budget_count; i++)
+        rows[n++] = (row_t){ .name = "msbvh", .blur = HZ_ACCEL_BLUR_MSBVH, .budget = o->budgets[i] };
+    rows[n++] = (row_t){ .name = "interp", .blur = HZ_ACCEL_BLUR_INTERP };
+    rows[n++] = (row_t){ .name = "swept", .blur = HZ_ACCEL_BLUR_SWEPT };
+    rows[n++] = (row_t){ .name = "embree-mb", .embree = true };
+    return n;
+}
+
+static void row_config(const row_t *rw, hz_accel_config_t *cfg)
+{
+    hz_accel_config_default(cfg);
+    cfg->blur = rw->blur;
+    if (rw->blur == HZ_ACCEL_BLUR_MSBVH)
+        cfg->split_budget = rw->budget;
+}
+
+static void row_label(const row_t *rw, char *buf, size_t size)
+{
+    if (rw->blur == HZ_ACCEL_BLUR_MSBVH && !rw->embree)
+        snprintf(buf, size, "%s %g", rw->name, (double)rw->budget);
+    else
+        snprintf(buf, size, "%s", rw->name);
+}
+
+static void print_table(const char *name, int kind, const row_t *rows, int nrows, int ip_row, int em_row, FILE *csv)
+{
+    const row_t *ip = &rows[ip_row], *em = &rows[em_row];
+    const hz_accel_stats_t *ips = &ip->st[kind];
+    const double ip_isect = ips->rays ? (double)ips->tris / ips->rays : 0.0;
+    const double ip_trav = ips->rays ? (double)ips->nodes / ips->rays : 0.0;
+    const double ip_ms = ip->ran ? median(ip->render_ms[kind], ip->n) : 0.0;
+    const double em_mr = em->ran ? (double)em->rays[kind] / (median(em->render_ms[kind], em->n) * 1e3) : 0.0;
+    printf("primary + %s:\n", kind == S_SHADOW ? "shadow ray" : "ambient-occlusion ray");
+    printf("%-12s %9s %8s %7s %6s %7s %15s %15s %15s %15s %9s %9s %8s %9s %s\n", "bvh, budget", "refs", "nodes",
+           "splits", "stops", "sah", "isect max/avg", "(% interp)", "trav max/avg", "(% interp)", "render ms",
+           "build ms", "refit ms", "bytes/tri", "Mrays/s (x embree-mb)");
+    for (int b = 0; b < nrows; b++) {
+        const row_t *rw = &rows[b];
+        char label[32];
+        row_label(rw, label, sizeof label);
+        if (rw->skipped) {
+            printf("%-12s does not fit the accel arena: not built\n", label);
+            continue;
+        }
+        if (!rw->ran)
+            continue;
+        const hz_accel_stats_t *st = &rw->st[kind];
+        const double rms = median(rw->render_ms[kind], rw->n), bms = median(rw->build_ms, rw->n);
+        const double fms = median(rw->refit_ms, rw->n), mr = (double)rw->rays[kind] / (rms * 1e3);
+        const double ia = st->rays ? (double)st->tris / st->rays : 0.0;
+        const double ta = st->rays ? (double)st->nodes / st->rays : 0.0;
+        char c_refs[16] = "", c_nodes[16] = "", c_splits[16] = "", c_stops[16] = "", c_sah[16] = "", c_imax[16] = "",
+             c_iavg[16] = "", c_tmax[16] = "", c_tavg[16] = "", c_budget[16] = "";
+        if (!rw->embree) {
+            snprintf(c_refs, sizeof c_refs, "%u", rw->info.ref_count);
+            snprintf(c_nodes, sizeof c_nodes, "%u", rw->info.node_count);
+            snprintf(c_splits, sizeof c_splits, "%u", rw->info.spatial_splits);
+            snprintf(c_sah, sizeof c_sah, "%.2f", (double)rw->info.sah_cost);
+        }
+        if (rw->blur == HZ_ACCEL_BLUR_MSBVH && !rw->embree) {
+            snprintf(c_stops, sizeof c_stops, "%u", rw->info.budget_stops);
+            snprintf(c_budget, sizeof c_budget, "%g", (double)rw->budget);
+        }
+        if (rw->have_stats) {
+            snprintf(c_imax, sizeof c_imax, "%u", st->ray_tris_max);
+            snprintf(c_iavg, sizeof c_iavg, "%.2f", ia);
+            snprintf(c_tmax, sizeof c_tmax, "%u", st->ray_nodes_max);
+            snprintf(c_tavg, sizeof c_tavg, "%.2f", ta);
+        }
+        char pi[32] = "", pt[32] = "", xe[32] = "";
+        if (rw->have_stats && ip->have_stats && ip_isect > 0.0 && ips->ray_tris_max && ips->ray_nodes_max) {
+            snprintf(pi, sizeof pi, "%.0f%% / %.0f%%", 100.0 * st->ray_tris_max / ips->ray_tris_max,
+                     100.0 * ia / ip_isect);
+            snprintf(pt, sizeof pt, "%.0f%% / %.0f%%", 100.0 * st->ray_nodes_max / ips->ray_nodes_max,
+                     100.0 * ta / ip_trav);
+        }
+        if (em_mr > 0.0)
+            snprintf(xe, sizeof xe, " (%.2fx)", mr / em_mr);
+        char iv[40], tv[40];
+        snprintf(iv, sizeof iv, "%s / %s", c_imax, c_iavg);
+        snprintf(tv, sizeof tv, "%s / %s", c_tmax, c_tavg);
+        printf("%-12s %9s %8s %7s %6s %7s %15s %15s %15s %15s %9.1f %9.0f %8.1f %9.1f %.2f%s", label, c_refs, c_nodes,
+               c_splits, c_stops, c_sah, rw->have_stats ? iv : "", pi, rw->have_stats ? tv : "", pt, rms, bms, fms,
+               rw->bytes_per_tri, mr, xe);
+        if (ip_ms > 0.0 && b != ip_row)
+            printf("  render %.2fx interp", rms / ip_ms);
+        if (rw->embree)
+            printf("  same hits as msbvh: %.3f%% of pixels", 100.0 * rw->agree[kind]);
+        printf("\n");
+        if (csv)
+            fprintf(csv, "%s,%s,%s,%s,%s,%s,%s,%s,%s,%s,%.3f,%.1f,%.3f,%.1f,%.3f,%s,%s,%s\n", name, rw->name, c_refs,
+                    c_nodes, c_splits, c_sah, c_imax, c_iavg, c_tmax, c_tavg, rms, bms, fms, rw->bytes_per_tri, mr,
+                    secondary_name[kind], c_budget, c_stops);
+    }
+}
+
+static int bench_scene(const hz_bench_motion_opts_t *o, const char *name, FILE *csv)
 {
     hz_pools_t *P = hz_pools_get();
     hz_error_t err;
@@ -226,8 +347,8 @@ static int bench_scene(const hz_bench_motion_opts_t *o, const char *name, FILE *
     uint32_t K = 0;
     if (scene_keys(o, name, &sc, &g, &keys, &K, motion, sizeof motion, &P->scene, &err) != HZ_OK)
         return hz_cli_report(&err);
-    printf("\n%s: %u triangles, %s; %ux%u pixels, one primary + one shadow ray each\n", name, g.tri_count, motion,
-           o->width, o->height);
+    printf("\n%s: %u triangles, %s; %ux%u pixels, one primary + one secondary ray each\n", name, g.tri_count,
+           motion, o->width, o->height);
     fflush(stdout);
     frame_t fr;
     if (!make_frame(&fr, &sc, o->width, o->height)) {
@@ -237,35 +358,38 @@ static int bench_scene(const hz_bench_motion_opts_t *o, const char *name, FILE *
     const int rounds = g.tri_count > 1000000u ? 1 : o->rounds;
     const hz_arena_mark_t m0 = hz_arena_mark(&P->accel);
     int bad = 0;
-    for (int b = 0; b < B_COUNT; b++) {
-        memset(&rows[b], 0, sizeof rows[b]);
+    row_t rows[MAX_ROWS];
+    const int nrows = make_rows(o, rows);
+    const int ip_row = nrows - 3, em_row = nrows - 1;
+    int ref_row = -1; /* the first MSBVH built: the others' hits are compared with its */
 #if !defined(HZ_HAVE_EMBREE)
-        if (b == B_EMBREE)
-            printf("  embree-mb: not built in (board without Embree)\n");
+    printf("  embree-mb: not built in (board without Embree)\n");
 #endif
-    }
     for (int r = 0; r < rounds; r++)
-        for (int b = 0; b < B_COUNT; b++) {
+        for (int b = 0; b < nrows; b++) {
             row_t *rw = &rows[b];
             hz_arena_reset(&P->accel, m0);
             hz_accel_t *a = NULL;
             hz_accel_config_t cfg;
-            hz_accel_config_default(&cfg);
-            cfg.blur = b == B_INTERP ? HZ_ACCEL_BLUR_INTERP : b == B_SWEPT ? HZ_ACCEL_BLUR_SWEPT : HZ_ACCEL_BLUR_MSBVH;
+            row_config(rw, &cfg);
             int64_t t0 = hz_clock_ns();
             hz_status_t s;
-            if (b == B_EMBREE) {
+            if (rw->embree) {
 #if defined(HZ_HAVE_EMBREE)
                 s = hz_accel_build_embree(&a, &g, &cfg, "threads=1", &P->accel, &err);
 #else
                 continue;
 #endif
             } else {
+                if (rw->skipped || hz_accel_bytes_bound_geom(&g, &cfg).peak > hz_arena_available(&P->accel, 64)) {
+                    rw->skipped = true;
+                    continue;
+                }
                 s = hz_accel_build_native(&a, &g, &cfg, &P->accel, &err);
             }
             if (s != HZ_OK) {
                 free_frame(&fr);
-                hz_error_prefix(&err, bvh_name[b]);
+                hz_error_prefix(&err, rw->name);
                 return hz_cli_report(&err);
             }
             rw->build_ms[r] = (double)(hz_clock_ns() - t0) * 1e-6;
@@ -281,98 +405,54 @@ static int bench_scene(const hz_bench_motion_opts_t *o, const char *name, FILE *
             rw->refit_ms[r] = (double)(hz_clock_ns() - t0) * 1e-6;
             rw->info = a->info;
             rw->bytes_per_tri = g.tri_count ? (double)a->info.bytes / g.tri_count : 0.0;
-            if (r == 0) { /* hits (compared) and per-ray statistics, untimed */
-                hz_accel_stats_t st;
-                memset(&st, 0, sizeof st);
-                render(a, &fr, b == B_EMBREE ? NULL : &st, true, b == B_MSBVH ? 0 : 1);
-                rw->st = st;
-                rw->have_stats = b != B_EMBREE && HZ_FEATURE_STATS;
-                if (b != B_MSBVH) {
-                    uint64_t same = 0, diff = 0;
-                    for (uint32_t i = 0; i < fr.pixels; i++) {
-                        bool eq = fr.hit_prim[i] == fr.hit_prim[fr.pixels + i] &&
-                                  fr.shadowed[i] == fr.shadowed[fr.pixels + i];
-                        same += eq, diff += !eq;
-                    }
-                    rw->agree = (double)same / (double)(same + diff);
-                    if (b != B_EMBREE && diff) {
-                        hz_cli_error("bench: %s: %s differs from msbvh on %llu pixels", name, bvh_name[b],
-                                     (unsigned long long)diff);
-                        bad++;
+            if (ref_row < 0 && !rw->embree)
+                ref_row = b;
+            for (int kind = 0; kind < S_COUNT; kind++) {
+                const bool ref = b == ref_row;
+                if (r == 0) { /* hits (compared) and per-ray statistics, untimed */
+                    hz_accel_stats_t st;
+                    memset(&st, 0, sizeof st);
+                    render(a, &fr, kind, rw->embree ? NULL : &st, true, ref ? 0 : 1);
+                    rw->st[kind] = st;
+                    rw->have_stats = !rw->embree && HZ_FEATURE_STATS;
+                    if (!ref) {
+                        uint64_t same = 0, diff = 0;
+                        for (uint32_t i = 0; i < fr.pixels; i++) {
+                            const size_t j = (size_t)kind * 2u * fr.pixels;
+                            bool eq = fr.hit_prim[j + i] == fr.hit_prim[j + fr.pixels + i] &&
+                                      fr.shadowed[j + i] == fr.shadowed[j + fr.pixels + i];
+                            same += eq, diff += !eq;
+                        }
+                        rw->agree[kind] = (double)same / (double)(same + diff);
+                        if (!rw->embree && diff) {
+                            char label[32];
+                            row_label(rw, label, sizeof label);
+                            hz_cli_error("bench: %s: %s (%s rays) differs from the first msbvh on %llu pixels", name,
+                                         label, secondary_name[kind], (unsigned long long)diff);
+                            bad++;
+                        }
                     }
                 }
+                double c0 = thread_cpu_s();
+                rw->rays[kind] = render(a, &fr, kind, NULL, false, 0);
+                rw->render_ms[kind][r] = (thread_cpu_s() - c0) * 1e3;
             }
-            double c0 = thread_cpu_s();
-            rw->rays = render(a, &fr, NULL, false, 0);
-            rw->render_ms[r] = (thread_cpu_s() - c0) * 1e3;
             rw->n = r + 1;
             rw->ran = true;
             hz_accel_release(a);
         }
     hz_arena_reset(&P->accel, m0);
     free_frame(&fr);
-    /* table: percentages of the interpolated BVH (the paper's baseline), Mrays/s against Embree */
-    const row_t *ip = &rows[B_INTERP], *em = &rows[B_EMBREE];
-    const double ip_isect = ip->st.rays ? (double)ip->st.tris / ip->st.rays : 0.0;
-    const double ip_trav = ip->st.rays ? (double)ip->st.nodes / ip->st.rays : 0.0;
-    const double ip_ms = ip->ran ? median(ip->render_ms, ip->n) : 0.0;
-    const double em_mr = em->ran ? (double)em->rays / (median(em->render_ms, em->n) * 1e3) : 0.0;
-    printf("%-10s %9s %8s %7s %7s %15s %15s %15s %15s %9s %9s %8s %9s %s\n", "bvh", "refs", "nodes", "splits",
-           "sah", "isect max/avg", "(% interp)", "trav max/avg", "(% interp)", "render ms", "build ms", "refit ms",
-           "bytes/tri", "Mrays/s (x embree-mb)");
-    for (int b = 0; b < B_COUNT; b++) {
-        const row_t *rw = &rows[b];
-        if (!rw->ran)
-            continue;
-        const double rms = median(rw->render_ms, rw->n), bms = median(rw->build_ms, rw->n);
-        const double fms = median(rw->refit_ms, rw->n), mr = (double)rw->rays / (rms * 1e3);
-        const double ia = rw->st.rays ? (double)rw->st.tris / rw->st.rays : 0.0;
-        const double ta = rw->st.rays ? (double)rw->st.nodes / rw->st.rays : 0.0;
-        char c_refs[16] = "", c_nodes[16] = "", c_splits[16] = "", c_sah[16] = "", c_imax[16] = "", c_iavg[16] = "",
-             c_tmax[16] = "", c_tavg[16] = "";
-        if (b != B_EMBREE) {
-            snprintf(c_refs, sizeof c_refs, "%u", rw->info.ref_count);
-            snprintf(c_nodes, sizeof c_nodes, "%u", rw->info.node_count);
-            snprintf(c_splits, sizeof c_splits, "%u", rw->info.spatial_splits);
-            snprintf(c_sah, sizeof c_sah, "%.2f", (double)rw->info.sah_cost);
-        }
-        if (rw->have_stats) {
-            snprintf(c_imax, sizeof c_imax, "%u", rw->st.ray_tris_max);
-            snprintf(c_iavg, sizeof c_iavg, "%.2f", ia);
-            snprintf(c_tmax, sizeof c_tmax, "%u", rw->st.ray_nodes_max);
-            snprintf(c_tavg, sizeof c_tavg, "%.2f", ta);
-        }
-        char pi[32] = "", pt[32] = "", xe[32] = "";
-        if (rw->have_stats && ip->have_stats && ip_isect > 0.0 && ip->st.ray_tris_max && ip->st.ray_nodes_max) {
-            snprintf(pi, sizeof pi, "%.0f%% / %.0f%%", 100.0 * rw->st.ray_tris_max / ip->st.ray_tris_max,
-                     100.0 * ia / ip_isect);
-            snprintf(pt, sizeof pt, "%.0f%% / %.0f%%", 100.0 * rw->st.ray_nodes_max / ip->st.ray_nodes_max,
-                     100.0 * ta / ip_trav);
-        }
-        if (em_mr > 0.0)
-            snprintf(xe, sizeof xe, " (%.2fx)", mr / em_mr);
-        char iv[40], tv[40];
-        snprintf(iv, sizeof iv, "%s / %s", c_imax, c_iavg);
-        snprintf(tv, sizeof tv, "%s / %s", c_tmax, c_tavg);
-        printf("%-10s %9s %8s %7s %7s %15s %15s %15s %15s %9.1f %9.0f %8.1f %9.1f %.2f%s", bvh_name[b], c_refs,
-               c_nodes, c_splits, c_sah, rw->have_stats ? iv : "", pi, rw->have_stats ? tv : "", pt, rms, bms, fms,
-               rw->bytes_per_tri, mr, xe);
-        if (ip_ms > 0.0 && b != B_INTERP)
-            printf("  render %.2fx interp", rms / ip_ms);
-        if (b == B_EMBREE)
-            printf("  same hits as msbvh: %.3f%% of pixels", 100.0 * rw->agree);
-        printf("\n");
-        if (csv)
-            fprintf(csv, "%s,%s,%s,%s,%s,%s,%s,%s,%s,%s,%.3f,%.1f,%.3f,%.1f,%.3f\n", name, bvh_name[b], c_refs,
-                    c_nodes, c_splits, c_sah, c_imax, c_iavg, c_tmax, c_tavg, rms, bms, fms, rw->bytes_per_tri, mr);
-    }
+    /* tables: percentages of the interpolated BVH (the paper's baseline), Mrays/s against Embree */
+    for (int kind = 0; kind < S_COUNT; kind++)
+        print_table(name, kind, rows, nrows, ip_row, em_row, csv);
     fflush(stdout);
     return bad ? hz_status_exit_code(HZ_E_INTERNAL) : 0;
 }
 
 static void with_defaults(hz_bench_motion_opts_t *o)
 {
-    static const char *const defaults[] = { "furball-sway", "sponza-rotated" };
+    static const char *const defaults[] = { "hairball", "sponza-rotated", "furball-sway" };
     hz_bench_scene_list(&o->scenes_dir, o->scenes, &o->scene_count, defaults, (int)HZ_ARRAY_LEN(defaults));
     if (o->rounds <= 0)
         o->rounds = 3;
@@ -384,6 +464,12 @@ static void with_defaults(hz_bench_motion_opts_t *o)
         o->interval = 1.0f / 24.0f;
     if (o->max_keys != 2u && o->max_keys != 3u && o->max_keys != 5u && o->max_keys != 9u)
         o->max_keys = 2u;
+    if (o->budget_count <= 0) {
+        static const float budgets[] = { 0.25f, 0.5f, 1.0f, HZ_ACCEL_SPLIT_BUDGET_MAX };
+        o->budget_count = (int)HZ_ARRAY_LEN(budgets);
+        for (int i = 0; i < o->budget_count; i++)
+            o->budgets[i] = budgets[i];
+    }
 }
 
 int hz_bench_motion(const hz_bench_motion_opts_t *opts)
@@ -400,15 +486,15 @@ int hz_bench_motion(const hz_bench_motion_opts_t *opts)
             return hz_cli_report(&err);
         csv = out.f;
         fprintf(csv, "scene,bvh,refs,nodes,spatial_splits,sah,isect_max,isect_avg,trav_max,trav_avg,render_ms,build_ms,"
-                     "refit_ms,bytes_per_tri,mrays_per_s\n");
+                     "refit_ms,bytes_per_tri,mrays_per_s,secondary,split_budget,budget_stops\n");
     }
     int status = 0;
     for (int i = 0; i < o.scene_count && status == 0; i++) {
-        row_t rows[B_COUNT];
-        status = bench_scene(&o, o.scenes[i], csv, rows);
+        status = bench_scene(&o, o.scenes[i], csv);
     }
-    printf("(seed 002, Table 1, MSBVH against the interpolated BVH: hairball 32%% / 43%% intersections max/avg, 85%% "
-           "render time; Rotated Sponza 41%% / 47%%, 72%%)\n");
+    printf("(seed 002, Table 1, one primary + one ambient-occlusion ray, MSBVH against the interpolated BVH: hairball "
+           "2.50x references, 32%% / 43%% intersections max/avg, 85%% render time; Rotated Sponza 1.85x, 41%% / 47%%, "
+           "72%%. A budget's stops column: splits the budget stopped, 0 = as without a budget)\n");
     if (csv) {
         if (status != 0) {
             hz_out_abort(&out);

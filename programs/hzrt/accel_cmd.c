@@ -64,7 +64,7 @@ static void usage(FILE *f)
                "  --embree           Embree instead of the native BVH (host boards built with Embree)\n"
                "  --no-spatial       binned SAH only, no spatial splits\n"
                "  --leaf N           triangles per leaf, 1..%d (default %d)\n"
-               "  --budget F         spatial-split replication budget, fraction of the triangles (default 0.25)\n"
+               "  --budget F         spatial-split replication budget, fraction of the triangles (default 0.25, at most 4)\n"
                "  --threads N        native build on a pool of N threads (default 1; 0: one per CPU); the tree is\n"
                "                     the same for every N\n"
                "Motion blur (native backend):\n"
@@ -164,8 +164,9 @@ int hz_cmd_accel(int argc, char **argv)
         } else if (!strcmp(argv[i], "--budget") && i + 1 < argc) {
             char *end;
             double b = strtod(argv[++i], &end);
-            if (*end || end == argv[i] || !(b >= 0.0 && b <= 1.0)) {
-                hz_cli_error("accel: --budget: '%s' is not a number in [0, 1]", argv[i]);
+            if (*end || end == argv[i] || !(b >= 0.0 && b <= HZ_ACCEL_SPLIT_BUDGET_MAX)) {
+                hz_cli_error("accel: --budget: '%s' is not a number in [0, %g]", argv[i],
+                             (double)HZ_ACCEL_SPLIT_BUDGET_MAX);
                 return HZ_EXIT_USAGE;
             }
             cfg.split_budget = (float)b;
@@ -257,9 +258,9 @@ int hz_cmd_accel(int argc, char **argv)
         if (hz_accel_build_native(&ma, &g, &cfg, &p->accel, &err) != HZ_OK)
             return hz_cli_report(&err);
         const hz_accel_info_t *in = &ma->info;
-        fprintf(stderr, "motion-check: built in %.3f s: %u references (%u spatial splits), %u nodes, SAH %.2f, "
-                        "%.1f bytes per triangle\n", (double)(hz_clock_ns() - t0) * 1e-9, in->ref_count,
-                in->spatial_splits, in->node_count, (double)in->sah_cost,
+        fprintf(stderr, "motion-check: built in %.3f s: %u references (%u spatial splits, %u stopped by the budget), "
+                        "%u nodes, SAH %.2f, %.1f bytes per triangle\n", (double)(hz_clock_ns() - t0) * 1e-9,
+                in->ref_count, in->spatial_splits, in->budget_stops, in->node_count, (double)in->sah_cost,
                 g.tri_count ? (double)in->bytes / g.tri_count : 0.0);
         return motion_check(ma, &g, &mc);
     }
@@ -308,8 +309,8 @@ int hz_cmd_accel(int argc, char **argv)
     printf("memory     %zu bytes, %.1f per triangle (peak %zu during the build)\n", in->bytes,
            g.tri_count ? (double)in->bytes / g.tri_count : 0.0, in->bytes_peak);
     if (!embree) {
-        printf("references %u (%u spatial splits), %u skipped triangles\n", in->ref_count, in->spatial_splits,
-               in->tri_skipped);
+        printf("references %u (%u spatial splits, %u stopped by the budget), %u skipped triangles\n", in->ref_count,
+               in->spatial_splits, in->budget_stops, in->tri_skipped);
         printf("tree       %u nodes of %d, %u leaves in %u blocks, depth %u, SAH cost %.2f\n", in->node_count,
                HZ_BVH_WIDTH, in->leaf_count, in->block_count, in->depth, (double)in->sah_cost);
     }

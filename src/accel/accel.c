@@ -533,6 +533,7 @@ static void info_from_tree(hz_accel_info_t *in, const hz_bvh_t *bvh, const hz_bv
     in->tri_skipped = bo->tri_skipped;
     in->ref_count = bo->ref_count;
     in->spatial_splits = bo->spatial_splits;
+    in->budget_stops = bo->budget_stops;
     in->tasks_rebuilt = bo->tasks_rebuilt;
     in->node_count = bvh->node_count;
     in->leaf_count = bvh->leaf_count;

@@ -313,7 +313,7 @@ void hz_bvh_simd_occluded_tile(const int32_t *valid, const hz_bvh_t *bvh, hz_acc
 
 /* ---- build (bvh_build.c) ---- */
 typedef struct hz_bvh_build_out {
-    uint32_t ref_count, spatial_splits, tri_skipped, tasks_rebuilt;
+    uint32_t ref_count, spatial_splits, budget_stops, tri_skipped, tasks_rebuilt;
     float sah_cost;
     size_t bytes_peak; /* arena bytes in use at the build's peak (scratch + result) */
 } hz_bvh_build_out_t;

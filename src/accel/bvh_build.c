@@ -98,6 +98,7 @@ typedef struct build {
     bool spatial;
     float min_overlap; /* alpha * root area */
     uint32_t spatial_splits;
+    uint32_t budget_stops; /* spatial split searches skipped and duplicates refused for lack of budget */
     obj_bin_t obins[3][OBJ_BINS];
     sp_bin_t sbins[3][SPATIAL_BINS];
     bool failed;
@@ -859,6 +860,8 @@ static uint32_t partition_spatial(build_t *bd, uint32_t base, uint32_t n, const 
         ref_t lr, rr;
         float c_dup = FLT_MAX;
         box_t ldb = lb, rdb = rb;
+        if (bd->dup_left == 0)
+            bd->budget_stops++;
         if (bd->dup_left > 0 && bd->top < bd->ref_cap) {
             split_ref(bd, r, k, s->pos, &lr, &rr);
             if (box_valid(&lr.b) && box_valid(&rr.b)) {
@@ -986,6 +989,8 @@ static bool split_node(build_t *bd, uint32_t idx, uint32_t n, const box_t *b, ui
             const bool want = os.axis < 0 || (thick && box_area(&ov) > bd->min_overlap);
             if (want && budget > 0)
                 find_spatial_split(bd, base, n, b, &ss);
+            else if (want)
+                bd->budget_stops++;
         }
     } else {
         os.axis = -1;
@@ -1067,7 +1072,7 @@ typedef struct task {
     uint32_t idx, n, depth, budget, share; /* budget: what it may spend; share: its plain share */
     uint32_t ref0, node0, node_end, leaf0, leaf_end; /* its ranges of the scratch arrays */
     float sah;
-    uint32_t splits, leaves;
+    uint32_t splits, stops, leaves;
     bool failed;
     bool rerun;       /* over budget in the first pass: built again with budget2 (build_top) */
     uint32_t budget2;
@@ -1203,6 +1208,7 @@ static void task_item(void *ctx, uint32_t item)
     uint32_t bud = t->budget;
     t->sah = build_node(&b, t->idx, t->n, &t->b, t->depth, &bud);
     t->splits = b.spatial_splits;
+    t->stops = b.budget_stops;
     t->leaves = b.leaf_count - t->leaf0;
     t->failed = b.failed;
 }
@@ -1287,13 +1293,14 @@ static top_result_t build_top(build_t *bd, const hz_accel_config_t *cfg, top_ctx
             tc->list[tc->list_count++] = i;
         }
     run_list(cfg, tc, parallel);
-    uint32_t splits = 0;
+    uint32_t splits = 0, stops = 0;
     uint64_t leaves = 0;
     for (uint32_t i = 0; i < tc->task_count; i++) {
         const task_t *t = &tc->tasks[i];
         if (t->failed)
             return TOP_FAILED;
         splits += t->splits;
+        stops += t->stops;
         leaves += t->leaves;
     }
     const uint64_t used = top_leaves + leaves - refs0;
@@ -1308,6 +1315,7 @@ static top_result_t build_top(build_t *bd, const hz_accel_config_t *cfg, top_ctx
         return top_dups <= budget && plan_rerun(tc, budget - top_dups) ? TOP_RERUN : TOP_FAILED;
     }
     bd->spatial_splits += splits;
+    bd->budget_stops += stops;
     bd->leaf_count += (uint32_t)leaves;
     *sah = top_cost(tc, kind, ref, cost);
     if (cfg->progress)
@@ -1442,7 +1450,7 @@ static uint64_t refs_bound(uint32_t tri_count, const hz_accel_config_t *cfg)
 {
     uint64_t n = tri_count ? tri_count : 1;
     if (cfg->spatial_splits && cfg->split_budget > 0.0f) {
-        float b = cfg->split_budget > 1.0f ? 1.0f : cfg->split_budget;
+        float b = cfg->split_budget > HZ_ACCEL_SPLIT_BUDGET_MAX ? HZ_ACCEL_SPLIT_BUDGET_MAX : cfg->split_budget;
         n += (uint64_t)((float)tri_count * b);
     }
     return n;
@@ -1629,6 +1637,7 @@ hz_status_t hz_bvh_build(hz_bvh_t *bvh, const hz_accel_geom_t *g, const hz_accel
             bd->node_count = 0;
             bd->leaf_count = 0;
             bd->spatial_splits = 0;
+            bd->budget_stops = 0;
             bd->failed = false;
             if (res == TOP_RERUN) {
                 bd->ref_cap = (uint32_t)cap;
@@ -1711,6 +1720,7 @@ hz_status_t hz_bvh_build(hz_bvh_t *bvh, const hz_accel_geom_t *g, const hz_accel
     }
     out->ref_count = bd->leaf_count;
     out->spatial_splits = bd->spatial_splits;
+    out->budget_stops = bd->budget_stops;
     out->tasks_rebuilt = rebuilt;
     out->tri_skipped = skipped;
     float ra = box_area(&root);

@@ -36,6 +36,8 @@ for c in render info accel board latency; do
 done
 expect latency-fbdev-absent-source 72 "^hzrt: --source fbdev: this build has no fbdev port" "$hzrt" latency --source fbdev --frames 3
 expect accel-native-plan 0 "native build needs at most" "$hzrt" accel builtin
+expect accel-budget-range 2 "accel: --budget: '4.5' is not a number in \[0, 4\]" "$hzrt" accel builtin --budget 4.5
+expect accel-budget-stops 0 "spatial splits, [0-9]* stopped by the budget" "$hzrt" accel builtin --budget 4
 if "$hzrt" accel builtin --embree >"$tmp/embree.txt" 2>&1; then
     if grep -q "native build needs" "$tmp/embree.txt" || ! grep -q "Embree allocates its own memory" "$tmp/embree.txt"; then
         echo "  FAIL  cli accel-embree-plan: --embree prints the native memory plan"; fail=$((fail + 1))
@@ -407,6 +409,10 @@ if [ -n "$hzbench" ]; then
     expect bench-only-word 2 "^hzbench: --only: 'kernel' is not kernels, accel, tdense" "$hzbench" --only kernel
     expect bench-interval-range 2 "^hzbench: --motion-interval: '0' is not a number of seconds in (0, 10\]" \
         "$hzbench" --motion-interval 0
+    expect bench-budget-range 2 "^hzbench: --motion-budget: '5' is not a fraction of the triangles in \[0, 4\]" \
+        "$hzbench" --only motion --motion-budget 5
+    expect bench-budget-count 2 "^hzbench: --motion-budget: at most 6 budgets" "$hzbench" --only motion \
+        $(for k in 1 2 3 4 5 6 7; do printf -- '--motion-budget 0.%s ' $k; done)
     expect bench-scene-count 2 "^hzbench: --scene: at most 16 scenes" "$hzbench" --only accel \
         $(for k in 1 2 3 4 5 6 7 8 9 10 11 12 13 14 15 16 17; do printf -- '--scene s%s ' $k; done)
     expect bench-help-limits 0 "--realtime-frames N .*\[1..512\]" "$hzbench" --help

@@ -237,6 +237,42 @@ static void test_msbvh_splits(void **state)
     hz_arena_reset(&arena, m0);
 }
 
+/* The replication budget: a small one stops splits (and says so), the largest lets the overlap threshold alone
+ * decide on these slivers; the references stay within each budget and the memory within its bound. */
+static void test_msbvh_budget(void **state)
+{
+    (void)state;
+    hz_arena_mark_t m0 = hz_arena_mark(&arena);
+    hz_mesh_t m;
+    hz_error_t err;
+    assert_int_equal(hz_meshgen_soup(&m, &arena, 6000, 1.0f, 0.25f, 11, &err), HZ_OK); /* long slivers */
+    hz_accel_geom_t g = hz_meshgen_geom(&m);
+    assert_int_equal(hz_meshgen_motion(&g, m.pos, HZ_MESHGEN_SWAY, 2, hz_v3(0, 0, 0), 2.0f, 0.0f, &arena), HZ_OK);
+    static const float budgets[] = { 0.002f, 0.25f, HZ_ACCEL_SPLIT_BUDGET_MAX, 100.0f };
+    for (size_t i = 0; i < HZ_ARRAY_LEN(budgets); i++) {
+        hz_arena_mark_t m1 = hz_arena_mark(&arena);
+        hz_accel_config_t cfg;
+        hz_accel_config_default(&cfg);
+        cfg.split_budget = budgets[i];
+        const hz_accel_bytes_t bound = hz_accel_bytes_bound_geom(&g, &cfg);
+        const size_t before = arena.used;
+        hz_accel_t *a;
+        assert_int_equal(hz_accel_build_native(&a, &g, &cfg, &arena, &err), HZ_OK);
+        print_message("budget %g: %u refs, %u splits, %u stops, sah %.2f\n", (double)budgets[i], a->info.ref_count,
+                      a->info.spatial_splits, a->info.budget_stops, (double)a->info.sah_cost);
+        assert_true(arena.used - before <= bound.kept);
+        assert_true(a->info.bytes_peak <= bound.peak);
+        const float b = budgets[i] < HZ_ACCEL_SPLIT_BUDGET_MAX ? budgets[i] : HZ_ACCEL_SPLIT_BUDGET_MAX;
+        assert_true((double)a->info.ref_count <= 6000.0 * (1.0 + (double)b) + 1.0);
+        if (i == 0)
+            assert_true(a->info.budget_stops > 0);
+        else if (i >= 2)
+            assert_int_equal(a->info.budget_stops, 0);
+        hz_arena_reset(&arena, m1);
+    }
+    hz_arena_reset(&arena, m0);
+}
+
 /* Coverage, the oracle a clipped piece must pass: rays aimed at random points of random triangles at random
  * times (keys included), each from a random point of the bounds; every one must hit at or before its target
  * (direction = target - origin, so the target is t = 1), or else agree with brute force. A piece that leaves
@@ -548,6 +584,7 @@ int main(void)
         cmocka_unit_test(test_static_ignores_time), cmocka_unit_test(test_bad_motion),
         cmocka_unit_test(test_motion_edge_geometry),
         cmocka_unit_test(test_msbvh_splits),     cmocka_unit_test(test_msbvh_refit_reclip),
+        cmocka_unit_test(test_msbvh_budget),
         cmocka_unit_test(test_refit_rebuild),
         cmocka_unit_test(test_motion_cases),
     };
