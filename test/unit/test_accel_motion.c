@@ -212,6 +212,16 @@ static void test_motion_cases(void **state)
                 run_case(mesh, &cases[c], (hz_accel_blur_t)b);
 }
 
+/* The soup of long slivers the MSBVH tests share (spatial splits happen in it), swaying over K keys. */
+static hz_accel_geom_t sliver_soup(hz_mesh_t *m, uint32_t K)
+{
+    hz_error_t err;
+    assert_int_equal(hz_meshgen_soup(m, &arena, 6000, 1.0f, 0.25f, 11, &err), HZ_OK);
+    hz_accel_geom_t g = hz_meshgen_geom(m);
+    assert_int_equal(hz_meshgen_motion(&g, m->pos, HZ_MESHGEN_SWAY, K, hz_v3(0, 0, 0), 2.0f, 0.0f, &arena), HZ_OK);
+    return g;
+}
+
 /* A soup of long triangles gets spatial splits in the MSBVH (more references), none in the interpolated BVH;
  * which is cheaper is a property of the scene (make bench reports it on the furball and Sponza). */
 static void test_msbvh_splits(void **state)
@@ -220,9 +230,7 @@ static void test_msbvh_splits(void **state)
     hz_arena_mark_t m0 = hz_arena_mark(&arena);
     hz_mesh_t m;
     hz_error_t err;
-    assert_int_equal(hz_meshgen_soup(&m, &arena, 6000, 1.0f, 0.25f, 11, &err), HZ_OK); /* long slivers */
-    hz_accel_geom_t g = hz_meshgen_geom(&m);
-    assert_int_equal(hz_meshgen_motion(&g, m.pos, HZ_MESHGEN_SWAY, 2, hz_v3(0, 0, 0), 2.0f, 0.0f, &arena), HZ_OK);
+    hz_accel_geom_t g = sliver_soup(&m, 2);
     hz_accel_config_t cfg;
     hz_accel_config_default(&cfg);
     hz_accel_t *ms, *ip;
@@ -245,9 +253,7 @@ static void test_msbvh_budget(void **state)
     hz_arena_mark_t m0 = hz_arena_mark(&arena);
     hz_mesh_t m;
     hz_error_t err;
-    assert_int_equal(hz_meshgen_soup(&m, &arena, 6000, 1.0f, 0.25f, 11, &err), HZ_OK); /* long slivers */
-    hz_accel_geom_t g = hz_meshgen_geom(&m);
-    assert_int_equal(hz_meshgen_motion(&g, m.pos, HZ_MESHGEN_SWAY, 2, hz_v3(0, 0, 0), 2.0f, 0.0f, &arena), HZ_OK);
+    hz_accel_geom_t g = sliver_soup(&m, 2);
     static const float budgets[] = { 0.002f, 0.25f, HZ_ACCEL_SPLIT_BUDGET_MAX, 100.0f };
     for (size_t i = 0; i < HZ_ARRAY_LEN(budgets); i++) {
         hz_arena_mark_t m1 = hz_arena_mark(&arena);
@@ -329,9 +335,7 @@ static void test_msbvh_refit_reclip(void **state)
         hz_arena_mark_t m0 = hz_arena_mark(&arena);
         hz_mesh_t m;
         hz_error_t err;
-        assert_int_equal(hz_meshgen_soup(&m, &arena, 6000, 1.0f, 0.25f, 11, &err), HZ_OK); /* long slivers */
-        hz_accel_geom_t g = hz_meshgen_geom(&m);
-        assert_int_equal(hz_meshgen_motion(&g, m.pos, HZ_MESHGEN_SWAY, K, hz_v3(0, 0, 0), 2.0f, 0.0f, &arena), HZ_OK);
+        hz_accel_geom_t g = sliver_soup(&m, K);
         hz_accel_config_t cfg;
         hz_accel_config_default(&cfg);
         cfg.rebuild_sah_growth = 1e9f; /* refits only */
