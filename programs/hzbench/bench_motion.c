@@ -245,17 +245,22 @@ static int make_rows(const hz_bench_motion_opts_t *o, row_t *rows)
     return n;
 }
 
+static bool is_msbvh(const row_t *rw)
+{
+    return !rw->embree && rw->blur == HZ_ACCEL_BLUR_MSBVH;
+}
+
 static void row_config(const row_t *rw, hz_accel_config_t *cfg)
 {
     hz_accel_config_default(cfg);
     cfg->blur = rw->blur;
-    if (rw->blur == HZ_ACCEL_BLUR_MSBVH)
+    if (is_msbvh(rw))
         cfg->split_budget = rw->budget;
 }
 
 static void row_label(const row_t *rw, char *buf, size_t size)
 {
-    if (rw->blur == HZ_ACCEL_BLUR_MSBVH && !rw->embree)
+    if (is_msbvh(rw))
         snprintf(buf, size, "%s %g", rw->name, (double)rw->budget);
     else
         snprintf(buf, size, "%s", rw->name);
@@ -296,7 +301,7 @@ static void print_table(const char *name, int kind, const row_t *rows, int nrows
             snprintf(c_splits, sizeof c_splits, "%u", rw->info.spatial_splits);
             snprintf(c_sah, sizeof c_sah, "%.2f", (double)rw->info.sah_cost);
         }
-        if (rw->blur == HZ_ACCEL_BLUR_MSBVH && !rw->embree) {
+        if (is_msbvh(rw)) {
             snprintf(c_stops, sizeof c_stops, "%u", rw->info.budget_stops);
             snprintf(c_budget, sizeof c_budget, "%g", (double)rw->budget);
         }

@@ -19,7 +19,6 @@
  */
 #include "bvh.h"
 
-#define PIECE_ONE 65535u
 #define COST_NODE 1.0f
 #define SAH_BLOCK 4u
 
@@ -111,9 +110,9 @@ static int clip_poly(const pvert_t *in, int n, const float *d, pvert_t *out)
     return m;
 }
 
-/* Cuts polygon a[0..n) to lo[k] <= x[k] <= hi[k] for k = 0..2, x = the vertices' barycentrics (`bary`) or
- * positions; returns the new count. */
-static int clip_to_box(pvert_t *a, int n, const float *lo, const float *hi, bool bary)
+/* Cuts polygon a[0..n) to lo[k] <= p[k] <= hi[k] for k = 0..2 (p: the vertices' positions); returns the new
+ * count. */
+static int clip_to_box(pvert_t *a, int n, const float *lo, const float *hi)
 {
     pvert_t b[POLY_MAX];
     for (int plane = 0; plane < 6 && n > 0; plane++) {
@@ -121,8 +120,7 @@ static int clip_to_box(pvert_t *a, int n, const float *lo, const float *hi, bool
         const bool up = plane & 1;
         float d[POLY_MAX];
         for (int i = 0; i < n; i++) {
-            const float x = bary ? a[i].b[k] : a[i].p[k];
-            d[i] = up ? x - hi[k] : lo[k] - x;
+            d[i] = up ? a[i].p[k] - hi[k] : lo[k] - a[i].p[k];
         }
         n = clip_poly(a, n, d, b);
         for (int i = 0; i < n; i++)
@@ -179,7 +177,7 @@ static void poly_clip(poly_t *pl, const float *const *tv, const box_t *cb)
         for (int k = 0; k < 3; k++) /* the same transfer as the key boxes': v0 b0 + v1 b1 + v2 b2 */
             a[i].p[k] = a[i].b[0] * tv[0][k] + a[i].b[1] * tv[1][k] + a[i].b[2] * tv[2][k];
     }
-    const int n = clip_to_box(a, pl->n, lo, hi, false);
+    const int n = clip_to_box(a, pl->n, lo, hi);
     if (n < 3)
         return;
     pl->n = n;
@@ -305,12 +303,12 @@ static void leaf_boxes(const fit_t *ft, uint32_t i, uint32_t c, uint32_t cw, box
 {
     hz_bvh_t *bvh = ft->bvh;
     const uint32_t K = ft->keys;
-    box_t cb0, cb1;
-    if (!ft->mid && bvh->clipped) {
+    box_t cb0, cb1; /* what pieces are cut against: build, the midpoint box; refit, the first and last keys' */
+    if (bvh->clipped && ft->mid) {
+        box_node_get(bvh->nodes[i].lo_x, c, &cb0);
+    } else if (bvh->clipped) {
         box_node_get(bvh->mbox[(size_t)i * K].lo_x, c, &cb0);
         box_node_get(bvh->mbox[(size_t)i * K + K - 1u].lo_x, c, &cb1);
-    } else if (ft->mid && bvh->clipped) {
-        box_node_get(bvh->nodes[i].lo_x, c, &cb0); /* the leaf's box at the midpoint, from the SBVH build */
     }
     const uint32_t slot = hz_bvh_leaf_slot(cw), n = hz_bvh_leaf_count(cw);
     for (uint32_t sl = slot; sl < slot + n; sl++) {
