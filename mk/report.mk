@@ -9,7 +9,7 @@ REPORT_SCENES := CornellBox-Mirror,sponza,lost-empire,conference,builtin,builtin
 # Transparency (seed 004): every --transparency method with TAA, the still-view stability figure, and std under
 # tdense at 240 Hz against + TAA at 60 Hz; crossing: blended objects moving through each other.
 REPORT_SCENES := $(REPORT_SCENES),sponza-smoke,AlphaBlendModeTest,builtin-transp,crossing,sponza-smoke@240,AlphaBlendModeTest@240
-# Motion blur (seed 002): msbvh, interp and Embree at equal time budget on 30 Hz sequences with the shutter open.
+# Motion blur (seed 002): msbvh, interp, rigid instances and Embree at equal time budget on 30 Hz sequences with the shutter open.
 REPORT_BLUR_SCENES := builtin-blur,sponza-rotated-blur
 REPORT_SCENES := $(REPORT_SCENES),$(REPORT_BLUR_SCENES)
 REPORT_SKIP := taa-clip,taa-catmull-rom,taa-clip-cr

@@ -103,6 +103,21 @@
  *  piece contains the previous one). hzrt accel --motion-check
  *  proves it against brute force (0 misses, 0 mismatches) on scenes and extreme procedural motions.
  *
+ *  Rigid instances (seed 002 section 3.2). A motion view may name up to HZ_ACCEL_MAX_INSTANCES ranges of its
+ *  triangles that move rigidly (hz_accel_instance_t: object-space positions and an affine matrix per key). With
+ *  cfg.rigid = HZ_ACCEL_RIGID_INSTANCE (default) the native backend builds a static BVH per instance over its
+ *  object-space positions, once, and one BVH (motion, or static when static_rest) over the other triangles.
+ *  The triangle a ray meets in an instance is the object-space triangle under M(t): each matrix element
+ *  interpolated with hz_accel_time_segment and hz_accel_lerp_key, the ray moved into object space by M(t)'s
+ *  inverse (same t); hit.ng is the world triangle's (v1 - v0) x (v2 - v0) (the object normal times the cofactor
+ *  matrix), u and v as in object space, prim_id the view's index. For the same keys this is the triangle of the
+ *  interpolated posed vertices up to rounding, so results with instances are bit-identical across kernels and
+ *  ISAs and to hz_accel_brute_intersect1 (which moves rays into instances the same way), not to a build without
+ *  them. Where M(t) is singular or not finite the ray passes the instance. Any-hit callbacks get the view's
+ *  triangle index and the world-space side. Refit re-reads the matrices (and refits the other triangles); the
+ *  instances' trees never change. cfg.rigid = HZ_ACCEL_RIGID_REFIT and the Embree backend ignore the instances
+ *  (their triangles move with pos_keys like any other). The statistics count each ray once.
+ *
  *  Layout note: the native node's child words reserve a "motion node" type (src/accel/bvh.h); the motion BVH
  *  instead stores a whole tree's key boxes beside the nodes (see src/accel/msbvh.h), so static nodes are
  *  unchanged.
@@ -128,6 +143,12 @@
 #define HZ_ACCEL_MAX_COORD 68719476736.0f
 /* The largest split_budget: 4 extra references per triangle (seed 002's MSBVHs replicate up to 2.5x). */
 #define HZ_ACCEL_SPLIT_BUDGET_MAX 4.0f
+/* tri_flags bit 1: the triangle is not in this structure (never hit, not counted as skipped). The native
+ * backend sets it on its own copy of the flags for the triangles its rigid instances hold (see "Rigid
+ * instances"); a view may set it too. */
+#define HZ_ACCEL_TRI_LEFT_OUT 0x02u
+/* Most rigid instances one view carries (see "Rigid instances"): their top level is a list. */
+#define HZ_ACCEL_MAX_INSTANCES 16
 /* Most triangles one accel takes (the native leaf encoding's limit). */
 #define HZ_ACCEL_MAX_TRIS (1u << 25)
 
@@ -154,9 +175,26 @@ typedef struct hz_accel_geom {
      * must still be a valid array (the midpoint key by convention) for code that reads only it. */
     uint32_t time_keys;
     const float *pos_keys[HZ_ACCEL_MAX_TIME_KEYS];
+    /* Rigid instances (see "Rigid instances"; only with time_keys >= 2): instance_count ranges of triangles whose
+     * motion is rigid, ascending and disjoint. static_rest: the triangles outside them do not move (their
+     * positions are equal at every key), so the native backend builds them as static geometry over `pos`. */
+    uint32_t instance_count;
+    const struct hz_accel_instance *instances;
+    bool static_rest;
 } hz_accel_geom_t;
 
-/* Zeroes a view (static, no keys): initialise with this before filling fields, so new fields get defaults. */
+/* One rigid instance: triangles [tri_first, tri_first + tri_count) of the view, whose vertices are
+ * obj_pos (float4 per vertex, the view's vertex indices, 16-byte aligned) moved by an affine map per key:
+ * xform[k] (12 floats, 3 rows of 4, row-major: world = A p + b with A the 3x3 left part, b the last column).
+ * The arrays must stay alive and in place while the accel lives; refit re-reads xform. */
+typedef struct hz_accel_instance {
+    uint32_t tri_first, tri_count;
+    const float *obj_pos;
+    const float *xform[HZ_ACCEL_MAX_TIME_KEYS];
+} hz_accel_instance_t;
+
+/* Zeroes a view (static, no keys, no instances): initialise with this before filling fields, so new fields get
+ * defaults. */
 HZ_INLINE void hz_accel_geom_init(hz_accel_geom_t *g)
 {
     g->pos = 0;
@@ -167,6 +205,9 @@ HZ_INLINE void hz_accel_geom_init(hz_accel_geom_t *g)
     g->time_keys = 0;
     for (int k = 0; k < HZ_ACCEL_MAX_TIME_KEYS; k++)
         g->pos_keys[k] = 0;
+    g->instance_count = 0;
+    g->instances = 0;
+    g->static_rest = false;
 }
 
 /* The motion segment of ray time `time` for K >= 2 keys: the key pair (*seg, *seg + 1) and the weight f of key
@@ -321,6 +362,19 @@ const char *hz_accel_blur_name(hz_accel_blur_t b); /* "msbvh", "interp", "swept"
 /* Parses "msbvh" | "interp" | "swept"; false (and *out untouched) for anything else. */
 bool hz_accel_blur_parse(const char *s, hz_accel_blur_t *out);
 
+/* What the native backend does with a view's rigid instances (see "Rigid instances"):
+ *  INSTANCE: each keeps a static BVH in object space, built once; rays move into it at their time (default);
+ *  REFIT:    the instances are ignored: their triangles are motion geometry like any other (refit per frame). */
+typedef enum hz_accel_rigid {
+    HZ_ACCEL_RIGID_INSTANCE = 0,
+    HZ_ACCEL_RIGID_REFIT,
+    HZ_ACCEL_RIGID_COUNT
+} hz_accel_rigid_t;
+
+const char *hz_accel_rigid_name(hz_accel_rigid_t r); /* "instance", "refit" */
+/* Parses "instance" | "refit"; false (and *out untouched) for anything else. */
+bool hz_accel_rigid_parse(const char *s, hz_accel_rigid_t *out);
+
 typedef struct hz_accel_config {
     /* native */
     uint32_t leaf_max;     /* triangles per leaf, 1..HZ_BVH_WIDTH (default HZ_BVH_WIDTH) */
@@ -338,6 +392,7 @@ typedef struct hz_accel_config {
     /* motion blur (native; Embree builds its own motion BVH) */
     hz_accel_blur_t blur;     /* HZ_ACCEL_BLUR_MSBVH */
     float rebuild_sah_growth; /* refit rebuilds when the SAH cost grew by more than this fraction (0.30) */
+    hz_accel_rigid_t rigid;   /* HZ_ACCEL_RIGID_INSTANCE */
     /* Parallel native build (see "Parallel build" in the contract); NULL (default) builds on the calling thread.
      * run(run_user, fn, ctx, items) must call fn(ctx, item) exactly once for every item in [0, items), in any
      * order and on any threads, and return when every call has returned; it is called only from the building
@@ -399,6 +454,10 @@ typedef struct hz_accel_info {
     float sah_built;         /* sah_cost right after the last (re)build: refit compares against it */
     uint32_t refits;         /* refits since the first build (each re-reads the keys) */
     uint32_t rebuilds;       /* refits that rebuilt because sah_cost > sah_built * (1 + rebuild_sah_growth) */
+    /* rigid instances (native, cfg.rigid = INSTANCE): the figures above sum the instances' object-space BVHs
+     * and the BVH of the other triangles; sah_cost is the latter's (0 when every triangle is in an instance) */
+    uint32_t instances;      /* instances built (0: none) */
+    uint32_t instance_tris;  /* triangles they hold */
 } hz_accel_info_t;
 
 typedef struct hz_accel hz_accel_t;
@@ -534,7 +593,9 @@ HZ_INLINE void hz_accel_occluded4n(const int32_t *valid, const hz_accel_t *a, hz
 /* The reference for tests and `hzrt accel --motion-check`: the closest hit of rh over every triangle of g at
  * rh->ray.time (hz_accel_time_segment + hz_accel_lerp_key per vertex), with the native kernels' watertight test
  * and tie rule but no hierarchy: O(triangles) per ray. Triangles with a non-finite coordinate (at any key)
- * never hit. Writes rh as hz_accel_intersect1 does; any-hit flags are ignored (every triangle opaque). */
+ * never hit. Writes rh as hz_accel_intersect1 does; any-hit flags are ignored (every triangle opaque). A view
+ * with rigid instances is taken as the default configuration builds it (see "Rigid instances"; the other
+ * triangles over pos when static_rest): to check a REFIT build, pass the view without its instances. */
 void hz_accel_brute_intersect1(const hz_accel_geom_t *g, hz_rayhit_t *rh);
 
 /* Whether the native build of this board has a SIMD form of `kernel` (SCALAR and AUTO always). */

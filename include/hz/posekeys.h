@@ -19,7 +19,14 @@
  *    small offsets in seconds around the frame time t), rewriting only animated objects' vertices, in place:
  *    an accel built over the keys sees the new interval after its refit. Nothing is allocated. The _ns variant
  *    takes t in nanoseconds (hz/scenetime.h), what the renderer's 64-bit clock gives.
- *  - hz_posekeys_geom points a geometry view at the keys (time_keys = K, pos_keys[k], pos = the middle key).
+ *  - Rigid instances (seed 002 section 3.2): hz_posekeys_init also groups the objects that move rigidly (rigid
+ *    keys, spin, oscillate) into at most HZ_ACCEL_MAX_INSTANCES instances: consecutive objects (adjacent
+ *    triangle ranges) with the same motion form one (all of rotated Sponza is one). Each instance's vertices
+ *    in object space are the scene's rest positions, and eval writes its matrix at every key (the motion of its
+ *    first object, as the pose itself uses it). A scene with more groups than that has none (its rigid objects
+ *    are then moved vertex by vertex like the rest). static_rest: every moving object is in an instance.
+ *  - hz_posekeys_geom points a geometry view at the keys (time_keys = K, pos_keys[k], pos = the middle key) and
+ *    its instances (the accel's configuration decides whether it uses them).
  *  - hz_posekeys_lerp(keys, arrays, v, time) interpolates vertex v at normalised time `time` in [0, 1] (clamped;
  *    key k at k / (K - 1)) linearly inside its segment with the accel's own hz_accel_time_segment and
  *    hz_accel_lerp_key, so the triangle the renderer shades is the one the ray hit.
@@ -49,7 +56,13 @@ typedef struct hz_posekeys {
     hz_time_ns_t time;               /* the keys span [time + lo, time + hi] (time in ns, lo and hi in s) */
     float lo, hi;
     bool valid;                      /* eval has run */
-} hz_posekeys_t;
+    /* rigid instances */
+    uint32_t instance_count;
+    bool static_rest;
+    hz_accel_instance_t inst[HZ_ACCEL_MAX_INSTANCES];
+    uint32_t inst_object[HZ_ACCEL_MAX_INSTANCES]; /* its first object, whose motion is the instance's */
+    float xform[HZ_ACCEL_MAX_INSTANCES][HZ_POSEKEYS_MAX][12];
+} hz_posekeys_t; /* not to be copied: inst[].xform points into it */
 
 uint32_t hz_posekeys_count(const hz_scene_t *scene, float interval_s);
 size_t hz_posekeys_bytes(const hz_scene_t *scene, uint32_t count);

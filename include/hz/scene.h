@@ -28,6 +28,9 @@
  *    changes it (skinning passes its joint matrices through the scene's scratch skin_mats, so calls on one
  *    scene must not run concurrently), and allocates nothing: motion blur evaluates the shutter's key times with it (hz/posekeys.h).
  *    hz_scene_pose_at takes t in float seconds.
+ *  - hz_scene_object_matrix_at_ns(scene, i, t, dt, m) writes object i's rigid motion at t + dt (rigid keys,
+ *    spin, oscillate: the map from its rest positions to the pose hz_scene_pose_at_ns writes) as 12 floats, 3
+ *    rows of 4, row-major (world = A p + b, b in the last column); other objects get the identity.
  *  - hz_scene_animate / hz_scene_camera take float seconds: conveniences for short times (tests, tools), the
  *    same as the _ns functions at the nearest nanosecond.
  */
@@ -102,6 +105,7 @@ hz_camera_t hz_scene_camera_ns(const hz_scene_t *scene, hz_time_ns_t t);
 void hz_scene_animate(hz_scene_t *scene, float t);
 void hz_scene_pose_at_ns(const hz_scene_t *scene, hz_time_ns_t t, float dt, float *pos, float *nrm);
 void hz_scene_pose_at(const hz_scene_t *scene, float t, float dt, float *pos, float *nrm);
+void hz_scene_object_matrix_at_ns(const hz_scene_t *scene, uint32_t object, hz_time_ns_t t, float dt, float m[12]);
 hz_camera_t hz_scene_camera(const hz_scene_t *scene, float t);
 
 /* Material and object of a triangle. */

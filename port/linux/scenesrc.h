@@ -43,6 +43,7 @@ typedef struct hz_scenesrc_cfg {
     hz_render_opts_t opts;         /* level 0: mode, render size, every render option (frame_hz: the display) */
     hz_accel_backend_t backend;
     hz_accel_blur_t blur;          /* motion-blur BVH of the native backend (with a shutter) */
+    hz_accel_rigid_t rigid;        /* ... and what it does with rigid motion (default: instances) */
     int threads;                   /* render threads; 0: one per core */
     int out_w, out_h;              /* the frames the sink shows (0: the render size) */
     bool levels;                   /* offer the governor's ladder */

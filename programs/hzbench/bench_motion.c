@@ -25,15 +25,16 @@
 #endif
 
 #define MAX_ROUNDS 9
-#define MAX_ROWS (HZ_BENCH_MOTION_MAX_BUDGETS + 3)
+#define MAX_ROWS (HZ_BENCH_MOTION_MAX_BUDGETS + 4)
 /* The secondary ray of a pixel: the kinds of frame each BVH renders. */
 enum { S_SHADOW, S_AO, S_COUNT };
 static const char *const secondary_name[S_COUNT] = { "shadow", "ao" };
 
 typedef struct row {
-    const char *name;      /* msbvh, interp, swept, embree-mb */
+    const char *name;      /* msbvh, instances, interp, swept, embree-mb */
     hz_accel_blur_t blur;
     bool embree;
+    bool instances;        /* rigid objects as instances (seed 002 section 3.2); the others refit them */
     float budget;          /* the MSBVH's split budget (the others: 0) */
     bool ran, skipped;     /* skipped: its memory bound does not fit the accel arena */
     hz_accel_info_t info;
@@ -43,7 +44,7 @@ typedef struct row {
     bool have_stats;
     double bytes_per_tri;
     uint64_t rays[S_COUNT]; /* primary + secondary rays of one frame */
-    double agree[S_COUNT];  /* Embree: fraction of pixels with the first MSBVH's hits */
+    double agree[S_COUNT];  /* Embree, instances: fraction of pixels with the first MSBVH's hits */
 } row_t;
 
 static double thread_cpu_s(void)
@@ -233,12 +234,18 @@ static hz_status_t scene_keys(const hz_bench_motion_opts_t *o, const char *name,
 }
 
 /* ---- one scene ---- */
-/* The rows of a scene: the MSBVH at each budget, the interpolated and swept BVHs, Embree's motion blur. */
-static int make_rows(const hz_bench_motion_opts_t *o, row_t *rows)
+/* The rows of a scene: the MSBVH at each budget, rigid instances (when the scene has some: its other triangles in
+ * the MSBVH at the default budget), the interpolated and swept BVHs, Embree's motion blur. */
+static int make_rows(const hz_bench_motion_opts_t *o, const hz_accel_geom_t *g, row_t *rows)
 {
     int n = 0;
+    hz_accel_config_t d;
+    hz_accel_config_default(&d);
     for (int i = 0; i < o->budget_count; i++)
         rows[n++] = (row_t){ .name = "msbvh", .blur = HZ_ACCEL_BLUR_MSBVH, .budget = o->budgets[i] };
+    if (g->instance_count)
+        rows[n++] = (row_t){ .name = "instances", .blur = HZ_ACCEL_BLUR_MSBVH, .budget = d.split_budget,
+                             .instances = true };
     rows[n++] = (row_t){ .name = "interp", .blur = HZ_ACCEL_BLUR_INTERP };
     rows[n++] = (row_t){ .name = "swept", .blur = HZ_ACCEL_BLUR_SWEPT };
     rows[n++] = (row_t){ .name = "embree-mb", .embree = true };
@@ -247,13 +254,14 @@ static int make_rows(const hz_bench_motion_opts_t *o, row_t *rows)
 
 static bool is_msbvh(const row_t *rw)
 {
-    return !rw->embree && rw->blur == HZ_ACCEL_BLUR_MSBVH;
+    return !rw->embree && !rw->instances && rw->blur == HZ_ACCEL_BLUR_MSBVH;
 }
 
 static void row_config(const row_t *rw, hz_accel_config_t *cfg)
 {
     hz_accel_config_default(cfg);
     cfg->blur = rw->blur;
+    cfg->rigid = rw->instances ? HZ_ACCEL_RIGID_INSTANCE : HZ_ACCEL_RIGID_REFIT;
     if (is_msbvh(rw))
         cfg->split_budget = rw->budget;
 }
@@ -299,7 +307,9 @@ static void print_table(const char *name, int kind, const row_t *rows, int nrows
             snprintf(c_refs, sizeof c_refs, "%u", rw->info.ref_count);
             snprintf(c_nodes, sizeof c_nodes, "%u", rw->info.node_count);
             snprintf(c_splits, sizeof c_splits, "%u", rw->info.spatial_splits);
-            snprintf(c_sah, sizeof c_sah, "%.2f", (double)rw->info.sah_cost);
+            /* instances: the SAH of the triangles outside them only (object-space trees do not compare) */
+            if (!rw->instances || rw->info.instance_tris < rw->info.tri_count)
+                snprintf(c_sah, sizeof c_sah, "%.2f", (double)rw->info.sah_cost);
         }
         if (is_msbvh(rw)) {
             snprintf(c_stops, sizeof c_stops, "%u", rw->info.budget_stops);
@@ -328,7 +338,7 @@ static void print_table(const char *name, int kind, const row_t *rows, int nrows
                rw->bytes_per_tri, mr, xe);
         if (ip_ms > 0.0 && b != ip_row)
             printf("  render %.2fx interp", rms / ip_ms);
-        if (rw->embree)
+        if (rw->embree || rw->instances)
             printf("  same hits as msbvh: %.3f%% of pixels", 100.0 * rw->agree[kind]);
         printf("\n");
         if (csv)
@@ -349,6 +359,7 @@ static int sah_over_animation(const hz_bench_motion_opts_t *o, const char *name,
     hz_accel_config_t cfg;
     hz_accel_config_default(&cfg);
     cfg.rebuild_sah_growth = 1e30f; /* refits only */
+    cfg.rigid = HZ_ACCEL_RIGID_REFIT;  /* the MSBVH over every moving triangle */
     hz_accel_t *kept = NULL;
     printf("SAH cost over the animation (the paper's Fig. 5), msbvh at budget %g: refitted every frame / built anew\n",
            (double)cfg.split_budget);
@@ -407,7 +418,7 @@ static int bench_scene(const hz_bench_motion_opts_t *o, const char *name, FILE *
     const hz_arena_mark_t m0 = hz_arena_mark(&P->accel);
     int bad = 0;
     row_t rows[MAX_ROWS];
-    const int nrows = make_rows(o, rows);
+    const int nrows = make_rows(o, &g, rows);
     const int ip_row = nrows - 3, em_row = nrows - 1;
     int ref_row = -1; /* the first MSBVH built: the others' hits are compared with its */
 #if !defined(HZ_HAVE_EMBREE)
@@ -472,7 +483,8 @@ static int bench_scene(const hz_bench_motion_opts_t *o, const char *name, FILE *
                             same += eq, diff += !eq;
                         }
                         rw->agree[kind] = (double)same / (double)(same + diff);
-                        if (!rw->embree && diff) {
+                        /* the instances' hits are computed in object space: they may round apart */
+                        if (!rw->embree && !rw->instances && diff) {
                             char label[32];
                             row_label(rw, label, sizeof label);
                             hz_cli_error("bench: %s: %s (%s rays) differs from the first msbvh on %llu pixels", name,

@@ -50,7 +50,7 @@ static hz_status_t blur_open(const hz_et_scene_t *scene, const hz_et_env_t *env,
     { name, about, file, render_open, hz_et_render_close, hz_et_transp_display_methods,                        \
       HZ_ET_TRANSP_DISPLAY_METHOD_COUNT, &hz_et_display_reference, w, h, frames, warmup, 240, 0 }
 
-/* Motion blur (seed 002) on a 30 Hz display: msbvh, interp and Embree at equal time budget. */
+/* Motion blur (seed 002) on a 30 Hz display: msbvh, interp, rigid instances and Embree at equal time budget. */
 #define BLURRED(name, about, file, w, h, frames, warmup)                                                        \
     { name, about, file, blur_open, hz_et_render_close, hz_et_blur_methods, HZ_ET_BLUR_METHOD_COUNT,            \
       &hz_et_blur_reference, w, h, frames, warmup, 30, 0 }

@@ -109,8 +109,11 @@ static hz_status_t rbegin(const hz_et_method_t *m, const hz_et_sequence_t *seq, 
         o.frame_hz = seq->refresh_hz;
         st->scene_mark = hz_arena_mark(&sc->pools->scene);
         st->accel_mark = hz_arena_mark(&sc->pools->accel);
-        s = hz_blur_build(&sc->scene, &o, p->embree ? HZ_ACCEL_EMBREE : HZ_ACCEL_NATIVE, p->blur, sc->pools,
-                          &st->keys, &st->accel, err);
+        hz_accel_config_t cfg;
+        hz_accel_config_default(&cfg);
+        cfg.rigid = p->rigid;
+        s = hz_blur_build_cfg(&sc->scene, &o, p->embree ? HZ_ACCEL_EMBREE : HZ_ACCEL_NATIVE, p->blur, &cfg,
+                              sc->pools, &st->keys, &st->accel, err);
     }
     if (s == HZ_OK)
         s = hz_render_create(&st->r, &sc->scene, st->accel ? st->accel : sc->accel, &o, arena, sc->pools->thread,
@@ -201,12 +204,17 @@ const hz_et_method_t hz_et_render_methods[HZ_ET_RENDER_METHOD_COUNT] = {
 };
 
 /* Motion blur (see et_render.h). */
-#define BLUR(n, kind, emb) { .mode = HZ_MODE_FULL, .spp = n, .shutter = HZ_ET_BLUR_SHUTTER, .blur = kind, .embree = emb }
+#define BLUR_R(n, kind, emb, rig)                                                                                  \
+    { .mode = HZ_MODE_FULL, .spp = n, .shutter = HZ_ET_BLUR_SHUTTER, .blur = kind, .embree = emb, .rigid = rig }
+#define BLUR(n, kind, emb) BLUR_R(n, kind, emb, HZ_ACCEL_RIGID_REFIT)
 static const hz_et_render_params_t p_ms1 = BLUR(1, HZ_ACCEL_BLUR_MSBVH, false), p_ms4 = BLUR(4, HZ_ACCEL_BLUR_MSBVH, false),
                                    p_ms16 = BLUR(16, HZ_ACCEL_BLUR_MSBVH, false);
 static const hz_et_render_params_t p_in1 = BLUR(1, HZ_ACCEL_BLUR_INTERP, false),
                                    p_in4 = BLUR(4, HZ_ACCEL_BLUR_INTERP, false),
                                    p_in16 = BLUR(16, HZ_ACCEL_BLUR_INTERP, false);
+static const hz_et_render_params_t p_is1 = BLUR_R(1, HZ_ACCEL_BLUR_MSBVH, false, HZ_ACCEL_RIGID_INSTANCE),
+                                   p_is4 = BLUR_R(4, HZ_ACCEL_BLUR_MSBVH, false, HZ_ACCEL_RIGID_INSTANCE),
+                                   p_is16 = BLUR_R(16, HZ_ACCEL_BLUR_MSBVH, false, HZ_ACCEL_RIGID_INSTANCE);
 static const hz_et_render_params_t p_mb_ref = { .mode = HZ_MODE_FULL, .spp = 256, .seed = 0x5eed,
                                                 .shutter = HZ_ET_BLUR_SHUTTER, .blur = HZ_ACCEL_BLUR_MSBVH };
 const hz_et_method_t hz_et_blur_reference = METHOD("full-frame-mb", "spp", 256, &p_mb_ref);
@@ -217,6 +225,8 @@ static const hz_et_render_params_t p_em1 = BLUR(1, HZ_ACCEL_BLUR_MSBVH, true), p
 const hz_et_method_t hz_et_blur_methods[HZ_ET_BLUR_METHOD_COUNT] = {
     METHOD("msbvh", "spp", 1, &p_ms1),  METHOD("msbvh", "spp", 4, &p_ms4),  METHOD("msbvh", "spp", 16, &p_ms16),
     METHOD("interp", "spp", 1, &p_in1), METHOD("interp", "spp", 4, &p_in4), METHOD("interp", "spp", 16, &p_in16),
+    METHOD("instances", "spp", 1, &p_is1), METHOD("instances", "spp", 4, &p_is4),
+    METHOD("instances", "spp", 16, &p_is16),
 #if HZ_HAVE_EMBREE
     METHOD("embree", "spp", 1, &p_em1), METHOD("embree", "spp", 4, &p_em4), METHOD("embree", "spp", 16, &p_em16),
 #endif

@@ -55,8 +55,8 @@ static int motion_check(const hz_accel_t *a, const hz_accel_geom_t *g, const mch
 static void usage(FILE *f)
 {
     fprintf(f, "usage: hzrt accel SCENE [--embree [--embree-config S]] [--no-spatial] [--leaf N] [--budget F]\n"
-               "       hzrt accel SCENE --motion-check N [--blur-bvh msbvh|interp|swept] [--motion KIND] [--keys K]\n"
-               "                  [--turns F] [--time T] [--interval S] [--seed S]\n"
+               "       hzrt accel SCENE --motion-check N [--blur-bvh msbvh|interp|swept] [--rigid instance|refit]\n"
+               "                  [--motion KIND] [--keys K] [--turns F] [--time T] [--interval S] [--seed S]\n"
                "\n"
                "Builds the acceleration structure of SCENE (.hzb file or `builtin`) in the board's accel arena and\n"
                "prints build time, bytes per triangle and the tree's shape. The memory plan is checked first:\n"
@@ -73,6 +73,9 @@ static void usage(FILE *f)
                "                     packets); prints 'motion-check: N rays, K misses, M mismatches' and exits 1\n"
                "                     when K or M is not 0\n"
                "  --blur-bvh B       msbvh (default), interp (interpolated BVH) or swept (static BVH, swept boxes)\n"
+               "  --rigid R          instance (default): objects that move rigidly keep a BVH in object space and rays\n"
+               "                     move into it at their time; refit: their triangles move with the keys like any\n"
+               "                     other motion (the BVH is refitted every frame)\n"
                "  --motion KIND      procedural time keys from the scene's positions instead of its animation: sway,\n"
                "                     rotate, cross (vertices cross split planes), collapse (to a point), rot180 (one\n"
                "                     segment). Default: the scene's animation if it moves, else sway\n"
@@ -89,7 +92,7 @@ static void usage(FILE *f)
 int hz_cmd_accel(int argc, char **argv)
 {
     const char *scene_name = NULL, *embree_config = "";
-    bool embree = false, blur_set = false, motion_opt = false;
+    bool embree = false, blur_set = false, rigid_set = false, motion_opt = false;
     int threads = 1;
     hz_accel_config_t cfg;
     hz_accel_config_default(&cfg);
@@ -113,6 +116,12 @@ int hz_cmd_accel(int argc, char **argv)
                 return HZ_EXIT_USAGE;
             }
             blur_set = true;
+        } else if (!strcmp(argv[i], "--rigid") && i + 1 < argc) {
+            if (!hz_accel_rigid_parse(argv[++i], &cfg.rigid)) {
+                hz_cli_error("accel: --rigid: '%s' is not instance or refit", argv[i]);
+                return HZ_EXIT_USAGE;
+            }
+            rigid_set = true;
         } else if (!strcmp(argv[i], "--motion") && i + 1 < argc) {
             if (!hz_meshgen_motion_parse(argv[++i], &mc.kind)) {
                 hz_cli_error("accel: --motion: '%s' is not sway, rotate, cross, collapse or rot180", argv[i]);
@@ -184,8 +193,8 @@ int hz_cmd_accel(int argc, char **argv)
         usage(stderr);
         return HZ_EXIT_USAGE;
     }
-    if ((blur_set || motion_opt) && !mc.n) {
-        hz_cli_error("accel: --blur-bvh, --motion, --keys, --turns, --time, --interval and --seed need --motion-check N");
+    if ((blur_set || rigid_set || motion_opt) && !mc.n) {
+        hz_cli_error("accel: --blur-bvh, --rigid, --motion, --keys, --turns, --time, --interval and --seed need --motion-check N");
         return HZ_EXIT_USAGE;
     }
     if (mc.n && embree) {
@@ -251,6 +260,8 @@ int hz_cmd_accel(int argc, char **argv)
                 hz_meshgen_motion_name(mc.kind), mc.keys, hz_accel_blur_name(cfg.blur));
     }
     if (mc.n) {
+        if (cfg.rigid == HZ_ACCEL_RIGID_REFIT)
+            g.instance_count = 0, g.instances = NULL; /* and so the brute force moves their vertices too */
         if (hz_accel_plan_check_geom(&g, &cfg, &p->accel, &err) != HZ_OK)
             return hz_cli_report(&err);
         hz_accel_t *ma = NULL;
@@ -262,6 +273,9 @@ int hz_cmd_accel(int argc, char **argv)
                         "%u nodes, SAH %.2f, %.1f bytes per triangle\n", (double)(hz_clock_ns() - t0) * 1e-9,
                 in->ref_count, in->spatial_splits, in->budget_stops, in->node_count, (double)in->sah_cost,
                 g.tri_count ? (double)in->bytes / g.tri_count : 0.0);
+        if (in->instances)
+            fprintf(stderr, "motion-check: %u rigid instance%s holding %u of the triangles (object-space BVHs)\n",
+                    in->instances, in->instances == 1 ? "" : "s", in->instance_tris);
         return motion_check(ma, &g, &mc);
     }
     hz_accel_bytes_t bound = hz_accel_bytes_bound(g.tri_count, &cfg);

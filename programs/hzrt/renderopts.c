@@ -19,7 +19,7 @@
 
 typedef enum opt_id {
     O_MODE, O_SPP, O_MSAA4, O_ORDERING, O_NO_RMV, O_TD_GAMMA, O_TAA_GAMMA, O_TAA_CLIP, O_TAA_CR, O_BOUNCES,
-    O_TRANSP, O_RR_SHADOWS, O_SHUTTER, O_BLUR_BVH, O_BACKEND, O_THREADS, O_START, O_TAU, O_NORMAL_ANGLE, O_FOCUS,
+    O_TRANSP, O_RR_SHADOWS, O_SHUTTER, O_BLUR_BVH, O_RIGID, O_BACKEND, O_THREADS, O_START, O_TAU, O_NORMAL_ANGLE, O_FOCUS,
     O_MAP, O_BILINEAR,
     O_TAU_K /* + hz_tau_t: the nine thresholds */
 } opt_id_t;
@@ -28,6 +28,7 @@ static const char *const mode_words[] = { "tdense", "full", "taa", "adaptive", N
 static const hz_render_mode_t mode_of_word[] = { HZ_MODE_TDENSE, HZ_MODE_FULL, HZ_MODE_TAA, HZ_MODE_ADAPTIVE };
 static const char *const backend_words[] = { "native", "embree", NULL };
 static const char *const blur_words[] = { "msbvh", "interp", "swept", NULL };
+static const char *const rigid_words[] = { "instance", "refit", NULL };
 static const char *const ordering_words[] = { "full", "dominant", "shear-up", "shear-down", "hourglass", "bowtie", NULL };
 
 #define TAU(key, k, def, what)                                                                                   \
@@ -79,6 +80,12 @@ static const hz_opt_t table[] = {
       .flags = IMG, .id = O_BLUR_BVH, .sample = "interp", .needs = "--shutter 0.5",
       .help = "motion-blur BVH of the native backend: msbvh (seed 002), interp (interpolated BVH) or swept "
               "(static BVH over swept boxes); default msbvh; needs --shutter" },
+    { .name = "--rigid", .arg = "R", .kind = HZ_OPT_WORD, .words = rigid_words, .modes = FULL | TAA | TDENSE | ADAPTIVE,
+      .flags = IMG, .id = O_RIGID, .sample = "refit", .needs = "--shutter 0.5",
+      .help = "motion blur, native backend: instance (default) keeps each group of objects that move rigidly in a "
+              "BVH of its own in object space, built once, rays moved into it at their time (seed 002 section "
+              "3.2); refit moves their vertices and refits the motion BVH every frame like other motion; needs "
+              "--shutter" },
     { .name = "--backend", .arg = "B", .kind = HZ_OPT_WORD, .words = backend_words, .flags = IMG, .id = O_BACKEND,
       .sample = "embree", .help = "native or embree (builds with Embree); default native" },
     { .name = "--threads", .arg = "N", .kind = HZ_OPT_INT, .lo = 1, .hi = HZ_MAX_THREADS, .id = O_THREADS,
@@ -193,6 +200,10 @@ int hz_ropts_take(hz_ropts_t *r, int argc, char **argv, int i)
         hz_accel_blur_parse(v, &r->blur);
         r->blur_arg = v;
         break;
+    case O_RIGID:
+        hz_accel_rigid_parse(v, &r->rigid);
+        r->rigid_arg = v;
+        break;
     case O_BACKEND: r->backend = x.w == 0 ? HZ_ACCEL_NATIVE : HZ_ACCEL_EMBREE; break;
     case O_THREADS: r->threads = (int)x.n; break;
     case O_START: r->start = hz_time_from_s(x.x); break;
@@ -257,6 +268,15 @@ int hz_ropts_check(hz_ropts_t *r)
     }
     if (r->blur_arg && !(r->opts.shutter > 0.0f)) {
         hz_cli_error("%s: --blur-bvh %s does nothing without motion blur (give --shutter S > 0)", r->cmd, r->blur_arg);
+        return HZ_EXIT_USAGE;
+    }
+    if (r->rigid_arg && !(r->opts.shutter > 0.0f)) {
+        hz_cli_error("%s: --rigid %s does nothing without motion blur (give --shutter S > 0)", r->cmd, r->rigid_arg);
+        return HZ_EXIT_USAGE;
+    }
+    if (r->rigid_arg && r->backend == HZ_ACCEL_EMBREE) {
+        hz_cli_error("%s: --rigid picks what the native backend does with rigid motion; Embree builds its own "
+                     "motion blur (drop --rigid or use --backend native)", r->cmd);
         return HZ_EXIT_USAGE;
     }
     if (r->blur_arg && r->backend == HZ_ACCEL_EMBREE) {
@@ -326,6 +346,11 @@ void hz_ropts_settings(FILE *f, const hz_ropts_t *r, const hz_render_opts_t *o, 
             fprintf(f, "\"%s\"", !(o->shutter > 0.0f)              ? "none"
                                  : r->backend == HZ_ACCEL_EMBREE ? "embree"
                                                                  : hz_accel_blur_name(r->blur));
+            break;
+        case O_RIGID:
+            fprintf(f, "\"%s\"", !(o->shutter > 0.0f)              ? "none"
+                                 : r->backend == HZ_ACCEL_EMBREE ? "embree"
+                                                                 : hz_accel_rigid_name(r->rigid));
             break;
         case O_BACKEND: fprintf(f, "\"%s\"", r->backend == HZ_ACCEL_EMBREE ? "embree" : "native"); break;
         case O_START: fprintf(f, "%.9g", (double)r->start * 1e-9); break;

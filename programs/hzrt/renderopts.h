@@ -34,6 +34,8 @@ typedef struct hz_ropts {
     hz_accel_backend_t backend;
     hz_accel_blur_t blur;
     const char *blur_arg;          /* --blur-bvh as given (NULL: default) */
+    hz_accel_rigid_t rigid;
+    const char *rigid_arg;         /* --rigid as given (NULL: default) */
     int threads;                   /* 0: one per core */
     hz_time_ns_t start;            /* --start */
     hz_adaptive_cli_t adaptive;    /* --focus-objects (unresolved), --adaptive-map */

@@ -279,7 +279,11 @@ static hz_status_t write_scene_outputs(const hz_show_cfg_t *c, double run_s, int
         sm.shutter = (double)o->shutter;
         sm.blur_accel = accel->info.time_keys < 2 ? "static accel (nothing moves: camera blur only)"
                         : c->scene.backend == HZ_ACCEL_EMBREE ? "Embree motion blur"
+                        : accel->info.instances               ? (accel->info.instance_tris < accel->info.tri_count
+                                                                     ? hz_accel_blur_name(accel->info.blur)
+                                                                     : "rigid instances")
                                                               : hz_accel_blur_name(accel->info.blur);
+        sm.instances = accel->info.instances, sm.instance_tris = accel->info.instance_tris;
         sm.time_keys = accel->info.time_keys, sm.refits = accel->info.refits, sm.rebuilds = accel->info.rebuilds;
     }
     hz_summary_adaptive_t ads;

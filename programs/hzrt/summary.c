@@ -43,6 +43,9 @@ void hz_summary_print(const hz_summary_t *s, FILE *f)
         fprintf(f, "motion blur  shutter %.3g of each 1/%u s frame, %s, %u time key%s, %u refit%s, %u rebuild%s\n",
                 s->shutter, s->hz, s->blur_accel, s->time_keys, s->time_keys == 1 ? "" : "s", s->refits,
                 s->refits == 1 ? "" : "s", s->rebuilds, s->rebuilds == 1 ? "" : "s");
+    if (s->shutter > 0 && s->instances)
+        fprintf(f, "             %u rigid instance%s (%u triangles) in object space, never refitted\n", s->instances,
+                s->instances == 1 ? "" : "s", s->instance_tris);
     if (s->stats.nonfinite || s->stats.layer_cap || s->stats.queue_full)
         fprintf(f, "warnings     %llu non-finite values zeroed, %llu paths cut at the layer cap, %llu rays dropped\n",
                 (unsigned long long)s->stats.nonfinite, (unsigned long long)s->stats.layer_cap,
@@ -110,8 +113,8 @@ hz_status_t hz_summary_write_json(const hz_summary_t *s, const char *path, hz_er
     if (s->shutter > 0) {
         fprintf(f, "  \"motion_blur\": {\"shutter\": %.6g, \"accel\": ", s->shutter);
         json_str(f, s->blur_accel);
-        fprintf(f, ", \"time_keys\": %u, \"refits\": %u, \"rebuilds\": %u},\n", s->time_keys, s->refits,
-                s->rebuilds);
+        fprintf(f, ", \"time_keys\": %u, \"refits\": %u, \"rebuilds\": %u, \"instances\": %u, \"instance_tris\": %u},\n",
+                s->time_keys, s->refits, s->rebuilds, s->instances, s->instance_tris);
     }
     fprintf(f, "  \"arenas\": {\"scene\": [%zu, %zu], \"accel\": [%zu, %zu], \"frame\": [%zu, %zu], "
                "\"thread\": [%zu, %zu]},\n",

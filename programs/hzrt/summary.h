@@ -36,6 +36,7 @@ typedef struct hz_summary {
     double shutter;
     const char *blur_accel;
     uint32_t time_keys, refits, rebuilds;
+    uint32_t instances, instance_tris; /* rigid instances of the native backend (0: none) */
     int threads;
     double build_ms, ms_p50, ms_p99, ms_mean, ms_max, run_s;
     uint64_t rays;

@@ -4,6 +4,7 @@
  * any-hit calls and the ray-origin offset.
  */
 #include "bvh.h"
+#include "instance.h"
 
 #include "hz/scene.h"
 
@@ -19,6 +20,7 @@ void hz_accel_config_default(hz_accel_config_t *cfg)
     cfg->progress_user = 0;
     cfg->blur = HZ_ACCEL_BLUR_MSBVH;
     cfg->rebuild_sah_growth = 0.30f;
+    cfg->rigid = HZ_ACCEL_RIGID_INSTANCE;
     cfg->run = 0;
     cfg->run_user = 0;
     cfg->run_threads = 0;
@@ -43,6 +45,23 @@ bool hz_accel_blur_parse(const char *s, hz_accel_blur_t *out)
     for (int i = 0; s && i < HZ_ACCEL_BLUR_COUNT; i++)
         if (str_eq(s, blur_names[i])) {
             *out = (hz_accel_blur_t)i;
+            return true;
+        }
+    return false;
+}
+
+static const char *const rigid_names[HZ_ACCEL_RIGID_COUNT] = { "instance", "refit" };
+
+const char *hz_accel_rigid_name(hz_accel_rigid_t r)
+{
+    return (unsigned)r < HZ_ACCEL_RIGID_COUNT ? rigid_names[r] : "unknown";
+}
+
+bool hz_accel_rigid_parse(const char *s, hz_accel_rigid_t *out)
+{
+    for (int i = 0; s && i < HZ_ACCEL_RIGID_COUNT; i++)
+        if (str_eq(s, rigid_names[i])) {
+            *out = (hz_accel_rigid_t)i;
             return true;
         }
     return false;
@@ -123,6 +142,32 @@ hz_status_t hz_accel_geom_check(const hz_accel_geom_t *g, hz_error_t *err)
     }
     if (g->tri_count && !g->tri)
         return hz_error_set(err, HZ_E_INVALID_ARG, "accel: %u triangles but no index array", g->tri_count);
+    if (g->instance_count) {
+        if (g->instance_count > HZ_ACCEL_MAX_INSTANCES || !g->instances)
+            return hz_error_set(err, HZ_E_RANGE, "accel: %u rigid instances%s (at most %d)", g->instance_count,
+                                g->instances ? "" : " but no array", HZ_ACCEL_MAX_INSTANCES);
+        if (g->time_keys < 2u)
+            return hz_error_set(err, HZ_E_INVALID_ARG, "accel: rigid instances need time keys (time_keys %u)",
+                                g->time_keys);
+        uint32_t end = 0;
+        for (uint32_t i = 0; i < g->instance_count; i++) {
+            const hz_accel_instance_t *in = &g->instances[i];
+            if (in->tri_first < end || in->tri_count > g->tri_count || in->tri_first > g->tri_count - in->tri_count)
+                return hz_error_set(err, HZ_E_RANGE,
+                                    "accel: rigid instance %u: triangles %u + %u overlap the previous instance or "
+                                    "pass the view's %u",
+                                    i, in->tri_first, in->tri_count, g->tri_count);
+            end = in->tri_first + in->tri_count;
+            if ((g->vertex_count && !in->obj_pos) || ((uintptr_t)in->obj_pos & 15u) != 0)
+                return hz_error_set(err, HZ_E_INVALID_ARG,
+                                    "accel: rigid instance %u: object-space positions missing or not 16-byte aligned",
+                                    i);
+            for (uint32_t k = 0; k < g->time_keys; k++)
+                if (!in->xform[k])
+                    return hz_error_set(err, HZ_E_INVALID_ARG, "accel: rigid instance %u: no matrix at key %u", i,
+                                        k);
+        }
+    }
     for (uint32_t t = 0; t < g->tri_count; t++)
         for (int k = 0; k < 3; k++)
             if (g->tri[3u * (size_t)t + (uint32_t)k] >= g->vertex_count)
@@ -608,6 +653,8 @@ hz_status_t hz_accel_build_native(hz_accel_t **out, const hz_accel_geom_t *g, co
         hz_accel_config_default(&d);
         cfg = &d;
     }
+    if (hz_inst_used(g, cfg))
+        return hz_inst_build(out, g, cfg, arena, err);
     const hz_arena_mark_t m0 = hz_arena_mark(arena);
     hz_accel_t *a = hz_arena_alloc(arena, sizeof *a, 64);
     native_t *nt = hz_arena_alloc(arena, sizeof *nt, 64);
@@ -677,6 +724,16 @@ static bool tri_finite(const hz_accel_geom_t *g, uint32_t t)
     return true;
 }
 
+/* An instance's triangle in object space: the native build leaves out the same ones (its tri_box) */
+static bool tri_finite_blk(const hz_bvh_block_t *b)
+{
+    for (int v = 0; v < 3; v++)
+        for (int k = 0; k < 3; k++)
+            if (!(hz_absf(b->v[v][k][0]) <= HZ_ACCEL_MAX_COORD))
+                return false;
+    return true;
+}
+
 void hz_accel_brute_intersect1(const hz_accel_geom_t *g, hz_rayhit_t *rh)
 {
     hz_bvh_ray_t r;
@@ -688,27 +745,52 @@ void hz_accel_brute_intersect1(const hz_accel_geom_t *g, hz_rayhit_t *rh)
     float f = 0.0f;
     if (motion)
         hz_accel_time_segment(rh->ray.time, g->time_keys, &seg, &f);
+    /* Rigid instances (when the native build takes them: the default configuration's choice): their triangles
+     * in object space against the ray moved there at its time, as the traversal does. */
+    const bool inst = hz_inst_used(g, 0);
+    /* with static_rest the other triangles are static geometry over pos (a lerp of equal keys may round) */
+    const bool moving_rest = motion && !(inst && g->static_rest);
+    hz_bvh_ray_t ri[HZ_ACCEL_MAX_INSTANCES];
+    hz_inst_xf_t xf[HZ_ACCEL_MAX_INSTANCES];
+    bool in_ok[HZ_ACCEL_MAX_INSTANCES];
+    for (uint32_t i = 0; inst && i < g->instance_count; i++) {
+        const float org[3] = { rh->ray.org_x, rh->ray.org_y, rh->ray.org_z };
+        const float dir[3] = { rh->ray.dir_x, rh->ray.dir_y, rh->ray.dir_z };
+        float oo[3], od[3];
+        in_ok[i] = hz_inst_xform(&g->instances[i], g->time_keys, rh->ray.time, &xf[i]) &&
+                   hz_inst_ray_in(&xf[i], org, dir, oo, od) &&
+                   hz_bvh_ray_prep(&ri[i], oo[0], oo[1], oo[2], od[0], od[1], od[2], rh->ray.tnear, rh->ray.tfar);
+    }
     hz_bvh_block_t blk, hit_blk;
     hz_memset(&blk, 0, sizeof blk);
-    uint32_t best_prim = HZ_ACCEL_INVALID_ID;
+    uint32_t best_prim = HZ_ACCEL_INVALID_ID, best_inst = HZ_ACCEL_INVALID_ID, i = 0;
     float bv = 0.0f, bw = 0.0f, bdet = 1.0f;
     for (uint32_t t = 0; t < g->tri_count; t++) {
-        if (!tri_finite(g, t))
+        while (inst && i < g->instance_count && t >= g->instances[i].tri_first + g->instances[i].tri_count)
+            i++;
+        const bool in = inst && i < g->instance_count && t >= g->instances[i].tri_first;
+        if (in ? !in_ok[i] : !tri_finite(g, t))
             continue;
         for (int v = 0; v < 3; v++) {
             const size_t vi = 4u * (size_t)g->tri[3u * (size_t)t + (uint32_t)v];
             for (int k = 0; k < 3; k++)
-                blk.v[v][k][0] = motion ? hz_accel_lerp_key(g->pos_keys[seg][vi + (size_t)k],
-                                                            g->pos_keys[seg + 1u][vi + (size_t)k], f)
-                                        : g->pos[vi + (size_t)k];
+                blk.v[v][k][0] = in           ? g->instances[i].obj_pos[vi + (size_t)k]
+                                 : moving_rest ? hz_accel_lerp_key(g->pos_keys[seg][vi + (size_t)k],
+                                                              g->pos_keys[seg + 1u][vi + (size_t)k], f)
+                                          : g->pos[vi + (size_t)k];
         }
+        if (in && !tri_finite_blk(&blk))
+            continue;
         float tt, U, V, W, det;
-        if (!hz_bvh_tri_test(&blk, 0, &r, &tt, &U, &V, &W, &det))
+        hz_bvh_ray_t *rr = in ? &ri[i] : &r;
+        rr->tfar = r.tfar;
+        if (!hz_bvh_tri_test(&blk, 0, rr, &tt, &U, &V, &W, &det))
             continue;
         if (!(tt >= r.tnear) || !hz_bvh_better(tt, t, r.tfar, best_prim))
             continue;
         r.tfar = tt;
         best_prim = t;
+        best_inst = in ? i : HZ_ACCEL_INVALID_ID;
         bv = V, bw = W, bdet = det;
         hit_blk = blk;
     }
@@ -721,6 +803,8 @@ void hz_accel_brute_intersect1(const hz_accel_geom_t *g, hz_rayhit_t *rh)
     b.slot = 0, b.prim = best_prim, b.v = bv, b.w = bw, b.det = bdet;
     float ng[3];
     hz_bvh_best_finish(&one, &b, ng, &rh->hit.u, &rh->hit.v);
+    if (best_inst != HZ_ACCEL_INVALID_ID)
+        hz_inst_normal_out(&xf[best_inst], ng);
     rh->ray.tfar = r.tfar;
     rh->hit.ng_x = ng[0], rh->hit.ng_y = ng[1], rh->hit.ng_z = ng[2];
     rh->hit.prim_id = best_prim;

@@ -23,6 +23,7 @@
  */
 #include "bvh.h"
 #include "box4.h"
+#include "instance.h"
 
 #define OBJ_BINS 32
 #define SPATIAL_BINS 32     /* at most; smaller nodes use fewer (spatial_bins) */
@@ -1520,6 +1521,8 @@ hz_accel_bytes_t hz_accel_bytes_bound_geom(const hz_accel_geom_t *g, const hz_ac
         hz_accel_config_default(&d);
         cfg = &d;
     }
+    if (hz_inst_used(g, cfg))
+        return hz_inst_bytes_bound(g, cfg);
     if (!g || g->time_keys < 2u)
         return hz_accel_bytes_bound(g ? g->tri_count : 0u, cfg);
     hz_accel_config_t c2 = *cfg;
@@ -1546,6 +1549,8 @@ static uint32_t init_refs(build_t *bd, bool sweep, box_t *root)
     box_empty(root);
     for (uint32_t t = 0; t < g->tri_count; t++) {
         box_t b;
+        if (g->tri_flags && (g->tri_flags[t] & HZ_ACCEL_TRI_LEFT_OUT))
+            continue;
         if (!tri_box(g, t, &b, sweep)) {
             skipped++;
             continue;

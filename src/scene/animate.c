@@ -250,6 +250,16 @@ void hz_scene_pose_at_ns(const hz_scene_t *s, hz_time_ns_t t, float dt, float *p
                            pos, s->nrm ? nrm : NULL);
 }
 
+void hz_scene_object_matrix_at_ns(const hz_scene_t *s, uint32_t object, hz_time_ns_t t, float dt, float m[12])
+{
+    const hz_hzb_object_t *o = &s->objects[object];
+    hz_mat4_t a;
+    hz_object_matrix(o, s->rigid_keys, object_time(s, o, t + hz_time_from_s(dt), s->header->duration), &a);
+    for (int r = 0; r < 3; r++)
+        for (int c = 0; c < 4; c++)
+            m[4 * r + c] = a.m[4 * c + r]; /* hz_mat4_t is column-major */
+}
+
 void hz_scene_pose_at(const hz_scene_t *s, float t, float dt, float *pos, float *nrm)
 {
     hz_scene_pose_at_ns(s, hz_time_from_s(t), dt, pos, nrm);

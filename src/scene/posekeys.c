@@ -78,6 +78,54 @@ size_t hz_posekeys_bytes(const hz_scene_t *s, uint32_t count)
     return (size_t)count * one * (s->nrm ? 2u : 1u);
 }
 
+static bool rigid_motion(uint32_t m)
+{
+    return m == HZ_MOTION_RIGID || m == HZ_MOTION_SPIN || m == HZ_MOTION_OSCILLATE;
+}
+
+static bool same_motion(const hz_hzb_object_t *a, const hz_hzb_object_t *b)
+{
+    if (a->motion != b->motion || a->key_first != b->key_first || a->key_count != b->key_count)
+        return false;
+    for (int i = 0; i < 8; i++)
+        if (a->params[i] != b->params[i])
+            return false;
+    return true;
+}
+
+/* The rigid instances (see the contract): consecutive objects with the same rigid motion, or none at all. */
+static void find_instances(hz_posekeys_t *k, const hz_scene_t *s)
+{
+    uint32_t n = 0;
+    bool rest_moves = false, over = false;
+    for (uint32_t i = 0; i < s->object_count && !over; i++) {
+        const hz_hzb_object_t *o = &s->objects[i];
+        if (!rigid_motion(o->motion) || !o->triangle_count) {
+            rest_moves = rest_moves || (o->motion != HZ_MOTION_NONE && o->triangle_count);
+            continue;
+        }
+        hz_accel_instance_t *last = n ? &k->inst[n - 1u] : NULL;
+        if (last && same_motion(&s->objects[k->inst_object[n - 1u]], o) &&
+            last->tri_first + last->tri_count == o->first_triangle) {
+            last->tri_count += o->triangle_count;
+            continue;
+        }
+        if (n == HZ_ACCEL_MAX_INSTANCES) {
+            over = true;
+            break;
+        }
+        k->inst[n].tri_first = o->first_triangle;
+        k->inst[n].tri_count = o->triangle_count;
+        k->inst[n].obj_pos = s->rest_pos;
+        for (uint32_t key = 0; key < HZ_ACCEL_MAX_TIME_KEYS; key++)
+            k->inst[n].xform[key] = key < k->count ? k->xform[n][key] : NULL;
+        k->inst_object[n] = i;
+        n++;
+    }
+    k->instance_count = over ? 0u : n;
+    k->static_rest = !over && !rest_moves;
+}
+
 hz_status_t hz_posekeys_init(hz_posekeys_t *k, const hz_scene_t *s, uint32_t count, hz_arena_t *arena,
                              hz_error_t *err)
 {
@@ -104,6 +152,7 @@ hz_status_t hz_posekeys_init(hz_posekeys_t *k, const hz_scene_t *s, uint32_t cou
     }
     k->count = count;
     k->vertex_count = s->vertex_count;
+    find_instances(k, s);
     return HZ_OK;
 }
 
@@ -113,6 +162,8 @@ void hz_posekeys_eval_ns(hz_posekeys_t *k, const hz_scene_t *s, hz_time_ns_t t, 
         /* The ends exactly at lo and hi; in between lo + (hi - lo) i / (K - 1). */
         float dt = i + 1 == k->count ? hi : lo + (hi - lo) * ((float)i / (float)(k->count - 1u));
         hz_scene_pose_at_ns(s, t, dt, k->pos[i], k->nrm[i]);
+        for (uint32_t j = 0; j < k->instance_count; j++)
+            hz_scene_object_matrix_at_ns(s, k->inst_object[j], t, dt, k->xform[j][i]);
     }
     k->time = t, k->lo = lo, k->hi = hi;
     k->valid = true;
@@ -129,4 +180,7 @@ void hz_posekeys_geom(const hz_posekeys_t *k, hz_accel_geom_t *g)
     for (uint32_t i = 0; i < HZ_ACCEL_MAX_TIME_KEYS; i++)
         g->pos_keys[i] = i < k->count ? k->pos[i] : NULL;
     g->pos = k->pos[(k->count - 1u) / 2u];
+    g->instance_count = k->instance_count;
+    g->instances = k->instance_count ? k->inst : NULL;
+    g->static_rest = k->static_rest;
 }

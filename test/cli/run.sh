@@ -99,6 +99,12 @@ expect render-blur-bvh-needs-shutter 2 "does nothing without motion blur" "$hzrt
 expect render-bad-blur-bvh 2 "'kd' is not msbvh, interp or swept" "$hzrt" render builtin --shutter 1 --blur-bvh kd
 expect render-blur-bvh-not-embree 2 "Embree builds its own motion blur" "$hzrt" render builtin --shutter 1 --backend embree --blur-bvh msbvh
 expect render-blur-ok 0 "frame time" "$hzrt" render builtin --size 32x18 --frames 5 --threads 2 --shutter 0.5 --blur-bvh interp --out "$tmp/blur"
+expect render-rigid-needs-shutter 2 "--rigid refit does nothing without motion blur" "$hzrt" render builtin --rigid refit
+expect render-bad-rigid 2 "'tlas' is not instance or refit" "$hzrt" render builtin --shutter 1 --rigid tlas
+expect render-rigid-not-embree 2 "Embree builds its own motion blur" "$hzrt" render builtin --shutter 1 --backend embree --rigid refit
+expect render-rigid-instances 0 "rigid instances\? (.* triangles) in object space, never refitted" "$hzrt" render builtin --size 32x18 --frames 3 --threads 2 --shutter 0.5 --out "$tmp/rigid"
+expect accel-rigid-needs-check 2 "need --motion-check N" "$hzrt" accel builtin --rigid refit
+expect accel-bad-rigid 2 "'tlas' is not instance or refit" "$hzrt" accel builtin --motion-check 8 --rigid tlas
 expect render-missing-file 73 "$tmp/nope.hzb: No such file" "$hzrt" render "$tmp/nope.hzb" --out "$tmp/o1"
 head -c 300 /dev/urandom >"$tmp/random.hzb"
 expect info-garbage 68 "random.hzb: not a .hzb file" "$hzrt" info "$tmp/random.hzb"
@@ -393,6 +399,7 @@ expect adaptive-shutter 0 "motion blur  shutter 0.5" "$hzrt" render builtin --mo
     --adaptive-bilinear --size 32x18 --threads 2 --out "$tmp/as"
 expect grammar-frames-timed 0 "(1 frame timed)" "$hzrt" render builtin --size 32x18 --frames 2 --threads 2 \
     --out "$tmp/gr"
+ok render-rigid-refit-none sh -c "\"$hzrt\" render builtin --size 32x18 --frames 3 --threads 2 --shutter 0.5 --rigid refit --out \"$tmp/rigid2\" | grep -q 'motion blur' && ! \"$hzrt\" render builtin --size 32x18 --frames 3 --threads 2 --shutter 0.5 --rigid refit --out \"$tmp/rigid2\" | grep -q 'in object space'"
 expect grammar-refit 0 "2 time keys, 1 refit, 0 rebuilds" "$hzrt" render builtin --size 32x18 --frames 2 \
     --threads 2 --shutter 0.5 --out "$tmp/gr"
 expect info-kept-left-out 0 "^kept         motion vectors" "$hzrt" info builtin

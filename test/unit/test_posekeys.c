@@ -1,6 +1,7 @@
 /* Pose keys (hz/posekeys.h) on the built-in scene: hz_scene_pose_at gives what hz_scene_animate gives at the same
  * time and leaves the scene alone, keys hold the poses at the interval's ends and evenly in between, the key
- * count follows the motion (worked out by hand from the scene's parameters), and bad requests are refused. */
+ * count follows the motion (worked out by hand from the scene's parameters), rigid objects become instances whose
+ * matrices reproduce the posed keys, and bad requests are refused. */
 #include "hz_test.h"
 
 #include <math.h>
@@ -107,6 +108,54 @@ static void test_keys_span_the_interval(void **state)
     assert_null(g.pos_keys[5]);
 }
 
+/* Rigid instances: every rigidly moving object of the built-in scene lies in exactly one instance, nothing else
+ * does, and each instance's matrix at each key moves its rest positions onto that key's posed positions (which
+ * hz_scene_pose_at computes on its own, vertex by vertex). The flag moves by vertex keys: the rest moves. */
+static void test_rigid_instances(void **state)
+{
+    (void)state;
+    hz_posekeys_t k;
+    hz_error_t err;
+    hz_arena_reset(&karena, 0);
+    assert_int_equal(hz_posekeys_init(&k, &sc, 3, &karena, &err), HZ_OK);
+    hz_posekeys_eval(&k, &sc, 1.5f, -0.2f, 0.2f);
+    uint32_t rigid = 0;
+    for (uint32_t o = 0; o < sc.object_count; o++) {
+        const hz_hzb_object_t *ob = &sc.objects[o];
+        const bool is_rigid = ob->motion == HZ_MOTION_SPIN || ob->motion == HZ_MOTION_OSCILLATE ||
+                              ob->motion == HZ_MOTION_RIGID;
+        rigid += is_rigid && ob->triangle_count;
+        uint32_t in = 0;
+        for (uint32_t i = 0; i < k.instance_count; i++)
+            in += ob->first_triangle >= k.inst[i].tri_first &&
+                  ob->first_triangle + ob->triangle_count <= k.inst[i].tri_first + k.inst[i].tri_count;
+        assert_int_equal(in, is_rigid && ob->triangle_count ? 1u : 0u);
+    }
+    assert_true(rigid >= 2); /* a spinning and an oscillating object */
+    assert_true(k.instance_count >= 2 && k.instance_count <= rigid);
+    assert_false(k.static_rest);
+    for (uint32_t i = 0; i < k.instance_count; i++)
+        for (uint32_t key = 0; key < 3; key++) {
+            const float *m = k.inst[i].xform[key];
+            assert_ptr_equal(m, k.xform[i][key]);
+            for (uint32_t t = k.inst[i].tri_first; t < k.inst[i].tri_first + k.inst[i].tri_count; t++)
+                for (int c = 0; c < 3; c++) {
+                    const uint32_t v = sc.tri[3u * t + (uint32_t)c];
+                    const float *p = k.inst[i].obj_pos + 4u * v, *q = k.pos[key] + 4u * v;
+                    for (int r = 0; r < 3; r++) {
+                        const float x = m[4 * r] * p[0] + m[4 * r + 1] * p[1] + m[4 * r + 2] * p[2] + m[4 * r + 3];
+                        assert_true(fabsf(x - q[r]) <= 1e-5f * (1.0f + fabsf(q[r])));
+                    }
+                }
+        }
+    hz_accel_geom_t g;
+    hz_accel_geom_init(&g);
+    hz_posekeys_geom(&k, &g);
+    assert_int_equal(g.instance_count, k.instance_count);
+    assert_ptr_equal(g.instances, k.inst);
+    assert_false(g.static_rest);
+}
+
 static void test_refusals(void **state)
 {
     (void)state;
@@ -129,6 +178,7 @@ int main(void)
         cmocka_unit_test(test_pose_at_matches_animate_and_mutates_nothing),
         cmocka_unit_test(test_count_follows_motion),
         cmocka_unit_test(test_keys_span_the_interval),
+        cmocka_unit_test(test_rigid_instances),
         cmocka_unit_test(test_refusals),
     };
     return HZ_RUN_GROUP(tests, setup, NULL);
