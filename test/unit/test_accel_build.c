@@ -385,7 +385,7 @@ static void test_bad_geometry(void **state)
     (void)state;
     static float pos[4 * 4] HZ_ALIGNED(16) = { 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0 };
     uint32_t tri[6] = { 0, 1, 2, 0, 2, 4 };
-    hz_accel_geom_t g = { pos, 4, tri, 2, NULL, 0, { NULL } };
+    hz_accel_geom_t g = { pos, 4, tri, 2, NULL, 0, { NULL }, 0, NULL, false };
     hz_accel_t *a = (hz_accel_t *)&g;
     hz_error_t err;
     size_t used = arena.used;
@@ -394,12 +394,12 @@ static void test_bad_geometry(void **state)
     assert_non_null(strstr(err.msg, "triangle 1"));
     assert_non_null(strstr(err.msg, "vertex index 4"));
     assert_int_equal(arena.used, used);
-    hz_accel_geom_t g2 = { pos + 1, 3, tri, 1, NULL, 0, { NULL } }; /* misaligned */
+    hz_accel_geom_t g2 = { pos + 1, 3, tri, 1, NULL, 0, { NULL }, 0, NULL, false }; /* misaligned */
     assert_int_equal(hz_accel_build_native(&a, &g2, NULL, &arena, &err), HZ_E_INVALID_ARG);
     assert_non_null(strstr(err.msg, "aligned"));
-    hz_accel_geom_t g3 = { pos, 4, NULL, 1, NULL, 0, { NULL } };
+    hz_accel_geom_t g3 = { pos, 4, NULL, 1, NULL, 0, { NULL }, 0, NULL, false };
     assert_int_equal(hz_accel_build_native(&a, &g3, NULL, &arena, &err), HZ_E_INVALID_ARG);
-    hz_accel_geom_t g4 = { pos, 4, tri, HZ_ACCEL_MAX_TRIS + 1u, NULL, 0, { NULL } };
+    hz_accel_geom_t g4 = { pos, 4, tri, HZ_ACCEL_MAX_TRIS + 1u, NULL, 0, { NULL }, 0, NULL, false };
     assert_int_equal(hz_accel_build_native(&a, &g4, NULL, &arena, &err), HZ_E_RANGE);
     assert_int_equal(hz_accel_build_native(&a, NULL, NULL, &arena, &err), HZ_E_INVALID_ARG);
     assert_int_equal(arena.used, used);
@@ -412,7 +412,7 @@ static void test_degenerate_inputs(void **state)
     hz_arena_mark_t m0 = hz_arena_mark(&arena);
     hz_error_t err;
     hz_accel_t *a;
-    hz_accel_geom_t empty = { NULL, 0, NULL, 0, NULL, 0, { NULL } };
+    hz_accel_geom_t empty = { NULL, 0, NULL, 0, NULL, 0, { NULL }, 0, NULL, false };
     assert_int_equal(hz_accel_build_native(&a, &empty, NULL, &arena, &err), HZ_OK);
     hz_rayhit_t in, out;
     float o[3] = { 0, 0, -1 }, d[3] = { 0, 0, 1 };
@@ -430,7 +430,7 @@ static void test_degenerate_inputs(void **state)
     for (uint32_t t = 0; t < n; t++)
         tri[3 * t] = 0, tri[3 * t + 1] = 1, tri[3 * t + 2] = 2;
     tri[3 * 7] = 3, tri[3 * 7 + 1] = 4, tri[3 * 7 + 2] = 5; /* non-finite */
-    hz_accel_geom_t g = { pos, 6, tri, n, NULL, 0, { NULL } };
+    hz_accel_geom_t g = { pos, 6, tri, n, NULL, 0, { NULL }, 0, NULL, false };
     assert_int_equal(hz_accel_build_native(&a, &g, NULL, &arena, &err), HZ_OK);
     assert_int_equal(a->info.tri_skipped, 1);
     check_structure(a, &g, false);
