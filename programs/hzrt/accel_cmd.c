@@ -269,9 +269,14 @@ int hz_cmd_accel(int argc, char **argv)
         if (hz_accel_build_native(&ma, &g, &cfg, &p->accel, &err) != HZ_OK)
             return hz_cli_report(&err);
         const hz_accel_info_t *in = &ma->info;
+        char sah[48];
+        if (in->instances && in->instance_tris == in->tri_count)
+            snprintf(sah, sizeof sah, "no motion BVH");
+        else
+            snprintf(sah, sizeof sah, "SAH %.2f%s", (double)in->sah_cost, in->instances ? " outside instances" : "");
         fprintf(stderr, "motion-check: built in %.3f s: %u references (%u spatial splits, %u stopped by the budget), "
-                        "%u nodes, SAH %.2f, %.1f bytes per triangle\n", (double)(hz_clock_ns() - t0) * 1e-9,
-                in->ref_count, in->spatial_splits, in->budget_stops, in->node_count, (double)in->sah_cost,
+                        "%u nodes, %s, %.1f bytes per triangle\n", (double)(hz_clock_ns() - t0) * 1e-9,
+                in->ref_count, in->spatial_splits, in->budget_stops, in->node_count, sah,
                 g.tri_count ? (double)in->bytes / g.tri_count : 0.0);
         if (in->instances)
             fprintf(stderr, "motion-check: %u rigid instance%s holding %u of the triangles (object-space BVHs)\n",
