@@ -15,15 +15,11 @@ enum { H_NGX = R_FIELDS, H_NGY, H_NGZ, H_U, H_V, H_PRIM, H_GEOM, H_INST, RH_FIEL
 /* Rays an instance pass moves into object space at once: 8 packets of 8, 16 of 4 or 64 single rays. */
 #define CHUNK_RAYS 64
 
-typedef struct inst {
-    hz_accel_t *blas; /* static, object space */
-    uint32_t first, count;
-} inst_t;
-
+/* The trees; the instances' triangle ranges and matrices stay in the view (a->geom.instances). */
 typedef struct comp {
     hz_accel_t *rest; /* the triangles outside instances; NULL when there are none */
     uint32_t n;
-    inst_t in[HZ_ACCEL_MAX_INSTANCES];
+    hz_accel_t *blas[HZ_ACCEL_MAX_INSTANCES]; /* static, object space */
 } comp_t;
 
 bool hz_inst_used(const hz_accel_geom_t *g, const hz_accel_config_t *cfg)
@@ -139,12 +135,11 @@ static void sub_query(const hz_accel_t *s, hz_accel_ctx_t *ctx, const batch_t *b
     }
 }
 
-static void stats_add(hz_accel_stats_t *to, const hz_accel_stats_t *from, bool rays)
+/* An instance pass's counts (its rays were counted by the first pass over them). */
+static void stats_add(hz_accel_stats_t *to, const hz_accel_stats_t *from)
 {
     if (!to)
         return;
-    if (rays)
-        to->rays += from->rays;
     to->nodes += from->nodes;
     to->tris += from->tris;
     to->anyhit_calls += from->anyhit_calls;
@@ -155,8 +150,8 @@ static void stats_add(hz_accel_stats_t *to, const hz_accel_stats_t *from, bool r
 /* One instance over packets [p0, p0 + n) of b (at most CHUNK_RAYS rays): the active lanes move into object
  * space, go through the instance's BVH in one call (or packet by packet where their sides differ), and the
  * closer hits (or the occlusions) come back. */
-static void inst_chunk(const hz_accel_t *a, const inst_t *in, const hz_accel_instance_t *gi, hz_accel_ctx_t *ctx,
-                       const batch_t *b, uint32_t p0, uint32_t n)
+static void inst_chunk(const hz_accel_t *a, const hz_accel_t *blas, const hz_accel_instance_t *gi,
+                       hz_accel_ctx_t *ctx, const batch_t *b, uint32_t p0, uint32_t n)
 {
     HZ_ALIGNED(32) float buf[CHUNK_RAYS * RH_FIELDS];
     HZ_ALIGNED(32) int32_t valid[CHUNK_RAYS];
@@ -199,31 +194,23 @@ static void inst_chunk(const hz_accel_t *a, const inst_t *in, const hz_accel_ins
     c2.stats = ctx->stats ? &st : 0;
     tramp_t tr;
     if (ctx->anyhit) {
-        tr.fn = ctx->anyhit, tr.user = ctx->user, tr.base = in->first;
+        tr.fn = ctx->anyhit, tr.user = ctx->user, tr.base = gi->tri_first;
         c2.anyhit = tramp_anyhit, c2.user = &tr;
     }
-    if (negs == 0 || negs == active || !ctx->anyhit || w == 1) {
-        /* one side for every lane (single rays: the lane is always 0, and each goes alone) */
-        for (int l = 0; l < 8; l++)
+    if (!ctx->anyhit || negs == 0 || negs == active) {
+        for (int l = 0; l < 8; l++) /* one side for every lane: one call */
             tr.flip[l] = negs != 0;
-        if (w == 1 && ctx->anyhit && negs != 0 && negs != active) {
-            for (uint32_t p = 0; p < n; p++) {
-                batch_t one = { valid + p, word(&t, p, 0, 0), 1, 1, b->hit };
-                tr.flip[0] = neg[p];
-                sub_query(in->blas, &c2, &one);
-            }
-        } else {
-            sub_query(in->blas, &c2, &t);
-        }
+        sub_query(blas, &c2, &t);
     } else {
+        /* the callback tells lanes apart within a packet only: packet by packet (a single ray is a packet of 1) */
         for (uint32_t p = 0; p < n; p++) {
             batch_t one = { valid + p * (uint32_t)w, word(&t, p, 0, 0), w, 1, b->hit };
             for (int l = 0; l < w; l++)
                 tr.flip[l] = neg[p * (uint32_t)w + (uint32_t)l];
-            sub_query(in->blas, &c2, &one);
+            sub_query(blas, &c2, &one);
         }
     }
-    stats_add(ctx->stats, &st, false);
+    stats_add(ctx->stats, &st);
     for (uint32_t p = 0; p < n; p++)
         for (int l = 0; l < w; l++) {
             const uint32_t L = p * (uint32_t)w + (uint32_t)l;
@@ -240,7 +227,7 @@ static void inst_chunk(const hz_accel_t *a, const inst_t *in, const hz_accel_ins
             if (prim == HZ_ACCEL_INVALID_ID)
                 continue;
             uint32_t *wprim = (uint32_t *)(void *)word(b, p0 + p, H_PRIM, l);
-            const uint32_t gp = prim + in->first;
+            const uint32_t gp = prim + gi->tri_first;
             /* a hit of the other triangles (or of an earlier instance) at exactly this t: the lower index wins */
             if (!(*wprim == HZ_ACCEL_INVALID_ID || tt < *wt || (tt == *wt && gp < *wprim)))
                 continue;
@@ -292,7 +279,7 @@ static void comp_query(const hz_accel_t *a, hz_accel_ctx_t *ctx, const batch_t *
                 ctx->stats->rays += s.valid[i] != 0;
         for (uint32_t i = 0; i < c->n; i++)
             for (uint32_t p = 0; p < np; p += chunk)
-                inst_chunk(a, &c->in[i], &a->geom.instances[i], ctx, &s, p, np - p < chunk ? np - p : chunk);
+                inst_chunk(a, c->blas[i], &a->geom.instances[i], ctx, &s, p, np - p < chunk ? np - p : chunk);
         for (uint32_t p = 0; s.hit && p < np; p++)
             for (int l = 0; l < s.w; l++) {
                 uint32_t *pr = (uint32_t *)(void *)word(&s, p, H_PRIM, l);
@@ -373,7 +360,7 @@ static void info_sum(hz_accel_t *a)
     in->tri_skipped = 0, in->ref_count = 0, in->spatial_splits = 0, in->budget_stops = 0, in->tasks_rebuilt = 0;
     in->node_count = 0, in->leaf_count = 0, in->block_count = 0, in->depth = 0;
     for (uint32_t i = 0; i <= c->n; i++) {
-        const hz_accel_info_t *s = i < c->n ? &c->in[i].blas->info : r;
+        const hz_accel_info_t *s = i < c->n ? &c->blas[i]->info : r;
         if (!s)
             continue;
         in->tri_skipped += s->tri_skipped, in->ref_count += s->ref_count, in->spatial_splits += s->spatial_splits;
@@ -468,8 +455,7 @@ hz_status_t hz_inst_build(hz_accel_t **out, const hz_accel_geom_t *g, const hz_a
         v.tri = g->tri + 3u * (size_t)gi->tri_first;
         v.tri_count = gi->tri_count;
         v.tri_flags = g->tri_flags ? g->tri_flags + gi->tri_first : 0;
-        s = sub_build(&c->in[i].blas, &v, cfg, &share, gi->tri_count, &done, g->tri_count, arena, err);
-        c->in[i].first = gi->tri_first, c->in[i].count = gi->tri_count;
+        s = sub_build(&c->blas[i], &v, cfg, &share, gi->tri_count, &done, g->tri_count, arena, err);
         c->n = i + 1u;
     }
     if (s == HZ_OK && held < g->tri_count) {
@@ -493,7 +479,7 @@ hz_status_t hz_inst_build(hz_accel_t **out, const hz_accel_geom_t *g, const hz_a
     a->geom = *g;
     a->impl = c;
     hz_memset(&a->info, 0, sizeof a->info);
-    a->info.backend = c->n ? c->in[0].blas->info.backend : c->rest->info.backend;
+    a->info.backend = c->n ? c->blas[0]->info.backend : c->rest->info.backend;
     a->info.tri_count = g->tri_count;
     a->info.time_keys = g->time_keys;
     a->info.blur = cfg->blur;
@@ -503,7 +489,7 @@ hz_status_t hz_inst_build(hz_accel_t **out, const hz_accel_geom_t *g, const hz_a
     a->info.bytes = hz_arena_mark(arena) - m0;
     size_t peak = 0;
     for (uint32_t i = 0; i <= c->n; i++) {
-        const hz_accel_t *sub = i < c->n ? c->in[i].blas : c->rest;
+        const hz_accel_t *sub = i < c->n ? c->blas[i] : c->rest;
         if (sub && sub->info.bytes_peak > peak)
             peak = sub->info.bytes_peak;
     }

@@ -98,7 +98,7 @@ static void find_instances(hz_posekeys_t *k, const hz_scene_t *s)
 {
     uint32_t n = 0;
     bool rest_moves = false, over = false;
-    for (uint32_t i = 0; i < s->object_count && !over; i++) {
+    for (uint32_t i = 0; i < s->object_count; i++) {
         const hz_hzb_object_t *o = &s->objects[i];
         if (!rigid_motion(o->motion) || !o->triangle_count) {
             rest_moves = rest_moves || (o->motion != HZ_MOTION_NONE && o->triangle_count);
