@@ -120,8 +120,12 @@ hz_tilecycle_t hz_tileorder_ghat(hz_q16_t mx, hz_q16_t my, uint32_t rnd, hz_ghat
  * dominant-direction rule reads α <= π/4 as "|mx| >= |my|". hz_tileorder_ghat calls it for off-axis motion. */
 hz_tilecycle_t hz_tileorder_ghat_polar(hz_q16_t lf, hz_qangle_t a, uint32_t rnd, hz_ghat_rule_t rule);
 
-/* The random word hz_tileorder_choose uses for tile (tx, ty) in cycle `cycle` with seed `seed`. */
+/* The random word hz_tileorder_choose uses for tile (tx, ty) in cycle `cycle` with seed `seed`: the same as
+ * hz_tileorder_tile_random_keyed(tx, ty, hz_tileorder_cycle_key(cycle, seed)), whose key a loop over tiles
+ * computes once. */
 uint32_t hz_tileorder_tile_random(uint32_t tx, uint32_t ty, uint32_t cycle, uint32_t seed);
+uint32_t hz_tileorder_cycle_key(uint32_t cycle, uint32_t seed);
+uint32_t hz_tileorder_tile_random_keyed(uint32_t tx, uint32_t ty, uint32_t key);
 
 /* Choose the ordering of tile rows [ty0, ty1) of a tiles_x-wide grid: orders[ty * tiles_x + tx] =
  * canonical ordering of ĝ(motion[2 * i], motion[2 * i + 1]) with i = ty * tiles_x + tx. Rows are independent, so

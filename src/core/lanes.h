@@ -9,8 +9,9 @@
  *    and sqrt are IEEE single precision (correctly rounded), conversions truncate like a C cast. Nothing here
  *    uses an estimate (rcp, rsqrt) or a fused multiply-add.
  *  - Comparisons give masks (all ones / all zeros per lane); hz_lf_sel(mask, a, b) is `mask ? a : b`, so a
- *    scalar `a > b ? a : b` is hz_lf_sel(hz_lf_gt(a, b), a, b), NaN behaviour included (min/max instructions
- *    are not used for that reason).
+ *    scalar `a > b ? a : b` is hz_lf_sel(hz_lf_gt(a, b), a, b), NaN behaviour included; hz_lf_max_first(a, b)
+ *    is the same expression in one instruction where the ISA's max has exactly that behaviour (x86's returns
+ *    its second operand on NaN and equality), else the select. hz_lf_keep(m, v) is `m ? v : +0.0f`.
  *  - Gathers read one element per lane at base[index]; the caller keeps every index in bounds (inactive lanes
  *    included: select a safe index for them first).
  *  - Does not: touch memory other than through the explicit loads, stores and gathers; assume alignment.
@@ -68,6 +69,12 @@ HZ_INLINE hz_li_t hz_li_andnot(hz_li_t a, hz_li_t b) { return _mm256_andnot_si25
 HZ_INLINE hz_li_t hz_li_eq(hz_li_t a, hz_li_t b) { return _mm256_cmpeq_epi32(a, b); }
 HZ_INLINE hz_li_t hz_li_gt(hz_li_t a, hz_li_t b) { return _mm256_cmpgt_epi32(a, b); } /* signed */
 HZ_INLINE hz_li_t hz_li_sel(hz_li_t m, hz_li_t a, hz_li_t b) { return _mm256_blendv_epi8(b, a, m); }
+HZ_INLINE hz_li_t hz_li_min(hz_li_t a, hz_li_t b) { return _mm256_min_epi32(a, b); }
+HZ_INLINE hz_li_t hz_li_max(hz_li_t a, hz_li_t b) { return _mm256_max_epi32(a, b); }
+/* a < b ? a : b and a > b ? a : b, exactly (MINPS/MAXPS return the second operand on NaN and on equality). */
+HZ_INLINE hz_lf_t hz_lf_min_first(hz_lf_t a, hz_lf_t b) { return _mm256_min_ps(a, b); }
+HZ_INLINE hz_lf_t hz_lf_max_first(hz_lf_t a, hz_lf_t b) { return _mm256_max_ps(a, b); }
+HZ_INLINE hz_lf_t hz_lf_keep(hz_li_t m, hz_lf_t v) { return _mm256_and_ps(_mm256_castsi256_ps(m), v); }
 #define hz_li_shl(a, n) _mm256_slli_epi32((a), (n))
 #define hz_li_shr(a, n) _mm256_srli_epi32((a), (n)) /* logical */
 /* Logical right shift of every lane by the same run-time count (0..31). */
@@ -223,6 +230,15 @@ HZ_INLINE hz_li_t hz_li_andnot(hz_li_t a, hz_li_t b) { return vbicq_s32(a, b); }
 HZ_INLINE hz_li_t hz_li_eq(hz_li_t a, hz_li_t b) { return vreinterpretq_s32_u32(vceqq_s32(a, b)); }
 HZ_INLINE hz_li_t hz_li_gt(hz_li_t a, hz_li_t b) { return vreinterpretq_s32_u32(vcgtq_s32(a, b)); }
 HZ_INLINE hz_li_t hz_li_sel(hz_li_t m, hz_li_t a, hz_li_t b) { return vbslq_s32(vreinterpretq_u32_s32(m), a, b); }
+HZ_INLINE hz_li_t hz_li_min(hz_li_t a, hz_li_t b) { return vminq_s32(a, b); }
+HZ_INLINE hz_li_t hz_li_max(hz_li_t a, hz_li_t b) { return vmaxq_s32(a, b); }
+/* FMIN/FMAX return NaN when either input is NaN: the C expressions need the select. */
+HZ_INLINE hz_lf_t hz_lf_min_first(hz_lf_t a, hz_lf_t b) { return vbslq_f32(vcltq_f32(a, b), a, b); }
+HZ_INLINE hz_lf_t hz_lf_max_first(hz_lf_t a, hz_lf_t b) { return vbslq_f32(vcgtq_f32(a, b), a, b); }
+HZ_INLINE hz_lf_t hz_lf_keep(hz_li_t m, hz_lf_t v)
+{
+    return vreinterpretq_f32_s32(vandq_s32(m, vreinterpretq_s32_f32(v)));
+}
 #define hz_li_shl(a, n) vshlq_n_s32((a), (n))
 #define hz_li_shr(a, n) vreinterpretq_s32_u32(vshrq_n_u32(vreinterpretq_u32_s32(a), (n)))
 HZ_INLINE hz_li_t hz_li_shr_by(hz_li_t a, int n)
@@ -338,8 +354,6 @@ HZ_INLINE hz_li_t hz_lf_finite(hz_lf_t a)
     hz_li_t e = hz_li_and(hz_lf_bits(a), hz_li_set(0x7f800000));
     return hz_li_not(hz_li_eq(e, hz_li_set(0x7f800000)));
 }
-HZ_INLINE hz_li_t hz_li_min(hz_li_t a, hz_li_t b) { return hz_li_sel(hz_li_gt(a, b), b, a); }
-HZ_INLINE hz_li_t hz_li_max(hz_li_t a, hz_li_t b) { return hz_li_sel(hz_li_gt(a, b), a, b); }
 /* |x| */
 HZ_INLINE hz_lf_t hz_lf_abs(hz_lf_t x) { return hz_lf_from_bits(hz_li_and(hz_lf_bits(x), hz_li_set(0x7fffffff))); }
 /* hz_floorf (vmath.c), the same steps: |x| >= 2^23, NaN and infinities unchanged, else truncate and step down. */
@@ -353,6 +367,12 @@ HZ_INLINE hz_lf_t hz_lf_floor(hz_lf_t x)
 HZ_INLINE hz_lf_t hz_lf_clamp(hz_lf_t x, hz_lf_t lo, hz_lf_t hi)
 {
     return hz_lf_sel(hz_lf_lt(x, lo), lo, hz_lf_sel(hz_lf_gt(x, hi), hi, x));
+}
+/* hz_lf_clamp where no lane has lo > hi (either may be NaN): t = (hi < x ? hi : x) is x or hi, and
+ * lo > t ? lo : t then gives lo exactly when x < lo (t <= x then), x or hi otherwise (hi >= lo). */
+HZ_INLINE hz_lf_t hz_lf_clamp_ordered(hz_lf_t x, hz_lf_t lo, hz_lf_t hi)
+{
+    return hz_lf_max_first(lo, hz_lf_min_first(hi, x));
 }
 
 #endif /* HZ_LANES_H */

@@ -114,11 +114,10 @@ HZ_INLINE hz_lrgb_t hz_lanes_rgb9e5_unpack(hz_li_t code)
     return o;
 }
 
-/* hz_pack_clamp(v, max_value) */
+/* hz_pack_clamp(v, max_value): v > 0 ? (v < max ? v : max) : 0 */
 HZ_INLINE hz_lf_t hz_lanes_pack_clamp(hz_lf_t v, float max_value)
 {
-    const hz_lf_t max = hz_lf_set(max_value);
-    return hz_lf_sel(hz_lf_gt(v, hz_lf_set(0.0f)), hz_lf_sel(hz_lf_lt(v, max), v, max), hz_lf_set(0.0f));
+    return hz_lf_keep(hz_lf_gt(v, hz_lf_set(0.0f)), hz_lf_min_first(v, hz_lf_set(max_value)));
 }
 
 HZ_INLINE hz_lf_t hz_lanes_pow2(hz_li_t e) /* 2^e for normal e */
@@ -126,29 +125,27 @@ HZ_INLINE hz_lf_t hz_lanes_pow2(hz_li_t e) /* 2^e for normal e */
     return hz_lf_from_bits(hz_li_shl(hz_li_add(e, hz_li_set(127)), 23));
 }
 
-/* hz_rgb9e5_pack, lane by lane. */
+/* hz_rgb9e5_pack, lane by lane. The carry's smaller exponent halves the scale (a power of two within the
+ * normal range: exact). */
 HZ_INLINE hz_li_t hz_lanes_rgb9e5_pack(const hz_lrgb_t *in)
 {
     hz_lf_t c[3];
     for (int k = 0; k < 3; k++)
         c[k] = hz_lanes_pack_clamp(in->c[k], HZ_RGB9E5_MAX);
-    hz_lf_t m = hz_lf_sel(hz_lf_gt(c[0], c[1]), c[0], c[1]);
-    m = hz_lf_sel(hz_lf_gt(m, c[2]), m, c[2]);
+    const hz_lf_t m = hz_lf_max_first(hz_lf_max_first(c[0], c[1]), c[2]);
     hz_li_t ex = hz_li_sub(hz_li_and(hz_li_shr(hz_lf_bits(m), 23), hz_li_set(0xff)), hz_li_set(127));
-    ex = hz_li_sel(hz_li_gt(hz_li_set(-16), ex), hz_li_set(-16), ex);
-    hz_li_t es = hz_li_add(ex, hz_li_set(16));
+    hz_li_t es = hz_li_add(hz_li_max(ex, hz_li_set(-16)), hz_li_set(16));
     hz_lf_t scale = hz_lanes_pow2(hz_li_sub(hz_li_set(24), es));
     hz_li_t top = hz_li_from_lf(hz_lf_add(hz_lf_mul(m, scale), hz_lf_set(0.5f)));
     hz_li_t carry = hz_li_gt(top, hz_li_set(511));
     es = hz_li_sub(es, carry); /* masks are -1 */
-    scale = hz_lf_sel(carry, hz_lanes_pow2(hz_li_sub(hz_li_set(24), es)), scale);
+    scale = hz_lf_sel(carry, hz_lf_mul(scale, hz_lf_set(0.5f)), scale);
     hz_li_t code = hz_li_shl(es, 27);
     for (int k = 0; k < 3; k++) {
-        hz_li_t q = hz_li_from_lf(hz_lf_add(hz_lf_mul(c[k], scale), hz_lf_set(0.5f)));
-        q = hz_li_sel(hz_li_gt(q, hz_li_set(511)), hz_li_set(511), q);
+        hz_li_t q = hz_li_min(hz_li_from_lf(hz_lf_add(hz_lf_mul(c[k], scale), hz_lf_set(0.5f))), hz_li_set(511));
         code = hz_li_or(code, k == 0 ? q : k == 1 ? hz_li_shl(q, 9) : hz_li_shl(q, 18));
     }
-    return hz_li_sel(hz_lf_eq(m, hz_lf_set(0.0f)), hz_li_set(0), code);
+    return hz_li_andnot(code, hz_lf_eq(m, hz_lf_set(0.0f)));
 }
 
 /* hz_half_pack, lane by lane, by bit steps: round to nearest even. */

@@ -108,20 +108,21 @@ static int64_t floor_shift(int64_t v, unsigned s)
 
 /* round(atan(2^-i) / (π/2) * 2^38): CORDIC micro-rotation angles in 2^-8 HZ_QANGLE units (8 guard bits keep
  * the 34 rounded entries from adding up to more than a fraction of a unit). tools/gen/tileorder_golden.py
- * recomputes them from libm for the golden hash that test_tileorder checks. */
+ * recomputes them from libm for the golden hash that test_tileorder checks. One list gives the table and its
+ * sum (what all the steps together can turn). */
 #define CORDIC_STEPS 34
 #define CORDIC_GUARD 8
-static const uint64_t cordic_atan[CORDIC_STEPS] = {
-    137438953472u, 81134951838u, 42869480287u, 21761217566u, 10922836750u,
-    5466743129u, 2734038620u, 1367102738u, 683561799u, 341782203u,
-    170891265u, 85445653u, 42722829u, 21361415u, 10680707u,
-    5340354u, 2670177u, 1335088u, 667544u, 333772u,
-    166886u, 83443u, 41722u, 20861u, 10430u,
-    5215u, 2608u, 1304u, 652u, 326u,
-    163u, 81u, 41u, 20u,
-};
+#define CORDIC_ATAN(X)                                                                                          \
+    X(137438953472u) X(81134951838u) X(42869480287u) X(21761217566u) X(10922836750u) X(5466743129u)            \
+    X(2734038620u) X(1367102738u) X(683561799u) X(341782203u) X(170891265u) X(85445653u) X(42722829u)         \
+    X(21361415u) X(10680707u) X(5340354u) X(2670177u) X(1335088u) X(667544u) X(333772u) X(166886u) X(83443u)  \
+    X(41722u) X(20861u) X(10430u) X(5215u) X(2608u) X(1304u) X(652u) X(326u) X(163u) X(81u) X(41u) X(20u)
+#define CORDIC_ENTRY(v) v,
+#define CORDIC_PLUS(v) +v
+static const uint64_t cordic_atan[CORDIC_STEPS] = { CORDIC_ATAN(CORDIC_ENTRY) };
+#define CORDIC_ATAN_TOTAL ((int64_t)(0 CORDIC_ATAN(CORDIC_PLUS)))
 
-/* z (2^-8 units, CORDIC_GUARD) as the angle it rounds to, clamped to [0, π/2]. */
+/* z (2^-8 units, CORDIC_GUARD) as the angle it rounds to, clamped to [0, π/2]. Non-decreasing in z. */
 static hz_qangle_t angle_of_z(int64_t z)
 {
     const int64_t right = (int64_t)HZ_QANGLE_RIGHT << CORDIC_GUARD;
@@ -129,54 +130,44 @@ static hz_qangle_t angle_of_z(int64_t z)
     return (hz_qangle_t)((z + (1 << (CORDIC_GUARD - 1))) >> CORDIC_GUARD);
 }
 
-/* What ĝ reads of an angle (hz_tileorder_ghat_polar): the shear's half_t = a >> 15 and the side of the random
- * band. Non-decreasing in a. */
-static uint32_t ghat_key(hz_qangle_t a)
-{
-    uint32_t band = a <= HZ_QANGLE_DIAG - HZ_QANGLE_GAMMA ? 0u : a >= HZ_QANGLE_DIAG + HZ_QANGLE_GAMMA ? 2u : 1u;
-    return (a >> 15) << 2 | band;
-}
+/* Vectoring CORDIC: rotate (x, y) onto the x axis by ±atan(2^-i), summing the rotations in z. */
+typedef struct cordic {
+    int64_t x, y, z;
+} cordic_t;
 
-/* The CORDIC of hz_tileorder_angle for ax, ay > 0, ax != ay. With `early`, it may stop once every angle the
- * remaining steps can still reach has the same ghat_key (each step adds ±cordic_atan[i] to z, so the steps
- * after i move it by at most the sum of the entries after i), and returns one of them (the lowest): ĝ then
- * decides exactly as it would on the full result, in about half the steps on typical motion. */
-static hz_qangle_t cordic_angle(uint32_t ax, uint32_t ay, bool early)
+/* ax, ay > 0. The larger input is scaled up to bit 60: the gain (about 1.65) keeps x below 2^62, and 34 steps
+ * leave a residual below a tenth of a unit. */
+static void cordic_start(cordic_t *c, uint32_t ax, uint32_t ay)
 {
-    /* Vectoring CORDIC: rotate (x, y) onto the x axis by ±atan(2^-i), summing the rotations. The larger input
-     * is scaled up to bit 60: the gain (about 1.65) keeps x below 2^62, and 34 steps leave a residual below a
-     * tenth of a unit. */
-    enum { FIRST_CHECK = 16 }; /* half_t steps are 2^15 units = 2^23 of z: the rest falls below that here */
     uint32_t big = ax > ay ? ax : ay;
     unsigned shift = 60u - (31u - (unsigned)hz_clz32(big));
-    int64_t x = (int64_t)((uint64_t)ax << shift);
-    int64_t y = (int64_t)((uint64_t)ay << shift);
-    int64_t z = 0, rest = 0;
-    for (unsigned i = FIRST_CHECK + 1; early && i < CORDIC_STEPS; i++)
-        rest += (int64_t)cordic_atan[i];
-    for (unsigned i = 0; i < CORDIC_STEPS; i++) {
-        /* the rotation's direction follows y's sign, which flips unpredictably: conditional negation by a mask
-         * (-1 below zero: (v ^ -1) - (-1) = -v) instead of a branch */
-        const int64_t neg = -(int64_t)(y < 0);
-        const int64_t dx = floor_shift(y, i), dy = floor_shift(x, i);
-        x += (dx ^ neg) - neg;
-        y -= (dy ^ neg) - neg;
-        z += ((int64_t)cordic_atan[i] ^ neg) - neg;
-        if (early && i >= FIRST_CHECK) {
-            if (i > FIRST_CHECK)
-                rest -= (int64_t)cordic_atan[i]; /* what the steps after i can still add */
-            if ((i & 1u) == 0) {
-                const hz_qangle_t lo = angle_of_z(z - rest);
-                if (ghat_key(lo) == ghat_key(angle_of_z(z + rest)))
-                    return lo;
-            }
-        }
-    }
-    return angle_of_z(z);
+    c->x = (int64_t)((uint64_t)ax << shift);
+    c->y = (int64_t)((uint64_t)ay << shift);
+    c->z = 0;
 }
 
-/* hz_tileorder_angle; with `early`, an angle ĝ treats the same (see cordic_angle). */
-static hz_qangle_t angle_of(hz_q16_t mx, hz_q16_t my, bool early)
+static void cordic_step(cordic_t *c, unsigned i)
+{
+    /* the rotation's direction follows y's sign, which flips unpredictably: conditional negation by a mask
+     * (-1 below zero: (v ^ -1) - (-1) = -v) instead of a branch */
+    const int64_t neg = -(int64_t)(c->y < 0);
+    const int64_t dx = floor_shift(c->y, i), dy = floor_shift(c->x, i);
+    c->x += (dx ^ neg) - neg;
+    c->y -= (dy ^ neg) - neg;
+    c->z += ((int64_t)cordic_atan[i] ^ neg) - neg;
+}
+
+/* The CORDIC of hz_tileorder_angle for ax, ay > 0, ax != ay. */
+static hz_qangle_t cordic_angle(uint32_t ax, uint32_t ay)
+{
+    cordic_t c;
+    cordic_start(&c, ax, ay);
+    for (unsigned i = 0; i < CORDIC_STEPS; i++)
+        cordic_step(&c, i);
+    return angle_of_z(c.z);
+}
+
+hz_qangle_t hz_tileorder_angle(hz_q16_t mx, hz_q16_t my)
 {
     uint32_t ax = uabs32(mx), ay = uabs32(my);
     if (ay == 0)
@@ -185,12 +176,7 @@ static hz_qangle_t angle_of(hz_q16_t mx, hz_q16_t my, bool early)
         return HZ_QANGLE_RIGHT;
     if (ax == ay)
         return HZ_QANGLE_DIAG;
-    return cordic_angle(ax, ay, early);
-}
-
-hz_qangle_t hz_tileorder_angle(hz_q16_t mx, hz_q16_t my)
-{
-    return angle_of(mx, my, false);
+    return cordic_angle(ax, ay);
 }
 
 /* floor(sqrt(x)), exact: hz_isqrt_u64's digit-by-digit method, started at the highest non-zero base-4 digit
@@ -301,32 +287,72 @@ static bool len_in_band(uint64_t x, uint32_t shift)
     }
 }
 
-/* hz_tileorder_ghat_polar's decisions for off-axis motion, with the length's fraction only as exact as they
- * need it (len_in_band) and no length at all inside the random band. */
-static hz_tilecycle_t ghat_off_axis(uint32_t ax, uint32_t ay, hz_qangle_t a, uint32_t rnd, hz_ghat_rule_t rule)
+/* Where an angle puts the shear rules (hz_tileorder_ghat_polar): the up shear, the down shear, or ĝ's random
+ * band. Non-decreasing in a. */
+enum { SIDE_UP, SIDE_RANDOM, SIDE_DOWN };
+static int ghat_side(hz_qangle_t a, hz_ghat_rule_t rule)
 {
-    const uint64_t x = (uint64_t)ax * ax + (uint64_t)ay * ay;
-    const uint32_t half_t = a >> 15;
-    int up;
-    switch (rule) {
-    case HZ_GHAT_SHEAR_UP:
-        up = 1;
-        break;
-    case HZ_GHAT_SHEAR_DOWN:
-        up = 0;
-        break;
-    case HZ_GHAT_FULL:
-    default:
-        if (a <= HZ_QANGLE_DIAG - HZ_QANGLE_GAMMA)
-            up = 1;
-        else if (a >= HZ_QANGLE_DIAG + HZ_QANGLE_GAMMA)
-            up = 0;
-        else
-            return (rnd >> 31) ? HZ_TILECYCLE_HOURGLASS : HZ_TILECYCLE_BOWTIE;
-        break;
+    if (rule == HZ_GHAT_SHEAR_UP)
+        return SIDE_UP;
+    if (rule == HZ_GHAT_SHEAR_DOWN)
+        return SIDE_DOWN;
+    return a <= HZ_QANGLE_DIAG - HZ_QANGLE_GAMMA ? SIDE_UP : a >= HZ_QANGLE_DIAG + HZ_QANGLE_GAMMA ? SIDE_DOWN
+                                                                                            : SIDE_RANDOM;
+}
+
+/* ĝ's decision (a tile cycle) when every angle in [lo, hi] gets the same one at length root r (Q16.16: |m|
+ * rounded down), else -1. All on one side: the shear reads u = (r - (a >> 15)) mod 1 (up) or r + (a >> 15)
+ * (down), which over [lo, hi] runs through a range as wide as the shifts differ; under a quarter wide, it
+ * cannot cross the band (half wide) or its outside, so its two ends decide. *r_known says whether r holds the
+ * root of x yet (taken only when a decision needs it). */
+static int ghat_range(uint64_t x, uint32_t *r, bool *r_known, hz_qangle_t lo, hz_qangle_t hi, uint32_t rnd,
+                      hz_ghat_rule_t rule)
+{
+    const int side = ghat_side(lo, rule);
+    if (side != ghat_side(hi, rule))
+        return -1;
+    if (side == SIDE_RANDOM)
+        return (rnd >> 31) ? HZ_TILECYCLE_HOURGLASS : HZ_TILECYCLE_BOWTIE;
+    const uint32_t h_lo = lo >> 15, h_hi = hi >> 15;
+    if (h_hi - h_lo >= (uint32_t)Q_QUARTER)
+        return -1;
+    if (!*r_known) {
+        *r = isqrt_fast(x);
+        *r_known = true;
     }
-    /* rule_shear: u = lf - half_t (up) or lf + half_t (down) */
-    return len_in_band(x, up ? half_t : 0u - half_t) ? HZ_TILECYCLE_HOURGLASS : HZ_TILECYCLE_BOWTIE;
+    const uint32_t ua = side == SIDE_UP ? *r - h_hi : *r + h_lo, ub = side == SIDE_UP ? *r - h_lo : *r + h_hi;
+    const bool a = in_band(ua & (uint32_t)(HZ_Q16_ONE - 1));
+    if (a != in_band(ub & (uint32_t)(HZ_Q16_ONE - 1)))
+        return -1;
+    return a ? HZ_TILECYCLE_HOURGLASS : HZ_TILECYCLE_BOWTIE;
+}
+
+/* ĝ for off-axis motion (ax, ay > 0, ax != ay) under the full and shear rules: the CORDIC of hz_tileorder_angle,
+ * stopped as soon as every angle its remaining steps can still reach (each step adds ±cordic_atan[i] to z, so
+ * the steps after i move it by at most the sum of the entries after i) gets the same decision with the exact
+ * length (ghat_range). So it decides as ĝ on the full angle does, in a few steps on typical motion; the
+ * length's square root is taken only when a shear needs it. */
+static hz_tilecycle_t ghat_off_axis(uint32_t ax, uint32_t ay, uint32_t rnd, hz_ghat_rule_t rule)
+{
+    enum { FIRST_CHECK = 2 }; /* before this the shifts' range is wider than a quarter anyway */
+    const uint64_t x = (uint64_t)ax * ax + (uint64_t)ay * ay;
+    uint32_t r = 0;
+    bool r_known = false;
+    cordic_t c;
+    cordic_start(&c, ax, ay);
+    int64_t rest = CORDIC_ATAN_TOTAL;
+    for (unsigned i = 0; i < CORDIC_STEPS; i++) {
+        cordic_step(&c, i);
+        rest -= (int64_t)cordic_atan[i];
+        if (i >= FIRST_CHECK) {
+            const int d = ghat_range(x, &r, &r_known, angle_of_z(c.z - rest), angle_of_z(c.z + rest), rnd, rule);
+            if (d >= 0)
+                return (hz_tilecycle_t)d;
+        }
+    }
+    /* not reached: after the last step rest is 0 and the range a single angle, which always decides */
+    const hz_qangle_t a = angle_of_z(c.z);
+    return (hz_tilecycle_t)ghat_range(x, &r, &r_known, a, a, rnd, rule);
 }
 
 hz_tilecycle_t hz_tileorder_ghat(hz_q16_t mx, hz_q16_t my, uint32_t rnd, hz_ghat_rule_t rule)
@@ -344,21 +370,32 @@ hz_tilecycle_t hz_tileorder_ghat(hz_q16_t mx, hz_q16_t my, uint32_t rnd, hz_ghat
         const bool band = len_in_band((uint64_t)ax * ax + (uint64_t)ay * ay, 0u);
         return (ax >= ay) == band ? HZ_TILECYCLE_HOURGLASS : HZ_TILECYCLE_BOWTIE;
     }
-    return ghat_off_axis(ax, ay, angle_of(mx, my, true), rnd, rule);
+    return ghat_off_axis(ax, ay, rnd, rule);
+}
+
+uint32_t hz_tileorder_cycle_key(uint32_t cycle, uint32_t seed)
+{
+    return hz_hash2(cycle, seed);
+}
+
+uint32_t hz_tileorder_tile_random_keyed(uint32_t tx, uint32_t ty, uint32_t key)
+{
+    return hz_hash3(tx, ty, key);
 }
 
 uint32_t hz_tileorder_tile_random(uint32_t tx, uint32_t ty, uint32_t cycle, uint32_t seed)
 {
-    return hz_hash3(tx, ty, hz_hash2(cycle, seed));
+    return hz_tileorder_tile_random_keyed(tx, ty, hz_tileorder_cycle_key(cycle, seed));
 }
 
 void hz_tileorder_choose(const hz_q16_t *motion, size_t tiles_x, size_t ty0, size_t ty1, uint32_t cycle,
                          uint32_t seed, hz_ghat_rule_t rule, uint8_t *orders)
 {
+    const uint32_t key = hz_tileorder_cycle_key(cycle, seed);
     for (size_t ty = ty0; ty < ty1; ty++) {
         for (size_t tx = 0; tx < tiles_x; tx++) {
             size_t i = ty * tiles_x + tx;
-            uint32_t rnd = hz_tileorder_tile_random((uint32_t)tx, (uint32_t)ty, cycle, seed);
+            uint32_t rnd = hz_tileorder_tile_random_keyed((uint32_t)tx, (uint32_t)ty, key);
             hz_tilecycle_t c = hz_tileorder_ghat(motion[2 * i], motion[2 * i + 1], rnd, rule);
             orders[i] = (uint8_t)hz_tileorder_of_cycle(c);
         }

@@ -469,11 +469,11 @@ static void resolve_rows(hz_tdense_t *td, uint32_t ty0, uint32_t ty1, row_fn_t r
             /* Last frame of the cycle: each tile's motion is the longest over the 3x3 neighbourhoods of its
              * pixels, i.e. the 4x4 block around it; ĝ picks the next cycle's ordering (as hz_tileorder_choose
              * does, a tile at a time, so no per-tile motion array is kept). */
-            uint32_t cycle = hz_tdense_cycle(td->frame) + 1u;
+            const uint32_t key = hz_tileorder_cycle_key(hz_tdense_cycle(td->frame) + 1u, td->cfg.seed);
             block_cache_t g;
             for (uint32_t tx = 0; tx < td->tiles_x; tx++) {
                 motion_t m = tile_motion(td, tx, ty, row != resolve_row, &g);
-                uint32_t rnd = hz_tileorder_tile_random(tx, ty, cycle, td->cfg.seed);
+                uint32_t rnd = hz_tileorder_tile_random_keyed(tx, ty, key);
                 hz_tilecycle_t c = hz_tileorder_ghat(hz_q16_from_float(m.x), hz_q16_from_float(m.y), rnd,
                                                      td->cfg.rule);
                 td->next_orders[(size_t)ty * td->tiles_x + tx] = (uint8_t)hz_tileorder_of_cycle(c);

@@ -104,34 +104,38 @@ HZ_INLINE void tile_row_load(const hz_tdense_t *td, const order_pixels_t *lut, s
 
 /* One candidate of the newest-subframe box (newest_box in tdense.c): the tile at lane idx of row, tile (ctx,
  * cty), where `valid`; skipped when its pixel this subframe is not adjacent (`across`: the tile lies beside,
- * `updown`: above or below) or lies outside the image. Adds its sample to sum/sq and counts it in n (masks
- * are -1). */
+ * `updown`: above or below) or, with `bounds`, lies outside the image (callers leave `bounds` out where no
+ * candidate tile can be cut by the image's edge). Adds its sample to sum/sq and counts it in n (masks are -1).
+ * A skipped candidate adds +0: the sums start at +0 and can never be -0, so x + 0 is x, as the twin leaves it. */
 HZ_INLINE void box_candidate(const hz_tdense_t *td, const tile_row_t *row, hz_li_t idx, hz_li_t valid, hz_li_t ctx,
-                             int32_t cty, hz_li_t px, int32_t py, int across, int updown, hz_lf_t sum[3],
-                             hz_lf_t sq[3], hz_li_t *n)
+                             int32_t cty, hz_li_t px, int32_t py, int across, int updown, int bounds,
+                             hz_lf_t sum[3], hz_lf_t sq[3], hz_li_t *n)
 {
     hz_li_t pix = hz_li_perm(row->pix, idx);
     hz_li_t pbx = hz_li_and(pix, hz_li_set(1)), pby = hz_li_shr(pix, 1);
-    hz_li_t nx = hz_li_add(hz_li_add(ctx, ctx), pbx), ny = hz_li_add(hz_li_set(2 * cty), pby);
-    hz_li_t use = hz_li_and(valid, hz_li_and(hz_li_gt(hz_li_set((int32_t)td->cfg.width), nx),
-                                             hz_li_gt(hz_li_set((int32_t)td->cfg.height), ny)));
+    hz_li_t use = valid;
+    if (bounds) {
+        hz_li_t nx = hz_li_add(hz_li_add(ctx, ctx), pbx), ny = hz_li_add(hz_li_set(2 * cty), pby);
+        use = hz_li_and(use, hz_li_and(hz_li_gt(hz_li_set((int32_t)td->cfg.width), nx),
+                                       hz_li_gt(hz_li_set((int32_t)td->cfg.height), ny)));
+    }
     if (across)
         use = hz_li_andnot(use, hz_li_eq(pbx, px));
     if (updown)
         use = hz_li_andnot(use, hz_li_eq(pby, hz_li_set(py)));
     for (int k = 0; k < 3; k++) {
-        hz_lf_t c = hz_lf_perm(row->c[k], idx);
-        sum[k] = hz_lf_sel(use, hz_lf_add(sum[k], c), sum[k]);
-        sq[k] = hz_lf_sel(use, hz_lf_add(sq[k], hz_lf_mul(c, c)), sq[k]);
+        hz_lf_t c = hz_lf_keep(use, hz_lf_perm(row->c[k], idx));
+        sum[k] = hz_lf_add(sum[k], c);
+        sq[k] = hz_lf_add(sq[k], hz_lf_mul(c, c));
     }
     *n = hz_li_sub(*n, use);
 }
 
 /* fetch_bilinear (tdense.c) of the RGB9E5 image prev at (sx, sy), lane by lane. */
-static lrgb_t fetch_bilinear(const uint32_t *prev, uint32_t w, uint32_t h, hz_lf_t sx, hz_lf_t sy)
+HZ_INLINE lrgb_t fetch_bilinear(const uint32_t *prev, uint32_t w, uint32_t h, hz_lf_t sx, hz_lf_t sy)
 {
-    sx = hz_lf_clamp(sx, hz_lf_set(0.0f), hz_lf_set((float)w - 1.0f));
-    sy = hz_lf_clamp(sy, hz_lf_set(0.0f), hz_lf_set((float)h - 1.0f));
+    sx = hz_lf_clamp_ordered(sx, hz_lf_set(0.0f), hz_lf_set((float)w - 1.0f));
+    sy = hz_lf_clamp_ordered(sy, hz_lf_set(0.0f), hz_lf_set((float)h - 1.0f));
     hz_li_t x0 = hz_li_from_lf(sx), y0 = hz_li_from_lf(sy);
     hz_lf_t fx = hz_lf_sub(sx, hz_lf_from_li(x0)), fy = hz_lf_sub(sy, hz_lf_from_li(y0));
     hz_li_t x1 = hz_li_add(x0, hz_li_set(1)), y1 = hz_li_add(y0, hz_li_set(1));
@@ -167,9 +171,11 @@ static lrgb_t fetch_bilinear(const uint32_t *prev, uint32_t w, uint32_t h, hz_lf
     return o;
 }
 
-/* HZ_LANES pixels x0 .. x0 + HZ_LANES - 1 of row y with their 3x3 longest motion m. */
-static void resolve_lanes(hz_tdense_t *td, uint32_t x0, uint32_t y, unsigned subframe, const order_pixels_t *lut,
-                          lmotion_t m, const uint32_t *prev, uint32_t *cur)
+/* HZ_LANES pixels x0 .. x0 + HZ_LANES - 1 of row y with their 3x3 longest motion m. `inside`: every candidate
+ * tile of the box lies in the tile grid with its pixel in the image (resolve_row_lanes says when), so the box
+ * needs no bounds and every pixel has at least its own tile's sample (n >= 1). */
+HZ_INLINE void resolve_lanes(hz_tdense_t *td, uint32_t x0, uint32_t y, unsigned subframe, const order_pixels_t *lut,
+                             lmotion_t m, const uint32_t *prev, uint32_t *cur, int inside)
 {
     const uint32_t w = td->cfg.width, tw = td->tiles_x;
     const int32_t ty = (int32_t)(y >> 1), py = (int32_t)(y & 1u);
@@ -201,22 +207,24 @@ static void resolve_lanes(hz_tdense_t *td, uint32_t x0, uint32_t y, unsigned sub
     const int32_t cy = py ? (ty + 1 < (int32_t)td->tiles_y ? ty + 1 : -1) : ty - 1;
     const hz_li_t right = hz_li_eq(px, hz_li_set(1));
     const hz_li_t cx = hz_li_sel(right, hz_li_add(tx, hz_li_set(1)), hz_li_sub(tx, hz_li_set(1)));
-    const hz_li_t cx_ok = hz_li_sel(right, hz_li_gt(hz_li_set((int32_t)tw), cx), hz_li_gt(tx, zero));
-    box_candidate(td, &own, own_idx, ones, tx, ty, px, py, 0, 0, sum, sq, &n);
-    box_candidate(td, &own, across_idx, cx_ok, cx, ty, px, py, 1, 0, sum, sq, &n);
+    const hz_li_t cx_ok = inside ? ones : hz_li_sel(right, hz_li_gt(hz_li_set((int32_t)tw), cx), hz_li_gt(tx, zero));
+    box_candidate(td, &own, own_idx, ones, tx, ty, px, py, 0, 0, !inside, sum, sq, &n);
+    box_candidate(td, &own, across_idx, cx_ok, cx, ty, px, py, 1, 0, !inside, sum, sq, &n);
     if (cy >= 0) {
         tile_row_t other;
         tile_row_load(td, lut, (size_t)cy * tw + x0 / 2, &other);
-        box_candidate(td, &other, own_idx, ones, tx, cy, px, py, 0, 1, sum, sq, &n);
-        box_candidate(td, &other, across_idx, cx_ok, cx, cy, px, py, 1, 1, sum, sq, &n);
+        box_candidate(td, &other, own_idx, ones, tx, cy, px, py, 0, 1, !inside, sum, sq, &n);
+        box_candidate(td, &other, across_idx, cx_ok, cx, cy, px, py, 1, 1, !inside, sum, sq, &n);
     }
-    const hz_li_t has = hz_li_gt(n, zero);
-    const hz_lf_t inv = hz_lf_sel(has, hz_lf_div(hz_lf_set(1.0f), hz_lf_from_li(n)), hz_lf_set(0.0f));
+    /* 1 / n as the twin divides it: n is 0..4, the table's quotients are correctly rounded like the twin's */
+    static const float inverse[8] = { 1.0f, 1.0f / 2.0f, 1.0f / 3.0f, 1.0f / 4.0f, 0.0f, 0.0f, 0.0f, 0.0f };
+    const hz_li_t has = inside ? ones : hz_li_gt(n, zero);
+    const hz_lf_t inv = hz_lf_keep(has, hz_lf_perm(hz_lf_load(inverse), hz_li_sub(n, hz_li_set(1))));
     lrgb_t mean, var;
     for (int k = 0; k < 3; k++) {
         mean.c[k] = hz_lf_mul(sum[k], inv);
-        hz_lf_t v = hz_lf_sub(hz_lf_mul(sq[k], inv), hz_lf_mul(mean.c[k], mean.c[k]));
-        var.c[k] = hz_lf_sel(hz_lf_gt(v, hz_lf_set(0.0f)), v, hz_lf_set(0.0f));
+        var.c[k] = hz_lf_max_first(hz_lf_sub(hz_lf_mul(sq[k], inv), hz_lf_mul(mean.c[k], mean.c[k])),
+                                   hz_lf_set(0.0f));
     }
 
     const hz_li_t f = hz_li_load_u8(td->flags + p0);
@@ -227,27 +235,31 @@ static void resolve_lanes(hz_tdense_t *td, uint32_t x0, uint32_t y, unsigned sub
     const hz_li_t keep = hz_li_and(stat, hz_li_and(old, seen)); /* static, old, seen: the previous frame's */
     const hz_li_t reproject = hz_li_andnot(hz_li_and(old, seen), stat);
 
-    lrgb_t sample, out;
-    for (int k = 0; k < 3; k++)
-        sample.c[k] = hz_lf_perm(own.c[k], own_idx);
-    lrgb_t kept_rgb = hz_lanes_rgb9e5_unpack(prev_code);
-    lrgb_t moved = kept_rgb;
+    /* each lane's colour: its new sample, the box mean (never seen), the previous frame's value (kept) or
+     * the reprojected and clamped one; the kept and reprojected values are made only where a lane needs them */
+    lrgb_t out = mean;
+    if (hz_li_any(keep)) {
+        const lrgb_t kept_rgb = hz_lanes_rgb9e5_unpack(prev_code);
+        for (int k = 0; k < 3; k++)
+            out.c[k] = hz_lf_sel(keep, kept_rgb.c[k], out.c[k]);
+    }
     if (hz_li_any(reproject)) {
         hz_lf_t sx = hz_lf_add(hz_lf_from_li(x), m.x), sy = hz_lf_add(hz_lf_set((float)y), m.y);
-        moved = fetch_bilinear(prev, w, td->cfg.height, sx, sy);
+        const lrgb_t moved = fetch_bilinear(prev, w, td->cfg.height, sx, sy);
         const hz_lf_t gamma = hz_lf_set(td->cfg.gamma);
         for (int k = 0; k < 3; k++) {
-            hz_lf_t half = hz_lf_mul(gamma, hz_lf_sqrt(var.c[k]));
-            hz_lf_t c = hz_lf_clamp(moved.c[k], hz_lf_sub(mean.c[k], half), hz_lf_add(mean.c[k], half));
-            c = hz_lf_sel(has, c, moved.c[k]);
-            moved.c[k] = hz_lf_sel(hz_lf_finite(c), c, hz_lf_sel(has, mean.c[k], hz_lf_set(0.0f)));
+            /* half >= 0 or NaN (gamma >= 0), so lo <= hi or NaN: the ordered clamp is the twin's */
+            hz_lf_t hw = hz_lf_mul(gamma, hz_lf_sqrt(var.c[k]));
+            hz_lf_t c = hz_lf_clamp_ordered(moved.c[k], hz_lf_sub(mean.c[k], hw), hz_lf_add(mean.c[k], hw));
+            if (!inside)
+                c = hz_lf_sel(has, c, moved.c[k]);
+            /* mean where no candidate: it is +0 then (sum 0 times inv 0) */
+            c = hz_lf_sel(hz_lf_finite(c), c, mean.c[k]);
+            out.c[k] = hz_lf_sel(reproject, c, out.c[k]);
         }
     }
-    for (int k = 0; k < 3; k++) {
-        hz_lf_t o = hz_lf_sel(stat, kept_rgb.c[k], moved.c[k]);
-        o = hz_lf_sel(seen, o, mean.c[k]);
-        out.c[k] = hz_lf_sel(fresh, sample.c[k], o);
-    }
+    for (int k = 0; k < 3; k++)
+        out.c[k] = hz_lf_sel(fresh, hz_lf_perm(own.c[k], own_idx), out.c[k]);
 
     /* history codes and flags */
     hz_li_t code = hz_lanes_rgb9e5_pack(&out);
@@ -262,10 +274,10 @@ static void resolve_lanes(hz_tdense_t *td, uint32_t x0, uint32_t y, unsigned sub
                            hz_li_andnot(hz_li_or(f1, hz_li_set(HZ_TDENSE_SEEN)), hz_li_set(HZ_TDENSE_KEPT)));
     hz_li_store_u8(td->flags + p0, hz_li_sel(window, f, nf));
 
-    float mx[HZ_LANES], my[HZ_LANES], ml2[HZ_LANES];
     hz_lf_store3(hz_image_at(&td->out, x0, y), out.c[0], out.c[1], out.c[2]);
     unsigned rest = hz_li_bits(window);
     if (rest) {
+        float mx[HZ_LANES], my[HZ_LANES], ml2[HZ_LANES];
         hz_lf_store(mx, m.x);
         hz_lf_store(my, m.y);
         hz_lf_store(ml2, m.l2);
@@ -276,6 +288,19 @@ static void resolve_lanes(hz_tdense_t *td, uint32_t x0, uint32_t y, unsigned sub
             }
         }
     }
+}
+
+/* resolve_lanes for groups inside the image's interior, and for the others: two copies, each specialised. */
+static void resolve_inside(hz_tdense_t *td, uint32_t x0, uint32_t y, unsigned subframe, const order_pixels_t *lut,
+                           lmotion_t m, const uint32_t *prev, uint32_t *cur)
+{
+    resolve_lanes(td, x0, y, subframe, lut, m, prev, cur, 1);
+}
+
+static void resolve_edge(hz_tdense_t *td, uint32_t x0, uint32_t y, unsigned subframe, const order_pixels_t *lut,
+                         lmotion_t m, const uint32_t *prev, uint32_t *cur)
+{
+    resolve_lanes(td, x0, y, subframe, lut, m, prev, cur, 0);
 }
 
 void hz_tdense_resolve_row_lanes(hz_tdense_t *td, uint32_t y, unsigned subframe, const uint32_t *prev,
@@ -289,6 +314,12 @@ void hz_tdense_resolve_row_lanes(hz_tdense_t *td, uint32_t y, unsigned subframe,
     order_pixels_init(&lut, subframe);
     const uint32_t full = w / L * L;
     static const hz_tdense_motion_t still = { 0.0f, 0.0f, 0.0f };
+    /* The box's candidate tiles of a group lie in the grid with their pixels in the image when the tile rows
+     * (this one and the one above or below) are whole and the group keeps a tile and a pixel clear of the
+     * left edge (x0 >= 2) and two tiles of the right (x0 + L + 2 <= w: the tile beside the last lane and its
+     * right pixel). */
+    const uint32_t ty = y >> 1;
+    const int rows_inside = 2 * ty + 2 <= h && ((y & 1u) ? ty + 1 >= td->tiles_y || 2 * ty + 4 <= h : 1);
     /* columns x0 - 1 (the previous group's), x0 .. x0 + L - 1 and x0 + L (the next group's first) */
     lmotion_t prev_col = broadcast(td->mv ? hz_tdense_column_motion(r0, r1, r2, 0) : still), col, next_col;
     if (full)
@@ -307,7 +338,11 @@ void hz_tdense_resolve_row_lanes(hz_tdense_t *td, uint32_t y, unsigned subframe,
         right.x = hz_lf_shift_in_right(col.x, next_col.x);
         right.y = hz_lf_shift_in_right(col.y, next_col.y);
         right.l2 = hz_lf_shift_in_right(col.l2, next_col.l2);
-        resolve_lanes(td, x0, y, subframe, &lut, longer(longer(left, col), right), prev, cur);
+        const lmotion_t m = longer(longer(left, col), right);
+        if (rows_inside && x0 >= 2 && x0 + L + 2 <= w)
+            resolve_inside(td, x0, y, subframe, &lut, m, prev, cur);
+        else
+            resolve_edge(td, x0, y, subframe, &lut, m, prev, cur);
         prev_col = col;
         col = next_col;
     }

@@ -584,7 +584,7 @@ static void test_lanes_match_scalar(void **state)
     static hz_arena_t arenas[2];
     static uint8_t bufs[2][2u << 20];
     static const uint32_t sizes[][2] = { { 1, 1 }, { 3, 2 }, { 8, 8 }, { 9, 7 }, { 16, 3 }, { 17, 17 },
-                                         { 37, 23 }, { 64, 9 }, { 131, 6 }, { 4, 40 } };
+                                         { 37, 23 }, { 64, 9 }, { 131, 6 }, { 4, 40 }, { 48, 20 } };
     hz_rng_t rng;
     hz_rng_seed(&rng, 2026, 12);
     printf("# resolve path: %s\n", hz_tdense_resolve_path());

@@ -480,12 +480,14 @@ static void test_golden_hash(void **state)
     assert_int_equal(h_rule, 0x8a150887u);
 }
 
-/* hz_tileorder_ghat stops its CORDIC early once the rest of the steps cannot change what ĝ reads of the angle
- * (the shear's a >> 15 and the side of the random band), and its square root once the rest of the digits
- * cannot move the length across a band edge: its decisions must be those of ĝ on the full-precision angle and
- * length (hz_tileorder_ghat_polar on hz_tileorder_angle and hz_tileorder_length_frac), for random motion of
- * every scale, for motion whose angle lies within a few units of a step of a >> 15 or of a band edge, and for
- * lengths within a few ulps of a band edge, where stopping early is least safe. */
+/* hz_tileorder_ghat stops its CORDIC as soon as every angle the remaining steps can reach gets the same decision
+ * with the exact length (the shear's shift a >> 15 over that range moves the length's fraction by less than a
+ * quarter without crossing a band edge, or the whole range lies in the random band), and the dominant rule
+ * stops its square root once the rest of the digits cannot move the length across a band edge: the decisions
+ * must be those of ĝ on the full-precision angle and length (hz_tileorder_ghat_polar on hz_tileorder_angle and
+ * hz_tileorder_length_frac), for random motion of every scale, for motion whose angle lies within a few units
+ * of a step of a >> 15 or of a band edge, and for lengths within a few ulps of a band edge, where stopping
+ * early is least safe. */
 static void test_ghat_early_cordic_decides_as_full(void **state)
 {
     (void)state;
