@@ -19,14 +19,32 @@ typedef struct lmotion {
 
 typedef hz_lrgb_t lrgb_t;
 
-HZ_INLINE lmotion_t motion_lanes(const uint16_t *row, size_t x)
+/* The motion of a group from its (x, y) half pairs (x in the low 16 bits, little-endian); `checked`: no code has
+ * exponent 31, so the conversion instruction reads every one as hz_half_unpack does. */
+HZ_INLINE lmotion_t motion_lanes(hz_li_t v, int checked)
 {
     lmotion_t m;
-    hz_li_t v = hz_li_load(row + 2 * x); /* (x, y) half pairs: x in the low 16 bits (little-endian) */
-    m.x = hz_lanes_half_unpack(hz_li_and(v, hz_li_set(0xffff)));
-    m.y = hz_lanes_half_unpack(hz_li_shr(v, 16));
+#ifdef HZ_LANES_HW_HALF
+    if (checked) {
+        m.x = hz_lanes_half_hw_unpack(hz_li_and(v, hz_li_set(0xffff)));
+        m.y = hz_lanes_half_hw_unpack(hz_li_shr(v, 16));
+    } else
+#endif
+    {
+        (void)checked;
+        m.x = hz_lanes_half_unpack_bits(hz_li_and(v, hz_li_set(0xffff)));
+        m.y = hz_lanes_half_unpack_bits(hz_li_shr(v, 16));
+    }
     m.l2 = hz_lf_add(hz_lf_mul(m.x, m.x), hz_lf_mul(m.y, m.y));
     return m;
+}
+
+/* Bit 15 and bit 31 of each lane: the low and the high half code has exponent 31 (its exponent field plus one
+ * carries into the sign bit's place; the low half's carry stops there). */
+HZ_INLINE hz_li_t half_pair_e31(hz_li_t v)
+{
+    const hz_li_t field = hz_li_and(v, hz_li_set(0x7c007c00));
+    return hz_li_and(hz_li_add(field, hz_li_set(0x04000400)), hz_li_set(INT32_MIN | 0x8000));
 }
 
 /* longer(a, b): b where b.l2 > a.l2, else a. */
@@ -49,10 +67,15 @@ HZ_INLINE lmotion_t broadcast(hz_tdense_motion_t m)
     return r;
 }
 
-/* Column maxima at x .. x + HZ_LANES - 1 (all inside the row). */
+/* Column maxima at x .. x + HZ_LANES - 1 (all inside the row). hz_tdense_put never stores a code with exponent
+ * 31, so one test for the three rows (the state is public, so it is still tested) lets all six conversions use
+ * the instruction. */
 HZ_INLINE lmotion_t column_lanes(const uint16_t *r0, const uint16_t *r1, const uint16_t *r2, size_t x)
 {
-    return longer(longer(motion_lanes(r0, x), motion_lanes(r1, x)), motion_lanes(r2, x));
+    const hz_li_t v0 = hz_li_load(r0 + 2 * x), v1 = hz_li_load(r1 + 2 * x), v2 = hz_li_load(r2 + 2 * x);
+    if (HZ_LIKELY(!hz_li_any(hz_li_or(hz_li_or(half_pair_e31(v0), half_pair_e31(v1)), half_pair_e31(v2)))))
+        return longer(longer(motion_lanes(v0, 1), motion_lanes(v1, 1)), motion_lanes(v2, 1));
+    return longer(longer(motion_lanes(v0, 0), motion_lanes(v1, 0)), motion_lanes(v2, 0));
 }
 
 /* HZ_LANES tiles of one tile row starting one before `first` (the tile of lane 0's pixel): this subframe's pixel
