@@ -154,6 +154,35 @@ HZ_INLINE void hz_lf_load3(const float *src, hz_lf_t *r, hz_lf_t *g, hz_lf_t *b)
 }
 
 /* Deinterleaving load of HZ_LANES pairs: lane i of *a, *b = src[2 i], src[2 i + 1]. */
+/* Deinterleaving load of HZ_LANES groups of four words: lane i of v[j] = src[4 i + j]; hz_li_store4 is its
+ * inverse. Two 4x4 transposes per 128-bit half, then the lanes in order. */
+HZ_INLINE void hz_li_load4(const void *src, hz_li_t v[4])
+{
+    const __m256i *p = (const __m256i *)src;
+    const __m256i a = _mm256_loadu_si256(p), b = _mm256_loadu_si256(p + 1);
+    const __m256i c = _mm256_loadu_si256(p + 2), d = _mm256_loadu_si256(p + 3);
+    const __m256i t0 = _mm256_unpacklo_epi32(a, b), t1 = _mm256_unpackhi_epi32(a, b);
+    const __m256i t2 = _mm256_unpacklo_epi32(c, d), t3 = _mm256_unpackhi_epi32(c, d);
+    const __m256i order = _mm256_setr_epi32(0, 4, 1, 5, 2, 6, 3, 7);
+    v[0] = _mm256_permutevar8x32_epi32(_mm256_unpacklo_epi64(t0, t2), order);
+    v[1] = _mm256_permutevar8x32_epi32(_mm256_unpackhi_epi64(t0, t2), order);
+    v[2] = _mm256_permutevar8x32_epi32(_mm256_unpacklo_epi64(t1, t3), order);
+    v[3] = _mm256_permutevar8x32_epi32(_mm256_unpackhi_epi64(t1, t3), order);
+}
+HZ_INLINE void hz_li_store4(void *dst, const hz_li_t v[4])
+{
+    const __m256i order = _mm256_setr_epi32(0, 2, 4, 6, 1, 3, 5, 7);
+    const __m256i u0 = _mm256_permutevar8x32_epi32(v[0], order), u1 = _mm256_permutevar8x32_epi32(v[1], order);
+    const __m256i u2 = _mm256_permutevar8x32_epi32(v[2], order), u3 = _mm256_permutevar8x32_epi32(v[3], order);
+    const __m256i x0 = _mm256_unpacklo_epi32(u0, u1), x1 = _mm256_unpackhi_epi32(u0, u1);
+    const __m256i x2 = _mm256_unpacklo_epi32(u2, u3), x3 = _mm256_unpackhi_epi32(u2, u3);
+    __m256i *p = (__m256i *)dst;
+    _mm256_storeu_si256(p, _mm256_unpacklo_epi64(x0, x2));
+    _mm256_storeu_si256(p + 1, _mm256_unpackhi_epi64(x0, x2));
+    _mm256_storeu_si256(p + 2, _mm256_unpacklo_epi64(x1, x3));
+    _mm256_storeu_si256(p + 3, _mm256_unpackhi_epi64(x1, x3));
+}
+
 HZ_INLINE void hz_lf_load2(const float *src, hz_lf_t *a, hz_lf_t *b)
 {
     const __m256 v0 = _mm256_loadu_ps(src), v1 = _mm256_loadu_ps(src + 8);
@@ -331,6 +360,20 @@ HZ_INLINE void hz_lf_load3(const float *src, hz_lf_t *r, hz_lf_t *g, hz_lf_t *b)
 {
     float32x4x3_t v = vld3q_f32(src);
     *r = v.val[0], *g = v.val[1], *b = v.val[2];
+}
+
+/* Deinterleaving load of HZ_LANES groups of four words: lane i of v[j] = src[4 i + j]; hz_li_store4 is its
+ * inverse. */
+HZ_INLINE void hz_li_load4(const void *src, hz_li_t v[4])
+{
+    const int32x4x4_t t = vld4q_s32((const int32_t *)src);
+    v[0] = t.val[0], v[1] = t.val[1], v[2] = t.val[2], v[3] = t.val[3];
+}
+HZ_INLINE void hz_li_store4(void *dst, const hz_li_t v[4])
+{
+    int32x4x4_t t;
+    t.val[0] = v[0], t.val[1] = v[1], t.val[2] = v[2], t.val[3] = v[3];
+    vst4q_s32((int32_t *)dst, t);
 }
 
 HZ_INLINE void hz_lf_load2(const float *src, hz_lf_t *a, hz_lf_t *b)

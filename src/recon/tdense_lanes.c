@@ -1,13 +1,13 @@
 /* The tdense resolve of one pixel row in SIMD lanes (src/core/lanes.h: 8 pixels at a time on AVX2, 4 on NEON),
  * bit-identical to hz_tdense_resolve_pixel (tdense.c), which is its scalar twin.
  *
- * Every lane computes all of Fig. 3's cases (the sliding 3x3 longest motion, the newest-subframe box, the
- * bilinear reprojection and clamp (its taps loaded, not gathered, where the lanes' footprints are consecutive),
- * the RGB9E5 codes) and selects per lane, with the scalar code's operations
- * in its order, so each result has the same bits. Two things stay scalar: a static pixel that receives a
- * jittered sample (its moving window is updated slot by slot) and the pixels of a row past its last full
- * group of lanes; both go to hz_tdense_resolve_pixel. A profile of the scalar resolve on a 640x360 Sponza run
- * showed no single hot spot, only per-pixel branches, codec calls and the box's four tile lookups. */
+ * Every lane computes Fig. 3's cases (the sliding 3x3 longest motion, the newest-subframe box, the static
+ * window's update and average, the bilinear reprojection and clamp (its taps loaded, not gathered, where the
+ * lanes' footprints are consecutive), the RGB9E5 codes) and selects per lane, with the scalar code's operations
+ * in its order, so each result has the same bits; a case no lane of a group needs is skipped. The pixels of a
+ * row past its last full group of lanes go to hz_tdense_resolve_pixel. A profile of the scalar resolve on a
+ * 640x360 Sponza run showed no single hot spot, only per-pixel branches, codec calls and the box's four tile
+ * lookups. */
 #include "../core/pack_lanes.h"
 #include "hz/pack.h"
 #include "hz/vmath.h"
@@ -194,10 +194,42 @@ HZ_INLINE lrgb_t fetch_bilinear(const uint32_t *prev, uint32_t w, uint32_t h, hz
     return o;
 }
 
+/* The moving window of static pixels that got a jittered sample (lanes where `bit`, the sample's slot as a bit,
+ * is set; out holds the sample there): the sample's code replaces its slot, and the pixel shows the average of
+ * the slots its flags f and the new bit name, summed in MSAA order (window_average in tdense.c; a skipped slot
+ * adds +0 to a sum of non-negative values). The other lanes' slots are written back unchanged. */
+HZ_INLINE void window_lanes(uint32_t *win, hz_li_t bit, hz_li_t f, lrgb_t *out)
+{
+    hz_li_t slot[4];
+    hz_li_load4(win, slot);
+    const hz_li_t code = hz_lanes_rgb9e5_pack(out), zero = hz_li_set(0);
+    const hz_li_t mask = hz_li_or(f, bit);
+    lrgb_t sum;
+    for (int k = 0; k < 3; k++)
+        sum.c[k] = hz_lf_set(0.0f);
+    hz_li_t n = zero;
+    for (int j = 0; j < 4; j++) {
+        const hz_li_t jbit = hz_li_set(1 << j);
+        slot[j] = hz_li_sel(hz_li_not(hz_li_eq(hz_li_and(bit, jbit), zero)), code, slot[j]);
+        const hz_li_t has = hz_li_not(hz_li_eq(hz_li_and(mask, jbit), zero));
+        const lrgb_t c = hz_lanes_rgb9e5_unpack(slot[j]);
+        for (int k = 0; k < 3; k++)
+            sum.c[k] = hz_lf_add(sum.c[k], hz_lf_keep(has, c.c[k]));
+        n = hz_li_sub(n, has);
+    }
+    hz_li_store4(win, slot);
+    const hz_li_t four = hz_li_eq(n, hz_li_set(4)), set = hz_li_not(hz_li_eq(bit, zero));
+    const hz_lf_t count = hz_lf_from_li(hz_li_max(n, hz_li_set(1))); /* n >= 1 where bit is set */
+    for (int k = 0; k < 3; k++) {
+        const hz_lf_t avg = hz_lf_sel(four, hz_lf_mul(sum.c[k], hz_lf_set(0.25f)), hz_lf_div(sum.c[k], count));
+        out->c[k] = hz_lf_sel(set, avg, out->c[k]);
+    }
+}
+
 /* HZ_LANES pixels x0 .. x0 + HZ_LANES - 1 of row y with their 3x3 longest motion m. `inside`: every candidate
  * tile of the box lies in the tile grid with its pixel in the image (resolve_row_lanes says when), so the box
  * needs no bounds and every pixel has at least its own tile's sample (n >= 1). */
-HZ_INLINE void resolve_lanes(hz_tdense_t *td, uint32_t x0, uint32_t y, unsigned subframe, const order_pixels_t *lut,
+HZ_INLINE void resolve_lanes(hz_tdense_t *td, uint32_t x0, uint32_t y, const order_pixels_t *lut,
                              lmotion_t m, const uint32_t *prev, uint32_t *cur, int inside)
 {
     const uint32_t w = td->cfg.width, tw = td->tiles_x;
@@ -220,7 +252,7 @@ HZ_INLINE void resolve_lanes(hz_tdense_t *td, uint32_t x0, uint32_t y, unsigned 
     const hz_li_t jit = hz_li_perm(hz_li_load_u8((const uint8_t *)td->sub_jitter + first - 1), own_idx);
     const hz_li_t jpos = hz_li_gt(hz_li_set(0x80), jit); /* int8 >= 0 */
     const hz_li_t stat = td->camera_moved ? zero : hz_lf_eq(m.l2, hz_lf_set(0.0f));
-    const hz_li_t window = hz_li_and(stat, hz_li_and(fresh, jpos)); /* left to the scalar twin */
+    const hz_li_t window = hz_li_and(stat, hz_li_and(fresh, jpos)); /* a jittered sample for the window */
 
     /* newest-subframe box over up to four candidates, in newest_box's order */
     hz_lf_t sum[3], sq[3];
@@ -283,47 +315,41 @@ HZ_INLINE void resolve_lanes(hz_tdense_t *td, uint32_t x0, uint32_t y, unsigned 
     }
     for (int k = 0; k < 3; k++)
         out.c[k] = hz_lf_sel(fresh, hz_lf_perm(own.c[k], own_idx), out.c[k]);
+    /* the window slot of each static pixel with a jittered sample, as a bit (0 in the other lanes) */
+    static const int32_t slot_bit[8] = { 1, 2, 4, 8, 0, 0, 0, 0 };
+    hz_li_t bit = zero;
+    if (hz_li_any(window)) {
+        bit = hz_li_and(window, hz_li_perm(hz_li_load(slot_bit), hz_li_and(jit, hz_li_set(3))));
+        window_lanes(td->window + 4 * p0, bit, hz_li_and(f, hz_li_set(HZ_TDENSE_SAMPLES)), &out);
+    }
 
     /* history codes and flags */
     hz_li_t code = hz_lanes_rgb9e5_pack(&out);
     code = hz_li_sel(keep, hz_li_sel(kept, cur_old, prev_code), code);
-    code = hz_li_sel(window, cur_old, code);
     hz_li_store(cur + p0, code);
     const hz_li_t dyn_bit = hz_li_set(HZ_TDENSE_DYNAMIC), samples = hz_li_set(HZ_TDENSE_SAMPLES);
     hz_li_t f_stat = hz_li_andnot(f, dyn_bit);
-    f_stat = hz_li_sel(fresh, hz_li_andnot(f_stat, samples), f_stat);
+    /* a fresh static pixel: a jittered sample adds its slot, a centre sample empties the window */
+    f_stat = hz_li_sel(fresh, hz_li_sel(window, hz_li_or(f_stat, bit), hz_li_andnot(f_stat, samples)), f_stat);
     hz_li_t f1 = hz_li_sel(stat, f_stat, hz_li_or(hz_li_andnot(f, samples), dyn_bit));
     hz_li_t nf = hz_li_sel(keep, hz_li_or(f1, hz_li_set(HZ_TDENSE_KEPT)),
                            hz_li_andnot(hz_li_or(f1, hz_li_set(HZ_TDENSE_SEEN)), hz_li_set(HZ_TDENSE_KEPT)));
-    hz_li_store_u8(td->flags + p0, hz_li_sel(window, f, nf));
+    hz_li_store_u8(td->flags + p0, nf);
 
     hz_lf_store3(hz_image_at(&td->out, x0, y), out.c[0], out.c[1], out.c[2]);
-    unsigned rest = hz_li_bits(window);
-    if (rest) {
-        float mx[HZ_LANES], my[HZ_LANES], ml2[HZ_LANES];
-        hz_lf_store(mx, m.x);
-        hz_lf_store(my, m.y);
-        hz_lf_store(ml2, m.l2);
-        for (int i = 0; i < HZ_LANES; i++) {
-            if (rest & (1u << i)) {
-                hz_tdense_motion_t mi = { mx[i], my[i], ml2[i] };
-                hz_tdense_resolve_pixel(td, x0 + (uint32_t)i, y, subframe, mi, prev, cur);
-            }
-        }
-    }
 }
 
 /* resolve_lanes for groups inside the image's interior, and for the others: two copies, each specialised. */
-static void resolve_inside(hz_tdense_t *td, uint32_t x0, uint32_t y, unsigned subframe, const order_pixels_t *lut,
-                           lmotion_t m, const uint32_t *prev, uint32_t *cur)
+static void resolve_inside(hz_tdense_t *td, uint32_t x0, uint32_t y, const order_pixels_t *lut, lmotion_t m,
+                           const uint32_t *prev, uint32_t *cur)
 {
-    resolve_lanes(td, x0, y, subframe, lut, m, prev, cur, 1);
+    resolve_lanes(td, x0, y, lut, m, prev, cur, 1);
 }
 
-static void resolve_edge(hz_tdense_t *td, uint32_t x0, uint32_t y, unsigned subframe, const order_pixels_t *lut,
-                         lmotion_t m, const uint32_t *prev, uint32_t *cur)
+static void resolve_edge(hz_tdense_t *td, uint32_t x0, uint32_t y, const order_pixels_t *lut, lmotion_t m,
+                         const uint32_t *prev, uint32_t *cur)
 {
-    resolve_lanes(td, x0, y, subframe, lut, m, prev, cur, 0);
+    resolve_lanes(td, x0, y, lut, m, prev, cur, 0);
 }
 
 void hz_tdense_resolve_row_lanes(hz_tdense_t *td, uint32_t y, unsigned subframe, const uint32_t *prev,
@@ -363,9 +389,9 @@ void hz_tdense_resolve_row_lanes(hz_tdense_t *td, uint32_t y, unsigned subframe,
         right.l2 = hz_lf_shift_in_right(col.l2, next_col.l2);
         const lmotion_t m = longer(longer(left, col), right);
         if (rows_inside && x0 >= 2 && x0 + L + 2 <= w)
-            resolve_inside(td, x0, y, subframe, &lut, m, prev, cur);
+            resolve_inside(td, x0, y, &lut, m, prev, cur);
         else
-            resolve_edge(td, x0, y, subframe, &lut, m, prev, cur);
+            resolve_edge(td, x0, y, &lut, m, prev, cur);
         prev_col = col;
         col = next_col;
     }
