@@ -341,7 +341,7 @@ static hz_tilecycle_t ghat_off_axis(uint32_t ax, uint32_t ay, uint32_t rnd, hz_g
     cordic_t c;
     cordic_start(&c, ax, ay);
     int64_t rest = CORDIC_ATAN_TOTAL;
-    for (unsigned i = 0; i < CORDIC_STEPS; i++) {
+    for (unsigned i = 0; i + 1 < CORDIC_STEPS; i++) {
         cordic_step(&c, i);
         rest -= (int64_t)cordic_atan[i];
         if (i >= FIRST_CHECK) {
@@ -350,7 +350,8 @@ static hz_tilecycle_t ghat_off_axis(uint32_t ax, uint32_t ay, uint32_t rnd, hz_g
                 return (hz_tilecycle_t)d;
         }
     }
-    /* not reached: after the last step rest is 0 and the range a single angle, which always decides */
+    /* the last step leaves nothing to turn: a single angle, which always decides */
+    cordic_step(&c, CORDIC_STEPS - 1);
     const hz_qangle_t a = angle_of_z(c.z);
     return (hz_tilecycle_t)ghat_range(x, &r, &r_known, a, a, rnd, rule);
 }

@@ -194,11 +194,11 @@ HZ_INLINE lrgb_t fetch_bilinear(const uint32_t *prev, uint32_t w, uint32_t h, hz
     return o;
 }
 
-/* The moving window of static pixels that got a jittered sample (lanes where `bit`, the sample's slot as a bit,
- * is set; out holds the sample there): the sample's code replaces its slot, and the pixel shows the average of
+/* The moving window of static pixels that got a jittered sample (lanes in `window`; `bit` is the sample's slot as
+ * a bit there, 0 elsewhere; out holds the sample there): the sample's code replaces its slot, and the pixel shows the average of
  * the slots its flags f and the new bit name, summed in MSAA order (window_average in tdense.c; a skipped slot
  * adds +0 to a sum of non-negative values). The other lanes' slots are written back unchanged. */
-HZ_INLINE void window_lanes(uint32_t *win, hz_li_t bit, hz_li_t f, lrgb_t *out)
+HZ_INLINE void window_lanes(uint32_t *win, hz_li_t window, hz_li_t bit, hz_li_t f, lrgb_t *out)
 {
     hz_li_t slot[4];
     hz_li_load4(win, slot);
@@ -218,11 +218,11 @@ HZ_INLINE void window_lanes(uint32_t *win, hz_li_t bit, hz_li_t f, lrgb_t *out)
         n = hz_li_sub(n, has);
     }
     hz_li_store4(win, slot);
-    const hz_li_t four = hz_li_eq(n, hz_li_set(4)), set = hz_li_not(hz_li_eq(bit, zero));
-    const hz_lf_t count = hz_lf_from_li(hz_li_max(n, hz_li_set(1))); /* n >= 1 where bit is set */
+    const hz_li_t four = hz_li_eq(n, hz_li_set(4));
+    const hz_lf_t count = hz_lf_from_li(hz_li_max(n, hz_li_set(1))); /* n >= 1 in the window's lanes */
     for (int k = 0; k < 3; k++) {
         const hz_lf_t avg = hz_lf_sel(four, hz_lf_mul(sum.c[k], hz_lf_set(0.25f)), hz_lf_div(sum.c[k], count));
-        out->c[k] = hz_lf_sel(set, avg, out->c[k]);
+        out->c[k] = hz_lf_sel(window, avg, out->c[k]);
     }
 }
 
@@ -320,7 +320,7 @@ HZ_INLINE void resolve_lanes(hz_tdense_t *td, uint32_t x0, uint32_t y, const ord
     hz_li_t bit = zero;
     if (hz_li_any(window)) {
         bit = hz_li_and(window, hz_li_perm(hz_li_load(slot_bit), hz_li_and(jit, hz_li_set(3))));
-        window_lanes(td->window + 4 * p0, bit, hz_li_and(f, hz_li_set(HZ_TDENSE_SAMPLES)), &out);
+        window_lanes(td->window + 4 * p0, window, bit, hz_li_and(f, hz_li_set(HZ_TDENSE_SAMPLES)), &out);
     }
 
     /* history codes and flags */
