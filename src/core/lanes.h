@@ -14,7 +14,8 @@
  *    its second operand on NaN and equality), else the select. hz_lf_keep(m, v) is `m ? v : +0.0f`.
  *  - Gathers read one element per lane at base[index]; the caller keeps every index in bounds (inactive lanes
  *    included: select a safe index for them first).
- *  - Does not: touch memory other than through the explicit loads, stores and gathers; assume alignment.
+ *  - Does not: touch memory other than through the explicit loads, stores and gathers (hz_lanes_prefetch is a
+ *    hint that reads nothing and never faults); assume alignment.
  */
 #ifndef HZ_LANES_H
 #define HZ_LANES_H
@@ -203,6 +204,8 @@ HZ_INLINE hz_lf_t hz_lf_shift_in_right(hz_lf_t c, hz_lf_t n)
     __m256i t = _mm256_permute2x128_si256(_mm256_castps_si256(c), _mm256_castps_si256(n), 0x21);
     return _mm256_castsi256_ps(_mm256_alignr_epi8(t, _mm256_castps_si256(c), 4));
 }
+/* A hint that the cache line holding p will be read soon (never faults, any address). */
+HZ_INLINE void hz_lanes_prefetch(const void *p) { _mm_prefetch((const char *)p, _MM_HINT_T0); }
 
 #elif defined(HZ_BOARD_SIMD_NEON)
 #include <arm_neon.h>
@@ -384,6 +387,7 @@ HZ_INLINE void hz_lf_load2(const float *src, hz_lf_t *a, hz_lf_t *b)
 
 HZ_INLINE hz_lf_t hz_lf_shift_in_left(hz_lf_t p, hz_lf_t c) { return vextq_f32(p, c, 3); }
 HZ_INLINE hz_lf_t hz_lf_shift_in_right(hz_lf_t c, hz_lf_t n) { return vextq_f32(c, n, 1); }
+HZ_INLINE void hz_lanes_prefetch(const void *p) { __builtin_prefetch(p); }
 
 #else
 #error "lanes.h is for AVX2 and NEON boards only"

@@ -235,9 +235,10 @@ void hz_taa_resolve_tile_scalar(hz_taa_t *t, const hz_render_frame_t *f, uint32_
 }
 
 #if !defined(HZ_BOARD_SIMD_AVX2) && !defined(HZ_BOARD_SIMD_NEON) /* the Makefile builds taa_lanes.c then */
-void hz_taa_resolve_tile(hz_taa_t *t, const hz_render_frame_t *f, uint32_t tile)
+void hz_taa_resolve_tiles(hz_taa_t *t, const hz_render_frame_t *f, uint32_t first, uint32_t count)
 {
-    hz_taa_resolve_tile_scalar(t, f, tile);
+    for (uint32_t i = 0; i < count; i++)
+        hz_taa_resolve_tile_scalar(t, f, first + i);
 }
 #endif
 
@@ -286,15 +287,32 @@ static void taa_begin(void *state, const hz_render_frame_t *f)
     t->jitter[1] = halton(phase, 3) - 0.5f;
 }
 
-static uint32_t taa_items(const void *state, const hz_render_frame_t *f, uint32_t pass)
+/* The resolve's work items and overlap units are runs of RUN tiles along a tile row (the last run of a row may
+ * be shorter): long enough that prefetching the next tile pays, short enough that the frame's tail is short. */
+#define RUN 8u
+
+static uint32_t runs_per_row(const hz_render_frame_t *f)
 {
-    (void)state, (void)pass;
-    return f->tiles_x * f->tiles_y;
+    return (f->tiles_x + RUN - 1u) / RUN;
 }
 
-static void taa_resolve(hz_taa_t *t, const hz_render_frame_t *f, uint32_t tile)
+static uint32_t taa_items(const void *state, const hz_render_frame_t *f, uint32_t pass)
 {
-    (f->opts.scalar_recon ? hz_taa_resolve_tile_scalar : hz_taa_resolve_tile)(t, f, tile);
+    (void)state;
+    return pass == 0 ? f->tiles_x * f->tiles_y : runs_per_row(f) * f->tiles_y;
+}
+
+static void taa_resolve(hz_taa_t *t, const hz_render_frame_t *f, uint32_t run)
+{
+    const uint32_t rpr = runs_per_row(f), row = run / rpr, first = (run % rpr) * RUN;
+    const uint32_t count = f->tiles_x - first < RUN ? f->tiles_x - first : RUN;
+    const uint32_t tile = row * f->tiles_x + first;
+    if (f->opts.scalar_recon) {
+        for (uint32_t i = 0; i < count; i++)
+            hz_taa_resolve_tile_scalar(t, f, tile + i);
+    } else {
+        hz_taa_resolve_tiles(t, f, tile, count);
+    }
 }
 
 static void taa_run(void *state, hz_render_frame_t *f, uint32_t pass, uint32_t item, hz_batch_t *b)
@@ -309,16 +327,15 @@ static void taa_run(void *state, hz_render_frame_t *f, uint32_t pass, uint32_t i
     }
 }
 
-/* Overlap: one tile per unit; its 3x3 or 7x7 window stays within the tile rows next to it. */
+/* Overlap: one run of tiles per unit; its 3x3 or 7x7 window stays within the tile rows next to it. */
 static uint32_t taa_units(const void *state, const hz_render_frame_t *f)
 {
-    (void)state;
-    return f->tiles_x * f->tiles_y;
+    return taa_items(state, f, 1);
 }
 
 static void taa_needs(const void *state, const hz_render_frame_t *f, uint32_t unit, uint32_t *lo, uint32_t *hi)
 {
-    const uint32_t row = unit / f->tiles_x;
+    const uint32_t row = unit / runs_per_row(f);
     (void)state;
     *lo = row ? row - 1u : 0u;
     *hi = row + 1u;
@@ -326,7 +343,7 @@ static void taa_needs(const void *state, const hz_render_frame_t *f, uint32_t un
 
 static void taa_overlap_run(void *state, hz_render_frame_t *f, uint32_t unit)
 {
-    if (unit < f->tiles_x * f->tiles_y)
+    if (unit < taa_units(state, f))
         taa_resolve(state, f, unit);
 }
 

@@ -17,9 +17,11 @@ typedef struct hz_taa {
     float jitter[2];           /* this frame's sub-pixel offset, in pixels */
 } hz_taa_t;
 
-/* The resolve of one tile, with the board's SIMD where it has one (taa_lanes.c) unless opts.scalar_recon;
- * hz_taa_resolve_tile_scalar and hz_taa_resolve_pixel are its scalar twin (bit-identical). */
-void hz_taa_resolve_tile(hz_taa_t *t, const hz_render_frame_t *f, uint32_t tile);
+/* The resolve of tiles first .. first + count - 1 (one tile row), with the board's SIMD where it has one
+ * (taa_lanes.c) unless opts.scalar_recon; hz_taa_resolve_tile_scalar and hz_taa_resolve_pixel are its scalar
+ * twin (bit-identical). A run rather than a tile, so that a tile's inputs can be fetched while the one before
+ * it resolves. */
+void hz_taa_resolve_tiles(hz_taa_t *t, const hz_render_frame_t *f, uint32_t first, uint32_t count);
 void hz_taa_resolve_tile_scalar(hz_taa_t *t, const hz_render_frame_t *f, uint32_t tile);
 void hz_taa_resolve_pixel(hz_taa_t *t, const hz_render_frame_t *f, uint32_t x, uint32_t y);
 

@@ -53,31 +53,35 @@ static bool tile_dithered(const hz_render_frame_t *f, uint32_t x0, uint32_t y0)
     return false;
 }
 
+/* One channel's mean and extent (gamma times the deviation) over the n x n box whose top-left values are at p
+ * (rows stride floats apart), summed in the twin's order (row by row, left to right). A channel at a time, so
+ * that the two sums stay in registers: summed for all three channels at once, they went through the stack on
+ * every add (a store-to-load chain per term; a third of the resolve's samples). */
+HZ_INLINE void box_stats(const float *p, uint32_t stride, uint32_t n, hz_lf_t gamma, hz_lf_t *mean, hz_lf_t *ext)
+{
+    hz_lf_t sum = hz_lf_set(0.0f), sum2 = sum;
+    for (uint32_t dy = 0; dy < n; dy++)
+        for (uint32_t dx = 0; dx < n; dx++) {
+            const hz_lf_t q = hz_lf_load(p + dy * stride + dx);
+            sum = hz_lf_add(sum, q);
+            sum2 = hz_lf_add(sum2, hz_lf_mul(q, q));
+        }
+    const hz_lf_t count = hz_lf_set((float)(n * n));
+    *mean = hz_lf_div(sum, count);
+    hz_lf_t var = hz_lf_sub(hz_lf_div(sum2, count), hz_lf_mul(*mean, *mean));
+    var = hz_lf_sel(hz_lf_gt(var, hz_lf_set(0.0f)), var, hz_lf_set(0.0f));
+    *ext = hz_lf_mul(gamma, hz_lf_sqrt(var));
+}
+
 /* The dithered lanes' sample, box mean and extent (hz_taa_resolve_pixel's dither branch): (tx, ty) the lanes'
  * first pixel in the tile; moving: lanes whose camera or surface moved. */
 static void dither_box_lanes(const wide_t *wb, const hz_render_frame_t *f, uint32_t tx, uint32_t ty, hz_li_t moving,
                              hz_lrgb_t *c, hz_lrgb_t *mean, hz_lrgb_t *ext)
 {
-    hz_lrgb_t sum, sum2;
-    for (int k = 0; k < 3; k++)
-        sum.c[k] = sum2.c[k] = hz_lf_set(0.0f);
-    for (uint32_t dy = 0; dy <= 2 * DR; dy++)
-        for (uint32_t dx = 0; dx <= 2 * DR; dx++)
-            for (int k = 0; k < 3; k++) {
-                hz_lf_t q = hz_lf_load(&wb->yc[k][ty + dy][tx + dx]);
-                sum.c[k] = hz_lf_add(sum.c[k], q);
-                sum2.c[k] = hz_lf_add(sum2.c[k], hz_lf_mul(q, q));
-            }
-    const hz_lf_t count = hz_lf_set((float)((2 * DR + 1) * (2 * DR + 1)));
     float g = f->opts.taa_gamma;
     g *= HZ_TAA_DITHER_GAMMA;
-    const hz_lf_t gamma = hz_lf_set(g);
-    for (int k = 0; k < 3; k++) {
-        mean->c[k] = hz_lf_div(sum.c[k], count);
-        hz_lf_t var = hz_lf_sub(hz_lf_div(sum2.c[k], count), hz_lf_mul(mean->c[k], mean->c[k]));
-        var = hz_lf_sel(hz_lf_gt(var, hz_lf_set(0.0f)), var, hz_lf_set(0.0f));
-        ext->c[k] = hz_lf_mul(gamma, hz_lf_sqrt(var));
-    }
+    for (int k = 0; k < 3; k++)
+        box_stats(&wb->yc[k][ty][tx], BW, 2 * DR + 1, hz_lf_set(g), &mean->c[k], &ext->c[k]);
     const int cell = hz_taa_cell_radius(f);
     if (cell <= 0 || !hz_li_any(moving))
         return;
@@ -143,24 +147,10 @@ static void resolve_lanes(hz_taa_t *t, const hz_render_frame_t *f, uint32_t x, u
     const size_t p0 = (size_t)y * (size_t)w + x;
     const hz_li_t zero = hz_li_set(0), one = hz_li_set(1);
 
-    hz_lrgb_t c, sum, sum2, mean, ext;
+    hz_lrgb_t c, mean, ext;
     for (int k = 0; k < 3; k++) {
         c.c[k] = hz_lf_load(&yc[k][by][bx]);
-        sum.c[k] = sum2.c[k] = hz_lf_set(0.0f);
-    }
-    for (uint32_t dy = 0; dy < 3; dy++)
-        for (uint32_t dx = 0; dx < 3; dx++)
-            for (int k = 0; k < 3; k++) {
-                hz_lf_t q = hz_lf_load(&yc[k][by - 1 + dy][bx - 1 + dx]);
-                sum.c[k] = hz_lf_add(sum.c[k], q);
-                sum2.c[k] = hz_lf_add(sum2.c[k], hz_lf_mul(q, q));
-            }
-    const hz_lf_t count = hz_lf_set(9.0f), gamma = hz_lf_set(f->opts.taa_gamma);
-    for (int k = 0; k < 3; k++) {
-        mean.c[k] = hz_lf_div(sum.c[k], count);
-        hz_lf_t var = hz_lf_sub(hz_lf_div(sum2.c[k], count), hz_lf_mul(mean.c[k], mean.c[k]));
-        var = hz_lf_sel(hz_lf_gt(var, hz_lf_set(0.0f)), var, hz_lf_set(0.0f));
-        ext.c[k] = hz_lf_mul(gamma, hz_lf_sqrt(var));
+        box_stats(&yc[k][by - 1][bx - 1], B, 3, hz_lf_set(f->opts.taa_gamma), &mean.c[k], &ext.c[k]);
     }
 
     const hz_li_t xi = hz_li_add(hz_li_set((int32_t)x), hz_li_iota());
@@ -253,7 +243,8 @@ static void resolve_lanes(hz_taa_t *t, const hz_render_frame_t *f, uint32_t x, u
         to_ycocg_lanes(&hrgb, &hy3);
         const hz_lf_t alpha = hz_lf_set(f->opts.taa_alpha);
         for (int k = 0; k < 3; k++) {
-            hz_lf_t v = hz_lf_clamp(hy3.c[k], hz_lf_sub(mean.c[k], ext.c[k]), hz_lf_add(mean.c[k], ext.c[k]));
+            /* ext >= 0 (gamma > 0, render options) or NaN: no lane's low end is above its high end */
+            hz_lf_t v = hz_lf_clamp_ordered(hy3.c[k], hz_lf_sub(mean.c[k], ext.c[k]), hz_lf_add(mean.c[k], ext.c[k]));
             v = hz_lf_add(v, hz_lf_mul(alpha, hz_lf_sub(c.c[k], v)));
             res.c[k] = hz_lf_sel(reset, c.c[k], v);
         }
@@ -264,16 +255,18 @@ static void resolve_lanes(hz_taa_t *t, const hz_render_frame_t *f, uint32_t x, u
     rgb[2] = hz_lf_sub(hz_lf_sub(res.c[0], res.c[1]), res.c[2]);
     hz_lf_t v[3];
     hz_li_t codes[3];
+    const hz_lf_t inf = hz_lf_from_bits(hz_li_set(0x7f800000));
     for (int k = 0; k < 3; k++) {
-        hz_li_t ok = hz_li_and(hz_lf_finite(rgb[k]), hz_lf_gt(rgb[k], hz_lf_set(0.0f)));
-        v[k] = hz_lf_sel(ok, rgb[k], hz_lf_set(0.0f));
+        /* finite and > 0: above 0 and below infinity (NaN is neither) */
+        hz_li_t ok = hz_li_and(hz_lf_gt(rgb[k], hz_lf_set(0.0f)), hz_lf_lt(rgb[k], inf));
+        v[k] = hz_lf_keep(ok, rgb[k]);
         codes[k] = hz_lanes_half_pack(v[k]);
     }
     hz_lf_store3(t->out.rgb + p0 * 3, v[0], v[1], v[2]);
     hz_li_store3_u16(t->hist[t->hist_index ^ 1u] + p0 * 3, codes[0], codes[1], codes[2]);
 }
 
-void hz_taa_resolve_tile(hz_taa_t *t, const hz_render_frame_t *f, uint32_t tile)
+static void resolve_tile(hz_taa_t *t, const hz_render_frame_t *f, uint32_t tile, bool prefetch_next)
 {
     const uint32_t w = f->opts.width, h = f->opts.height;
     const uint32_t x0 = (tile % f->tiles_x) * T, y0 = (tile / f->tiles_x) * T;
@@ -307,6 +300,17 @@ void hz_taa_resolve_tile(hz_taa_t *t, const hz_render_frame_t *f, uint32_t tile)
             yc[k][by][B - 1] = yc[k][by][hi];
         }
     }
+    /* The next tile's block (the columns this one did not read) is fetched while this one resolves: the frame's
+     * samples were written by the trace, mostly out of the cache by now (the load of this block took a third of
+     * the lane resolve's time before). */
+    if (prefetch_next && x0 + 2 * T <= w)
+        for (uint32_t by = 0; by < B; by++) {
+            int32_t y = (int32_t)(y0 + by) - 1;
+            y = y < 0 ? 0 : y >= (int32_t)h ? (int32_t)h - 1 : y;
+            const float *next = cur->rgb + 3 * ((size_t)y * w + x0 + T + 1u);
+            hz_lanes_prefetch(next);
+            hz_lanes_prefetch(next + 3 * T - 1);
+        }
     /* the wide block, where the tile has a dithered pixel */
     wide_t wbuf;
     const wide_t *wb = NULL;
@@ -317,4 +321,10 @@ void hz_taa_resolve_tile(hz_taa_t *t, const hz_render_frame_t *f, uint32_t tile)
     for (uint32_t y = y0; y < y0 + T; y++)
         for (uint32_t x = x0; x < x0 + T; x += HZ_LANES)
             resolve_lanes(t, f, x, y, yc, x - x0 + 1, y - y0 + 1, wb);
+}
+
+void hz_taa_resolve_tiles(hz_taa_t *t, const hz_render_frame_t *f, uint32_t first, uint32_t count)
+{
+    for (uint32_t i = 0; i < count; i++)
+        resolve_tile(t, f, first + i, i + 1u < count);
 }

@@ -129,7 +129,12 @@ static void test_units_wait_for_the_rows_they_read(void **state)
             rfix_close(&f);
             continue;
         }
-        assert_int_equal(units, modes[m] == HZ_MODE_TDENSE ? rows : rows * items);
+        /* tdense: a unit per trace row; TAA: runs of tiles along the rows, the same number in every row */
+        if (modes[m] == HZ_MODE_TDENSE)
+            assert_int_equal(units, rows);
+        else
+            assert_true(units >= rows && units <= rows * items && units % rows == 0);
+        const uint32_t per_row = units / rows;
         uint32_t last_lo = 0, last_hi = 0;
         for (uint32_t u = 0; u < units; u++) {
             uint32_t lo, hi, need_lo, need_hi;
@@ -140,8 +145,8 @@ static void test_units_wait_for_the_rows_they_read(void **state)
                 int y0 = (int)u * HZ_RENDER_TILE;
                 rows_of(y0 - 2, y0 + HZ_RENDER_TILE - 1 + 2, &need_lo, &need_hi);
             } else {
-                /* a TAA tile: its pixel rows and the 7x7 window's 3 rows either side */
-                int y0 = (int)(u / items) * HZ_RENDER_TILE;
+                /* a run of TAA tiles: their pixel rows and the 7x7 window's 3 rows either side */
+                int y0 = (int)(u / per_row) * HZ_RENDER_TILE;
                 rows_of(y0 - 3, y0 + HZ_RENDER_TILE - 1 + 3, &need_lo, &need_hi);
             }
             assert_true(lo <= need_lo && hi >= need_hi && hi < rows);
