@@ -234,11 +234,16 @@ void hz_taa_resolve_tile_scalar(hz_taa_t *t, const hz_render_frame_t *f, uint32_
             hz_taa_resolve_pixel(t, f, x, y);
 }
 
-#if !defined(HZ_BOARD_SIMD_AVX2) && !defined(HZ_BOARD_SIMD_NEON) /* the Makefile builds taa_lanes.c then */
-void hz_taa_resolve_tiles(hz_taa_t *t, const hz_render_frame_t *f, uint32_t first, uint32_t count)
+static void resolve_tiles_scalar(hz_taa_t *t, const hz_render_frame_t *f, uint32_t first, uint32_t count)
 {
     for (uint32_t i = 0; i < count; i++)
         hz_taa_resolve_tile_scalar(t, f, first + i);
+}
+
+#if !defined(HZ_BOARD_SIMD_AVX2) && !defined(HZ_BOARD_SIMD_NEON) /* the Makefile builds taa_lanes.c then */
+void hz_taa_resolve_tiles(hz_taa_t *t, const hz_render_frame_t *f, uint32_t first, uint32_t count)
+{
+    resolve_tiles_scalar(t, f, first, count);
 }
 #endif
 
@@ -306,13 +311,7 @@ static void taa_resolve(hz_taa_t *t, const hz_render_frame_t *f, uint32_t run)
 {
     const uint32_t rpr = runs_per_row(f), row = run / rpr, first = (run % rpr) * RUN;
     const uint32_t count = f->tiles_x - first < RUN ? f->tiles_x - first : RUN;
-    const uint32_t tile = row * f->tiles_x + first;
-    if (f->opts.scalar_recon) {
-        for (uint32_t i = 0; i < count; i++)
-            hz_taa_resolve_tile_scalar(t, f, tile + i);
-    } else {
-        hz_taa_resolve_tiles(t, f, tile, count);
-    }
+    (f->opts.scalar_recon ? resolve_tiles_scalar : hz_taa_resolve_tiles)(t, f, row * f->tiles_x + first, count);
 }
 
 static void taa_run(void *state, hz_render_frame_t *f, uint32_t pass, uint32_t item, hz_batch_t *b)

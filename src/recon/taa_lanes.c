@@ -280,10 +280,18 @@ static void resolve_tile(hz_taa_t *t, const hz_render_frame_t *f, uint32_t tile,
     /* Block columns lo .. hi are image columns x0 - 1 + bx, read HZ_LANES at a time (the last group ends at hi,
      * overlapping the one before: the same values again); a column off the image is its neighbour, copied. */
     const uint32_t lo = x0 ? 0u : 1u, hi = x0 + T < w ? B - 1u : B - 2u;
+    const bool prefetch = prefetch_next && x0 + 2 * T <= w;
     for (uint32_t by = 0; by < B; by++) {
         int32_t y = (int32_t)(y0 + by) - 1;
         y = y < 0 ? 0 : y >= (int32_t)h ? (int32_t)h - 1 : y;
         const size_t row = (size_t)y * w + x0; /* block column bx is image column x0 + bx - 1 */
+        /* The next tile's block row (the columns this one does not read) is fetched while this one resolves:
+         * the trace wrote the samples and they have mostly left the cache (waiting for this load took a third of
+         * the lane resolve's time). */
+        if (prefetch) {
+            hz_lanes_prefetch(cur->rgb + 3 * (row + T + 1u));
+            hz_lanes_prefetch(cur->rgb + 3 * (row + 2u * T) - 1);
+        }
         for (uint32_t bx = lo;; bx += HZ_LANES) {
             if (bx + HZ_LANES > hi + 1u)
                 bx = hi + 1u - HZ_LANES;
@@ -300,17 +308,6 @@ static void resolve_tile(hz_taa_t *t, const hz_render_frame_t *f, uint32_t tile,
             yc[k][by][B - 1] = yc[k][by][hi];
         }
     }
-    /* The next tile's block (the columns this one did not read) is fetched while this one resolves: the frame's
-     * samples were written by the trace, mostly out of the cache by now (the load of this block took a third of
-     * the lane resolve's time before). */
-    if (prefetch_next && x0 + 2 * T <= w)
-        for (uint32_t by = 0; by < B; by++) {
-            int32_t y = (int32_t)(y0 + by) - 1;
-            y = y < 0 ? 0 : y >= (int32_t)h ? (int32_t)h - 1 : y;
-            const float *next = cur->rgb + 3 * ((size_t)y * w + x0 + T + 1u);
-            hz_lanes_prefetch(next);
-            hz_lanes_prefetch(next + 3 * T - 1);
-        }
     /* the wide block, where the tile has a dithered pixel */
     wide_t wbuf;
     const wide_t *wb = NULL;
