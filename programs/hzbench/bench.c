@@ -301,7 +301,7 @@ static hz_status_t write_curve(const char *csv, const hz_bench_transp_row_t *row
 /* The command line (opttab.h): the help is printed from this table. */
 enum { B_ONLY, B_CSV, B_MD, B_SCENES, B_ROUNDS, B_THREADS, B_RT_CSV, B_RT_SIZE, B_RT_FRAMES, B_RT_TWIN, B_RT_SCALING,
        B_TD_SIZE, B_FRAMES, B_TP_CSV, B_TP_SIZE, B_TP_FRAMES, B_AD_CSV, B_SHUTTER, B_BLUR_SIZE, B_ACCEL_CSV, B_SCENE,
-       B_SIZE, B_EMBREE, B_MO_CSV, B_MO_SCENE, B_MO_SIZE, B_MO_INTERVAL, B_MO_BUDGET, B_CHECK_FIT };
+       B_SIZE, B_EMBREE, B_MO_CSV, B_MO_SCENE, B_MO_SIZE, B_MO_INTERVAL, B_MO_BUDGET, B_MO_SWEEP, B_CHECK_FIT };
 
 static const char *const group_words[] = { "kernels", "accel", "tdense", "transparency", "adaptive", "blur", "motion",
                                            "realtime", NULL };
@@ -372,6 +372,10 @@ static const hz_opt_t options[] = {
       .noun = "a fraction of the triangles", .id = B_MO_BUDGET,
       .help = "an MSBVH split budget to measure; repeat for more (at most " STR(HZ_BENCH_MOTION_MAX_BUDGETS) "; "
               "default 0.25 0.5 1 4, the largest standing for unbounded where it stops no split)" },
+    { .name = "--motion-sweep", .arg = "NAME", .kind = HZ_OPT_TEXT, .id = B_MO_SWEEP,
+      .help = "the scene of the motion-size sweep: its shutter interval scaled 1/8x to 8x, intersections of the "
+              "msbvh (largest budget) and the swept BVH against the interpolated one over motion per triangle size "
+              "(default the hairball when it is measured; none: no sweep)" },
 };
 
 static const hz_opt_prog_t program = {
@@ -474,6 +478,7 @@ static int take(void *ctx, const hz_opt_t *o, const hz_opt_val_t *v)
         break;
     case B_MO_SIZE: a->mo.width = (uint32_t)v->w, a->mo.height = (uint32_t)v->h; break;
     case B_MO_INTERVAL: a->mo.interval = (float)v->x; break;
+    case B_MO_SWEEP: a->mo.sweep_scene = v->s; break;
     case B_MO_BUDGET:
         if (a->mo.budget_count == HZ_BENCH_MOTION_MAX_BUDGETS) {
             hz_cli_error("--motion-budget: at most %d budgets", HZ_BENCH_MOTION_MAX_BUDGETS);
@@ -811,9 +816,10 @@ int main(int argc, char **argv)
         if (ad.csv_path)
             printf("wrote %s\n", ad.csv_path);
     }
+    bool motion_swept = false;
     int status = accel ? hz_bench_accel(&ao) : 0;
     if (status == 0 && motion)
-        status = hz_bench_motion(&mo);
+        status = hz_bench_motion(&mo, &motion_swept);
     if (status != 0 || !md_path)
         return status;
 
@@ -824,7 +830,7 @@ int main(int argc, char **argv)
                              *const rays[] = { "primary", "shadow", "diffuse", NULL },
                              *const accel_keys[] = { "scene", "triangles", "threads", NULL },
                              *const other_keys[] = { "scene", "triangles", "what", "threads", NULL };
-    md_section_t sec[8];
+    md_section_t sec[9];
     memset(sec, 0, sizeof sec);
     sec[0] = (md_section_t){ core && nrows > 0, "Kernels", "", csv_path, { { "group", core_groups, true, 0, 0, 0 } },
                              { 0 }, 1 };
@@ -883,5 +889,17 @@ int main(int argc, char **argv)
              "(max / average), render ms of a frame of one primary and one shadow or ambient-occlusion ray per pixel "
              "at its own time, build and refit ms, bytes per triangle, Mrays/s, the MSBVH at several split budgets "
              "(hzbench --only motion)");
-    return write_md(md_path, argc, argv, sec, 8);
+    char sweep_csv[4096] = "";
+    if (motion && mo.csv_path) {
+        const size_t n = strlen(mo.csv_path);
+        const bool dot_csv = n >= 4 && !strcmp(mo.csv_path + n - 4, ".csv");
+        snprintf(sweep_csv, sizeof sweep_csv, "%.*s-sweep.csv", (int)(dot_csv ? n - 4 : n), mo.csv_path);
+    }
+    sec[8] = (md_section_t){ motion_swept, "Motion size (seed 002)", "",
+                             sweep_csv, { { 0 } }, { 0 }, 1 };
+    snprintf(sec[8].what, sizeof sec[8].what, "The motion-size sweep: one scene's shutter interval scaled from 1/8x to "
+             "8x; per interval the keys, how far triangles move over it against their size (median and mean over "
+             "triangles), and per BVH and secondary ray the intersections per ray, average and max, the average as "
+             "%% of the interpolated BVH, SAH cost and references (hzbench --only motion --motion-sweep)");
+    return write_md(md_path, argc, argv, sec, 9);
 }

@@ -1,11 +1,13 @@
 /* The motion-blur benchmark of hzbench (see bench_motion.h). */
 #include "bench_motion.h"
 
+#include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
+#include <unistd.h>
 
 #include "cli.h"
 #include "clock.h"
@@ -519,10 +521,172 @@ static int bench_scene(const hz_bench_motion_opts_t *o, const char *name, FILE *
     return bad ? hz_status_exit_code(HZ_E_INTERNAL) : 0;
 }
 
+/* ---- the motion-size sweep ---- */
+#define SWEEP_STEPS 7
+static const float sweep_factor[SWEEP_STEPS] = { 0.125f, 0.25f, 0.5f, 1.0f, 2.0f, 4.0f, 8.0f };
+
+static int cmp_float(const void *a, const void *b)
+{
+    const float x = *(const float *)a, y = *(const float *)b;
+    return (x > y) - (x < y);
+}
+
+/* How far triangles move over the keys against their size: per triangle, the longest path of its three vertices
+ * (the sum of the straight moves from key to key) over its mean edge length at the middle key. Median and mean
+ * over the triangles with a non-zero size; false when none has one or there is no memory for the median. */
+static bool motion_over_size(const hz_accel_geom_t *g, double *median_out, double *mean_out)
+{
+    float *ratio = malloc((size_t)g->tri_count * sizeof(float) + 1u);
+    if (!ratio)
+        return false;
+    uint32_t n = 0;
+    double sum = 0.0;
+    const float *mid = g->pos_keys[(g->time_keys - 1u) / 2u]; /* the key g->pos is (hz_posekeys_geom) */
+    for (uint32_t t = 0; t < g->tri_count; t++) {
+        const uint32_t *v = g->tri + 3u * (size_t)t;
+        double path = 0.0, edge = 0.0;
+        for (int i = 0; i < 3; i++) {
+            const float *a = mid + 4u * (size_t)v[i], *b = mid + 4u * (size_t)v[(i + 1) % 3];
+            edge += sqrt((double)(a[0] - b[0]) * (a[0] - b[0]) + (double)(a[1] - b[1]) * (a[1] - b[1]) +
+                         (double)(a[2] - b[2]) * (a[2] - b[2])) / 3.0;
+            double len = 0.0;
+            for (uint32_t k = 0; k + 1u < g->time_keys; k++) {
+                const float *p = g->pos_keys[k] + 4u * (size_t)v[i], *q = g->pos_keys[k + 1u] + 4u * (size_t)v[i];
+                len += sqrt((double)(q[0] - p[0]) * (q[0] - p[0]) + (double)(q[1] - p[1]) * (q[1] - p[1]) +
+                            (double)(q[2] - p[2]) * (q[2] - p[2]));
+            }
+            path = fmax(path, len);
+        }
+        if (edge > 0.0 && isfinite(path / edge)) {
+            ratio[n++] = (float)(path / edge);
+            sum += path / edge;
+        }
+    }
+    if (n)
+        qsort(ratio, n, sizeof(float), cmp_float);
+    *median_out = n ? ratio[n / 2u] : 0.0;
+    *mean_out = n ? sum / n : 0.0;
+    free(ratio);
+    return n > 0;
+}
+
+/* The scene's shutter interval scaled by each sweep factor: keys posed anew, the msbvh at the largest budget, the
+ * interpolated and the swept BVH built and refitted, one frame of each secondary kind counted (untimed). */
+static int motion_sweep(const hz_bench_motion_opts_t *o, const char *name, FILE *csv)
+{
+    hz_pools_t *P = hz_pools_get();
+    hz_error_t err;
+    hz_scene_t sc;
+    hz_accel_geom_t g0;
+    int rc = hz_bench_open_named(o->scenes_dir, name, P, &sc, &g0);
+    if (rc)
+        return rc;
+    if (hz_posekeys_count(&sc, o->interval) < 2u) {
+        printf("\nmotion-size sweep: %s has no animation of its own: not swept\n", name);
+        return 0;
+    }
+    if (!HZ_FEATURE_STATS) {
+        printf("\nmotion-size sweep: not measured (board %s counts no intersections)\n", HZ_BOARD_NAME);
+        return 0;
+    }
+    float budget = o->budgets[0];
+    for (int i = 1; i < o->budget_count; i++)
+        budget = fmaxf(budget, o->budgets[i]);
+    printf("\nmotion-size sweep on %s: the shutter interval scaled (%ux%u pixels, one primary + one secondary ray "
+           "each; intersections per ray averaged, %% of the interpolated BVH; msbvh at budget %g)\n", name, o->width,
+           o->height, (double)budget);
+    printf("%10s %5s %18s %18s %18s %18s %9s %9s %9s\n", "interval s", "keys", "motion/size median", "mean",
+           "msbvh ao / shadow", "swept ao / shadow", "sah msbvh", "interp", "refs x");
+    frame_t fr;
+    if (!make_frame(&fr, &sc, o->width, o->height)) {
+        hz_cli_error("bench: out of memory for the frame's rays");
+        return hz_status_exit_code(HZ_E_NO_MEMORY);
+    }
+    const hz_arena_mark_t s0 = hz_arena_mark(&P->scene), a0 = hz_arena_mark(&P->accel);
+    static const hz_accel_blur_t kinds[3] = { HZ_ACCEL_BLUR_MSBVH, HZ_ACCEL_BLUR_INTERP, HZ_ACCEL_BLUR_SWEPT };
+    static const char *const kname[3] = { "msbvh", "interp", "swept" };
+    int status = 0;
+    for (int f = 0; f < SWEEP_STEPS && !status; f++) {
+        hz_bench_motion_opts_t fo = *o;
+        fo.interval = fminf(10.0f, o->interval * sweep_factor[f]);
+        if (f > 0 && fo.interval == fminf(10.0f, o->interval * sweep_factor[f - 1]))
+            break; /* capped at 10 s: the same interval again */
+        hz_arena_reset(&P->scene, s0);
+        hz_accel_geom_t g = g0;
+        hz_posekeys_t keys;
+        uint32_t K = 0;
+        char motion[160];
+        if (scene_keys(&fo, name, &sc, &g, &keys, &K, motion, sizeof motion, &P->scene, &err) != HZ_OK) {
+            status = hz_cli_report(&err);
+            break;
+        }
+        double med = 0.0, mean = 0.0;
+        (void)motion_over_size(&g, &med, &mean);
+        double isect[3][S_COUNT], imax[3][S_COUNT];
+        hz_accel_info_t info[3];
+        for (int b = 0; b < 3 && !status; b++) {
+            hz_arena_reset(&P->accel, a0);
+            hz_accel_config_t cfg;
+            hz_accel_config_default(&cfg);
+            cfg.blur = kinds[b];
+            cfg.rigid = HZ_ACCEL_RIGID_REFIT;
+            if (kinds[b] == HZ_ACCEL_BLUR_MSBVH)
+                cfg.split_budget = budget;
+            hz_accel_t *a = NULL;
+            if (hz_accel_bytes_bound_geom(&g, &cfg).peak > hz_arena_available(&P->accel, 64)) {
+                printf("%10.4f %5u %s does not fit the accel arena: sweep stopped\n", (double)fo.interval, K, kname[b]);
+                status = -1;
+                break;
+            }
+            if (hz_accel_build_native(&a, &g, &cfg, &P->accel, &err) != HZ_OK || hz_accel_refit(a, &err) != HZ_OK) {
+                if (a)
+                    hz_accel_release(a);
+                hz_error_prefix(&err, kname[b]);
+                status = hz_cli_report(&err);
+                break;
+            }
+            info[b] = a->info;
+            for (int kind = 0; kind < S_COUNT; kind++) {
+                hz_accel_stats_t st;
+                memset(&st, 0, sizeof st);
+                render(a, &fr, kind, &st, false, 0);
+                isect[b][kind] = st.rays ? (double)st.tris / st.rays : 0.0;
+                imax[b][kind] = st.ray_tris_max;
+            }
+            hz_accel_release(a);
+        }
+        if (status)
+            break;
+        char m[3][40];
+        for (int b = 0; b < 3; b += 2)
+            snprintf(m[b], sizeof m[b], "%.0f%% / %.0f%%", 100.0 * isect[b][S_AO] / isect[1][S_AO],
+                     100.0 * isect[b][S_SHADOW] / isect[1][S_SHADOW]);
+        printf("%10.4f %5u %18.3f %18.3f %18s %18s %9.2f %9.2f %8.2fx\n", (double)fo.interval, K, med, mean, m[0],
+               m[2], (double)info[0].sah_cost, (double)info[1].sah_cost,
+               (double)info[0].ref_count / (double)info[1].ref_count);
+        for (int b = 0; csv && b < 3; b++)
+            for (int kind = 0; kind < S_COUNT; kind++)
+                fprintf(csv, "%s,%.6f,%u,%.4f,%.4f,%s,%s,%.3f,%.0f,%.1f,%.3f,%u\n", name, (double)fo.interval, K, med,
+                        mean, kname[b], secondary_name[kind], isect[b][kind], imax[b][kind],
+                        100.0 * isect[b][kind] / isect[1][kind], (double)info[b].sah_cost, info[b].ref_count);
+    }
+    hz_arena_reset(&P->accel, a0);
+    hz_arena_reset(&P->scene, s0);
+    free_frame(&fr);
+    fflush(stdout);
+    return status < 0 ? 0 : status;
+}
+
 static void with_defaults(hz_bench_motion_opts_t *o)
 {
-    static const char *const defaults[] = { "hairball", "sponza-rotated", "furball-sway" };
+    static const char *const defaults[] = { "hairball", "sponza-rotated", "furball-sway", "tentacles" };
     hz_bench_scene_list(&o->scenes_dir, o->scenes, &o->scene_count, defaults, (int)HZ_ARRAY_LEN(defaults));
+    if (!o->sweep_scene)
+        for (int i = 0; i < o->scene_count; i++)
+            if (!strcmp(o->scenes[i], "hairball"))
+                o->sweep_scene = "hairball";
+    if (o->sweep_scene && !strcmp(o->sweep_scene, "none"))
+        o->sweep_scene = NULL;
     if (o->rounds <= 0)
         o->rounds = 3;
     if (o->rounds > MAX_ROUNDS)
@@ -541,53 +705,88 @@ static void with_defaults(hz_bench_motion_opts_t *o)
     }
 }
 
-int hz_bench_motion(const hz_bench_motion_opts_t *opts)
+/* X.csv -> X-suffix.csv (the tables beside the main CSV) */
+static void beside(const char *csv_path, const char *suffix, char *buf, size_t size)
 {
+    const size_t n = strlen(csv_path);
+    const bool dot_csv = n >= 4 && !strcmp(csv_path + n - 4, ".csv");
+    snprintf(buf, size, "%.*s-%s.csv", (int)(dot_csv ? n - 4 : n), csv_path, suffix);
+}
+
+int hz_bench_motion(const hz_bench_motion_opts_t *opts, bool *swept)
+{
+    *swept = false;
     hz_bench_motion_opts_t o = *opts;
     with_defaults(&o);
+    /* Every scene is there before anything is measured: a missing one is named, not found half-way. */
+    int missing = 0;
+    for (int i = 0; i <= o.scene_count; i++) {
+        const char *name = i < o.scene_count ? o.scenes[i] : o.sweep_scene;
+        char path[4096];
+        if (!name)
+            continue;
+        snprintf(path, sizeof path, "%s/%s.hzb", o.scenes_dir, name);
+        if (access(path, R_OK) != 0) {
+            hz_cli_error("bench: %sscene '%s' is missing: %s: %s", i < o.scene_count ? "" : "--motion-sweep: ", name,
+                         path, strerror(errno));
+            missing++;
+        }
+    }
+    if (missing) {
+        hz_cli_error("bench: motion: %d scene%s missing (`make bench` bakes them; by hand: `make scenes`)", missing,
+                     missing > 1 ? "s" : "");
+        return hz_status_exit_code(HZ_E_IO);
+    }
     printf("\nmotion blur (seed 002): native motion BVHs vs Embree motion blur (one thread, 8-ray packets; "
            "%% of the interpolated BVH as in the paper's Table 1)\n");
-    hz_out_t out, sah_out;
-    FILE *csv = NULL, *sah_csv = NULL;
+    enum { MAIN, SAH, SWEEP, NOUT };
+    static const char *const suffix[NOUT] = { NULL, "sah", "sweep" };
+    static const char *const header[NOUT] = {
+        "scene,bvh,refs,nodes,spatial_splits,sah,isect_max,isect_avg,trav_max,trav_avg,render_ms,build_ms,refit_ms,"
+        "bytes_per_tri,mrays_per_s,secondary,split_budget,budget_stops\n",
+        "scene,frame,time_s,sah_refit,sah_rebuilt\n",
+        "scene,interval_s,keys,motion_over_size_median,motion_over_size_mean,bvh,secondary,isect_avg,isect_max,"
+        "isect_avg_pct_interp,sah,refs\n"
+    };
+    hz_out_t out[NOUT];
+    FILE *f[NOUT] = { NULL, NULL, NULL };
+    char path[NOUT][4096];
     hz_error_t err;
-    char sah_path[4096] = "";
-    if (o.csv_path) {
-        /* the SAH over the animation beside it: X.csv -> X-sah.csv */
-        const size_t n = strlen(o.csv_path);
-        const bool dot_csv = n >= 4 && !strcmp(o.csv_path + n - 4, ".csv");
-        snprintf(sah_path, sizeof sah_path, "%.*s-sah.csv", (int)(dot_csv ? n - 4 : n), o.csv_path);
-        if (hz_out_open(&out, o.csv_path, &err) != HZ_OK)
-            return hz_cli_report(&err);
-        if (hz_out_open(&sah_out, sah_path, &err) != HZ_OK) {
-            hz_out_abort(&out);
+    const int nout = o.sweep_scene ? NOUT : SWEEP;
+    for (int i = 0; o.csv_path && i < nout; i++) {
+        if (i == MAIN)
+            snprintf(path[i], sizeof path[i], "%s", o.csv_path);
+        else
+            beside(o.csv_path, suffix[i], path[i], sizeof path[i]);
+        if (hz_out_open(&out[i], path[i], &err) != HZ_OK) {
+            while (i-- > 0)
+                hz_out_abort(&out[i]);
             return hz_cli_report(&err);
         }
-        csv = out.f;
-        sah_csv = sah_out.f;
-        fprintf(sah_csv, "scene,frame,time_s,sah_refit,sah_rebuilt\n");
-        fprintf(csv, "scene,bvh,refs,nodes,spatial_splits,sah,isect_max,isect_avg,trav_max,trav_avg,render_ms,build_ms,"
-                     "refit_ms,bytes_per_tri,mrays_per_s,secondary,split_budget,budget_stops\n");
+        f[i] = out[i].f;
+        fputs(header[i], f[i]);
     }
     int status = 0;
     for (int i = 0; i < o.scene_count && status == 0; i++) {
-        status = bench_scene(&o, o.scenes[i], csv, sah_csv);
+        status = bench_scene(&o, o.scenes[i], f[MAIN], f[SAH]);
     }
     printf("(seed 002, Table 1, one primary + one ambient-occlusion ray, MSBVH against the interpolated BVH: hairball "
            "2.50x references, 32%% / 43%% intersections max/avg, 85%% render time; Rotated Sponza 1.85x, 41%% / 47%%, "
            "72%%. A budget's stops column: splits the budget stopped, 0 = as without a budget)\n");
-    if (csv) {
-        if (status != 0) {
-            hz_out_abort(&out);
-            hz_out_abort(&sah_out);
-        } else {
-            if (hz_out_commit(&out, &err) != HZ_OK) {
-                hz_out_abort(&sah_out);
-                return hz_cli_report(&err);
+    if (status == 0 && o.sweep_scene)
+        status = motion_sweep(&o, o.sweep_scene, f[SWEEP]);
+    if (o.csv_path) {
+        for (int i = 0; i < nout; i++) {
+            if (status != 0) {
+                hz_out_abort(&out[i]);
+            } else if (hz_out_commit(&out[i], &err) != HZ_OK) {
+                status = hz_cli_report(&err);
             }
-            if (hz_out_commit(&sah_out, &err) != HZ_OK)
-                return hz_cli_report(&err);
-            printf("wrote %s and %s\n", o.csv_path, sah_path);
         }
+        if (status == 0)
+            printf("wrote %s, %s%s%s\n", path[MAIN], path[SAH], nout > SWEEP ? " and " : "",
+                   nout > SWEEP ? path[SWEEP] : "");
+        *swept = status == 0 && nout > SWEEP;
     }
     return status;
 }
@@ -623,4 +822,8 @@ void hz_bench_motion_fit(const hz_bench_motion_opts_t *opts, hz_bench_fit_t *fit
     hz_bench_motion_opts_t o = *opts;
     with_defaults(&o);
     hz_bench_fit_named(fit, "motion", o.scenes, o.scene_count, fit_scene, &o);
+    if (o.sweep_scene) { /* the sweep's longest interval: the most keys */
+        o.interval = fminf(10.0f, o.interval * sweep_factor[SWEEP_STEPS - 1]);
+        hz_bench_fit_named(fit, "motion-sweep", &o.sweep_scene, 1, fit_scene, &o);
+    }
 }

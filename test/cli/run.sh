@@ -427,6 +427,21 @@ if [ -n "$hzbench" ]; then
     # nothing built), and the check refuses a group that would not: a frame no frame arena holds.
     if [ -n "${HZ_SCENES_DIR:-}" ]; then
         expect bench-check-fit 0 "^fit: [0-9]* checks, 0 do not fit" "$hzbench" --check-fit --scenes "$HZ_SCENES_DIR"
+        # The motion-size sweep: a missing sweep scene is named before anything is measured; on the skinned
+        # tentacles (smooth motion) the sweep writes 7 intervals x 3 BVHs x 2 secondary rays, the interpolated BVH
+        # is its own 100%, and for the short intervals triangles move twice as far when the shutter is twice as
+        # long (a path over a short stretch of smooth motion grows with its duration).
+        expect bench-sweep-missing 73 "^hzbench: bench: --motion-sweep: scene 'nosuch' is missing" "$hzbench" \
+            --only motion --scenes "$HZ_SCENES_DIR" --motion-scene tentacles --motion-sweep nosuch
+        expect bench-sweep 0 "^motion-size sweep on tentacles" "$hzbench" --only motion --scenes "$HZ_SCENES_DIR" \
+            --motion-scene tentacles --motion-sweep tentacles --rounds 1 --motion-size 48x48 --motion-budget 1 \
+            --motion-csv "$tmp/mo.csv"
+        ok bench-sweep-csv awk -F, 'NR == 1 { ok = $4 == "motion_over_size_median" && $10 == "isect_avg_pct_interp"; next }
+            { n++ }
+            $6 == "interp" && $10 != "100.0" { ok = 0 }
+            $2 != last { if (last != "" && !($4 > med)) ok = 0; if (last != "" && k < 3 && ($4 < 1.8 * med || $4 > 2.2 * med)) ok = 0
+                         if (last != "") k++; last = $2; med = $4 }
+            END { exit !(ok && n == 42) }' "$tmp/mo-sweep.csv"
     fi
     expect bench-check-fit-refuses 66 "tdense + taa 8192x8192 *frame .*DOES NOT FIT" "$hzbench" --check-fit \
         --only tdense --tdense-size 8192x8192
