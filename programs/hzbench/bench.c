@@ -890,11 +890,8 @@ int main(int argc, char **argv)
              "at its own time, build and refit ms, bytes per triangle, Mrays/s, the MSBVH at several split budgets "
              "(hzbench --only motion)");
     char sweep_csv[4096] = "";
-    if (motion && mo.csv_path) {
-        const size_t n = strlen(mo.csv_path);
-        const bool dot_csv = n >= 4 && !strcmp(mo.csv_path + n - 4, ".csv");
-        snprintf(sweep_csv, sizeof sweep_csv, "%.*s-sweep.csv", (int)(dot_csv ? n - 4 : n), mo.csv_path);
-    }
+    if (motion_swept)
+        hz_bench_csv_beside(mo.csv_path, "sweep", sweep_csv, sizeof sweep_csv);
     sec[8] = (md_section_t){ motion_swept, "Motion size (seed 002)", "",
                              sweep_csv, { { 0 } }, { 0 }, 1 };
     snprintf(sec[8].what, sizeof sec[8].what, "The motion-size sweep: one scene's shutter interval scaled from 1/8x to "

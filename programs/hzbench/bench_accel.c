@@ -1,13 +1,11 @@
 /* The accel benchmark of hzbench (see bench_accel.h). */
 #include "bench_accel.h"
 
-#include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
-#include <unistd.h>
 
 #include "cli.h"
 #include "bench_fit.h"
@@ -659,14 +657,8 @@ int hz_bench_accel(const hz_bench_accel_opts_t *opts)
         o.embree_config = "";
     /* Every scene is there before anything is measured: a missing one is named, not found half-way. */
     int missing = 0;
-    for (int i = 0; i < o.scene_count; i++) {
-        char path[4096];
-        snprintf(path, sizeof path, "%s/%s.hzb", o.scenes_dir, o.scenes[i]);
-        if (access(path, R_OK) != 0) {
-            hz_cli_error("bench: scene '%s' is missing: %s: %s", o.scenes[i], path, strerror(errno));
-            missing++;
-        }
-    }
+    for (int i = 0; i < o.scene_count; i++)
+        missing += !hz_bench_scene_present(o.scenes_dir, o.scenes[i], "");
     if (missing) {
         hz_cli_error("bench: %d of %d scenes missing (`make bench` bakes them; by hand: `make scenes`, or pick "
                      "others with --scene NAME)", missing, o.scene_count);

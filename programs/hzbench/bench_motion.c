@@ -1,13 +1,11 @@
 /* The motion-blur benchmark of hzbench (see bench_motion.h). */
 #include "bench_motion.h"
 
-#include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
-#include <unistd.h>
 
 #include "cli.h"
 #include "clock.h"
@@ -606,7 +604,8 @@ static int motion_sweep(const hz_bench_motion_opts_t *o, const char *name, FILE 
     static const hz_accel_blur_t kinds[3] = { HZ_ACCEL_BLUR_MSBVH, HZ_ACCEL_BLUR_INTERP, HZ_ACCEL_BLUR_SWEPT };
     static const char *const kname[3] = { "msbvh", "interp", "swept" };
     int status = 0;
-    for (int f = 0; f < SWEEP_STEPS && !status; f++) {
+    bool stopped = false; /* a BVH does not fit: the longer intervals would not either */
+    for (int f = 0; f < SWEEP_STEPS && !status && !stopped; f++) {
         hz_bench_motion_opts_t fo = *o;
         fo.interval = fminf(10.0f, o->interval * sweep_factor[f]);
         if (f > 0 && fo.interval == fminf(10.0f, o->interval * sweep_factor[f - 1]))
@@ -621,10 +620,19 @@ static int motion_sweep(const hz_bench_motion_opts_t *o, const char *name, FILE 
             break;
         }
         double med = 0.0, mean = 0.0;
-        (void)motion_over_size(&g, &med, &mean);
+        char c_med[24] = "", c_mean[24] = "", t_med[24] = "-", t_mean[24] = "-"; /* CSV, table */
+        if (motion_over_size(&g, &med, &mean)) {
+            snprintf(c_med, sizeof c_med, "%.4f", med);
+            snprintf(c_mean, sizeof c_mean, "%.4f", mean);
+            snprintf(t_med, sizeof t_med, "%.3f", med);
+            snprintf(t_mean, sizeof t_mean, "%.3f", mean);
+        } else {
+            hz_cli_error("bench: %s: motion over size not measured at %.4f s (no triangle with a size, or no memory "
+                         "for the median)", name, (double)fo.interval);
+        }
         double isect[3][S_COUNT], imax[3][S_COUNT];
         hz_accel_info_t info[3];
-        for (int b = 0; b < 3 && !status; b++) {
+        for (int b = 0; b < 3 && !status && !stopped; b++) {
             hz_arena_reset(&P->accel, a0);
             hz_accel_config_t cfg;
             hz_accel_config_default(&cfg);
@@ -635,7 +643,7 @@ static int motion_sweep(const hz_bench_motion_opts_t *o, const char *name, FILE 
             hz_accel_t *a = NULL;
             if (hz_accel_bytes_bound_geom(&g, &cfg).peak > hz_arena_available(&P->accel, 64)) {
                 printf("%10.4f %5u %s does not fit the accel arena: sweep stopped\n", (double)fo.interval, K, kname[b]);
-                status = -1;
+                stopped = true;
                 break;
             }
             if (hz_accel_build_native(&a, &g, &cfg, &P->accel, &err) != HZ_OK || hz_accel_refit(a, &err) != HZ_OK) {
@@ -655,26 +663,26 @@ static int motion_sweep(const hz_bench_motion_opts_t *o, const char *name, FILE 
             }
             hz_accel_release(a);
         }
-        if (status)
+        if (status || stopped)
             break;
         char m[3][40];
         for (int b = 0; b < 3; b += 2)
             snprintf(m[b], sizeof m[b], "%.0f%% / %.0f%%", 100.0 * isect[b][S_AO] / isect[1][S_AO],
                      100.0 * isect[b][S_SHADOW] / isect[1][S_SHADOW]);
-        printf("%10.4f %5u %18.3f %18.3f %18s %18s %9.2f %9.2f %8.2fx\n", (double)fo.interval, K, med, mean, m[0],
+        printf("%10.4f %5u %18s %18s %18s %18s %9.2f %9.2f %8.2fx\n", (double)fo.interval, K, t_med, t_mean, m[0],
                m[2], (double)info[0].sah_cost, (double)info[1].sah_cost,
                (double)info[0].ref_count / (double)info[1].ref_count);
         for (int b = 0; csv && b < 3; b++)
             for (int kind = 0; kind < S_COUNT; kind++)
-                fprintf(csv, "%s,%.6f,%u,%.4f,%.4f,%s,%s,%.3f,%.0f,%.1f,%.3f,%u\n", name, (double)fo.interval, K, med,
-                        mean, kname[b], secondary_name[kind], isect[b][kind], imax[b][kind],
+                fprintf(csv, "%s,%.6f,%u,%s,%s,%s,%s,%.3f,%.0f,%.1f,%.3f,%u\n", name, (double)fo.interval, K, c_med,
+                        c_mean, kname[b], secondary_name[kind], isect[b][kind], imax[b][kind],
                         100.0 * isect[b][kind] / isect[1][kind], (double)info[b].sah_cost, info[b].ref_count);
     }
     hz_arena_reset(&P->accel, a0);
     hz_arena_reset(&P->scene, s0);
     free_frame(&fr);
     fflush(stdout);
-    return status < 0 ? 0 : status;
+    return status;
 }
 
 static void with_defaults(hz_bench_motion_opts_t *o)
@@ -705,14 +713,6 @@ static void with_defaults(hz_bench_motion_opts_t *o)
     }
 }
 
-/* X.csv -> X-suffix.csv (the tables beside the main CSV) */
-static void beside(const char *csv_path, const char *suffix, char *buf, size_t size)
-{
-    const size_t n = strlen(csv_path);
-    const bool dot_csv = n >= 4 && !strcmp(csv_path + n - 4, ".csv");
-    snprintf(buf, size, "%.*s-%s.csv", (int)(dot_csv ? n - 4 : n), csv_path, suffix);
-}
-
 int hz_bench_motion(const hz_bench_motion_opts_t *opts, bool *swept)
 {
     *swept = false;
@@ -720,18 +720,10 @@ int hz_bench_motion(const hz_bench_motion_opts_t *opts, bool *swept)
     with_defaults(&o);
     /* Every scene is there before anything is measured: a missing one is named, not found half-way. */
     int missing = 0;
-    for (int i = 0; i <= o.scene_count; i++) {
-        const char *name = i < o.scene_count ? o.scenes[i] : o.sweep_scene;
-        char path[4096];
-        if (!name)
-            continue;
-        snprintf(path, sizeof path, "%s/%s.hzb", o.scenes_dir, name);
-        if (access(path, R_OK) != 0) {
-            hz_cli_error("bench: %sscene '%s' is missing: %s: %s", i < o.scene_count ? "" : "--motion-sweep: ", name,
-                         path, strerror(errno));
-            missing++;
-        }
-    }
+    for (int i = 0; i < o.scene_count; i++)
+        missing += !hz_bench_scene_present(o.scenes_dir, o.scenes[i], "");
+    if (o.sweep_scene)
+        missing += !hz_bench_scene_present(o.scenes_dir, o.sweep_scene, "--motion-sweep: ");
     if (missing) {
         hz_cli_error("bench: motion: %d scene%s missing (`make bench` bakes them; by hand: `make scenes`)", missing,
                      missing > 1 ? "s" : "");
@@ -757,7 +749,7 @@ int hz_bench_motion(const hz_bench_motion_opts_t *opts, bool *swept)
         if (i == MAIN)
             snprintf(path[i], sizeof path[i], "%s", o.csv_path);
         else
-            beside(o.csv_path, suffix[i], path[i], sizeof path[i]);
+            hz_bench_csv_beside(o.csv_path, suffix[i], path[i], sizeof path[i]);
         if (hz_out_open(&out[i], path[i], &err) != HZ_OK) {
             while (i-- > 0)
                 hz_out_abort(&out[i]);

@@ -1,9 +1,11 @@
 /* Shared by hzbench's scene groups (see bench_util.h). */
 #include "bench_util.h"
 
+#include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 #include <unistd.h>
 
 #include "cli.h"
@@ -91,4 +93,21 @@ void hz_bench_scene_list(const char **dir, const char **scenes, int *count, cons
             scenes[i] = defaults[i];
         *count = n;
     }
+}
+
+bool hz_bench_scene_present(const char *dir, const char *name, const char *label)
+{
+    char path[4096];
+    snprintf(path, sizeof path, "%s/%s.hzb", dir, name);
+    if (access(path, R_OK) == 0)
+        return true;
+    hz_cli_error("bench: %sscene '%s' is missing: %s: %s", label, name, path, strerror(errno));
+    return false;
+}
+
+void hz_bench_csv_beside(const char *csv, const char *suffix, char *buf, size_t size)
+{
+    const size_t n = strlen(csv);
+    const bool dot_csv = n >= 4 && !strcmp(csv + n - 4, ".csv");
+    snprintf(buf, size, "%.*s-%s.csv", (int)(dot_csv ? n - 4 : n), csv, suffix);
 }

@@ -16,10 +16,15 @@
  *  - hz_bench_open_named(dir, name, pools, scene, geom) re-initialises the pools, opens dir/name.hzb into them
  *    and makes its accel geometry view (in the scene arena); 0, or after printing the error (a missing scene
  *    names `make scenes`) the exit status to return.
+ *  - hz_bench_scene_present(dir, name, label): whether dir/name.hzb is readable; if not, prints "bench: <label>scene
+ *    'name' is missing: path: reason" (label "" or e.g. "--motion-sweep: "), so a group can name every missing
+ *    scene before it measures anything.
+ *  - hz_bench_csv_beside(csv, suffix, buf, size): the path of a table beside csv: X.csv (or X) -> X-suffix.csv.
  */
 #ifndef HZ_BENCH_UTIL_H
 #define HZ_BENCH_UTIL_H
 
+#include <stdbool.h>
 #include <stddef.h>
 
 #include "hz/accel.h"
@@ -37,5 +42,7 @@ int hz_bench_threads(int n);
 void hz_bench_scene_list(const char **dir, const char **scenes, int *count, const char *const *defaults, int n);
 int hz_bench_open_named(const char *dir, const char *name, hz_pools_t *pools, hz_scene_t *scene,
                         hz_accel_geom_t *geom);
+bool hz_bench_scene_present(const char *dir, const char *name, const char *label);
+void hz_bench_csv_beside(const char *csv, const char *suffix, char *buf, size_t size);
 
 #endif
