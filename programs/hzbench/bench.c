@@ -300,7 +300,7 @@ static hz_status_t write_curve(const char *csv, const hz_bench_transp_row_t *row
 
 /* The command line (opttab.h): the help is printed from this table. */
 enum { B_ONLY, B_CSV, B_MD, B_SCENES, B_ROUNDS, B_THREADS, B_RT_CSV, B_RT_SIZE, B_RT_FRAMES, B_RT_TWIN, B_RT_SCALING,
-       B_TD_SIZE, B_FRAMES, B_TP_CSV, B_TP_SIZE, B_TP_FRAMES, B_AD_CSV, B_SHUTTER, B_BLUR_SIZE, B_ACCEL_CSV, B_SCENE,
+       B_TD_SIZE, B_FRAMES, B_TP_CSV, B_TP_SIZE, B_TP_FRAMES, B_AD_CSV, B_AD_SIZE, B_SHUTTER, B_BLUR_SIZE, B_ACCEL_CSV, B_SCENE,
        B_SIZE, B_EMBREE, B_MO_CSV, B_MO_SCENE, B_MO_SIZE, B_MO_INTERVAL, B_MO_BUDGET, B_MO_SWEEP, B_CHECK_FIT };
 
 static const char *const group_words[] = { "kernels", "accel", "tdense", "transparency", "adaptive", "blur", "motion",
@@ -347,6 +347,8 @@ static const hz_opt_t options[] = {
       .id = B_TP_FRAMES, .help = "frames along the camera path (default 24)" },
     { .section = "adaptive", .name = "--adaptive-csv", .arg = "FILE", .kind = HZ_OPT_TEXT, .id = B_AD_CSV,
       .help = "its table as CSV" },
+    { .name = "--adaptive-size", .arg = "WxH", .kind = HZ_OPT_SIZE, .lo = 8, .hi = 8192, .id = B_AD_SIZE,
+      .help = "frame size (default 640x360; seed 003 measured at 1024x1024)" },
     { .section = "blur", .name = "--shutter", .arg = "S", .kind = HZ_OPT_REAL, .lo = 0, .hi = 1, .lo_open = true,
       .noun = "a fraction", .id = B_SHUTTER, .help = "the shutter's share of the frame interval (default 1)" },
     { .name = "--blur-size", .arg = "WxH", .kind = HZ_OPT_SIZE, .lo = 16, .hi = 8192, .id = B_BLUR_SIZE,
@@ -396,8 +398,10 @@ static const hz_opt_prog_t program = {
         "           alone (8-ray packets, no shading) and overhead = p50 / that; with --realtime-scaling the\n"
         "           speedup over 1 thread and efficiency = p50 on 1 thread / (threads x p50) (the goal is\n"
         "           >= 85% at 16 threads)\n"
-        "  adaptive fixed 9 spp against --mode adaptive (tau 0.3, 0.6, 1) at 640x360 on 2 threads (or\n"
-        "           --threads): presample / test / extra ms, live lanes per packet, PSNR vs 256 spp\n"
+        "  adaptive fixed 9 spp against --mode adaptive (tau 0.3, 0.6, 1, and 1 focused on the objects at\n"
+        "           the centre of the view) at 640x360 (or --adaptive-size) on 2 threads (or --threads):\n"
+        "           presample / test / extra ms, live lanes per packet, PSNR vs 256 spp, also over the focus\n"
+        "           objects' pixels\n"
         "  blur     motion blur in tdense: one MSBVH key interval and refit per 4-subframe cycle against\n"
         "           posing and refitting every subframe, on the built-in scene, sponza-rotated and furball-sway\n"
         "  accel    native BVH against Embree on the baked scenes\n"
@@ -456,6 +460,7 @@ static int take(void *ctx, const hz_opt_t *o, const hz_opt_val_t *v)
     case B_TP_SIZE: a->tp.width = (uint32_t)v->w, a->tp.height = (uint32_t)v->h; break;
     case B_TP_FRAMES: a->tp.frames = (uint32_t)v->n; break;
     case B_AD_CSV: a->ad.csv_path = v->s; break;
+    case B_AD_SIZE: a->ad.width = (uint32_t)v->w, a->ad.height = (uint32_t)v->h; break;
     case B_SHUTTER: a->bo.shutter = (float)v->x; break;
     case B_BLUR_SIZE: a->bo.width = (uint32_t)v->w, a->bo.height = (uint32_t)v->h; break;
     case B_ACCEL_CSV: a->ao.csv_path = v->s; break;
@@ -790,29 +795,42 @@ int main(int argc, char **argv)
     }
     if (adaptive) {
         hz_error_t err;
-        hz_bench_adaptive_row_t arows[16];
+        hz_bench_adaptive_row_t arows[HZ_BENCH_ADAPTIVE_MAX_ROWS];
         ad.progress = hz_cli_stderr_is_tty();
         printf("\nadaptive supersampling vs fixed 9 spp: %ux%u, %d threads, %u frames after %u at t = %.1f s, median of "
                "%d rounds; PSNR against %u spp\n", ad.width, ad.height, ad.threads, ad.frames, ad.warm, ad.t,
                ad.rounds, ad.ref_spp);
-        int na = hz_bench_adaptive(&ad, arows, 16, &err);
+        int na = hz_bench_adaptive(&ad, arows, HZ_BENCH_ADAPTIVE_MAX_ROWS, &err);
         if (na < 0)
             return hz_cli_report(&err);
-        printf("%-18s %-10s %5s %9s %9s %8s %9s %8s %7s %9s %8s\n", "scene", "method", "tau", "ms", "presample",
-               "test", "extra", "rays/px", "lanes", "PSNR dB", "vs 9spp");
+        printf("%-18s %-14s %5s %9s %9s %8s %9s %8s %7s %9s %8s %9s\n", "scene", "method", "tau", "ms", "presample",
+               "test", "extra", "rays/px", "lanes", "PSNR dB", "vs 9spp", "focus dB");
         for (int k = 0; k < na; k++) {
             const hz_bench_adaptive_row_t *a = &arows[k];
-            const hz_bench_adaptive_row_t *f9 = &arows[k - k % (1 + HZ_BENCH_ADAPTIVE_TAUS)];
+            const hz_bench_adaptive_row_t *f9 = &arows[k - k % HZ_BENCH_ADAPTIVE_METHODS];
+            if (k % HZ_BENCH_ADAPTIVE_METHODS == 0) {
+                printf("%s focus objects:", a->scene);
+                for (uint32_t i = 0; i < a->focus_count; i++)
+                    printf("%s%u", i ? "," : " ", (unsigned)a->focus[i]);
+                if (a->focus_count)
+                    printf(" (%.1f%% of the frame)\n", 100.0 * a->focus_share);
+                else
+                    printf(" none (the centre of the frame shows only background): no focused row\n");
+            }
+            if (isnan(a->ms))
+                continue;
             if (isnan(a->tau))
-                printf("%-18s %-10s %5s %9.2f %9.2f %8s %9s %8.3f %7s %9.2f %8s\n", a->scene, a->method, "", a->ms,
-                       a->pass_ms[0], "", "", a->rays_per_pixel, "", a->psnr_srgb8_db, "1.00x");
+                printf("%-18s %-14s %5s %9.2f %9.2f %8s %9s %8.3f %7s %9.2f %8s %9.2f\n", a->scene, a->method, "",
+                       a->ms, a->pass_ms[0], "", "", a->rays_per_pixel, "", a->psnr_srgb8_db, "1.00x",
+                       a->focus_psnr_srgb8_db);
             else
-                printf("%-18s %-10s %5.2f %9.2f %9.2f %8.2f %9.2f %8.3f %7.2f %9.2f %7.2fx\n", a->scene, a->method,
-                       a->tau, a->ms, a->pass_ms[0], a->pass_ms[1], a->pass_ms[2], a->rays_per_pixel,
-                       a->lanes_per_packet, a->psnr_srgb8_db, a->ms / f9->ms);
+                printf("%-18s %-14s %5.2f %9.2f %9.2f %8.2f %9.2f %8.3f %7.2f %9.2f %7.2fx %9.2f\n", a->scene,
+                       a->method, a->tau, a->ms, a->pass_ms[0], a->pass_ms[1], a->pass_ms[2], a->rays_per_pixel,
+                       a->lanes_per_packet, a->psnr_srgb8_db, a->ms / f9->ms, a->focus_psnr_srgb8_db);
         }
         printf("(vs 9spp: time against fixed 9 spp in the same run; seed 003 reports 2-3x faster at 1024x1024 on a "
-               "GTX 280)\n");
+               "GTX 280, 2.7x its fixed 9 spp's frame rate focused on one character; focus dB: PSNR over the pixels "
+               "that show the focus objects)\n");
         if (ad.csv_path)
             printf("wrote %s\n", ad.csv_path);
     }
@@ -864,10 +882,11 @@ int main(int argc, char **argv)
              rt.rounds);
     sec[5] = (md_section_t){ adaptive && ad.csv_path, "Adaptive supersampling (seed 003)", "", ad.csv_path, { { 0 } },
                              { 0 }, 1 };
-    snprintf(sec[5].what, sizeof sec[5].what, "Fixed 9 spp against --mode adaptive at several tau, %ux%u, %d "
-             "threads, one frame at t = %.1f s, median of %d interleaved rounds: ms split into presample, subpixel "
-             "test and extra samples, camera rays per pixel, live lanes per extra packet, PSNR (sRGB 8-bit) "
-             "against %u spp (hzbench --only adaptive)", ad.width, ad.height, ad.threads, (double)ad.t, ad.rounds,
+    snprintf(sec[5].what, sizeof sec[5].what, "Fixed 9 spp against --mode adaptive at several tau and at tau 1 "
+             "focused on the objects at the centre of the view, %ux%u, %d threads, one frame at t = %.1f s, median "
+             "of %d interleaved rounds: ms split into presample, subpixel test and extra samples, camera rays per "
+             "pixel, live lanes per extra packet, PSNR (sRGB 8-bit) against %u spp over the frame and over the focus "
+             "objects' pixels (hzbench --only adaptive)", ad.width, ad.height, ad.threads, (double)ad.t, ad.rounds,
              ad.ref_spp);
     sec[6] = (md_section_t){ accel && ao.csv_path, "Ray queries: native BVH against Embree", "", ao.csv_path,
                              { { "what", primary, false, accel_keys, "method", "value" },

@@ -68,7 +68,12 @@ static void opts_for(const hz_et_render_params_t *p, uint32_t w, uint32_t h, hz_
     o->taa_catmull_rom = p->taa_catmull_rom;
     o->seed = p->seed;
     if (p->mode == HZ_MODE_ADAPTIVE) {
-        o->adaptive.tau[HZ_TAU_COL] = o->adaptive.tau[HZ_TAU_PTE] = o->adaptive.tau[HZ_TAU_STE] = p->adaptive_tau;
+        if (p->adaptive_knob == HZ_ET_TAU_COL_ONLY)
+            for (int k = 0; k < HZ_TAU_COUNT; k++)
+                o->adaptive.tau[k] = 1.0f; /* 1 switches an attribute off (hz_amask) */
+        o->adaptive.tau[HZ_TAU_COL] = p->adaptive_tau;
+        if (p->adaptive_knob == HZ_ET_TAU_ALPHA)
+            o->adaptive.tau[HZ_TAU_PTE] = o->adaptive.tau[HZ_TAU_STE] = p->adaptive_tau;
         o->adaptive.bilinear = p->adaptive_bilinear;
     }
     o->transparency = p->transparency;
@@ -175,6 +180,11 @@ static const hz_et_render_params_t p_ad01 = ADAPTIVE(0.1f), p_ad03 = ADAPTIVE(0.
 #define ADAPTIVE_BILINEAR(t) { .mode = HZ_MODE_ADAPTIVE, .spp = 1, .adaptive_tau = t, .adaptive_bilinear = true }
 static const hz_et_render_params_t p_ab01 = ADAPTIVE_BILINEAR(0.1f), p_ab03 = ADAPTIVE_BILINEAR(0.3f),
                                    p_ab06 = ADAPTIVE_BILINEAR(0.6f);
+#define FIG7(knob, t) { .mode = HZ_MODE_ADAPTIVE, .spp = 1, .adaptive_tau = t, .adaptive_knob = knob }
+static const hz_et_render_params_t p_co01 = FIG7(HZ_ET_TAU_COL_ONLY, 0.1f), p_co02 = FIG7(HZ_ET_TAU_COL_ONLY, 0.2f),
+                                   p_co03 = FIG7(HZ_ET_TAU_COL_ONLY, 0.3f), p_co04 = FIG7(HZ_ET_TAU_COL_ONLY, 0.4f);
+static const hz_et_render_params_t p_mm01 = FIG7(HZ_ET_TAU_COL, 0.1f), p_mm02 = FIG7(HZ_ET_TAU_COL, 0.2f),
+                                   p_mm03 = FIG7(HZ_ET_TAU_COL, 0.3f), p_mm04 = FIG7(HZ_ET_TAU_COL, 0.4f);
 /* The reference: 256 stratified samples with a seed no method uses. */
 static const hz_et_render_params_t p_ref = { .mode = HZ_MODE_FULL, .spp = 256, .seed = 0x5eed };
 
@@ -201,6 +211,14 @@ const hz_et_method_t hz_et_render_methods[HZ_ET_RENDER_METHOD_COUNT] = {
     METHOD("adaptive-bilinear", "tau", 0.1, &p_ab01),  /* seed 003 section 6: inactive subpixels interpolated */
     METHOD("adaptive-bilinear", "tau", 0.3, &p_ab03),
     METHOD("adaptive-bilinear", "tau", 0.6, &p_ab06),
+    METHOD("adaptive-colour-only", "tau-col", 0.1, &p_co01), /* seed 003 Fig. 7, first row */
+    METHOD("adaptive-colour-only", "tau-col", 0.2, &p_co02),
+    METHOD("adaptive-colour-only", "tau-col", 0.3, &p_co03),
+    METHOD("adaptive-colour-only", "tau-col", 0.4, &p_co04),
+    METHOD("adaptive-multiple", "tau-col", 0.1, &p_mm01),    /* Fig. 7, second row */
+    METHOD("adaptive-multiple", "tau-col", 0.2, &p_mm02),
+    METHOD("adaptive-multiple", "tau-col", 0.3, &p_mm03),
+    METHOD("adaptive-multiple", "tau-col", 0.4, &p_mm04),
 };
 
 /* Motion blur (see et_render.h). */

@@ -40,13 +40,21 @@ typedef struct hz_et_env {
     uint32_t threads;      /* render threads; 0 = one per online CPU (capped at HZ_MAX_THREADS) */
 } hz_et_env_t;
 
+/* Which of adaptive supersampling's nine thresholds (hz_tau_t) a method's knob sets; 0 is tau_alpha. */
+typedef enum hz_et_adaptive_knob {
+    HZ_ET_TAU_ALPHA = 0,   /* tau_col = tau_pte = tau_ste (Table 2's tau_alpha); the geometric ones Table 2's */
+    HZ_ET_TAU_COL,         /* tau_col alone; the other eight Table 2's (Fig. 7, multiple measures) */
+    HZ_ET_TAU_COL_ONLY     /* tau_col; the other eight 1, switched off (Fig. 7, colour measure only) */
+} hz_et_adaptive_knob_t;
+
 typedef struct hz_et_render_params {
     hz_render_mode_t mode; /* full, taa, tdense */
     uint32_t spp;         /* full mode */
     bool taa_clip;        /* TAA: clip towards the box centre instead of clamping per channel */
     bool taa_catmull_rom; /* TAA: history fetched with Catmull-Rom instead of bilinear */
     uint32_t seed;
-    float adaptive_tau;   /* adaptive: tau_col = tau_pte = tau_ste (the paper's tau_alpha); the rest Table 2's */
+    float adaptive_tau;   /* adaptive: the thresholds adaptive_knob names take it; the rest Table 2's */
+    hz_et_adaptive_knob_t adaptive_knob;
     bool adaptive_bilinear; /* adaptive: inactive subpixels interpolated (hz_adaptive_opts_t.bilinear) */
     hz_transp_t transparency; /* blended surfaces (hz/dither.h); 0 = exact */
     float hybrid_x;
@@ -57,9 +65,11 @@ typedef struct hz_et_render_params {
     hz_accel_rigid_t rigid; /* native: rigid objects as instances (default) or refitted with the rest */
 } hz_et_render_params_t;
 
-/* The renderer's methods (full-frame, TAA, adaptive supersampling at tau_alpha 0.1, 0.3, 0.6 and 1, and with
- * bilinear inactive subpixels at 0.1, 0.3 and 0.6; later modes add rows here) and the 256-spp reference. */
-#define HZ_ET_RENDER_METHOD_COUNT 15
+/* The renderer's methods (full-frame, TAA, adaptive supersampling at tau_alpha 0.1, 0.3, 0.6 and 1, with
+ * bilinear inactive subpixels at 0.1, 0.3 and 0.6, and seed 003's Fig. 7 pair at tau_col 0.1, 0.2, 0.3 and 0.4:
+ * adaptive-colour-only (every geometry attribute off) and adaptive-multiple (Table 2's attribute thresholds);
+ * later modes add rows here) and the 256-spp reference. */
+#define HZ_ET_RENDER_METHOD_COUNT 23
 extern const hz_et_method_t hz_et_render_methods[HZ_ET_RENDER_METHOD_COUNT];
 extern const hz_et_method_t hz_et_render_reference;
 

@@ -124,6 +124,46 @@ hz_status_t hz_et_write_csv(const char *path, const hz_et_row_t *rows, size_t n,
 
 /* ---- Markdown ---- */
 
+/* Seed 003's Fig. 7 for one scene: the colour-only and multiple-measures rows paired by their tau_col, with the
+ * paper's "sample ratio" (camera rays against fixed 16 spp's). Nothing when the scene lacks either family. */
+static void print_fig7(FILE *f, const hz_et_row_t *rows, size_t n, const char *scene)
+{
+    static const char *const fam[2] = { "adaptive-colour-only", "adaptive-multiple" };
+    bool any[2] = { false, false };
+    for (size_t i = 0; i < n; i++)
+        for (int k = 0; k < 2; k++)
+            any[k] = any[k] || (!strcmp(rows[i].scene, scene) && !strcmp(rows[i].method, fam[k]));
+    if (!any[0] || !any[1])
+        return;
+    fprintf(f, "\nSeed 003 Fig. 7, the colour measure alone against multiple measures (sample ratio: camera rays "
+               "against fixed 16 spp's):\n\n");
+    fprintf(f, "| tau-col | colour only: sample ratio | PSNR sRGB8 dB | mean FLIP | ms/frame | "
+               "multiple: sample ratio | PSNR sRGB8 dB | mean FLIP | ms/frame |\n");
+    fprintf(f, "|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+    for (size_t i = 0; i < n; i++) {
+        if (strcmp(rows[i].scene, scene) != 0 || strcmp(rows[i].method, fam[0]) != 0)
+            continue;
+        const hz_et_row_t *pair[2] = { &rows[i], NULL };
+        for (size_t j = 0; j < n && !pair[1]; j++)
+            if (!strcmp(rows[j].scene, scene) && !strcmp(rows[j].method, fam[1]) && rows[j].value == rows[i].value)
+                pair[1] = &rows[j];
+        char b[48];
+        fprintf(f, "| %s", num(b, sizeof b, "%g", rows[i].value));
+        for (int k = 0; k < 2; k++) {
+            const hz_et_row_t *r = pair[k];
+            if (!r) {
+                fputs(" | - | - | - | -", f);
+                continue;
+            }
+            fprintf(f, " | %s%%", num(b, sizeof b, "%.2f", 100.0 * r->camera_rays_per_pixel / 16.0));
+            fprintf(f, " | %s", num(b, sizeof b, "%.2f", r->psnr_srgb8));
+            fprintf(f, " | %s", num(b, sizeof b, "%.4f", r->flip));
+            fprintf(f, " | %s", num(b, sizeof b, "%.3f", r->ms_median));
+        }
+        fputs(" |\n", f);
+    }
+}
+
 void hz_et_print_markdown(FILE *f, const hz_et_row_t *rows, size_t n)
 {
     for (size_t i = 0; i < n; i++) {
@@ -166,6 +206,7 @@ void hz_et_print_markdown(FILE *f, const hz_et_row_t *rows, size_t n)
                     num(b[9], 48, "%.2f", r->di_psnr_srgb8), rpp[0], rpp[1], r->pareto_flip ? "FLIP" : "",
                     r->pareto_flip && r->pareto_psnr ? ", " : "", r->pareto_psnr ? "PSNR" : "");
         }
+        print_fig7(f, rows, n, h->scene);
     }
 }
 

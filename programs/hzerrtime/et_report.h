@@ -8,7 +8,9 @@
  *    stays on the front; rows with a NaN coordinate never are.
  *  - CSV: a header line, then one line per row, columns as in HZ_ET_CSV_HEADER; numbers in C locale; infinite
  *    PSNR is written "inf"; text fields are quoted when they hold a comma, quote or newline.
- *  - Markdown: per scene, a "### scene" heading with the sequence, then one table with a line per row.
+ *  - Markdown: per scene, a "### scene" heading with the sequence, then one table with a line per row; where the
+ *    scene has rows of both adaptive-colour-only and adaptive-multiple, a second table pairs them by tau-col
+ *    (seed 003's Fig. 7: sample ratio against 16 spp, PSNR, FLIP, time; "-" where a pair lacks its partner).
  *  - SVG: one chart for one scene, two panels side by side: mean FLIP (lower is better) and PSNR on sRGB 8-bit
  *    (higher is better) against ms per displayed frame (median) on a log axis; one polyline per method through
  *    its settings in knob order, each point labelled with its knob value; Pareto-front points ringed and joined

@@ -442,6 +442,17 @@ if [ -n "$hzbench" ]; then
             $2 != last { if (last != "" && !($4 > med)) ok = 0; if (last != "" && k < 3 && ($4 < 1.8 * med || $4 > 2.2 * med)) ok = 0
                          if (last != "") k++; last = $2; med = $4 }
             END { exit !(ok && n == 42) }' "$tmp/mo-sweep.csv"
+        # The adaptive group, small: per scene fixed 9 spp (9 camera rays a pixel), adaptive at three tau and at tau 1
+        # focused on the objects at the centre of the view, which takes no more rays than tau 1 unfocused (the focus
+        # only takes attribute disagreements away, so every threshold can only grow) and names its objects.
+        expect bench-adaptive 0 "focus objects: [0-9]" "$hzbench" --only adaptive --scenes "$HZ_SCENES_DIR" \
+            --adaptive-size 48x32 --rounds 1 --adaptive-csv "$tmp/ad.csv"
+        ok bench-adaptive-csv awk -F, 'NR == 1 { ok = $11 == "focus_objects" && $13 == "focus_psnr_srgb8_db"; next }
+            { n++ }
+            $2 == "full-9spp" && $8 != "9.0000" { ok = 0 }
+            $2 == "adaptive" && $3 == "1.00" { r1[$1] = $8 }
+            $2 == "adaptive-focus" && $4 != "" { f++; if (!($1 in r1) || $8 > r1[$1] || $11 == "" || !($12 > 0)) ok = 0 }
+            END { exit !(ok && n >= 5 && n % 5 == 0 && f >= 1) }' "$tmp/ad.csv"
     fi
     expect bench-check-fit-refuses 66 "tdense + taa 8192x8192 *frame .*DOES NOT FIT" "$hzbench" --check-fit \
         --only tdense --tdense-size 8192x8192

@@ -328,6 +328,74 @@ static void test_adaptive_rows_and_scene_file(void **state)
     assert_true(rows[2].psnr_srgb8 > rows[0].psnr_srgb8);
 }
 
+/* Seed 003's Fig. 7 pair on CornellBox-Mirror, which has no textures: with the geometry attributes on, a subpixel's
+ * threshold is the smallest disagreeing attribute's (0.05 or 0.06, Table 2) or else tau_col, never more than
+ * tau_col, which is the colour-only family's threshold everywhere; Mitchell's test is monotone in its threshold, so
+ * at every tau_col "multiple" activates every subpixel "colour only" does (as many camera rays or more), and in each
+ * family a larger tau_col never adds rays. The Markdown pairs the two by tau_col, one line each. */
+static void test_fig7_colour_only_and_multiple(void **state)
+{
+    (void)state;
+    const char *dir = scene_dir();
+    if (!dir)
+        skip();
+    const hz_et_scene_t *sc = hz_et_scene_find("CornellBox-Mirror");
+    hz_et_env_t env = { dir, 2 };
+    hz_et_sequence_t seq = { sc->name, 0, NULL, NULL, 40, 24, ET_FRAMES, 0, 240, NULL };
+    hz_error_t err;
+    if (sc->open(sc, &env, &seq, &arena, &err) != HZ_OK)
+        fail_msg("%s", err.msg);
+    hz_et_method_t m[HZ_ET_RENDER_METHOD_COUNT];
+    size_t n = 0;
+    for (size_t i = 0; i < sc->method_count; i++)
+        if (!strcmp(sc->methods[i].name, "adaptive-colour-only") || !strcmp(sc->methods[i].name, "adaptive-multiple"))
+            m[n++] = sc->methods[i];
+    assert_int_equal(n, 8);
+    hz_et_config_t cfg = { cache, HZ_FLIP_DEFAULT_PPD, &arena, NULL, false, NULL };
+    hz_et_row_t rows[HZ_ET_RENDER_METHOD_COUNT];
+    hz_status_t s = hz_et_run(&seq, sc->reference, m, n, &cfg, rows, &err);
+    sc->close();
+    if (s != HZ_OK)
+        fail_msg("%s", err.msg);
+    for (size_t i = 0; i < 4; i++) {
+        const hz_et_row_t *c = &rows[i], *mm = &rows[4 + i];
+        print_message("tau-col %.1f: colour only %.3f rays/px %.2f dB, multiple %.3f rays/px %.2f dB\n", c->value,
+                      c->camera_rays_per_pixel, c->psnr_srgb8, mm->camera_rays_per_pixel, mm->psnr_srgb8);
+        assert_string_equal(c->knob, "tau-col");
+        assert_true(c->value == mm->value);
+        assert_true(c->camera_rays_per_pixel >= 1.0 && mm->camera_rays_per_pixel <= 17.0);
+        assert_true(mm->camera_rays_per_pixel >= c->camera_rays_per_pixel);
+        if (i) {
+            assert_true(c->camera_rays_per_pixel <= rows[i - 1].camera_rays_per_pixel);
+            assert_true(mm->camera_rays_per_pixel <= rows[4 + i - 1].camera_rays_per_pixel);
+        }
+    }
+    assert_true(rows[0].camera_rays_per_pixel > 1.0); /* the strictest colour threshold finds the box's edges */
+    FILE *f = tmpfile();
+    assert_non_null(f);
+    hz_et_print_markdown(f, rows, n);
+    rewind(f);
+    char line[1024];
+    int fig7 = 0, paired = 0;
+    while (fgets(line, sizeof line, f)) {
+        fig7 += strstr(line, "Fig. 7") != NULL;
+        paired += !strncmp(line, "| 0.", 4) && !strstr(line, "adaptive") && !strstr(line, " - ");
+    }
+    fclose(f);
+    assert_int_equal(fig7, 1);
+    assert_int_equal(paired, 4);
+    /* Without one family the pairing table is left out. */
+    f = tmpfile();
+    assert_non_null(f);
+    hz_et_print_markdown(f, rows, 4);
+    rewind(f);
+    fig7 = 0;
+    while (fgets(line, sizeof line, f))
+        fig7 += strstr(line, "Fig. 7") != NULL;
+    fclose(f);
+    assert_int_equal(fig7, 0);
+}
+
 /* The operating-point search (et_search.h) on CornellBox-Mirror, with the target PSNR set by hand so that each
  * branch runs: a target every threshold reaches (tau 1, one probe), one none reaches (tau 1 and the smallest,
  * reached false) and one between the two (the bisection). Whatever the PSNR does between probes, the answer is
@@ -436,6 +504,7 @@ int main(void)
         cmocka_unit_test(test_missing_scene_is_refused_and_pools_given_back),
         cmocka_unit_test(test_adaptive_rows_and_scene_file),
         cmocka_unit_test(test_adaptive_search_brackets),
+        cmocka_unit_test(test_fig7_colour_only_and_multiple),
     };
     return HZ_RUN_GROUP(tests, setup, teardown);
 }
