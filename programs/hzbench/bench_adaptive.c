@@ -132,6 +132,7 @@ static hz_status_t bench_scene(const char *label, const char *path, const hz_ben
     uint16_t focus[HZ_AMASK_MAX_FOCUS];
     uint32_t nfocus = 0;
     uint8_t *mask = NULL; /* pixels whose reference primary hit is a focus object */
+    size_t in_mask = 0;
     hz_status_t s = hz_bench_scene_open(&bs, path, err);
     hz_pools_t *pools = bs.pools;
     /* The reference first, from the frame arena, given back before the methods' renderers. */
@@ -155,7 +156,7 @@ static hz_status_t bench_scene(const char *label, const char *path, const hz_ben
             const hz_gbuffer_t *gb = hz_render_gbuffer(rr);
             nfocus = pick_focus(gb, focus);
             for (size_t p = 0; p < hz_image_pixels(&ref) && nfocus; p++)
-                mask[p] = in_focus(gb->object[p], focus, nfocus);
+                in_mask += mask[p] = in_focus(gb->object[p], focus, nfocus);
         }
         hz_bench_scene_reset_frames(&bs);
     }
@@ -201,10 +202,7 @@ static hz_status_t bench_scene(const char *label, const char *path, const hz_ben
         row->tau = m == FOCUS ? 1.0 : m ? (double)taus[m - 1] : NAN;
         row->focus_count = nfocus;
         memcpy(row->focus, focus, nfocus * sizeof *focus);
-        row->focus_share = 0;
-        for (size_t p = 0; p < hz_image_pixels(&ref); p++)
-            row->focus_share += mask[p];
-        row->focus_share /= (double)hz_image_pixels(&ref);
+        row->focus_share = (double)in_mask / (double)hz_image_pixels(&ref);
         if (m >= methods) { /* left out: no focus objects */
             row->ms = row->rays_per_pixel = row->lanes_per_packet = row->psnr_srgb8_db = NAN;
             row->focus_psnr_srgb8_db = NAN;
