@@ -337,7 +337,9 @@ typedef struct summary {
     uint32_t tris;
     double ratio[K_COUNT][2];     /* best native SIMD / Embree's best at isa=avx2 (the goal's) */
     double ratio_any[K_COUNT][2]; /* best native SIMD / Embree's best at any ISA */
-    double build[2]; /* build time native / Embree medium at 1 thread, native / Embree high at the pool's count */
+    /* build time native / Embree medium at 1 thread, native / Embree high at the pool's count, and the native
+     * binned SAH build (no spatial splits: what Embree's medium build is) / Embree medium at 1 thread */
+    double build[3];
 } summary_t;
 
 static int bench_scene(const hz_bench_accel_opts_t *o, const char *name, FILE *csv, summary_t *sum)
@@ -355,19 +357,31 @@ static int bench_scene(const hz_bench_accel_opts_t *o, const char *name, FILE *c
     /* builds, interleaved: native on this thread and on the pool (the same tree), Embree's medium (its default,
      * binned SAH) and high (spatial splits) builds with threads=1 and threads=N (N = the pool's size), so each
      * pair is at the same thread count. Goals: native on one thread within 2x of Embree medium on one thread, and
-     * native on N threads within 2x of Embree high on N threads. */
+     * native on N threads within 2x of Embree high on N threads. The native binned SAH build (spatial splits
+     * off) on one thread is timed with them: Embree medium's like for like. */
     const int build_rounds = g.tri_count > 1000000 ? 1 : 3;
     const int nthr = hz_threads_count();
-    double tn1[3], tnn[3], te[2][2][3]; /* [quality medium, high][threads 1, N][round] */
+    double tn1[3], tnn[3], tb1[3], te[2][2][3]; /* te: [quality medium, high][threads 1, N][round] */
+    float binned_sah = 0.0f;
     size_t native_bytes = 0, embree_bytes = 0;
     hz_accel_t *a = NULL;
     hz_arena_mark_t m0 = hz_arena_mark(&P->accel);
     hz_accel_config_t pcfg;
     hz_accel_config_default(&pcfg);
     hz_threads_accel_hook(&pcfg);
+    hz_accel_config_t bcfg;
+    hz_accel_config_default(&bcfg);
+    bcfg.spatial_splits = false;
     for (int r = 0; r < build_rounds; r++) {
+        /* first the binned build, so that the tree the rays below use is the last one built (the default) */
         hz_arena_reset(&P->accel, m0);
         int64_t t0 = hz_clock_ns();
+        if (hz_accel_build_native(&a, &g, &bcfg, &P->accel, &err) != HZ_OK)
+            return hz_cli_report(&err);
+        tb1[r] = (double)(hz_clock_ns() - t0) * 1e-9;
+        binned_sah = a->info.sah_cost;
+        hz_arena_reset(&P->accel, m0);
+        t0 = hz_clock_ns();
         if (hz_accel_build_native(&a, &g, NULL, &P->accel, &err) != HZ_OK)
             return hz_cli_report(&err);
         tn1[r] = (double)(hz_clock_ns() - t0) * 1e-9;
@@ -406,14 +420,16 @@ static int bench_scene(const hz_bench_accel_opts_t *o, const char *name, FILE *c
 #endif
             }
     }
-    double bn1, bnn, be[2][2], dummy1, dummy2;
+    double bn1, bnn, bb1, be[2][2], dummy1, dummy2;
     stats(tn1, build_rounds, &bn1, &dummy1, &dummy2);
+    stats(tb1, build_rounds, &bb1, &dummy1, &dummy2);
     stats(tnn, build_rounds, &bnn, &dummy1, &dummy2);
     for (int q = 0; q < 2; q++)
         for (int t = 0; t < 2; t++)
             stats(te[q][t], build_rounds, &be[q][t], &dummy1, &dummy2);
     sum->build[0] = be[0][0] > 0.0 ? bn1 / be[0][0] : 0.0; /* vs medium, 1 thread */
     sum->build[1] = be[1][1] > 0.0 ? bnn / be[1][1] : 0.0; /* vs high, N threads */
+    sum->build[2] = be[0][0] > 0.0 ? bb1 / be[0][0] : 0.0; /* binned vs medium, 1 thread */
     hz_accel_t *e = NULL, *ea = NULL; /* Embree at its default ISA (or --embree-config), and at isa=avx2 */
 #if defined(HZ_HAVE_EMBREE)
     if (hz_accel_build_embree(&e, &g, NULL, o->embree_config, &P->accel, &err) != HZ_OK ||
@@ -426,10 +442,13 @@ static int bench_scene(const hz_bench_accel_opts_t *o, const char *name, FILE *c
     printf("build    1 thread: native %.3f s, embree medium %.3f s, high %.3f s; %d threads: native %.3f s, embree "
            "medium %.3f s, high %.3f s; native/medium 1 thread %.2f, native/high %d threads %.2f\n", bn1, be[0][0],
            be[1][0], nthr, bnn, be[0][1], be[1][1], sum->build[0], nthr, sum->build[1]);
+    printf("build    native binned SAH (no spatial splits) 1 thread %.3f s, SAH %.2f; over embree medium 1 thread %.2f\n",
+           bb1, (double)binned_sah, sum->build[2]);
     if (csv) {
         static const char *qn[2] = { "medium", "high" };
         fprintf(csv, "%s,%u,build,1,native,%.4f,,,s\n", name, g.tri_count, bn1);
         fprintf(csv, "%s,%u,build,%d,native,%.4f,,,s\n", name, g.tri_count, nthr, bnn);
+        fprintf(csv, "%s,%u,build,1,native binned,%.4f,,,s\n", name, g.tri_count, bb1);
         for (int q = 0; q < 2; q++) {
             fprintf(csv, "%s,%u,build,1,embree %s,%.4f,,,s\n", name, g.tri_count, qn[q], be[q][0]);
             fprintf(csv, "%s,%u,build,%d,embree %s,%.4f,,,s\n", name, g.tri_count, nthr, qn[q], be[q][1]);
@@ -439,6 +458,8 @@ static int bench_scene(const hz_bench_accel_opts_t *o, const char *name, FILE *c
                     sum->build[0]);
             fprintf(csv, "%s,%u,build,%d,ratio native/embree high,%.3f,,,time ratio\n", name, g.tri_count, nthr,
                     sum->build[1]);
+            fprintf(csv, "%s,%u,build,1,ratio native binned/embree medium,%.3f,,,time ratio\n", name, g.tri_count,
+                    sum->build[2]);
         }
         fprintf(csv, "%s,%u,memory,,native,%.2f,,,bytes/triangle\n", name, g.tri_count,
                 (double)native_bytes / g.tri_count);
@@ -700,7 +721,8 @@ int hz_bench_accel(const hz_bench_accel_opts_t *opts)
         if (!table)
             printf("\nnative/embree at equal ISA (best native SIMD over Embree's best with isa=avx2, Mrays/s; goals "
                    "primary >= 1.5, shadow >= 1.2, diffuse >= 1.0)\nbuild: time, native on 1 thread over Embree "
-                   "medium on 1 thread, native on %d over Embree high (spatial splits) on %d; goal <= 2\n",
+                   "medium on 1 thread, native on %d over Embree high (spatial splits) on %d; goal <= 2; binned-1: the\n"
+                   "native binned SAH build (no spatial splits) on 1 thread over Embree medium on 1 thread\n",
                    hz_threads_count(), hz_threads_count());
         else
             printf("\nnative/embree at any ISA (Embree's best at its default ISA or isa=avx2)\n");
@@ -708,7 +730,7 @@ int hz_bench_accel(const hz_bench_accel_opts_t *opts)
         for (int k = 0; k < K_COUNT; k++)
             printf(" %9s-1 %9s-%d", kind_name[k], kind_name[k], hz_threads_count());
         if (!table)
-            printf(" %9s-1 %9s-%d", "build", "build", hz_threads_count());
+            printf(" %9s-1 %9s-%d %8s-1", "build", "build", hz_threads_count(), "binned");
         printf("\n");
         for (int i = 0; i < done; i++) {
             printf("%-14s %9u", sums[i].name, sums[i].tris);
@@ -716,7 +738,7 @@ int hz_bench_accel(const hz_bench_accel_opts_t *opts)
                 for (int t = 0; t < 2; t++)
                     printf(" %11.2f", table ? sums[i].ratio_any[k][t] : sums[i].ratio[k][t]);
             if (!table)
-                printf(" %11.2f %11.2f", sums[i].build[0], sums[i].build[1]);
+                printf(" %11.2f %11.2f %10.2f", sums[i].build[0], sums[i].build[1], sums[i].build[2]);
             printf("\n");
         }
     }

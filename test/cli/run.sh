@@ -427,6 +427,15 @@ if [ -n "$hzbench" ]; then
     # nothing built), and the check refuses a group that would not: a frame no frame arena holds.
     if [ -n "${HZ_SCENES_DIR:-}" ]; then
         expect bench-check-fit 0 "^fit: [0-9]* checks, 0 do not fit" "$hzbench" --check-fit --scenes "$HZ_SCENES_DIR"
+        # The accel group times the native binned SAH build (spatial splits off) next to Embree's medium build:
+        # its time, and where Embree is built in, the ratio of the two in the CSV and the summary's binned-1 column.
+        expect bench-accel-binned 0 "^build    native binned SAH (no spatial splits) 1 thread [0-9.]* s, SAH [0-9.]*" \
+            env HZ_BENCH_ONLY=primary:tile-256 "$hzbench" --only accel --scenes "$HZ_SCENES_DIR" --scene dragon-res4 \
+            --rounds 1 --threads 1 --size 32x32 --accel-csv "$tmp/acc.csv"
+        ok bench-accel-binned-csv awk -F, '$3 == "build" && $5 == "native binned" && $6 > 0 { t = 1 }
+            $3 == "build" && $5 == "embree medium" && $6 > 0 { e = 1 }
+            $3 == "build" && $5 == "ratio native binned/embree medium" && $6 > 0 { r = 1 }
+            END { exit !(t && (!e || r)) }' "$tmp/acc.csv"
         # The motion-size sweep: a missing sweep scene is named before anything is measured; on the skinned
         # tentacles (smooth motion) the sweep writes 7 intervals x 3 BVHs x 2 secondary rays, the interpolated BVH
         # is its own 100%, and for the short intervals triangles move twice as far when the shutter is twice as
