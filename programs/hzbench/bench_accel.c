@@ -342,6 +342,17 @@ typedef struct summary {
     double build[3];
 } summary_t;
 
+/* One native build of g with cfg (NULL: defaults) in the accel arena reset to m0; *secs its time. */
+static hz_status_t timed_native_build(hz_accel_t **a, const hz_accel_geom_t *g, const hz_accel_config_t *cfg,
+                                      hz_arena_t *arena, hz_arena_mark_t m0, double *secs, hz_error_t *err)
+{
+    hz_arena_reset(arena, m0);
+    const int64_t t0 = hz_clock_ns();
+    const hz_status_t s = hz_accel_build_native(a, g, cfg, arena, err);
+    *secs = (double)(hz_clock_ns() - t0) * 1e-9;
+    return s;
+}
+
 static int bench_scene(const hz_bench_accel_opts_t *o, const char *name, FILE *csv, summary_t *sum)
 {
     hz_pools_t *P = hz_pools_get();
@@ -374,23 +385,14 @@ static int bench_scene(const hz_bench_accel_opts_t *o, const char *name, FILE *c
     bcfg.spatial_splits = false;
     for (int r = 0; r < build_rounds; r++) {
         /* first the binned build, so that the tree the rays below use is the last one built (the default) */
-        hz_arena_reset(&P->accel, m0);
-        int64_t t0 = hz_clock_ns();
-        if (hz_accel_build_native(&a, &g, &bcfg, &P->accel, &err) != HZ_OK)
+        if (timed_native_build(&a, &g, &bcfg, &P->accel, m0, &tb1[r], &err) != HZ_OK)
             return hz_cli_report(&err);
-        tb1[r] = (double)(hz_clock_ns() - t0) * 1e-9;
         binned_sah = a->info.sah_cost;
-        hz_arena_reset(&P->accel, m0);
-        t0 = hz_clock_ns();
-        if (hz_accel_build_native(&a, &g, NULL, &P->accel, &err) != HZ_OK)
+        if (timed_native_build(&a, &g, NULL, &P->accel, m0, &tn1[r], &err) != HZ_OK)
             return hz_cli_report(&err);
-        tn1[r] = (double)(hz_clock_ns() - t0) * 1e-9;
         const hz_accel_info_t one = a->info;
-        hz_arena_reset(&P->accel, m0);
-        t0 = hz_clock_ns();
-        if (hz_accel_build_native(&a, &g, &pcfg, &P->accel, &err) != HZ_OK)
+        if (timed_native_build(&a, &g, &pcfg, &P->accel, m0, &tnn[r], &err) != HZ_OK)
             return hz_cli_report(&err);
-        tnn[r] = (double)(hz_clock_ns() - t0) * 1e-9;
         if (one.ref_count != a->info.ref_count || one.node_count != a->info.node_count ||
             one.sah_cost != a->info.sah_cost) {
             hz_cli_error("bench: %s: the %d-thread native build differs from the 1-thread one", name, nthr);
@@ -409,7 +411,7 @@ static int bench_scene(const hz_bench_accel_opts_t *o, const char *name, FILE *c
                 char cfgs[256];
                 snprintf(cfgs, sizeof cfgs, "%s%sthreads=%d", o->embree_config, *o->embree_config ? "," : "",
                          one_thr ? 1 : nthr);
-                t0 = hz_clock_ns();
+                const int64_t t0 = hz_clock_ns();
                 if (hz_accel_build_embree(&e, &g, &ecfg, cfgs, &P->accel, &err) != HZ_OK)
                     return hz_cli_report(&err);
                 te[q][one_thr ? 0 : 1][r] = (double)(hz_clock_ns() - t0) * 1e-9;
