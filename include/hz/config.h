@@ -131,6 +131,10 @@
 #ifndef HZ_ARENA_POISON
 #define HZ_ARENA_POISON 0 /* fill memory released by hz_arena_reset with 0xA5 to expose use-after-reset */
 #endif
+#ifndef HZ_POOLS_RESERVE
+#define HZ_POOLS_RESERVE 0 /* Linux port: arenas in one reservation of address space (mmap, MAP_NORESERVE) instead of
+                            * .bss, for host builds whose arenas exceed a small machine's RAM and swap */
+#endif
 #ifndef HZ_VSYNC_GPIO_ACTIVE_LOW
 #define HZ_VSYNC_GPIO_ACTIVE_LOW 0
 #endif

@@ -155,7 +155,7 @@ hz_status_t hz_scenesrc_open(const hz_scenesrc_cfg_t *cfg, hz_framesrc_t *src, h
     s->cfg = *cfg;
     hz_pools_t *pools = hz_pools_get();
     if (!pools)
-        return hz_error_set(err, HZ_E_INTERNAL, "scene source: no static arenas");
+        return hz_pools_error(err, "scene source");
     s->scene_mark = hz_arena_mark(&pools->scene);
     s->accel_mark = hz_arena_mark(&pools->accel);
     s->frame_mark = hz_arena_mark(&pools->frame);

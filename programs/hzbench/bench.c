@@ -27,6 +27,7 @@
 #include "hz/image.h"
 #include "hz/tileorder.h"
 #include "opttab.h"
+#include "pools.h"
 
 #include "bench_accel.h"
 #include "bench_transp.h"
@@ -539,6 +540,11 @@ int main(int argc, char **argv)
     int rc = hz_opt_parse(&program, argc, argv, take, &a, NULL, &nops);
     if (rc)
         return rc == HZ_OPT_DONE ? 0 : rc;
+    if (!hz_pools_get()) { /* every group measures in the board's arenas */
+        hz_error_t err;
+        hz_pools_error(&err, "board");
+        return hz_cli_report(&err);
+    }
     if (a.check_fit)
         return check_fit(&a);
     const char *csv_path = a.csv_path, *md_path = a.md_path, *realtime_csv = a.realtime_csv;

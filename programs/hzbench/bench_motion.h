@@ -45,7 +45,6 @@ typedef struct hz_bench_motion_opts {
     int rounds;             /* default 3 */
     uint32_t width, height; /* default 512 x 512 */
     float interval;         /* shutter interval, seconds (default 1/24: a film frame, shutter fully open) */
-    uint32_t max_keys;      /* cap on K for scenes over 1M triangles (memory; default 2) */
     float budgets[HZ_BENCH_MOTION_MAX_BUDGETS]; /* the MSBVH's split budgets, one row each */
     int budget_count;       /* 0: 0.25, 0.5, 1 and HZ_ACCEL_SPLIT_BUDGET_MAX */
     const char *csv_path;   /* NULL: no CSV */

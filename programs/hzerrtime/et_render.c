@@ -365,7 +365,7 @@ hz_status_t hz_et_render_open(const char *file, const hz_et_env_t *env, hz_et_se
     memset(sc, 0, sizeof *sc);
     sc->pools = hz_pools_get();
     if (!sc->pools)
-        return hz_error_set(err, HZ_E_INTERNAL, "errtime: could not set up the static arenas");
+        return hz_pools_error(err, "errtime");
     sc->scene_mark = hz_arena_mark(&sc->pools->scene);
     sc->accel_mark = hz_arena_mark(&sc->pools->accel);
     sc->frame_mark = hz_arena_mark(&sc->pools->frame);

@@ -215,8 +215,8 @@ int hz_cmd_accel(int argc, char **argv)
     hz_error_t err;
     hz_scene_t sc;
     if (!p) {
-        hz_cli_error("accel: could not set up the static arenas");
-        return hz_status_exit_code(HZ_E_INTERNAL);
+        hz_pools_error(&err, "accel");
+        return hz_cli_report(&err);
     }
     if (hz_scenefile_open(scene_name, p, &sc, &err) != HZ_OK)
         return hz_cli_report(&err);

@@ -51,8 +51,10 @@ static int cmd_board(int argc, char **argv)
 {
     for (int i = 1; i < argc; i++) {
         if (!strcmp(argv[i], "-h") || !strcmp(argv[i], "--help")) {
-            printf("usage: hzrt board\n\nPrints the board this binary was built for and its static memory.\n\n"
-                   "exit status: 0 ok, 2 bad command line, 76 the static arenas could not be set up\n");
+            printf("usage: hzrt board\n\nPrints the board this binary was built for and its fixed memory.\n\n"
+                   "exit status: 0 ok, 2 bad command line, %s\n",
+                   HZ_POOLS_RESERVE ? "66 the arenas' address space could not be reserved"
+                                    : "76 the static arenas could not be set up");
             return 0;
         }
         hz_cli_error("board: unknown option '%s' (try hzrt board --help)", argv[i]);
@@ -60,8 +62,9 @@ static int cmd_board(int argc, char **argv)
     }
     hz_pools_t *p = hz_pools_get();
     if (!p) {
-        hz_cli_error("board: could not set up the static arenas");
-        return hz_status_exit_code(HZ_E_INTERNAL);
+        hz_error_t err;
+        hz_pools_error(&err, "board");
+        return hz_cli_report(&err);
     }
     printf("board      %s\n", HZ_BOARD_NAME);
     printf("display    %dx%d @ %d Hz on %s\n", HZ_DISPLAY_WIDTH, HZ_DISPLAY_HEIGHT, HZ_DISPLAY_HZ,
@@ -83,8 +86,9 @@ static int cmd_board(int argc, char **argv)
     printf("\n");
     printf("features   textures=%d mirrors=%d transparency=%d motion=%d stats=%d\n", HZ_FEATURE_TEXTURES,
            HZ_FEATURE_MIRRORS, HZ_FEATURE_TRANSPARENCY, HZ_FEATURE_MOTION, HZ_FEATURE_STATS);
-    printf("arenas     scene %zu MiB, accel %zu MiB, frame %zu MiB, %d x thread %zu MiB\n", p->scene.cap >> 20,
-           p->accel.cap >> 20, p->frame.cap >> 20, HZ_MAX_THREADS, p->thread[0].cap >> 20);
+    printf("arenas     scene %zu MiB, accel %zu MiB, frame %zu MiB, %d x thread %zu MiB (%s)\n", p->scene.cap >> 20,
+           p->accel.cap >> 20, p->frame.cap >> 20, HZ_MAX_THREADS, p->thread[0].cap >> 20,
+           HZ_POOLS_RESERVE ? "reserved address space: RAM only where touched" : "static");
     return 0;
 }
 
@@ -122,8 +126,8 @@ static int cmd_info(int argc, char **argv)
     hz_scene_t scene;
     hz_error_t err;
     if (!pools) {
-        hz_cli_error("info: could not set up the static arenas");
-        return hz_status_exit_code(HZ_E_INTERNAL);
+        hz_pools_error(&err, "info");
+        return hz_cli_report(&err);
     }
     if (hz_scenefile_open(name, pools, &scene, &err) != HZ_OK)
         return hz_cli_report(&err);

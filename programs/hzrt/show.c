@@ -822,8 +822,7 @@ static int show_run(hz_show_cfg_t *c, size_t *made_from)
     cfg.max_frames = c->frames ? c->frames : (size_t)(seconds * hz_cap * 1.1) + 64;
     hz_pools_t *pools = hz_pools_get();
     if (!pools && s == HZ_OK) {
-        hz_error_set(&err, HZ_E_INTERNAL, "could not set up the static arenas");
-        s = err.code;
+        s = hz_pools_error(&err, "show");
     }
     if (s == HZ_OK) {
         if (edges_only && trace_file && cfg.duration_ns == 0) {
