@@ -8,7 +8,9 @@
 #include <sys/mman.h>
 #endif
 
-#define THREAD_POOL_BYTES ((size_t)HZ_MAX_THREADS * HZ_ARENA_THREAD_BYTES)
+/* Every arena's bytes together: what a reservation asks for. */
+#define ARENAS_BYTES ((size_t)HZ_ARENA_SCENE_BYTES + HZ_ARENA_ACCEL_BYTES + HZ_ARENA_FRAME_BYTES + \
+                      (size_t)HZ_MAX_THREADS * HZ_ARENA_THREAD_BYTES)
 
 #if HZ_POOLS_RESERVE
 /* One private anonymous mapping for all arenas, without commitment (MAP_NORESERVE): the kernel's default
@@ -20,9 +22,7 @@ static uint8_t *reserved;
 static uint8_t *reserve(void)
 {
     if (!reserved) {
-        const size_t bytes = (size_t)HZ_ARENA_SCENE_BYTES + HZ_ARENA_ACCEL_BYTES + HZ_ARENA_FRAME_BYTES +
-                             THREAD_POOL_BYTES;
-        void *p = mmap(NULL, bytes, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS | MAP_NORESERVE, -1, 0);
+        void *p = mmap(NULL, ARENAS_BYTES, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS | MAP_NORESERVE, -1, 0);
         if (p != MAP_FAILED)
             reserved = p; /* page-aligned, so every arena below starts 64-byte aligned (the sizes are MiB) */
     }
@@ -63,8 +63,7 @@ hz_status_t hz_pools_init(hz_pools_t *p)
 
 hz_status_t hz_pools_error(hz_error_t *err, const char *who)
 {
-    const unsigned long long mib = ((unsigned long long)HZ_ARENA_SCENE_BYTES + HZ_ARENA_ACCEL_BYTES +
-                                    HZ_ARENA_FRAME_BYTES + THREAD_POOL_BYTES) >> 20;
+    const unsigned long long mib = (unsigned long long)(ARENAS_BYTES >> 20);
 #if HZ_POOLS_RESERVE
     return hz_error_set(err, HZ_E_NO_MEMORY,
                         "%s: could not reserve %llu MiB of address space for the board's arenas (a limit on virtual "

@@ -196,8 +196,9 @@ static uint64_t render(const hz_accel_t *a, frame_t *fr, int kind, hz_accel_stat
     return rays;
 }
 
-/* The keys a scene moves with over the interval: its own animation's (K from the interval), or for a scene that does not move a procedural sway (furball) or rotation (others) of 2
- * keys; taken from `arena`, the view g pointed at them, `motion` says which. */
+/* The keys a scene moves with over the interval: its own animation's (K from the interval), or for a scene that
+ * does not move a procedural sway (furball) or rotation (others) of 2 keys; taken from `arena`, the view g
+ * pointed at them, `motion` says which. */
 static hz_status_t scene_keys(const hz_bench_motion_opts_t *o, const char *name, const hz_scene_t *sc,
                               hz_accel_geom_t *g, hz_posekeys_t *keys, uint32_t *K_out, char *motion, size_t motion_size,
                               hz_arena_t *arena, hz_error_t *err)
@@ -790,23 +791,18 @@ static void fit_scene(hz_bench_fit_scene_t *fs, const void *ctx)
         return;
     }
     hz_bench_fit_line(fs, "pose keys", "scene", before - hz_arena_available(scene_arena, 64), before);
-    /* the MSBVH at every budget the table builds (its bound grows with the budget), then the others */
-    for (int i = 0; i < o->budget_count; i++) {
+    /* the native rows the table builds, each as it configures them (the MSBVH's bound grows with the budget) */
+    row_t rows[MAX_ROWS];
+    const int nrows = make_rows(o, &g, rows);
+    for (int b = 0; b < nrows; b++) {
+        if (rows[b].embree)
+            continue;
         hz_accel_config_t cfg;
-        hz_accel_config_default(&cfg);
-        cfg.blur = HZ_ACCEL_BLUR_MSBVH;
-        cfg.split_budget = o->budgets[i];
-        char what[48];
-        snprintf(what, sizeof what, "native msbvh %g", (double)o->budgets[i]);
+        char label[32], what[48];
+        row_config(&rows[b], &cfg);
+        row_label(&rows[b], label, sizeof label);
+        snprintf(what, sizeof what, "native %s", label);
         hz_bench_fit_accel(fs, &cfg, K, what);
-    }
-    static const hz_accel_blur_t kinds[] = { HZ_ACCEL_BLUR_INTERP, HZ_ACCEL_BLUR_SWEPT };
-    static const char *const what[] = { "native interp", "native swept" };
-    for (int b = 0; b < 2; b++) {
-        hz_accel_config_t cfg;
-        hz_accel_config_default(&cfg);
-        cfg.blur = kinds[b];
-        hz_bench_fit_accel(fs, &cfg, K, what[b]);
     }
 }
 
