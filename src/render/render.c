@@ -81,6 +81,7 @@ hz_status_t hz_render_opts_check(const hz_render_opts_t *o, hz_error_t *err)
 typedef struct needs {
     bool blend, mask, textures, mirrors, motion, camera_moves, mv;
     uint32_t blend_tris;       /* triangles of a scene with blended surfaces (their dither maps), else 0 */
+    uint32_t blend_mats;       /* and its materials (their opacity bounds), else 0 */
 } needs_t;
 
 static needs_t scene_needs(const hz_scene_t *s)
@@ -94,6 +95,7 @@ static needs_t scene_needs(const hz_scene_t *s)
     n.camera_moves = (s->features & HZ_FEAT_CAMERA_PATH) != 0;
     n.mv = n.motion || n.camera_moves;
     n.blend_tris = n.blend ? s->triangle_count : 0u;
+    n.blend_mats = n.blend ? s->material_count : 0u;
     return n;
 }
 
@@ -150,10 +152,14 @@ static void region_layout(hz_render_frame_t *f, void *state, hz_memplan_t *p)
     hz_memplan_part(p, HZ_PART_STATE);
 }
 
-/* The triangles' dither maps (hz_transp_maps), after the region in the frame arena. */
+/* The triangles' dither maps (hz_transp_maps) and the materials' opacity bounds (hz_transp_bounds), after the
+ * region in the frame arena. */
 static size_t maps_bytes(const needs_t *n)
 {
-    return n->blend_tris ? hz_align_up((size_t)n->blend_tris * 4u, HZ_MEMPLAN_ALIGN) + HZ_MEMPLAN_ALIGN : 0u;
+    if (!n->blend_tris)
+        return 0u;
+    return hz_align_up((size_t)n->blend_tris * 4u, HZ_MEMPLAN_ALIGN) +
+           hz_align_up((size_t)n->blend_mats * 4u, HZ_MEMPLAN_ALIGN) + 2u * HZ_MEMPLAN_ALIGN;
 }
 
 /* Counts what a configuration needs: the renderer (with the mode's state inside) and its region (at least
@@ -302,7 +308,8 @@ hz_status_t hz_render_create(hz_renderer_t **out, hz_scene_t *scene, hz_accel_t 
     size_t region_cap = plan.frame_bytes - (hz_align_up(sizeof *r, 64) + 128) - maps_bytes(&n);
     uint8_t *region = r ? hz_arena_alloc(frame_arena, region_cap, 64) : NULL;
     uint32_t *maps = region && n.blend_tris ? hz_arena_alloc_array(frame_arena, n.blend_tris, 4, 64) : NULL;
-    if (!r || !region || (n.blend_tris && !maps)) {
+    uint32_t *bounds = maps && n.blend_mats ? hz_arena_alloc_array(frame_arena, n.blend_mats, 4, 64) : NULL;
+    if (!r || !region || (n.blend_tris && !maps) || (n.blend_mats && !bounds)) {
         s = hz_arena_error(frame_arena, err);
         hz_arena_reset(frame_arena, mark);
         return s;
@@ -318,9 +325,13 @@ hz_status_t hz_render_create(hz_renderer_t **out, hz_scene_t *scene, hz_accel_t 
     }
     r->accel = accel;
     r->has_blend = n.blend, r->has_mask = n.mask, r->has_textures = n.textures;
-    if (HZ_FEATURE_TRANSPARENCY && maps) /* a build without transparency has no maps (transp.c leaves them out) */
+    if (HZ_FEATURE_TRANSPARENCY && maps) { /* a build without transparency has none (transp.c leaves them out) */
         hz_transp_maps(scene, maps);
+        if (bounds)
+            hz_transp_bounds(scene, n.textures, bounds);
+    }
     r->tri_maps = maps;
+    r->blend_bound = HZ_FEATURE_TRANSPARENCY ? bounds : NULL;
     r->has_motion = n.motion, r->camera_moves = n.camera_moves;
     r->cam_blur = r->f.blur && n.camera_moves;
     r->keys = r->f.blur && n.motion ? opts->keys : NULL;
@@ -621,7 +632,8 @@ void hz_render_set_serial_passes(hz_renderer_t *r, bool serial)
 static needs_t needs_of(const struct hz_renderer *r)
 {
     needs_t n = { r->has_blend, r->has_mask, r->has_textures, r->f.has_mirrors, r->has_motion, r->camera_moves,
-                  r->f.need_mv, r->has_blend ? r->scene->triangle_count : 0u };
+                  r->f.need_mv, r->has_blend ? r->scene->triangle_count : 0u,
+                  r->has_blend ? r->scene->material_count : 0u };
     return n;
 }
 

@@ -97,6 +97,8 @@ struct hz_renderer {
     hz_view_t view, prev_view;
     bool have_prev;
     const uint32_t *tri_maps;  /* scenes with blended surfaces: each triangle's dither maps (hz_transp_maps) */
+    const uint32_t *blend_bound; /* and each material's opacity bound (hz_transp_bounds); NULL: none, every
+                                  * layer's opacity is taken */
     float time;                /* scene time inside the loop (seconds), for ray time */
     hz_time_ns_t time_ns;      /* scene time of this frame */
     /* The frame arena's part that holds the G-buffer and the mode (re-laid out by hz_render_reconfigure). */
@@ -172,7 +174,17 @@ void hz_transp_cells(hz_worker_t *w);
  * the slot's dither_touched unless a <= 0.01. */
 bool hz_transp_keep(hz_worker_t *w, uint32_t prim, float u, float v, uint32_t a, uint32_t slot, unsigned back);
 uint32_t hz_transp_alpha_q16(float alpha);
-/* Any-hit of a stochastic fragment's shadow ray at a blended triangle: true blocks the light. */
-bool hz_transp_shadow_blocks(const hz_worker_t *w, uint32_t prim, float u, float v, float alpha);
+/* The Russian-roulette threshold (Q16) of a stochastic fragment's shadow ray at a blended triangle: the ray is
+ * blocked iff hz_dither_keep(its opacity, this threshold). */
+uint32_t hz_transp_shadow_threshold(const hz_worker_t *w, uint32_t prim, float u, float v);
+/* Each material's opacity bound (Q16, hz_renderer.blend_bound): no hit on a blended surface of material i has
+ * hz_transp_alpha_q16 of its opacity above bound[i] (its alpha times its alpha texture's largest level-0 texel,
+ * with a margin for rounding; its own alpha where a triangle's texture coordinates may not be finite; `textures`
+ * as hz_renderer.has_textures). Not blended: HZ_DITHER_ONE. */
+void hz_transp_bounds(const hz_scene_t *s, bool textures, uint32_t *bound);
+/* True when hz_transp_keep certainly rejects a layer of opacity at most `bound`: the same decision without the
+ * opacity (so without a texture fetch). False says nothing; then the caller takes the opacity. */
+bool hz_transp_rejects(const hz_worker_t *w, uint32_t prim, float u, float v, uint32_t bound, uint32_t slot,
+                       unsigned back);
 
 #endif

@@ -1,4 +1,5 @@
 /* Tracing and Whitted shading of one tile batch (see render_internal.h for the work organisation). */
+#include "hz/dither.h"
 #include "hz/image.h"
 #include "hz/posekeys.h"
 #include "shade.h"
@@ -180,13 +181,22 @@ bool hz_render_anyhit(void *user, uint32_t prim, float u, float v, float t, uint
     const hz_scene_t *s = w->r->scene;
     const hz_material_t *m = &s->materials[s->tri_info[prim] & 0xffffu];
     if (m->alpha_mode == HZ_ALPHA_BLEND) {
+        /* The common rejected layer: a threshold above the most opacity the material can have rejects it
+         * without its texture (the decision is the same: it never falls as opacity grows); an untextured alpha
+         * comes straight from the material; then integers only. */
+        const uint32_t *bounds = w->r->blend_bound;
+        const uint32_t bound = bounds && (ray_id & (ID_DITHER | ID_SHADOW_DITHER)) ? bounds[s->tri_info[prim] & 0xffffu]
+                                                                                   : HZ_DITHER_ONE;
         if (ray_id & ID_DITHER) {
-            /* The common rejected layer: an untextured alpha straight from the material, then integers only. */
+            if (hz_transp_rejects(w, prim, u, v, bound, ray_id & 0xffffu, back))
+                return false;
             float a = m->alpha_texture >= 0 && w->r->has_textures ? blend_alpha(w->r, prim, u, v) : m->alpha;
             return hz_transp_keep(w, prim, u, v, hz_transp_alpha_q16(a), ray_id & 0xffffu, back);
         }
-        if (ray_id & ID_SHADOW_DITHER)
-            return hz_transp_shadow_blocks(w, prim, u, v, blend_alpha(w->r, prim, u, v));
+        if (ray_id & ID_SHADOW_DITHER) {
+            const uint32_t th = hz_transp_shadow_threshold(w, prim, u, v);
+            return hz_dither_keep(bound, th) && hz_dither_keep(hz_transp_alpha_q16(blend_alpha(w->r, prim, u, v)), th);
+        }
         if (!(ray_id & ID_SHADOW))
             return true; /* camera and secondary rays stop at a blended surface and continue behind it */
         /* A shadow ray lets the layer's opacity through and goes on, counting each triangle once. */

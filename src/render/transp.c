@@ -67,15 +67,74 @@ void hz_transp_cells(hz_worker_t *w)
     }
 }
 
-bool hz_transp_keep(hz_worker_t *w, uint32_t prim, float u, float v, uint32_t a, uint32_t slot, unsigned back)
+/* The largest alpha byte of texture t's level 0, the level hz_texture_alpha reads (a texture whose flags say it is
+ * opaque is taken at its word: 255, an upper bound whatever its texels hold). */
+static uint32_t level0_alpha_max(const hz_scene_t *s, const hz_texture_t *t)
+{
+    if (!(t->flags & 1u))
+        return 255u;
+    const uint8_t *p = s->texels + (size_t)t->first_texel * 4u;
+    const size_t n = (size_t)t->width * t->height;
+    uint32_t m = 0;
+    for (size_t i = 0; i < n && m < 255u; i++)
+        m = p[4 * i + 3] > m ? p[4 * i + 3] : m;
+    return m;
+}
+
+/* Whether every texture coordinate a hit on triangle t can have is finite: its vertices' are, and small enough
+ * that the barycentric mix (weights within [-1, 1] by the traversal's test) stays finite. Else hz_texture_alpha
+ * may answer 1 for it. */
+static bool uv_finite(const hz_scene_t *s, uint32_t t)
+{
+    for (int k = 0; k < 3; k++) {
+        const float *uv = s->uv + (size_t)s->tri[(size_t)t * 3 + (unsigned)k] * 2;
+        if (!(hz_absf(uv[0]) <= 0x1p100f && hz_absf(uv[1]) <= 0x1p100f))
+            return false;
+    }
+    return true;
+}
+
+/* Margin over the bound's own rounding: the bilinear mix of texels at most M can exceed M by an ulp or two, and
+ * alpha * texture is a product of floats; a relative error of 2^-20 moves a Q16 value by less than 1. */
+#define BOUND_SLACK 16u
+
+void hz_transp_bounds(const hz_scene_t *s, bool textures, uint32_t *bound)
+{
+    for (uint32_t i = 0; i < s->material_count; i++) {
+        const hz_material_t *m = &s->materials[i];
+        uint32_t b = HZ_DITHER_ONE;
+        if (m->alpha_mode == HZ_ALPHA_BLEND) {
+            b = to_q16(m->alpha);
+            if (HZ_FEATURE_TEXTURES && textures && m->alpha_texture >= 0) {
+                if ((uint32_t)m->alpha_texture >= s->texture_count) {
+                    b = to_q16(m->alpha); /* no texture: hz_texture_alpha answers 1 */
+                } else {
+                    const float tmax = (float)level0_alpha_max(s, &s->textures[m->alpha_texture]) * (1.0f / 255.0f);
+                    b = to_q16(m->alpha * tmax) + BOUND_SLACK;
+                }
+            }
+            b = b > HZ_DITHER_ONE ? HZ_DITHER_ONE : b;
+        }
+        bound[i] = b;
+    }
+    if (!(HZ_FEATURE_TEXTURES && textures))
+        return;
+    /* A hit whose texture coordinates are not finite reads alpha 1: the material's own alpha bounds it then. */
+    for (uint32_t t = 0; t < s->triangle_count; t++) {
+        const uint32_t mi = s->tri_info[t] & 0xffffu;
+        if (mi >= s->material_count || s->materials[mi].alpha_mode != HZ_ALPHA_BLEND ||
+            s->materials[mi].alpha_texture < 0 || uv_finite(s, t))
+            continue;
+        const uint32_t own = to_q16(s->materials[mi].alpha);
+        bound[mi] = own > bound[mi] ? own : bound[mi];
+    }
+}
+
+/* The method's decision for a layer of opacity a (Q16, strictly between 0.01 and 1); every method keeps a layer
+ * iff its opacity reaches a threshold that does not depend on it, so the decision never falls as a grows. */
+static bool decide(const hz_worker_t *w, uint32_t prim, float u, float v, uint32_t a, uint32_t slot, unsigned back)
 {
     const struct hz_renderer *r = w->r;
-    if (a <= HZ_DITHER_MIN_ALPHA)
-        return false;
-    slot %= HZ_TILE_PIXELS;
-    w->dither_touched[slot] = 1;
-    if (a >= HZ_DITHER_ONE)
-        return true;
     const uint32_t maps = r->tri_maps[prim];
     switch (r->f.opts.transparency) {
     case HZ_TRANSP_RR:
@@ -89,14 +148,37 @@ bool hz_transp_keep(hz_worker_t *w, uint32_t prim, float u, float v, uint32_t a,
     }
 }
 
+bool hz_transp_keep(hz_worker_t *w, uint32_t prim, float u, float v, uint32_t a, uint32_t slot, unsigned back)
+{
+    if (a <= HZ_DITHER_MIN_ALPHA)
+        return false;
+    slot %= HZ_TILE_PIXELS;
+    w->dither_touched[slot] = 1;
+    if (a >= HZ_DITHER_ONE)
+        return true;
+    return decide(w, prim, u, v, a, slot, back);
+}
+
+bool hz_transp_rejects(const hz_worker_t *w, uint32_t prim, float u, float v, uint32_t bound, uint32_t slot,
+                       unsigned back)
+{
+    if (bound <= HZ_DITHER_MIN_ALPHA)
+        return true; /* hz_transp_keep rejects it and leaves the slot untouched */
+    slot %= HZ_TILE_PIXELS;
+    /* A layer above 0.01 marks the slot: only once it is marked does the decision alone say all */
+    if (bound >= HZ_DITHER_ONE || !w->dither_touched[slot])
+        return false;
+    return !decide(w, prim, u, v, bound, slot, back);
+}
+
 uint32_t hz_transp_alpha_q16(float alpha)
 {
     return to_q16(alpha);
 }
 
-bool hz_transp_shadow_blocks(const hz_worker_t *w, uint32_t prim, float u, float v, float alpha)
+uint32_t hz_transp_shadow_threshold(const hz_worker_t *w, uint32_t prim, float u, float v)
 {
-    return hz_dither_keep(to_q16(alpha), rr_threshold(prim ^ 0x80000000u, u, v, w->b.dither_frame));
+    return rr_threshold(prim ^ 0x80000000u, u, v, w->b.dither_frame);
 }
 
 #endif

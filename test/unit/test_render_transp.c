@@ -23,30 +23,32 @@ typedef struct run {
 } run_t;
 
 static bool g_rr_shadows; /* render() with opts.rr_shadows */
+static bool g_no_bounds;  /* render() without the materials' opacity bounds (every layer's opacity taken) */
 
-/* Renders `frames` frames of a still view (scene time t, frame index 0..frames-1) and averages them. */
-static void render(const char *scene, hz_render_mode_t mode, uint32_t spp, hz_transp_t t, float x, uint32_t frames,
-                   float time, run_t *out)
+/* Renders `frames` frames of a still view (scene time t, frame index 0..frames-1) with a renderer made on the
+ * open fixture f, and averages them. */
+static void render_on(rfix_t *f, hz_render_mode_t mode, uint32_t spp, hz_transp_t t, float x, uint32_t frames,
+                      float time, run_t *out)
 {
-    rfix_t f;
     hz_error_t err;
-    assert_int_equal(rfix_open(&f, scene, HZ_ACCEL_NATIVE, &err), HZ_OK);
     hz_render_opts_t o;
     hz_render_opts_default(&o);
     o.width = W, o.height = H, o.mode = mode, o.spp = spp, o.transparency = t, o.hybrid_x = x;
     o.rr_shadows = g_rr_shadows;
     hz_render_plan_t plan;
-    assert_int_equal(hz_render_plan(&f.scene, &o, &plan, &err), HZ_OK);
+    assert_int_equal(hz_render_plan(&f->scene, &o, &plan, &err), HZ_OK);
     out->frame_bytes = plan.frame_bytes;
-    assert_int_equal(rfix_renderer(&f, &o, 2, &err), HZ_OK);
+    assert_int_equal(rfix_renderer(f, &o, 2, &err), HZ_OK);
+    if (g_no_bounds)
+        f->r->blend_bound = NULL;
     out->rgb = calloc((size_t)W * H * 3, sizeof(float));
     out->dithered = calloc((size_t)W * H, 1);
     assert_non_null(out->rgb);
     assert_non_null(out->dithered);
-    const hz_gbuffer_t *gb = hz_render_gbuffer(f.r);
+    const hz_gbuffer_t *gb = hz_render_gbuffer(f->r);
     for (uint32_t i = 0; i < frames; i++) {
-        assert_int_equal(rfix_frame(&f, i, time, &err), HZ_OK);
-        const hz_image_t *img = hz_render_output(f.r);
+        assert_int_equal(rfix_frame(f, i, time, &err), HZ_OK);
+        const hz_image_t *img = hz_render_output(f->r);
         for (size_t k = 0; k < (size_t)W * H * 3; k++)
             out->rgb[k] += img->rgb[k] / (float)frames;
         for (size_t p = 0; p < (size_t)W * H; p++)
@@ -55,7 +57,17 @@ static void render(const char *scene, hz_render_mode_t mode, uint32_t spp, hz_tr
     out->flags_or = 0;
     for (size_t p = 0; p < (size_t)W * H; p++)
         out->flags_or |= gb->flags[p];
-    hz_render_frame_stats(f.r, NULL, &out->total);
+    hz_render_frame_stats(f->r, NULL, &out->total);
+}
+
+/* render_on with a fixture of its own. */
+static void render(const char *scene, hz_render_mode_t mode, uint32_t spp, hz_transp_t t, float x, uint32_t frames,
+                   float time, run_t *out)
+{
+    rfix_t f;
+    hz_error_t err;
+    assert_int_equal(rfix_open(&f, scene, HZ_ACCEL_NATIVE, &err), HZ_OK);
+    render_on(&f, mode, spp, t, x, frames, time, out);
     rfix_close(&f);
 }
 
@@ -275,6 +287,96 @@ static void test_maps_per_particle(void **state)
     assert_int_not_equal(maps[n - 1], maps[s0]);
 }
 
+/* A material's opacity bound (hz_transp_bounds) against the opacity its hits really have: its alpha times its
+ * alpha texture's level 0 read by hz_texture_alpha at 20,000 random coordinates (wrapped, far out, on texel
+ * centres and edges), and close to the largest texel so that it rejects something; the material's own alpha
+ * where a triangle's coordinates are not finite or no texture is usable; 1 where not blended or textures are
+ * left out of the run. */
+static void test_opacity_bounds(void **state)
+{
+    (void)state;
+    enum { TW = 8, TH = 4 };
+    static uint8_t texels[TW * TH * 4];
+    uint32_t rng = 12345u;
+    for (int i = 0; i < TW * TH; i++) {
+        rng = rng * 1664525u + 1013904223u;
+        texels[4 * i + 3] = (uint8_t)((rng >> 24) % 201u); /* alpha 0..200 */
+    }
+    texels[4 * 13 + 3] = 200; /* the largest, once at least */
+    hz_texture_t tex;
+    memset(&tex, 0, sizeof tex);
+    tex.width = TW, tex.height = TH, tex.levels = 1, tex.flags = 1u, tex.first_texel = 0, tex.texel_count = TW * TH;
+    hz_material_t mats[6];
+    memset(mats, 0, sizeof mats);
+    const float alpha[6] = { 0.37f, 0.3f, 0.6f, 0.5f, 0.8f, 2.0f };
+    const int32_t atex[6] = { 0, -1, 7, 0, 0, 0 }; /* 2: no such texture */
+    for (int i = 0; i < 6; i++)
+        mats[i].alpha = alpha[i], mats[i].alpha_mode = HZ_ALPHA_BLEND, mats[i].alpha_texture = atex[i];
+    mats[3].alpha_mode = HZ_ALPHA_OPAQUE;
+    /* one triangle per material; material 4's has a vertex with an infinite coordinate */
+    static const float uv[8] = { 0.1f, 0.2f, 0.9f, 0.3f, 0.4f, 0.8f, INFINITY, 0.5f };
+    static const uint32_t tri[18] = { 0, 1, 2, 0, 1, 2, 0, 1, 2, 0, 1, 2, 0, 1, 3, 0, 1, 2 };
+    static const uint32_t info[6] = { 0, 1, 2, 3, 4, 5 };
+    hz_scene_t sc;
+    memset(&sc, 0, sizeof sc);
+    sc.materials = mats, sc.material_count = 6, sc.textures = &tex, sc.texture_count = 1, sc.texels = texels;
+    sc.uv = uv, sc.tri = tri, sc.tri_info = info, sc.triangle_count = 6, sc.vertex_count = 4;
+    uint32_t b[6];
+    hz_transp_bounds(&sc, true, b);
+    const uint32_t most = hz_transp_alpha_q16(0.37f * (200.0f / 255.0f));
+    assert_true(b[0] >= most && b[0] <= most + 32u); /* tight: about 0.29, well under 1 */
+    for (int i = 0; i < 20000; i++) {
+        rng = rng * 1664525u + 1013904223u;
+        float u = (float)(rng >> 8) * (1.0f / 16777216.0f) * 6.0f - 3.0f;
+        rng = rng * 1664525u + 1013904223u;
+        float v = (float)(rng >> 8) * (1.0f / 16777216.0f) * 6.0f - 3.0f;
+        if (i % 4 == 1) /* texel centres and edges, where the mix takes one texel whole */
+            u = floorf(u * TW) / TW + (i % 8 == 1 ? 0.5f / TW : 0.0f), v = floorf(v * TH) / TH;
+        const uint32_t a = hz_transp_alpha_q16(mats[0].alpha * hz_texture_alpha(&sc, 0, u, v));
+        assert_true(a <= b[0]);
+    }
+    assert_int_equal(b[1], hz_transp_alpha_q16(0.3f));           /* untextured: the material's alpha */
+    assert_int_equal(b[2], hz_transp_alpha_q16(0.6f));           /* no such texture: alpha times 1 */
+    assert_int_equal(b[3], HZ_DITHER_ONE);                       /* not blended */
+    assert_int_equal(b[4], hz_transp_alpha_q16(0.8f));           /* a coordinate not finite: alpha times 1 */
+    assert_int_equal(b[5], HZ_DITHER_ONE);                       /* opaque at its largest texel */
+    hz_transp_bounds(&sc, false, b);                             /* textures left out: the material's alpha */
+    assert_int_equal(b[0], hz_transp_alpha_q16(0.37f));
+    assert_int_equal(b[4], hz_transp_alpha_q16(0.8f));
+}
+
+/* The opacity bounds change no image: each stochastic method on sponza-smoke (textured sprites whose opacity
+ * never exceeds 0.40, so most layers are rejected by the bound alone) renders the same bits, with the same ray
+ * counts, with and without them. */
+static void test_opacity_bounds_same_images(void **state)
+{
+    (void)state;
+    char path[512];
+    const char *scene = scene_path("sponza-smoke.hzb", path, sizeof path);
+    static const hz_transp_t methods[] = { HZ_TRANSP_STD, HZ_TRANSP_RR, HZ_TRANSP_DTAA_STAR, HZ_TRANSP_STD };
+    rfix_t f;
+    hz_error_t err;
+    assert_int_equal(rfix_open(&f, scene, HZ_ACCEL_NATIVE, &err), HZ_OK); /* one accel for every renderer */
+    for (size_t i = 0; i < sizeof methods / sizeof methods[0]; i++) {
+        run_t with, without;
+        g_rr_shadows = i == 3; /* the stochastic shadow rays too */
+        render_on(&f, HZ_MODE_TAA, 1, methods[i], 0.0f, 2, 4.5f, &with);
+        g_no_bounds = true;
+        render_on(&f, HZ_MODE_TAA, 1, methods[i], 0.0f, 2, 4.5f, &without);
+        g_no_bounds = false;
+        g_rr_shadows = false;
+        assert_true(same(&with, &without));
+        assert_true(with.total.primary_rays == without.total.primary_rays &&
+                    with.total.shadow_rays == without.total.shadow_rays &&
+                    with.total.secondary_rays == without.total.secondary_rays);
+        assert_true(memcmp(with.dithered, without.dithered, (size_t)W * H) == 0);
+        assert_int_not_equal(with.flags_or & HZ_GB_DITHER, 0); /* the cloud is in view */
+        run_free(&with);
+        run_free(&without);
+    }
+    rfix_close(&f);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -284,6 +386,8 @@ int main(void)
         cmocka_unit_test(test_full_spp_walks_the_dither),
         cmocka_unit_test(test_taa_accumulates),
         cmocka_unit_test(test_maps_per_particle),
+        cmocka_unit_test(test_opacity_bounds),
+        cmocka_unit_test(test_opacity_bounds_same_images),
     };
     return HZ_RUN(tests);
 }
