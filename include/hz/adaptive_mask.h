@@ -30,7 +30,9 @@
  * switched off: it never disagrees (so the subpixel falls back to τcol, not to 1). A class with τ above τcol
  * does replace τcol where it disagrees (that is how a user gives a feature less effort).
  * Focus (the paper's "fairy focused"): with focus_count > 0, a comparison of P and Q at hit h counts only when
- * the object of P or of Q at that hit is in the (sorted) focus list; texture existence only when P's object is.
+ * P or Q is involved at that hit, texture existence only when P is. A pixel is involved at a hit when its object
+ * there is in the (sorted) focus list, and at the reflected hit also when its primary object (the mirror) is: a
+ * focused mirror shows everything it reflects.
  *
  * Step 2, Mitchell's contrast per channel over the four colour references (P and the three neighbours):
  * C = (Imax - Imin) / (Imax + Imin), active iff C_R >= 1.36 τ or C_G >= 1.02 τ or C_B >= 2.04 τ (the three

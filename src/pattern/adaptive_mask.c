@@ -140,20 +140,27 @@ static uint32_t hit_bits(const hz_amask_config_t *c, const hz_amask_hit_t *a, co
     return why;
 }
 
+/* Whether pixel p's hit at level h takes part under the focus: its object there is focused, or (the reflected
+ * hit) the mirror it was reflected in is: a focused mirror shows everything it reflects. */
+static bool focused_at(const hz_amask_config_t *c, const hz_amask_px_t *p, uint32_t h)
+{
+    return c->focus_count == 0 || in_focus(c, p->hit[h].object) || (h == 1 && in_focus(c, p->hit[0].object));
+}
+
 /* The same, honouring the focus: nothing when neither P (a_in) nor Q is involved. Symmetric in P and Q. */
-static uint32_t pair_bits(const hz_amask_config_t *c, const hz_amask_hit_t *a, bool a_in, const hz_amask_hit_t *b,
+static uint32_t pair_bits(const hz_amask_config_t *c, const hz_amask_px_t *p, bool a_in, const hz_amask_px_t *q,
                           uint32_t h)
 {
-    if (!a_in && !in_focus(c, b->object))
+    if (!a_in && !focused_at(c, q, h))
         return 0;
-    return hit_bits(c, a, b, h);
+    return hit_bits(c, &p->hit[h], &q->hit[h], h);
 }
 
 /* Whether P's hit at level h takes part (focus), and its texture-existence bit. */
 static bool involved(const hz_amask_config_t *c, const hz_amask_px_t *p, uint32_t h, uint32_t *tex)
 {
     static const hz_tau_t te[2] = { HZ_TAU_PTE, HZ_TAU_STE };
-    bool in = c->focus_count == 0 || in_focus(c, p->hit[h].object);
+    bool in = focused_at(c, p, h);
     if (in && (p->hit[h].flags & HZ_AMASK_TEXTURED))
         *tex |= HZ_AMASK_BIT(te[h]);
     return in;
@@ -182,7 +189,7 @@ uint32_t hz_amask_disagree(const hz_amask_config_t *c, const hz_amask_px_t *p, c
     for (uint32_t h = 0; h < 2; h++) {
         bool in = involved(c, p, h, &why);
         for (uint32_t k = 0; k < 3; k++)
-            why |= pair_bits(c, &p->hit[h], in, &nb[k]->hit[h], h);
+            why |= pair_bits(c, p, in, nb[k], h);
     }
     uint32_t kept = select_tau(c, why, &tau);
     if (tau_q16)

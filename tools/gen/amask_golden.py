@@ -64,18 +64,25 @@ def normals_differ(a, b, cos_q15):
     return Fraction(dot * dot, la2 * lb2) < c * c
 
 
+def focused(focus, p, h):
+    """A hit takes part when its object is focused; a reflected hit also when its mirror (the primary hit) is."""
+    if not focus:
+        return True
+    return p['hit'][h]['object'] in focus or (h == 1 and p['hit'][0]['object'] in focus)
+
+
 def subpixel(tau, focus, p, nbs):
     classes = [(POID, PSN, PSC, PTE), (SOID, SSN, SSC, STE)]
     dis = set()
     for h in range(2):
         oid, sn, sc, te = classes[h]
         a = p['hit'][h]
-        a_in = not focus or a['object'] in focus
+        a_in = focused(focus, p, h)
         if a['textured'] and a_in:
             dis.add(te)
         for q in nbs:
             b = q['hit'][h]
-            if not a_in and b['object'] not in focus:
+            if not a_in and not focused(focus, q, h):
                 continue
             if a['object'] != b['object']:
                 dis.add(oid)
