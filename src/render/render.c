@@ -331,7 +331,7 @@ hz_status_t hz_render_create(hz_renderer_t **out, hz_scene_t *scene, hz_accel_t 
             hz_transp_bounds(scene, n.textures, bounds);
     }
     r->tri_maps = maps;
-    r->blend_bound = HZ_FEATURE_TRANSPARENCY ? bounds : NULL;
+    r->blend_bound = bounds; /* NULL without blended surfaces (so in a build without transparency) */
     r->has_motion = n.motion, r->camera_moves = n.camera_moves;
     r->cam_blur = r->f.blur && n.camera_moves;
     r->keys = r->f.blur && n.motion ? opts->keys : NULL;

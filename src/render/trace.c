@@ -179,14 +179,13 @@ bool hz_render_anyhit(void *user, uint32_t prim, float u, float v, float t, uint
         return true; /* installed only in builds with transparency: the rest compiles out */
     hz_worker_t *w = (hz_worker_t *)user;
     const hz_scene_t *s = w->r->scene;
-    const hz_material_t *m = &s->materials[s->tri_info[prim] & 0xffffu];
+    const uint32_t mi = s->tri_info[prim] & 0xffffu;
+    const hz_material_t *m = &s->materials[mi];
     if (m->alpha_mode == HZ_ALPHA_BLEND) {
         /* The common rejected layer: a threshold above the most opacity the material can have rejects it
          * without its texture (the decision is the same: it never falls as opacity grows); an untextured alpha
          * comes straight from the material; then integers only. */
-        const uint32_t *bounds = w->r->blend_bound;
-        const uint32_t bound = bounds && (ray_id & (ID_DITHER | ID_SHADOW_DITHER)) ? bounds[s->tri_info[prim] & 0xffffu]
-                                                                                   : HZ_DITHER_ONE;
+        const uint32_t bound = w->r->blend_bound ? w->r->blend_bound[mi] : HZ_DITHER_ONE;
         if (ray_id & ID_DITHER) {
             if (hz_transp_rejects(w, prim, u, v, bound, ray_id & 0xffffu, back))
                 return false;

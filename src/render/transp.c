@@ -104,14 +104,12 @@ void hz_transp_bounds(const hz_scene_t *s, bool textures, uint32_t *bound)
         const hz_material_t *m = &s->materials[i];
         uint32_t b = HZ_DITHER_ONE;
         if (m->alpha_mode == HZ_ALPHA_BLEND) {
+            /* untextured, or a texture index with no texture (hz_texture_alpha answers 1): the alpha itself */
             b = to_q16(m->alpha);
-            if (HZ_FEATURE_TEXTURES && textures && m->alpha_texture >= 0) {
-                if ((uint32_t)m->alpha_texture >= s->texture_count) {
-                    b = to_q16(m->alpha); /* no texture: hz_texture_alpha answers 1 */
-                } else {
-                    const float tmax = (float)level0_alpha_max(s, &s->textures[m->alpha_texture]) * (1.0f / 255.0f);
-                    b = to_q16(m->alpha * tmax) + BOUND_SLACK;
-                }
+            if (HZ_FEATURE_TEXTURES && textures && m->alpha_texture >= 0 &&
+                (uint32_t)m->alpha_texture < s->texture_count) {
+                const float tmax = (float)level0_alpha_max(s, &s->textures[m->alpha_texture]) * (1.0f / 255.0f);
+                b = to_q16(m->alpha * tmax) + BOUND_SLACK;
             }
             b = b > HZ_DITHER_ONE ? HZ_DITHER_ONE : b;
         }
