@@ -147,6 +147,9 @@ static void test_frame_loop_allocates_nothing(void **state)
  * per governor level (under qemu one: the first frame after each change, where a reallocation would show). */
 #define FRAMES HZ_EMULATED_LESS(24u, 10u)
 #define FRAMES_PER_LEVEL HZ_EMULATED_LESS(3, 1)
+/* Frame size (under qemu a quarter of the pixels: whether a frame allocates does not depend on its size). */
+#define FRAME_W HZ_EMULATED_LESS(96u, 48u)
+#define FRAME_H HZ_EMULATED_LESS(64u, 32u)
 
 static unsigned long render_armed_with(const char *scene, hz_accel_backend_t backend, hz_render_mode_t mode,
                                        uint32_t spp)
@@ -157,7 +160,7 @@ static unsigned long render_armed_with(const char *scene, hz_accel_backend_t bac
         fail_msg("%s: %s", scene, err.msg);
     hz_render_opts_t o;
     hz_render_opts_default(&o);
-    o.width = 96, o.height = 64, o.mode = mode, o.spp = spp;
+    o.width = FRAME_W, o.height = FRAME_H, o.mode = mode, o.spp = spp;
     assert_int_equal(rfix_renderer(&f, &o, 2, &err), HZ_OK); /* initialisation: threads, buffers */
     assert_int_equal(rfix_frame(&f, 0, 0.0f, &err), HZ_OK);
     armed_calls = 0;
@@ -199,7 +202,7 @@ static void test_level_changes_allocate_nothing(void **state)
             fail_msg("builtin: %s", err.msg);
         hz_render_opts_t o;
         hz_render_opts_default(&o);
-        o.width = 96, o.height = 64, o.mode = modes[m];
+        o.width = FRAME_W, o.height = FRAME_H, o.mode = modes[m];
         static hz_ladder_t ladder;
         assert_int_equal(hz_ladder_build(&ladder, &f.scene, &o, &err), HZ_OK);
         assert_true(ladder.count >= 4);
