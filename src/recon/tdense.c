@@ -473,9 +473,8 @@ static void resolve_rows(hz_tdense_t *td, uint32_t ty0, uint32_t ty1, row_fn_t r
             block_cache_t g;
             for (uint32_t tx = 0; tx < td->tiles_x; tx++) {
                 motion_t m = tile_motion(td, tx, ty, row != resolve_row, &g);
-                uint32_t rnd = hz_tileorder_tile_random_keyed(tx, ty, key);
-                hz_tilecycle_t c = hz_tileorder_ghat(hz_q16_from_float(m.x), hz_q16_from_float(m.y), rnd,
-                                                     td->cfg.rule);
+                hz_tilecycle_t c = hz_tdense_ghat(hz_q16_from_float(m.x), hz_q16_from_float(m.y), tx, ty, key,
+                                                  td->cfg.rule);
                 td->next_orders[(size_t)ty * td->tiles_x + tx] = (uint8_t)hz_tileorder_of_cycle(c);
             }
         }

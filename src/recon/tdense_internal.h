@@ -33,6 +33,15 @@ hz_tdense_motion_t hz_tdense_column_motion(const uint16_t *r0, const uint16_t *r
 void hz_tdense_resolve_pixel(hz_tdense_t *td, uint32_t x, uint32_t y, unsigned subframe, hz_tdense_motion_t m,
                              const uint32_t *prev, uint32_t *cur);
 
+/* ĝ at the end of a cycle (tdense_ghat.c): hz_tileorder_ghat(mx, my, hz_tileorder_tile_random_keyed(tx, ty, key),
+ * rule), the same decision for every input, mostly in double precision (the random word made only where it
+ * is read). hz_tdense_ghat_certain is its fast part: the decision (a hz_tilecycle_t, or HZ_TDENSE_GHAT_RANDOM:
+ * the random band decides) where the double-precision angle and length make it certain, -1 where they do not
+ * (near an edge of the bands, on an axis, and for the rules that need no angle). */
+#define HZ_TDENSE_GHAT_RANDOM 3
+int hz_tdense_ghat_certain(hz_q16_t mx, hz_q16_t my, hz_ghat_rule_t rule);
+hz_tilecycle_t hz_tdense_ghat(hz_q16_t mx, hz_q16_t my, uint32_t tx, uint32_t ty, uint32_t key, hz_ghat_rule_t rule);
+
 /* Lanes per group on AVX2 and NEON boards (lanes.h's HZ_LANES; here so that tdense.c needs no SIMD header). */
 #if defined(HZ_BOARD_SIMD_AVX2)
 #define HZ_TDENSE_LANES 8

@@ -13,6 +13,7 @@
 #include "hz/hash.h"
 #include "hz/tdense.h"
 #include "hz/vmath.h"
+#include "../../src/recon/tdense_internal.h" /* hz_tdense_ghat */
 
 static uint8_t arena_buf[8u << 20];
 
@@ -663,6 +664,80 @@ static void test_lanes_match_scalar(void **state)
     }
 }
 
+/* The resolve's ĝ (hz_tdense_ghat: double precision where certain, tdense_ghat.c) against the exact integer ĝ
+ * (hz_tileorder_ghat, itself held to an independent oracle by test_tileorder) on every rule: random motions of a
+ * few pixels and of every scale, motions built to land within a few units of the band edges (the angle at
+ * π/4 ± π/40, the length's fraction at 1/4 and 3/4 of the shifted period), the axes, the diagonal and the Q16
+ * extremes. The same decision everywhere; and the fast part decides nearly all ordinary motions itself. */
+static hz_q16_t q16_of(double px)
+{
+    double v = px * 65536.0;
+    v = v > 2147483647.0 ? 2147483647.0 : v < -2147483648.0 ? -2147483648.0 : v;
+    return (hz_q16_t)llround(v);
+}
+
+static void test_ghat_fast_matches_exact(void **state)
+{
+    (void)state;
+    const uint32_t n = HZ_EMULATED_LESS(400000u, 40000u);
+    hz_rng_t rng;
+    hz_rng_seed(&rng, 7, 29);
+    const double pi = 3.14159265358979323846;
+    uint32_t decided_ordinary = 0, ordinary = 0, undecided_edges = 0, edges = 0, differ = 0;
+    for (int rule = 0; rule < HZ_GHAT_RULE_COUNT; rule++) {
+        for (uint32_t i = 0; i < n; i++) {
+            hz_q16_t mx, my;
+            const uint32_t kind = i % 8u;
+            const double phi = (double)hz_rng_u32(&rng) * (2.0 * pi / 4294967296.0);
+            if (kind < 3) { /* a few pixels per frame */
+                mx = (hz_q16_t)hz_rng_below(&rng, 1u << 19) - (1 << 18);
+                my = (hz_q16_t)hz_rng_below(&rng, 1u << 19) - (1 << 18);
+            } else if (kind < 5) { /* 2^-16 .. 2^15 px at any angle */
+                const double len = ldexp(1.0 + (double)hz_rng_below(&rng, 1u << 20) / 1048576.0,
+                                         (int)hz_rng_below(&rng, 31) - 16);
+                mx = q16_of(len * cos(phi)), my = q16_of(len * sin(phi));
+            } else if (kind < 7) { /* the length's fraction within a few units of a band edge */
+                const double len = (double)hz_rng_below(&rng, 64) + 0.25 + 0.5 * (double)hz_rng_below(&rng, 2) +
+                                   ((double)hz_rng_below(&rng, 64) - 32.0) / 65536.0;
+                const double a = phi / 4.0;                          /* 0 .. π/2 */
+                const double shift = a / pi * ((kind == 5) ? 1.0 : -1.0); /* u = |m| -+ α/π */
+                mx = q16_of((len + shift) * cos(a)), my = q16_of((len + shift) * sin(a));
+            } else { /* the angle within a few units of the random band's edges */
+                const double edge = pi / 4.0 + ((hz_rng_below(&rng, 2) ? 1.0 : -1.0) * pi / 40.0);
+                const double a = edge + ((double)hz_rng_below(&rng, 512) - 256.0) * (pi / 2.0) / 1073741824.0;
+                const double len = 0.5 + (double)hz_rng_below(&rng, 1u << 16) / 256.0;
+                mx = q16_of(len * cos(a)), my = q16_of(len * sin(a));
+            }
+            if (i % 97u == 0) { /* axes, diagonal, extremes */
+                static const hz_q16_t odd[] = { 0, 1, -1, 65536, INT32_MAX, INT32_MIN, 12345, -98765 };
+                mx = odd[hz_rng_below(&rng, 8)];
+                my = hz_rng_below(&rng, 3) == 0 ? mx : odd[hz_rng_below(&rng, 8)];
+            }
+            const uint32_t tx = hz_rng_below(&rng, 4096), ty = hz_rng_below(&rng, 4096), key = hz_rng_u32(&rng);
+            const hz_tilecycle_t want =
+                hz_tileorder_ghat(mx, my, hz_tileorder_tile_random_keyed(tx, ty, key), (hz_ghat_rule_t)rule);
+            const hz_tilecycle_t got = hz_tdense_ghat(mx, my, tx, ty, key, (hz_ghat_rule_t)rule);
+            if (got != want && differ++ < 5)
+                print_message("rule %s, motion (%d, %d): %d, exact %d\n", hz_ghat_rule_name((hz_ghat_rule_t)rule),
+                              (int)mx, (int)my, (int)got, (int)want);
+            const int certain = hz_tdense_ghat_certain(mx, my, (hz_ghat_rule_t)rule);
+            if (rule == HZ_GHAT_FULL && kind < 5 && mx && my) {
+                ordinary++;
+                decided_ordinary += certain >= 0;
+            }
+            if (rule == HZ_GHAT_FULL && kind >= 5) {
+                edges++;
+                undecided_edges += certain < 0;
+            }
+        }
+    }
+    print_message("ghat: %u of %u ordinary motions decided in double precision, %u of %u built at the edges left "
+                  "to the exact code, %u differences\n", decided_ordinary, ordinary, undecided_edges, edges, differ);
+    assert_int_equal(differ, 0);
+    assert_true(decided_ordinary > ordinary - ordinary / 100);
+    assert_true(undecided_edges > edges / 10); /* the edge cases do reach the exact code */
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -678,6 +753,7 @@ int main(void)
         cmocka_unit_test(test_bad_motion_and_first_frame),
         cmocka_unit_test(test_init_errors),
         cmocka_unit_test(test_lanes_match_scalar),
+        cmocka_unit_test(test_ghat_fast_matches_exact),
     };
     return HZ_RUN(tests);
 }
