@@ -13,12 +13,12 @@
  * U = |m| 2^16 ∓ A / 2^15 (within 3 units of r ∓ h: each floor loses less than one unit, the angle's error
  * a 2^15th of its own) fall on the same side of every edge where A is more than ANGLE_MARGIN units from the
  * random band's edges and U more than U_MARGIN units from 2^14 and 3 * 2^14 (mod 2^16): the same decision.
- * Elsewhere (a fraction of about 3e-4 of the motions) the exact code decides. The rules other than the full one
+ * Elsewhere (about 4 in 10,000 ordinary motions) the exact code decides. The rules other than the full one
  * and the two shears, and motion along an axis, go to the exact code as they are (they need no angle). */
 #include "hz/tileorder.h"
 #include "tdense_internal.h"
 
-#define ANGLE_MARGIN 16384.0 /* units of 2^-30 quarter turns (1.5e-5 rad): atan_small's error is under 3,900 */
+#define ANGLE_MARGIN 16384.0 /* units of 2^-30 quarter turns (2.4e-5 rad): atan_small's error is under 3,900 */
 #define U_MARGIN 8.0      /* units of 2^-16 px: the readings differ by less than 3 */
 
 /* atan(s) for |s| <= tan(π/8) = 0.4143: the alternating series s - s^3/3 + ... + s^9/9, whose error is below

@@ -5,6 +5,7 @@
 #include "hz/fixed.h"
 #include "hz/tileorder.h"
 #include "hz/vmath.h"
+#include "../../src/recon/tdense_internal.h" /* hz_tdense_ghat */
 #include "stab_util.h"
 
 __extension__ typedef __int128 i128;
@@ -110,7 +111,8 @@ static void c_isqrt(stab_result_t *r)
 }
 
 /* ĝ at huge motion: |m| up to the Q16.16 range (32767 px), INT32_MIN components (|INT32_MIN| has no int32),
- * every rule: always hourglass or bowtie; ℓf exact against a 128-bit root; α within a few units of atan2. */
+ * every rule: always hourglass or bowtie, and the tdense resolve's ĝ the same; ℓf exact against a 128-bit root;
+ * α within a few units of atan2. */
 static void c_ghat_huge_motion(stab_result_t *r)
 {
     uint32_t n = 0;
@@ -140,6 +142,13 @@ static void c_ghat_huge_motion(stab_result_t *r)
                     hz_tilecycle_t c = hz_tileorder_ghat(mx, my, rnd << 31, (hz_ghat_rule_t)rule);
                     STAB_CHECK(r, c == HZ_TILECYCLE_HOURGLASS || c == HZ_TILECYCLE_BOWTIE,
                                "ghat(%d, %d) rule %d gave cycle %d", mx, my, rule, (int)c);
+                    /* the tdense resolve's ĝ (double precision where certain): the same decision */
+                    const uint32_t key = 0x9e3779b9u * (rnd + 1u), tx = (uint32_t)i, ty = (uint32_t)j;
+                    hz_tilecycle_t want = hz_tileorder_ghat(mx, my, hz_tileorder_tile_random_keyed(tx, ty, key),
+                                                            (hz_ghat_rule_t)rule);
+                    hz_tilecycle_t fast = hz_tdense_ghat(mx, my, tx, ty, key, (hz_ghat_rule_t)rule);
+                    STAB_CHECK(r, fast == want, "tdense ghat(%d, %d) rule %d: %d, exact %d", mx, my, rule,
+                               (int)fast, (int)want);
                 }
             n++;
         }
@@ -174,7 +183,7 @@ static const stab_case_t cases[] = {
     { "q16_add_sub_abs", "add/sub/abs/floor/frac saturate; float 1e30/Inf/NaN to Q16 saturates", c_q16_add_sub_abs,
       0 },
     { "isqrt", "integer roots near powers of two and (2^32-k)^2: exact floor", c_isqrt, 0 },
-    { "ghat_huge_motion", "ĝ at |m| up to 32767 px and INT32_MIN: valid cycle; exact length frac; angle",
+    { "ghat_huge_motion", "ĝ at |m| up to 32767 px and INT32_MIN: valid cycle, the resolve's the same; exact length frac; angle",
       c_ghat_huge_motion, 0 },
     { "tileorder_choose_extremes", "orderings over saturated motion: valid; split-independent",
       c_tileorder_choose_extremes, 0 },
