@@ -24,7 +24,7 @@ report: deps ## error against run time of every method on the standard scenes: b
 		--cache $(BUILD_ROOT)/errtime-cache --out $(REPORT_O) || exit $$?; \
 	for s in $(REPORT_OP_SIZES); do \
 		nice $(ERRTIME) --scene $(REPORT_OP_SCENES) --size $$s --frames 5 --warmup 1 \
-			--methods full-frame,adaptive,adaptive-bilinear --adaptive-search --scenes $(SCENES_O) \
+			--methods full-frame,adaptive,adaptive-bilinear,adaptive-footprint --adaptive-search --scenes $(SCENES_O) \
 			--cache $(BUILD_ROOT)/errtime-cache --out $(REPORT_O)/adaptive-op-$$s || exit $$?; \
 		{ echo; cat $(REPORT_O)/adaptive-op-$$s/adaptive-search.md; } >>$(REPORT_O)/errtime.md || exit $$?; \
 	done; \

@@ -75,6 +75,7 @@ static void opts_for(const hz_et_render_params_t *p, uint32_t w, uint32_t h, hz_
         if (p->adaptive_knob == HZ_ET_TAU_ALPHA)
             o->adaptive.tau[HZ_TAU_PTE] = o->adaptive.tau[HZ_TAU_STE] = p->adaptive_tau;
         o->adaptive.bilinear = p->adaptive_bilinear;
+        o->adaptive.footprint = p->adaptive_footprint;
     }
     o->transparency = p->transparency;
     o->hybrid_x = p->hybrid_x;
@@ -180,6 +181,9 @@ static const hz_et_render_params_t p_ad01 = ADAPTIVE(0.1f), p_ad03 = ADAPTIVE(0.
 #define ADAPTIVE_BILINEAR(t) { .mode = HZ_MODE_ADAPTIVE, .spp = 1, .adaptive_tau = t, .adaptive_bilinear = true }
 static const hz_et_render_params_t p_ab01 = ADAPTIVE_BILINEAR(0.1f), p_ab03 = ADAPTIVE_BILINEAR(0.3f),
                                    p_ab06 = ADAPTIVE_BILINEAR(0.6f);
+#define ADAPTIVE_FOOTPRINT(t) { .mode = HZ_MODE_ADAPTIVE, .spp = 1, .adaptive_tau = t, .adaptive_footprint = true }
+static const hz_et_render_params_t p_af01 = ADAPTIVE_FOOTPRINT(0.1f), p_af03 = ADAPTIVE_FOOTPRINT(0.3f),
+                                   p_af06 = ADAPTIVE_FOOTPRINT(0.6f), p_af10 = ADAPTIVE_FOOTPRINT(1.0f);
 #define FIG7(knob, t) { .mode = HZ_MODE_ADAPTIVE, .spp = 1, .adaptive_tau = t, .adaptive_knob = knob }
 static const hz_et_render_params_t p_co01 = FIG7(HZ_ET_TAU_COL_ONLY, 0.1f), p_co02 = FIG7(HZ_ET_TAU_COL_ONLY, 0.2f),
                                    p_co03 = FIG7(HZ_ET_TAU_COL_ONLY, 0.3f), p_co04 = FIG7(HZ_ET_TAU_COL_ONLY, 0.4f);
@@ -211,6 +215,10 @@ const hz_et_method_t hz_et_render_methods[HZ_ET_RENDER_METHOD_COUNT] = {
     METHOD("adaptive-bilinear", "tau", 0.1, &p_ab01),  /* seed 003 section 6: inactive subpixels interpolated */
     METHOD("adaptive-bilinear", "tau", 0.3, &p_ab03),
     METHOD("adaptive-bilinear", "tau", 0.6, &p_ab06),
+    METHOD("adaptive-footprint", "tau", 0.1, &p_af01), /* the presample's textures over the pixel's footprint */
+    METHOD("adaptive-footprint", "tau", 0.3, &p_af03),
+    METHOD("adaptive-footprint", "tau", 0.6, &p_af06),
+    METHOD("adaptive-footprint", "tau", 1.0, &p_af10),
     METHOD("adaptive-colour-only", "tau-col", 0.1, &p_co01), /* seed 003 Fig. 7, first row */
     METHOD("adaptive-colour-only", "tau-col", 0.2, &p_co02),
     METHOD("adaptive-colour-only", "tau-col", 0.3, &p_co03),

@@ -56,6 +56,7 @@ typedef struct hz_et_render_params {
     float adaptive_tau;   /* adaptive: the thresholds adaptive_knob names take it; the rest Table 2's */
     hz_et_adaptive_knob_t adaptive_knob;
     bool adaptive_bilinear; /* adaptive: inactive subpixels interpolated (hz_adaptive_opts_t.bilinear) */
+    bool adaptive_footprint; /* adaptive: presample textures over the pixel (hz_adaptive_opts_t.footprint) */
     hz_transp_t transparency; /* blended surfaces (hz/dither.h); 0 = exact */
     float hybrid_x;
     /* motion blur (hz/render.h "Motion blur"): shutter > 0 builds pose keys and a motion accel for the run */
@@ -69,7 +70,7 @@ typedef struct hz_et_render_params {
  * bilinear inactive subpixels at 0.1, 0.3 and 0.6, and seed 003's Fig. 7 pair at tau_col 0.1, 0.2, 0.3 and 0.4:
  * adaptive-colour-only (every geometry attribute off) and adaptive-multiple (Table 2's attribute thresholds);
  * later modes add rows here) and the 256-spp reference. */
-#define HZ_ET_RENDER_METHOD_COUNT 23
+#define HZ_ET_RENDER_METHOD_COUNT 27
 extern const hz_et_method_t hz_et_render_methods[HZ_ET_RENDER_METHOD_COUNT];
 extern const hz_et_method_t hz_et_render_reference;
 

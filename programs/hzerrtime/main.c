@@ -56,8 +56,8 @@ static const hz_opt_t options[] = {
     { .name = "--arena-mib", .arg = "N", .kind = HZ_OPT_INT, .lo = 1, .hi = 1 << 20, .id = E_ARENA,
       .help = "working memory (default 1024; touched only as needed)" },
     { .name = "--adaptive-search", .kind = HZ_OPT_FLAG, .id = E_SEARCH,
-      .help = "also find, per scene and adaptive method (adaptive, adaptive-bilinear: those --methods/--skip leave), "
-              "the largest tau whose PSNR reaches full-frame 9 spp's, by bisection (up to " STR(HZ_ET_SEARCH_PROBES)
+      .help = "also find, per scene and adaptive method (adaptive, adaptive-bilinear, adaptive-footprint: those "
+              "--methods/--skip leave), the largest tau whose PSNR reaches full-frame 9 spp's, by bisection (up to " STR(HZ_ET_SEARCH_PROBES)
               " runs each, rows <method>-search); adaptive-search.csv and .md next to errtime.csv" },
     { .name = "--list", .kind = HZ_OPT_FLAG, .id = E_LIST, .help = "scenes and their methods" },
     { .name = "--help", .alias = "-h", .kind = HZ_OPT_FLAG, .id = HZ_OPT_ID_HELP, .help = "this text" },
@@ -143,8 +143,8 @@ static int take(void *ctx, const hz_opt_t *o, const hz_opt_val_t *v)
 }
 
 /* The adaptive methods --adaptive-search knows. */
-enum { FAMILIES = 2 };
-static const char *const families[FAMILIES] = { "adaptive", "adaptive-bilinear" };
+enum { FAMILIES = 3 };
+static const char *const families[FAMILIES] = { "adaptive", "adaptive-bilinear", "adaptive-footprint" };
 
 /* The scene's method `name` (at knob value v; v < 0: any), or NULL. */
 static const hz_et_method_t *method_of(const hz_et_scene_t *scene, const char *name, double v)
@@ -278,8 +278,8 @@ int main(int argc, char **argv)
                 fam |= family_of(sc, f, methods, skip) != NULL;
             if (!fam || !method_of(sc, "full-frame", 9.0) || !method_of(sc, "full-frame", 16.0)) {
                 hz_cli_error("--adaptive-search: scene %s has %s", sc->name,
-                             !fam ? "no adaptive method to search (adaptive or adaptive-bilinear, left by --methods/"
-                                    "--skip)"
+                             !fam ? "no adaptive method to search (adaptive, adaptive-bilinear or adaptive-footprint, "
+                                    "left by --methods/--skip)"
                                   : "no full-frame 9 and 16 spp to compare with");
                 return HZ_EXIT_USAGE;
             }

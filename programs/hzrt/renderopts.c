@@ -20,7 +20,7 @@
 typedef enum opt_id {
     O_MODE, O_SPP, O_MSAA4, O_ORDERING, O_NO_RMV, O_TD_GAMMA, O_TAA_GAMMA, O_TAA_CLIP, O_TAA_CR, O_BOUNCES,
     O_TRANSP, O_RR_SHADOWS, O_SHUTTER, O_BLUR_BVH, O_RIGID, O_BACKEND, O_THREADS, O_START, O_TAU, O_NORMAL_ANGLE, O_FOCUS,
-    O_MAP, O_BILINEAR,
+    O_MAP, O_BILINEAR, O_FOOTPRINT,
     O_TAU_K /* + hz_tau_t: the nine thresholds */
 } opt_id_t;
 
@@ -117,6 +117,9 @@ static const hz_opt_t table[] = {
       .help = "in a pixel with active subpixels, each inactive one takes the presample's colours interpolated "
               "bilinearly at its own centre, not the pixel's centre colour (the paper's future work; costs 12 "
               "bytes a pixel)" },
+    { .name = "--adaptive-footprint", .kind = HZ_OPT_FLAG, .modes = ADAPTIVE, .flags = IMG, .id = O_FOOTPRINT,
+      .help = "the presample's textures are the mean over each pixel's footprint on the surface (2x2 taps on the "
+              "ray cone's mip level), the filter supersampled pixels apply" },
     { .name = "--adaptive-map", .arg = "F", .kind = HZ_OPT_TEXT, .modes = ADAPTIVE, .flags = HZ_OF_OUTPUT, .id = O_MAP,
       .help = "write the last frame's active subpixels per pixel (black, red, green, blue, white for 0..4) to F "
               "(.png, .ppm or .pfm; its folder must exist; not one of the run's other files)" },
@@ -213,6 +216,7 @@ int hz_ropts_take(hz_ropts_t *r, int argc, char **argv, int i)
         break;
     case O_NORMAL_ANGLE: ro->adaptive.normal_angle_deg = (float)x.x; break;
     case O_BILINEAR: ro->adaptive.bilinear = 1; break;
+    case O_FOOTPRINT: ro->adaptive.footprint = 1; break;
     case O_FOCUS:
         if (!hz_adaptive_cli_focus_ok(v, why, sizeof why)) {
             hz_cli_error("%s: --focus-objects: %s", r->cmd, why);
@@ -356,6 +360,7 @@ void hz_ropts_settings(FILE *f, const hz_ropts_t *r, const hz_render_opts_t *o, 
         case O_START: fprintf(f, "%.9g", (double)r->start * 1e-9); break;
         case O_NORMAL_ANGLE: fprintf(f, "%.6g", (double)o->adaptive.normal_angle_deg); break;
         case O_BILINEAR: fputs(o->adaptive.bilinear ? "true" : "false", f); break;
+        case O_FOOTPRINT: fputs(o->adaptive.footprint ? "true" : "false", f); break;
         case O_FOCUS:
             fputc('[', f);
             for (uint32_t i = 0; i < o->adaptive.focus_count; i++)

@@ -327,7 +327,8 @@ static void ad_run(void *state, hz_render_frame_t *f, uint32_t pass, uint32_t it
 {
     adaptive_state_t *a = state;
     if (pass == 0) {
-        hz_tile_sampling_t centres = { 1, NULL, false, 0, 0 }; /* the presample: 1 spp at pixel centres */
+        /* the presample: 1 spp at pixel centres, textures over the pixel where asked */
+        hz_tile_sampling_t centres = { 1, NULL, false, 0, 0, f->opts.adaptive.footprint != 0 };
         hz_render_trace_tile(f, b, item, &centres, &a->out);
         keep_attrs(a, f, b);
     } else if (pass == 1) {

@@ -30,7 +30,7 @@ static uint32_t full_items(const void *state, const hz_render_frame_t *f, uint32
 static void full_run(void *state, hz_render_frame_t *f, uint32_t pass, uint32_t item, hz_batch_t *b)
 {
     full_state_t *s = state;
-    hz_tile_sampling_t smp = { f->opts.spp, NULL, f->opts.msaa4, 0, 0 };
+    hz_tile_sampling_t smp = { f->opts.spp, NULL, f->opts.msaa4, 0, 0, false };
     (void)pass;
     hz_render_trace_tile(f, b, item, &smp, &s->out);
 }

@@ -319,7 +319,7 @@ static void taa_run(void *state, hz_render_frame_t *f, uint32_t pass, uint32_t i
     hz_taa_t *t = state;
     if (pass == 0) {
         /* One jittered sample per pixel; with motion blur its time walks 16 frames. */
-        hz_tile_sampling_t smp = { 1, t->jitter, false, (uint32_t)(f->frame % 16u), 16 };
+        hz_tile_sampling_t smp = { 1, t->jitter, false, (uint32_t)(f->frame % 16u), 16, false };
         hz_render_trace_tile(f, b, item, &smp, &t->cur);
     } else {
         taa_resolve(t, f, item);

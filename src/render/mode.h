@@ -61,18 +61,21 @@ typedef struct hz_batch {
     uint32_t pixel[HZ_TILE_PIXELS];          /* slot -> pixel index; UINT32_MAX: an empty slot */
     float radiance[HZ_TILE_PIXELS * 3];      /* added to by hz_render_trace */
     uint32_t dither_frame;                   /* frame index the dither thresholds use */
+    bool footprint;                          /* camera rays filter textures over their pixel (shade.h) */
     hz_render_stats_t stats;
 } hz_batch_t;
 
 /* How hz_render_trace_tile places a tile's samples: spp per pixel (1: pixel centres), or every pixel at one
  * fixed offset (fixed_jitter), or the 4x MSAA positions (msaa4, spp 4); stratified per-pixel positions
  * otherwise. With motion blur, sample k of a pixel takes time index time_index (when time_count > 0) of
- * time_count, else k of spp. */
+ * time_count, else k of spp. footprint: the camera rays' textures are the mean over the pixel's footprint
+ * (src/render/shade.h) instead of one bilinear sample at the hit. */
 typedef struct hz_tile_sampling {
     uint32_t spp;
     const float *fixed_jitter;   /* NULL: none */
     bool msaa4;
     uint32_t time_index, time_count;
+    bool footprint;              /* textures filtered over each pixel (meant for 1 spp at pixel centres) */
 } hz_tile_sampling_t;
 
 /* ---- the renderer's services ---- */

@@ -524,7 +524,9 @@ void hz_render_trace_tile(hz_render_frame_t *f, hz_batch_t *b, uint32_t tile, co
                                             : hz_render_sample_time(f, b->pixel[slot], k, spp);
         }
         b->dither_frame = (uint32_t)f->frame * spp + k; /* N spp walk N steps of the dither's sequence */
+        b->footprint = s->footprint;
         hz_render_trace(f, b, (const float(*)[2])jitter, HZ_FEATURE_MOTION && f->blur ? times : NULL, k == 0);
+        b->footprint = false;
     }
     float scale = 1.0f / (float)spp;
     for (uint32_t slot = 0; slot < HZ_TILE_PIXELS; slot++) {

@@ -25,6 +25,12 @@
  *    colour is weighted with. hz_shade_light_lane gives the same for any light of one lane (lights past the
  *    first HZ_SHADE_LIGHTS; the packet kernels use it nowhere else).
  *  - `textures` false skips texturing (the renderer's scene has no textured material in use).
+ *  - `footprint` (NULL: none) filters textures over the pixel: a lane with eye_dist > 0 is a ray on a camera
+ *    ray's line (the camera ray or a layer behind it) at that distance from the eye; its texture samples become
+ *    the mean of HZ_SHADE_TAPS bilinear taps on the same mip level, placed on a 3x3 grid over the pixel's
+ *    footprint on the hit plane (the pixel's two edges through the plane, from the camera's per-pixel
+ *    direction steps: ray differentials). Lanes whose footprint is not finite (a ray in the plane, a
+ *    degenerate triangle) keep the one sample at the hit. Same bits on both paths.
  *  - Nothing is allocated; the functions are reentrant.
  */
 #ifndef HZ_SHADE_H
@@ -44,6 +50,12 @@
 #endif
 #define HZ_SHADE_LIGHTS 4 /* lights per packet computed lane-parallel */
 
+/* The camera's change of ray direction per pixel step, for the unnormalised direction fwd + sx right + sy up
+ * (ex: one pixel right, ey: one pixel down), and fwd / |fwd|^2 (the depth along fwd per unit distance). */
+typedef struct hz_shade_footprint {
+    float ex[3], ey[3], f[3];
+} hz_shade_footprint_t;
+
 typedef struct hz_shade_ctx {
     const hz_scene_t *scene;
     const hz_posekeys_t *keys; /* NULL: the scene's current pose */
@@ -51,6 +63,7 @@ typedef struct hz_shade_ctx {
     const hz_light_t *lights;
     uint32_t light_count;
     float offset_scale;        /* hz_accel_offset_origin's scale */
+    const hz_shade_footprint_t *footprint; /* NULL: every texture sample is one bilinear tap */
 } hz_shade_ctx_t;
 
 /* One light as seen from the lanes of a packet. */
@@ -68,6 +81,7 @@ typedef struct hz_shade_in {
     float dx[HZ_SHADE_LANES], dy[HZ_SHADE_LANES], dz[HZ_SHADE_LANES];
     float time[HZ_SHADE_LANES];
     float cone_w[HZ_SHADE_LANES], cone_s[HZ_SHADE_LANES];
+    float eye_dist[HZ_SHADE_LANES]; /* read only with a footprint: > 0 filters the lane's textures over its pixel */
 } hz_shade_in_t;
 
 typedef struct hz_shade_out {

@@ -134,10 +134,38 @@ static inline vi k_wrap(vi i, vi n)
     return vi_sel(vi_lt(i, n), i, vi_sub(i, n));
 }
 
+/* Bilinear samples at (tu, tv) on each lane's level (first texel, width, height); lanes outside `on` (all
+ * bits set: gather) read texel 0. */
+static inline void k_bilinear(const hz_scene_t *s, vi vfirst, vi vw, vi vh, vi onv, vf tu, vf tv, vf out[4])
+{
+    vf fu = vf_sub(vf_mul(vf_sub(tu, k_floor(tu)), vf_from_vi(vw)), vf_set1(0.5f));
+    vf fv = vf_sub(vf_mul(vf_sub(tv, k_floor(tv)), vf_from_vi(vh)), vf_set1(0.5f));
+    vf x0f = k_floor(fu), y0f = k_floor(fv);
+    vf ax = vf_sub(fu, x0f), ay = vf_sub(fv, y0f);
+    vi x0 = vi_trunc(x0f), y0 = vi_trunc(y0f);
+    vi one = vi_set1(1);
+    vi x1 = k_wrap(vi_add(x0, one), vw), y1 = k_wrap(vi_add(y0, one), vh);
+    x0 = k_wrap(x0, vw), y0 = k_wrap(y0, vh);
+    vi r0 = vi_add(vfirst, vi_mul(y0, vw)), r1 = vi_add(vfirst, vi_mul(y1, vw));
+    vi ia = vi_and(vi_add(r0, x0), onv), ib = vi_and(vi_add(r0, x1), onv);
+    vi ic = vi_and(vi_add(r1, x0), onv), id = vi_and(vi_add(r1, x1), onv);
+    vf a[4], b[4], cc[4], d[4];
+    k_texel(s, ia, a);
+    k_texel(s, ib, b);
+    k_texel(s, ic, cc);
+    k_texel(s, id, d);
+    for (int k = 0; k < 4; k++) {
+        vf top = vf_add(a[k], vf_mul(vf_sub(b[k], a[k]), ax));
+        vf bot = vf_add(cc[k], vf_mul(vf_sub(d[k], cc[k]), ax));
+        out[k] = vf_add(top, vf_mul(vf_sub(bot, top), ay));
+    }
+}
+
 /* Each lane's sample of texture tex[lane] at (tu, tv) with its mip level from lod_base, for the lanes of
- * `lanes` (texture.c's hz_texture_sample: bilinear, wrapped). */
+ * `lanes` (texture.c's hz_texture_sample: bilinear, wrapped); lanes of `foot` take the mean of the footprint's
+ * taps with gradients g (hz_shade_sample_taps). */
 static void k_sample(const hz_shade_ctx_t *c, const int32_t *tex, uint32_t lanes, vf tu, vf tv,
-                     const float *lod_base, float rgba[4][KL])
+                     const float *lod_base, const float (*g)[KL], uint32_t foot, float rgba[4][KL])
 {
     const hz_scene_t *s = c->scene;
     float su[KL] HZ_ALIGNED(32), sv[KL] HZ_ALIGNED(32);
@@ -158,39 +186,58 @@ static void k_sample(const hz_shade_ctx_t *c, const int32_t *tex, uint32_t lanes
             const hz_texture_t *tx = &s->textures[tex[i]];
             float lod = lod_base[i] + 0.5f * hz_log2_approx((float)tx->width * (float)tx->height);
             float px[4];
-            hz_texture_sample(s, tex[i], su[i], sv[i], lod, px);
+            if (foot >> i & 1u) {
+                const float gi[4] = { g[0][i], g[1][i], g[2][i], g[3][i] };
+                hz_shade_sample_taps(s, tex[i], su[i], sv[i], lod, gi, px);
+            } else {
+                hz_texture_sample(s, tex[i], su[i], sv[i], lod, px);
+            }
             rgba[0][i] = px[0], rgba[1][i] = px[1], rgba[2][i] = px[2], rgba[3][i] = px[3];
         }
     }
     if (!gather)
         return;
     vi vw = vi_load(w), vh = vi_load(h), vfirst = vi_load(first);
-    vf fu = vf_sub(vf_mul(vf_sub(tu, k_floor(tu)), vf_from_vi(vw)), vf_set1(0.5f));
-    vf fv = vf_sub(vf_mul(vf_sub(tv, k_floor(tv)), vf_from_vi(vh)), vf_set1(0.5f));
-    vf x0f = k_floor(fu), y0f = k_floor(fv);
-    vf ax = vf_sub(fu, x0f), ay = vf_sub(fv, y0f);
-    vi x0 = vi_trunc(x0f), y0 = vi_trunc(y0f);
-    vi one = vi_set1(1);
-    vi x1 = k_wrap(vi_add(x0, one), vw), y1 = k_wrap(vi_add(y0, one), vh);
-    x0 = k_wrap(x0, vw), y0 = k_wrap(y0, vh);
     /* Lanes that do not gather read texel 0 (their coordinates may be anything). */
     vi onv = vi_load(on);
-    vi r0 = vi_add(vfirst, vi_mul(y0, vw)), r1 = vi_add(vfirst, vi_mul(y1, vw));
-    vi ia = vi_and(vi_add(r0, x0), onv), ib = vi_and(vi_add(r0, x1), onv);
-    vi ic = vi_and(vi_add(r1, x0), onv), id = vi_and(vi_add(r1, x1), onv);
-    vf a[4], b[4], cc[4], d[4];
-    k_texel(s, ia, a);
-    k_texel(s, ib, b);
-    k_texel(s, ic, cc);
-    k_texel(s, id, d);
-    float res[KL] HZ_ALIGNED(32);
+    vf res[4];
+    k_bilinear(s, vfirst, vw, vh, onv, tu, tv, res);
+    const uint32_t taps = gather & foot;
+    uint32_t keep = 0;
+    if (taps) {
+        /* hz_shade_sample_taps, lane-parallel; a lane with a tap that is not finite keeps its centre sample (its
+         * taps are read at the centre, never at a wild index). */
+        vf gux = vf_load(g[0]), guy = vf_load(g[1]), gvx = vf_load(g[2]), gvy = vf_load(g[3]);
+        vm finite = vm_and(k_finite(tu), k_finite(tv));
+        vf acc[4];
+        for (uint32_t k = 0; k < HZ_SHADE_TAPS; k++) {
+            vf ox = vf_set1(hz_shade_tap_offset(k % HZ_SHADE_TAP_SIDE)), oy = vf_set1(hz_shade_tap_offset(k / HZ_SHADE_TAP_SIDE));
+            vf su_k = vf_add(tu, vf_add(vf_mul(ox, gux), vf_mul(oy, guy)));
+            vf sv_k = vf_add(tv, vf_add(vf_mul(ox, gvx), vf_mul(oy, gvy)));
+            vm ok = vm_and(k_finite(su_k), k_finite(sv_k));
+            finite = vm_and(finite, ok);
+            vf b[4];
+            k_bilinear(s, vfirst, vw, vh, onv, vf_sel(ok, su_k, tu), vf_sel(ok, sv_k, tv), b);
+            for (int ch = 0; ch < 4; ch++)
+                acc[ch] = k ? vf_add(acc[ch], b[ch]) : b[ch];
+        }
+        keep = taps & vm_bits(finite);
+        for (int ch = 0; ch < 4; ch++)
+            acc[ch] = vf_mul(acc[ch], vf_set1(1.0f / (float)HZ_SHADE_TAPS));
+        float mean[KL] HZ_ALIGNED(32);
+        for (int ch = 0; ch < 4; ch++) {
+            vf_store(mean, acc[ch]);
+            for (uint32_t i = 0; i < KL; i++)
+                if (keep >> i & 1u)
+                    rgba[ch][i] = mean[i];
+        }
+    }
+    float out[KL] HZ_ALIGNED(32);
     for (int k = 0; k < 4; k++) {
-        vf top = vf_add(a[k], vf_mul(vf_sub(b[k], a[k]), ax));
-        vf bot = vf_add(cc[k], vf_mul(vf_sub(d[k], cc[k]), ax));
-        vf_store(res, vf_add(top, vf_mul(vf_sub(bot, top), ay)));
+        vf_store(out, res[k]);
         for (uint32_t i = 0; i < KL; i++)
-            if (gather >> i & 1u)
-                rgba[k][i] = res[i];
+            if ((gather & ~keep) >> i & 1u)
+                rgba[k][i] = out[i];
     }
 }
 
@@ -369,11 +416,35 @@ void hz_shade_surfaces(const hz_shade_ctx_t *c, const hz_shade_in_t *in, uint32_
     vf cs = vf_abs(dn);
     vf width = vf_add(vf_load(in->cone_w), vf_mul(vf_load(in->cone_s), vf_load(in->t)));
     vf lod = vf_sub(vf_add(vf_mul(vf_set1(0.5f), k_log2(vf_div(uv_area2, area2))), k_log2(width)), k_log2(cs));
+    /* The footprint's gradients (hz_shade_footprint_lane, lane-parallel), on the triangle at the ray's time. */
+    float fg[4][KL] HZ_ALIGNED(32);
+    uint32_t foot = 0;
+    if (HZ_FEATURE_TEXTURES && c->footprint) {
+        const hz_shade_footprint_t *fp = c->footprint;
+        vf nn = k_dot(ngr, ngr), dn = k_dot(d, ngr);
+        const kv3_t fv = { vf_set1(fp->f[0]), vf_set1(fp->f[1]), vf_set1(fp->f[2]) };
+        vf tq = vf_mul(vf_load(in->eye_dist), k_dot(d, fv));
+        kv3_t e1 = k_sub(p1, p0), e2 = k_sub(p2, p0);
+        kv3_t q1 = k_cross(e2, ngr), q2 = k_cross(ngr, e1);
+        vf du1 = vf_sub(b0, a0), dv1 = vf_sub(b1, a1), du2 = vf_sub(c0, a0), dv2 = vf_sub(c1, a1);
+        vm ok = vf_gt(vf_load(in->eye_dist), vf_set1(0.0f));
+        for (int axis = 0; axis < 2; axis++) {
+            const float *ev = axis ? fp->ey : fp->ex;
+            kv3_t e = { vf_set1(ev[0]), vf_set1(ev[1]), vf_set1(ev[2]) };
+            vf k = vf_div(k_dot(e, ngr), dn);
+            kv3_t a = k_scale(k_sub(e, k_scale(d, k)), tq);
+            vf beta = vf_div(k_dot(a, q1), nn), gamma = vf_div(k_dot(a, q2), nn);
+            vf gu = vf_add(vf_mul(beta, du1), vf_mul(gamma, du2)), gv = vf_add(vf_mul(beta, dv1), vf_mul(gamma, dv2));
+            ok = vm_and(ok, vm_and(k_finite(gu), k_finite(gv)));
+            vf_store(fg[axis], gu), vf_store(fg[2 + axis], gv);
+        }
+        foot = vm_bits(ok) & mask;
+    }
     float lod_base[KL] HZ_ALIGNED(32), stu[KL] HZ_ALIGNED(32), stv[KL] HZ_ALIGNED(32);
     vf_store(lod_base, lod), vf_store(stu, tu), vf_store(stv, tv);
     float rgba[4][KL] HZ_ALIGNED(32);
     if (base) {
-        k_sample(c, base_tex, base, tu, tv, lod_base, rgba);
+        k_sample(c, base_tex, base, tu, tv, lod_base, (const float (*)[KL])fg, foot & base, rgba);
         for (uint32_t i = 0; i < KL; i++)
             if (base >> i & 1u) {
                 o->albedo[0][i] *= rgba[0][i], o->albedo[1][i] *= rgba[1][i], o->albedo[2][i] *= rgba[2][i];
@@ -383,7 +454,7 @@ void hz_shade_surfaces(const hz_shade_ctx_t *c, const hz_shade_in_t *in, uint32_
             }
     }
     if (alpha) {
-        k_sample(c, alpha_tex, alpha, tu, tv, lod_base, rgba);
+        k_sample(c, alpha_tex, alpha, tu, tv, lod_base, (const float (*)[KL])fg, foot & alpha, rgba);
         for (uint32_t i = 0; i < KL; i++)
             if (alpha >> i & 1u) {
                 o->alpha[i] *= rgba[3][i];

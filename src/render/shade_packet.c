@@ -70,6 +70,62 @@ void hz_shade_lane_material(const hz_shade_ctx_t *c, const hz_shade_in_t *in, ui
     lt->alpha = blend && m->alpha_texture >= 0 && m->alpha_texture != m->base_texture ? m->alpha_texture : -1;
 }
 
+bool hz_shade_footprint_lane(const hz_shade_ctx_t *c, const hz_shade_in_t *in, uint32_t i, const hz_vec3_t p[3],
+                             float g[4])
+{
+    const hz_shade_footprint_t *fp = c->footprint;
+    const hz_scene_t *s = c->scene;
+    if (!HZ_FEATURE_TEXTURES || !fp || !s->uv || !(in->eye_dist[i] > 0.0f))
+        return false;
+    /* Igehy's transfer of a ray differential to the hit plane: for a direction step e of the unnormalised
+     * direction D (|D| along fwd is 1), the hit moves by tq (e - d (e.N) / (d.N)), tq the hit's depth along fwd;
+     * barycentric coordinates of that move through the dual edges N x e1 and e2 x N. */
+    hz_vec3_t e1 = hz_v3_sub(p[1], p[0]), e2 = hz_v3_sub(p[2], p[0]);
+    hz_vec3_t n = hz_v3_cross(e1, e2);
+    hz_vec3_t d = hz_v3(in->dx[i], in->dy[i], in->dz[i]);
+    float nn = hz_v3_dot(n, n), dn = hz_v3_dot(d, n);
+    float tq = in->eye_dist[i] * hz_v3_dot(d, hz_v3(fp->f[0], fp->f[1], fp->f[2]));
+    hz_vec3_t b1 = hz_v3_cross(e2, n), b2 = hz_v3_cross(n, e1);
+    const uint32_t *t = s->tri + (size_t)in->prim[i] * 3;
+    const float *ua = s->uv + (size_t)t[0] * 2, *ub = s->uv + (size_t)t[1] * 2, *uc = s->uv + (size_t)t[2] * 2;
+    float du1 = ub[0] - ua[0], dv1 = ub[1] - ua[1], du2 = uc[0] - ua[0], dv2 = uc[1] - ua[1];
+    for (int axis = 0; axis < 2; axis++) {
+        const float *ev = axis ? fp->ey : fp->ex;
+        hz_vec3_t e = hz_v3(ev[0], ev[1], ev[2]);
+        float k = hz_v3_dot(e, n) / dn;
+        hz_vec3_t a = hz_v3_scale(hz_v3_sub(e, hz_v3_scale(d, k)), tq);
+        float beta = hz_v3_dot(a, b1) / nn, gamma = hz_v3_dot(a, b2) / nn;
+        g[axis] = beta * du1 + gamma * du2;
+        g[2 + axis] = beta * dv1 + gamma * dv2;
+    }
+    return hz_isfinitef(g[0]) && hz_isfinitef(g[1]) && hz_isfinitef(g[2]) && hz_isfinitef(g[3]);
+}
+
+void hz_shade_sample_taps(const hz_scene_t *s, int32_t tex, float tu, float tv, float lod, const float g[4],
+                          float rgba[4])
+{
+    float su[HZ_SHADE_TAPS], sv[HZ_SHADE_TAPS];
+    bool finite = hz_isfinitef(tu) && hz_isfinitef(tv);
+    for (uint32_t k = 0; k < HZ_SHADE_TAPS; k++) {
+        float ox = hz_shade_tap_offset(k % HZ_SHADE_TAP_SIDE), oy = hz_shade_tap_offset(k / HZ_SHADE_TAP_SIDE);
+        su[k] = tu + (ox * g[0] + oy * g[1]);
+        sv[k] = tv + (ox * g[2] + oy * g[3]);
+        finite = finite && hz_isfinitef(su[k]) && hz_isfinitef(sv[k]);
+    }
+    if (!finite) {
+        hz_texture_sample(s, tex, tu, tv, lod, rgba);
+        return;
+    }
+    float acc[4] = { 0.0f, 0.0f, 0.0f, 0.0f }, px[4];
+    for (uint32_t k = 0; k < HZ_SHADE_TAPS; k++) {
+        hz_texture_sample(s, tex, su[k], sv[k], lod, px);
+        for (int ch = 0; ch < 4; ch++)
+            acc[ch] = k ? acc[ch] + px[ch] : px[ch];
+    }
+    for (int ch = 0; ch < 4; ch++)
+        rgba[ch] = acc[ch] * (1.0f / (float)HZ_SHADE_TAPS);
+}
+
 void hz_shade_level_memo_init(hz_shade_level_memo_t *m)
 {
     m->tex = -1;
@@ -149,11 +205,15 @@ static void lane_scalar(const hz_shade_ctx_t *c, const hz_shade_in_t *in, uint32
     float cos = hz_absf(hz_v3_dot(ng, d));
     float width = in->cone_w[i] + in->cone_s[i] * in->t[i];
     float lod_base = 0.5f * hz_log2_approx(uv_area2 / area2) + hz_log2_approx(width) - hz_log2_approx(cos);
-    float rgba[4];
+    float rgba[4], g[4];
+    const bool foot = hz_shade_footprint_lane(c, in, i, pv, g);
     if (lt.base >= 0) {
         const hz_texture_t *tx = &s->textures[lt.base];
         float lod = lod_base + 0.5f * hz_log2_approx((float)tx->width * (float)tx->height);
-        hz_texture_sample(s, lt.base, tu, tv, lod, rgba);
+        if (foot)
+            hz_shade_sample_taps(s, lt.base, tu, tv, lod, g, rgba);
+        else
+            hz_texture_sample(s, lt.base, tu, tv, lod, rgba);
         o->albedo[0][i] *= rgba[0], o->albedo[1][i] *= rgba[1], o->albedo[2][i] *= rgba[2];
         o->textured[i] = 1;
         if (lt.base_alpha)
@@ -162,7 +222,10 @@ static void lane_scalar(const hz_shade_ctx_t *c, const hz_shade_in_t *in, uint32
     if (lt.alpha >= 0) {
         const hz_texture_t *tx = &s->textures[lt.alpha];
         float lod = lod_base + 0.5f * hz_log2_approx((float)tx->width * (float)tx->height);
-        hz_texture_sample(s, lt.alpha, tu, tv, lod, rgba);
+        if (foot)
+            hz_shade_sample_taps(s, lt.alpha, tu, tv, lod, g, rgba);
+        else
+            hz_texture_sample(s, lt.alpha, tu, tv, lod, rgba);
         o->alpha[i] *= rgba[3];
         o->textured[i] = 1;
     }

@@ -663,6 +663,15 @@ static void shade_hit(hz_worker_t *w, const ray_job_t *j, const hitrec_t *h, con
     }
 }
 
+/* The pixel steps of a view's ray direction (hz_view_ray_dir before normalisation). */
+static void view_footprint(const hz_view_t *v, hz_shade_footprint_t *fp)
+{
+    const float sx = 2.0f / (float)v->width, sy = -2.0f / (float)v->height, ff = hz_v3_dot(v->fwd, v->fwd);
+    fp->ex[0] = v->right.x * sx, fp->ex[1] = v->right.y * sx, fp->ex[2] = v->right.z * sx;
+    fp->ey[0] = v->up.x * sy, fp->ey[1] = v->up.y * sy, fp->ey[2] = v->up.z * sy;
+    fp->f[0] = v->fwd.x / ff, fp->f[1] = v->fwd.y / ff, fp->f[2] = v->fwd.z / ff;
+}
+
 /* Shades a packet's n jobs in order: their surfaces first, all lanes at once (src/render/shade.h), then job by job
  * what each adds (G-buffer, continuation and mirror rays, the light loop's shadow rays). */
 static void shade_packet(hz_worker_t *w, const ray_job_t *jobs, const hitrec_t *hits, uint32_t n)
@@ -670,8 +679,15 @@ static void shade_packet(hz_worker_t *w, const ray_job_t *jobs, const hitrec_t *
     const struct hz_renderer *r = w->r;
     hz_shade_in_t in;
     hz_shade_out_t out;
-    const hz_shade_ctx_t c = { r->scene,      HZ_RENDER_KEYS(r), HZ_FEATURE_TEXTURES && r->has_textures,
-                               r->lights,     r->light_count,    r->offset_scale };
+    /* Textures filtered over the pixel where the batch asks: the frame camera's pixel steps (with camera blur a
+     * ray's own camera differs from it by the shutter's motion, a small change of a filter's width). */
+    hz_shade_footprint_t fp;
+    const bool foot = HZ_FEATURE_TEXTURES && w->b.footprint && r->has_textures;
+    if (foot)
+        view_footprint(&r->view, &fp);
+    const hz_shade_ctx_t c = { r->scene,         HZ_RENDER_KEYS(r), HZ_FEATURE_TEXTURES && r->has_textures,
+                               r->lights,        r->light_count,    r->offset_scale,
+                               foot ? &fp : NULL };
     uint32_t mask = 0, live = 0;
     for (uint32_t i = 0; i < n; i++)
         if (hits[i].prim != HZ_ACCEL_INVALID_ID) {
@@ -686,6 +702,7 @@ static void shade_packet(hz_worker_t *w, const ray_job_t *jobs, const hitrec_t *
             in.prim[i] = hits[k].prim, in.u[i] = hits[k].u, in.v[i] = hits[k].v, in.t[i] = hits[k].t;
             in.dx[i] = j->d[0], in.dy[i] = j->d[1], in.dz[i] = j->d[2];
             in.time[i] = j->time, in.cone_w[i] = j->cone_w, in.cone_s[i] = j->cone_s;
+            in.eye_dist[i] = foot && j->bounces == 0 ? j->travelled + hits[k].t : 0.0f; /* on the camera ray's line */
         }
         (r->f.opts.scalar_shading ? hz_shade_surfaces_scalar : hz_shade_surfaces)(&c, &in, mask, &out);
     }

@@ -1,7 +1,8 @@
 /* End-to-end tests of --mode adaptive (seed 003, hz/adaptive.h) on the built-in scene (mirrors, cut-outs,
  * blended surfaces, motion) and, where baked, CornellBox-Mirror: the two limits (no subpixel active = the 1-spp
  * image bit for bit; every subpixel active = the 16-spp image, since the 16 sample positions are the full mode's),
- * weights summing to 1, packets full, thread counts agreeing, option checks and the memory plan. */
+ * weights summing to 1, packets full, thread counts agreeing, option checks and the memory plan; on Sponza, the
+ * presample's textures over the pixel footprint. */
 #include "hz_test.h"
 
 #include "render_fixture.h"
@@ -219,6 +220,62 @@ static void test_bilinear_inactive_subpixels(void **state)
     rfix_close(&f);
 }
 
+/* Textures over the pixel (opts.adaptive.footprint): no subpixel active gives the filtered presample, which on
+ * Sponza's textured walls lies closer to 64 spp than the 1-spp image does (the geometry of each pixel's centre
+ * sample is the same in both, so the difference is the texture filter); every subpixel active still gives the
+ * 16-spp image; one thread and two agree bit for bit. */
+static void test_footprint(void **state)
+{
+    (void)state;
+    char path[512];
+    if (!rfix_scene_path("sponza.hzb", path, sizeof path))
+        fail_msg("HZ_SCENES_DIR is not set (make test sets it)");
+    enum { FW = 96, FH = 64 };
+    const size_t n = (size_t)FW * FH * 3;
+    rfix_t f;
+    open_scene(&f, path, HZ_ACCEL_NATIVE);
+    hz_render_opts_t o;
+    hz_render_opts_default(&o);
+    o.width = FW, o.height = FH;
+    hz_render_stats_t st;
+    float *one = render_copy(&f, &o, 2, 1.0f, &st);
+    o.spp = 16;
+    float *sixteen = render_copy(&f, &o, 2, 1.0f, &st);
+    o.spp = 64;
+    float *ref = render_copy(&f, &o, 2, 1.0f, &st);
+    o.mode = HZ_MODE_ADAPTIVE, o.spp = 1;
+    o.adaptive.footprint = 1;
+    all_tau(&o, 1.0f);
+    float *none = render_copy(&f, &o, 2, 1.0f, &st);
+    float *none1 = render_copy(&f, &o, 1, 1.0f, &st);
+    assert_int_equal(st.extra_rays, 0);
+    assert_memory_equal(none, none1, n * sizeof(float));
+    double e_one = 0, e_foot = 0;
+    size_t changed = 0, closer = 0;
+    for (size_t i = 0; i < n; i++) {
+        double a = fabs((double)one[i] - ref[i]), b = fabs((double)none[i] - ref[i]);
+        e_one += a, e_foot += b;
+        changed += none[i] != one[i];
+        closer += b < a;
+    }
+    print_message("footprint: %zu of %zu values changed, %zu closer to 64 spp; absolute error %.4g (1 spp: %.4g)\n",
+                  changed, n, closer, e_foot, e_one);
+    assert_true(changed > n / 2);  /* nearly every Sponza surface is textured */
+    assert_true(closer > changed * 6 / 10);
+    assert_true(e_foot < e_one); /* the centre samples' edges weigh the same in both */
+    all_tau(&o, 0.0f);
+    float *all = render_copy(&f, &o, 2, 1.0f, &st);
+    assert_int_equal(st.active_subpixels, 4 * FW * FH);
+    double worst = 0;
+    for (size_t i = 0; i < n; i++) {
+        double d = fabs((double)all[i] - sixteen[i]) / (fabs((double)sixteen[i]) + 1e-3);
+        worst = d > worst ? d : worst;
+    }
+    assert_true(worst < 1e-4); /* the presample's weight is 0 */
+    free(one), free(sixteen), free(ref), free(none), free(none1), free(all);
+    rfix_close(&f);
+}
+
 static void test_mirror_scene(void **state)
 {
     (void)state;
@@ -239,6 +296,12 @@ static void test_mirror_scene(void **state)
     o.adaptive.tau[HZ_TAU_SOID] = 0.0f;
     float *more = render_copy(&f, &o, 2, 0.0f, &st);
     assert_true(st.extra_rays > base);
+    /* no texture in the box: the footprint changes nothing */
+    o.adaptive.footprint = 1;
+    float *foot = render_copy(&f, &o, 2, 0.0f, &st);
+    assert_memory_equal(foot, more, (size_t)W * H * 3 * sizeof(float));
+    free(foot);
+    o.adaptive.footprint = 0;
     hz_render_plan_t plan, full;
     hz_error_t err;
     assert_int_equal(hz_render_plan(&f.scene, &o, &plan, &err), HZ_OK);
@@ -312,6 +375,7 @@ int main(void)
         cmocka_unit_test(test_limits),
         cmocka_unit_test(test_defaults_threads_and_mask),
         cmocka_unit_test(test_bilinear_inactive_subpixels),
+        cmocka_unit_test(test_footprint),
         cmocka_unit_test(test_mirror_scene),
 #if HZ_HAVE_EMBREE
         cmocka_unit_test(test_embree_backend),

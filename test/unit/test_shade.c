@@ -15,11 +15,12 @@
 #include "../../src/render/shade.h"
 #include "render_fixture.h"
 #include "../../src/render/render_internal.h" /* hz_view_point_motion and its lanes */
+#include "../../src/render/shade_internal.h"  /* hz_shade_footprint_lane */
 
 #define PACKETS 8000
 
 typedef struct tally {
-    uint32_t lanes, textured, blended, cutout, mirror, keyed, far_cone, lit, skipped;
+    uint32_t lanes, textured, blended, cutout, mirror, keyed, far_cone, lit, skipped, footprint, filtered;
 } tally_t;
 
 #define LIGHTS (HZ_SHADE_LIGHTS + 2) /* the last two only through hz_shade_light_lane */
@@ -109,7 +110,7 @@ static void run_scene(const char *file, bool with_keys, tally_t *t)
     float scale = 0.0f;
     for (int a = 0; a < 3; a++)
         scale = fmaxf(scale, fmaxf(fabsf(lo[a]), fabsf(hi[a])));
-    hz_shade_ctx_t c = { s, NULL, s->uv != NULL, lights, LIGHTS, scale };
+    hz_shade_ctx_t c = { s, NULL, s->uv != NULL, lights, LIGHTS, scale, NULL };
     if (with_keys) {
         uint32_t k = hz_posekeys_count(s, 1.0f / 24.0f);
         assert_true(k >= 2);
@@ -123,6 +124,13 @@ static void run_scene(const char *file, bool with_keys, tally_t *t)
     for (int pk = 0; pk < PACKETS; pk++) {
         hz_shade_in_t in;
         hz_shade_out_t simd, scalar;
+        /* Every other packet filters textures over a pixel footprint: a random camera step (pixel-sized to
+         * huge), some lanes off, some at distances whose taps overflow. */
+        hz_shade_footprint_t fp;
+        const float fs = pk % 6 == 1 ? 10.0f : 2e-3f;
+        for (int a = 0; a < 3; a++)
+            fp.ex[a] = fs * (unit(&rng) - 0.5f), fp.ey[a] = fs * (unit(&rng) - 0.5f), fp.f[a] = unit(&rng) - 0.5f;
+        c.footprint = pk & 1 ? &fp : NULL;
         memset(&simd, 0xa5, sizeof simd);
         memset(&scalar, 0x5a, sizeof scalar);
         uint32_t mask = 0, live = 0;
@@ -147,6 +155,8 @@ static void run_scene(const char *file, bool with_keys, tally_t *t)
             in.prim[i] = rh.hit.prim_id, in.u[i] = rh.hit.u, in.v[i] = rh.hit.v, in.t[i] = rh.ray.tfar;
             in.dx[i] = d.x, in.dy[i] = d.y, in.dz[i] = d.z;
             in.time[i] = unit(&rng);
+            uint32_t e = hz_rng_below(&rng, 16);
+            in.eye_dist[i] = e == 0 ? 0.0f : e == 1 ? 3e38f : e == 2 ? NAN : rh.ray.tfar * (0.5f + unit(&rng));
             uint32_t cone = hz_rng_below(&rng, 8);
             /* Pixel-sized cones mostly; some zero (finest level) and some huge (coarsest level). */
             in.cone_w[i] = cone == 0 ? 0.0f : cone == 1 ? 1e6f : 1e-3f * unit(&rng);
@@ -168,10 +178,22 @@ static void run_scene(const char *file, bool with_keys, tally_t *t)
                 in.prim[i] = in.prim[live], in.u[i] = in.u[live], in.v[i] = in.v[live], in.t[i] = in.t[live];
                 in.dx[i] = in.dx[live], in.dy[i] = in.dy[live], in.dz[i] = in.dz[live];
                 in.time[i] = in.time[live], in.cone_w[i] = in.cone_w[live], in.cone_s[i] = in.cone_s[live];
+                in.eye_dist[i] = in.eye_dist[live];
             }
         hz_shade_surfaces(&c, &in, mask, &simd);
         hz_shade_surfaces_scalar(&c, &in, mask, &scalar);
         compare(&simd, &scalar, mask, file);
+        if (c.footprint) { /* lanes the footprint changed: the taps are exercised, not all at the hit */
+            hz_shade_ctx_t plain = c;
+            hz_shade_out_t one;
+            plain.footprint = NULL;
+            hz_shade_surfaces_scalar(&plain, &in, mask, &one);
+            for (uint32_t i = 0; i < HZ_SHADE_LANES; i++)
+                if (mask >> i & 1u) {
+                    t->footprint += in.eye_dist[i] > 0.0f && scalar.textured[i];
+                    t->filtered += memcmp(&one.albedo[0][i], &scalar.albedo[0][i], sizeof(float)) != 0;
+                }
+        }
         for (uint32_t i = 0; i < HZ_SHADE_LANES; i++) {
             if (!(mask >> i & 1u))
                 continue;
@@ -190,9 +212,9 @@ static void run_scene(const char *file, bool with_keys, tally_t *t)
         }
     }
     print_message("%s (%s): %u lanes, %u textured, %u blended, %u cutout, %u mirror, %u with keys, %u huge cones, "
-                  "%u lit (of %u lane-lights), %u with a terminator skip\n",
+                  "%u lit (of %u lane-lights), %u with a terminator skip, %u textured with a footprint (%u filtered)\n",
                   file, hz_shade_path(), t->lanes, t->textured, t->blended, t->cutout, t->mirror, t->keyed,
-                  t->far_cone, t->lit, t->lanes * HZ_SHADE_LIGHTS, t->skipped);
+                  t->far_cone, t->lit, t->lanes * HZ_SHADE_LIGHTS, t->skipped, t->footprint, t->filtered);
     assert_true(t->lit > t->lanes / 4);
     rfix_close(&f);
 }
@@ -205,6 +227,134 @@ static void test_sponza(void **state)
     assert_true(t.lanes > PACKETS);
     assert_true(t.textured > t.lanes / 2); /* nearly every Sponza material has a base texture */
     assert_true(t.far_cone > 0);
+    assert_true(t.filtered > t.footprint / 2); /* most footprints change the texture's value */
+}
+
+/* The footprint's gradients (hz_shade_footprint_lane) against finite differences computed here in double: for
+ * camera rays through pixel centres of Sponza's camera, the rays through the centre +- h pixels meet the hit
+ * triangle's plane, and their texture coordinates come from barycentrics solved by Cramer's rule. */
+static void test_footprint_gradients(void **state)
+{
+    (void)state;
+    rfix_t f;
+    open_scene(&f, "sponza.hzb");
+    const hz_scene_t *s = &f.scene;
+    hz_accel_ctx_t ctx;
+    hz_accel_ctx_init(&ctx);
+    hz_rng_t rng;
+    hz_rng_seed(&rng, 29, 3);
+    uint32_t checked = 0;
+    double worst = 0.0;
+    for (int view = 0; view < 4; view++) {
+        hz_view_t v;
+        const uint32_t W = view & 1 ? 640 : 1024, H = view & 1 ? 360 : 1024;
+        hz_view_setup(&v, (hz_camera_t[]){ hz_scene_camera(s, 1.5f * (float)view) }, W, H);
+        hz_shade_footprint_t fp; /* the steps of fwd + sx right + sy up per pixel, sx = 2 x / W - 1, sy = 1 - 2 y / H */
+        const float ff = hz_v3_dot(v.fwd, v.fwd);
+        const float fwd[3] = { v.fwd.x, v.fwd.y, v.fwd.z }, rt[3] = { v.right.x, v.right.y, v.right.z };
+        const float up[3] = { v.up.x, v.up.y, v.up.z };
+        for (int a = 0; a < 3; a++)
+            fp.ex[a] = rt[a] * (2.0f / (float)W), fp.ey[a] = up[a] * (-2.0f / (float)H), fp.f[a] = fwd[a] / ff;
+        hz_shade_ctx_t c = { s, NULL, true, NULL, 0, 1.0f, &fp };
+        for (int k = 0; k < 500; k++) {
+            const double x = (double)hz_rng_below(&rng, W) + 0.5, y = (double)hz_rng_below(&rng, H) + 0.5;
+            hz_vec3_t d = hz_view_ray_dir(&v, (float)x, (float)y);
+            hz_rayhit_t rh;
+            memset(&rh, 0, sizeof rh);
+            rh.ray.org_x = v.eye.x, rh.ray.org_y = v.eye.y, rh.ray.org_z = v.eye.z;
+            rh.ray.dir_x = d.x, rh.ray.dir_y = d.y, rh.ray.dir_z = d.z;
+            rh.ray.tfar = INFINITY;
+            rh.ray.mask = 0xffffffffu;
+            rh.hit.geom_id = rh.hit.prim_id = HZ_ACCEL_INVALID_ID;
+            hz_accel_intersect1(f.accel, &ctx, &rh);
+            if (rh.hit.geom_id == HZ_ACCEL_INVALID_ID)
+                continue;
+            const uint32_t *t = s->tri + (size_t)rh.hit.prim_id * 3;
+            double P[3][3], UV[3][2];
+            hz_vec3_t pv[3];
+            for (int i = 0; i < 3; i++) {
+                for (int a = 0; a < 3; a++)
+                    P[i][a] = s->pos[t[i] * 4 + a];
+                UV[i][0] = s->uv[t[i] * 2], UV[i][1] = s->uv[t[i] * 2 + 1];
+                pv[i] = hz_v3((float)P[i][0], (float)P[i][1], (float)P[i][2]);
+            }
+            double e1[3], e2[3], n[3];
+            for (int a = 0; a < 3; a++)
+                e1[a] = P[1][a] - P[0][a], e2[a] = P[2][a] - P[0][a];
+            n[0] = e1[1] * e2[2] - e1[2] * e2[1], n[1] = e1[2] * e2[0] - e1[0] * e2[2], n[2] = e1[0] * e2[1] - e1[1] * e2[0];
+            const double nl = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+            /* uv where the ray through pixel (px, py) meets the plane */
+            double uvq[4][2];
+            const double h = 1e-3, ox[4] = { h, -h, 0, 0 }, oy[4] = { 0, 0, h, -h };
+            bool ok = nl > 0.0;
+            for (int q = 0; q < 4 && ok; q++) {
+                double sx = 2.0 * (x + ox[q]) / W - 1.0, sy = 1.0 - 2.0 * (y + oy[q]) / H;
+                double D[3] = { fwd[0] + sx * rt[0] + sy * up[0], fwd[1] + sx * rt[1] + sy * up[1],
+                                fwd[2] + sx * rt[2] + sy * up[2] };
+                double E[3] = { v.eye.x, v.eye.y, v.eye.z };
+                double dn = D[0] * n[0] + D[1] * n[1] + D[2] * n[2];
+                double dl = sqrt(D[0] * D[0] + D[1] * D[1] + D[2] * D[2]);
+                if (fabs(dn) < 0.1 * nl * dl) { /* grazing: finite differences are ill-conditioned */
+                    ok = false;
+                    break;
+                }
+                double tt = ((P[0][0] - E[0]) * n[0] + (P[0][1] - E[1]) * n[1] + (P[0][2] - E[2]) * n[2]) / dn;
+                double r[3] = { E[0] + tt * D[0] - P[0][0], E[1] + tt * D[1] - P[0][1], E[2] + tt * D[2] - P[0][2] };
+                /* r = b e1 + g e2: Cramer on the normal equations */
+                double a11 = 0, a12 = 0, a22 = 0, r1 = 0, r2 = 0;
+                for (int a = 0; a < 3; a++)
+                    a11 += e1[a] * e1[a], a12 += e1[a] * e2[a], a22 += e2[a] * e2[a], r1 += r[a] * e1[a],
+                        r2 += r[a] * e2[a];
+                double det = a11 * a22 - a12 * a12, b = (r1 * a22 - r2 * a12) / det, g = (a11 * r2 - a12 * r1) / det;
+                for (int m = 0; m < 2; m++)
+                    uvq[q][m] = (1.0 - b - g) * UV[0][m] + b * UV[1][m] + g * UV[2][m];
+            }
+            if (!ok)
+                continue;
+            const double want[4] = { (uvq[0][0] - uvq[1][0]) / (2 * h), (uvq[2][0] - uvq[3][0]) / (2 * h),
+                                     (uvq[0][1] - uvq[1][1]) / (2 * h), (uvq[2][1] - uvq[3][1]) / (2 * h) };
+            hz_shade_in_t in;
+            memset(&in, 0, sizeof in);
+            in.prim[0] = rh.hit.prim_id, in.u[0] = rh.hit.u, in.v[0] = rh.hit.v, in.t[0] = rh.ray.tfar;
+            in.dx[0] = d.x, in.dy[0] = d.y, in.dz[0] = d.z;
+            in.eye_dist[0] = rh.ray.tfar; /* a unit direction from the eye */
+            float g[4];
+            assert_true(hz_shade_footprint_lane(&c, &in, 0, pv, g));
+            double scale = fabs(want[0]) + fabs(want[1]) + fabs(want[2]) + fabs(want[3]);
+            for (int m = 0; m < 4; m++) {
+                double err = fabs((double)g[m] - want[m]) / scale;
+                worst = err > worst ? err : worst;
+                if (err > 2e-3)
+                    fail_msg("view %d pixel (%g, %g) prim %u: gradient %d %.9g, finite differences %.9g", view, x, y,
+                             rh.hit.prim_id, m, (double)g[m], want[m]);
+            }
+            checked++;
+        }
+    }
+    print_message("footprint gradients: %u hits, worst relative error %.2e\n", checked, worst);
+    assert_true(checked > 1000);
+    /* No footprint: a lane off (distance 0 or NaN), a ray in the triangle's plane, a degenerate triangle. */
+    hz_shade_footprint_t fp = { { 1e-3f, 0, 0 }, { 0, -1e-3f, 0 }, { 0, 0, 1 } };
+    hz_shade_ctx_t c = { s, NULL, true, NULL, 0, 1.0f, &fp };
+    hz_shade_in_t in;
+    memset(&in, 0, sizeof in);
+    in.dz[0] = 1.0f;
+    in.eye_dist[0] = 5.0f;
+    float g[4];
+    hz_vec3_t flat[3] = { hz_v3(0, 0, 1), hz_v3(1, 0, 1), hz_v3(0, 1, 1) }; /* facing the ray: a footprint */
+    assert_true(hz_shade_footprint_lane(&c, &in, 0, flat, g));
+    hz_vec3_t edge_on[3] = { hz_v3(0, 0, 1), hz_v3(1, 0, 1), hz_v3(0, 0, 2) }; /* the plane y = 0 holds d */
+    assert_false(hz_shade_footprint_lane(&c, &in, 0, edge_on, g));
+    hz_vec3_t point[3] = { hz_v3(0, 0, 1), hz_v3(0, 0, 1), hz_v3(0, 0, 1) };
+    assert_false(hz_shade_footprint_lane(&c, &in, 0, point, g));
+    in.eye_dist[0] = 0.0f;
+    assert_false(hz_shade_footprint_lane(&c, &in, 0, flat, g));
+    in.eye_dist[0] = NAN;
+    assert_false(hz_shade_footprint_lane(&c, &in, 0, flat, g));
+    c.footprint = NULL;
+    in.eye_dist[0] = 5.0f;
+    assert_false(hz_shade_footprint_lane(&c, &in, 0, flat, g));
+    rfix_close(&f);
 }
 
 static void test_blended(void **state)
@@ -391,6 +541,7 @@ int main(void)
         cmocka_unit_test(test_path),     cmocka_unit_test(test_builtin),    cmocka_unit_test(test_sponza),
         cmocka_unit_test(test_blended),  cmocka_unit_test(test_mirror_box), cmocka_unit_test(test_pose_keys),
         cmocka_unit_test(test_still_motion_lanes), cmocka_unit_test(test_texture_alpha),
+        cmocka_unit_test(test_footprint_gradients),
     };
     return HZ_RUN(tests);
 }
