@@ -221,9 +221,9 @@ static void test_bilinear_inactive_subpixels(void **state)
 }
 
 /* Textures over the pixel (opts.adaptive.footprint): no subpixel active gives the filtered presample, which on
- * Sponza's textured walls lies closer to 64 spp (36 under qemu) than the 1-spp image does (the geometry of each pixel's centre
- * sample is the same in both, so the difference is the texture filter); every subpixel active still gives the
- * 16-spp image; one thread and two agree bit for bit. */
+ * Sponza's textured walls lies closer to 64 spp (36 under qemu) than the 1-spp image does (the geometry of each
+ * pixel's centre sample is the same in both, so the difference is the texture filter); every subpixel active
+ * still gives the 16-spp image; one thread and two agree bit for bit. */
 static void test_footprint(void **state)
 {
     (void)state;
