@@ -57,7 +57,8 @@ static const hz_opt_t options[] = {
       .help = "working memory (default 1024; touched only as needed)" },
     { .name = "--adaptive-search", .kind = HZ_OPT_FLAG, .id = E_SEARCH,
       .help = "also find, per scene and adaptive method (adaptive, adaptive-bilinear, adaptive-footprint: those "
-              "--methods/--skip leave), the largest tau whose PSNR reaches full-frame 9 spp's, by bisection (up to " STR(HZ_ET_SEARCH_PROBES)
+              "--methods/--skip leave), the largest tau whose PSNR reaches full-frame 9 spp's, by bisection (up to "
+              STR(HZ_ET_SEARCH_PROBES)
               " runs each, rows <method>-search); adaptive-search.csv and .md next to errtime.csv" },
     { .name = "--list", .kind = HZ_OPT_FLAG, .id = E_LIST, .help = "scenes and their methods" },
     { .name = "--help", .alias = "-h", .kind = HZ_OPT_FLAG, .id = HZ_OPT_ID_HELP, .help = "this text" },

@@ -211,7 +211,8 @@ static void k_sample(const hz_shade_ctx_t *c, const int32_t *tex, uint32_t lanes
         vm finite = vm_and(k_finite(tu), k_finite(tv));
         vf acc[4];
         for (uint32_t k = 0; k < HZ_SHADE_TAPS; k++) {
-            vf ox = vf_set1(hz_shade_tap_offset(k % HZ_SHADE_TAP_SIDE)), oy = vf_set1(hz_shade_tap_offset(k / HZ_SHADE_TAP_SIDE));
+            vf ox = vf_set1(hz_shade_tap_offset(k % HZ_SHADE_TAP_SIDE));
+            vf oy = vf_set1(hz_shade_tap_offset(k / HZ_SHADE_TAP_SIDE));
             vf su_k = vf_add(tu, vf_add(vf_mul(ox, gux), vf_mul(oy, guy)));
             vf sv_k = vf_add(tv, vf_add(vf_mul(ox, gvx), vf_mul(oy, gvy)));
             vm ok = vm_and(k_finite(su_k), k_finite(sv_k));
@@ -434,7 +435,8 @@ void hz_shade_surfaces(const hz_shade_ctx_t *c, const hz_shade_in_t *in, uint32_
             vf k = vf_div(k_dot(e, ngr), dn);
             kv3_t a = k_scale(k_sub(e, k_scale(d, k)), tq);
             vf beta = vf_div(k_dot(a, q1), nn), gamma = vf_div(k_dot(a, q2), nn);
-            vf gu = vf_add(vf_mul(beta, du1), vf_mul(gamma, du2)), gv = vf_add(vf_mul(beta, dv1), vf_mul(gamma, dv2));
+            vf gu = vf_add(vf_mul(beta, du1), vf_mul(gamma, du2));
+            vf gv = vf_add(vf_mul(beta, dv1), vf_mul(gamma, dv2));
             ok = vm_and(ok, vm_and(k_finite(gu), k_finite(gv)));
             vf_store(fg[axis], gu), vf_store(fg[2 + axis], gv);
         }

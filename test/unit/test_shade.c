@@ -281,7 +281,8 @@ static void test_footprint_gradients(void **state)
             double e1[3], e2[3], n[3];
             for (int a = 0; a < 3; a++)
                 e1[a] = P[1][a] - P[0][a], e2[a] = P[2][a] - P[0][a];
-            n[0] = e1[1] * e2[2] - e1[2] * e2[1], n[1] = e1[2] * e2[0] - e1[0] * e2[2], n[2] = e1[0] * e2[1] - e1[1] * e2[0];
+            n[0] = e1[1] * e2[2] - e1[2] * e2[1], n[1] = e1[2] * e2[0] - e1[0] * e2[2];
+            n[2] = e1[0] * e2[1] - e1[1] * e2[0];
             const double nl = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
             /* uv where the ray through pixel (px, py) meets the plane */
             double uvq[4][2];
