@@ -28,6 +28,14 @@ hz_vec3_t hz_view_ray_dir(const hz_view_t *v, float px, float py)
     return hz_v3_normalize(d);
 }
 
+void hz_view_footprint(const hz_view_t *v, hz_shade_footprint_t *fp)
+{
+    const float sx = 2.0f / (float)v->width, sy = -2.0f / (float)v->height, ff = hz_v3_dot(v->fwd, v->fwd);
+    fp->ex[0] = v->right.x * sx, fp->ex[1] = v->right.y * sx, fp->ex[2] = v->right.z * sx;
+    fp->ey[0] = v->up.x * sy, fp->ey[1] = v->up.y * sy, fp->ey[2] = v->up.z * sy;
+    fp->f[0] = v->fwd.x / ff, fp->f[1] = v->fwd.y / ff, fp->f[2] = v->fwd.z / ff;
+}
+
 bool hz_view_project(const hz_view_t *v, hz_vec3_t p, float *px, float *py)
 {
     /* Straight from the basis, so it inverts hz_view_ray_dir: sx = dot(p - eye, right) / |right|^2 / depth;

@@ -444,6 +444,7 @@ hz_status_t hz_render_begin_frame_ns(hz_renderer_t *r, uint64_t frame_index, hz_
         r->prev_view = r->view;
     hz_camera_t cam = hz_scene_camera_ns(r->scene, time_ns);
     hz_view_setup(&r->view, &cam, r->f.opts.width, r->f.opts.height);
+    hz_view_footprint(&r->view, &r->footprint);
     if (HZ_FEATURE_MOTION && r->f.blur) {
         hz_status_t s = blur_begin(r, frame_index, time_ns, err);
         if (s != HZ_OK)
@@ -503,6 +504,7 @@ void hz_render_trace_tile(hz_render_frame_t *f, hz_batch_t *b, uint32_t tile, co
     hz_tile_slots(r, tile, b->pixel);
     hz_memset(b->radiance, 0, sizeof b->radiance);
     const uint32_t spp = s->spp, side = hz_isqrt_u64(spp);
+    b->footprint = s->footprint;
     for (uint32_t k = 0; k < spp; k++) {
         for (uint32_t slot = 0; slot < HZ_TILE_PIXELS; slot++) {
             if (s->fixed_jitter) {
@@ -524,10 +526,9 @@ void hz_render_trace_tile(hz_render_frame_t *f, hz_batch_t *b, uint32_t tile, co
                                             : hz_render_sample_time(f, b->pixel[slot], k, spp);
         }
         b->dither_frame = (uint32_t)f->frame * spp + k; /* N spp walk N steps of the dither's sequence */
-        b->footprint = s->footprint;
         hz_render_trace(f, b, (const float(*)[2])jitter, HZ_FEATURE_MOTION && f->blur ? times : NULL, k == 0);
-        b->footprint = false;
     }
+    b->footprint = false;
     float scale = 1.0f / (float)spp;
     for (uint32_t slot = 0; slot < HZ_TILE_PIXELS; slot++) {
         uint32_t px = b->pixel[slot];

@@ -13,6 +13,7 @@
 #include "hz/config.h"
 #include "hz/render.h"
 #include "mode.h"
+#include "shade.h"
 /* Blended triangles one shadow ray can composite in its single occlusion pass; rays crossing more take the
  * exact layer-by-layer path. */
 #define HZ_SHADOW_LAYERS 32
@@ -95,6 +96,7 @@ struct hz_renderer {
     bool has_blend, has_mask, has_textures, has_motion, camera_moves;
     float offset_scale;        /* scene size for secondary-ray origin offsets (hz_accel_offset_origin) */
     hz_view_t view, prev_view;
+    hz_shade_footprint_t footprint; /* view's pixel steps (hz_view_footprint), set with it each frame */
     bool have_prev;
     const uint32_t *tri_maps;  /* scenes with blended surfaces: each triangle's dither maps (hz_transp_maps) */
     const uint32_t *blend_bound; /* and each material's opacity bound (hz_transp_bounds); NULL: none, every
@@ -127,6 +129,8 @@ struct hz_renderer {
 void hz_view_setup(hz_view_t *v, const hz_camera_t *cam, uint32_t width, uint32_t height);
 /* Unit direction through pixel (x + 0.5 + jx, y + 0.5 + jy). */
 hz_vec3_t hz_view_ray_dir(const hz_view_t *v, float px, float py);
+/* The pixel steps of hz_view_ray_dir's unnormalised direction and fwd / |fwd|^2 (textures over the pixel). */
+void hz_view_footprint(const hz_view_t *v, hz_shade_footprint_t *fp);
 /* Pixel coordinates (continuous, pixel centres at +0.5) of a world point; false if behind the camera. */
 bool hz_view_project(const hz_view_t *v, hz_vec3_t p, float *px, float *py);
 /* Screen motion in pixels of a world point that is at p now and was at pp one frame ago: its projection by prev

@@ -663,15 +663,6 @@ static void shade_hit(hz_worker_t *w, const ray_job_t *j, const hitrec_t *h, con
     }
 }
 
-/* The pixel steps of a view's ray direction (hz_view_ray_dir before normalisation). */
-static void view_footprint(const hz_view_t *v, hz_shade_footprint_t *fp)
-{
-    const float sx = 2.0f / (float)v->width, sy = -2.0f / (float)v->height, ff = hz_v3_dot(v->fwd, v->fwd);
-    fp->ex[0] = v->right.x * sx, fp->ex[1] = v->right.y * sx, fp->ex[2] = v->right.z * sx;
-    fp->ey[0] = v->up.x * sy, fp->ey[1] = v->up.y * sy, fp->ey[2] = v->up.z * sy;
-    fp->f[0] = v->fwd.x / ff, fp->f[1] = v->fwd.y / ff, fp->f[2] = v->fwd.z / ff;
-}
-
 /* Shades a packet's n jobs in order: their surfaces first, all lanes at once (src/render/shade.h), then job by job
  * what each adds (G-buffer, continuation and mirror rays, the light loop's shadow rays). */
 static void shade_packet(hz_worker_t *w, const ray_job_t *jobs, const hitrec_t *hits, uint32_t n)
@@ -681,13 +672,10 @@ static void shade_packet(hz_worker_t *w, const ray_job_t *jobs, const hitrec_t *
     hz_shade_out_t out;
     /* Textures filtered over the pixel where the batch asks: the frame camera's pixel steps (with camera blur a
      * ray's own camera differs from it by the shutter's motion, a small change of a filter's width). */
-    hz_shade_footprint_t fp;
     const bool foot = HZ_FEATURE_TEXTURES && w->b.footprint && r->has_textures;
-    if (foot)
-        view_footprint(&r->view, &fp);
     const hz_shade_ctx_t c = { r->scene,         HZ_RENDER_KEYS(r), HZ_FEATURE_TEXTURES && r->has_textures,
                                r->lights,        r->light_count,    r->offset_scale,
-                               foot ? &fp : NULL };
+                               foot ? &r->footprint : NULL };
     uint32_t mask = 0, live = 0;
     for (uint32_t i = 0; i < n; i++)
         if (hits[i].prim != HZ_ACCEL_INVALID_ID) {
