@@ -121,15 +121,27 @@ static bool normals_differ(const int8_t *a, const int8_t *b, int32_t cos_q15)
     return lhs < rhs;
 }
 
+/* Whether two hits are the same hit (a flat surface): object, normal and shadow count alike, so nothing differs
+ * (a normal agrees with itself). Bytes 0-5 compared as two overlapping words (0-3 and 2-5): the common case, once
+ * for every pair of every pixel, without a branch per field. */
+HZ_STATIC_ASSERT(offsetof(hz_amask_hit_t, object) == 0 && offsetof(hz_amask_hit_t, n) == 2 &&
+                     offsetof(hz_amask_hit_t, shadow) == 5,
+                 amask_hit_layout);
+static bool same_hit(const hz_amask_hit_t *a, const hz_amask_hit_t *b)
+{
+    uint32_t a0, a1, b0, b1;
+    hz_memcpy(&a0, a, 4);
+    hz_memcpy(&a1, (const uint8_t *)a + 2, 4);
+    hz_memcpy(&b0, b, 4);
+    hz_memcpy(&b1, (const uint8_t *)b + 2, 4);
+    return (a0 ^ b0) == 0 && (a1 ^ b1) == 0;
+}
+
 /* Classes on which hit level h of P and Q disagree (object id, shadow count, normal), honouring the focus. */
 static uint32_t hit_bits(const hz_amask_config_t *c, const hz_amask_hit_t *a, const hz_amask_hit_t *b, uint32_t h)
 {
     static const hz_tau_t oid[2] = { HZ_TAU_POID, HZ_TAU_SOID }, sn[2] = { HZ_TAU_PSN, HZ_TAU_SSN };
     static const hz_tau_t sc[2] = { HZ_TAU_PSC, HZ_TAU_SSC };
-    /* the same hit (a flat surface): nothing differs, normals included (a normal agrees with itself) */
-    if (a->object == b->object && a->shadow == b->shadow && a->n[0] == b->n[0] && a->n[1] == b->n[1] &&
-        a->n[2] == b->n[2])
-        return 0;
     uint32_t why = 0;
     if (a->object != b->object)
         why |= HZ_AMASK_BIT(oid[h]);
@@ -153,7 +165,7 @@ static uint32_t pair_bits(const hz_amask_config_t *c, const hz_amask_px_t *p, bo
 {
     if (!a_in && !focused_at(c, q, h))
         return 0;
-    return hit_bits(c, &p->hit[h], &q->hit[h], h);
+    return same_hit(&p->hit[h], &q->hit[h]) ? 0 : hit_bits(c, &p->hit[h], &q->hit[h], h);
 }
 
 /* Whether P's hit at level h takes part (focus), and its texture-existence bit. */
@@ -253,7 +265,7 @@ static uint32_t pair_of(const hz_amask_config_t *c, const hz_amask_px_t *p, px_i
 {
     uint32_t why = 0;
     for (uint32_t h = 0; h < 2; h++)
-        if ((pi.in | qi.in) & (1u << h))
+        if (((pi.in | qi.in) & (1u << h)) && !same_hit(&p->hit[h], &q->hit[h]))
             why |= hit_bits(c, &p->hit[h], &q->hit[h], h);
     return why;
 }
@@ -268,17 +280,56 @@ static void row_blocks(const hz_amask_px_t *r0, const hz_amask_px_t *r1, uint32_
         }
 }
 
-/* hz_amask_contrast_at_least on a block's extremes, for each channel at its factor of tau. */
-static bool block_active(const block_ext_t *e, uint32_t tau)
+/* block_active's per-channel thresholds for tau (each channel's factor of tau, rounded). */
+static void channel_thresholds(uint32_t tau, uint32_t thr[3])
+{
+    for (uint32_t ch = 0; ch < 3; ch++)
+        thr[ch] = (uint32_t)(((uint64_t)hz_amask_channel_q16[ch] * tau + 32768u) >> 16);
+}
+
+/* hz_amask_contrast_at_least on a block's extremes, for each channel at its threshold. */
+static bool block_active(const block_ext_t *e, const uint32_t thr[3])
 {
     for (uint32_t ch = 0; ch < 3; ch++) {
-        uint32_t thr = (uint32_t)(((uint64_t)hz_amask_channel_q16[ch] * tau + 32768u) >> 16);
-        if (e->used[ch] < 2 || thr > HZ_AMASK_ONE)
+        if (e->used[ch] < 2 || thr[ch] > HZ_AMASK_ONE)
             continue;
-        if (e->a[ch] == 0 ? thr == 0 : ((e->a[ch] - e->b[ch]) << 16) >= (uint64_t)thr * (e->a[ch] + e->b[ch]))
+        if (e->a[ch] == 0 ? thr[ch] == 0
+                          : ((e->a[ch] - e->b[ch]) << 16) >= (uint64_t)thr[ch] * (e->a[ch] + e->b[ch]))
             return true;
     }
     return false;
+}
+
+/* select_tau's thresholds for a class set, remembered for the last set asked: a strip's neighbouring subpixels
+ * mostly disagree on the same classes (a silhouette, a shadow edge), and select_tau scans every class. */
+typedef struct tau_memo {
+    uint32_t on;      /* the classes switched on (tau below one): the others never select */
+    uint32_t none[3]; /* thresholds when none of them disagrees: tau_col's */
+    uint32_t kept;    /* the last set looked up (0: none yet) */
+    uint32_t thr[3];  /* and its thresholds */
+} tau_memo_t;
+
+static void tau_memo_init(const hz_amask_config_t *c, tau_memo_t *m)
+{
+    uint32_t tau;
+    m->on = select_tau(c, 0xffffffffu, &tau);
+    select_tau(c, 0, &tau);
+    channel_thresholds(tau, m->none);
+    m->kept = 0;
+}
+
+static const uint32_t *tau_memo_thresholds(const hz_amask_config_t *c, tau_memo_t *m, uint32_t why)
+{
+    const uint32_t kept = why & m->on;
+    if (!kept)
+        return m->none;
+    if (kept != m->kept) {
+        uint32_t tau;
+        select_tau(c, kept, &tau);
+        channel_thresholds(tau, m->thr);
+        m->kept = kept;
+    }
+    return m->thr;
 }
 
 /* Pairs between window rows `up` and `dn` (strip width n window pixels): vertical v[x] = (x, up)-(x, dn);
@@ -301,8 +352,8 @@ static uint32_t block_strip(const hz_amask_config_t *c, const hz_amask_px_t *win
     px_in_t in[3][STRIP + 2];
     uint32_t hrow[STRIP + 1], v[2][STRIP + 2], d1[2][STRIP + 1], d2[2][STRIP + 1];
     block_ext_t ext[2][STRIP + 1];
-    uint32_t tau_none;
-    select_tau(c, 0, &tau_none); /* no class disagrees: tau_col */
+    tau_memo_t memo;
+    tau_memo_init(c, &memo);
     row_involved(c, win, n, in[0]);
     row_involved(c, win + stride, n, in[1]);
     row_pairs(c, win, in[0], win + stride, in[1], n, v[0], d1[0], d2[0]);
@@ -325,13 +376,9 @@ static uint32_t block_strip(const hz_amask_config_t *c, const hz_amask_px_t *win
             const uint32_t why[4] = { tex | W | NW | N, tex | N | NE | E, tex | S | SW | W, tex | E | SE | S };
             const block_ext_t *corner[4] = { &ext[up][X - 1], &ext[up][X], &ext[dn][X - 1], &ext[dn][X] };
             uint8_t m = 0;
-            for (uint32_t q = 0; q < 4; q++) {
-                uint32_t tau = tau_none;
-                if (why[q])
-                    select_tau(c, why[q], &tau);
-                if (block_active(corner[q], tau))
+            for (uint32_t q = 0; q < 4; q++)
+                if (block_active(corner[q], tau_memo_thresholds(c, &memo, why[q])))
                     m |= (uint8_t)(1u << q);
-            }
             mask[(size_t)y * mask_stride + x] = m;
             active += hz_amask_count(m);
         }
