@@ -39,7 +39,7 @@ typedef struct hz_adaptive_opts {
      * bilinearly at its own centre instead of the pixel's centre colour (seed 003 section 6); costs px x 12
      * bytes (a copy of the presample). 0 (default): Fig. 5's weights. */
     int bilinear;
-    /* 1: the presample's textures are the mean over each pixel's footprint on the hit plane (3x3 bilinear taps
+    /* 1: the presample's textures are the mean over each pixel's footprint on the hit plane (2x2 bilinear taps
      * on the ray cone's mip level, placed by ray differentials: src/render/shade.h), the box filter the
      * supersampled pixels apply, so a pixel left at one sample is not sharper than one with sixteen (with camera
      * motion blur, the frame camera's footprint). 0: one bilinear sample at the hit. */

@@ -27,7 +27,7 @@
  *  - `textures` false skips texturing (the renderer's scene has no textured material in use).
  *  - `footprint` (NULL: none) filters textures over the pixel: a lane with eye_dist > 0 is a ray on a camera
  *    ray's line (the camera ray or a layer behind it) at that distance from the eye; its texture samples become
- *    the mean of HZ_SHADE_TAPS bilinear taps on the same mip level, placed on a 3x3 grid over the pixel's
+ *    the mean of HZ_SHADE_TAPS bilinear taps on the same mip level, placed on a 2x2 grid over the pixel's
  *    footprint on the hit plane (the pixel's two edges through the plane, from the camera's per-pixel
  *    direction steps: ray differentials). Lanes whose footprint is not finite (a ray in the plane, a
  *    degenerate triangle) keep the one sample at the hit. Same bits on both paths.

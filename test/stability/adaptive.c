@@ -1,10 +1,12 @@
 /* Stage adaptive: selective and adaptive supersampling (seed 003: the integer activity mask of
  * src/pattern/adaptive_mask.c with Mitchell's contrast, the --mode adaptive passes of src/recon/adaptive.c) at the
  * edges: Imax + Imin = 0, all-black and all-white frames, one bright pixel, radiance 1e6, Inf/NaN colour
- * references, 1x1 and odd-size images. References: Mitchell's contrast and the Fig. 4 subpixel rule evaluated here
- * in double (non-finite values left out, as documented), Morton order computed here by bit interleaving, the
- * full mode at 1 and 16 spp (what adaptive equals with no and with every subpixel active), and the contrast's
- * scale invariance (radiance x 1e6 gives the same mask). */
+ * references, 1x1 and odd-size images, the presample's texture footprint at grazing, huge and degenerate texture
+ * coordinates. References: Mitchell's contrast and the Fig. 4 subpixel rule evaluated here in double (non-finite
+ * values left out, as documented), Morton order computed here by bit interleaving, the full mode at 1 and 16 spp
+ * (what adaptive equals with no and with every subpixel active), the contrast's scale invariance (radiance x 1e6
+ * gives the same mask) and the texels' range decoded here in double (a filter's weights are convex). */
+#include <math.h>
 #include <stdlib.h>
 
 #include "hz/adaptive.h"
@@ -557,6 +559,159 @@ static void c_render_bright(stab_result_t *r)
               (unsigned long long)last.extra_rays);
 }
 
+/* sRGB8 to linear in double, the standard's formula (the renderer decodes by a table). */
+static double srgb_linear(uint8_t c)
+{
+    double v = c / 255.0;
+    return v <= 0.04045 ? v / 12.92 : pow((v + 0.055) / 1.055, 2.4);
+}
+
+#define TEX_SIDE 64
+
+/* A textured scene lit only by ambient 1 on albedo 1, so every pixel shows a convex combination of texels
+ * (random between two colours, so that every level has detail): a floor receding to the horizon (grazing: the footprint's largest and most anisotropic), a wall whose
+ * coordinates sit near 1e6 (texel steps of 1/16 in float), a quad whose four coordinates are one point (no
+ * gradient) and a triangle whose coordinates span 1e-30 (gradients of 1e-30). lo and hi get each channel's
+ * smallest and largest texel over every level, decoded here in double. */
+static void textured_scene(su_scene_t *b, double lo[3], double hi[3])
+{
+    static uint8_t rgba[TEX_SIDE * TEX_SIDE * 4];
+    static const uint8_t dark[3] = { 40, 25, 60 }, light[3] = { 210, 230, 190 };
+    for (int y = 0; y < TEX_SIDE; y++)
+        for (int x = 0; x < TEX_SIDE; x++)
+            for (int c = 0; c < 4; c++)
+                rgba[4 * (y * TEX_SIDE + x) + c] =
+                    c == 3 ? 255
+                           : (uint8_t)(dark[c] + hz_hash32((uint32_t)(4 * (y * TEX_SIDE + x) + c)) %
+                                                     (uint32_t)(light[c] - dark[c] + 1));
+    su_begin(b);
+    b->ambient[0] = b->ambient[1] = b->ambient[2] = 1.0f;
+    const uint32_t tex = su_texture(b, rgba, TEX_SIDE, TEX_SIDE, 7);
+    for (int c = 0; c < 3; c++) {
+        lo[c] = 1e30, hi[c] = -1e30;
+        for (uint32_t i = 0; i < b->ntexel; i++) {
+            lo[c] = fmin(lo[c], srgb_linear(b->texels[4 * i + c]));
+            hi[c] = fmax(hi[c], srgb_linear(b->texels[4 * i + c]));
+        }
+    }
+    /* the background between them, so that it is a value the bounds allow */
+    b->background[0] = b->background[1] = b->background[2] = (float)((lo[1] + hi[1]) / 2);
+    const uint32_t m = su_material(b, 1.0f, 1.0f, 1.0f);
+    b->mat[m].base_texture = (int32_t)tex;
+    const float f0[3] = { -60, 0, 5 }, f1[3] = { 60, 0, 5 }, f2[3] = { 60, 0, -400 }, f3[3] = { -60, 0, -400 };
+    su_quad(b, f0, f1, f2, f3, m);
+    const float fuv[4][2] = { { 0, 0 }, { 120, 0 }, { 120, 405 }, { 0, 405 } };
+    for (uint32_t k = 0; k < 4; k++)
+        su_uv(b, b->nv - 4 + k, fuv[k][0], fuv[k][1]);
+    su_object(b);
+    const float w0[3] = { 1, 0, -6 }, w1[3] = { 6, 0, -6 }, w2[3] = { 6, 4, -6 }, w3[3] = { 1, 4, -6 };
+    su_quad(b, w0, w1, w2, w3, m);
+    for (uint32_t k = 0; k < 4; k++)
+        su_uv(b, b->nv - 4 + k, 1e6f + (float)(k == 1 || k == 2) * 3.0f, -1e6f + (float)(k >= 2) * 2.0f);
+    su_object(b);
+    const float q0[3] = { -3, 0.5f, -4 }, q1[3] = { -1, 0.5f, -4 }, q2[3] = { -1, 2, -4 }, q3[3] = { -3, 2, -4 };
+    su_quad(b, q0, q1, q2, q3, m);
+    for (uint32_t k = 0; k < 4; k++)
+        su_uv(b, b->nv - 4 + k, 0.3f, 0.7f);
+    su_object(b);
+    const uint32_t a = su_vertex(b, -0.5f, 2.2f, -3), c = su_vertex(b, 0.5f, 2.2f, -3), d = su_vertex(b, 0, 3, -3);
+    su_uv(b, a, 0.25f, 0.25f);
+    su_uv(b, c, 0.25f + 1e-30f, 0.25f);
+    su_uv(b, d, 0.25f, 0.25f + 1e-30f);
+    su_tri(b, a, c, d, m);
+    su_object(b);
+    /* dark and behind every surface: without lights the scene would get the default key light */
+    su_light(b, 0, -100, 0, 0.0f);
+    const float eye[3] = { 0, 1.0f, 4 }, target[3] = { 0, 0.8f, -4 };
+    su_camera(b, 0, eye, target, 1.0f);
+}
+
+/* Counts the values outside [lo, hi] (per channel, 1e-6 relative slack) into the error and returns them. */
+static uint32_t out_of_bounds(stab_result_t *r, const float *img, size_t n, const double lo[3], const double hi[3])
+{
+    uint32_t bad = 0;
+    for (size_t i = 0; i < n; i++)
+        for (int c = 0; c < 3; c++) {
+            const double v = img[3 * i + c];
+            const double e = fmax(lo[c] - v, v - hi[c]) / hi[c];
+            stab_error(r, fmax(e, 0.0));
+            bad += !(v >= lo[c] * (1 - 1e-6) && v <= hi[c] * (1 + 1e-6));
+        }
+    return bad;
+}
+
+/* --adaptive-footprint on textures at their extremes (textured_scene) at 1x1, 7x5 and 33x17: every value finite
+ * and within the texels' range (the taps' weights are convex, so a value outside it is a wrong weight or a tap
+ * that read past the texture); the footprint changes the presample at tau 1 (the case tests the path) and brings
+ * it nearer the full mode's 16 spp than one sample at the hit (its purpose); at tau 0
+ * the image is the full mode's 16 spp (within 1e-5, as without the footprint: the extra samples replace the
+ * presample); under a shutter (the frame camera's footprint) finite and within the range too. */
+static void c_render_textured(stab_result_t *r)
+{
+    const uint32_t sizes[3][2] = { { 1, 1 }, { 7, 5 }, { RW, RH } };
+    static float a[RW * RH * 3], f[RW * RH * 3], g[RW * RH * 3];
+    static uint8_t mask[RW * RH];
+    su_scene_t b;
+    double lo[3], hi[3];
+    textured_scene(&b, lo, hi);
+    uint32_t bad = 0, changed = 0;
+    double e16 = 0, err_fp = 0, err_one = 0; /* 33x17 at tau 1: distance to 16 spp with and without */
+    for (int s = 0; s < 3; s++) {
+        const size_t n = (size_t)sizes[s][0] * sizes[s][1];
+        for (int k = 0; k < 3; k++) { /* tau 1 with and without the footprint, tau 0 with it */
+            hz_render_opts_t o;
+            hz_render_opts_default(&o);
+            o.width = sizes[s][0], o.height = sizes[s][1], o.mode = HZ_MODE_ADAPTIVE;
+            o.adaptive.footprint = k != 1;
+            for (int t = 0; t < HZ_TAU_COUNT; t++)
+                o.adaptive.tau[t] = k == 2 ? 0.0f : 1.0f;
+            uint64_t act = 0;
+            render1(r, &b, &o, k == 0 ? a : f, mask, &act);
+            STAB_BAIL(r);
+            bad += out_of_bounds(r, k == 0 ? a : f, n, lo, hi);
+            if (k == 1) {
+                hz_render_opts_t of;
+                hz_render_opts_default(&of);
+                of.width = o.width, of.height = o.height, of.mode = HZ_MODE_FULL, of.spp = 16;
+                render1(r, &b, &of, g, NULL, NULL);
+                STAB_BAIL(r);
+                for (size_t i = 0; i < 3 * n; i++) {
+                    changed += a[i] != f[i];
+                    if (s == 2)
+                        err_fp += fabs((double)a[i] - g[i]), err_one += fabs((double)f[i] - g[i]);
+                }
+            }
+            if (k == 2) {
+                double e = rel_diff(f, g, 3 * n);
+                e16 = fmax(e16, e);
+                STAB_CHECK(r, e <= 1e-5, "%ux%u: tau 0 with the footprint differs from 16 spp by %g", o.width,
+                           o.height, e);
+            }
+        }
+    }
+    STAB_CHECK(r, bad == 0, "%u values outside the texels' range", bad);
+    STAB_CHECK(r, changed > 0, "the footprint changed no value: the case tests nothing");
+    /* the footprint's purpose: the presample nearer the supersampled pixel than one sample at the hit */
+    STAB_CHECK(r, err_fp < err_one, "33x17 at tau 1: %g from 16 spp with the footprint, %g without", err_fp,
+               err_one);
+    hz_render_opts_t o;
+    hz_render_opts_default(&o);
+    o.width = RW, o.height = RH, o.mode = HZ_MODE_ADAPTIVE, o.shutter = 1.0f, o.adaptive.footprint = 1;
+    su_render_t s;
+    hz_error_t err;
+    STAB_OK(r, su_render_open_blur(&s, &b, &o, HZ_ACCEL_BLUR_MSBVH, &err), &err);
+    STAB_OK(r, su_render_frame(&s, 0, 0.5f, &err), &err);
+    su_render_check(r, &s);
+    memcpy(a, hz_render_output(s.r)->rgb, sizeof(float) * 3 * RW * RH);
+    su_render_close(&s);
+    STAB_BAIL(r);
+    uint32_t bad_blur = out_of_bounds(r, a, RW * RH, lo, hi);
+    STAB_CHECK(r, bad_blur == 0, "under shutter 1: %u values outside the texels' range", bad_blur);
+    stab_note(r, "grazing, 1e6 and point coordinates: within the texels' range (worst %.2g over); the footprint "
+              "changed %u values at tau 1 (absolute error from 16 spp %.3f, %.3f without); tau 0 = 16 spp within "
+              "%.2g; finite under a shutter", r->max_error, changed, err_fp, err_one, e16);
+}
+
 static const stab_case_t cases[] = {
     { "amask_contrast", "Imax + Imin = 0: C = 0; random sets incl. subnormal/Inf/NaN = Mitchell in double",
       c_contrast, 0 },
@@ -573,5 +728,8 @@ static const stab_case_t cases[] = {
       0 },
     { "adaptive_render_bright", "radiance 1e6: same mask (scale-invariant); 3e38 finite; finite under a shutter",
       c_render_bright, 0 },
+    { "adaptive_render_textured",
+      "--adaptive-footprint on grazing, 1e6 and point texture coordinates: within the texels' range; tau 0 = 16 spp",
+      c_render_textured, 0 },
 };
 STAB_STAGE(adaptive, cases);

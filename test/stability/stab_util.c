@@ -1,6 +1,7 @@
 /* Shared pieces of the stability cases (see stab_util.h). */
 #include "stab_util.h"
 
+#include <stdio.h>
 #include <stdlib.h>
 
 #include "hz/hash.h"
@@ -53,7 +54,49 @@ uint32_t su_vertex(su_scene_t *b, float x, float y, float z)
     b->pos = grow(b->pos, &b->cap_v, b->nv + 1, 4 * sizeof(float));
     float *p = b->pos + 4 * (size_t)b->nv;
     p[0] = x, p[1] = y, p[2] = z, p[3] = 0.0f;
+    b->uv = grow(b->uv, &b->cap_uv, b->nv + 1, 2 * sizeof(float));
+    b->uv[2 * (size_t)b->nv] = b->uv[2 * (size_t)b->nv + 1] = 0.0f;
     return b->nv++;
+}
+
+void su_uv(su_scene_t *b, uint32_t v, float u, float t)
+{
+    b->uv[2 * (size_t)v] = u, b->uv[2 * (size_t)v + 1] = t;
+}
+
+uint32_t su_texture(su_scene_t *b, const uint8_t *rgba, uint32_t w, uint32_t h, uint32_t levels)
+{
+    hz_hzb_texture_t *t = &b->tex[b->ntex];
+    memset(t, 0, sizeof *t);
+    t->width = w, t->height = h, t->levels = levels, t->first_texel = b->ntexel;
+    snprintf((char *)t->name, sizeof t->name, "stability%u", b->ntex);
+    uint32_t lw = w, lh = h, pw = w, ph = h; /* this level's size and the previous one's */
+    for (uint32_t l = 0; l < levels; l++) {
+        b->texels = grow(b->texels, &b->cap_texel, b->ntexel + lw * lh, 4);
+        uint8_t *dst = b->texels + 4 * (size_t)b->ntexel;
+        const uint8_t *src = dst - 4 * (size_t)pw * ph;
+        for (uint32_t y = 0; y < lh; y++)
+            for (uint32_t x = 0; x < lw; x++)
+                for (int c = 0; c < 4; c++) {
+                    if (l == 0) {
+                        dst[4 * ((size_t)y * lw + x) + c] = rgba[4 * ((size_t)y * w + x) + c];
+                        continue;
+                    }
+                    const uint32_t x0 = 2 * x < pw ? 2 * x : pw - 1, y0 = 2 * y < ph ? 2 * y : ph - 1;
+                    const uint32_t x1 = x0 + 1 < pw ? x0 + 1 : x0, y1 = y0 + 1 < ph ? y0 + 1 : y0;
+                    const uint32_t sum = src[4 * ((size_t)y0 * pw + x0) + c] + src[4 * ((size_t)y0 * pw + x1) + c] +
+                                         src[4 * ((size_t)y1 * pw + x0) + c] + src[4 * ((size_t)y1 * pw + x1) + c];
+                    dst[4 * ((size_t)y * lw + x) + c] = (uint8_t)((sum + 2) / 4);
+                }
+        for (size_t i = 0; i < (size_t)lw * lh; i++)
+            if (dst[4 * i + 3] < 255)
+                t->flags |= 1u;
+        b->ntexel += lw * lh;
+        t->texel_count += lw * lh;
+        pw = lw, ph = lh;
+        lw = lw > 1 ? lw / 2 : 1, lh = lh > 1 ? lh / 2 : 1;
+    }
+    return b->ntex++;
 }
 
 void su_tri(su_scene_t *b, uint32_t v0, uint32_t v1, uint32_t v2, uint32_t mat)
@@ -112,6 +155,11 @@ hz_status_t su_image(const su_scene_t *b, const void **img, size_t *size, hz_err
     src.vertex_count = b->nv, src.positions = b->pos;
     src.triangle_count = b->nt, src.triangles = b->tri, src.tri_info = b->info;
     src.material_count = b->nmat, src.materials = b->mat;
+    if (b->ntex) {
+        src.uvs = b->uv;
+        src.texture_count = b->ntex, src.textures = b->tex;
+        src.texel_count = b->ntexel, src.texels = b->texels;
+    }
     src.object_count = b->nobj, src.objects = b->obj;
     src.light_count = b->nlight, src.lights = b->nlight ? b->light : NULL;
     src.camera_key_count = b->ncam, src.camera_keys = b->ncam ? b->cam : NULL;

@@ -37,6 +37,12 @@ typedef struct su_scene {
     uint32_t ncam;
     hz_hzb_rigid_key_t rkey[16];
     uint32_t nrkey;
+    float *uv;                     /* 2 per vertex (0, 0 unless su_uv sets them); written when a texture exists */
+    uint32_t cap_uv;
+    hz_hzb_texture_t tex[4];
+    uint32_t ntex;
+    uint8_t *texels;               /* RGBA8, every texture's levels in order */
+    uint32_t ntexel, cap_texel;
     float *vkeys;                  /* 4 per entry */
     uint32_t nvkeys, cap_vkeys;
     float duration, background[3], ambient[3], fov_y;
@@ -49,6 +55,12 @@ void su_begin(su_scene_t *b);
 uint32_t su_material(su_scene_t *b, float r, float g, float bl);
 uint32_t su_material_alpha(su_scene_t *b, float r, float g, float bl, float alpha, uint32_t mode);
 uint32_t su_vertex(su_scene_t *b, float x, float y, float z);
+/* Texture coordinates of vertex v. */
+void su_uv(su_scene_t *b, uint32_t v, float u, float t);
+/* A texture of `levels` levels from level 0's w x h RGBA8 texels (sRGB colour): each further level is the box
+ * average of the one before (floor halving, as the format asks). Returns its index for a material's
+ * base_texture or alpha_texture. */
+uint32_t su_texture(su_scene_t *b, const uint8_t *rgba, uint32_t w, uint32_t h, uint32_t levels);
 void su_tri(su_scene_t *b, uint32_t v0, uint32_t v1, uint32_t v2, uint32_t mat);
 /* Quad p0 p1 p2 p3 (two triangles, new vertices). */
 void su_quad(su_scene_t *b, const float p0[3], const float p1[3], const float p2[3], const float p3[3],
