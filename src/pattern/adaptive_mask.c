@@ -30,28 +30,45 @@ void hz_amask_config_default(hz_amask_config_t *c)
 
 /* ---- contrast ---- */
 
-/* Max and min of the usable values (finite; negative as 0) as aligned integers: A = Imax's significand << 7,
- * B = Imin's shifted to A's exponent. Returns how many values were usable. */
-static uint32_t extremes(const uint32_t *bits, uint32_t n, uint64_t *a, uint64_t *b)
+/* The usable values' running max, min and count: finite values only (NaN and Inf are left out), negative ones (and
+ * -0) as 0 (no light). Non-negative binary32 patterns order like the values they encode. */
+typedef struct ext_scan {
+    uint32_t hi, lo, used;
+} ext_scan_t;
+
+static const ext_scan_t ext_empty = { 0u, 0xffffffffu, 0u };
+
+static ext_scan_t ext_add(ext_scan_t e, uint32_t v)
 {
-    uint32_t hi = 0, lo = 0xffffffffu, used = 0;
-    for (uint32_t i = 0; i < n; i++) {
-        uint32_t v = bits[i];
-        if ((v & 0x7f800000u) == 0x7f800000u)
-            continue; /* NaN or Inf: left out */
-        v = (v >> 31) ? 0u : v; /* negative (or -0): no light */
-        /* Non-negative binary32 patterns order like the values they encode. */
-        hi = v > hi ? v : hi;
-        lo = v < lo ? v : lo;
-        used++;
-    }
-    if (used == 0) {
+    if ((v & 0x7f800000u) == 0x7f800000u)
+        return e;
+    v = (v >> 31) ? 0u : v;
+    e.hi = v > e.hi ? v : e.hi;
+    e.lo = v < e.lo ? v : e.lo;
+    e.used++;
+    return e;
+}
+
+static ext_scan_t ext_merge(ext_scan_t a, ext_scan_t b)
+{
+    a.hi = b.hi > a.hi ? b.hi : a.hi;
+    a.lo = b.lo < a.lo ? b.lo : a.lo;
+    a.used += b.used;
+    return a;
+}
+
+/* A scan's max and min as aligned integers: A = Imax's significand << 7, B = Imin's shifted to A's exponent.
+ * Returns how many values were usable. */
+static uint32_t ext_align(ext_scan_t e, uint64_t *a, uint64_t *b)
+{
+    const uint32_t hi = e.hi, lo = e.lo;
+    if (e.used == 0) {
         *a = *b = 0;
         return 0;
     }
     if (hi == lo) { /* flat: C = 0 (also all black) */
         *a = *b = hi ? 1u : 0u;
-        return used;
+        return e.used;
     }
     uint32_t eh = hi >> 23, el = lo >> 23;
     uint64_t mh = (uint64_t)(hi & 0x7fffffu) | (eh ? 0x800000u : 0u);
@@ -61,7 +78,16 @@ static uint32_t extremes(const uint32_t *bits, uint32_t n, uint64_t *a, uint64_t
     uint32_t d = eh - el;
     *a = mh << 7;
     *b = d >= 32u ? 0u : (ml << 7) >> d;
-    return used;
+    return e.used;
+}
+
+/* Max and min of the usable values as aligned integers (ext_align). */
+static uint32_t extremes(const uint32_t *bits, uint32_t n, uint64_t *a, uint64_t *b)
+{
+    ext_scan_t e = ext_empty;
+    for (uint32_t i = 0; i < n; i++)
+        e = ext_add(e, bits[i]);
+    return ext_align(e, a, b);
 }
 
 uint32_t hz_amask_contrast_q16(const uint32_t *bits, uint32_t n, bool *usable)
@@ -270,13 +296,18 @@ static uint32_t pair_of(const hz_amask_config_t *c, const hz_amask_px_t *p, px_i
     return why;
 }
 
-/* Extremes of each 2x2 block of rows r0 (above) and r1, blocks k = 0..n-1 (columns k and k + 1). */
+/* Extremes of each 2x2 block of rows r0 (above) and r1, blocks k = 0..n-1 (columns k and k + 1): each column's
+ * pair is scanned once and shared by the two blocks it belongs to (max, min and count do not depend on order). */
 static void row_blocks(const hz_amask_px_t *r0, const hz_amask_px_t *r1, uint32_t n, block_ext_t *out)
 {
+    ext_scan_t left[3];
+    for (uint32_t ch = 0; ch < 3; ch++)
+        left[ch] = ext_add(ext_add(ext_empty, r0[0].rgb[ch]), r1[0].rgb[ch]);
     for (uint32_t k = 0; k < n; k++)
         for (uint32_t ch = 0; ch < 3; ch++) {
-            uint32_t v[4] = { r0[k].rgb[ch], r0[k + 1].rgb[ch], r1[k].rgb[ch], r1[k + 1].rgb[ch] };
-            out[k].used[ch] = extremes(v, 4, &out[k].a[ch], &out[k].b[ch]);
+            const ext_scan_t right = ext_add(ext_add(ext_empty, r0[k + 1].rgb[ch]), r1[k + 1].rgb[ch]);
+            out[k].used[ch] = ext_align(ext_merge(left[ch], right), &out[k].a[ch], &out[k].b[ch]);
+            left[ch] = right;
         }
 }
 

@@ -200,8 +200,6 @@ static void k_sample(const hz_shade_ctx_t *c, const int32_t *tex, uint32_t lanes
     vi vw = vi_load(w), vh = vi_load(h), vfirst = vi_load(first);
     /* Lanes that do not gather read texel 0 (their coordinates may be anything). */
     vi onv = vi_load(on);
-    vf res[4];
-    k_bilinear(s, vfirst, vw, vh, onv, tu, tv, res);
     const uint32_t taps = gather & foot;
     uint32_t keep = 0;
     if (taps) {
@@ -233,6 +231,11 @@ static void k_sample(const hz_shade_ctx_t *c, const int32_t *tex, uint32_t lanes
                     rgba[ch][i] = mean[i];
         }
     }
+    /* the centre sample, for the lanes without (finite) taps: made only where one needs it */
+    if (!(gather & ~keep))
+        return;
+    vf res[4];
+    k_bilinear(s, vfirst, vw, vh, onv, tu, tv, res);
     float out[KL] HZ_ALIGNED(32);
     for (int k = 0; k < 4; k++) {
         vf_store(out, res[k]);
