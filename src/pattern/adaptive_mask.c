@@ -147,12 +147,13 @@ static bool normals_differ(const int8_t *a, const int8_t *b, int32_t cos_q15)
     return lhs < rhs;
 }
 
-/* Whether two hits are the same hit (a flat surface): object, normal and shadow count alike, so nothing differs
- * (a normal agrees with itself). Bytes 0-5 compared as two overlapping words (0-3 and 2-5): the common case, once
- * for every pair of every pixel, without a branch per field. */
 HZ_STATIC_ASSERT(offsetof(hz_amask_hit_t, object) == 0 && offsetof(hz_amask_hit_t, n) == 2 &&
                      offsetof(hz_amask_hit_t, shadow) == 5,
                  amask_hit_layout);
+
+/* Whether two hits are the same hit (a flat surface): object, normal and shadow count alike, so nothing differs
+ * (a normal agrees with itself). Bytes 0-5 compared as two overlapping words (0-3 and 2-5): the common case, once
+ * for every pair of every pixel, without a branch per field. */
 static bool same_hit(const hz_amask_hit_t *a, const hz_amask_hit_t *b)
 {
     uint32_t a0, a1, b0, b1;
