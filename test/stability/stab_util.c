@@ -75,19 +75,18 @@ uint32_t su_texture(su_scene_t *b, const uint8_t *rgba, uint32_t w, uint32_t h, 
         b->texels = grow(b->texels, &b->cap_texel, b->ntexel + lw * lh, 4);
         uint8_t *dst = b->texels + 4 * (size_t)b->ntexel;
         const uint8_t *src = dst - 4 * (size_t)pw * ph;
-        for (uint32_t y = 0; y < lh; y++)
-            for (uint32_t x = 0; x < lw; x++)
+        if (l == 0)
+            memcpy(dst, rgba, 4 * (size_t)w * h);
+        for (uint32_t y = 0; l && y < lh; y++)
+            for (uint32_t x = 0; x < lw; x++) {
+                const uint32_t x0 = 2 * x < pw ? 2 * x : pw - 1, y0 = 2 * y < ph ? 2 * y : ph - 1;
+                const uint32_t x1 = x0 + 1 < pw ? x0 + 1 : x0, y1 = y0 + 1 < ph ? y0 + 1 : y0;
                 for (int c = 0; c < 4; c++) {
-                    if (l == 0) {
-                        dst[4 * ((size_t)y * lw + x) + c] = rgba[4 * ((size_t)y * w + x) + c];
-                        continue;
-                    }
-                    const uint32_t x0 = 2 * x < pw ? 2 * x : pw - 1, y0 = 2 * y < ph ? 2 * y : ph - 1;
-                    const uint32_t x1 = x0 + 1 < pw ? x0 + 1 : x0, y1 = y0 + 1 < ph ? y0 + 1 : y0;
                     const uint32_t sum = src[4 * ((size_t)y0 * pw + x0) + c] + src[4 * ((size_t)y0 * pw + x1) + c] +
                                          src[4 * ((size_t)y1 * pw + x0) + c] + src[4 * ((size_t)y1 * pw + x1) + c];
                     dst[4 * ((size_t)y * lw + x) + c] = (uint8_t)((sum + 2) / 4);
                 }
+            }
         for (size_t i = 0; i < (size_t)lw * lh; i++)
             if (dst[4 * i + 3] < 255)
                 t->flags |= 1u;

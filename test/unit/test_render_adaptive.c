@@ -53,18 +53,28 @@ static void test_weights_sum_to_one(void **state)
     }
 }
 
+/* The full mode's 1-spp and 16-spp frames at time t (what adaptive equals with nothing and with everything
+ * active); o is left at the default options of that size with spp 16. */
+static void full_one_and_sixteen(rfix_t *f, hz_render_opts_t *o, uint32_t w, uint32_t h, float t, float **one,
+                                 float **sixteen)
+{
+    hz_render_stats_t st;
+    hz_render_opts_default(o);
+    o->width = w, o->height = h;
+    *one = render_copy(f, o, 2, t, &st);
+    o->spp = 16;
+    *sixteen = render_copy(f, o, 2, t, &st);
+}
+
 static void test_limits(void **state)
 {
     (void)state;
     rfix_t f;
     open_scene(&f, "builtin", HZ_ACCEL_NATIVE);
     hz_render_opts_t o;
-    hz_render_opts_default(&o);
-    o.width = W, o.height = H;
     hz_render_stats_t st;
-    float *one = render_copy(&f, &o, 2, 0.5f, &st);
-    o.spp = 16;
-    float *sixteen = render_copy(&f, &o, 2, 0.5f, &st);
+    float *one, *sixteen;
+    full_one_and_sixteen(&f, &o, W, H, 0.5f, &one, &sixteen);
 
     /* every threshold 1: nothing is active, the presample is the 1-spp image */
     o.mode = HZ_MODE_ADAPTIVE, o.spp = 1;
@@ -235,12 +245,9 @@ static void test_footprint(void **state)
     rfix_t f;
     open_scene(&f, path, HZ_ACCEL_NATIVE);
     hz_render_opts_t o;
-    hz_render_opts_default(&o);
-    o.width = FW, o.height = FH;
     hz_render_stats_t st;
-    float *one = render_copy(&f, &o, 2, 1.0f, &st);
-    o.spp = 16;
-    float *sixteen = render_copy(&f, &o, 2, 1.0f, &st);
+    float *one, *sixteen;
+    full_one_and_sixteen(&f, &o, FW, FH, 1.0f, &one, &sixteen);
     o.spp = HZ_EMULATED_LESS(64, 36);
     float *ref = render_copy(&f, &o, 2, 1.0f, &st);
     o.mode = HZ_MODE_ADAPTIVE, o.spp = 1;
