@@ -204,9 +204,10 @@ void hz_render_end_frame(hz_renderer_t *r);
 /* Overlapped passes (tdense and TAA). A resolve reads only this frame's trace results next to its pixels (3x3
  * neighbourhoods, tdense's newest-subframe box and ĝ's 4x4 blocks; TAA's 3x3 or 7x7 window, all within one
  * tile) and state no trace item touches, so a pool may run the two passes as one: trace items are pass 0's
- * (row-major, *row_items to a tile row, *trace_rows rows), resolve units are tdense's trace-row bands or TAA's
+ * (row-major, *row_items to a trace row, *trace_rows rows: a row of render tiles, or of tdense's areas of 8x8
+ * tdense tiles), resolve units are tdense's trace-row bands or TAA's
  * tiles, and resolve unit u may start once every trace item
- * of the tile rows [*row_lo, *row_hi] from hz_render_overlap_needs has returned; those ranges never move back
+ * of the trace rows [*row_lo, *row_hi] from hz_render_overlap_needs has returned; those ranges never move back
  * as u grows, so units can be handed out in order. Every such order, on any number of threads, gives the frame
  * that the passes one after the other give, bit for bit. hz_render_overlap_units returns the number of resolve
  * units, or 0 where the passes must stay apart (full and adaptive modes, opts.serial_passes). */

@@ -48,26 +48,52 @@ static void td_begin(void *state, const hz_render_frame_t *f)
     hz_tdense_begin_frame(state, f->camera_moved); /* any camera change restarts every static window (3.2.2) */
 }
 
-static uint32_t td_items(const void *state, const hz_render_frame_t *f, uint32_t pass)
+/* A trace item is an area of SPAN x SPAN tdense tiles (16x16 pixels): its SPAN^2 = HZ_TILE_PIXELS camera rays
+ * fill one batch, so the traversal's tile test, the batch's set-up and the packets it fills serve four times the
+ * rays that an 8x8-pixel render tile (16 tdense tiles) would give it. */
+enum { SPAN = HZ_RENDER_TILE };
+typedef char span_fills_batch[SPAN * SPAN == HZ_TILE_PIXELS ? 1 : -1];
+
+static uint32_t areas_x(const hz_tdense_t *td)
 {
-    (void)state;
-    /* the resolve works on whole rows (its 3x3 neighbourhoods span tiles): one item per row of tiles */
-    return pass == 1 ? f->tiles_y : f->tiles_x * f->tiles_y;
+    return (td->tiles_x + SPAN - 1u) / SPAN;
 }
 
-/* The tile traces one pixel of each of its 2x2 tdense tiles, the one the tile's ordering names for this
- * subframe (jittered where static). The chosen pixels take the first slots, in rows of tdense tiles, so they
- * form full packets; the other slots stay empty (UINT32_MAX), which hz_render_trace skips. */
-static void trace_tile(hz_tdense_t *td, hz_render_frame_t *f, uint32_t tile, hz_batch_t *b)
+static uint32_t areas_y(const hz_tdense_t *td)
 {
-    enum { PER = HZ_RENDER_TILE / 2 };
+    return (td->tiles_y + SPAN - 1u) / SPAN;
+}
+
+static uint32_t td_items(const void *state, const hz_render_frame_t *f, uint32_t pass)
+{
+    (void)f;
+    /* the resolve works on whole rows (its 3x3 neighbourhoods span tiles): one item per row of areas */
+    return pass == 1 ? areas_y(state) : areas_x(state) * areas_y(state);
+}
+
+static void td_trace_grid(const void *state, const hz_render_frame_t *f, uint32_t *rows, uint32_t *row_items)
+{
+    (void)f;
+    *rows = areas_y(state), *row_items = areas_x(state);
+}
+
+/* The item traces one pixel of each of its tdense tiles, the one the tile's ordering names for this subframe
+ * (jittered where static). Slots go packet by packet over blocks of 4x2 tdense tiles (2x2 with 4 lanes), as
+ * hz_tile_slots lays out pixels, and the chosen pixels are packed to the front so packets stay full; the other
+ * slots stay empty (UINT32_MAX), which hz_render_trace skips. */
+static void trace_tile(hz_tdense_t *td, hz_render_frame_t *f, uint32_t item, hz_batch_t *b)
+{
+    enum { PW = HZ_RENDER_LANES == 8 ? 4 : 2, PH = HZ_RENDER_LANES / PW };
     float jitter[HZ_TILE_PIXELS][2], times[HZ_TILE_PIXELS];
     uint16_t where[HZ_TILE_PIXELS][2];
-    uint32_t tx0 = (tile % f->tiles_x) * PER, ty0 = (tile / f->tiles_x) * PER, n = 0;
+    const uint32_t ax = areas_x(td);
+    uint32_t tx0 = (item % ax) * SPAN, ty0 = (item / ax) * SPAN, n = 0;
     for (uint32_t slot = 0; slot < HZ_TILE_PIXELS; slot++)
         b->pixel[slot] = UINT32_MAX;
-    for (uint32_t k = 0; k < PER * PER; k++) {
-        uint32_t tx = tx0 + k % PER, ty = ty0 + k / PER, px, py;
+    for (uint32_t k = 0; k < SPAN * SPAN; k++) {
+        uint32_t packet = k / HZ_RENDER_LANES, lane = k % HZ_RENDER_LANES;
+        uint32_t tx = tx0 + (packet % (SPAN / PW)) * PW + lane % PW;
+        uint32_t ty = ty0 + (packet / (SPAN / PW)) * PH + lane / PW, px, py;
         int msaa;
         if (tx >= td->tiles_x || ty >= td->tiles_y || !hz_tdense_tile_sample(td, tx, ty, &px, &py, jitter[n], &msaa))
             continue;
@@ -99,23 +125,21 @@ static void resolve_rows(hz_tdense_t *td, const hz_render_frame_t *f, uint32_t r
     (f->opts.scalar_recon ? hz_tdense_resolve_rows_scalar : hz_tdense_resolve_rows)(td, r0, r1);
 }
 
-enum { TD_PER = HZ_RENDER_TILE / 2 }; /* tdense tile rows per trace tile row */
-
 static void td_run(void *state, hz_render_frame_t *f, uint32_t pass, uint32_t item, hz_batch_t *b)
 {
     if (pass == 0)
         trace_tile(state, f, item, b);
     else
-        resolve_rows(state, f, item * TD_PER, (item + 1) * TD_PER);
+        resolve_rows(state, f, item * SPAN, (item + 1) * SPAN);
 }
 
-/* Overlap: one unit resolves the tdense tile rows of one trace tile row (TD_PER of them, the barrier pass's
- * items: single tdense rows measured 3-5% slower frames at 2 threads, from the resolve's per-call setup and more
+/* Overlap: one unit resolves the tdense tile rows of one trace row (SPAN of them, the barrier pass's items:
+ * single tdense rows measured 3-5% slower frames at 2 threads, from the resolve's per-call setup and more
  * switching between tracing and resolving). */
 static uint32_t td_units(const void *state, const hz_render_frame_t *f)
 {
     (void)f;
-    return (((const hz_tdense_t *)state)->tiles_y + TD_PER - 1u) / TD_PER;
+    return areas_y(state);
 }
 
 static void td_needs(const void *state, const hz_render_frame_t *f, uint32_t unit, uint32_t *lo, uint32_t *hi)
@@ -129,8 +153,8 @@ static void td_needs(const void *state, const hz_render_frame_t *f, uint32_t uni
 static void td_overlap_run(void *state, hz_render_frame_t *f, uint32_t unit)
 {
     hz_tdense_t *td = state;
-    if (unit * TD_PER < td->tiles_y)
-        resolve_rows(td, f, unit * TD_PER, (unit + 1u) * TD_PER);
+    if (unit * SPAN < td->tiles_y)
+        resolve_rows(td, f, unit * SPAN, (unit + 1u) * SPAN);
 }
 
 static void td_end(void *state, const hz_render_frame_t *f)
@@ -162,6 +186,7 @@ const hz_mode_ops_t hz_mode_tdense = {
     .pass_items = td_items,
     .pass_run = td_run,
     .overlap_units = td_units,
+    .trace_grid = td_trace_grid,
     .overlap_needs = td_needs,
     .overlap_run = td_overlap_run,
     .end_frame = td_end,

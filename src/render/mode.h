@@ -118,6 +118,9 @@ typedef struct hz_mode_ops {
     uint32_t (*pass_items)(const void *state, const hz_render_frame_t *f, uint32_t pass);
     void (*pass_run)(void *state, hz_render_frame_t *f, uint32_t pass, uint32_t item, hz_batch_t *b);
     uint32_t (*overlap_units)(const void *state, const hz_render_frame_t *f);
+    /* Pass 0's items as rows of row_items each, row-major: an overlapped run counts a trace row done when all its
+     * items have returned, and overlap_needs names these rows (NULL: the render tiles, tiles_y x tiles_x). */
+    void (*trace_grid)(const void *state, const hz_render_frame_t *f, uint32_t *rows, uint32_t *row_items);
     void (*overlap_needs)(const void *state, const hz_render_frame_t *f, uint32_t unit, uint32_t *lo, uint32_t *hi);
     void (*overlap_run)(void *state, hz_render_frame_t *f, uint32_t unit);
     void (*end_frame)(void *state, const hz_render_frame_t *f);

@@ -99,13 +99,13 @@ static void test_overlapped_frames_match_serial_passes(void **state)
     }
 }
 
-/* Trace rows (HZ_RENDER_TILE pixel rows each) holding pixel rows [y0, y1], clamped to the image. */
-static void rows_of(int y0, int y1, uint32_t *lo, uint32_t *hi)
+/* Trace rows (`tall` pixel rows each) holding pixel rows [y0, y1], clamped to the image. */
+static void rows_of(int tall, int y0, int y1, uint32_t *lo, uint32_t *hi)
 {
     y0 = y0 < 0 ? 0 : y0;
     y1 = y1 > H - 1 ? H - 1 : y1;
-    *lo = (uint32_t)y0 / HZ_RENDER_TILE;
-    *hi = (uint32_t)y1 / HZ_RENDER_TILE;
+    *lo = (uint32_t)(y0 / tall);
+    *hi = (uint32_t)(y1 / tall);
 }
 
 static void test_units_wait_for_the_rows_they_read(void **state)
@@ -121,9 +121,13 @@ static void test_units_wait_for_the_rows_they_read(void **state)
         o.width = W, o.height = H, o.mode = modes[m];
         if (rfix_renderer(&f, &o, 1, &err) != HZ_OK)
             fail_msg("renderer: %s", err.msg);
+        /* a trace item is a render tile, or for tdense an area of 8x8 tdense tiles (2x2 pixels each), so that
+         * its camera rays fill a batch */
+        const int tall = modes[m] == HZ_MODE_TDENSE ? 2 * HZ_RENDER_TILE : HZ_RENDER_TILE;
         uint32_t rows, items, units = hz_render_overlap_units(f.r, &rows, &items);
-        assert_int_equal(rows, (H + HZ_RENDER_TILE - 1) / HZ_RENDER_TILE);
-        assert_int_equal(items, (W + HZ_RENDER_TILE - 1) / HZ_RENDER_TILE);
+        assert_int_equal(rows, (H + tall - 1) / tall);
+        assert_int_equal(items, (W + tall - 1) / tall);
+        assert_int_equal(hz_render_pass_items(f.r, 0), rows * items);
         if (modes[m] == HZ_MODE_FULL || modes[m] == HZ_MODE_ADAPTIVE) {
             assert_int_equal(units, 0); /* one pass, or three whose tests read more than their neighbours */
             rfix_close(&f);
@@ -140,14 +144,14 @@ static void test_units_wait_for_the_rows_they_read(void **state)
             uint32_t lo, hi, need_lo, need_hi;
             hz_render_overlap_needs(f.r, u, &lo, &hi);
             if (modes[m] == HZ_MODE_TDENSE) {
-                /* tdense unit u: the tdense tile rows of trace row u, pixel rows 8u .. 8u + 7; their 3x3 motion
+                /* tdense unit u: the tdense tile rows of trace row u, pixel rows 16u .. 16u + 15; their 3x3 motion
                  * and the newest-subframe box of the tile rows above and below reach two pixel rows further */
-                int y0 = (int)u * HZ_RENDER_TILE;
-                rows_of(y0 - 2, y0 + HZ_RENDER_TILE - 1 + 2, &need_lo, &need_hi);
+                int y0 = (int)u * tall;
+                rows_of(tall, y0 - 2, y0 + tall - 1 + 2, &need_lo, &need_hi);
             } else {
                 /* a run of TAA tiles: their pixel rows and the 7x7 window's 3 rows either side */
-                int y0 = (int)(u / per_row) * HZ_RENDER_TILE;
-                rows_of(y0 - 3, y0 + HZ_RENDER_TILE - 1 + 3, &need_lo, &need_hi);
+                int y0 = (int)(u / per_row) * tall;
+                rows_of(tall, y0 - 3, y0 + tall - 1 + 3, &need_lo, &need_hi);
             }
             assert_true(lo <= need_lo && hi >= need_hi && hi < rows);
             assert_true(lo >= last_lo && hi >= last_hi); /* units can be handed out in order */
