@@ -38,7 +38,7 @@ typedef struct ext_scan {
 
 static const ext_scan_t ext_empty = { 0u, 0xffffffffu, 0u };
 
-static ext_scan_t ext_add(ext_scan_t e, uint32_t v)
+HZ_INLINE ext_scan_t ext_add(ext_scan_t e, uint32_t v)
 {
     if ((v & 0x7f800000u) == 0x7f800000u)
         return e;
@@ -49,7 +49,7 @@ static ext_scan_t ext_add(ext_scan_t e, uint32_t v)
     return e;
 }
 
-static ext_scan_t ext_merge(ext_scan_t a, ext_scan_t b)
+HZ_INLINE ext_scan_t ext_merge(ext_scan_t a, ext_scan_t b)
 {
     a.hi = b.hi > a.hi ? b.hi : a.hi;
     a.lo = b.lo < a.lo ? b.lo : a.lo;
@@ -58,8 +58,10 @@ static ext_scan_t ext_merge(ext_scan_t a, ext_scan_t b)
 }
 
 /* A scan's max and min as aligned integers: A = Imax's significand << 7, B = Imin's shifted to A's exponent.
- * Returns how many values were usable. */
-static uint32_t ext_align(ext_scan_t e, uint64_t *a, uint64_t *b)
+ * Returns how many values were usable. Inlined: a scan passed by value to a call was rebuilt in a register from
+ * two 32-bit stores, and the 64-bit load stalled on the failed store forwarding (two thirds of row_blocks'
+ * samples). */
+HZ_INLINE uint32_t ext_align(ext_scan_t e, uint64_t *a, uint64_t *b)
 {
     const uint32_t hi = e.hi, lo = e.lo;
     if (e.used == 0) {
@@ -269,6 +271,7 @@ bool hz_amask_subpixel(const hz_amask_config_t *c, const hz_amask_px_t *p, const
 typedef struct block_ext {
     uint64_t a[3], b[3];
     uint32_t used[3];
+    bool active_none; /* block_active at the thresholds of no disagreement (tau_memo_t.none) */
 } block_ext_t;
 
 /* Window pixel (x, y) of the strip: involved at hit 0 (bit 0) and hit 1 (bit 1), and its texture bits. */
@@ -364,6 +367,15 @@ static const uint32_t *tau_memo_thresholds(const hz_amask_config_t *c, tau_memo_
     return m->thr;
 }
 
+/* Each block's activity at the thresholds of no disagreement, found once: most of the four subpixels that share
+ * a block take those thresholds (their neighbours are the same surface), and block_active's channel tests branch on
+ * the image's content. */
+static void row_blocks_none(block_ext_t *e, uint32_t n, const tau_memo_t *m)
+{
+    for (uint32_t k = 0; k < n; k++)
+        e[k].active_none = block_active(&e[k], m->none);
+}
+
 /* Pairs between window rows `up` and `dn` (strip width n window pixels): vertical v[x] = (x, up)-(x, dn);
  * diagonal d1[x] = (x, up)-(x + 1, dn), d2[x] = (x + 1, up)-(x, dn). */
 static void row_pairs(const hz_amask_config_t *c, const hz_amask_px_t *up, const px_in_t *iu, const hz_amask_px_t *dn,
@@ -390,6 +402,7 @@ static uint32_t block_strip(const hz_amask_config_t *c, const hz_amask_px_t *win
     row_involved(c, win + stride, n, in[1]);
     row_pairs(c, win, in[0], win + stride, in[1], n, v[0], d1[0], d2[0]);
     row_blocks(win, win + stride, n - 1, ext[0]);
+    row_blocks_none(ext[0], n - 1, &memo);
     uint32_t active = 0;
     for (uint32_t y = 0; y < h; y++) {
         /* window rows y (above), y + 1 (the pixels), y + 2 (below); buffers [up] and [dn] alternate */
@@ -399,6 +412,7 @@ static uint32_t block_strip(const hz_amask_config_t *c, const hz_amask_px_t *win
         row_involved(c, below, n, ib);
         row_pairs(c, row, ir, below, ib, n, v[dn], d1[dn], d2[dn]);
         row_blocks(row, below, n - 1, ext[dn]);
+        row_blocks_none(ext[dn], n - 1, &memo);
         for (uint32_t x = 0; x + 1 < n; x++)
             hrow[x] = pair_of(c, &row[x], ir[x], &row[x + 1], ir[x + 1]);
         for (uint32_t x = 0; x < w; x++) {
@@ -409,7 +423,8 @@ static uint32_t block_strip(const hz_amask_config_t *c, const hz_amask_px_t *win
             const block_ext_t *corner[4] = { &ext[up][X - 1], &ext[up][X], &ext[dn][X - 1], &ext[dn][X] };
             uint8_t m = 0;
             for (uint32_t q = 0; q < 4; q++)
-                if (block_active(corner[q], tau_memo_thresholds(c, &memo, why[q])))
+                if ((why[q] & memo.on) ? block_active(corner[q], tau_memo_thresholds(c, &memo, why[q]))
+                                       : corner[q]->active_none)
                     m |= (uint8_t)(1u << q);
             mask[(size_t)y * mask_stride + x] = m;
             active += hz_amask_count(m);
