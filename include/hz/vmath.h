@@ -84,7 +84,19 @@ HZ_INLINE hz_vec3_t hz_v3_lerp(hz_vec3_t a, hz_vec3_t b, float t)
     return hz_v3(a.x + (b.x - a.x) * t, a.y + (b.y - a.y) * t, a.z + (b.z - a.z) * t);
 }
 HZ_INLINE float hz_v3_get(hz_vec3_t a, int axis) { return axis == 0 ? a.x : axis == 1 ? a.y : a.z; }
-hz_vec3_t hz_v3_normalize(hz_vec3_t a);
+/* hz_v3_normalize's path for a finite vector whose squared length overflows or underflows. */
+hz_vec3_t hz_v3_normalize_rescaled(hz_vec3_t a);
+/* Inline: a vector returned from a call passes through the stack in pieces, and copying it into a ray or a
+ * packet stalled on store forwarding in the per-ray loops. */
+HZ_INLINE hz_vec3_t hz_v3_normalize(hz_vec3_t a)
+{
+    if (!hz_isfinitef(a.x) || !hz_isfinitef(a.y) || !hz_isfinitef(a.z))
+        return hz_v3(0.0f, 0.0f, 0.0f);
+    const float l2 = hz_v3_dot(a, a);
+    if (!(l2 > 0.0f) || !hz_isfinitef(l2))
+        return hz_v3_normalize_rescaled(a);
+    return hz_v3_scale(a, 1.0f / hz_sqrtf(l2));
+}
 
 /* ---- mat4 ---- */
 typedef struct hz_mat4 {

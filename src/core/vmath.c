@@ -100,20 +100,14 @@ hz_q16_t hz_q16_from_float(float f)
     return (hz_q16_t)(int64_t)r; /* conversion truncates toward zero */
 }
 
-hz_vec3_t hz_v3_normalize(hz_vec3_t a)
+hz_vec3_t hz_v3_normalize_rescaled(hz_vec3_t a)
 {
-    if (!hz_isfinitef(a.x) || !hz_isfinitef(a.y) || !hz_isfinitef(a.z))
+    /* Very large vectors overflow l2, tiny ones underflow it: rescale by the largest component. */
+    float m = hz_maxf(hz_absf(a.x), hz_maxf(hz_absf(a.y), hz_absf(a.z)));
+    if (!(m > 0.0f))
         return hz_v3(0.0f, 0.0f, 0.0f);
-    float l2 = hz_v3_dot(a, a);
-    if (!(l2 > 0.0f) || !hz_isfinitef(l2)) {
-        /* Very large vectors overflow l2, tiny ones underflow it: rescale by the largest component. */
-        float m = hz_maxf(hz_absf(a.x), hz_maxf(hz_absf(a.y), hz_absf(a.z)));
-        if (!(m > 0.0f))
-            return hz_v3(0.0f, 0.0f, 0.0f);
-        a = hz_v3(a.x / m, a.y / m, a.z / m); /* divide: 1 / m overflows for subnormal m */
-        l2 = hz_v3_dot(a, a);
-    }
-    return hz_v3_scale(a, 1.0f / hz_sqrtf(l2));
+    a = hz_v3(a.x / m, a.y / m, a.z / m); /* divide: 1 / m overflows for subnormal m */
+    return hz_v3_scale(a, 1.0f / hz_sqrtf(hz_v3_dot(a, a)));
 }
 
 hz_mat4_t hz_mat4_identity(void)

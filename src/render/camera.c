@@ -20,14 +20,6 @@ void hz_view_setup(hz_view_t *v, const hz_camera_t *cam, uint32_t width, uint32_
     v->proj_y = hz_v3_scale(v->up, 0.5f * (float)height / hz_v3_dot(v->up, v->up));
 }
 
-hz_vec3_t hz_view_ray_dir(const hz_view_t *v, float px, float py)
-{
-    float sx = 2.0f * px / (float)v->width - 1.0f;
-    float sy = 1.0f - 2.0f * py / (float)v->height;
-    hz_vec3_t d = hz_v3_add(v->fwd, hz_v3_add(hz_v3_scale(v->right, sx), hz_v3_scale(v->up, sy)));
-    return hz_v3_normalize(d);
-}
-
 void hz_view_footprint(const hz_view_t *v, hz_shade_footprint_t *fp)
 {
     const float sx = 2.0f / (float)v->width, sy = -2.0f / (float)v->height, ff = hz_v3_dot(v->fwd, v->fwd);
