@@ -544,11 +544,17 @@ void hz_render_pass_run(hz_renderer_t *r, uint32_t pass, uint32_t item, uint32_t
     r->mode->pass_run(r->mode_state, &r->f, pass, item, &r->workers_by_thread[thread]->b);
 }
 
+/* Pass 0's items as rows x row_items: the mode's grid, else the render tiles. */
+static void trace_grid(const hz_renderer_t *r, uint32_t *rows, uint32_t *row_items)
+{
+    *rows = r->f.tiles_y, *row_items = r->f.tiles_x;
+    if (r->mode->trace_grid)
+        r->mode->trace_grid(r->mode_state, &r->f, rows, row_items);
+}
+
 uint32_t hz_render_overlap_units(const hz_renderer_t *r, uint32_t *trace_rows, uint32_t *row_items)
 {
-    *trace_rows = r->f.tiles_y, *row_items = r->f.tiles_x;
-    if (r->mode->trace_grid)
-        r->mode->trace_grid(r->mode_state, &r->f, trace_rows, row_items);
+    trace_grid(r, trace_rows, row_items);
     if (r->f.opts.serial_passes || !r->mode->overlap_units)
         return 0u;
     return r->mode->overlap_units(r->mode_state, &r->f);
@@ -556,9 +562,8 @@ uint32_t hz_render_overlap_units(const hz_renderer_t *r, uint32_t *trace_rows, u
 
 void hz_render_overlap_needs(const hz_renderer_t *r, uint32_t unit, uint32_t *row_lo, uint32_t *row_hi)
 {
-    uint32_t lo = 0, hi = 0, rows = r->f.tiles_y, row_items = r->f.tiles_x;
-    if (r->mode->trace_grid)
-        r->mode->trace_grid(r->mode_state, &r->f, &rows, &row_items);
+    uint32_t lo = 0, hi = 0, rows, row_items;
+    trace_grid(r, &rows, &row_items);
     if (r->mode->overlap_needs)
         r->mode->overlap_needs(r->mode_state, &r->f, unit, &lo, &hi);
     *row_lo = lo;
