@@ -60,9 +60,10 @@ static inline float hz_shade_tap_offset(uint32_t k)
 {
     return (float)(2 * (int)k + 1 - HZ_SHADE_TAP_SIDE) / (float)(2 * HZ_SHADE_TAP_SIDE);
 }
-/* The mean of the taps of texture tex around (tu, tv) with gradients g, each hz_texture_sample at lod, summed
- * in tap order then scaled by 1 / HZ_SHADE_TAPS; the one sample at (tu, tv) where a tap is not finite. */
-void hz_shade_sample_taps(const hz_scene_t *s, int32_t tex, float tu, float tv, float lod, const float g[4],
+/* Texture tex at (tu, tv) for a lane, on the level lod_base plus half log2 of the texture's area: one
+ * hz_texture_sample, or with gradients g (non-NULL) the mean of the taps, each hz_texture_sample at that level,
+ * summed in tap order then scaled by 1 / HZ_SHADE_TAPS (the one sample at (tu, tv) where a tap is not finite). */
+void hz_shade_sample_lane(const hz_scene_t *s, int32_t tex, float tu, float tv, float lod_base, const float *g,
                           float rgba[4]);
 
 #endif

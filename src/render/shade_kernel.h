@@ -163,7 +163,7 @@ static inline void k_bilinear(const hz_scene_t *s, vi vfirst, vi vw, vi vh, vi o
 
 /* Each lane's sample of texture tex[lane] at (tu, tv) with its mip level from lod_base, for the lanes of
  * `lanes` (texture.c's hz_texture_sample: bilinear, wrapped); lanes of `foot` take the mean of the footprint's
- * taps with gradients g (hz_shade_sample_taps). */
+ * taps with gradients g (hz_shade_sample_lane). */
 static void k_sample(const hz_shade_ctx_t *c, const int32_t *tex, uint32_t lanes, vf tu, vf tv,
                      const float *lod_base, const float (*g)[KL], uint32_t foot, float rgba[4][KL])
 {
@@ -183,15 +183,11 @@ static void k_sample(const hz_shade_ctx_t *c, const int32_t *tex, uint32_t lanes
         if (k == HZ_SHADE_TEX_GATHER) {
             on[i] = -1, gather |= 1u << i;
         } else if (k == HZ_SHADE_TEX_FAR) {
-            const hz_texture_t *tx = &s->textures[tex[i]];
-            float lod = lod_base[i] + 0.5f * hz_log2_approx((float)tx->width * (float)tx->height);
-            float px[4];
-            if (foot >> i & 1u) {
-                const float gi[4] = { g[0][i], g[1][i], g[2][i], g[3][i] };
-                hz_shade_sample_taps(s, tex[i], su[i], sv[i], lod, gi, px);
-            } else {
-                hz_texture_sample(s, tex[i], su[i], sv[i], lod, px);
-            }
+            float px[4], gi[4];
+            const float *gl = NULL; /* g is read only in the footprint's lanes */
+            if (foot >> i & 1u)
+                gi[0] = g[0][i], gi[1] = g[1][i], gi[2] = g[2][i], gi[3] = g[3][i], gl = gi;
+            hz_shade_sample_lane(s, tex[i], su[i], sv[i], lod_base[i], gl, px);
             rgba[0][i] = px[0], rgba[1][i] = px[1], rgba[2][i] = px[2], rgba[3][i] = px[3];
         }
     }
@@ -203,7 +199,7 @@ static void k_sample(const hz_shade_ctx_t *c, const int32_t *tex, uint32_t lanes
     const uint32_t taps = gather & foot;
     uint32_t keep = 0;
     if (taps) {
-        /* hz_shade_sample_taps, lane-parallel; a lane with a tap that is not finite keeps its centre sample (its
+        /* hz_shade_sample_lane's taps, lane-parallel; a lane with a tap that is not finite keeps its centre sample (its
          * taps are read at the centre, never at a wild index). */
         vf gux = vf_load(g[0]), guy = vf_load(g[1]), gvx = vf_load(g[2]), gvy = vf_load(g[3]);
         vm finite = vm_and(k_finite(tu), k_finite(tv));

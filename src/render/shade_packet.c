@@ -101,8 +101,8 @@ bool hz_shade_footprint_lane(const hz_shade_ctx_t *c, const hz_shade_in_t *in, u
     return hz_isfinitef(g[0]) && hz_isfinitef(g[1]) && hz_isfinitef(g[2]) && hz_isfinitef(g[3]);
 }
 
-void hz_shade_sample_taps(const hz_scene_t *s, int32_t tex, float tu, float tv, float lod, const float g[4],
-                          float rgba[4])
+static void sample_taps(const hz_scene_t *s, int32_t tex, float tu, float tv, float lod, const float g[4],
+                        float rgba[4])
 {
     float su[HZ_SHADE_TAPS], sv[HZ_SHADE_TAPS];
     bool finite = hz_isfinitef(tu) && hz_isfinitef(tv);
@@ -124,6 +124,17 @@ void hz_shade_sample_taps(const hz_scene_t *s, int32_t tex, float tu, float tv, 
     }
     for (int ch = 0; ch < 4; ch++)
         rgba[ch] = acc[ch] * (1.0f / (float)HZ_SHADE_TAPS);
+}
+
+void hz_shade_sample_lane(const hz_scene_t *s, int32_t tex, float tu, float tv, float lod_base, const float *g,
+                          float rgba[4])
+{
+    const hz_texture_t *tx = &s->textures[tex];
+    const float lod = lod_base + 0.5f * hz_log2_approx((float)tx->width * (float)tx->height);
+    if (g)
+        sample_taps(s, tex, tu, tv, lod, g, rgba);
+    else
+        hz_texture_sample(s, tex, tu, tv, lod, rgba);
 }
 
 void hz_shade_level_memo_init(hz_shade_level_memo_t *m)
@@ -208,24 +219,14 @@ static void lane_scalar(const hz_shade_ctx_t *c, const hz_shade_in_t *in, uint32
     float rgba[4], g[4];
     const bool foot = hz_shade_footprint_lane(c, in, i, pv, g);
     if (lt.base >= 0) {
-        const hz_texture_t *tx = &s->textures[lt.base];
-        float lod = lod_base + 0.5f * hz_log2_approx((float)tx->width * (float)tx->height);
-        if (foot)
-            hz_shade_sample_taps(s, lt.base, tu, tv, lod, g, rgba);
-        else
-            hz_texture_sample(s, lt.base, tu, tv, lod, rgba);
+        hz_shade_sample_lane(s, lt.base, tu, tv, lod_base, foot ? g : NULL, rgba);
         o->albedo[0][i] *= rgba[0], o->albedo[1][i] *= rgba[1], o->albedo[2][i] *= rgba[2];
         o->textured[i] = 1;
         if (lt.base_alpha)
             o->alpha[i] *= rgba[3];
     }
     if (lt.alpha >= 0) {
-        const hz_texture_t *tx = &s->textures[lt.alpha];
-        float lod = lod_base + 0.5f * hz_log2_approx((float)tx->width * (float)tx->height);
-        if (foot)
-            hz_shade_sample_taps(s, lt.alpha, tu, tv, lod, g, rgba);
-        else
-            hz_texture_sample(s, lt.alpha, tu, tv, lod, rgba);
+        hz_shade_sample_lane(s, lt.alpha, tu, tv, lod_base, foot ? g : NULL, rgba);
         o->alpha[i] *= rgba[3];
         o->textured[i] = 1;
     }
