@@ -29,12 +29,13 @@
  *    neighbourhoods of the tile's four pixels (the same motion that decided whether they are dynamic).
  *  - Odd widths/heights: the last tile column/row is partial; a tile whose named pixel lies outside the image
  *    traces nothing that frame.
- *  - Compact state (hz/pack.h): window samples and the previous displayed frame are kept as RGB9E5, motion
- *    vectors as half floats. A traced sample is displayed at full precision in the frame that
- *    traced it; what is kept for later frames is rounded to RGB9E5.
+ *  - Compact state (hz/pack.h): window samples are kept as RGB9E5, the previous displayed frame and motion
+ *    vectors as half floats (the frame in one plane per channel, which the SIMD resolve converts eight codes
+ *    at a time). A traced sample is displayed at full precision in the frame that traced it; what is kept for
+ *    later frames is rounded to those formats.
  *  - Non-finite colours are displayed as given in the frame that traced them (a broken tracer shows up) and kept
- *    as 0 (RGB9E5 has no NaN); non-finite or huge motion vectors are sanitised (NaN as 0, clamped to
- *    ±HZ_TDENSE_MAX_MOTION px).
+ *    as 0 (the packs have no NaN; the largest value kept is HZ_HALF_MAX, in the window HZ_RGB9E5_MAX);
+ *    non-finite or huge motion vectors are sanitised (NaN as 0, clamped to ±HZ_TDENSE_MAX_MOTION px).
  */
 #ifndef HZ_TDENSE_H
 #define HZ_TDENSE_H
@@ -51,6 +52,7 @@
 
 #define HZ_TDENSE_MAX_MOTION 16384.0f
 #define HZ_TDENSE_TILE_PAD 8u /* elements of padding around each per-tile array (hz_tdense_t) */
+#define HZ_TDENSE_HIST_PAD 8u /* codes of padding after each history frame's planes (the SIMD gather reads words) */
 
 typedef struct hz_tdense_config {
     uint32_t width, height;  /* the displayed frame, 1..HZ_IMAGE_MAX_DIM each */
@@ -86,14 +88,16 @@ typedef struct hz_tdense {
     uint16_t *mv;          /* pixels x 2: motion of each pixel's newest sample (half float); NULL without motion */
     uint32_t *window;      /* pixels x 4: the moving window, one RGB9E5 sample per MSAA position */
     uint8_t *flags;        /* pixels: HZ_TDENSE_* bits */
-    uint32_t *hist[2];     /* displayed frames as RGB9E5, ping-pong: the one written is hist[frame & 1] */
+    /* displayed frames as half floats in three planes (R, G, B: pixels codes each, then HZ_TDENSE_HIST_PAD),
+     * ping-pong: the one written is hist[frame & 1]. Only the resolve writes them (hz_half_pack's codes). */
+    uint16_t *hist[2];
     hz_image_t out;        /* the displayed frame (linear float RGB) */
 } hz_tdense_t;
 
 /* Bytes hz_tdense_init takes from an arena for width x height (including alignment padding), or 0 when the
  * size is invalid; hz_tdense_bytes assumes motion, hz_tdense_plan says it (cfg.motion) and gives the part that
  * is the displayed frame (float RGB) in *display_bytes (may be NULL). Stored per pixel: 16 bytes of window,
- * 8 of history, 4 of motion (with motion), 1 of flags, 3.75 per pixel of per-tile state, the displayed frame. */
+ * 12 of history, 4 of motion (with motion), 1 of flags, 3.75 per pixel of per-tile state, the displayed frame. */
 size_t hz_tdense_bytes(uint32_t width, uint32_t height);
 size_t hz_tdense_plan(uint32_t width, uint32_t height, bool motion, size_t *display_bytes);
 

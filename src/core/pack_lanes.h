@@ -44,6 +44,29 @@ HZ_INLINE hz_li_t hz_lanes_half_hw_pack(hz_lf_t v)
 }
 #endif
 
+/* HZ_LANES consecutive half codes at p (no exponent-31 code among them: see hz_lanes_half_load) into floats, and
+ * HZ_LANES floats stored as hz_half_pack's codes at p, with the conversion instruction. */
+#if defined(HZ_BOARD_SIMD_AVX2) && defined(__F16C__)
+HZ_INLINE hz_lf_t hz_lanes_half_hw_load(const uint16_t *p)
+{
+    return _mm256_cvtph_ps(_mm_loadu_si128((const __m128i *)(const void *)p));
+}
+/* v finite, 0 <= v <= HZ_HALF_MAX */
+HZ_INLINE void hz_lanes_half_hw_store(uint16_t *p, hz_lf_t v)
+{
+    _mm_storeu_si128((__m128i *)(void *)p, _mm256_cvtps_ph(v, _MM_FROUND_TO_NEAREST_INT | _MM_FROUND_NO_EXC));
+}
+#elif defined(HZ_BOARD_SIMD_NEON) && defined(__aarch64__)
+HZ_INLINE hz_lf_t hz_lanes_half_hw_load(const uint16_t *p)
+{
+    return vcvt_f32_f16(vreinterpret_f16_u16(vld1_u16(p)));
+}
+HZ_INLINE void hz_lanes_half_hw_store(uint16_t *p, hz_lf_t v)
+{
+    vst1_u16(p, vreinterpret_u16_f16(vcvt_f16_f32(v)));
+}
+#endif
+
 /* hz_half_unpack of the half codes in the low 16 bits of each lane, by the bit assembly below. */
 HZ_INLINE hz_lf_t hz_lanes_half_unpack_bits(hz_li_t h)
 {
@@ -180,6 +203,41 @@ HZ_INLINE hz_li_t hz_lanes_half_pack(hz_lf_t v)
     return hz_lanes_half_hw_pack(hz_lanes_pack_clamp(v, HZ_HALF_MAX));
 #else
     return hz_lanes_half_pack_bits(v);
+#endif
+}
+
+/* Planes of half codes that only hz_half_pack wrote (so no code has exponent 31, which hz_half_unpack reads as
+ * finite and the instruction does not): HZ_LANES consecutive codes at p read as hz_half_unpack reads them, the
+ * codes at base[idx[i]] (base readable for one code past the largest index: whole words are gathered), and
+ * HZ_LANES values stored as hz_half_pack's codes. */
+HZ_INLINE hz_lf_t hz_lanes_half_load(const uint16_t *p)
+{
+#ifdef HZ_LANES_HW_HALF
+    return hz_lanes_half_hw_load(p);
+#else
+    return hz_lanes_half_unpack_bits(hz_li_load_u16(p));
+#endif
+}
+
+HZ_INLINE hz_lf_t hz_lanes_half_gather(const uint16_t *base, hz_li_t idx)
+{
+    const hz_li_t h = hz_li_and(hz_li_gather_bytes32(base, hz_li_add(idx, idx)), hz_li_set(0xffff));
+#ifdef HZ_LANES_HW_HALF
+    return hz_lanes_half_hw_unpack(h);
+#else
+    return hz_lanes_half_unpack_bits(h);
+#endif
+}
+
+HZ_INLINE void hz_lanes_half_store(uint16_t *p, hz_lf_t v)
+{
+#ifdef HZ_LANES_HW_HALF
+    hz_lanes_half_hw_store(p, hz_lanes_pack_clamp(v, HZ_HALF_MAX));
+#else
+    int32_t c[HZ_LANES];
+    hz_li_store(c, hz_lanes_half_pack_bits(v));
+    for (int i = 0; i < HZ_LANES; i++)
+        p[i] = (uint16_t)c[i];
 #endif
 }
 

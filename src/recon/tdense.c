@@ -43,8 +43,8 @@ void hz_tdense_layout(hz_tdense_t *td, const hz_tdense_config_t *cfg, hz_memplan
     td->mv = cfg->motion ? hz_memplan_array(p, px * 2, sizeof(uint16_t)) : NULL;
     td->window = hz_memplan_array(p, px * WIN, sizeof(uint32_t));
     td->flags = hz_memplan_alloc(p, px);
-    td->hist[0] = hz_memplan_array(p, px, sizeof(uint32_t));
-    td->hist[1] = hz_memplan_array(p, px, sizeof(uint32_t));
+    td->hist[0] = hz_memplan_array(p, 3 * px + HZ_TDENSE_HIST_PAD, sizeof(uint16_t));
+    td->hist[1] = hz_memplan_array(p, 3 * px + HZ_TDENSE_HIST_PAD, sizeof(uint16_t));
     hz_memplan_part(p, HZ_TDENSE_PART_DISPLAY);
     td->out.rgb = hz_memplan_array(p, px * 3, sizeof(float));
     hz_memplan_part(p, HZ_TDENSE_PART_STATE);
@@ -129,8 +129,8 @@ void hz_tdense_reset(hz_tdense_t *td)
         hz_memset(td->mv, 0, px * 2 * sizeof(uint16_t));
     hz_memset(td->window, 0, px * WIN * sizeof(uint32_t));
     hz_memset(td->flags, 0, px);
-    hz_memset(td->hist[0], 0, px * sizeof(uint32_t)); /* RGB9E5 code 0 is black */
-    hz_memset(td->hist[1], 0, px * sizeof(uint32_t));
+    hz_memset(td->hist[0], 0, (3 * px + HZ_TDENSE_HIST_PAD) * sizeof(uint16_t)); /* half code 0 is black */
+    hz_memset(td->hist[1], 0, (3 * px + HZ_TDENSE_HIST_PAD) * sizeof(uint16_t));
     hz_memset(td->out.rgb, 0, px * 3 * sizeof(float));
     td->frame = 0;
     td->camera_moved = false;
@@ -243,9 +243,22 @@ static motion_t longest_in(const hz_tdense_t *td, int x0, int y0, int x1, int y1
     return best;
 }
 
-/* Bilinear fetch of the previous frame (RGB9E5, w x h) at continuous pixel coordinates (pixel centres on
- * integers), clamped to the image edge (so the coordinates are non-negative and truncation is the floor). */
-static void fetch_bilinear(const uint32_t *img, uint32_t w, uint32_t h, float sx, float sy, float out[3])
+/* Pixel p of a history frame (planes of px half codes) into c, and c into it. */
+static void hist_read(const uint16_t *hist, size_t px, size_t p, float c[3])
+{
+    for (int k = 0; k < 3; k++)
+        c[k] = hz_half_unpack(hist[(size_t)k * px + p]);
+}
+
+static void hist_write(uint16_t *hist, size_t px, size_t p, const float c[3])
+{
+    for (int k = 0; k < 3; k++)
+        hist[(size_t)k * px + p] = hz_half_pack(c[k]);
+}
+
+/* Bilinear fetch of the previous frame (half-float planes, w x h) at continuous pixel coordinates (pixel centres
+ * on integers), clamped to the image edge (so the coordinates are non-negative and truncation is the floor). */
+static void fetch_bilinear(const uint16_t *img, uint32_t w, uint32_t h, float sx, float sy, float out[3])
 {
     sx = hz_clampf(sx, 0.0f, (float)w - 1.0f);
     sy = hz_clampf(sy, 0.0f, (float)h - 1.0f);
@@ -253,10 +266,11 @@ static void fetch_bilinear(const uint32_t *img, uint32_t w, uint32_t h, float sx
     float fx = sx - (float)x0, fy = sy - (float)y0;
     uint32_t x1 = x0 + 1 < w ? x0 + 1 : x0, y1 = y0 + 1 < h ? y0 + 1 : y0;
     float a[3], b[3], c[3], d[3];
-    hz_rgb9e5_unpack(img[(size_t)y0 * w + x0], a);
-    hz_rgb9e5_unpack(img[(size_t)y0 * w + x1], b);
-    hz_rgb9e5_unpack(img[(size_t)y1 * w + x0], c);
-    hz_rgb9e5_unpack(img[(size_t)y1 * w + x1], d);
+    const size_t px = (size_t)w * h;
+    hist_read(img, px, (size_t)y0 * w + x0, a);
+    hist_read(img, px, (size_t)y0 * w + x1, b);
+    hist_read(img, px, (size_t)y1 * w + x0, c);
+    hist_read(img, px, (size_t)y1 * w + x1, d);
     for (int k = 0; k < 3; k++) {
         float top = a[k] + (b[k] - a[k]) * fx;
         float bot = c[k] + (d[k] - c[k]) * fx;
@@ -333,12 +347,13 @@ HZ_INLINE void copy3(float *dst, const float *src)
 }
 
 /* One pixel of Fig. 3; m is the longest motion in its 3x3 neighbourhood. prev, cur: the previous frame and
- * the one written now (RGB9E5 history, ping-pong). */
+ * the one written now (half-float history planes, ping-pong). */
 void hz_tdense_resolve_pixel(hz_tdense_t *td, uint32_t x, uint32_t y, unsigned subframe, motion_t m,
-                             const uint32_t *prev, uint32_t *cur)
+                             const uint16_t *prev, uint16_t *cur)
 {
     float *out = hz_image_at(&td->out, x, y);
     size_t p = (size_t)y * td->cfg.width + x, t;
+    const size_t px = (size_t)td->cfg.width * td->cfg.height;
     bool fresh = is_new(td, x, y, subframe, &t);
     unsigned f = td->flags[p];
     const float sample[3] = { td->sub_rgb[0][t], td->sub_rgb[1][t], td->sub_rgb[2][t] };
@@ -362,8 +377,9 @@ void hz_tdense_resolve_pixel(hz_tdense_t *td, uint32_t x, uint32_t y, unsigned s
             /* The history being written is the one before the previous (ping-pong): if the previous frame
              * kept the value too, it is already there. */
             if (!(f & HZ_TDENSE_KEPT))
-                cur[p] = prev[p];
-            hz_rgb9e5_unpack(prev[p], out);
+                for (int k = 0; k < 3; k++)
+                    cur[(size_t)k * px + p] = prev[(size_t)k * px + p];
+            hist_read(prev, px, p, out);
             td->flags[p] = (uint8_t)(f | HZ_TDENSE_KEPT);
             return;
         } else {
@@ -393,7 +409,7 @@ void hz_tdense_resolve_pixel(hz_tdense_t *td, uint32_t x, uint32_t y, unsigned s
             }
         }
     }
-    cur[p] = hz_rgb9e5_pack(out);
+    hist_write(cur, px, p, out);
     td->flags[p] = (uint8_t)((f | HZ_TDENSE_SEEN) & ~HZ_TDENSE_KEPT);
 }
 
@@ -403,7 +419,7 @@ motion_t hz_tdense_column_motion(const uint16_t *r0, const uint16_t *r1, const u
 }
 
 /* Pixel row y: the 3x3 longest motion slides along the row as three column maxima. */
-static void resolve_row(hz_tdense_t *td, uint32_t y, unsigned subframe, const uint32_t *prev, uint32_t *cur)
+static void resolve_row(hz_tdense_t *td, uint32_t y, unsigned subframe, const uint16_t *prev, uint16_t *cur)
 {
     uint32_t w = td->cfg.width, h = td->cfg.height;
     const uint16_t *r0 = td->mv ? td->mv + 2 * (size_t)(y ? y - 1 : 0) * w : NULL;
@@ -422,7 +438,7 @@ static void resolve_row(hz_tdense_t *td, uint32_t y, unsigned subframe, const ui
     }
 }
 
-typedef void (*row_fn_t)(hz_tdense_t *td, uint32_t y, unsigned subframe, const uint32_t *prev, uint32_t *cur);
+typedef void (*row_fn_t)(hz_tdense_t *td, uint32_t y, unsigned subframe, const uint16_t *prev, uint16_t *cur);
 
 /* Tile (tx, ty)'s motion for ĝ: the longest over its 4x4 block. With lanes (and motion), groups of tiles scan
  * their blocks together in the same order, with the same result (hz_tdense_block_motion_lanes); g keeps the
@@ -457,8 +473,8 @@ static motion_t tile_motion(const hz_tdense_t *td, uint32_t tx, uint32_t ty, boo
 static void resolve_rows(hz_tdense_t *td, uint32_t ty0, uint32_t ty1, row_fn_t row)
 {
     unsigned subframe = hz_tdense_subframe(td->frame);
-    uint32_t *cur = td->hist[td->frame & 1u];
-    const uint32_t *prev = td->hist[(td->frame + 1u) & 1u];
+    uint16_t *cur = td->hist[td->frame & 1u];
+    const uint16_t *prev = td->hist[(td->frame + 1u) & 1u];
     uint32_t h = td->cfg.height;
     if (ty1 > td->tiles_y)
         ty1 = td->tiles_y;

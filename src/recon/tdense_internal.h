@@ -31,7 +31,7 @@ typedef struct hz_tdense_motion {
 hz_tdense_motion_t hz_tdense_column_motion(const uint16_t *r0, const uint16_t *r1, const uint16_t *r2, size_t x);
 
 void hz_tdense_resolve_pixel(hz_tdense_t *td, uint32_t x, uint32_t y, unsigned subframe, hz_tdense_motion_t m,
-                             const uint32_t *prev, uint32_t *cur);
+                             const uint16_t *prev, uint16_t *cur);
 
 /* ĝ at the end of a cycle (tdense_ghat.c): hz_tileorder_ghat(mx, my, hz_tileorder_tile_random_keyed(tx, ty, key),
  * rule), the same decision for every input, mostly in double precision (the random word made only where it
@@ -55,7 +55,7 @@ hz_tilecycle_t hz_tdense_ghat(hz_q16_t mx, hz_q16_t my, uint32_t tx, uint32_t ty
 void hz_tdense_block_motion_lanes(const hz_tdense_t *td, uint32_t ty, uint32_t tx0, float *mx, float *my);
 
 /* Pixel row y with lanes (defined in tdense_lanes.c on AVX2 and NEON boards). */
-void hz_tdense_resolve_row_lanes(hz_tdense_t *td, uint32_t y, unsigned subframe, const uint32_t *prev,
-                                 uint32_t *cur);
+void hz_tdense_resolve_row_lanes(hz_tdense_t *td, uint32_t y, unsigned subframe, const uint16_t *prev,
+                                 uint16_t *cur);
 
 #endif /* HZ_TDENSE_INTERNAL_H */

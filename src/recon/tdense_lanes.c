@@ -154,8 +154,8 @@ HZ_INLINE void box_candidate(const hz_tdense_t *td, const tile_row_t *row, hz_li
     *n = hz_li_sub(*n, use);
 }
 
-/* fetch_bilinear (tdense.c) of the RGB9E5 image prev at (sx, sy), lane by lane. */
-HZ_INLINE lrgb_t fetch_bilinear(const uint32_t *prev, uint32_t w, uint32_t h, hz_lf_t sx, hz_lf_t sy)
+/* fetch_bilinear (tdense.c) of the half-float planes prev (w x h) at (sx, sy), lane by lane. */
+HZ_INLINE lrgb_t fetch_bilinear(const uint16_t *prev, uint32_t w, uint32_t h, hz_lf_t sx, hz_lf_t sy)
 {
     sx = hz_lf_clamp_ordered(sx, hz_lf_set(0.0f), hz_lf_set((float)w - 1.0f));
     sy = hz_lf_clamp_ordered(sy, hz_lf_set(0.0f), hz_lf_set((float)h - 1.0f));
@@ -166,7 +166,7 @@ HZ_INLINE lrgb_t fetch_bilinear(const uint32_t *prev, uint32_t w, uint32_t h, hz
     y1 = hz_li_sel(hz_li_gt(hz_li_set((int32_t)h), y1), y1, y0);
     const hz_li_t wv = hz_li_set((int32_t)w);
     hz_li_t row0 = hz_li_mul(y0, wv), row1 = hz_li_mul(y1, wv);
-    const int32_t *img = (const int32_t *)(const void *)prev;
+    const size_t px = (size_t)w * h;
     /* Footprints side by side in the same two rows (the motion's integer part alike, none clamped at the right
      * edge: most pixels): the four taps are runs of consecutive codes, loaded instead of gathered. */
     const int32_t x00 = hz_li_first(x0), r0 = hz_li_first(row0), r1 = hz_li_first(row1);
@@ -175,20 +175,22 @@ HZ_INLINE lrgb_t fetch_bilinear(const uint32_t *prev, uint32_t w, uint32_t h, hz
                            !hz_li_any(hz_li_or(hz_li_not(hz_li_eq(x0, run)),
                                                hz_li_or(hz_li_not(hz_li_eq(row0, hz_li_set(r0))),
                                                         hz_li_not(hz_li_eq(row1, hz_li_set(r1))))));
-    hz_li_t ca, cb, cc, cd;
-    if (contiguous) { /* x1 = x0 + 1 in every lane then */
-        ca = hz_li_load(img + r0 + x00), cb = hz_li_load(img + r0 + x00 + 1);
-        cc = hz_li_load(img + r1 + x00), cd = hz_li_load(img + r1 + x00 + 1);
-    } else {
-        ca = hz_li_gather(img, hz_li_add(row0, x0)), cb = hz_li_gather(img, hz_li_add(row0, x1));
-        cc = hz_li_gather(img, hz_li_add(row1, x0)), cd = hz_li_gather(img, hz_li_add(row1, x1));
-    }
-    lrgb_t a = hz_lanes_rgb9e5_unpack(ca), b = hz_lanes_rgb9e5_unpack(cb);
-    lrgb_t c = hz_lanes_rgb9e5_unpack(cc), d = hz_lanes_rgb9e5_unpack(cd);
+    const hz_li_t i00 = hz_li_add(row0, x0), i01 = hz_li_add(row0, x1);
+    const hz_li_t i10 = hz_li_add(row1, x0), i11 = hz_li_add(row1, x1);
     lrgb_t o;
     for (int k = 0; k < 3; k++) {
-        hz_lf_t top = hz_lf_add(a.c[k], hz_lf_mul(hz_lf_sub(b.c[k], a.c[k]), fx));
-        hz_lf_t bot = hz_lf_add(c.c[k], hz_lf_mul(hz_lf_sub(d.c[k], c.c[k]), fx));
+        const uint16_t *plane = prev + (size_t)k * px;
+        hz_lf_t a, b, c, d;
+        if (contiguous) { /* x1 = x0 + 1 in every lane then */
+            const uint16_t *t0 = plane + r0 + x00, *t1 = plane + r1 + x00;
+            a = hz_lanes_half_load(t0), b = hz_lanes_half_load(t0 + 1);
+            c = hz_lanes_half_load(t1), d = hz_lanes_half_load(t1 + 1);
+        } else {
+            a = hz_lanes_half_gather(plane, i00), b = hz_lanes_half_gather(plane, i01);
+            c = hz_lanes_half_gather(plane, i10), d = hz_lanes_half_gather(plane, i11);
+        }
+        hz_lf_t top = hz_lf_add(a, hz_lf_mul(hz_lf_sub(b, a), fx));
+        hz_lf_t bot = hz_lf_add(c, hz_lf_mul(hz_lf_sub(d, c), fx));
         o.c[k] = hz_lf_add(top, hz_lf_mul(hz_lf_sub(bot, top), fy));
     }
     return o;
@@ -230,7 +232,7 @@ HZ_INLINE void window_lanes(uint32_t *win, hz_li_t window, hz_li_t bit, hz_li_t 
  * tile of the box lies in the tile grid with its pixel in the image (resolve_row_lanes says when), so the box
  * needs no bounds and every pixel has at least its own tile's sample (n >= 1). */
 HZ_INLINE void resolve_lanes(hz_tdense_t *td, uint32_t x0, uint32_t y, const order_pixels_t *lut,
-                             lmotion_t m, const uint32_t *prev, uint32_t *cur, int inside)
+                             lmotion_t m, const uint16_t *prev, uint16_t *cur, int inside)
 {
     const uint32_t w = td->cfg.width, tw = td->tiles_x;
     const int32_t ty = (int32_t)(y >> 1), py = (int32_t)(y & 1u);
@@ -284,8 +286,7 @@ HZ_INLINE void resolve_lanes(hz_tdense_t *td, uint32_t x0, uint32_t y, const ord
 
     const hz_li_t f = hz_li_load_u8(td->flags + p0);
     const hz_li_t seen = hz_li_not(hz_li_eq(hz_li_and(f, hz_li_set(HZ_TDENSE_SEEN)), zero));
-    const hz_li_t kept = hz_li_not(hz_li_eq(hz_li_and(f, hz_li_set(HZ_TDENSE_KEPT)), zero));
-    const hz_li_t prev_code = hz_li_load(prev + p0), cur_old = hz_li_load(cur + p0);
+    const size_t plane = (size_t)w * td->cfg.height; /* codes per history plane */
     const hz_li_t old = hz_li_andnot(ones, fresh);
     const hz_li_t keep = hz_li_and(stat, hz_li_and(old, seen)); /* static, old, seen: the previous frame's */
     const hz_li_t reproject = hz_li_andnot(hz_li_and(old, seen), stat);
@@ -294,9 +295,8 @@ HZ_INLINE void resolve_lanes(hz_tdense_t *td, uint32_t x0, uint32_t y, const ord
      * the reprojected and clamped one; the kept and reprojected values are made only where a lane needs them */
     lrgb_t out = mean;
     if (hz_li_any(keep)) {
-        const lrgb_t kept_rgb = hz_lanes_rgb9e5_unpack(prev_code);
         for (int k = 0; k < 3; k++)
-            out.c[k] = hz_lf_sel(keep, kept_rgb.c[k], out.c[k]);
+            out.c[k] = hz_lf_sel(keep, hz_lanes_half_load(prev + (size_t)k * plane + p0), out.c[k]);
     }
     if (hz_li_any(reproject)) {
         hz_lf_t sx = hz_lf_add(hz_lf_from_li(x), m.x), sy = hz_lf_add(hz_lf_set((float)y), m.y);
@@ -323,10 +323,11 @@ HZ_INLINE void resolve_lanes(hz_tdense_t *td, uint32_t x0, uint32_t y, const ord
         window_lanes(td->window + 4 * p0, window, bit, hz_li_and(f, hz_li_set(HZ_TDENSE_SAMPLES)), &out);
     }
 
-    /* history codes and flags */
-    hz_li_t code = hz_lanes_rgb9e5_pack(&out);
-    code = hz_li_sel(keep, hz_li_sel(kept, cur_old, prev_code), code);
-    hz_li_store(cur + p0, code);
+    /* history codes and flags. A kept lane shows the previous frame's value, whose codes it writes again: the
+     * scalar twin copies them (or finds them there when the previous frame kept them too), the same bits, as
+     * a half code that hz_half_pack wrote comes back from hz_half_pack(hz_half_unpack(code)). */
+    for (int k = 0; k < 3; k++)
+        hz_lanes_half_store(cur + (size_t)k * plane + p0, out.c[k]);
     const hz_li_t dyn_bit = hz_li_set(HZ_TDENSE_DYNAMIC), samples = hz_li_set(HZ_TDENSE_SAMPLES);
     hz_li_t f_stat = hz_li_andnot(f, dyn_bit);
     /* a fresh static pixel: a jittered sample adds its slot, a centre sample empties the window */
@@ -341,19 +342,19 @@ HZ_INLINE void resolve_lanes(hz_tdense_t *td, uint32_t x0, uint32_t y, const ord
 
 /* resolve_lanes for groups inside the image's interior, and for the others: two copies, each specialised. */
 static void resolve_inside(hz_tdense_t *td, uint32_t x0, uint32_t y, const order_pixels_t *lut, lmotion_t m,
-                           const uint32_t *prev, uint32_t *cur)
+                           const uint16_t *prev, uint16_t *cur)
 {
     resolve_lanes(td, x0, y, lut, m, prev, cur, 1);
 }
 
 static void resolve_edge(hz_tdense_t *td, uint32_t x0, uint32_t y, const order_pixels_t *lut, lmotion_t m,
-                         const uint32_t *prev, uint32_t *cur)
+                         const uint16_t *prev, uint16_t *cur)
 {
     resolve_lanes(td, x0, y, lut, m, prev, cur, 0);
 }
 
-void hz_tdense_resolve_row_lanes(hz_tdense_t *td, uint32_t y, unsigned subframe, const uint32_t *prev,
-                                 uint32_t *cur)
+void hz_tdense_resolve_row_lanes(hz_tdense_t *td, uint32_t y, unsigned subframe, const uint16_t *prev,
+                                 uint16_t *cur)
 {
     const uint32_t w = td->cfg.width, h = td->cfg.height, L = HZ_LANES;
     const uint16_t *r0 = td->mv ? td->mv + 2 * (size_t)(y ? y - 1 : 0) * w : NULL;
