@@ -309,6 +309,53 @@ static void test_lanes_half3_load(void **state)
 }
 #endif
 
+/* The plane codecs (the tdense history): every code hz_half_pack writes (the finite non-negative ones) is read by
+ * the run load and by the gather as hz_half_unpack reads it, the gather at any index up to the last code (whose
+ * word reaches one code past it: the padding the caller keeps); the store writes hz_half_pack's codes for values
+ * across the range, out of it, NaN and infinities. */
+static void test_lanes_half_planes(void **state)
+{
+    (void)state;
+    enum { N = 0x7c00 + HZ_LANES + 1 };
+    static uint16_t plane[N + 1];
+    for (uint32_t i = 0; i < N; i++)
+        plane[i] = (uint16_t)(i < 0x7c00u ? i : i - 0x7c00u);
+    plane[N] = 0xffff; /* the padding: never read as a code */
+    float got[HZ_LANES];
+    for (uint32_t h = 0; h + HZ_LANES <= N; h += 3) {
+        hz_lf_store(got, hz_lanes_half_load(plane + h));
+        for (int i = 0; i < HZ_LANES; i++)
+            assert_true(memcmp(&got[i], &(float){ hz_half_unpack(plane[h + (uint32_t)i]) }, 4) == 0);
+    }
+    int32_t idx[HZ_LANES];
+    hz_rng_t r;
+    hz_rng_seed(&r, 7, 1);
+    for (int round = 0; round < 20000; round++) {
+        for (int i = 0; i < HZ_LANES; i++)
+            idx[i] = round == 0 ? (int32_t)N - 1 - i : (int32_t)hz_rng_below(&r, N);
+        hz_lf_store(got, hz_lanes_half_gather(plane, hz_li_load(idx)));
+        for (int i = 0; i < HZ_LANES; i++)
+            assert_true(memcmp(&got[i], &(float){ hz_half_unpack(plane[idx[i]]) }, 4) == 0);
+    }
+    uint16_t out[HZ_LANES];
+    float v[HZ_LANES];
+    for (int round = 0; round < 200000; round++) {
+        for (int i = 0; i < HZ_LANES; i++) {
+            uint32_t bits = hz_rng_u32(&r);
+            memcpy(&v[i], &bits, 4);
+        }
+        if (round % 4 == 1)
+            for (int i = 0; i < HZ_LANES; i++)
+                v[i] = ldexpf((float)(hz_rng_u32(&r) >> 8) / 16777216.0f, (int)hz_rng_below(&r, 44) - 28);
+        if (round == 2)
+            v[0] = NAN, v[1] = INFINITY, v[2] = -INFINITY, v[3] = 65519.99f;
+        hz_lanes_half_store(out, hz_lf_load(v));
+        for (int i = 0; i < HZ_LANES; i++)
+            if (out[i] != hz_half_pack(v[i]))
+                fail_msg("%a: stored %04x, hz_half_pack %04x", (double)v[i], out[i], hz_half_pack(v[i]));
+    }
+}
+
 /* The deinterleaving loads are hz_lf_store3's inverse and read pairs in order. */
 static void test_lanes_deinterleaving_loads(void **state)
 {
@@ -341,6 +388,7 @@ int main(void)
         cmocka_unit_test(test_lanes_codecs_match_scalar),
         cmocka_unit_test(test_lanes_half_pack_at_every_boundary),
         cmocka_unit_test(test_lanes_deinterleaving_loads),
+        cmocka_unit_test(test_lanes_half_planes),
 #ifdef HZ_LANES_HW_HALF
         cmocka_unit_test(test_lanes_half3_load),
 #endif
