@@ -88,7 +88,7 @@ typedef struct hz_tdense {
     uint16_t *mv;          /* pixels x 2: motion of each pixel's newest sample (half float); NULL without motion */
     uint32_t *window;      /* pixels x 4: the moving window, one RGB9E5 sample per MSAA position */
     uint8_t *flags;        /* pixels: HZ_TDENSE_* bits */
-    /* displayed frames as half floats in three planes (R, G, B: pixels codes each, then HZ_TDENSE_HIST_PAD),
+    /* displayed frames as half floats in three planes (R, G, B: one code per pixel each, then HZ_TDENSE_HIST_PAD),
      * ping-pong: the one written is hist[frame & 1]. Only the resolve writes them (hz_half_pack's codes). */
     uint16_t *hist[2];
     hz_image_t out;        /* the displayed frame (linear float RGB) */
