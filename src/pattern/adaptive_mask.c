@@ -166,11 +166,14 @@ static bool same_hit(const hz_amask_hit_t *a, const hz_amask_hit_t *b)
     return (a0 ^ b0) == 0 && (a1 ^ b1) == 0;
 }
 
-/* Classes on which hit level h of P and Q disagree (object id, shadow count, normal), honouring the focus. */
-static uint32_t hit_bits(const hz_amask_config_t *c, const hz_amask_hit_t *a, const hz_amask_hit_t *b, uint32_t h)
+/* Classes on which hit level h of P and Q disagree (object id, shadow count, normal), honouring the focus; none
+ * for the same hit, tested first (inline, so the common case costs its callers no call). */
+HZ_INLINE uint32_t hit_bits(const hz_amask_config_t *c, const hz_amask_hit_t *a, const hz_amask_hit_t *b, uint32_t h)
 {
     static const hz_tau_t oid[2] = { HZ_TAU_POID, HZ_TAU_SOID }, sn[2] = { HZ_TAU_PSN, HZ_TAU_SSN };
     static const hz_tau_t sc[2] = { HZ_TAU_PSC, HZ_TAU_SSC };
+    if (same_hit(a, b))
+        return 0;
     uint32_t why = 0;
     if (a->object != b->object)
         why |= HZ_AMASK_BIT(oid[h]);
@@ -194,7 +197,7 @@ static uint32_t pair_bits(const hz_amask_config_t *c, const hz_amask_px_t *p, bo
 {
     if (!a_in && !focused_at(c, q, h))
         return 0;
-    return same_hit(&p->hit[h], &q->hit[h]) ? 0 : hit_bits(c, &p->hit[h], &q->hit[h], h);
+    return hit_bits(c, &p->hit[h], &q->hit[h], h);
 }
 
 /* Whether P's hit at level h takes part (focus), and its texture-existence bit. */
@@ -295,7 +298,7 @@ static uint32_t pair_of(const hz_amask_config_t *c, const hz_amask_px_t *p, px_i
 {
     uint32_t why = 0;
     for (uint32_t h = 0; h < 2; h++)
-        if (((pi.in | qi.in) & (1u << h)) && !same_hit(&p->hit[h], &q->hit[h]))
+        if ((pi.in | qi.in) & (1u << h))
             why |= hit_bits(c, &p->hit[h], &q->hit[h], h);
     return why;
 }

@@ -360,7 +360,8 @@ void hz_shade_surfaces(const hz_shade_ctx_t *c, const hz_shade_in_t *in, uint32_
     kv3_t p0 = k_v3_load(pos[0], pos[1], pos[2]), p1 = k_v3_load(pos[3], pos[4], pos[5]);
     kv3_t p2 = k_v3_load(pos[6], pos[7], pos[8]);
     kv3_t p = k_bary((const float (*)[KL])pos, w, u, v);
-    kv3_t ngr = k_cross(k_sub(p1, p0), k_sub(p2, p0));
+    const kv3_t e1 = k_sub(p1, p0), e2 = k_sub(p2, p0);
+    kv3_t ngr = k_cross(e1, e2);
     vf l2 = k_dot(ngr, ngr);
     vf area2 = vf_sqrt(l2);
     kv3_t ng = k_normalize(ngr, l2, mask);
@@ -421,19 +422,18 @@ void hz_shade_surfaces(const hz_shade_ctx_t *c, const hz_shade_in_t *in, uint32_
     uint32_t foot = 0;
     if (HZ_FEATURE_TEXTURES && c->footprint) {
         const hz_shade_footprint_t *fp = c->footprint;
-        vf nn = k_dot(ngr, ngr), dn = k_dot(d, ngr);
+        vf dnr = k_dot(d, ngr); /* l2 is the twin's |N|^2 for the unnormalised normal N = ngr */
         const kv3_t fv = { vf_set1(fp->f[0]), vf_set1(fp->f[1]), vf_set1(fp->f[2]) };
         vf tq = vf_mul(vf_load(in->eye_dist), k_dot(d, fv));
-        kv3_t e1 = k_sub(p1, p0), e2 = k_sub(p2, p0);
         kv3_t q1 = k_cross(e2, ngr), q2 = k_cross(ngr, e1);
         vf du1 = vf_sub(b0, a0), dv1 = vf_sub(b1, a1), du2 = vf_sub(c0, a0), dv2 = vf_sub(c1, a1);
         vm ok = vf_gt(vf_load(in->eye_dist), vf_set1(0.0f));
         for (int axis = 0; axis < 2; axis++) {
             const float *ev = axis ? fp->ey : fp->ex;
             kv3_t e = { vf_set1(ev[0]), vf_set1(ev[1]), vf_set1(ev[2]) };
-            vf k = vf_div(k_dot(e, ngr), dn);
+            vf k = vf_div(k_dot(e, ngr), dnr);
             kv3_t a = k_scale(k_sub(e, k_scale(d, k)), tq);
-            vf beta = vf_div(k_dot(a, q1), nn), gamma = vf_div(k_dot(a, q2), nn);
+            vf beta = vf_div(k_dot(a, q1), l2), gamma = vf_div(k_dot(a, q2), l2);
             vf gu = vf_add(vf_mul(beta, du1), vf_mul(gamma, du2));
             vf gv = vf_add(vf_mul(beta, dv1), vf_mul(gamma, dv2));
             ok = vm_and(ok, vm_and(k_finite(gu), k_finite(gv)));
