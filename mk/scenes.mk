@@ -35,13 +35,15 @@ SCENE_MODEL_crossing := $(BUILD_ROOT)/scenes-gen/crossing/crossing.gltf
 # hairball: 348,000 triangles of curly strands in 64 groups swinging past each other (seed 002's moving hairball),
 # written by tools/gen/hairball_gltf.c.
 SCENE_MODEL_hairball := $(BUILD_ROOT)/scenes-gen/hairball/hairball.gltf
+# smoke-column: 6000 smoke particles rising from a ground plane (seed 004), written by tools/gen/smoke_scene.c.
+SCENE_MODEL_smoke-column := $(BUILD_ROOT)/scenes-gen/smoke-column/smoke-column.obj
 SCENE_MODEL_AlphaBlendModeTest-small := $(SCENE_MODEL_AlphaBlendModeTest)
 SCENE_MODEL_furball-sway := $(SCENE_MODEL_furball)
 SCENE_MODEL_sponza-rotated := $(SCENE_MODEL_sponza)
 SCENES := CornellBox-Original CornellBox-Mirror conference sponza lost-empire pine dragon-res4 dragon-res3 \
           dragon-res2 dragon furball BoxAnimated CesiumMan AlphaBlendModeTest CesiumMan-small \
           AlphaBlendModeTest-small sponza-smoke dragon-res4-still furball-sway sponza-rotated \
-          CesiumMan-keys CesiumMan-skin-small tentacles crossing hairball
+          CesiumMan-keys CesiumMan-skin-small tentacles crossing hairball smoke-column
 SCENE_FILES := $(SCENES:%=$(SCENES_O)/%.hzb)
 # What each scene reads besides its model: the unpacked zip (its stamp) or every file beside the model.
 scene_inputs = $(if $(filter $(SCENES_UNPACK)/%,$(1)),$(dir $(1)).unpacked,$(1) $(wildcard $(dir $(1))*))
@@ -69,6 +71,10 @@ $(SCENE_MODEL_hairball): $(BUILD_ROOT)/host/tools/gen/hairball_gltf
 	@mkdir -p $(dir $@)
 	$(call msg,GEN,$@)$(BUILD_ROOT)/host/tools/gen/hairball_gltf $(dir $@)
 $(SCENES_O)/hairball.hzb: $(SCENE_MODEL_hairball)
+$(SCENE_MODEL_smoke-column): $(BUILD_ROOT)/host/tools/gen/smoke_scene
+	@mkdir -p $(dir $@)
+	$(call msg,GEN,$@)$(BUILD_ROOT)/host/tools/gen/smoke_scene --column $(dir $@)
+$(SCENES_O)/smoke-column.hzb: $(SCENE_MODEL_smoke-column)
 
 ifeq ($(wildcard $(SCENES_SRC)/SOURCES.md),)
 scenes:

@@ -224,9 +224,11 @@ static int write_md(const char *path, int argc, char **argv, const md_section_t 
     return 0;
 }
 
-/* The per-frame time curve along sponza-smoke's path, every method (seed 004, Fig. 12): next to the
- * transparency CSV X.csv, X-frames.csv (frame, t_s, then one column of ms per method) and X-frames.svg. */
-static hz_status_t write_curve(const char *csv, const hz_bench_transp_row_t *rows, int n, hz_error_t *err)
+/* The per-frame time curve along a smoke scene's path, every method (seed 004, Fig. 12): next to the
+ * transparency CSV X.csv, X-frames.csv (frame, t_s, then one column of ms per method) and X-frames.svg for the
+ * group's first scene (sponza-smoke), X-<scene>-frames.csv and .svg for the others. */
+static hz_status_t write_curve(const char *csv, const char *scene, bool first, const hz_bench_transp_row_t *rows,
+                               int n, hz_error_t *err)
 {
     char base[4096], path[4200];
     size_t len = strlen(csv);
@@ -236,7 +238,7 @@ static hz_status_t write_curve(const char *csv, const hz_bench_transp_row_t *row
     if (len > 4 && !strcmp(base + len - 4, ".csv"))
         base[len - 4] = 0;
     hz_out_t out;
-    snprintf(path, sizeof path, "%s-frames.csv", base);
+    snprintf(path, sizeof path, "%s%s%s-frames.csv", base, first ? "" : "-", first ? "" : scene);
     hz_status_t s = hz_out_open(&out, path, err);
     if (s != HZ_OK)
         return s;
@@ -256,7 +258,7 @@ static hz_status_t write_curve(const char *csv, const hz_bench_transp_row_t *row
     if ((s = hz_out_commit(&out, err)) != HZ_OK)
         return s;
     printf("wrote %s\n", path);
-    snprintf(path, sizeof path, "%s-frames.svg", base);
+    snprintf(path, sizeof path, "%s%s%s-frames.svg", base, first ? "" : "-", first ? "" : scene);
     if ((s = hz_out_open(&out, path, err)) != HZ_OK)
         return s;
     static const char *const colour[] = { "#000000", "#1f77b4", "#d62728", "#2ca02c", "#9467bd",
@@ -269,7 +271,8 @@ static hz_status_t write_curve(const char *csv, const hz_bench_transp_row_t *row
     fprintf(out.f, "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"%d\" height=\"%d\" viewBox=\"0 0 %d %d\" "
                    "font-family=\"sans-serif\" font-size=\"11\">\n<rect width=\"100%%\" height=\"100%%\" fill=\"white\"/>\n",
             W, H, W, H);
-    fprintf(out.f, "<text x=\"%d\" y=\"14\">frame time along sponza-smoke's camera path (ms, min over rounds)</text>\n", L);
+    fprintf(out.f, "<text x=\"%d\" y=\"14\">frame time along %s's camera path (ms, min over rounds)</text>\n", L,
+            scene);
     fprintf(out.f, "<line x1=\"%d\" y1=\"%d\" x2=\"%d\" y2=\"%d\" stroke=\"black\"/>\n", L, H - B, W - R, H - B);
     fprintf(out.f, "<line x1=\"%d\" y1=\"%d\" x2=\"%d\" y2=\"%d\" stroke=\"black\"/>\n", L, T, L, H - B);
     for (int g = 0; g <= 4; g++) {
@@ -392,8 +395,8 @@ static const hz_opt_prog_t program = {
         "  kernels  core kernels (" STR(ROUNDS) " rounds)\n"
         "  tdense   displayed-frame time of tdense against full-frame 1 spp + TAA on the built-in scene\n"
         "           and sponza/conference\n"
-        "  transparency  per-frame time along sponza-smoke's camera path of exact, rr, std, dtaa and\n"
-        "           hybrid:0.25/0.5/0.75 with TAA (min over 3 rounds)\n"
+        "  transparency  per-frame time along the camera paths of sponza-smoke and smoke-column of exact, rr,\n"
+        "           std, dtaa and hybrid:0.25/0.5/0.75 with TAA (min over 3 rounds)\n"
         "  realtime tdense and TAA on 2 threads (or --threads) on the built-in scene, Sponza and Conference,\n"
         "           frames from t = 1 s: p50/p99 ms, begin/trace/shade/resolve, the same rays through Embree\n"
         "           alone (8-ray packets, no shading) and overhead = p50 / that; with --realtime-scaling the\n"
@@ -532,7 +535,7 @@ int main(int argc, char **argv)
     static args_t a = { .core = true, .accel = true, .tdense = true, .transp = true, .adaptive = true,
                         .blur = true, .motion = true, .realtime = true,
                         .rt = { NULL, 640, 360, 2, 3, 8, 96, 1.0f, 240, false, false },
-                        .tp = { NULL, 192, 108, 0, 3, 24, false },
+                        .tp = { .width = 192, .height = 108, .rounds = 3, .frames = 24 },
                         .ad = { NULL, NULL, 640, 360, 2, 5, 1, 3, 1.0f, 256, false },
                         .bo = { NULL, 320, 180, 0, 5, 4, 12, 1.0f, 1.0f, 240, HZ_ACCEL_BLUR_MSBVH, false },
                         .td = { NULL, 640, 360, 0, 5, 4, 12, 1.0f, 240, false } };
@@ -621,30 +624,38 @@ int main(int argc, char **argv)
     }
     if (transp) {
         hz_error_t err;
-        hz_bench_transp_row_t prow[HZ_BENCH_TRANSP_METHODS];
+        static hz_bench_transp_row_t prow[HZ_BENCH_TRANSP_SCENES * HZ_BENCH_TRANSP_METHODS];
+        int np = 0, per[HZ_BENCH_TRANSP_SCENES] = { 0 };
         tp.progress = hz_cli_stderr_is_tty();
         if (tp.threads == 0) {
             long c = sysconf(_SC_NPROCESSORS_ONLN);
             tp.threads = c < 1 ? 1 : c > HZ_MAX_THREADS ? HZ_MAX_THREADS : (int)c;
         }
-        printf("\ntransparency (seed 004) on sponza-smoke with TAA: %ux%u, %d threads, %u frames along the camera "
-               "path, min of %d rounds per frame\n", tp.width, tp.height, tp.threads, tp.frames, tp.rounds);
-        int np = hz_bench_transp(&tp, prow, &err);
-        if (np < 0)
-            return hz_cli_report(&err);
-        if (np > 0) {
+        for (int sc = 0; sc < HZ_BENCH_TRANSP_SCENES; sc++) {
+            hz_bench_transp_row_t *rows = prow + np;
+            tp.scene = hz_bench_transp_scenes[sc];
+            printf("\ntransparency (seed 004) on %s with TAA: %ux%u, %d threads, %u frames along the camera path, "
+                   "min of %d rounds per frame\n", tp.scene, tp.width, tp.height, tp.threads, tp.frames, tp.rounds);
+            const int n = hz_bench_transp(&tp, rows, &err);
+            if (n < 0)
+                return hz_cli_report(&err);
+            per[sc] = n, np += n;
+            if (n == 0)
+                continue;
             printf("%-16s %10s %10s %8s %14s %12s %12s\n", "method", "p50 ms", "p99 ms", "p99/p50", "rays/frame",
                    "exact/p50", "exact/p99");
-            for (int k = 0; k < np; k++)
-                printf("%-16s %10.2f %10.2f %8.3f %14.0f %11.2fx %11.2fx\n", prow[k].method, prow[k].p50_ms,
-                       prow[k].p99_ms, prow[k].p99_ms / prow[k].p50_ms, prow[k].rays_per_frame,
-                       prow[0].p50_ms / prow[k].p50_ms, prow[0].p99_ms / prow[k].p99_ms);
+            for (int k = 0; k < n; k++)
+                printf("%-16s %10.2f %10.2f %8.3f %14.0f %11.2fx %11.2fx\n", rows[k].method, rows[k].p50_ms,
+                       rows[k].p99_ms, rows[k].p99_ms / rows[k].p50_ms, rows[k].rays_per_frame,
+                       rows[0].p50_ms / rows[k].p50_ms, rows[0].p99_ms / rows[k].p99_ms);
             printf("(goal, seed 004: std >= 3x exact at p50, std p99/p50 <= 1.15)\n");
             printf("%-12s %16s %10s   (the any-hit decision on every blended triangle, both sides, after the last "
                    "frame)\n", "method", "ns/rejected layer", "rejected");
-            for (int k = 0; k < np; k++)
-                if (prow[k].reject_share > 0.0)
-                    printf("%-12s %16.1f %9.0f%%\n", prow[k].method, prow[k].reject_ns, 100.0 * prow[k].reject_share);
+            for (int k = 0; k < n; k++)
+                if (rows[k].reject_share > 0.0)
+                    printf("%-12s %16.1f %9.0f%%\n", rows[k].method, rows[k].reject_ns, 100.0 * rows[k].reject_share);
+        }
+        if (np > 0) {
             double lns = 0.0, lsh = 0.0;
             if (hz_bench_transp_layers("builtin", HZ_TRANSP_STD, tp.width, tp.height, &lns, &lsh, &err) != HZ_OK)
                 return hz_cli_report(&err);
@@ -663,8 +674,10 @@ int main(int argc, char **argv)
             if (hz_out_commit(&out, &err) != HZ_OK)
                 return hz_cli_report(&err);
             printf("wrote %s\n", transp_csv);
-            if (write_curve(transp_csv, prow, np, &err) != HZ_OK)
-                return hz_cli_report(&err);
+            for (int sc = 0, k = 0; sc < HZ_BENCH_TRANSP_SCENES; k += per[sc++])
+                if (per[sc] > 0 &&
+                    write_curve(transp_csv, hz_bench_transp_scenes[sc], sc == 0, prow + k, per[sc], &err) != HZ_OK)
+                    return hz_cli_report(&err);
         }
     }
     hz_bench_blur_row_t brows[4];
@@ -869,7 +882,8 @@ int main(int argc, char **argv)
              "(animation, refit, camera), trace pass and resolve pass (hzbench --only tdense)", td.width, td.height,
              td.threads, td.frames, td.warm, (double)td.start, td.hz, td.rounds);
     sec[2] = (md_section_t){ transp && transp_csv, "Transparency (seed 004)", "", transp_csv, { { 0 } }, { 0 }, 1 };
-    snprintf(sec[2].what, sizeof sec[2].what, "Per-frame time along sponza-smoke's camera path with TAA, %ux%u, %d "
+    snprintf(sec[2].what, sizeof sec[2].what, "Per-frame time along the camera paths of sponza-smoke (flown into and "
+             "through the cloud) and smoke-column (circled at a constant distance) with TAA, %ux%u, %d "
              "threads, %u frames, the minimum of %d interleaved rounds per frame, for every --transparency method: "
              "p50 and p99 ms and rays per frame; the seed's goal is std >= 3x exact at p50 and p99/p50 <= 1.15 "
              "(hzbench --only transparency)", tp.width, tp.height, tp.threads, tp.frames, tp.rounds);

@@ -16,6 +16,8 @@
 #include "threads.h"
 #include "transp_opt.h"
 
+const char *const hz_bench_transp_scenes[HZ_BENCH_TRANSP_SCENES] = { "sponza-smoke", "smoke-column" };
+
 static const struct {
     hz_transp_t t;
     float x;
@@ -93,7 +95,8 @@ int hz_bench_transp(const hz_bench_transp_opts_t *o, hz_bench_transp_row_t rows[
                     hz_error_t *err)
 {
     char path[4096];
-    snprintf(path, sizeof path, "%s/sponza-smoke.hzb", o->scenes_dir ? o->scenes_dir : ".");
+    const char *name = o->scene ? o->scene : hz_bench_transp_scenes[0];
+    snprintf(path, sizeof path, "%s/%s.hzb", o->scenes_dir ? o->scenes_dir : ".", name);
     if (access(path, R_OK) != 0) {
         printf("transparency: skipped: %s missing (make scenes)\n", path);
         return 0;
@@ -133,7 +136,8 @@ int hz_bench_transp(const hz_bench_transp_opts_t *o, hz_bench_transp_row_t rows[
                 }
             }
             if (o->progress) {
-                fprintf(stderr, "\r  transparency round %d/%d frame %u/%u", round + 1, o->rounds, i + 1, frames);
+                fprintf(stderr, "\r  transparency %s round %d/%d frame %u/%u", name, round + 1, o->rounds, i + 1,
+                        frames);
                 fflush(stderr);
             }
         }
@@ -145,7 +149,7 @@ int hz_bench_transp(const hz_bench_transp_opts_t *o, hz_bench_transp_row_t rows[
         for (int m = 0; m < HZ_BENCH_TRANSP_METHODS; m++) {
             hz_bench_transp_row_t *row = &rows[n++];
             memset(row, 0, sizeof *row);
-            snprintf(row->scene, sizeof row->scene, "sponza-smoke");
+            snprintf(row->scene, sizeof row->scene, "%s", name);
             hz_transp_format(row->method, sizeof row->method, methods[m].t, methods[m].x);
             if (methods[m].rr_shadows)
                 strncat(row->method, "+rr-shadows", sizeof row->method - strlen(row->method) - 1);
@@ -201,6 +205,7 @@ static void fit_scene(hz_bench_fit_scene_t *fs, const void *ctx)
 
 void hz_bench_transp_fit(const hz_bench_transp_opts_t *o, hz_bench_fit_t *fit)
 {
-    static const char *const scenes[][2] = { { "sponza-smoke", "sponza-smoke.hzb" } };
-    hz_bench_fit_scenes(fit, "transparency", scenes, 1, fit_scene, o);
+    static const char *const scenes[][2] = { { "sponza-smoke", "sponza-smoke.hzb" },
+                                             { "smoke-column", "smoke-column.hzb" } };
+    hz_bench_fit_scenes(fit, "transparency", scenes, (int)(sizeof scenes / sizeof scenes[0]), fit_scene, o);
 }

@@ -1,6 +1,8 @@
 /*
- * bench_transp.h — hzbench's transparency group (seed 004): per-frame time along the smoke scene's camera path
- * (sponza-smoke.hzb: 12000 alpha-blended particles, one light with shadows through them) for exact compositing,
+ * bench_transp.h — hzbench's transparency group (seed 004): per-frame time along a smoke scene's camera path
+ * (hz_bench_transp_scenes: sponza-smoke.hzb, 12000 alpha-blended particles in Sponza's atrium flown through, and
+ * smoke-column.hzb, a dense column of 6000 circled at a constant distance; one light with shadows through the
+ * particles) for exact compositing,
  * Russian roulette, STD, DTAA, the hybrids and STD with Russian-roulette shadow rays (--rr-shadows) against
  * its deep shadows, in one run.
  *
@@ -28,8 +30,13 @@
 #define HZ_BENCH_TRANSP_METHODS 8
 #define HZ_BENCH_TRANSP_MAX_FRAMES 256
 
+/* The group's scenes, in the order it runs them. */
+#define HZ_BENCH_TRANSP_SCENES 2
+extern const char *const hz_bench_transp_scenes[HZ_BENCH_TRANSP_SCENES];
+
 typedef struct hz_bench_transp_opts {
     const char *scenes_dir;
+    const char *scene; /* one of hz_bench_transp_scenes; NULL: the first */
     uint32_t width, height;
     int threads;
     int rounds;
@@ -49,7 +56,7 @@ typedef struct hz_bench_transp_row {
 int hz_bench_transp(const hz_bench_transp_opts_t *o, hz_bench_transp_row_t rows[HZ_BENCH_TRANSP_METHODS],
                     hz_error_t *err);
 
-/* --check-fit: the smoke scene and every method's renderer against the board's arenas (bench_fit.h). */
+/* --check-fit: the smoke scenes and every method's renderer against the board's arenas (bench_fit.h). */
 struct hz_bench_fit;
 void hz_bench_transp_fit(const hz_bench_transp_opts_t *o, struct hz_bench_fit *fit);
 
