@@ -227,9 +227,10 @@ static int write_md(const char *path, int argc, char **argv, const md_section_t 
 /* The per-frame time curve along a smoke scene's path, every method (seed 004, Fig. 12): next to the
  * transparency CSV X.csv, X-frames.csv (frame, t_s, then one column of ms per method) and X-frames.svg for the
  * group's first scene (sponza-smoke), X-<scene>-frames.csv and .svg for the others. */
-static hz_status_t write_curve(const char *csv, const char *scene, bool first, const hz_bench_transp_row_t *rows,
-                               int n, hz_error_t *err)
+static hz_status_t write_curve(const char *csv, const char *scene, const hz_bench_transp_row_t *rows, int n,
+                               hz_error_t *err)
 {
+    const bool first = !strcmp(scene, hz_bench_transp_scenes[0][0]);
     char base[4096], path[4200];
     size_t len = strlen(csv);
     if (len >= sizeof base)
@@ -635,7 +636,7 @@ int main(int argc, char **argv)
             hz_bench_transp_row_t *rows = prow + np;
             tp.scene = hz_bench_transp_scenes[sc];
             printf("\ntransparency (seed 004) on %s with TAA: %ux%u, %d threads, %u frames along the camera path, "
-                   "min of %d rounds per frame\n", tp.scene, tp.width, tp.height, tp.threads, tp.frames, tp.rounds);
+                   "min of %d rounds per frame\n", tp.scene[0], tp.width, tp.height, tp.threads, tp.frames, tp.rounds);
             const int n = hz_bench_transp(&tp, rows, &err);
             if (n < 0)
                 return hz_cli_report(&err);
@@ -676,7 +677,7 @@ int main(int argc, char **argv)
             printf("wrote %s\n", transp_csv);
             for (int sc = 0, k = 0; sc < HZ_BENCH_TRANSP_SCENES; k += per[sc++])
                 if (per[sc] > 0 &&
-                    write_curve(transp_csv, hz_bench_transp_scenes[sc], sc == 0, prow + k, per[sc], &err) != HZ_OK)
+                    write_curve(transp_csv, hz_bench_transp_scenes[sc][0], prow + k, per[sc], &err) != HZ_OK)
                     return hz_cli_report(&err);
         }
     }

@@ -16,7 +16,8 @@
 #include "threads.h"
 #include "transp_opt.h"
 
-const char *const hz_bench_transp_scenes[HZ_BENCH_TRANSP_SCENES] = { "sponza-smoke", "smoke-column" };
+const char *const hz_bench_transp_scenes[HZ_BENCH_TRANSP_SCENES][2] = { { "sponza-smoke", "sponza-smoke.hzb" },
+                                                                        { "smoke-column", "smoke-column.hzb" } };
 
 static const struct {
     hz_transp_t t;
@@ -95,8 +96,9 @@ int hz_bench_transp(const hz_bench_transp_opts_t *o, hz_bench_transp_row_t rows[
                     hz_error_t *err)
 {
     char path[4096];
-    const char *name = o->scene ? o->scene : hz_bench_transp_scenes[0];
-    snprintf(path, sizeof path, "%s/%s.hzb", o->scenes_dir ? o->scenes_dir : ".", name);
+    const char *const *entry = o->scene ? o->scene : hz_bench_transp_scenes[0];
+    const char *name = entry[0];
+    snprintf(path, sizeof path, "%s/%s", o->scenes_dir ? o->scenes_dir : ".", entry[1]);
     if (access(path, R_OK) != 0) {
         printf("transparency: skipped: %s missing (make scenes)\n", path);
         return 0;
@@ -205,7 +207,5 @@ static void fit_scene(hz_bench_fit_scene_t *fs, const void *ctx)
 
 void hz_bench_transp_fit(const hz_bench_transp_opts_t *o, hz_bench_fit_t *fit)
 {
-    static const char *const scenes[][2] = { { "sponza-smoke", "sponza-smoke.hzb" },
-                                             { "smoke-column", "smoke-column.hzb" } };
-    hz_bench_fit_scenes(fit, "transparency", scenes, (int)(sizeof scenes / sizeof scenes[0]), fit_scene, o);
+    hz_bench_fit_scenes(fit, "transparency", hz_bench_transp_scenes, HZ_BENCH_TRANSP_SCENES, fit_scene, o);
 }

@@ -30,13 +30,13 @@
 #define HZ_BENCH_TRANSP_METHODS 8
 #define HZ_BENCH_TRANSP_MAX_FRAMES 256
 
-/* The group's scenes, in the order it runs them. */
+/* The group's scenes, in the order it runs them: {name, file in the scenes folder} (also --check-fit's list). */
 #define HZ_BENCH_TRANSP_SCENES 2
-extern const char *const hz_bench_transp_scenes[HZ_BENCH_TRANSP_SCENES];
+extern const char *const hz_bench_transp_scenes[HZ_BENCH_TRANSP_SCENES][2];
 
 typedef struct hz_bench_transp_opts {
     const char *scenes_dir;
-    const char *scene; /* one of hz_bench_transp_scenes; NULL: the first */
+    const char *const *scene; /* an entry of hz_bench_transp_scenes; NULL: the first */
     uint32_t width, height;
     int threads;
     int rounds;
