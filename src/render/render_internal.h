@@ -16,7 +16,7 @@
 #include "shade.h"
 /* Blended triangles one shadow ray can composite in its single occlusion pass; rays crossing more take the
  * exact layer-by-layer path. */
-#define HZ_SHADOW_LAYERS 32
+#define HZ_SHADOW_LAYERS 128
 
 /* Which G-buffer record a ray's first hit fills. */
 enum { GSLOT_NONE = 0, GSLOT_PRIMARY = 1, GSLOT_SECONDARY = 2 };
@@ -47,13 +47,11 @@ typedef struct ray_job {
 typedef struct shadow_job {
     float o[3], d[3];          /* d unit length, towards the light */
     float tmax;                /* distance to the light, shortened a little */
-    float w[3];                /* radiance added to the slot if the light is visible */
-    float vis;                 /* transmittance of the blended layers crossed so far */
+    float w[3];                /* radiance added to the slot times the transmittance to the light */
     float time;                /* the time of the ray whose hit casts it */
     uint16_t slot;
     uint8_t gslot;             /* counts into shadow / shadow2 of the slot's pixel when blocked */
     uint8_t light;             /* the light's index (mod 256): packets are gathered per light */
-    uint16_t layers;
     uint8_t camera;            /* 1: from a camera ray's hit (packets of these are coherent) */
     uint8_t dither;            /* 1: from a stochastic fragment with rr_shadows: blended occluders by roulette */
 } shadow_job_t;

@@ -112,14 +112,6 @@ static hz_vec3_t vtx(const float *arr, uint32_t i)
     return hz_v3(arr[(size_t)i * 4], arr[(size_t)i * 4 + 1], arr[(size_t)i * 4 + 2]);
 }
 
-/* Triangle prim's vertices at a ray's time: the pose keys interpolated with motion blur, else the frame's. */
-static void tri_at(const struct hz_renderer *r, uint32_t prim, float time, hz_vec3_t p[3])
-{
-    const uint32_t *t = r->scene->tri + (size_t)prim * 3;
-    for (int i = 0; i < 3; i++)
-        p[i] = HZ_RENDER_KEYS(r) ? hz_posekeys_lerp(r->keys, r->keys->pos, t[i], time) : vtx(r->scene->pos, t[i]);
-}
-
 static hz_vec3_t bary(hz_vec3_t a, hz_vec3_t b, hz_vec3_t c, float u, float v)
 {
     float w = 1.0f - u - v;
@@ -204,8 +196,8 @@ bool hz_render_anyhit(void *user, uint32_t prim, float u, float v, float t, uint
             if (w->shadow_prims[ln][i] == prim)
                 return false;
         if (w->shadow_nprims[ln] == HZ_SHADOW_LAYERS) {
-            w->shadow_overflow[ln] = 1; /* the exact path takes over */
-            return false;
+            w->shadow_overflow[ln] = 1; /* past the layer cap with visibility left: ends as blocked */
+            return true;
         }
         w->shadow_prims[ln][w->shadow_nprims[ln]++] = prim;
         w->shadow_vis[ln] *= 1.0f - blend_alpha(w->r, prim, u, v);
@@ -267,7 +259,7 @@ static void process_shadows(hz_worker_t *w);
 static void push_shadow(hz_worker_t *w, const shadow_job_t *j)
 {
     while (w->shadow_n >= w->shadow_cap)
-        process_shadows(w); /* takes a packet off and pushes at most as many back */
+        process_shadows(w); /* takes a packet off */
     w->shadows[w->shadow_n++] = *j;
 }
 
@@ -320,13 +312,13 @@ static void process_shadows(hz_worker_t *w)
     w->b.stats.shadow_rays += n;
     w->ctx.flags = coherent ? HZ_ACCEL_COHERENT : 0u;
     /* One occlusion pass with early exit; blended surfaces composite into the lane's transmittance in the
-     * any-hit callback. Rays that met more layers than it tracks, and continuations of the exact path below
-     * (layers > 0), go the exact way. */
+     * any-hit callback, in whatever order the traversal meets them (the product does not care), each triangle
+     * once, up to the layer cap. */
     shadow_packet_t p;
     int32_t valid[HZ_RENDER_LANES] HZ_ALIGNED(32);
     for (uint32_t i = 0; i < HZ_RENDER_LANES; i++) {
         const shadow_job_t *j = &jobs[i < n ? i : 0];
-        valid[i] = i < n && j->layers == 0 ? -1 : 0;
+        valid[i] = i < n ? -1 : 0;
         p.org_x[i] = j->o[0], p.org_y[i] = j->o[1], p.org_z[i] = j->o[2];
         p.dir_x[i] = j->d[0], p.dir_y[i] = j->d[1], p.dir_z[i] = j->d[2];
         p.tnear[i] = 0.0f;
@@ -340,71 +332,14 @@ static void process_shadows(hz_worker_t *w)
         w->shadow_overflow[i] = 0;
     }
     OCCLUDED(valid, r->accel, &w->ctx, &p);
-    uint32_t m = 0;
     for (uint32_t i = 0; i < n; i++) {
-        if (valid[i] && p.tfar[i] < 0.0f) { /* -inf: blocked (or nothing left after the layers) */
+        if (p.tfar[i] < 0.0f) { /* -inf: blocked, nothing left after the layers, or past the layer cap */
+            w->b.stats.layer_cap += w->shadow_overflow[i];
             count_blocked(w, jobs[i].slot, jobs[i].gslot);
-        } else if (valid[i] && !w->shadow_overflow[i]) {
-            float v = w->shadow_vis[i];
-            add_radiance(w, jobs[i].slot, jobs[i].w, (const float[3]){ v, v, v });
         } else {
-            jobs[m++] = jobs[i];
+            const float v = w->shadow_vis[i];
+            add_radiance(w, jobs[i].slot, jobs[i].w, (const float[3]){ v, v, v });
         }
-    }
-    n = m;
-    if (n == 0)
-        return;
-    /* The exact deep shadow ray through the blended layers: find the nearest, let its opacity through,
-     * continue behind it until the light. */
-    ray_job_t rj[HZ_RENDER_LANES];
-    hitrec_t h[HZ_RENDER_LANES];
-    float tmax[HZ_RENDER_LANES];
-    for (uint32_t i = 0; i < n; i++) {
-        hz_memset(&rj[i], 0, sizeof rj[i]); /* dither 0: the exact path sees every layer */
-        for (int c = 0; c < 3; c++)
-            rj[i].o[c] = jobs[i].o[c], rj[i].d[c] = jobs[i].d[c];
-        rj[i].slot = jobs[i].slot;
-        rj[i].time = jobs[i].time;
-        rj[i].gslot = GSLOT_NONE;
-        tmax[i] = jobs[i].tmax;
-    }
-    intersect_jobs(w, rj, n, h, false, tmax);
-    for (uint32_t i = 0; i < n; i++) {
-        shadow_job_t *j = &jobs[i];
-        if (h[i].prim == HZ_ACCEL_INVALID_ID) {
-            add_radiance(w, j->slot, j->w, (const float[3]){ j->vis, j->vis, j->vis });
-            continue;
-        }
-        float a = blend_alpha(r, h[i].prim, h[i].u, h[i].v);
-        float vis = j->vis * (1.0f - a);
-        if (!(vis >= r->f.opts.min_visibility)) {
-            count_blocked(w, j->slot, j->gslot);
-            continue;
-        }
-        if (j->layers + 1u >= HZ_RENDER_MAX_LAYERS) {
-            w->b.stats.layer_cap++;
-            count_blocked(w, j->slot, j->gslot);
-            continue;
-        }
-        /* Continue from just behind the layer. */
-        hz_vec3_t pv[3];
-        tri_at(r, h[i].prim, j->time, pv);
-        hz_vec3_t p0 = pv[0], p1 = pv[1], p2 = pv[2];
-        hz_vec3_t ph = bary(p0, p1, p2, h[i].u, h[i].v);
-        hz_vec3_t ng = hz_v3_cross(hz_v3_sub(p1, p0), hz_v3_sub(p2, p0));
-        hz_vec3_t d = hz_v3(j->d[0], j->d[1], j->d[2]);
-        if (hz_v3_dot(ng, d) < 0.0f)
-            ng = hz_v3_neg(ng);
-        hz_vec3_t o = hz_accel_offset_origin(ph, ng, r->offset_scale);
-        shadow_job_t nj = *j;
-        nj.o[0] = o.x, nj.o[1] = o.y, nj.o[2] = o.z;
-        nj.tmax = j->tmax - h[i].t;
-        nj.vis = vis;
-        nj.layers = (uint16_t)(j->layers + 1u);
-        if (nj.tmax > 0.0f)
-            push_shadow(w, &nj);
-        else
-            add_radiance(w, j->slot, j->w, (const float[3]){ vis, vis, vis });
     }
 }
 
@@ -619,11 +554,9 @@ static void shade_hit(hz_worker_t *w, const ray_job_t *j, const hitrec_t *h, con
         sj.d[0] = sl->dx[lane], sj.d[1] = sl->dy[lane], sj.d[2] = sl->dz[lane];
         sj.tmax = sl->tmax[lane];
         sj.w[0] = kd[0] * lt->color[0] * k, sj.w[1] = kd[1] * lt->color[1] * k, sj.w[2] = kd[2] * lt->color[2] * k;
-        sj.vis = 1.0f;
         sj.time = j->time;
         sj.slot = j->slot;
         sj.gslot = j->gslot;
-        sj.layers = 0;
         sj.light = (uint8_t)l;
         sj.camera = j->bounces == 0 && j->layers == 0;
         sj.dither = (uint8_t)(j->dither && r->f.opts.rr_shadows);

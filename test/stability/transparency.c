@@ -112,10 +112,11 @@ static void c_stacked_1000_dense(stab_result_t *r) { stack_case(r, 1000, 0.5f, 0
 static void c_visibility_underflow(stab_result_t *r) { stack_case(r, 1000, 0.9f, 0.0f, true); }
 
 /* Shadow rays through N blended layers between a wall and the light (the camera sees the wall directly): with
- * no ambient term every wall pixel is the unshadowed one times (1 - a)^N, on the one-pass path (N <= 32) and the
- * exact layer-by-layer path (N > 32); below min_visibility it is black. */
+ * no ambient term every wall pixel is the unshadowed one times (1 - a)^N; below min_visibility, or past
+ * HZ_RENDER_MAX_LAYERS layers with visibility left (counted in layer_cap), it is black. */
 static void shadow_case(stab_result_t *r, uint32_t n, float a)
 {
+    uint64_t cap = 0;
     static float lit[W * H * 3], img[W * H * 3];
     for (int pass = 0; pass < 2; pass++) {
         su_scene_t b;
@@ -140,11 +141,13 @@ static void shadow_case(stab_result_t *r, uint32_t n, float a)
         su_light(&b, 10, 0, 1, 400);
         const float eye[3] = { 0, 0, 5 }, target[3] = { 0, 0, 0 };
         su_camera(&b, 0, eye, target, 0.3f);
-        render_full(r, &b, 0.001f, pass ? img : lit, NULL);
+        render_full(r, &b, 0.001f, pass ? img : lit, pass ? &cap : NULL);
         STAB_BAIL(r);
     }
     double t = pow(1.0 - (double)a, (double)n);
-    bool blocked = t < 0.001;
+    /* the layer a ray leaves the cap at still has visibility left: (1 - a)^HZ_RENDER_MAX_LAYERS >= 0.001 */
+    const bool capped = n > HZ_RENDER_MAX_LAYERS && pow(1.0 - (double)a, HZ_RENDER_MAX_LAYERS) >= 0.001;
+    bool blocked = t < 0.001 || capped;
     double want = blocked ? 0.0 : t;
     double e = 0;
     for (size_t i = 0; i < W * H * 3; i++) {
@@ -152,13 +155,18 @@ static void shadow_case(stab_result_t *r, uint32_t n, float a)
         e = fmax(e, fabs(img[i] / lit[i] - want) / fmax(want, 1e-30));
     }
     stab_error(r, blocked ? e * 1e-30 : e);
-    stab_note(r, "%u layers of alpha %g: light ratio %.6g; (1 - a)^N %.6g%s", n, (double)a, (double)(img[0] / lit[0]),
-              t, blocked ? " (below min_visibility: blocked)" : "");
+    stab_note(r, "%u layers of alpha %g: light ratio %.6g; (1 - a)^N %.6g%s; layer_cap %llu", n, (double)a,
+              (double)(img[0] / lit[0]), t,
+              capped ? " (past the layer cap: blocked)" : blocked ? " (below min_visibility: blocked)" : "",
+              (unsigned long long)cap);
     STAB_CHECK(r, r->max_error <= 1e-4, "transmittance off by %g", r->max_error);
+    STAB_CHECK(r, capped == (cap > 0), "layer_cap %llu where %s expected", (unsigned long long)cap,
+               capped ? "a count was" : "none was");
 }
 
 static void c_shadow_20(stab_result_t *r) { shadow_case(r, 20, 0.1f); }
-static void c_shadow_40(stab_result_t *r) { shadow_case(r, 40, 0.1f); }
+static void c_shadow_100(stab_result_t *r) { shadow_case(r, 100, 0.05f); }
+static void c_shadow_200(stab_result_t *r) { shadow_case(r, 200, 0.02f); }
 static void c_shadow_1000(stab_result_t *r) { shadow_case(r, 1000, 0.1f); }
 
 static const stab_case_t cases[] = {
@@ -172,8 +180,10 @@ static const stab_case_t cases[] = {
       c_stacked_1000_dense, 0 },
     { "visibility_underflow", "alpha 0.9 with min_visibility 0: visibility underflows to 0; finite; rule",
       c_visibility_underflow, 0 },
-    { "shadow_20_layers", "shadow ray through 20 layers (one pass): (1 - a)^N within 1e-4", c_shadow_20, 0 },
-    { "shadow_40_layers", "shadow ray through 40 layers (exact path): (1 - a)^N within 1e-4", c_shadow_40, 0 },
+    { "shadow_20_layers", "shadow ray through 20 layers: (1 - a)^N within 1e-4", c_shadow_20, 0 },
+    { "shadow_100_layers", "shadow ray through 100 layers of alpha 0.05: (1 - a)^N within 1e-4", c_shadow_100, 0 },
+    { "shadow_200_layers", "shadow ray through 200 layers of alpha 0.02: blocked past the layer cap, counted",
+      c_shadow_200, 0 },
     { "shadow_1000_layers", "shadow ray through 1000 layers: blocked below min_visibility", c_shadow_1000, 0 },
 };
 STAB_STAGE(transparency, cases);
