@@ -40,7 +40,7 @@ HZ_INLINE float hz_floorf(float x)
     if (!(hz_absf(x) < 8388608.0f))
         return x;
     float t = (float)(int32_t)x; /* truncation toward zero */
-    return t > x ? t - 1.0f : t;
+    return t - (float)(t > x);   /* no branch: its sign is the data's, a coin toss for texture lookups */
 }
 float hz_sinf(float x);
 float hz_cosf(float x);

@@ -14,9 +14,10 @@
 #include "hz/render.h"
 #include "mode.h"
 #include "shade.h"
-/* Blended triangles one shadow ray can composite in its single occlusion pass; rays crossing more take the
- * exact layer-by-layer path. */
-#define HZ_SHADOW_LAYERS 128
+/* Blended triangles one shadow ray composites in its single occlusion pass: the layer cap of every path, so a
+ * shadow ray that meets more, with visibility left, ends as blocked (counted in stats.layer_cap) as a camera
+ * path does. */
+#define HZ_SHADOW_LAYERS HZ_RENDER_MAX_LAYERS
 
 /* Which G-buffer record a ray's first hit fills. */
 enum { GSLOT_NONE = 0, GSLOT_PRIMARY = 1, GSLOT_SECONDARY = 2 };
@@ -77,6 +78,7 @@ typedef struct hz_worker {
      * triangles met so far and which ones (the any-hit callback may see a triangle more than once). */
     float shadow_vis[HZ_RENDER_LANES];
     uint32_t shadow_prims[HZ_RENDER_LANES][HZ_SHADOW_LAYERS];
+    uint64_t shadow_seen[HZ_RENDER_LANES][4]; /* bit (prim * golden) >> 24: some shadow_prims entry may be prim */
     uint8_t shadow_nprims[HZ_RENDER_LANES];
     uint8_t shadow_overflow[HZ_RENDER_LANES];
     hz_accel_ctx_t ctx;

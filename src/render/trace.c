@@ -118,16 +118,14 @@ static hz_vec3_t bary(hz_vec3_t a, hz_vec3_t b, hz_vec3_t c, float u, float v)
     return hz_v3(w * a.x + u * b.x + v * c.x, w * a.y + u * b.y + v * c.y, w * a.z + u * b.z + v * c.z);
 }
 
-/* Texture coordinates of a hit and the triangle's texel-to-world area ratio for the cone footprint. */
-static void hit_uv(const hz_scene_t *s, uint32_t prim, float u, float v, float *tu, float *tv, float *uv_area2)
+/* Texture coordinates of a hit (the any-hit tests' alpha lookups). */
+static void hit_uv(const hz_scene_t *s, uint32_t prim, float u, float v, float *tu, float *tv)
 {
     const uint32_t *t = s->tri + (size_t)prim * 3;
     const float *a = s->uv + (size_t)t[0] * 2, *b = s->uv + (size_t)t[1] * 2, *c = s->uv + (size_t)t[2] * 2;
     float w = 1.0f - u - v;
     *tu = w * a[0] + u * b[0] + v * c[0];
     *tv = w * a[1] + u * b[1] + v * c[1];
-    float cr = (b[0] - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (b[1] - a[1]);
-    *uv_area2 = hz_absf(cr);
 }
 
 /* Lane i of a packet's surfaces (src/render/shade.h) with the hit's material. */
@@ -156,8 +154,8 @@ static float blend_alpha(const struct hz_renderer *r, uint32_t prim, float u, fl
         return 1.0f;
     float a = m->alpha;
     if (HZ_FEATURE_TEXTURES && m->alpha_texture >= 0 && r->has_textures) {
-        float tu, tv, area;
-        hit_uv(s, prim, u, v, &tu, &tv, &area);
+        float tu, tv;
+        hit_uv(s, prim, u, v, &tu, &tv);
         a *= hz_texture_alpha(s, m->alpha_texture, tu, tv);
     }
     return a;
@@ -190,11 +188,18 @@ bool hz_render_anyhit(void *user, uint32_t prim, float u, float v, float t, uint
         }
         if (!(ray_id & ID_SHADOW))
             return true; /* camera and secondary rays stop at a blended surface and continue behind it */
-        /* A shadow ray lets the layer's opacity through and goes on, counting each triangle once. */
+        /* A shadow ray lets the layer's opacity through and goes on, counting each triangle once (spatial splits
+         * put a triangle in several leaves): the list of those met is read only when the triangle's bit in a
+         * 256-bit filter of them is set. */
         uint32_t ln = (ray_id & 0xffu) % HZ_RENDER_LANES;
-        for (uint32_t i = 0; i < w->shadow_nprims[ln]; i++)
-            if (w->shadow_prims[ln][i] == prim)
-                return false;
+        const uint32_t h = (prim * 0x9e3779b1u) >> 24;
+        const uint64_t bit = (uint64_t)1 << (h & 63u);
+        if (w->shadow_seen[ln][h >> 6] & bit) {
+            for (uint32_t i = 0; i < w->shadow_nprims[ln]; i++)
+                if (w->shadow_prims[ln][i] == prim)
+                    return false;
+        }
+        w->shadow_seen[ln][h >> 6] |= bit;
         if (w->shadow_nprims[ln] == HZ_SHADOW_LAYERS) {
             w->shadow_overflow[ln] = 1; /* past the layer cap with visibility left: ends as blocked */
             return true;
@@ -209,8 +214,8 @@ bool hz_render_anyhit(void *user, uint32_t prim, float u, float v, float t, uint
         w->alpha_touched[(ray_id & 0xffffu) % HZ_TILE_PIXELS] = 1;
     float a = m->alpha;
     if (m->alpha_texture >= 0) {
-        float tu, tv, area;
-        hit_uv(s, prim, u, v, &tu, &tv, &area);
+        float tu, tv;
+        hit_uv(s, prim, u, v, &tu, &tv);
         a *= hz_texture_alpha(s, m->alpha_texture, tu, tv);
     }
     return a >= m->alpha_cutoff;
@@ -329,6 +334,7 @@ static void process_shadows(hz_worker_t *w)
         p.flags[i] = 0;
         w->shadow_vis[i] = 1.0f;
         w->shadow_nprims[i] = 0;
+        hz_memset(w->shadow_seen[i], 0, sizeof w->shadow_seen[i]);
         w->shadow_overflow[i] = 0;
     }
     OCCLUDED(valid, r->accel, &w->ctx, &p);
