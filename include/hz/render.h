@@ -18,9 +18,9 @@
  *  - Radiance is linear RGB float; every value written to the output is finite and >= 0 (a NaN or Inf from
  *    any stage is replaced by 0 and counted in stats.nonfinite).
  *  - Transparency: alpha-tested (MASK) triangles are decided by the accel's any-hit callback; blended (BLEND)
- *    surfaces are composited front to back with continuation rays, also along shadow rays, until the remaining
- *    visibility drops below opts.min_visibility (at most HZ_RENDER_MAX_LAYERS layers per path, after which the
- *    path ends as if opaque: counted in stats.layer_cap).
+ *    surfaces are composited front to back with continuation rays, and along shadow rays (in any order, one
+ *    occlusion pass), until the remaining visibility drops below opts.min_visibility (at most
+ *    HZ_RENDER_MAX_LAYERS layers per path, after which the path ends as if opaque: counted in stats.layer_cap).
  *  - Mirrors reflect up to opts.max_bounces times (0..3).
  *  - Motion vectors (G-buffer mv): for each pixel, its primary hit's position at the previous frame (object
  *    motion through the previous vertex positions, camera motion through the previous camera) minus its
