@@ -79,7 +79,7 @@ typedef struct hz_worker {
     float shadow_vis[HZ_RENDER_LANES];
     uint32_t shadow_prims[HZ_RENDER_LANES][HZ_SHADOW_LAYERS];
     uint64_t shadow_seen[HZ_RENDER_LANES][4]; /* bit (prim * golden) >> 24: some shadow_prims entry may be prim */
-    uint8_t shadow_nprims[HZ_RENDER_LANES];
+    uint16_t shadow_nprims[HZ_RENDER_LANES]; /* up to HZ_SHADOW_LAYERS */
     uint8_t shadow_overflow[HZ_RENDER_LANES];
     hz_accel_ctx_t ctx;
     struct hz_renderer *r;
