@@ -118,16 +118,6 @@ static hz_vec3_t bary(hz_vec3_t a, hz_vec3_t b, hz_vec3_t c, float u, float v)
     return hz_v3(w * a.x + u * b.x + v * c.x, w * a.y + u * b.y + v * c.y, w * a.z + u * b.z + v * c.z);
 }
 
-/* Texture coordinates of a hit (the any-hit tests' alpha lookups). */
-static void hit_uv(const hz_scene_t *s, uint32_t prim, float u, float v, float *tu, float *tv)
-{
-    const uint32_t *t = s->tri + (size_t)prim * 3;
-    const float *a = s->uv + (size_t)t[0] * 2, *b = s->uv + (size_t)t[1] * 2, *c = s->uv + (size_t)t[2] * 2;
-    float w = 1.0f - u - v;
-    *tu = w * a[0] + u * b[0] + v * c[0];
-    *tv = w * a[1] + u * b[1] + v * c[1];
-}
-
 /* Lane i of a packet's surfaces (src/render/shade.h) with the hit's material. */
 static void surface_from(const struct hz_renderer *r, const hitrec_t *h, const hz_shade_out_t *o, uint32_t i,
                          surface_t *sf)
@@ -145,18 +135,16 @@ static void surface_from(const struct hz_renderer *r, const hitrec_t *h, const h
     sf->textured = o->textured[i] != 0;
 }
 
-/* Alpha of a blended surface hit by a shadow ray (colour not needed). */
-static float blend_alpha(const struct hz_renderer *r, uint32_t prim, float u, float v)
+/* Opacity of material m at a hit on prim: its alpha, times its alpha texture's at the hit's texture coordinates
+ * when `textures` (colour not needed). */
+static float hit_alpha(const hz_scene_t *s, const hz_material_t *m, uint32_t prim, float u, float v, bool textures)
 {
-    const hz_scene_t *s = r->scene;
-    const hz_material_t *m = &s->materials[s->tri_info[prim] & 0xffffu];
-    if (m->alpha_mode != HZ_ALPHA_BLEND)
-        return 1.0f;
     float a = m->alpha;
-    if (HZ_FEATURE_TEXTURES && m->alpha_texture >= 0 && r->has_textures) {
-        float tu, tv;
-        hit_uv(s, prim, u, v, &tu, &tv);
-        a *= hz_texture_alpha(s, m->alpha_texture, tu, tv);
+    if (textures && m->alpha_texture >= 0) {
+        const uint32_t *t = s->tri + (size_t)prim * 3;
+        const float *p = s->uv + (size_t)t[0] * 2, *q = s->uv + (size_t)t[1] * 2, *c = s->uv + (size_t)t[2] * 2;
+        const float w = 1.0f - u - v;
+        a *= hz_texture_alpha(s, m->alpha_texture, w * p[0] + u * q[0] + v * c[0], w * p[1] + u * q[1] + v * c[1]);
     }
     return a;
 }
@@ -176,15 +164,16 @@ bool hz_render_anyhit(void *user, uint32_t prim, float u, float v, float t, uint
          * without its texture (the decision is the same: it never falls as opacity grows); an untextured alpha
          * comes straight from the material; then integers only. */
         const uint32_t bound = w->r->blend_bound ? w->r->blend_bound[mi] : HZ_DITHER_ONE;
+        const bool textures = HZ_FEATURE_TEXTURES && w->r->has_textures;
         if (ray_id & ID_DITHER) {
             if (hz_transp_rejects(w, prim, u, v, bound, ray_id & 0xffffu, back))
                 return false;
-            float a = m->alpha_texture >= 0 && w->r->has_textures ? blend_alpha(w->r, prim, u, v) : m->alpha;
+            const float a = hit_alpha(s, m, prim, u, v, textures);
             return hz_transp_keep(w, prim, u, v, hz_transp_alpha_q16(a), ray_id & 0xffffu, back);
         }
         if (ray_id & ID_SHADOW_DITHER) {
             const uint32_t th = hz_transp_shadow_threshold(w, prim, u, v);
-            return hz_dither_keep(bound, th) && hz_dither_keep(hz_transp_alpha_q16(blend_alpha(w->r, prim, u, v)), th);
+            return hz_dither_keep(bound, th) && hz_dither_keep(hz_transp_alpha_q16(hit_alpha(s, m, prim, u, v, textures)), th);
         }
         if (!(ray_id & ID_SHADOW))
             return true; /* camera and secondary rays stop at a blended surface and continue behind it */
@@ -205,20 +194,14 @@ bool hz_render_anyhit(void *user, uint32_t prim, float u, float v, float t, uint
             return true;
         }
         w->shadow_prims[ln][w->shadow_nprims[ln]++] = prim;
-        w->shadow_vis[ln] *= 1.0f - blend_alpha(w->r, prim, u, v);
+        w->shadow_vis[ln] *= 1.0f - hit_alpha(s, m, prim, u, v, textures);
         return !(w->shadow_vis[ln] >= w->r->f.opts.min_visibility); /* nothing left: as good as blocked */
     }
     if (m->alpha_mode != HZ_ALPHA_MASK)
         return true;
     if (ray_id & ID_PRIMARY)
         w->alpha_touched[(ray_id & 0xffffu) % HZ_TILE_PIXELS] = 1;
-    float a = m->alpha;
-    if (m->alpha_texture >= 0) {
-        float tu, tv;
-        hit_uv(s, prim, u, v, &tu, &tv);
-        a *= hz_texture_alpha(s, m->alpha_texture, tu, tv);
-    }
-    return a >= m->alpha_cutoff;
+    return hit_alpha(s, m, prim, u, v, true) >= m->alpha_cutoff;
 }
 
 uint32_t hz_render_dither_decide(hz_renderer_t *r, const uint32_t *prims, const uint8_t *back, uint32_t n,
@@ -333,8 +316,10 @@ static void process_shadows(hz_worker_t *w)
         p.id[i] = i | ID_SHADOW | (j->dither ? ID_SHADOW_DITHER : 0u);
         p.flags[i] = 0;
         w->shadow_vis[i] = 1.0f;
-        w->shadow_nprims[i] = 0;
-        hz_memset(w->shadow_seen[i], 0, sizeof w->shadow_seen[i]);
+        if (w->shadow_nprims[i]) { /* the filter is clear while the list is empty (the worker starts zeroed) */
+            hz_memset(w->shadow_seen[i], 0, sizeof w->shadow_seen[i]);
+            w->shadow_nprims[i] = 0;
+        }
         w->shadow_overflow[i] = 0;
     }
     OCCLUDED(valid, r->accel, &w->ctx, &p);
