@@ -4,10 +4,13 @@
  *
  * Contract: hz_file_sink_open() starts DIR/frames.y4m (when `video`; through a temporary file) at w x h and
  * `hz` frames per second; present() appends the frame (RGB24 as exact sRGB codes, so the video holds the bytes
- * hz_y4m_write gives for the linear frame) and remembers it; warm-up frames (id UINT64_MAX) are not kept.
+ * hz_y4m_write gives for the linear frame) and remembers it; warm-up frames (id UINT64_MAX) are not kept. The
+ * video is converted and written by a thread of the sink's own, overlapping the next frame: present() copies the
+ * frame into one of two buffers and waits only while both are still to be written; a write that fails is
+ * reported by the next present() or by the commit (its message names the file).
  * hz_file_sink_last() is the last frame presented (valid while the loop's image is: until its arena is reset).
- * hz_file_sink_commit() renames the video into place; close() without a commit discards it. Nothing is
- * allocated per frame.
+ * hz_file_sink_commit() waits for the writer, then renames the video into place; close() without a commit
+ * discards it (frames not yet written are dropped). Nothing is allocated per frame.
  */
 #ifndef HZ_PORT_FILESINK_H
 #define HZ_PORT_FILESINK_H

@@ -42,18 +42,43 @@ static scenesrc_t state;
 static hz_posekeys_t keys; /* motion blur: the scene's pose across the shutter (opts.keys) */
 static double render_ms[HZ_SCENESRC_MAX_TIMED];
 
+/* Encoding a frame's rows to sRGB codes: bands of rows on the pool (the rows are independent, so the bytes do not
+ * depend on who encodes which), as one thread alone would leave the others idle between frames. */
+typedef struct encode_job {
+    const hz_image_t *img;
+    uint8_t *dst;
+    size_t dstride;
+    uint32_t rows_per_band;
+} encode_job_t;
+
+#define ENCODE_BAND_ROWS 16u
+
+static void encode_band(void *user, uint32_t item, int thread)
+{
+    (void)thread;
+    const encode_job_t *j = user;
+    const uint32_t y0 = item * j->rows_per_band;
+    const uint32_t y1 = y0 + j->rows_per_band < j->img->height ? y0 + j->rows_per_band : j->img->height;
+    const size_t n = (size_t)j->img->width * 3;
+    for (uint32_t y = y0; y < y1; y++)
+        hz_srgb8_encode_n(j->img->rgb + (size_t)y * n, j->dst + (size_t)y * j->dstride, n);
+}
+
+static void encode_rows(const hz_image_t *img, uint8_t *dst, size_t dstride)
+{
+    encode_job_t j = { img, dst, dstride, ENCODE_BAND_ROWS };
+    hz_threads_run(encode_band, &j, (img->height + ENCODE_BAND_ROWS - 1) / ENCODE_BAND_ROWS);
+}
+
 /* The rendered float frame of `level` -> out (the sink's size). */
 static void encode(scenesrc_t *s, uint32_t level, const hz_image_t *img, hz_rgb8_image_t *out)
 {
     if ((int)img->width == out->w && (int)img->height == out->h) {
-        for (int y = 0; y < out->h; y++)
-            hz_srgb8_encode_n(img->rgb + (size_t)y * img->width * 3, out->rgb + (size_t)y * out->stride,
-                              (size_t)out->w * 3);
+        encode_rows(img, out->rgb, out->stride);
         return;
     }
     const size_t sstride = (size_t)img->width * 3;
-    for (uint32_t y = 0; y < img->height; y++)
-        hz_srgb8_encode_n(img->rgb + (size_t)y * sstride, s->small + (size_t)y * sstride, sstride);
+    encode_rows(img, s->small, sstride);
     hz_rgb8_upscale(s->small, img->width, img->height, sstride, out->rgb, (uint32_t)out->w, (uint32_t)out->h,
                     out->stride, level == 0, s->upscale);
 }

@@ -145,6 +145,12 @@ if command -v python3 >/dev/null 2>&1; then
         "$tmp/run/summary.json" && pass=$((pass + 1)) ||
         { echo "  FAIL  cli render-ok: summary.json is not the expected JSON"; fail=$((fail + 1)); }
 fi
+# A video write that fails (the file-size limit here; the writer thread meets it) ends the run with the file and
+# the reason, exit 64 + HZ_E_IO, and the folder the run made is gone.
+expect render-video-write-fails 73 "frames.y4m: Y4M: write failed at frame [0-9]*: File too large" \
+    sh -c 'trap "" XFSZ; ulimit -f 200; exec "$0" render builtin --size 160x90 --frames 60 --threads 2 --out "$1"' \
+    "$hzrt" "$tmp/wf/run"
+[ ! -e "$tmp/wf" ] || { echo "  FAIL  cli render-video-write-fails: $tmp/wf left behind"; fail=$((fail + 1)); }
 # The summary reports what was done: samples per pixel actually traced, the start time.
 expect render-tdense-spp 0 "mode tdense, 0.25 spp per frame" "$hzrt" render builtin --size 64x36 --frames 2 --start 0.5 --out "$tmp/td"
 expect render-full-spp 0 "mode full, 4 spp per frame" "$hzrt" render builtin --mode full --spp 4 --size 32x16 --out "$tmp/f4"
