@@ -776,7 +776,7 @@ int main(int argc, char **argv)
             printf("%-11s %-6s p50 %.2f ms with trace and resolve overlapped, %.2f ms with a barrier between them "
                    "(%.2fx)\n", rrows[k].scene, rrows[k].mode, rrows[k].p50_ms, rrows[k].serial_p50_ms,
                    rrows[k].serial_p50_ms / rrows[k].p50_ms);
-        printf("(goals, issue 16: Sponza tdense p99 <= 4.17 ms on 2 cores, overhead <= 1.5, TAA / tdense >= 3.7x)\n");
+        printf("(goals: Sponza tdense p99 <= 4.17 ms on 2 cores, overhead <= 1.5, TAA / tdense >= 3.7x)\n");
         if (realtime_csv && nr > 0) {
             hz_out_t out;
             if (hz_out_open(&out, realtime_csv, &err) != HZ_OK)

@@ -1,5 +1,5 @@
 /*
- * bench_realtime.h — hzbench's real-time group (issue 16): where a displayed frame's time goes at a real size,
+ * bench_realtime.h — hzbench's real-time group: where a displayed frame's time goes at a real size,
  * and how far the whole frame is from the cost of its traversal alone.
  *
  * Contract: for each scene (the built-in one, then sponza.hzb and conference.hzb from scenes_dir; missing ones
