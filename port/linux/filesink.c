@@ -11,8 +11,9 @@
 
 /* The video is written by a thread of its own, so that a frame's conversion to Y'CbCr and its write overlap
  * the next frame's rendering: present() copies the frame into one of two buffers and returns; it waits only
- * when both hold frames not yet written. The writer stops at its first failure and keeps it: the next present()
- * or the commit reports it. Only the writer touches the Y4M stream until commit or close has joined it. */
+ * when both hold frames not yet written. After its first failure the writer writes nothing more and keeps the
+ * error: the next present() or the commit reports it. Only the writer touches the Y4M stream until commit or
+ * close has joined it. */
 #define BUFFERS 2
 
 typedef struct file_sink {
