@@ -120,6 +120,7 @@ HZ_INLINE int hz_lanes_half3_load(const uint16_t *p, hz_lrgb_t *o)
                                     vceq_u16(vand_u16(v.val[2], top), top));
     if (HZ_UNLIKELY(vget_lane_u64(vreinterpret_u64_u16(e31), 0) != 0))
         return 0;
+    HZ_UNROLL
     for (int k = 0; k < 3; k++)
         o->c[k] = vcvt_f32_f16(vreinterpret_f16_u16(v.val[k]));
 #endif
@@ -153,6 +154,7 @@ HZ_INLINE hz_lf_t hz_lanes_pow2(hz_li_t e) /* 2^e for normal e */
 HZ_INLINE hz_li_t hz_lanes_rgb9e5_pack(const hz_lrgb_t *in)
 {
     hz_lf_t c[3];
+    HZ_UNROLL
     for (int k = 0; k < 3; k++)
         c[k] = hz_lanes_pack_clamp(in->c[k], HZ_RGB9E5_MAX);
     const hz_lf_t m = hz_lf_max_first(hz_lf_max_first(c[0], c[1]), c[2]);
@@ -164,6 +166,7 @@ HZ_INLINE hz_li_t hz_lanes_rgb9e5_pack(const hz_lrgb_t *in)
     es = hz_li_sub(es, carry); /* masks are -1 */
     scale = hz_lf_sel(carry, hz_lf_mul(scale, hz_lf_set(0.5f)), scale);
     hz_li_t code = hz_li_shl(es, 27);
+    HZ_UNROLL
     for (int k = 0; k < 3; k++) {
         hz_li_t q = hz_li_min(hz_li_from_lf(hz_lf_add(hz_lf_mul(c[k], scale), hz_lf_set(0.5f))), hz_li_set(511));
         code = hz_li_or(code, k == 0 ? q : k == 1 ? hz_li_shl(q, 9) : hz_li_shl(q, 18));

@@ -36,6 +36,7 @@ static void wide_fill(wide_t *wb, const hz_taa_t *t, const hz_render_frame_t *f,
             const size_t px = (size_t)y * (size_t)w + (size_t)x;
             float q[3];
             hz_taa_to_ycocg(t->cur.rgb + 3 * px, q);
+            HZ_UNROLL
             for (int k = 0; k < 3; k++)
                 wb->yc[k][by][bx] = q[k];
             wb->dith[by][bx] = (f->gb.flags[px] & HZ_GB_DITHER) ? 0xFFu : 0u;
@@ -80,12 +81,14 @@ static void dither_box_lanes(const wide_t *wb, const hz_render_frame_t *f, uint3
 {
     float g = f->opts.taa_gamma;
     g *= HZ_TAA_DITHER_GAMMA;
+    HZ_UNROLL
     for (int k = 0; k < 3; k++)
         box_stats(&wb->yc[k][ty][tx], BW, 2 * DR + 1, hz_lf_set(g), &mean->c[k], &ext->c[k]);
     const int cell = hz_taa_cell_radius(f);
     if (cell <= 0 || !hz_li_any(moving))
         return;
     hz_lrgb_t cs;
+    HZ_UNROLL
     for (int k = 0; k < 3; k++)
         cs.c[k] = hz_lf_set(0.0f);
     hz_li_t n = hz_li_set(0);
@@ -93,12 +96,14 @@ static void dither_box_lanes(const wide_t *wb, const hz_render_frame_t *f, uint3
         for (int dx = -cell; dx <= cell; dx++) {
             const uint32_t by = (uint32_t)((int)ty + DR + dy), bx = (uint32_t)((int)tx + DR + dx);
             const hz_li_t in = hz_li_not(hz_li_eq(hz_li_load_u8(&wb->dith[by][bx]), hz_li_set(0)));
+            HZ_UNROLL
             for (int k = 0; k < 3; k++)
                 cs.c[k] = hz_lf_add(cs.c[k], hz_lf_sel(in, hz_lf_load(&wb->yc[k][by][bx]), hz_lf_set(0.0f)));
             n = hz_li_sub(n, in); /* in is -1 where the pixel counts */
         }
     /* n >= 1 in every dithered lane (the pixel itself); other lanes are not used */
     const hz_lf_t inv = hz_lf_div(hz_lf_set(1.0f), hz_lf_from_li(hz_li_max(n, hz_li_set(1))));
+    HZ_UNROLL
     for (int k = 0; k < 3; k++)
         c->c[k] = hz_lf_sel(moving, hz_lf_mul(cs.c[k], inv), c->c[k]);
 }
@@ -148,6 +153,7 @@ static void resolve_lanes(hz_taa_t *t, const hz_render_frame_t *f, uint32_t x, u
     const hz_li_t zero = hz_li_set(0), one = hz_li_set(1);
 
     hz_lrgb_t c, mean, ext;
+    HZ_UNROLL
     for (int k = 0; k < 3; k++) {
         c.c[k] = hz_lf_load(&yc[k][by][bx]);
         box_stats(&yc[k][by - 1][bx - 1], B, 3, hz_lf_set(f->opts.taa_gamma), &mean.c[k], &ext.c[k]);
@@ -178,6 +184,7 @@ static void resolve_lanes(hz_taa_t *t, const hz_render_frame_t *f, uint32_t x, u
                                                                          hz_lf_eq(my, hz_lf_set(0.0f))));
             hz_lrgb_t dc = c, dmean, dext;
             dither_box_lanes(wb, f, bx - 1u, by - 1u, hz_li_and(moving, dith), &dc, &dmean, &dext);
+            HZ_UNROLL
             for (int k = 0; k < 3; k++) {
                 c.c[k] = hz_lf_sel(dith, dc.c[k], c.c[k]);
                 mean.c[k] = hz_lf_sel(dith, dmean.c[k], mean.c[k]);
@@ -235,6 +242,7 @@ static void resolve_lanes(hz_taa_t *t, const hz_render_frame_t *f, uint32_t x, u
             a = hist_at(hist, xa, ya, w), b = hist_at(hist, xb, ya, w);
             cc = hist_at(hist, xa, yb, w), d = hist_at(hist, xb, yb, w);
         }
+        HZ_UNROLL
         for (int k = 0; k < 3; k++) {
             hz_lf_t top = hz_lf_add(a.c[k], hz_lf_mul(hz_lf_sub(b.c[k], a.c[k]), ax));
             hz_lf_t bot = hz_lf_add(cc.c[k], hz_lf_mul(hz_lf_sub(d.c[k], cc.c[k]), ax));
@@ -242,6 +250,7 @@ static void resolve_lanes(hz_taa_t *t, const hz_render_frame_t *f, uint32_t x, u
         }
         to_ycocg_lanes(&hrgb, &hy3);
         const hz_lf_t alpha = hz_lf_set(f->opts.taa_alpha);
+        HZ_UNROLL
         for (int k = 0; k < 3; k++) {
             /* ext >= 0 (gamma > 0, render options) or NaN: no lane's low end is above its high end */
             hz_lf_t v = hz_lf_clamp_ordered(hy3.c[k], hz_lf_sub(mean.c[k], ext.c[k]), hz_lf_add(mean.c[k], ext.c[k]));
@@ -256,6 +265,7 @@ static void resolve_lanes(hz_taa_t *t, const hz_render_frame_t *f, uint32_t x, u
     hz_lf_t v[3];
     hz_li_t codes[3];
     const hz_lf_t inf = hz_lf_from_bits(hz_li_set(0x7f800000));
+    HZ_UNROLL
     for (int k = 0; k < 3; k++) {
         /* finite and > 0: above 0 and below infinity (NaN is neither) */
         hz_li_t ok = hz_li_and(hz_lf_gt(rgb[k], hz_lf_set(0.0f)), hz_lf_lt(rgb[k], inf));
@@ -298,11 +308,13 @@ static void resolve_tile(hz_taa_t *t, const hz_render_frame_t *f, uint32_t tile,
             hz_lrgb_t c, q;
             hz_lf_load3(cur->rgb + 3 * (row + bx - 1u), &c.c[0], &c.c[1], &c.c[2]);
             to_ycocg_lanes(&c, &q);
+            HZ_UNROLL
             for (int k = 0; k < 3; k++)
                 hz_lf_store(&yc[k][by][bx], q.c[k]);
             if (bx + HZ_LANES == hi + 1u)
                 break;
         }
+        HZ_UNROLL
         for (int k = 0; k < 3; k++) {
             yc[k][by][0] = yc[k][by][lo];
             yc[k][by][B - 1] = yc[k][by][hi];

@@ -121,6 +121,7 @@ HZ_INLINE hz_li_t order_pixel_lanes(const order_pixels_t *op, hz_li_t o)
 HZ_INLINE void tile_row_load(const hz_tdense_t *td, const order_pixels_t *lut, size_t first, tile_row_t *r)
 {
     r->pix = order_pixel_lanes(lut, hz_li_load_u8(td->orders + first - 1));
+    HZ_UNROLL
     for (int k = 0; k < 3; k++)
         r->c[k] = hz_lf_load(td->sub_rgb[k] + first - 1);
 }
@@ -146,6 +147,7 @@ HZ_INLINE void box_candidate(const hz_tdense_t *td, const tile_row_t *row, hz_li
         use = hz_li_andnot(use, hz_li_eq(pbx, px));
     if (updown)
         use = hz_li_andnot(use, hz_li_eq(pby, hz_li_set(py)));
+    HZ_UNROLL
     for (int k = 0; k < 3; k++) {
         hz_lf_t c = hz_lf_keep(use, hz_lf_perm(row->c[k], idx));
         sum[k] = hz_lf_add(sum[k], c);
@@ -178,6 +180,7 @@ HZ_INLINE lrgb_t fetch_bilinear(const uint16_t *prev, uint32_t w, uint32_t h, hz
     const hz_li_t i00 = hz_li_add(row0, x0), i01 = hz_li_add(row0, x1);
     const hz_li_t i10 = hz_li_add(row1, x0), i11 = hz_li_add(row1, x1);
     lrgb_t o;
+    HZ_UNROLL
     for (int k = 0; k < 3; k++) {
         const uint16_t *plane = prev + (size_t)k * px;
         hz_lf_t a, b, c, d;
@@ -207,14 +210,17 @@ HZ_INLINE void window_lanes(uint32_t *win, hz_li_t window, hz_li_t bit, hz_li_t 
     const hz_li_t code = hz_lanes_rgb9e5_pack(out), zero = hz_li_set(0);
     const hz_li_t mask = hz_li_or(f, bit);
     lrgb_t sum;
+    HZ_UNROLL
     for (int k = 0; k < 3; k++)
         sum.c[k] = hz_lf_set(0.0f);
     hz_li_t n = zero;
+    HZ_UNROLL
     for (int j = 0; j < 4; j++) {
         const hz_li_t jbit = hz_li_set(1 << j);
         slot[j] = hz_li_sel(hz_li_not(hz_li_eq(hz_li_and(bit, jbit), zero)), code, slot[j]);
         const hz_li_t has = hz_li_not(hz_li_eq(hz_li_and(mask, jbit), zero));
         const lrgb_t c = hz_lanes_rgb9e5_unpack(slot[j]);
+        HZ_UNROLL
         for (int k = 0; k < 3; k++)
             sum.c[k] = hz_lf_add(sum.c[k], hz_lf_keep(has, c.c[k]));
         n = hz_li_sub(n, has);
@@ -222,6 +228,7 @@ HZ_INLINE void window_lanes(uint32_t *win, hz_li_t window, hz_li_t bit, hz_li_t 
     hz_li_store4(win, slot);
     const hz_li_t four = hz_li_eq(n, hz_li_set(4));
     const hz_lf_t count = hz_lf_from_li(hz_li_max(n, hz_li_set(1))); /* n >= 1 in the window's lanes */
+    HZ_UNROLL
     for (int k = 0; k < 3; k++) {
         const hz_lf_t avg = hz_lf_sel(four, hz_lf_mul(sum.c[k], hz_lf_set(0.25f)), hz_lf_div(sum.c[k], count));
         out->c[k] = hz_lf_sel(window, avg, out->c[k]);
@@ -258,6 +265,7 @@ HZ_INLINE void resolve_lanes(hz_tdense_t *td, uint32_t x0, uint32_t y, const ord
 
     /* newest-subframe box over up to four candidates, in newest_box's order */
     hz_lf_t sum[3], sq[3];
+    HZ_UNROLL
     for (int k = 0; k < 3; k++)
         sum[k] = sq[k] = hz_lf_set(0.0f);
     hz_li_t n = zero;
@@ -278,6 +286,7 @@ HZ_INLINE void resolve_lanes(hz_tdense_t *td, uint32_t x0, uint32_t y, const ord
     const hz_li_t has = inside ? ones : hz_li_gt(n, zero);
     const hz_lf_t inv = hz_lf_keep(has, hz_lf_perm(hz_lf_load(inverse), hz_li_sub(n, hz_li_set(1))));
     lrgb_t mean, var;
+    HZ_UNROLL
     for (int k = 0; k < 3; k++) {
         mean.c[k] = hz_lf_mul(sum[k], inv);
         var.c[k] = hz_lf_max_first(hz_lf_sub(hz_lf_mul(sq[k], inv), hz_lf_mul(mean.c[k], mean.c[k])),
@@ -295,6 +304,7 @@ HZ_INLINE void resolve_lanes(hz_tdense_t *td, uint32_t x0, uint32_t y, const ord
      * the reprojected and clamped one; the kept and reprojected values are made only where a lane needs them */
     lrgb_t out = mean;
     if (hz_li_any(keep)) {
+        HZ_UNROLL
         for (int k = 0; k < 3; k++)
             out.c[k] = hz_lf_sel(keep, hz_lanes_half_load(prev + (size_t)k * plane + p0), out.c[k]);
     }
@@ -302,6 +312,7 @@ HZ_INLINE void resolve_lanes(hz_tdense_t *td, uint32_t x0, uint32_t y, const ord
         hz_lf_t sx = hz_lf_add(hz_lf_from_li(x), m.x), sy = hz_lf_add(hz_lf_set((float)y), m.y);
         const lrgb_t moved = fetch_bilinear(prev, w, td->cfg.height, sx, sy);
         const hz_lf_t gamma = hz_lf_set(td->cfg.gamma);
+        HZ_UNROLL
         for (int k = 0; k < 3; k++) {
             /* half >= 0 or NaN (gamma >= 0), so lo <= hi or NaN: the ordered clamp is the twin's */
             hz_lf_t hw = hz_lf_mul(gamma, hz_lf_sqrt(var.c[k]));
@@ -313,6 +324,7 @@ HZ_INLINE void resolve_lanes(hz_tdense_t *td, uint32_t x0, uint32_t y, const ord
             out.c[k] = hz_lf_sel(reproject, c, out.c[k]);
         }
     }
+    HZ_UNROLL
     for (int k = 0; k < 3; k++)
         out.c[k] = hz_lf_sel(fresh, hz_lf_perm(own.c[k], own_idx), out.c[k]);
     /* the window slot of each static pixel with a jittered sample, as a bit (0 in the other lanes) */
@@ -326,6 +338,7 @@ HZ_INLINE void resolve_lanes(hz_tdense_t *td, uint32_t x0, uint32_t y, const ord
     /* history codes and flags. A kept lane shows the previous frame's value, whose codes it writes again: the
      * scalar twin copies them (or finds them there when the previous frame kept them too), the same bits, as
      * a half code that hz_half_pack wrote comes back from hz_half_pack(hz_half_unpack(code)). */
+    HZ_UNROLL
     for (int k = 0; k < 3; k++)
         hz_lanes_half_store(cur + (size_t)k * plane + p0, out.c[k]);
     const hz_li_t dyn_bit = hz_li_set(HZ_TDENSE_DYNAMIC), samples = hz_li_set(HZ_TDENSE_SAMPLES);
