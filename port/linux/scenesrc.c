@@ -42,22 +42,17 @@ static scenesrc_t state;
 static hz_posekeys_t keys; /* motion blur: the scene's pose across the shutter (opts.keys) */
 static double render_ms[HZ_SCENESRC_MAX_TIMED];
 
-/* Encoding a frame's rows to sRGB codes: bands of rows on the pool (the rows are independent, so the bytes do not
- * depend on who encodes which), as one thread alone would leave the others idle between frames. */
-#define ENCODE_BAND_ROWS 16u
-
+/* Encoding a frame's rows to sRGB codes in bands on the pool, as one thread alone would leave the others idle
+ * between frames. */
 typedef struct encode_job {
     const hz_image_t *img;
     uint8_t *dst;
     size_t dstride;
 } encode_job_t;
 
-static void encode_band(void *user, uint32_t item, int thread)
+static void encode_band(void *user, uint32_t y0, uint32_t y1)
 {
-    (void)thread;
     const encode_job_t *j = user;
-    const uint32_t y0 = item * ENCODE_BAND_ROWS;
-    const uint32_t y1 = y0 + ENCODE_BAND_ROWS < j->img->height ? y0 + ENCODE_BAND_ROWS : j->img->height;
     const size_t n = (size_t)j->img->width * 3;
     for (uint32_t y = y0; y < y1; y++)
         hz_srgb8_encode_n(j->img->rgb + (size_t)y * n, j->dst + (size_t)y * j->dstride, n);
@@ -66,7 +61,7 @@ static void encode_band(void *user, uint32_t item, int thread)
 static void encode_rows(const hz_image_t *img, uint8_t *dst, size_t dstride)
 {
     encode_job_t j = { img, dst, dstride };
-    hz_threads_run(encode_band, &j, (img->height + ENCODE_BAND_ROWS - 1) / ENCODE_BAND_ROWS);
+    hz_threads_run_rows(encode_band, &j, img->height);
 }
 
 /* The rendered float frame of `level` -> out (the sink's size). */

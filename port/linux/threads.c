@@ -122,6 +122,26 @@ void hz_threads_run(hz_threads_fn fn, void *user, uint32_t items)
     }
 }
 
+typedef struct rows_job {
+    hz_threads_rows_fn fn;
+    void *user;
+    uint32_t rows;
+} rows_job_t;
+
+static void run_band(void *user, uint32_t item, int thread)
+{
+    (void)thread;
+    const rows_job_t *j = user;
+    const uint32_t y0 = item * HZ_THREADS_BAND_ROWS;
+    j->fn(j->user, y0, j->rows - y0 < HZ_THREADS_BAND_ROWS ? j->rows : y0 + HZ_THREADS_BAND_ROWS);
+}
+
+void hz_threads_run_rows(hz_threads_rows_fn fn, void *user, uint32_t rows)
+{
+    rows_job_t j = { fn, user, rows };
+    hz_threads_run(run_band, &j, rows / HZ_THREADS_BAND_ROWS + (rows % HZ_THREADS_BAND_ROWS != 0));
+}
+
 int hz_threads_count(void)
 {
     return started ? thread_count : 1;

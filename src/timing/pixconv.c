@@ -1,6 +1,8 @@
 /* RGB24 to display formats (see hz/pixconv.h). */
 #include "hz/pixconv.h"
 
+#include "hz/base.h"
+
 static int same(const char *a, const char *b)
 {
     while (*a && *a == *b) {
@@ -160,21 +162,35 @@ uint32_t hz_fb_pixel(const hz_fb_layout_t *l, uint8_t r, uint8_t g, uint8_t b)
            ((uint32_t)(b >> (8 - l->b_len)) << l->b_off);
 }
 
+/* One row at a constant byte count (the callers' 2, 3 or 4), so the shifts are hoisted out of the loop and the
+ * compiler merges each pixel's byte stores: with the count tested per pixel a 1920x1080 frame took about 4 ms. */
+HZ_INLINE void pack_row(const hz_fb_layout_t *l, const uint8_t *s, uint8_t *d, int w, int bytes)
+{
+    const unsigned rs = 8u - (unsigned)l->r_len, gs = 8u - (unsigned)l->g_len, bs = 8u - (unsigned)l->b_len;
+    const unsigned ro = (unsigned)l->r_off, go = (unsigned)l->g_off, bo = (unsigned)l->b_off;
+    for (int x = 0; x < w; x++, s += 3, d += bytes) {
+        const uint32_t v = ((uint32_t)(s[0] >> rs) << ro) | ((uint32_t)(s[1] >> gs) << go) |
+                           ((uint32_t)(s[2] >> bs) << bo);
+        d[0] = (uint8_t)v;
+        d[1] = (uint8_t)(v >> 8);
+        if (bytes > 2)
+            d[2] = (uint8_t)(v >> 16);
+        if (bytes > 3)
+            d[3] = (uint8_t)(v >> 24);
+    }
+}
+
 void hz_fb_pack(const hz_fb_layout_t *l, const uint8_t *rgb, size_t rgb_stride, uint8_t *dst, size_t dst_stride,
                 int w, int h)
 {
-    int bytes = l->bpp / 8;
     for (int y = 0; y < h; y++) {
         const uint8_t *s = rgb + (size_t)y * rgb_stride;
         uint8_t *d = dst + (size_t)y * dst_stride;
-        for (int x = 0; x < w; x++, s += 3, d += bytes) {
-            uint32_t v = hz_fb_pixel(l, s[0], s[1], s[2]);
-            d[0] = (uint8_t)v;
-            d[1] = (uint8_t)(v >> 8);
-            if (bytes > 2)
-                d[2] = (uint8_t)(v >> 16);
-            if (bytes > 3)
-                d[3] = (uint8_t)(v >> 24);
-        }
+        if (l->bpp == 16)
+            pack_row(l, s, d, w, 2);
+        else if (l->bpp == 24)
+            pack_row(l, s, d, w, 3);
+        else
+            pack_row(l, s, d, w, 4);
     }
 }

@@ -18,6 +18,7 @@
 #include <time.h>
 
 #include "devices.h"
+#include "threads.h"
 #include "hz/frameloop.h"
 #include "vsource.h"
 #include "hz/hz.h"
@@ -514,6 +515,13 @@ static void test_gpio_missing_chip(void **state)
 
 int main(void)
 {
+    /* Sinks convert a frame in bands of rows on the pool: with three threads the bands (40 rows: 16, 16 and 8)
+     * land on different threads, and every frame must still match one whole-frame conversion. */
+    hz_error_t err;
+    if (hz_threads_start(3, &err) != HZ_OK) {
+        fprintf(stderr, "test_devices: %s\n", err.msg);
+        return 1;
+    }
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_fbdev_16bpp_page_flips),
         cmocka_unit_test(test_fbdev_24_and_32bpp),
@@ -523,5 +531,7 @@ int main(void)
         cmocka_unit_test(test_v4l2_wrong_device_and_missing_node),
         cmocka_unit_test(test_gpio_missing_chip),
     };
-    return HZ_RUN(tests);
+    const int failed = HZ_RUN(tests);
+    hz_threads_stop();
+    return failed;
 }

@@ -131,6 +131,9 @@ static void test_fb_layouts(void **state)
     hz_fb_pack(&xrgb8888, px, 6, d, 8, 2, 1);
     uint8_t want32[8] = { 0x56, 0x34, 0x12, 0, 0x80, 0x00, 0xff, 0 };
     assert_memory_equal(d, want32, 8);
+    hz_fb_pack(&rgb565, px, 6, d, 4, 2, 1);
+    uint8_t want16[4] = { 0xaa, 0x11, 0x10, 0xf8 }; /* r 0x12>>3 = 2 @11, g 0x34>>2 = 13 @5, b 0x56>>3 = 10 */
+    assert_memory_equal(d, want16, 4);
     hz_fb_layout_t pal8 = { 8, 0, 3, 3, 3, 6, 2 };
     assert_int_equal(hz_fb_layout_check(&pal8, &err), HZ_E_UNSUPPORTED);
     assert_non_null(strstr(err.msg, "8 bits per pixel"));
