@@ -177,29 +177,23 @@ static void drm_close(hz_sink_t *s)
     s->impl = NULL;
 }
 
-/* The frame into dumb buffer b as XRGB8888, in bands of rows on the pool: the conversion is a pass over every
- * pixel between the render and the flip, which one thread alone makes the frame wait for. */
-typedef struct copy_job {
-    const hz_rgb8_image_t *img;
-    uint8_t *dst;
-    size_t pitch;
-} copy_job_t;
-
-static void copy_rows(void *user, uint32_t y0, uint32_t y1)
+/* RGB24 rows as XRGB8888 (hz_threads_convert's form: the copy runs in bands on the pool, as it sits between the
+ * render and the flip). */
+static void xrgb_rows(const void *ctx, const uint8_t *src, size_t src_stride, uint8_t *dst, size_t dst_stride, int w,
+                      int h)
 {
-    const copy_job_t *j = user;
-    for (uint32_t y = y0; y < y1; y++) {
-        const uint8_t *p = j->img->rgb + (size_t)y * j->img->stride;
-        uint32_t *q = (uint32_t *)(void *)(j->dst + (size_t)y * j->pitch);
-        for (int x = 0; x < j->img->w; x++, p += 3)
+    (void)ctx;
+    for (int y = 0; y < h; y++) {
+        const uint8_t *p = src + (size_t)y * src_stride;
+        uint32_t *q = (uint32_t *)(void *)(dst + (size_t)y * dst_stride);
+        for (int x = 0; x < w; x++, p += 3)
             q[x] = 0xff000000u | (uint32_t)p[0] << 16 | (uint32_t)p[1] << 8 | p[2];
     }
 }
 
 static void copy_frame(drm_impl_t *im, int b, const hz_rgb8_image_t *img)
 {
-    copy_job_t j = { img, im->buf[b].map, im->buf[b].pitch };
-    hz_threads_run_rows(copy_rows, &j, (uint32_t)img->h);
+    hz_threads_convert(xrgb_rows, NULL, img->rgb, img->stride, im->buf[b].map, im->buf[b].pitch, img->w, img->h);
 }
 
 static hz_status_t drm_present(hz_sink_t *s, const hz_rgb8_image_t *img, uint64_t id, hz_error_t *err)

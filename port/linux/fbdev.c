@@ -75,20 +75,10 @@ static void fb_close(hz_sink_t *s)
     s->impl = NULL;
 }
 
-/* hz_fb_pack of a w x h frame in bands of rows on the pool (rows are independent: the same bytes). */
-typedef struct pack_job {
-    const hz_fb_layout_t *layout;
-    const hz_rgb8_image_t *img;
-    uint8_t *dst;
-    size_t dst_stride;
-    int w;
-} pack_job_t;
-
-static void pack_rows(void *user, uint32_t y0, uint32_t y1)
+static void pack_rows(const void *layout, const uint8_t *src, size_t src_stride, uint8_t *dst, size_t dst_stride,
+                      int w, int h)
 {
-    const pack_job_t *j = user;
-    hz_fb_pack(j->layout, j->img->rgb + (size_t)y0 * j->img->stride, j->img->stride, j->dst + (size_t)y0 * j->dst_stride,
-               j->dst_stride, j->w, (int)(y1 - y0));
+    hz_fb_pack(layout, src, src_stride, dst, dst_stride, w, h);
 }
 
 static hz_status_t fb_present(hz_sink_t *s, const hz_rgb8_image_t *img, uint64_t id, hz_error_t *err)
@@ -101,8 +91,7 @@ static hz_status_t fb_present(hz_sink_t *s, const hz_rgb8_image_t *img, uint64_t
      * Single-buffered: draw where the screen is. */
     size_t row0 = im->buffers == 2 ? (size_t)im->back * im->var.yres : im->var.yoffset;
     uint8_t *dst = im->mem + row0 * im->fix.line_length + (size_t)im->var.xoffset * (size_t)(im->layout.bpp / 8);
-    pack_job_t job = { &im->layout, img, dst, im->fix.line_length, w };
-    hz_threads_run_rows(pack_rows, &job, (uint32_t)h);
+    hz_threads_convert(pack_rows, &im->layout, img->rgb, img->stride, dst, im->fix.line_length, w, h);
     if (im->buffers == 2) {
         struct fb_var_screeninfo v = im->var;
         v.yoffset = (uint32_t)row0;

@@ -142,6 +142,30 @@ void hz_threads_run_rows(hz_threads_rows_fn fn, void *user, uint32_t rows)
     hz_threads_run(run_band, &j, rows / HZ_THREADS_BAND_ROWS + (rows % HZ_THREADS_BAND_ROWS != 0));
 }
 
+typedef struct convert_job {
+    hz_threads_convert_fn convert;
+    const void *ctx;
+    const uint8_t *src;
+    size_t src_stride;
+    uint8_t *dst;
+    size_t dst_stride;
+    int w;
+} convert_job_t;
+
+static void convert_band(void *user, uint32_t y0, uint32_t y1)
+{
+    const convert_job_t *j = user;
+    j->convert(j->ctx, j->src + (size_t)y0 * j->src_stride, j->src_stride, j->dst + (size_t)y0 * j->dst_stride,
+               j->dst_stride, j->w, (int)(y1 - y0));
+}
+
+void hz_threads_convert(hz_threads_convert_fn convert, const void *ctx, const uint8_t *src, size_t src_stride,
+                        uint8_t *dst, size_t dst_stride, int w, int h)
+{
+    convert_job_t j = { convert, ctx, src, src_stride, dst, dst_stride, w };
+    hz_threads_run_rows(convert_band, &j, h > 0 ? (uint32_t)h : 0u);
+}
+
 int hz_threads_count(void)
 {
     return started ? thread_count : 1;

@@ -268,20 +268,10 @@ static void out_push_edge(vdev_t *d, const struct v4l2_buffer *b)
     e->frame_id = d->buf[b->index].frame_id;
 }
 
-/* hz_pix_convert of a w x h frame in bands of rows on the pool (every format's rows are independent). */
-typedef struct convert_job {
-    hz_pix_fmt_t fmt;
-    const hz_rgb8_image_t *img;
-    uint8_t *dst;
-    size_t dst_stride;
-    int w;
-} convert_job_t;
-
-static void convert_rows(void *user, uint32_t y0, uint32_t y1)
+static void convert_rows(const void *fmt, const uint8_t *src, size_t src_stride, uint8_t *dst, size_t dst_stride,
+                         int w, int h)
 {
-    const convert_job_t *j = user;
-    hz_pix_convert(j->fmt, j->img->rgb + (size_t)y0 * j->img->stride, j->img->stride,
-                   j->dst + (size_t)y0 * j->dst_stride, j->dst_stride, j->w, (int)(y1 - y0));
+    hz_pix_convert(*(const hz_pix_fmt_t *)fmt, src, src_stride, dst, dst_stride, w, h);
 }
 
 static hz_status_t out_present(hz_sink_t *s, const hz_rgb8_image_t *img, uint64_t id, hz_error_t *err)
@@ -314,8 +304,7 @@ static hz_status_t out_present(hz_sink_t *s, const hz_rgb8_image_t *img, uint64_
     int w = img->w < d->w ? img->w : d->w, h = img->h < d->h ? img->h : d->h;
     if (d->fmt == HZ_PIX_YUYV)
         w &= ~1;
-    convert_job_t job = { d->fmt, img, d->buf[idx].mem, d->stride, w };
-    hz_threads_run_rows(convert_rows, &job, (uint32_t)h);
+    hz_threads_convert(convert_rows, &d->fmt, img->rgb, img->stride, d->buf[idx].mem, d->stride, w, h);
     struct v4l2_buffer b;
     memset(&b, 0, sizeof b);
     b.type = d->type;
