@@ -14,11 +14,6 @@
 #include "hz/render.h"
 #include "mode.h"
 #include "shade.h"
-/* Blended triangles one shadow ray composites in its single occlusion pass: the layer cap of every path, so a
- * shadow ray that meets more, with visibility left, ends as blocked (counted in stats.layer_cap) as a camera
- * path does. */
-#define HZ_SHADOW_LAYERS HZ_RENDER_MAX_LAYERS
-
 /* Which G-buffer record a ray's first hit fills. */
 enum { GSLOT_NONE = 0, GSLOT_PRIMARY = 1, GSLOT_SECONDARY = 2 };
 
@@ -75,11 +70,13 @@ typedef struct hz_worker {
     bool write_gbuffer;                      /* this batch fills the G-buffer */
     mirror_rec_t mirror[HZ_TILE_PIXELS];
     /* Shadow packet in flight (scenes with blended surfaces): per lane the transmittance of the blended
-     * triangles met so far and which ones (the any-hit callback may see a triangle more than once). */
+     * triangles met so far and which ones (the any-hit callback may see a triangle more than once), up to the
+     * layer cap of every path: a shadow ray that meets more with visibility left ends as blocked (counted in
+     * stats.layer_cap), as a camera path does. */
     float shadow_vis[HZ_RENDER_LANES];
-    uint32_t shadow_prims[HZ_RENDER_LANES][HZ_SHADOW_LAYERS];
+    uint32_t shadow_prims[HZ_RENDER_LANES][HZ_RENDER_MAX_LAYERS];
     uint64_t shadow_seen[HZ_RENDER_LANES][4]; /* bit (prim * golden) >> 24: some shadow_prims entry may be prim */
-    uint16_t shadow_nprims[HZ_RENDER_LANES]; /* up to HZ_SHADOW_LAYERS */
+    uint16_t shadow_nprims[HZ_RENDER_LANES]; /* up to HZ_RENDER_MAX_LAYERS */
     uint8_t shadow_overflow[HZ_RENDER_LANES];
     hz_accel_ctx_t ctx;
     struct hz_renderer *r;

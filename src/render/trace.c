@@ -189,7 +189,7 @@ bool hz_render_anyhit(void *user, uint32_t prim, float u, float v, float t, uint
                     return false;
         }
         w->shadow_seen[ln][h >> 6] |= bit;
-        if (w->shadow_nprims[ln] == HZ_SHADOW_LAYERS) {
+        if (w->shadow_nprims[ln] == HZ_RENDER_MAX_LAYERS) {
             w->shadow_overflow[ln] = 1; /* past the layer cap with visibility left: ends as blocked */
             return true;
         }

@@ -162,15 +162,13 @@ uint32_t hz_fb_pixel(const hz_fb_layout_t *l, uint8_t r, uint8_t g, uint8_t b)
            ((uint32_t)(b >> (8 - l->b_len)) << l->b_off);
 }
 
-/* One row at a constant byte count (the callers' 2, 3 or 4), so the shifts are hoisted out of the loop and the
- * compiler merges each pixel's byte stores, where a count tested per pixel kept four byte stores. */
-HZ_INLINE void pack_row(const hz_fb_layout_t *l, const uint8_t *s, uint8_t *d, int w, int bytes)
+/* One row at a constant byte count (the callers' 2, 3 or 4), so the compiler merges each pixel's byte stores;
+ * the layout is a local copy, which those stores cannot alias, so its fields stay out of the loop. */
+HZ_INLINE void pack_row(const hz_fb_layout_t *layout, const uint8_t *s, uint8_t *d, int w, int bytes)
 {
-    const unsigned rs = 8u - (unsigned)l->r_len, gs = 8u - (unsigned)l->g_len, bs = 8u - (unsigned)l->b_len;
-    const unsigned ro = (unsigned)l->r_off, go = (unsigned)l->g_off, bo = (unsigned)l->b_off;
+    const hz_fb_layout_t l = *layout;
     for (int x = 0; x < w; x++, s += 3, d += bytes) {
-        const uint32_t v = ((uint32_t)(s[0] >> rs) << ro) | ((uint32_t)(s[1] >> gs) << go) |
-                           ((uint32_t)(s[2] >> bs) << bo);
+        const uint32_t v = hz_fb_pixel(&l, s[0], s[1], s[2]);
         d[0] = (uint8_t)v;
         d[1] = (uint8_t)(v >> 8);
         if (bytes > 2)
