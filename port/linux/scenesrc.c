@@ -42,26 +42,22 @@ static scenesrc_t state;
 static hz_posekeys_t keys; /* motion blur: the scene's pose across the shutter (opts.keys) */
 static double render_ms[HZ_SCENESRC_MAX_TIMED];
 
-/* Encoding a frame's rows to sRGB codes in bands on the pool, as one thread alone would leave the others idle
- * between frames. */
-typedef struct encode_job {
-    const hz_image_t *img;
-    uint8_t *dst;
-    size_t dstride;
-} encode_job_t;
-
-static void encode_band(void *user, uint32_t y0, uint32_t y1)
+/* A band of float RGB rows as sRGB codes (hz_threads_convert's form: the encode runs on the pool, as one thread
+ * alone would leave the others idle between frames). */
+static void encode_band(const void *ctx, const uint8_t *src, size_t src_stride, uint8_t *dst, size_t dst_stride,
+                        int w, int h)
 {
-    const encode_job_t *j = user;
-    const size_t n = (size_t)j->img->width * 3;
-    for (uint32_t y = y0; y < y1; y++)
-        hz_srgb8_encode_n(j->img->rgb + (size_t)y * n, j->dst + (size_t)y * j->dstride, n);
+    (void)ctx;
+    for (int y = 0; y < h; y++)
+        hz_srgb8_encode_n((const float *)(const void *)(src + (size_t)y * src_stride), dst + (size_t)y * dst_stride,
+                          (size_t)w * 3);
 }
 
 static void encode_rows(const hz_image_t *img, uint8_t *dst, size_t dstride)
 {
-    encode_job_t j = { img, dst, dstride };
-    hz_threads_run_rows(encode_band, &j, img->height);
+    const size_t sstride = (size_t)img->width * 3 * sizeof(float); /* bytes */
+    hz_threads_convert(encode_band, NULL, (const uint8_t *)(const void *)img->rgb, sstride, dst, dstride,
+                       (int)img->width, (int)img->height);
 }
 
 /* The rendered float frame of `level` -> out (the sink's size). */

@@ -122,26 +122,6 @@ void hz_threads_run(hz_threads_fn fn, void *user, uint32_t items)
     }
 }
 
-typedef struct rows_job {
-    hz_threads_rows_fn fn;
-    void *user;
-    uint32_t rows;
-} rows_job_t;
-
-static void run_band(void *user, uint32_t item, int thread)
-{
-    (void)thread;
-    const rows_job_t *j = user;
-    const uint32_t y0 = item * HZ_THREADS_BAND_ROWS;
-    j->fn(j->user, y0, j->rows - y0 < HZ_THREADS_BAND_ROWS ? j->rows : y0 + HZ_THREADS_BAND_ROWS);
-}
-
-void hz_threads_run_rows(hz_threads_rows_fn fn, void *user, uint32_t rows)
-{
-    rows_job_t j = { fn, user, rows };
-    hz_threads_run(run_band, &j, rows / HZ_THREADS_BAND_ROWS + (rows % HZ_THREADS_BAND_ROWS != 0));
-}
-
 typedef struct convert_job {
     hz_threads_convert_fn convert;
     const void *ctx;
@@ -149,21 +129,25 @@ typedef struct convert_job {
     size_t src_stride;
     uint8_t *dst;
     size_t dst_stride;
-    int w;
+    int w, h;
 } convert_job_t;
 
-static void convert_band(void *user, uint32_t y0, uint32_t y1)
+static void convert_band(void *user, uint32_t item, int thread)
 {
+    (void)thread;
     const convert_job_t *j = user;
+    const int y0 = (int)(item * HZ_THREADS_BAND_ROWS), rows = j->h - y0;
     j->convert(j->ctx, j->src + (size_t)y0 * j->src_stride, j->src_stride, j->dst + (size_t)y0 * j->dst_stride,
-               j->dst_stride, j->w, (int)(y1 - y0));
+               j->dst_stride, j->w, rows < (int)HZ_THREADS_BAND_ROWS ? rows : (int)HZ_THREADS_BAND_ROWS);
 }
 
 void hz_threads_convert(hz_threads_convert_fn convert, const void *ctx, const uint8_t *src, size_t src_stride,
                         uint8_t *dst, size_t dst_stride, int w, int h)
 {
-    convert_job_t j = { convert, ctx, src, src_stride, dst, dst_stride, w };
-    hz_threads_run_rows(convert_band, &j, h > 0 ? (uint32_t)h : 0u);
+    if (h <= 0)
+        return;
+    convert_job_t j = { convert, ctx, src, src_stride, dst, dst_stride, w, h };
+    hz_threads_run(convert_band, &j, (uint32_t)h / HZ_THREADS_BAND_ROWS + ((uint32_t)h % HZ_THREADS_BAND_ROWS != 0));
 }
 
 int hz_threads_count(void)

@@ -15,11 +15,11 @@
  *    the calling thread (thread 0).
  *  - Workers wait on a condition variable between runs (after a short spin), so an idle pool costs no CPU.
  *  - hz_threads_stop() joins the workers; the pool can be started again.
- *  - hz_threads_run_rows(fn, user, rows) is hz_threads_run over an image's rows in bands of HZ_THREADS_BAND_ROWS:
- *    fn(user, y0, y1) once for every band [y0, y1) of [0, rows). For conversions whose rows are independent (the
- *    sRGB encode, a display's pixel format), so their bytes do not depend on which thread converts which band;
- *    the same rule as run (thread 0 only, not from inside fn). hz_threads_convert is its form for a w x h frame
- *    converted from src to dst (a display's pixel format): convert(ctx, ...) on each band's rows.
+ *  - hz_threads_convert(convert, ctx, src, ..., w, h) is hz_threads_run over a w x h frame's rows in bands of
+ *    HZ_THREADS_BAND_ROWS: convert(ctx, ...) once for every band, with src and dst advanced to its first row and
+ *    h its row count (strides in bytes). For conversions whose rows are independent (the sRGB encode, a
+ *    display's pixel format), so their bytes do not depend on which thread converts which band; the same rule
+ *    as run (thread 0 only, not from inside convert).
  *  - hz_threads_accel_hook(cfg) points an accel config's task hook (cfg->run, see hz/accel.h) at this pool, with
  *    run_threads = hz_threads_count(): a native build with it runs on every thread of the pool (call it after
  *    start; builds from thread 0 only).
@@ -52,8 +52,6 @@ void hz_threads_stop(void);
 
 /* Rows per band: a few rows of a frame are tens of kilobytes, enough to outweigh handing a band out. */
 #define HZ_THREADS_BAND_ROWS 16u
-typedef void (*hz_threads_rows_fn)(void *user, uint32_t y0, uint32_t y1);
-void hz_threads_run_rows(hz_threads_rows_fn fn, void *user, uint32_t rows);
 typedef void (*hz_threads_convert_fn)(const void *ctx, const uint8_t *src, size_t src_stride, uint8_t *dst,
                                       size_t dst_stride, int w, int h);
 void hz_threads_convert(hz_threads_convert_fn convert, const void *ctx, const uint8_t *src, size_t src_stride,
