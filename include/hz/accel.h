@@ -103,6 +103,21 @@
  *  piece contains the previous one). hzrt accel --motion-check
  *  proves it against brute force (0 misses, 0 mismatches) on scenes and extreme procedural motions.
  *
+ *  Motion segments per node (seed 002 section 6.3; cfg.segments = HZ_ACCEL_SEGMENTS_PER_NODE, the default). With
+ *  K = 2^M + 1 keys, a node keeps its children's boxes at 2^m + 1 of them (every 2^(M - m)-th key, m <= M),
+ *  the fewest whose piecewise-linear boxes, resampled at every key, add at most 1/32 to the children's summed
+ *  key-box areas; a node over content that moves linearly keeps one segment, over a turn or a sway more. Levels
+ *  are chosen at each build (a refit keeps them). A ray at time t reads a level-m node with segment
+ *  seg >> (M - m) and weight t * 2^m - that segment (both exact in floats). Why it stays conservative: each
+ *  level-m bound is fitted, in exact arithmetic, below (above) its content at every key (the children's boxes
+ *  or the leaf's key boxes, which are linear in between, so below them at every t) and then moved out by
+ *  2^-17 of the largest coordinate of the node's content; evaluating a lerp in floats errs by at most ~4 ulps
+ *  of its operands, so a node's float box contains its children's exact boxes and, down the tree, the leaf's
+ *  key boxes as the contract above evaluates them (2^-17 is 32x the 2^-22 the two evaluations need). Every
+ *  kernel evaluates the same products and sum, so hits stay bit-identical across kernels and to the trees that
+ *  keep every key (boxes decide only what is visited, not what is hit). EVERY_KEY keeps today's node boxes
+ *  exactly, and K = 2 has one level only.
+ *
  *  Rigid instances (seed 002 section 3.2). A motion view may name up to HZ_ACCEL_MAX_INSTANCES ranges of its
  *  triangles that move rigidly (hz_accel_instance_t: object-space positions and an affine matrix per key). With
  *  cfg.rigid = HZ_ACCEL_RIGID_INSTANCE (default) the native backend builds a static BVH per instance over its
@@ -375,6 +390,19 @@ const char *hz_accel_rigid_name(hz_accel_rigid_t r); /* "instance", "refit" */
 /* Parses "instance" | "refit"; false (and *out untouched) for anything else. */
 bool hz_accel_rigid_parse(const char *s, hz_accel_rigid_t *out);
 
+/* How many motion segments the native motion BVH's nodes keep (see "Motion segments per node"):
+ *  PER_NODE:  each node 2^m of them (m <= log2(K - 1)), as few as its content's motion needs (default);
+ *  EVERY_KEY: every node a box set at every one of the view's K keys. */
+typedef enum hz_accel_segments {
+    HZ_ACCEL_SEGMENTS_PER_NODE = 0,
+    HZ_ACCEL_SEGMENTS_EVERY_KEY,
+    HZ_ACCEL_SEGMENTS_COUNT
+} hz_accel_segments_t;
+
+const char *hz_accel_segments_name(hz_accel_segments_t s); /* "per-node", "every-key" */
+/* Parses "per-node" | "every-key"; false (and *out untouched) for anything else. */
+bool hz_accel_segments_parse(const char *s, hz_accel_segments_t *out);
+
 typedef struct hz_accel_config {
     /* native */
     uint32_t leaf_max;     /* triangles per leaf, 1..HZ_BVH_WIDTH (default HZ_BVH_WIDTH) */
@@ -393,6 +421,7 @@ typedef struct hz_accel_config {
     hz_accel_blur_t blur;     /* HZ_ACCEL_BLUR_MSBVH */
     float rebuild_sah_growth; /* refit rebuilds when the SAH cost grew by more than this fraction (0.30) */
     hz_accel_rigid_t rigid;   /* HZ_ACCEL_RIGID_INSTANCE */
+    hz_accel_segments_t segments; /* HZ_ACCEL_SEGMENTS_PER_NODE */
     /* Parallel native build (see "Parallel build" in the contract); NULL (default) builds on the calling thread.
      * run(run_user, fn, ctx, items) must call fn(ctx, item) exactly once for every item in [0, items), in any
      * order and on any threads, and return when every call has returned; it is called only from the building
@@ -454,6 +483,8 @@ typedef struct hz_accel_info {
     float sah_built;         /* sah_cost right after the last (re)build: refit compares against it */
     uint32_t refits;         /* refits since the first build (each re-reads the keys) */
     uint32_t rebuilds;       /* refits that rebuilt because sah_cost > sah_built * (1 + rebuild_sah_growth) */
+    uint64_t key_sets;       /* box sets the nodes hold, one per node and key it keeps: node_count * K with
+                                every key, down to node_count * 2 when no node needs more than one segment */
     /* rigid instances (native, cfg.rigid = INSTANCE): the figures above sum the instances' object-space BVHs
      * and the BVH of the other triangles; sah_cost is the latter's (0 when every triangle is in an instance) */
     uint32_t instances;      /* instances built (0: none) */

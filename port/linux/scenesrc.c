@@ -254,6 +254,7 @@ static hz_status_t open_all(scenesrc_t *s, const hz_scenesrc_cfg_t *cfg, hz_pool
     hz_accel_config_default(&acfg);
     acfg.progress = hz_phase_accel, acfg.progress_user = &prog;
     acfg.rigid = cfg->rigid;
+    acfg.segments = cfg->segments;
     if (cfg->backend == HZ_ACCEL_NATIVE)
         hz_threads_accel_hook(&acfg);
     hz_phase_begin(&prog, cfg->quiet, "%s build of %s (%u triangles)", hz_accel_backend_name(cfg->backend),

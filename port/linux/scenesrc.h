@@ -44,6 +44,7 @@ typedef struct hz_scenesrc_cfg {
     hz_accel_backend_t backend;
     hz_accel_blur_t blur;          /* motion-blur BVH of the native backend (with a shutter) */
     hz_accel_rigid_t rigid;        /* ... and what it does with rigid motion (default: instances) */
+    hz_accel_segments_t segments;  /* ... and its nodes' motion segments (default: per node) */
     int threads;                   /* render threads; 0: one per core */
     int out_w, out_h;              /* the frames the sink shows (0: the render size) */
     bool levels;                   /* offer the governor's ladder */

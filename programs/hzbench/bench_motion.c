@@ -25,7 +25,7 @@
 #endif
 
 #define MAX_ROUNDS 9
-#define MAX_ROWS (HZ_BENCH_MOTION_MAX_BUDGETS + 4)
+#define MAX_ROWS (HZ_BENCH_MOTION_MAX_BUDGETS + 5)
 /* The secondary ray of a pixel: the kinds of frame each BVH renders. */
 enum { S_SHADOW, S_AO, S_COUNT };
 static const char *const secondary_name[S_COUNT] = { "shadow", "ao" };
@@ -35,6 +35,7 @@ typedef struct row {
     hz_accel_blur_t blur;
     bool embree;
     bool instances;        /* rigid objects as instances (seed 002 section 3.2); the others refit them */
+    bool every_key;        /* nodes keep every key (the others: per-node motion segments) */
     float budget;          /* the MSBVH's split budget (the others: 0) */
     bool ran, skipped;     /* skipped: its memory bound does not fit the accel arena */
     hz_accel_info_t info;
@@ -237,6 +238,9 @@ static int make_rows(const hz_bench_motion_opts_t *o, const hz_accel_geom_t *g, 
     hz_accel_config_default(&d);
     for (int i = 0; i < o->budget_count; i++)
         rows[n++] = (row_t){ .name = "msbvh", .blur = HZ_ACCEL_BLUR_MSBVH, .budget = o->budgets[i] };
+    if (o->budget_count && g->time_keys > 2u) /* K = 2: one segment, nothing to compare */
+        rows[n++] = (row_t){ .name = "msbvh-every-key", .blur = HZ_ACCEL_BLUR_MSBVH,
+                             .budget = o->budgets[o->budget_count - 1], .every_key = true };
     if (g->instance_count)
         rows[n++] = (row_t){ .name = "instances", .blur = HZ_ACCEL_BLUR_MSBVH, .budget = d.split_budget,
                              .instances = true };
@@ -256,6 +260,7 @@ static void row_config(const row_t *rw, hz_accel_config_t *cfg)
     hz_accel_config_default(cfg);
     cfg->blur = rw->blur;
     cfg->rigid = rw->instances ? HZ_ACCEL_RIGID_INSTANCE : HZ_ACCEL_RIGID_REFIT;
+    cfg->segments = rw->every_key ? HZ_ACCEL_SEGMENTS_EVERY_KEY : HZ_ACCEL_SEGMENTS_PER_NODE;
     if (is_msbvh(rw))
         cfg->split_budget = rw->budget;
 }
@@ -277,7 +282,7 @@ static void print_table(const char *name, int kind, const row_t *rows, int nrows
     const double ip_ms = ip->ran ? median(ip->render_ms[kind], ip->n) : 0.0;
     const double em_mr = em->ran ? (double)em->rays[kind] / (median(em->render_ms[kind], em->n) * 1e3) : 0.0;
     printf("primary + %s:\n", kind == S_SHADOW ? "shadow ray" : "ambient-occlusion ray");
-    printf("%-12s %9s %8s %7s %6s %7s %15s %15s %15s %15s %9s %9s %8s %9s %s\n", "bvh, budget", "refs", "nodes",
+    printf("%-20s %9s %8s %7s %6s %7s %15s %15s %15s %15s %9s %9s %8s %9s %s\n", "bvh, budget", "refs", "nodes",
            "splits", "stops", "sah", "isect max/avg", "(% interp)", "trav max/avg", "(% interp)", "render ms",
            "build ms", "refit ms", "bytes/tri", "Mrays/s (x embree-mb)");
     for (int b = 0; b < nrows; b++) {
@@ -285,7 +290,7 @@ static void print_table(const char *name, int kind, const row_t *rows, int nrows
         char label[32];
         row_label(rw, label, sizeof label);
         if (rw->skipped) {
-            printf("%-12s does not fit the accel arena: not built\n", label);
+            printf("%-20s does not fit the accel arena: not built\n", label);
             continue;
         }
         if (!rw->ran)
@@ -327,7 +332,7 @@ static void print_table(const char *name, int kind, const row_t *rows, int nrows
         char iv[40], tv[40];
         snprintf(iv, sizeof iv, "%s / %s", c_imax, c_iavg);
         snprintf(tv, sizeof tv, "%s / %s", c_tmax, c_tavg);
-        printf("%-12s %9s %8s %7s %6s %7s %15s %15s %15s %15s %9.1f %9.0f %8.1f %9.1f %.2f%s", label, c_refs, c_nodes,
+        printf("%-20s %9s %8s %7s %6s %7s %15s %15s %15s %15s %9.1f %9.0f %8.1f %9.1f %.2f%s", label, c_refs, c_nodes,
                c_splits, c_stops, c_sah, rw->have_stats ? iv : "", pi, rw->have_stats ? tv : "", pt, rms, bms, fms,
                rw->bytes_per_tri, mr, xe);
         if (ip_ms > 0.0 && b != ip_row)

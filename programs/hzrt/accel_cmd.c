@@ -56,7 +56,8 @@ static void usage(FILE *f)
 {
     fprintf(f, "usage: hzrt accel SCENE [--embree [--embree-config S]] [--no-spatial] [--leaf N] [--budget F]\n"
                "       hzrt accel SCENE --motion-check N [--blur-bvh msbvh|interp|swept] [--rigid instance|refit]\n"
-               "                  [--motion KIND] [--keys K] [--turns F] [--time T] [--interval S] [--seed S]\n"
+               "                  [--motion-segments per-node|every-key] [--motion KIND] [--keys K] [--turns F]\n"
+               "                  [--time T] [--interval S] [--seed S]\n"
                "\n"
                "Builds the acceleration structure of SCENE (.hzb file or `builtin`) in the board's accel arena and\n"
                "prints build time, bytes per triangle and the tree's shape. The memory plan is checked first:\n"
@@ -76,6 +77,8 @@ static void usage(FILE *f)
                "  --rigid R          instance (default): objects that move rigidly keep a BVH in object space and rays\n"
                "                     move into it at their time; refit: their triangles move with the keys like any\n"
                "                     other motion (the BVH is refitted every frame)\n"
+               "  --motion-segments S  per-node (default): each node keeps as few motion segments as its content's\n"
+               "                     motion needs (1, 2, 4 or 8); every-key: every node a box set at every key\n"
                "  --motion KIND      procedural time keys from the scene's positions instead of its animation: sway,\n"
                "                     rotate, cross (vertices cross split planes), collapse (to a point), rot180 (one\n"
                "                     segment). Default: the scene's animation if it moves, else sway\n"
@@ -92,7 +95,7 @@ static void usage(FILE *f)
 int hz_cmd_accel(int argc, char **argv)
 {
     const char *scene_name = NULL, *embree_config = "";
-    bool embree = false, blur_set = false, rigid_set = false, motion_opt = false;
+    bool embree = false, blur_set = false, rigid_set = false, segments_set = false, motion_opt = false;
     int threads = 1;
     hz_accel_config_t cfg;
     hz_accel_config_default(&cfg);
@@ -122,6 +125,12 @@ int hz_cmd_accel(int argc, char **argv)
                 return HZ_EXIT_USAGE;
             }
             rigid_set = true;
+        } else if (!strcmp(argv[i], "--motion-segments") && i + 1 < argc) {
+            if (!hz_accel_segments_parse(argv[++i], &cfg.segments)) {
+                hz_cli_error("accel: --motion-segments: '%s' is not per-node or every-key", argv[i]);
+                return HZ_EXIT_USAGE;
+            }
+            segments_set = true;
         } else if (!strcmp(argv[i], "--motion") && i + 1 < argc) {
             if (!hz_meshgen_motion_parse(argv[++i], &mc.kind)) {
                 hz_cli_error("accel: --motion: '%s' is not sway, rotate, cross, collapse or rot180", argv[i]);
@@ -193,8 +202,9 @@ int hz_cmd_accel(int argc, char **argv)
         usage(stderr);
         return HZ_EXIT_USAGE;
     }
-    if ((blur_set || rigid_set || motion_opt) && !mc.n) {
-        hz_cli_error("accel: --blur-bvh, --rigid, --motion, --keys, --turns, --time, --interval and --seed need --motion-check N");
+    if ((blur_set || rigid_set || segments_set || motion_opt) && !mc.n) {
+        hz_cli_error("accel: --blur-bvh, --rigid, --motion-segments, --motion, --keys, --turns, --time, --interval and "
+                     "--seed need --motion-check N");
         return HZ_EXIT_USAGE;
     }
     if (mc.n && embree) {
@@ -278,6 +288,10 @@ int hz_cmd_accel(int argc, char **argv)
                         "%u nodes, %s, %.1f bytes per triangle\n", (double)(hz_clock_ns() - t0) * 1e-9,
                 in->ref_count, in->spatial_splits, in->budget_stops, in->node_count, sah,
                 g.tri_count ? (double)in->bytes / g.tri_count : 0.0);
+        if (in->key_sets && in->node_count)
+            fprintf(stderr, "motion-check: %s motion segments: %llu key box sets, %.2f per node (every key: %u)\n",
+                    hz_accel_segments_name(cfg.segments), (unsigned long long)in->key_sets,
+                    (double)in->key_sets / (double)in->node_count, in->time_keys);
         if (in->instances)
             fprintf(stderr, "motion-check: %u rigid instance%s holding %u of the triangles (object-space BVHs)\n",
                     in->instances, in->instances == 1 ? "" : "s", in->instance_tris);

@@ -65,6 +65,7 @@ int hz_show_from_ropts(hz_show_cfg_t *c, hz_ropts_t *ro, const char *scene)
     c->scene.backend = ro->backend;
     c->scene.blur = ro->blur;
     c->scene.rigid = ro->rigid;
+    c->scene.segments = ro->segments;
     c->scene.threads = ro->threads;
     c->scene.start = ro->start;
     c->scene.prepare = hz_ropts_prepare;

@@ -19,7 +19,7 @@
 
 typedef enum opt_id {
     O_MODE, O_SPP, O_MSAA4, O_ORDERING, O_NO_RMV, O_TD_GAMMA, O_TAA_GAMMA, O_TAA_CLIP, O_TAA_CR, O_BOUNCES,
-    O_TRANSP, O_RR_SHADOWS, O_SHUTTER, O_BLUR_BVH, O_RIGID, O_BACKEND, O_THREADS, O_START, O_TAU, O_NORMAL_ANGLE, O_FOCUS,
+    O_TRANSP, O_RR_SHADOWS, O_SHUTTER, O_BLUR_BVH, O_RIGID, O_SEGMENTS, O_BACKEND, O_THREADS, O_START, O_TAU, O_NORMAL_ANGLE, O_FOCUS,
     O_MAP, O_BILINEAR, O_FOOTPRINT,
     O_TAU_K /* + hz_tau_t: the nine thresholds */
 } opt_id_t;
@@ -29,6 +29,7 @@ static const hz_render_mode_t mode_of_word[] = { HZ_MODE_TDENSE, HZ_MODE_FULL, H
 static const char *const backend_words[] = { "native", "embree", NULL };
 static const char *const blur_words[] = { "msbvh", "interp", "swept", NULL };
 static const char *const rigid_words[] = { "instance", "refit", NULL };
+static const char *const segments_words[] = { "per-node", "every-key", NULL };
 static const char *const ordering_words[] = { "full", "dominant", "shear-up", "shear-down", "hourglass", "bowtie", NULL };
 
 #define TAU(key, k, def, what)                                                                                   \
@@ -86,6 +87,11 @@ static const hz_opt_t table[] = {
               "BVH of its own in object space, built once, rays moved into it at their time (seed 002 section "
               "3.2); refit moves their vertices and refits the motion BVH every frame like other motion; needs "
               "--shutter" },
+    { .name = "--motion-segments", .arg = "S", .kind = HZ_OPT_WORD, .words = segments_words,
+      .modes = FULL | TAA | TDENSE | ADAPTIVE, .id = O_SEGMENTS, .sample = "every-key", .needs = "--shutter 0.5",
+      .help = "motion blur, native backend: per-node (default) lets each node of the motion BVH keep as few motion "
+              "segments as its content's motion needs (seed 002 section 6.3; less memory, the same image); "
+              "every-key keeps a box set at every time key in every node; needs --shutter" },
     { .name = "--backend", .arg = "B", .kind = HZ_OPT_WORD, .words = backend_words, .flags = IMG, .id = O_BACKEND,
       .sample = "embree", .help = "native or embree (builds with Embree); default native" },
     { .name = "--threads", .arg = "N", .kind = HZ_OPT_INT, .lo = 1, .hi = HZ_MAX_THREADS, .id = O_THREADS,
@@ -207,6 +213,10 @@ int hz_ropts_take(hz_ropts_t *r, int argc, char **argv, int i)
         hz_accel_rigid_parse(v, &r->rigid);
         r->rigid_arg = v;
         break;
+    case O_SEGMENTS:
+        hz_accel_segments_parse(v, &r->segments);
+        r->segments_arg = v;
+        break;
     case O_BACKEND: r->backend = x.w == 0 ? HZ_ACCEL_NATIVE : HZ_ACCEL_EMBREE; break;
     case O_THREADS: r->threads = (int)x.n; break;
     case O_START: r->start = hz_time_from_s(x.x); break;
@@ -276,6 +286,16 @@ int hz_ropts_check(hz_ropts_t *r)
     }
     if (r->rigid_arg && !(r->opts.shutter > 0.0f)) {
         hz_cli_error("%s: --rigid %s does nothing without motion blur (give --shutter S > 0)", r->cmd, r->rigid_arg);
+        return HZ_EXIT_USAGE;
+    }
+    if (r->segments_arg && !(r->opts.shutter > 0.0f)) {
+        hz_cli_error("%s: --motion-segments %s does nothing without motion blur (give --shutter S > 0)", r->cmd,
+                     r->segments_arg);
+        return HZ_EXIT_USAGE;
+    }
+    if (r->segments_arg && r->backend == HZ_ACCEL_EMBREE) {
+        hz_cli_error("%s: --motion-segments shapes the native backend's motion BVH; Embree builds its own motion "
+                     "blur (drop --motion-segments or use --backend native)", r->cmd);
         return HZ_EXIT_USAGE;
     }
     if (r->rigid_arg && r->backend == HZ_ACCEL_EMBREE) {

@@ -36,6 +36,8 @@ typedef struct hz_ropts {
     const char *blur_arg;          /* --blur-bvh as given (NULL: default) */
     hz_accel_rigid_t rigid;
     const char *rigid_arg;         /* --rigid as given (NULL: default) */
+    hz_accel_segments_t segments;
+    const char *segments_arg;      /* --motion-segments as given (NULL: default) */
     int threads;                   /* 0: one per core */
     hz_time_ns_t start;            /* --start */
     hz_adaptive_cli_t adaptive;    /* --focus-objects (unresolved), --adaptive-map */

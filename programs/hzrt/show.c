@@ -284,6 +284,9 @@ static hz_status_t write_scene_outputs(const hz_show_cfg_t *c, double run_s, int
                                                                      : "rigid instances")
                                                               : hz_accel_blur_name(accel->info.blur);
         sm.instances = accel->info.instances, sm.instance_tris = accel->info.instance_tris;
+        if (c->scene.backend != HZ_ACCEL_EMBREE && accel->info.time_keys >= 2u && !accel->info.instances)
+            sm.key_sets = accel->info.key_sets, sm.nodes = accel->info.node_count,
+            sm.segments = hz_accel_segments_name(c->scene.segments);
         sm.time_keys = accel->info.time_keys, sm.refits = accel->info.refits, sm.rebuilds = accel->info.rebuilds;
     }
     hz_summary_adaptive_t ads;

@@ -43,6 +43,9 @@ void hz_summary_print(const hz_summary_t *s, FILE *f)
         fprintf(f, "motion blur  shutter %.3g of each 1/%u s frame, %s, %u time key%s, %u refit%s, %u rebuild%s\n",
                 s->shutter, s->hz, s->blur_accel, s->time_keys, s->time_keys == 1 ? "" : "s", s->refits,
                 s->refits == 1 ? "" : "s", s->rebuilds, s->rebuilds == 1 ? "" : "s");
+    if (s->shutter > 0 && s->key_sets && s->nodes)
+        fprintf(f, "             %s motion segments: %.2f key box sets per node of %u keys\n", s->segments,
+                (double)s->key_sets / (double)s->nodes, s->time_keys);
     if (s->shutter > 0 && s->instances)
         fprintf(f, "             %u rigid instance%s (%u triangles) in object space, never refitted\n", s->instances,
                 s->instances == 1 ? "" : "s", s->instance_tris);
@@ -113,8 +116,10 @@ hz_status_t hz_summary_write_json(const hz_summary_t *s, const char *path, hz_er
     if (s->shutter > 0) {
         fprintf(f, "  \"motion_blur\": {\"shutter\": %.6g, \"accel\": ", s->shutter);
         json_str(f, s->blur_accel);
-        fprintf(f, ", \"time_keys\": %u, \"refits\": %u, \"rebuilds\": %u, \"instances\": %u, \"instance_tris\": %u},\n",
-                s->time_keys, s->refits, s->rebuilds, s->instances, s->instance_tris);
+        fprintf(f, ", \"time_keys\": %u, \"refits\": %u, \"rebuilds\": %u, \"instances\": %u, \"instance_tris\": %u, "
+                   "\"key_sets\": %llu, \"nodes\": %u},\n",
+                s->time_keys, s->refits, s->rebuilds, s->instances, s->instance_tris, (unsigned long long)s->key_sets,
+                s->nodes);
     }
     fprintf(f, "  \"arenas\": {\"scene\": [%zu, %zu], \"accel\": [%zu, %zu], \"frame\": [%zu, %zu], "
                "\"thread\": [%zu, %zu]},\n",

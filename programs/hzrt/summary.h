@@ -37,6 +37,9 @@ typedef struct hz_summary {
     const char *blur_accel;
     uint32_t time_keys, refits, rebuilds;
     uint32_t instances, instance_tris; /* rigid instances of the native backend (0: none) */
+    uint64_t key_sets;    /* box sets its motion BVH's nodes keep (0: none, e.g. Embree) */
+    uint32_t nodes;       /* ... over this many nodes */
+    const char *segments; /* per-node or every-key */
     int threads;
     double build_ms, ms_p50, ms_p99, ms_mean, ms_max, run_s;
     uint64_t rays;

@@ -21,6 +21,7 @@ void hz_accel_config_default(hz_accel_config_t *cfg)
     cfg->blur = HZ_ACCEL_BLUR_MSBVH;
     cfg->rebuild_sah_growth = 0.30f;
     cfg->rigid = HZ_ACCEL_RIGID_INSTANCE;
+    cfg->segments = HZ_ACCEL_SEGMENTS_PER_NODE;
     cfg->run = 0;
     cfg->run_user = 0;
     cfg->run_threads = 0;
@@ -62,6 +63,23 @@ bool hz_accel_rigid_parse(const char *s, hz_accel_rigid_t *out)
     for (int i = 0; s && i < HZ_ACCEL_RIGID_COUNT; i++)
         if (str_eq(s, rigid_names[i])) {
             *out = (hz_accel_rigid_t)i;
+            return true;
+        }
+    return false;
+}
+
+static const char *const segments_names[HZ_ACCEL_SEGMENTS_COUNT] = { "per-node", "every-key" };
+
+const char *hz_accel_segments_name(hz_accel_segments_t s)
+{
+    return (unsigned)s < HZ_ACCEL_SEGMENTS_COUNT ? segments_names[s] : "unknown";
+}
+
+bool hz_accel_segments_parse(const char *s, hz_accel_segments_t *out)
+{
+    for (int i = 0; s && i < HZ_ACCEL_SEGMENTS_COUNT; i++)
+        if (str_eq(s, segments_names[i])) {
+            *out = (hz_accel_segments_t)i;
             return true;
         }
     return false;
@@ -298,8 +316,11 @@ static bool any(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, hz_accel_kernel_t k, c
 /* The ray's motion segment (static trees: none). */
 HZ_INLINE void ray_time(hz_bvh_ray_t *r, const hz_bvh_t *bvh, float time)
 {
-    if (bvh->time_keys)
+    if (bvh->time_keys) {
         hz_accel_time_segment(time, bvh->time_keys, &r->seg, &r->f);
+        if (bvh->mref)
+            hz_bvh_ray_levels(r, time, bvh->key_level);
+    }
 }
 
 static void native_intersect1(const hz_accel_t *a, hz_accel_ctx_t *ctx, hz_rayhit_t *rh)
@@ -588,6 +609,7 @@ static void info_from_tree(hz_accel_info_t *in, const hz_bvh_t *bvh, const hz_bv
     in->sah_built = bo->sah_cost;
     in->time_keys = bvh->time_keys;
     in->blur = bvh->blur;
+    in->key_sets = bvh->key_boxes ? bvh->key_sets : 0u;
 }
 
 /* Builds a new motion tree above the current one and moves it down in its place; when the arena cannot hold

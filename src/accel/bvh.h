@@ -77,11 +77,16 @@ typedef struct hz_bvh {
      * triangles at key k are in kblocks[k] (same slots as `blocks`, which is one of them); a ray at (seg, f)
      * tests the slot-wise lerp of kblocks[seg] and kblocks[seg + 1]. With key_boxes, node i's child boxes at
      * key k are mbox[i * time_keys + k] and traversal lerps them the same way; without (swept), the nodes'
-     * own boxes bound every key and are used as they are. */
+     * own boxes bound every key and are used as they are. Per-node segments (mref != NULL, see "Motion
+     * segments per node" in hz/accel.h): node i's boxes are mbox[o .. o + 2^m] with mref[i] = o << 2 | m, at
+     * every 2^(key_level - m)-th key; time_keys = 2^key_level + 1. */
     uint32_t time_keys;
     bool key_boxes;
     hz_accel_blur_t blur;
     hz_bvh_mbox_t *mbox;
+    uint32_t *mref;
+    uint32_t key_level;
+    uint64_t key_sets; /* mbox entries in use */
     hz_bvh_block_t *kblocks[HZ_ACCEL_MAX_TIME_KEYS];
     uint8_t *clipped; /* per block slot, 1: a piece of a triangle spatial splits cut (MSBVH only, else NULL) */
 } hz_bvh_t;
@@ -133,7 +138,19 @@ typedef struct hz_bvh_ray {
     float tnear, tfar;
     uint32_t seg; /* motion: key pair (seg, seg + 1) and weight f of seg + 1 (hz_accel_time_segment) */
     float f;
+    float fm[4]; /* per-node segments: the weight at level m (fm[key_level] = f; hz_bvh_ray_levels) */
 } hz_bvh_ray_t;
+
+/* The weights of a ray at `time` (seg already set by hz_accel_time_segment for 2^level + 1 keys) at every
+ * level: t * 2^m - (seg >> (level - m)), exact in floats (t * 2^m is exact, and the difference of two floats
+ * within a factor 2 of each other is). */
+HZ_INLINE void hz_bvh_ray_levels(hz_bvh_ray_t *r, float time, uint32_t level)
+{
+    const float t = time >= 0.0f ? (time <= 1.0f ? time : 1.0f) : 0.0f; /* as hz_accel_time_segment */
+    for (uint32_t m = 0; m < level; m++)
+        r->fm[m] = t * (float)(1u << m) - (float)(r->seg >> (level - m));
+    r->fm[level] = r->f;
+}
 
 /* Returns false for a ray the contract rules out (non-finite origin or direction, zero direction,
  * !(tnear <= tfar)): callers treat it as a miss without traversing. */
@@ -254,8 +271,16 @@ HZ_INLINE const hz_bvh_node_t *hz_bvh_node_at(const hz_bvh_t *bvh, uint32_t i, c
 {
     if (!bvh->key_boxes)
         return &bvh->nodes[i];
-    const hz_bvh_mbox_t *a = &bvh->mbox[(size_t)i * bvh->time_keys + r->seg];
-    hz_bvh_lerp_floats(tmp->lo_x, a[0].lo_x, a[1].lo_x, r->f, 6 * HZ_BVH_W);
+    const hz_bvh_mbox_t *a;
+    float f = r->f;
+    if (bvh->mref) {
+        const uint32_t w = bvh->mref[i], m = w & 3u;
+        a = &bvh->mbox[(size_t)(w >> 2) + (r->seg >> (bvh->key_level - m))];
+        f = r->fm[m];
+    } else {
+        a = &bvh->mbox[(size_t)i * bvh->time_keys + r->seg];
+    }
+    hz_bvh_lerp_floats(tmp->lo_x, a[0].lo_x, a[1].lo_x, f, 6 * HZ_BVH_W);
     for (int c = 0; c < HZ_BVH_W; c++)
         tmp->child[c] = bvh->nodes[i].child[c];
     return tmp;

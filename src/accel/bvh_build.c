@@ -1750,6 +1750,9 @@ hz_status_t hz_bvh_build(hz_bvh_t *bvh, const hz_accel_geom_t *g, const hz_accel
     bvh->key_boxes = false;
     bvh->blur = cfg->blur;
     bvh->mbox = 0;
+    bvh->mref = 0;
+    bvh->key_level = 0;
+    bvh->key_sets = 0;
     bvh->clipped = 0;
     for (int k = 0; k < HZ_ACCEL_MAX_TIME_KEYS; k++)
         bvh->kblocks[k] = 0;

@@ -371,6 +371,7 @@ static void info_sum(hz_accel_t *a)
     in->sah_cost = r ? r->sah_cost : 0.0f;
     in->sah_built = r ? r->sah_built : 0.0f;
     in->rebuilds = r ? r->rebuilds : 0u;
+    in->key_sets = r ? r->key_sets : 0u; /* the instances' trees are static */
 }
 
 static hz_status_t comp_refit(hz_accel_t *a, hz_error_t *err)

@@ -297,6 +297,164 @@ static void fill_slot(const fit_t *ft, uint32_t b, uint32_t s)
                     bvh->kblocks[key][b].v[v][k][s] = 0.0f;
 }
 
+/* ---- node boxes at the keys, every key or per-node segments ---- */
+#define SEG_AREA_SLACK (1.0 / 32.0)  /* a coarser level may add this much to the children's key-box areas */
+#define SEG_MARGIN (1.0 / 131072.0)  /* 2^-17 of the node's largest coordinate (hz/accel.h, "Motion segments") */
+
+static uint32_t node_level(const hz_bvh_t *bvh, uint32_t i)
+{
+    return bvh->mref ? bvh->mref[i] & 3u : bvh->key_level;
+}
+
+/* Node i's q-th box set (of its own keys). */
+static float *node_set(const hz_bvh_t *bvh, uint32_t i, uint32_t q)
+{
+    const size_t o = bvh->mref ? (size_t)(bvh->mref[i] >> 2) : (size_t)i * bvh->time_keys;
+    return bvh->mbox[o + q].lo_x;
+}
+
+/* Child c of node i's box at key `key` (0..K-1) as the node keeps it: one of its own keys, or the lerp of the two
+ * around it with a dyadic weight (an empty box, +-FLT_MAX at both, stays exactly that). */
+static void stored_box(const hz_bvh_t *bvh, uint32_t i, uint32_t c, uint32_t key, box_t *b)
+{
+    const uint32_t sh = bvh->key_level - node_level(bvh, i), q = key >> sh, r = key & ((1u << sh) - 1u);
+    box_node_get(node_set(bvh, i, q), c, b);
+    if (!r)
+        return;
+    box_t e;
+    box_node_get(node_set(bvh, i, q + 1u), c, &e);
+    const float f = (float)r / (float)(1u << sh);
+    for (int k = 0; k < 3; k++) {
+        b->lo[k] = hz_accel_lerp_key(b->lo[k], e.lo[k], f);
+        b->hi[k] = hz_accel_lerp_key(b->hi[k], e.hi[k], f);
+    }
+}
+
+static bool box_is_empty(const box_t *b)
+{
+    return !(b->lo[0] <= b->hi[0] && b->lo[1] <= b->hi[1] && b->lo[2] <= b->hi[2]);
+}
+
+static float to_float_sat(double x)
+{
+    return x < -(double)FLT_MAX ? -FLT_MAX : x > (double)FLT_MAX ? FLT_MAX : (float)x;
+}
+
+/* The bounds at level m of one child's boxes kb[0..K) (K = 2^M + 1): per segment of 2^(M - m) keys the line
+ * through its end keys moved down (lo) or up (hi) until it passes below (above) every key inside, each coarse key
+ * the lower (higher) of its two segments' ends, then `delta` further out; out[0..2^m]. In doubles: the floats
+ * written err by far less than delta. */
+static void coarse_fit(const box_t *kb, uint32_t m, uint32_t M, double delta, box_t *out)
+{
+    const uint32_t s = 1u << (M - m), n = 1u << m;
+    double lo[HZ_ACCEL_MAX_TIME_KEYS][3], hi[HZ_ACCEL_MAX_TIME_KEYS][3];
+    for (uint32_t q = 0; q <= n; q++)
+        for (int k = 0; k < 3; k++)
+            lo[q][k] = __builtin_inf(), hi[q][k] = -__builtin_inf();
+    for (uint32_t c = 0; c < n; c++) {
+        const uint32_t a = c * s, b = a + s;
+        for (int k = 0; k < 3; k++) {
+            const double la = kb[a].lo[k], lb = kb[b].lo[k], ha = kb[a].hi[k], hb = kb[b].hi[k];
+            double vl = 0.0, vh = 0.0;
+            for (uint32_t j = a + 1u; j < b; j++) {
+                const double w = (double)(j - a) / (double)s;
+                const double l = la + (lb - la) * w, h = ha + (hb - ha) * w;
+                if (l - (double)kb[j].lo[k] > vl)
+                    vl = l - (double)kb[j].lo[k];
+                if ((double)kb[j].hi[k] - h > vh)
+                    vh = (double)kb[j].hi[k] - h;
+            }
+            lo[c][k] = la - vl < lo[c][k] ? la - vl : lo[c][k];
+            lo[c + 1u][k] = lb - vl < lo[c + 1u][k] ? lb - vl : lo[c + 1u][k];
+            hi[c][k] = ha + vh > hi[c][k] ? ha + vh : hi[c][k];
+            hi[c + 1u][k] = hb + vh > hi[c + 1u][k] ? hb + vh : hi[c + 1u][k];
+        }
+    }
+    for (uint32_t q = 0; q <= n; q++)
+        for (int k = 0; k < 3; k++) {
+            out[q].lo[k] = to_float_sat(lo[q][k] - delta);
+            out[q].hi[k] = to_float_sat(hi[q][k] + delta);
+        }
+}
+
+/* Summed areas at every key of the level-m bounds out[0..2^m] (lerped in doubles). */
+static double coarse_area(const box_t *out, uint32_t m, uint32_t M)
+{
+    const uint32_t s = 1u << (M - m), K = (1u << M) + 1u;
+    double sum = 0.0;
+    for (uint32_t j = 0; j < K; j++) {
+        const uint32_t q = j / s < (1u << m) ? j / s : (1u << m) - 1u;
+        const double w = (double)(j - q * s) / (double)s;
+        double d[3];
+        for (int k = 0; k < 3; k++)
+            d[k] = (out[q].hi[k] + ((double)out[q + 1u].hi[k] - out[q].hi[k]) * w) -
+                   (out[q].lo[k] + ((double)out[q + 1u].lo[k] - out[q].lo[k]) * w);
+        sum += 2.0 * (d[0] * d[1] + d[1] * d[2] + d[2] * d[0]);
+    }
+    return sum;
+}
+
+/* Node i's child boxes at its keys from the children's boxes at every key, kb[c][0..K), under per-node segments:
+ * a build picks the node's level (the lowest whose bounds add at most SEG_AREA_SLACK to the children's summed
+ * key-box areas; a child empty at some keys only keeps every key), a refit keeps it. */
+static void set_segments(const fit_t *ft, uint32_t i, box_t (*kb)[HZ_ACCEL_MAX_TIME_KEYS])
+{
+    hz_bvh_t *bvh = ft->bvh;
+    const uint32_t M = bvh->key_level, K = ft->keys;
+    double big = 0.0, fine = 0.0;
+    bool used[HZ_BVH_W], whole = true;
+    for (uint32_t c = 0; c < HZ_BVH_W; c++) {
+        uint32_t empty = 0;
+        for (uint32_t key = 0; key < K; key++) {
+            const box_t *b = &kb[c][key];
+            if (box_is_empty(b)) {
+                empty++;
+                continue;
+            }
+            fine += box_area(b);
+            for (int k = 0; k < 3; k++) {
+                big = hz_absf(b->lo[k]) > big ? hz_absf(b->lo[k]) : big;
+                big = hz_absf(b->hi[k]) > big ? hz_absf(b->hi[k]) : big;
+            }
+        }
+        used[c] = empty == 0;
+        whole = whole && (empty == 0 || empty == K);
+    }
+    const double delta = big * SEG_MARGIN;
+    box_t out[HZ_BVH_W][HZ_ACCEL_MAX_TIME_KEYS];
+    uint32_t m = node_level(bvh, i);
+    if (ft->mid) {
+        for (m = 0; whole && m < M; m++) {
+            double area = 0.0;
+            for (uint32_t c = 0; c < HZ_BVH_W; c++)
+                if (used[c]) {
+                    coarse_fit(kb[c], m, M, delta, out[c]);
+                    area += coarse_area(out[c], m, M);
+                }
+            if (area <= fine * (1.0 + SEG_AREA_SLACK))
+                break;
+        }
+        if (!whole)
+            m = M;
+        bvh->mref[i] = (bvh->mref[i] & ~3u) | m;
+    }
+    for (uint32_t c = 0; c < HZ_BVH_W; c++) {
+        if (used[c]) {
+            coarse_fit(kb[c], m, M, delta, out[c]);
+        } else {
+            const uint32_t n = (1u << m) + 1u, sh = M - m;
+            for (uint32_t q = 0; q < n; q++) { /* empty (or empty at some keys: then m = M) */
+                out[c][q] = kb[c][q << sh];
+                if (box_is_empty(&out[c][q]))
+                    for (int k = 0; k < 3; k++)
+                        out[c][q].lo[k] = FLT_MAX, out[c][q].hi[k] = -FLT_MAX;
+            }
+        }
+        for (uint32_t q = 0; q <= (1u << m); q++)
+            box_node_set(node_set(bvh, i, q), c, &out[c][q]);
+    }
+}
+
 /* Boxes of leaf `cw` (child c of node i) at every key. A build has filled the slots already; a refit fills each
  * slot from g's keys after its piece has been cut from the previous keys and boxes. */
 static void leaf_boxes(const fit_t *ft, uint32_t i, uint32_t c, uint32_t cw, box_t *kb)
@@ -307,8 +465,8 @@ static void leaf_boxes(const fit_t *ft, uint32_t i, uint32_t c, uint32_t cw, box
     if (bvh->clipped && ft->mid) {
         box_node_get(bvh->nodes[i].lo_x, c, &cb0);
     } else if (bvh->clipped) {
-        box_node_get(bvh->mbox[(size_t)i * K].lo_x, c, &cb0);
-        box_node_get(bvh->mbox[(size_t)i * K + K - 1u].lo_x, c, &cb1);
+        stored_box(bvh, i, c, 0, &cb0);
+        stored_box(bvh, i, c, K - 1u, &cb1);
     }
     const uint32_t slot = hz_bvh_leaf_slot(cw), n = hz_bvh_leaf_count(cw);
     for (uint32_t sl = slot; sl < slot + n; sl++) {
@@ -329,45 +487,49 @@ static void leaf_boxes(const fit_t *ft, uint32_t i, uint32_t c, uint32_t cw, box
 }
 
 /* Child boxes at every key, leaves from their slots, inner nodes from their children (reverse pre-order: a
- * child's boxes are final before its parent reads them). Without key boxes (swept) the nodes' own boxes get
- * the union over the keys. */
+ * child's boxes are final before its parent reads them), then stored at every key or at the node's segments.
+ * Without key boxes (swept) the nodes' own boxes get the union over the keys. */
 static void fit_boxes(const fit_t *ft)
 {
     hz_bvh_t *bvh = ft->bvh;
     const uint32_t K = ft->keys;
     for (uint32_t i = bvh->node_count; i-- > 0;) {
         hz_bvh_node_t *w = &bvh->nodes[i];
+        box_t kb[HZ_BVH_W][HZ_ACCEL_MAX_TIME_KEYS];
         for (uint32_t c = 0; c < HZ_BVH_W; c++) {
             const uint32_t cw = w->child[c];
-            box_t kb[HZ_ACCEL_MAX_TIME_KEYS];
             for (uint32_t key = 0; key < K; key++)
-                box_empty(&kb[key]);
+                box_empty(&kb[c][key]);
             if (cw == HZ_BVH_EMPTY) {
                 /* stays empty */
             } else if (hz_bvh_is_leaf(cw)) {
-                leaf_boxes(ft, i, c, cw, kb);
+                leaf_boxes(ft, i, c, cw, kb[c]);
             } else {
                 for (uint32_t key = 0; key < K; key++)
                     for (uint32_t j = 0; j < HZ_BVH_W; j++) {
                         box_t b;
                         if (bvh->key_boxes)
-                            box_node_get(bvh->mbox[(size_t)cw * K + key].lo_x, j, &b);
+                            stored_box(bvh, cw, j, key, &b);
                         else
                             box_node_get(bvh->nodes[cw].lo_x, j, &b);
-                        box_grow(&kb[key], &b);
+                        box_grow(&kb[c][key], &b);
                     }
             }
+        }
+        if (bvh->key_boxes && bvh->mref)
+            set_segments(ft, i, kb);
+        for (uint32_t c = 0; c < HZ_BVH_W; c++) {
             box_t all;
             box_empty(&all);
             for (uint32_t key = 0; key < K; key++) {
-                box_grow(&all, &kb[key]);
-                if (bvh->key_boxes) {
+                box_grow(&all, &kb[c][key]);
+                if (bvh->key_boxes && !bvh->mref) {
                     /* empty: +-FLT_MAX, not +-inf, so that the lerp (0 * inf = NaN) stays an empty box */
-                    box_t e = kb[key];
-                    if (!(e.lo[0] <= e.hi[0] && e.lo[1] <= e.hi[1] && e.lo[2] <= e.hi[2]))
+                    box_t e = kb[c][key];
+                    if (box_is_empty(&e))
                         for (int k = 0; k < 3; k++)
                             e.lo[k] = FLT_MAX, e.hi[k] = -FLT_MAX;
-                    box_node_set(bvh->mbox[(size_t)i * K + key].lo_x, c, &e);
+                    box_node_set(node_set(bvh, i, key), c, &e);
                 }
             }
             box_node_set(w->lo_x, c, &all);
@@ -393,7 +555,7 @@ static float child_area(const hz_bvh_t *bvh, uint32_t node, uint32_t c)
     }
     float sum = 0.0f;
     for (uint32_t key = 0; key < bvh->time_keys; key++) {
-        box_node_get(bvh->mbox[(size_t)node * bvh->time_keys + key].lo_x, c, &b);
+        stored_box(bvh, node, c, key, &b);
         sum += box_area(&b);
     }
     return sum / (float)bvh->time_keys;
@@ -409,7 +571,7 @@ float hz_bvh_wide_sah(const hz_bvh_t *bvh)
         box_empty(&r);
         for (uint32_t c = 0; c < HZ_BVH_W; c++) {
             if (bvh->key_boxes)
-                box_node_get(bvh->mbox[key].lo_x, c, &b);
+                stored_box(bvh, 0, c, key, &b);
             else
                 box_node_get(bvh->nodes[0].lo_x, c, &b);
             box_grow(&r, &b);
@@ -443,7 +605,7 @@ uint64_t hz_bvh_motion_kept_bound(uint64_t refs, uint32_t keys, hz_accel_blur_t 
     const uint64_t nodes = hz_bvh_nodes_bound(refs), blocks = hz_bvh_blocks_bound(refs);
     uint64_t b = (uint64_t)(keys - 1u) * blocks * sizeof(hz_bvh_block_t) + 8u * 64u;
     if (blur != HZ_ACCEL_BLUR_SWEPT)
-        b += nodes * keys * sizeof(hz_bvh_mbox_t);
+        b += nodes * keys * sizeof(hz_bvh_mbox_t) + nodes * sizeof(uint32_t) + 16u; /* + per-node segments */
     if (blur == HZ_ACCEL_BLUR_MSBVH)
         b += blocks * HZ_BVH_W; /* a byte per slot: clipped or whole */
     return b;
@@ -455,6 +617,7 @@ void hz_bvh_relocate(hz_bvh_t *bvh, ptrdiff_t delta)
     MOVE(bvh->nodes);
     MOVE(bvh->blocks);
     MOVE(bvh->mbox);
+    MOVE(bvh->mref);
     MOVE(bvh->clipped);
     for (int k = 0; k < HZ_ACCEL_MAX_TIME_KEYS; k++)
         MOVE(bvh->kblocks[k]);
@@ -522,13 +685,21 @@ hz_status_t hz_bvh_motion_build(hz_bvh_t *bvh, const hz_accel_geom_t *g, const h
                 ok = bvh->kblocks[k] != 0;
             }
     }
-    if (ok && bvh->key_boxes) {
-        bvh->mbox = hz_arena_alloc_array(arena, (size_t)bvh->node_count * K, sizeof(hz_bvh_mbox_t), 64);
-        ok = bvh->mbox != 0;
+    /* per-node segments: with K >= 3, and offsets that fit mref's 30 bits */
+    const bool per_node = bvh->key_boxes && K >= 3u && cfg->segments == HZ_ACCEL_SEGMENTS_PER_NODE &&
+                          (uint64_t)bvh->node_count * K < (1u << 30);
+    bvh->key_level = K == 9u ? 3u : K == 5u ? 2u : K == 3u ? 1u : 0u;
+    if (ok && per_node) {
+        bvh->mref = hz_arena_alloc_array(arena, bvh->node_count ? bvh->node_count : 1u, sizeof(uint32_t), 16);
+        ok = bvh->mref != 0;
     }
     if (ok && cfg->blur == HZ_ACCEL_BLUR_MSBVH && bvh->block_count) {
         bvh->clipped = hz_arena_alloc_array(arena, (size_t)bvh->block_count * HZ_BVH_W, 1, 16);
         ok = bvh->clipped != 0;
+    }
+    if (ok && bvh->key_boxes) { /* last: per-node segments give its tail back */
+        bvh->mbox = hz_arena_alloc_array(arena, (size_t)bvh->node_count * K, sizeof(hz_bvh_mbox_t), 64);
+        ok = bvh->mbox != 0;
     }
     const hz_arena_mark_t m2 = hz_arena_mark(arena);
     uint8_t *refs = ok && bvh->clipped ? hz_arena_calloc(arena, g->tri_count ? g->tri_count : 1u, 1, 16) : 0;
@@ -563,7 +734,23 @@ hz_status_t hz_bvh_motion_build(hz_bvh_t *bvh, const hz_accel_geom_t *g, const h
     hz_arena_reset(arena, m2); /* the reference counts */
     fit_t ft = { g, bvh, K, mid };
     fill_keys(&ft);
+    if (bvh->mref)
+        for (uint32_t i = 0; i < bvh->node_count; i++)
+            bvh->mref[i] = (i * K) << 2 | bvh->key_level;
     fit_boxes(&ft);
+    bvh->key_sets = bvh->key_boxes ? (uint64_t)bvh->node_count * K : 0u;
+    if (bvh->mref) {
+        /* each node's sets moved down next to the previous node's (offsets only shrink: in order, in place) */
+        uint64_t o = 0;
+        for (uint32_t i = 0; i < bvh->node_count; i++) {
+            const uint32_t m = bvh->mref[i] & 3u, n = (1u << m) + 1u;
+            hz_memmove(&bvh->mbox[o], &bvh->mbox[(size_t)i * K], n * sizeof(hz_bvh_mbox_t));
+            bvh->mref[i] = (uint32_t)o << 2 | m;
+            o += n;
+        }
+        bvh->key_sets = o;
+        hz_arena_reset(arena, (size_t)((uint8_t *)(void *)(bvh->mbox + o) - arena->base));
+    }
     /* K = 2: move the structure down over the midpoint positions */
     if (K == 2u) {
         uint8_t *src = (uint8_t *)(void *)bvh->nodes;

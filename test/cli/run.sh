@@ -115,6 +115,13 @@ expect render-bad-rigid 2 "'tlas' is not instance or refit" "$hzrt" render built
 expect render-rigid-not-embree 2 "Embree builds its own motion blur" "$hzrt" render builtin --shutter 1 --backend embree --rigid refit
 expect render-rigid-instances 0 "rigid instances\? (.* triangles) in object space, never refitted" "$hzrt" render builtin --size 32x18 --frames 3 --threads 2 --shutter 0.5 --out "$tmp/rigid"
 expect accel-rigid-needs-check 2 "need --motion-check N" "$hzrt" accel builtin --rigid refit
+expect render-segments-needs-shutter 2 "--motion-segments every-key does nothing without motion blur" "$hzrt" render builtin --motion-segments every-key
+expect render-bad-segments 2 "'some' is not per-node or every-key" "$hzrt" render builtin --shutter 1 --motion-segments some
+expect render-segments-not-embree 2 "Embree builds its own motion blur" "$hzrt" render builtin --shutter 1 --backend embree --motion-segments per-node
+expect accel-segments-needs-check 2 "need --motion-check N" "$hzrt" accel builtin --motion-segments every-key
+expect accel-bad-segments 2 "'some' is not per-node or every-key" "$hzrt" accel builtin --motion-check 8 --motion-segments some
+expect accel-segments-linear 0 "per-node motion segments: [0-9]* key box sets, 2.00 per node (every key: 9)" "$hzrt" accel builtin --motion-check 64 --motion collapse --keys 9
+expect accel-segments-every-key 0 "every-key motion segments: [0-9]* key box sets, 9.00 per node (every key: 9)" "$hzrt" accel builtin --motion-check 64 --motion rotate --keys 9 --motion-segments every-key
 expect accel-bad-rigid 2 "'tlas' is not instance or refit" "$hzrt" accel builtin --motion-check 8 --rigid tlas
 expect render-missing-file 73 "$tmp/nope.hzb: No such file" "$hzrt" render "$tmp/nope.hzb" --out "$tmp/o1"
 head -c 300 /dev/urandom >"$tmp/random.hzb"
@@ -419,6 +426,8 @@ expect grammar-frames-timed 0 "(1 frame timed)" "$hzrt" render builtin --size 32
 ok render-rigid-refit-none sh -c "\"$hzrt\" render builtin --size 32x18 --frames 3 --threads 2 --shutter 0.5 --rigid refit --out \"$tmp/rigid2\" | grep -q 'motion blur' && ! \"$hzrt\" render builtin --size 32x18 --frames 3 --threads 2 --shutter 0.5 --rigid refit --out \"$tmp/rigid2\" | grep -q 'in object space'"
 expect grammar-refit 0 "2 time keys, 1 refit, 0 rebuilds" "$hzrt" render builtin --size 32x18 --frames 2 \
     --threads 2 --shutter 0.5 --out "$tmp/gr"
+expect render-segments-summary 0 "every-key motion segments: 2.00 key box sets per node of 2 keys" "$hzrt" render \
+    builtin --size 32x18 --frames 2 --threads 2 --shutter 0.5 --rigid refit --motion-segments every-key --out "$tmp/gr"
 expect info-kept-left-out 0 "^kept         motion vectors" "$hzrt" info builtin
 ok info-no-double-negative sh -c "! \"$hzrt\" info builtin | grep -q 'left out .*: yes'"
 

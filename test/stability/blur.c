@@ -15,8 +15,12 @@
 #define W 32
 #define H 24
 
-static const hz_accel_blur_t blurs[HZ_ACCEL_BLUR_COUNT] = { HZ_ACCEL_BLUR_MSBVH, HZ_ACCEL_BLUR_INTERP,
-                                                            HZ_ACCEL_BLUR_SWEPT };
+/* The motion BVHs checked: each kind with per-node motion segments (the default), the MSBVH also with every key. */
+#define N_BVHS 4
+static const hz_accel_blur_t blurs[N_BVHS] = { HZ_ACCEL_BLUR_MSBVH, HZ_ACCEL_BLUR_MSBVH, HZ_ACCEL_BLUR_INTERP,
+                                               HZ_ACCEL_BLUR_SWEPT };
+static const hz_accel_segments_t segments[N_BVHS] = { HZ_ACCEL_SEGMENTS_PER_NODE, HZ_ACCEL_SEGMENTS_EVERY_KEY,
+                                                      HZ_ACCEL_SEGMENTS_PER_NODE, HZ_ACCEL_SEGMENTS_PER_NODE };
 
 /* Builds every motion BVH over g and checks n random rays against brute force at each ray's time: 0 misses and
  * 0 mismatches (single rays, occlusion, 8-wide packets), at least a quarter of the rays hitting. */
@@ -24,19 +28,22 @@ static void mcheck_all(stab_result_t *r, const hz_accel_geom_t *g, uint64_t n, u
 {
     hz_pools_t *p = hz_pools_get();
     uint64_t hits = 0;
-    for (int b = 0; b < HZ_ACCEL_BLUR_COUNT; b++) {
+    for (int b = 0; b < N_BVHS; b++) {
         hz_arena_mark_t m = hz_arena_mark(&p->accel);
         hz_accel_config_t cfg;
         hz_accel_config_default(&cfg);
         cfg.blur = blurs[b];
+        cfg.segments = segments[b];
         hz_accel_t *a = NULL;
         hz_error_t err;
         STAB_OK(r, hz_accel_build_native(&a, g, &cfg, &p->accel, &err), &err);
         hz_mcheck_counts_t c;
         memset(&c, 0, sizeof c);
         hz_mcheck_run(a, g, n, seed + (uint32_t)b, false, NULL, &c);
-        STAB_CHECK(r, c.misses == 0 && c.mismatches == 0, "%s BVH, %u keys: %llu misses, %llu mismatches of %llu rays",
-                   hz_accel_blur_name(blurs[b]), g->time_keys, (unsigned long long)c.misses,
+        STAB_CHECK(r, c.misses == 0 && c.mismatches == 0,
+                   "%s BVH (%s segments), %u keys: %llu misses, %llu mismatches of %llu rays",
+                   hz_accel_blur_name(blurs[b]), hz_accel_segments_name(segments[b]), g->time_keys,
+                   (unsigned long long)c.misses,
                    (unsigned long long)c.mismatches, (unsigned long long)c.rays);
         STAB_CHECK(r, c.hits * 4 >= c.rays, "%s BVH: only %llu of %llu rays hit: the case tests nothing",
                    hz_accel_blur_name(blurs[b]), (unsigned long long)c.hits, (unsigned long long)c.rays);
@@ -45,8 +52,8 @@ static void mcheck_all(stab_result_t *r, const hz_accel_geom_t *g, uint64_t n, u
         hz_arena_reset(&p->accel, m);
     }
     r->status = HZ_OK;
-    stab_note(r, "%u keys: %llu rays x 3 BVHs against brute force: 0 misses; 0 mismatches (%llu hits)", g->time_keys,
-              (unsigned long long)n, (unsigned long long)hits);
+    stab_note(r, "%u keys: %llu rays x %d BVHs against brute force: 0 misses; 0 mismatches (%llu hits)", g->time_keys,
+              (unsigned long long)n, N_BVHS, (unsigned long long)hits);
 }
 
 /* A small room: floor and wall (object 0), a coarse sphere (object 1: 120 triangles sharing vertices), a light.
@@ -111,10 +118,10 @@ static uint32_t render_blurred(stab_result_t *r, const su_scene_t *b, hz_time_ns
             hz_render_opts_t o = blur_opts(modes[m], 1.0f);
             su_render_t s;
             hz_error_t err;
-            hz_status_t st = su_render_open_blur(&s, b, &o, blurs[bl], &err);
+            hz_status_t st = su_render_open_blur(&s, b, &o, (hz_accel_blur_t)bl, &err);
             if (st != HZ_OK) {
                 stab_failf(r, __FILE__, __LINE__, "open (%s, %s): %s (%s)", hz_render_mode_name(modes[m]),
-                           hz_accel_blur_name(blurs[bl]), hz_status_str(st), err.msg);
+                           hz_accel_blur_name((hz_accel_blur_t)bl), hz_status_str(st), err.msg);
                 return 0;
             }
             if (!s.opts.keys || s.opts.keys->count < 2) {
@@ -518,7 +525,7 @@ static void c_blur_time_edges(stab_result_t *r)
     for (int b = 0; b < HZ_ACCEL_BLUR_COUNT; b++) {
         hz_accel_config_t cfg;
         hz_accel_config_default(&cfg);
-        cfg.blur = blurs[b];
+        cfg.blur = (hz_accel_blur_t)b;
         hz_accel_t *a = NULL;
         hz_error_t err;
         hz_arena_mark_t m = hz_arena_mark(&p->accel);
@@ -546,7 +553,8 @@ static void c_blur_time_edges(stab_result_t *r)
             hz_mcheck_batch(a, &g, clamp, 8, NULL, &c);
         }
         STAB_CHECK(r, c.misses == 0 && c.mismatches == 0, "%s BVH at edge times: %llu misses, %llu mismatches",
-                   hz_accel_blur_name(blurs[b]), (unsigned long long)c.misses, (unsigned long long)c.mismatches);
+                   hz_accel_blur_name((hz_accel_blur_t)b), (unsigned long long)c.misses,
+                   (unsigned long long)c.mismatches);
         hz_accel_release(a);
         hz_arena_reset(&p->accel, m);
     }

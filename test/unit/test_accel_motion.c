@@ -212,6 +212,97 @@ static void test_motion_cases(void **state)
                 run_case(mesh, &cases[c], (hz_accel_blur_t)b);
 }
 
+/* Per-node motion segments (seed 002 section 6.3): a node keeps 2^m + 1 of the K = 9 keys, as few as its
+ * content's motion needs. Content that moves linearly (every vertex along a straight line to one point: boxes
+ * shrink linearly) gives every node one segment; a half turn over the interval (22.5 degrees per key segment)
+ * leaves the boxes far from linear, so most nodes keep more; every-key keeps all 9. Per-node and every-key trees
+ * return the same hits bit for bit (boxes only decide what is visited), also after a refit over a different
+ * motion, which keeps the levels; per-node against brute force and every kernel is test_motion_cases (the
+ * default). */
+static void test_segments_per_node(void **state)
+{
+    (void)state;
+    static const struct {
+        hz_meshgen_motion_kind_t kind;
+        float turns;
+    } kinds[] = { { HZ_MESHGEN_COLLAPSE, 0.0f }, { HZ_MESHGEN_ROTATE, 0.5f }, { HZ_MESHGEN_SWAY, 0.0f } };
+    for (int mesh = 0; mesh < 2; mesh++)
+        for (size_t c = 0; c < HZ_ARRAY_LEN(kinds); c++)
+            for (int b = 0; b < HZ_ACCEL_BLUR_SWEPT; b++) { /* swept keeps no key boxes */
+                hz_arena_mark_t m0 = hz_arena_mark(&arena);
+                hz_mesh_t m;
+                make_mesh(mesh, &m);
+                hz_accel_geom_t g = hz_meshgen_geom(&m);
+                assert_int_equal(hz_meshgen_motion(&g, m.pos, kinds[c].kind, 9, hz_v3(0.1f, 0.0f, -0.05f), 2.0f,
+                                                   kinds[c].turns, &arena),
+                                 HZ_OK);
+                hz_accel_config_t cfg;
+                hz_accel_config_default(&cfg);
+                assert_int_equal(cfg.segments, HZ_ACCEL_SEGMENTS_PER_NODE);
+                cfg.blur = (hz_accel_blur_t)b;
+                hz_accel_t *per, *every;
+                hz_error_t err;
+                const hz_accel_bytes_t bound = hz_accel_bytes_bound_geom(&g, &cfg);
+                size_t before = arena.used;
+                assert_int_equal(hz_accel_build_native(&per, &g, &cfg, &arena, &err), HZ_OK);
+                const size_t per_bytes = arena.used - before;
+                assert_true(per_bytes <= bound.kept);
+                assert_true(per->info.bytes_peak <= bound.peak);
+                cfg.segments = HZ_ACCEL_SEGMENTS_EVERY_KEY;
+                before = arena.used;
+                assert_int_equal(hz_accel_build_native(&every, &g, &cfg, &arena, &err), HZ_OK);
+                const size_t every_bytes = arena.used - before;
+                const uint64_t n = per->info.node_count;
+                char what[96];
+                snprintf(what, sizeof what, "%s/%s/%s", mesh ? "soup" : "sphere", hz_meshgen_motion_name(kinds[c].kind),
+                         hz_accel_blur_name(cfg.blur));
+                print_message("%s: %llu nodes, per-node %llu key sets (%.2f per node, SAH %.3f, %zu bytes), every key "
+                              "%llu (SAH %.3f, %zu bytes)\n",
+                              what, (unsigned long long)n, (unsigned long long)per->info.key_sets,
+                              (double)per->info.key_sets / (double)n, (double)per->info.sah_cost, per_bytes,
+                              (unsigned long long)every->info.key_sets, (double)every->info.sah_cost, every_bytes);
+                assert_int_equal(every->info.node_count, n);
+                assert_int_equal(every->info.key_sets, 9u * n);
+                assert_true(per->info.key_sets >= 2u * n && per->info.key_sets <= 9u * n);
+                /* what per-node adds: a word per node (mref) */
+                assert_true(per_bytes <= every_bytes + n * sizeof(uint32_t) + 64u);
+                if (kinds[c].kind == HZ_MESHGEN_COLLAPSE) {
+                    assert_int_equal(per->info.key_sets, 2u * n);
+                    assert_true(per_bytes + 7u * n * 6u * HZ_BVH_WIDTH * sizeof(float) <= every_bytes + n * sizeof(uint32_t) + 64u);
+                }
+                if (kinds[c].kind == HZ_MESHGEN_ROTATE)
+                    assert_true(per->info.key_sets > 4u * n);
+                /* the levels are paid for in box area: at most 1/32 more per node over its content, which its
+                 * children's levels may have grown, so at most (1 + 1/32)^levels in the tree's SAH */
+                assert_true(per->info.sah_cost <= every->info.sah_cost * powf(1.0f + 1.0f / 32.0f,
+                                                                              (float)per->info.depth + 1.0f));
+                make_rays(&g, 300u + (uint32_t)c * 10u + (uint32_t)mesh);
+                fx_trace1(every, HZ_ACCEL_KERNEL_SCALAR, rays_in, rays_ref, N_RAYS, NULL);
+                fx_trace1(per, HZ_ACCEL_KERNEL_SCALAR, rays_in, rays_out, N_RAYS, NULL);
+                assert_int_equal(count_diff(what), 0);
+                fx_trace1(per, HZ_ACCEL_KERNEL_SIMD_SINGLE, rays_in, rays_out, N_RAYS, NULL);
+                assert_int_equal(count_diff(what), 0);
+                /* a refit over another motion keeps the levels and stays exact */
+                hz_accel_geom_t h = hz_meshgen_geom(&m);
+                assert_int_equal(hz_meshgen_motion(&h, m.pos, HZ_MESHGEN_ROTATE, 9, hz_v3(0.3f, 0.0f, 0.2f), 2.0f,
+                                                   0.3f, &arena),
+                                 HZ_OK);
+                for (uint32_t k = 0; k < 9u; k++)
+                    memcpy((void *)(uintptr_t)g.pos_keys[k], h.pos_keys[k], 4u * sizeof(float) * m.vertex_count);
+                const uint64_t sets = per->info.key_sets;
+                per->info.sah_built = 1e30f; /* refit only: a rebuild would choose new levels */
+                assert_int_equal(hz_accel_refit(per, &err), HZ_OK);
+                assert_int_equal(per->info.key_sets, sets);
+                assert_int_equal(per->info.rebuilds, 0);
+                make_rays(&g, 400u + (uint32_t)c * 10u + (uint32_t)mesh);
+                fx_trace1(per, HZ_ACCEL_KERNEL_SCALAR, rays_in, rays_ref, N_RAYS, NULL);
+                check_brute(&g, what);
+                fx_trace1(per, HZ_ACCEL_KERNEL_SIMD_SINGLE, rays_in, rays_out, N_RAYS, NULL);
+                assert_int_equal(count_diff(what), 0);
+                hz_arena_reset(&arena, m0);
+            }
+}
+
 /* The soup of long slivers the MSBVH tests share (spatial splits happen in it), swaying over K keys. */
 static hz_accel_geom_t sliver_soup(hz_mesh_t *m, uint32_t K)
 {
@@ -591,6 +682,7 @@ int main(void)
         cmocka_unit_test(test_msbvh_budget),
         cmocka_unit_test(test_refit_rebuild),
         cmocka_unit_test(test_motion_cases),
+        cmocka_unit_test(test_segments_per_node),
     };
     return HZ_RUN_GROUP(tests, setup, NULL);
 }
