@@ -396,35 +396,39 @@ static double coarse_area(const box_t *out, uint32_t m, uint32_t M)
 
 /* Node i's child boxes at its keys from the children's boxes at every key, kb[c][0..K), under per-node segments:
  * a build picks the node's level (the lowest whose bounds add at most SEG_AREA_SLACK to the children's summed
- * key-box areas; a child empty at some keys only keeps every key), a refit keeps it. */
+ * key-box areas), a refit keeps it. A child empty at some keys only (no geometry makes one today) is taken at
+ * those keys as the union of its other keys' boxes: larger, so still a bound, and linear where it is needed. */
 static void set_segments(const fit_t *ft, uint32_t i, box_t (*kb)[HZ_ACCEL_MAX_TIME_KEYS])
 {
     hz_bvh_t *bvh = ft->bvh;
     const uint32_t M = bvh->key_level, K = ft->keys;
     double big = 0.0, fine = 0.0;
-    bool used[HZ_BVH_W], whole = true;
+    bool used[HZ_BVH_W];
     for (uint32_t c = 0; c < HZ_BVH_W; c++) {
-        uint32_t empty = 0;
+        box_t u;
+        box_empty(&u);
+        for (uint32_t key = 0; key < K; key++)
+            if (!box_is_empty(&kb[c][key]))
+                box_grow(&u, &kb[c][key]);
+        used[c] = !box_is_empty(&u);
+        if (!used[c])
+            continue;
         for (uint32_t key = 0; key < K; key++) {
-            const box_t *b = &kb[c][key];
-            if (box_is_empty(b)) {
-                empty++;
-                continue;
-            }
+            box_t *b = &kb[c][key];
+            if (box_is_empty(b))
+                *b = u;
             fine += box_area(b);
             for (int k = 0; k < 3; k++) {
                 big = hz_absf(b->lo[k]) > big ? hz_absf(b->lo[k]) : big;
                 big = hz_absf(b->hi[k]) > big ? hz_absf(b->hi[k]) : big;
             }
         }
-        used[c] = empty == 0;
-        whole = whole && (empty == 0 || empty == K);
     }
     const double delta = big * SEG_MARGIN;
     box_t out[HZ_BVH_W][HZ_ACCEL_MAX_TIME_KEYS];
     uint32_t m = node_level(bvh, i);
     if (ft->mid) {
-        for (m = 0; whole && m < M; m++) {
+        for (m = 0; m < M; m++) {
             double area = 0.0;
             for (uint32_t c = 0; c < HZ_BVH_W; c++)
                 if (used[c]) {
@@ -434,22 +438,15 @@ static void set_segments(const fit_t *ft, uint32_t i, box_t (*kb)[HZ_ACCEL_MAX_T
             if (area <= fine * (1.0 + SEG_AREA_SLACK))
                 break;
         }
-        if (!whole)
-            m = M;
         bvh->mref[i] = (bvh->mref[i] & ~3u) | m;
     }
     for (uint32_t c = 0; c < HZ_BVH_W; c++) {
-        if (used[c]) {
+        if (used[c])
             coarse_fit(kb[c], m, M, delta, out[c]);
-        } else {
-            const uint32_t n = (1u << m) + 1u, sh = M - m;
-            for (uint32_t q = 0; q < n; q++) { /* empty (or empty at some keys: then m = M) */
-                out[c][q] = kb[c][q << sh];
-                if (box_is_empty(&out[c][q]))
-                    for (int k = 0; k < 3; k++)
-                        out[c][q].lo[k] = FLT_MAX, out[c][q].hi[k] = -FLT_MAX;
-            }
-        }
+        else /* empty at every key: +-FLT_MAX, not +-inf, so that the lerp (0 * inf = NaN) stays an empty box */
+            for (uint32_t q = 0; q <= (1u << m); q++)
+                for (int k = 0; k < 3; k++)
+                    out[c][q].lo[k] = FLT_MAX, out[c][q].hi[k] = -FLT_MAX;
         for (uint32_t q = 0; q <= (1u << m); q++)
             box_node_set(node_set(bvh, i, q), c, &out[c][q]);
     }
