@@ -27,13 +27,6 @@ void hz_accel_config_default(hz_accel_config_t *cfg)
     cfg->run_threads = 0;
 }
 
-static const char *const blur_names[HZ_ACCEL_BLUR_COUNT] = { "msbvh", "interp", "swept" };
-
-const char *hz_accel_blur_name(hz_accel_blur_t b)
-{
-    return (unsigned)b < HZ_ACCEL_BLUR_COUNT ? blur_names[b] : "unknown";
-}
-
 static bool str_eq(const char *a, const char *b)
 {
     while (*a && *a == *b)
@@ -41,48 +34,61 @@ static bool str_eq(const char *a, const char *b)
     return *a == *b;
 }
 
-bool hz_accel_blur_parse(const char *s, hz_accel_blur_t *out)
+/* The enums' words: their names, and the index of a word among them (-1: none of them). */
+static const char *word_of(const char *const *names, int n, int v)
 {
-    for (int i = 0; s && i < HZ_ACCEL_BLUR_COUNT; i++)
-        if (str_eq(s, blur_names[i])) {
-            *out = (hz_accel_blur_t)i;
-            return true;
-        }
-    return false;
+    return v >= 0 && v < n ? names[v] : "unknown";
 }
 
+static int word_index(const char *s, const char *const *names, int n)
+{
+    for (int i = 0; s && i < n; i++)
+        if (str_eq(s, names[i]))
+            return i;
+    return -1;
+}
+
+static const char *const blur_names[HZ_ACCEL_BLUR_COUNT] = { "msbvh", "interp", "swept" };
 static const char *const rigid_names[HZ_ACCEL_RIGID_COUNT] = { "instance", "refit" };
+static const char *const segments_names[HZ_ACCEL_SEGMENTS_COUNT] = { "per-node", "every-key" };
+
+const char *hz_accel_blur_name(hz_accel_blur_t b)
+{
+    return word_of(blur_names, HZ_ACCEL_BLUR_COUNT, (int)b);
+}
+
+bool hz_accel_blur_parse(const char *s, hz_accel_blur_t *out)
+{
+    const int i = word_index(s, blur_names, HZ_ACCEL_BLUR_COUNT);
+    if (i >= 0)
+        *out = (hz_accel_blur_t)i;
+    return i >= 0;
+}
 
 const char *hz_accel_rigid_name(hz_accel_rigid_t r)
 {
-    return (unsigned)r < HZ_ACCEL_RIGID_COUNT ? rigid_names[r] : "unknown";
+    return word_of(rigid_names, HZ_ACCEL_RIGID_COUNT, (int)r);
 }
 
 bool hz_accel_rigid_parse(const char *s, hz_accel_rigid_t *out)
 {
-    for (int i = 0; s && i < HZ_ACCEL_RIGID_COUNT; i++)
-        if (str_eq(s, rigid_names[i])) {
-            *out = (hz_accel_rigid_t)i;
-            return true;
-        }
-    return false;
+    const int i = word_index(s, rigid_names, HZ_ACCEL_RIGID_COUNT);
+    if (i >= 0)
+        *out = (hz_accel_rigid_t)i;
+    return i >= 0;
 }
 
-static const char *const segments_names[HZ_ACCEL_SEGMENTS_COUNT] = { "per-node", "every-key" };
-
-const char *hz_accel_segments_name(hz_accel_segments_t s)
+const char *hz_accel_segments_name(hz_accel_segments_t g)
 {
-    return (unsigned)s < HZ_ACCEL_SEGMENTS_COUNT ? segments_names[s] : "unknown";
+    return word_of(segments_names, HZ_ACCEL_SEGMENTS_COUNT, (int)g);
 }
 
 bool hz_accel_segments_parse(const char *s, hz_accel_segments_t *out)
 {
-    for (int i = 0; s && i < HZ_ACCEL_SEGMENTS_COUNT; i++)
-        if (str_eq(s, segments_names[i])) {
-            *out = (hz_accel_segments_t)i;
-            return true;
-        }
-    return false;
+    const int i = word_index(s, segments_names, HZ_ACCEL_SEGMENTS_COUNT);
+    if (i >= 0)
+        *out = (hz_accel_segments_t)i;
+    return i >= 0;
 }
 
 hz_status_t hz_accel_plan_check(uint32_t tri_count, const hz_accel_config_t *cfg, const hz_arena_t *arena,

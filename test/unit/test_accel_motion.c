@@ -604,6 +604,14 @@ static void test_bad_motion(void **state)
     assert_true(hz_accel_blur_parse("interp", &bl));
     assert_int_equal(bl, HZ_ACCEL_BLUR_INTERP);
     assert_string_equal(hz_accel_blur_name(HZ_ACCEL_BLUR_MSBVH), "msbvh");
+    hz_accel_segments_t sg = HZ_ACCEL_SEGMENTS_EVERY_KEY;
+    assert_false(hz_accel_segments_parse("per-nod", &sg));
+    assert_false(hz_accel_segments_parse(NULL, &sg));
+    assert_int_equal(sg, HZ_ACCEL_SEGMENTS_EVERY_KEY);
+    assert_true(hz_accel_segments_parse("per-node", &sg));
+    assert_int_equal(sg, HZ_ACCEL_SEGMENTS_PER_NODE);
+    assert_string_equal(hz_accel_segments_name(HZ_ACCEL_SEGMENTS_EVERY_KEY), "every-key");
+    assert_string_equal(hz_accel_segments_name((hz_accel_segments_t)7), "unknown");
 }
 
 /* Empty geometry with keys builds and misses; a triangle with a non-finite coordinate at one key never hits
