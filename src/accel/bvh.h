@@ -266,20 +266,26 @@ HZ_INLINE void hz_bvh_lerp_floats(float *d, const float *a, const float *b, floa
         d[i] = g * a[i] + f * b[i];
 }
 
+/* The two box sets of node i a ray at (seg, f) lerps (the result and the one after it) and its weight there:
+ * the ray's key pair, or with per-node segments the node's own segment and level weight. */
+HZ_INLINE const hz_bvh_mbox_t *hz_bvh_node_keys(const hz_bvh_t *bvh, uint32_t i, const hz_bvh_ray_t *r, float *f)
+{
+    if (bvh->mref) {
+        const uint32_t w = bvh->mref[i], m = w & 3u;
+        *f = r->fm[m];
+        return &bvh->mbox[(size_t)(w >> 2) + (r->seg >> (bvh->key_level - m))];
+    }
+    *f = r->f;
+    return &bvh->mbox[(size_t)i * bvh->time_keys + r->seg];
+}
+
 HZ_INLINE const hz_bvh_node_t *hz_bvh_node_at(const hz_bvh_t *bvh, uint32_t i, const hz_bvh_ray_t *r,
                                               hz_bvh_node_t *tmp)
 {
     if (!bvh->key_boxes)
         return &bvh->nodes[i];
-    const hz_bvh_mbox_t *a;
-    float f = r->f;
-    if (bvh->mref) {
-        const uint32_t w = bvh->mref[i], m = w & 3u;
-        a = &bvh->mbox[(size_t)(w >> 2) + (r->seg >> (bvh->key_level - m))];
-        f = r->fm[m];
-    } else {
-        a = &bvh->mbox[(size_t)i * bvh->time_keys + r->seg];
-    }
+    float f;
+    const hz_bvh_mbox_t *a = hz_bvh_node_keys(bvh, i, r, &f);
     hz_bvh_lerp_floats(tmp->lo_x, a[0].lo_x, a[1].lo_x, f, 6 * HZ_BVH_W);
     for (int c = 0; c < HZ_BVH_W; c++)
         tmp->child[c] = bvh->nodes[i].child[c];

@@ -44,9 +44,14 @@ static void box_grow(box_t *b, const box_t *o)
         b->lo[k] = hz_minf(b->lo[k], o->lo[k]), b->hi[k] = hz_maxf(b->hi[k], o->hi[k]);
 }
 
+static bool box_is_empty(const box_t *b)
+{
+    return !(b->lo[0] <= b->hi[0] && b->lo[1] <= b->hi[1] && b->lo[2] <= b->hi[2]);
+}
+
 static float box_area(const box_t *b)
 {
-    if (!(b->lo[0] <= b->hi[0] && b->lo[1] <= b->hi[1] && b->lo[2] <= b->hi[2]))
+    if (box_is_empty(b))
         return 0.0f;
     float dx = b->hi[0] - b->lo[0], dy = b->hi[1] - b->lo[1], dz = b->hi[2] - b->lo[2];
     return 2.0f * (dx * dy + dy * dz + dz * dx);
@@ -330,11 +335,6 @@ static void stored_box(const hz_bvh_t *bvh, uint32_t i, uint32_t c, uint32_t key
     }
 }
 
-static bool box_is_empty(const box_t *b)
-{
-    return !(b->lo[0] <= b->hi[0] && b->lo[1] <= b->hi[1] && b->lo[2] <= b->hi[2]);
-}
-
 static float to_float_sat(double x)
 {
     return x < -(double)FLT_MAX ? -FLT_MAX : x > (double)FLT_MAX ? FLT_MAX : (float)x;
@@ -427,6 +427,7 @@ static void set_segments(const fit_t *ft, uint32_t i, box_t (*kb)[HZ_ACCEL_MAX_T
     const double delta = big * SEG_MARGIN;
     box_t out[HZ_BVH_W][HZ_ACCEL_MAX_TIME_KEYS];
     uint32_t m = node_level(bvh, i);
+    bool fitted = false; /* out[] already holds level m's bounds */
     if (ft->mid) {
         for (m = 0; m < M; m++) {
             double area = 0.0;
@@ -435,18 +436,19 @@ static void set_segments(const fit_t *ft, uint32_t i, box_t (*kb)[HZ_ACCEL_MAX_T
                     coarse_fit(kb[c], m, M, delta, out[c]);
                     area += coarse_area(out[c], m, M);
                 }
-            if (area <= fine * (1.0 + SEG_AREA_SLACK))
+            fitted = area <= fine * (1.0 + SEG_AREA_SLACK);
+            if (fitted)
                 break;
         }
         bvh->mref[i] = (bvh->mref[i] & ~3u) | m;
     }
     for (uint32_t c = 0; c < HZ_BVH_W; c++) {
-        if (used[c])
-            coarse_fit(kb[c], m, M, delta, out[c]);
-        else /* empty at every key: +-FLT_MAX, not +-inf, so that the lerp (0 * inf = NaN) stays an empty box */
+        if (!used[c]) /* empty at every key: +-FLT_MAX, not +-inf, so that the lerp (0 * inf = NaN) stays empty */
             for (uint32_t q = 0; q <= (1u << m); q++)
                 for (int k = 0; k < 3; k++)
                     out[c][q].lo[k] = FLT_MAX, out[c][q].hi[k] = -FLT_MAX;
+        else if (!fitted)
+            coarse_fit(kb[c], m, M, delta, out[c]);
         for (uint32_t q = 0; q <= (1u << m); q++)
             box_node_set(node_set(bvh, i, q), c, &out[c][q]);
     }

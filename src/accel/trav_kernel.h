@@ -189,16 +189,8 @@ HZ_INLINE const hz_bvh_node_t *node_at(const hz_bvh_t *bvh, uint32_t i, const hz
 {
     if (!bvh->key_boxes)
         return &bvh->nodes[i];
-    const float *a;
-    float fs = r->f;
-    if (bvh->mref) {
-        const uint32_t w = bvh->mref[i], m = w & 3u;
-        a = bvh->mbox[(size_t)(w >> 2) + (r->seg >> (bvh->key_level - m))].lo_x;
-        fs = r->fm[m];
-    } else {
-        a = bvh->mbox[(size_t)i * bvh->time_keys + r->seg].lo_x;
-    }
-    const float *b = a + 6 * W;
+    float fs;
+    const float *a = hz_bvh_node_keys(bvh, i, r, &fs)->lo_x, *b = a + 6 * W;
     const vf f = vf_set1(fs), g = vf_set1(1.0f - fs);
     for (int j = 0; j < 6; j++)
         vf_store(tmp->lo_x + W * j, vf_add(vf_mul(g, vf_load(a + W * j)), vf_mul(f, vf_load(b + W * j))));
