@@ -115,20 +115,28 @@ static void sray_init(sray_t *s, const hz_bvh_ray_t *r)
     s->inf = vf_set1(__builtin_inff());
 }
 
-/* Children of n the ray meets before `cull` (a distance for culling, see bvh.h); entry distances in *tmin_out. */
-HZ_INLINE unsigned node_hit(const hz_bvh_node_t *n, const sray_t *s, vf cull, vf *tmin_out)
+/* Children whose boxes, near planes (nx, ny, nz) and far planes (fx, fy, fz) as the ray's signs pick them, the
+ * ray meets before `cull` (a distance for culling, see bvh.h); entry distances in *tmin_out. */
+HZ_INLINE unsigned slab_hit(vf nx, vf ny, vf nz, vf fx, vf fy, vf fz, const sray_t *s, vf cull, vf *tmin_out)
 {
-    const vf tnx = vf_mul(vf_sub(ldn(n, s->nx), s->ox), s->rdx);
-    const vf tny = vf_mul(vf_sub(ldn(n, s->ny), s->oy), s->rdy);
-    const vf tnz = vf_mul(vf_sub(ldn(n, s->nz), s->oz), s->rdz);
-    const vf tfx = vf_mul(vf_sub(ldn(n, s->fx), s->ox), s->rdx);
-    const vf tfy = vf_mul(vf_sub(ldn(n, s->fy), s->oy), s->rdy);
-    const vf tfz = vf_mul(vf_sub(ldn(n, s->fz), s->oz), s->rdz);
+    const vf tnx = vf_mul(vf_sub(nx, s->ox), s->rdx);
+    const vf tny = vf_mul(vf_sub(ny, s->oy), s->rdy);
+    const vf tnz = vf_mul(vf_sub(nz, s->oz), s->rdz);
+    const vf tfx = vf_mul(vf_sub(fx, s->ox), s->rdx);
+    const vf tfy = vf_mul(vf_sub(fy, s->oy), s->rdy);
+    const vf tfz = vf_mul(vf_sub(fz, s->oz), s->rdz);
     /* NaN-prone slab distances first: they drop out (see bvh.h) */
     const vf tmin = vf_maxn(tnz, vf_maxn(tny, vf_maxn(tnx, s->tnear)));
     const vf tmax = vf_minn(vf_mul(vf_minn(tfz, vf_minn(tfy, vf_minn(tfx, s->inf))), vf_set1(HZ_BVH_ROBUST)), cull);
     *tmin_out = tmin;
     return vm_bits(vf_le(tmin, tmax));
+}
+
+/* Children of n the ray meets before `cull`; entry distances in *tmin_out. */
+HZ_INLINE unsigned node_hit(const hz_bvh_node_t *n, const sray_t *s, vf cull, vf *tmin_out)
+{
+    return slab_hit(ldn(n, s->nx), ldn(n, s->ny), ldn(n, s->nz), ldn(n, s->fx), ldn(n, s->fy), ldn(n, s->fz), s, cull,
+                    tmin_out);
 }
 
 /* One ray against the slots `lm` of block b (see woop). */
@@ -184,29 +192,53 @@ HZ_INLINE void order_children(const hz_bvh_node_t *n, unsigned m, vf tmin, uint3
 }
 
 /* Motion: the node and the block as the ray sees them at its time, with hz_bvh_node_at / hz_bvh_block_at's
- * operations (g = 1 - f in scalar, then g * a + f * b lane by lane: bit-identical to the scalar kernel). */
-HZ_INLINE const hz_bvh_node_t *node_at(const hz_bvh_t *bvh, uint32_t i, const hz_bvh_ray_t *r, hz_bvh_node_t *tmp)
+ * operations (g = 1 - f in scalar, then g * a + f * b lane by lane: bit-identical to the scalar kernel), lerped
+ * straight into the tests: a lerped copy in memory put a store and a reload on every visit's dependency chain. A
+ * key box set has the layout of a node's first six arrays, so the ray's plane offsets address it as well. */
+typedef char trav_mbox_matches_node[offsetof(hz_bvh_node_t, lo_x) == 0 &&
+                                            offsetof(hz_bvh_node_t, hi_z) == offsetof(hz_bvh_mbox_t, hi_z) &&
+                                            offsetof(hz_bvh_node_t, lo_y) == offsetof(hz_bvh_mbox_t, lo_y)
+                                        ? 1
+                                        : -1];
+
+HZ_INLINE vf lerp_planes(const char *a, const char *b, size_t off, vf g, vf f)
 {
-    if (!bvh->key_boxes)
-        return &bvh->nodes[i];
-    float fs;
-    const float *a = hz_bvh_node_keys(bvh, i, r, &fs)->lo_x, *b = a + 6 * W;
-    const vf f = vf_set1(fs), g = vf_set1(1.0f - fs);
-    for (int j = 0; j < 6; j++)
-        vf_store(tmp->lo_x + W * j, vf_add(vf_mul(g, vf_load(a + W * j)), vf_mul(f, vf_load(b + W * j))));
-    vi_store(tmp->child, vi_load(bvh->nodes[i].child));
-    return tmp;
+    return vf_add(vf_mul(g, vf_load((const float *)(const void *)(a + off))),
+                  vf_mul(f, vf_load((const float *)(const void *)(b + off))));
 }
 
-HZ_INLINE const hz_bvh_block_t *block_at(const hz_bvh_t *bvh, uint32_t blk, const hz_bvh_ray_t *r,
-                                         hz_bvh_block_t *tmp)
+/* node_hit on node i at the ray's time. */
+HZ_INLINE unsigned node_hit_at(const hz_bvh_t *bvh, uint32_t i, const hz_bvh_ray_t *r, const sray_t *s, vf cull,
+                               vf *tmin_out)
 {
-    const float *a = &bvh->kblocks[r->seg][blk].v[0][0][0], *b = &bvh->kblocks[r->seg + 1u][blk].v[0][0][0];
+    if (!bvh->key_boxes)
+        return node_hit(&bvh->nodes[i], s, cull, tmin_out);
+    float fs;
+    const char *a = (const char *)(const void *)hz_bvh_node_keys(bvh, i, r, &fs), *b = a + sizeof(hz_bvh_mbox_t);
+    const vf f = vf_set1(fs), g = vf_set1(1.0f - fs);
+    return slab_hit(lerp_planes(a, b, s->nx, g, f), lerp_planes(a, b, s->ny, g, f), lerp_planes(a, b, s->nz, g, f),
+                    lerp_planes(a, b, s->fx, g, f), lerp_planes(a, b, s->fy, g, f), lerp_planes(a, b, s->fz, g, f),
+                    s, cull, tmin_out);
+}
+
+/* Vertex v's axis ax of block blk at the ray's time, relative to the ray origin's o. */
+HZ_INLINE vf vertex_at(const hz_bvh_block_t *a, const hz_bvh_block_t *b, int v, int ax, vf g, vf f, vf o)
+{
+    return vf_sub(vf_add(vf_mul(g, vf_load(a->v[v][ax])), vf_mul(f, vf_load(b->v[v][ax]))), o);
+}
+
+/* leaf_hit on block blk at the ray's time. */
+HZ_INLINE unsigned leaf_hit_at(const hz_bvh_t *bvh, uint32_t blk, const hz_bvh_ray_t *r, unsigned lm, const sray_t *s,
+                               float tfar, vf *t_out, vf *v_out, vf *w_out, vf *det_out)
+{
+    const hz_bvh_block_t *a = &bvh->kblocks[r->seg][blk], *b = &bvh->kblocks[r->seg + 1u][blk];
     const vf f = vf_set1(r->f), g = vf_set1(1.0f - r->f);
-    for (int j = 0; j < 9; j++)
-        vf_store(&tmp->v[0][0][0] + W * j, vf_add(vf_mul(g, vf_load(a + W * j)), vf_mul(f, vf_load(b + W * j))));
-    vi_store(tmp->prim, vi_load(bvh->kblocks[r->seg][blk].prim));
-    return tmp;
+    return woop(vertex_at(a, b, 0, s->kx, g, f, s->okx), vertex_at(a, b, 0, s->ky, g, f, s->oky),
+                vertex_at(a, b, 0, s->kz, g, f, s->okz), vertex_at(a, b, 1, s->kx, g, f, s->okx),
+                vertex_at(a, b, 1, s->ky, g, f, s->oky), vertex_at(a, b, 1, s->kz, g, f, s->okz),
+                vertex_at(a, b, 2, s->kx, g, f, s->okx), vertex_at(a, b, 2, s->ky, g, f, s->oky),
+                vertex_at(a, b, 2, s->kz, g, f, s->okz), s->sx, s->sy, s->sz, s->tnear, vf_set1(tfar), lm, t_out,
+                v_out, w_out, det_out);
 }
 
 /* Closest hit of one ray from node word `start` on, continuing a search with best (r->tfar, *best); `motion`
@@ -219,8 +251,6 @@ HZ_INLINE void closest_core(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, hz_bvh_ray
 {
     hz_bvh_counters_t kl = *k_io, *k = &kl; /* in registers: through the pointer every count was a store */
     (void)k; /* counters exist only with HZ_FEATURE_STATS */
-    hz_bvh_node_t ntmp;
-    hz_bvh_block_t btmp;
     uint32_t st_c[HZ_BVH_STACK + W];
     float st_d[HZ_BVH_STACK + W];
     int sp = 0;
@@ -233,20 +263,21 @@ HZ_INLINE void closest_core(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, hz_bvh_ray
     vf cull = vf_set1(cull_s);
     for (;;) {
         if (!hz_bvh_is_leaf(cur)) {
-            const hz_bvh_node_t *n = motion ? node_at(bvh, cur, r, &ntmp) : &nodes[cur];
+            const hz_bvh_node_t *n = &nodes[cur]; /* motion trees keep their children there too */
             vf tmin;
             HZ_BVH_COUNT(k, nodes, 1);
-            unsigned m = node_hit(n, s, cull, &tmin);
+            unsigned m = motion ? node_hit_at(bvh, cur, r, s, cull, &tmin) : node_hit(n, s, cull, &tmin);
             if (m) {
                 order_children(n, m, tmin, &cur, st_c, st_d, &sp);
                 continue;
             }
         } else {
             const uint32_t slot = hz_bvh_leaf_slot(cur), cnt = hz_bvh_leaf_count(cur);
-            const hz_bvh_block_t *b = motion ? block_at(bvh, slot / W, r, &btmp) : &blocks[slot / W];
+            const hz_bvh_block_t *b = motion ? &bvh->kblocks[r->seg][slot / W] : &blocks[slot / W]; /* prims */
             vf t, V, Wv, det;
             HZ_BVH_COUNT(k, tris, cnt);
-            unsigned m = leaf_hit(b, slot_mask(slot, cnt), s, tfar, &t, &V, &Wv, &det);
+            unsigned m = motion ? leaf_hit_at(bvh, slot / W, r, slot_mask(slot, cnt), s, tfar, &t, &V, &Wv, &det)
+                                : leaf_hit(b, slot_mask(slot, cnt), s, tfar, &t, &V, &Wv, &det);
             if (m) {
                 float tv[W] HZ_ALIGNED(32), vv[W] HZ_ALIGNED(32), wv[W] HZ_ALIGNED(32), dv[W] HZ_ALIGNED(32);
                 vf_store(tv, t), vf_store(vv, V), vf_store(wv, Wv), vf_store(dv, det);
@@ -317,8 +348,6 @@ HZ_INLINE bool any_core(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const hz_bvh_r
     hz_bvh_counters_t kl = *k_io, *k = &kl; /* in registers: through the pointer every count was a store */
     bool hit = false;
     (void)k; /* counters exist only with HZ_FEATURE_STATS */
-    hz_bvh_node_t ntmp;
-    hz_bvh_block_t btmp;
     uint32_t stack[HZ_BVH_STACK + W];
     int sp = 0;
     uint32_t cur = start;
@@ -329,10 +358,10 @@ HZ_INLINE bool any_core(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const hz_bvh_r
     const vf cull = vf_set1(tfar * HZ_BVH_CULL); /* for culling nodes (see bvh.h) */
     for (;;) {
         if (!hz_bvh_is_leaf(cur)) {
-            const hz_bvh_node_t *n = motion ? node_at(bvh, cur, r, &ntmp) : &nodes[cur];
+            const hz_bvh_node_t *n = &nodes[cur]; /* motion trees keep their children there too */
             vf tmin;
             HZ_BVH_COUNT(k, nodes, 1);
-            unsigned m = node_hit(n, s, cull, &tmin);
+            unsigned m = motion ? node_hit_at(bvh, cur, r, s, cull, &tmin) : node_hit(n, s, cull, &tmin);
             if (m) {
                 cur = n->child[__builtin_ctz(m)];
                 for (m &= m - 1; m; m &= m - 1)
@@ -341,10 +370,11 @@ HZ_INLINE bool any_core(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const hz_bvh_r
             }
         } else {
             const uint32_t slot = hz_bvh_leaf_slot(cur), cnt = hz_bvh_leaf_count(cur);
-            const hz_bvh_block_t *b = motion ? block_at(bvh, slot / W, r, &btmp) : &blocks[slot / W];
+            const hz_bvh_block_t *b = motion ? &bvh->kblocks[r->seg][slot / W] : &blocks[slot / W]; /* prims */
             vf t, V, Wv, det;
             HZ_BVH_COUNT(k, tris, cnt);
-            unsigned m = leaf_hit(b, slot_mask(slot, cnt), s, tfar, &t, &V, &Wv, &det);
+            unsigned m = motion ? leaf_hit_at(bvh, slot / W, r, slot_mask(slot, cnt), s, tfar, &t, &V, &Wv, &det)
+                                : leaf_hit(b, slot_mask(slot, cnt), s, tfar, &t, &V, &Wv, &det);
             if (m) {
                 if (!anyhit) {
                     hit = true;
