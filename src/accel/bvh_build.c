@@ -756,7 +756,13 @@ static int spatial_bins(uint32_t n)
 }
 
 
-static void find_spatial_split(build_t *bd, uint32_t base, uint32_t n, const box_t *nb, split_t *best)
+/* The best spatial split whose planes the budget can pay for: a plane that needs more than max_dup duplicates
+ * (its straddling references) is not a candidate. Partitioning one anyway sent the straddlers it could not
+ * duplicate whole to one side, children far wider than the search had costed: with a small budget the trees came
+ * out worse than without spatial splits (the hairball's MSBVH at a budget of 0.1: SAH 272 against 258). Returns
+ * the cost of the best plane at any number of duplicates. */
+static float find_spatial_split(build_t *bd, uint32_t base, uint32_t n, const box_t *nb, uint32_t max_dup,
+                                split_t *best)
 {
     best->cost = FLT_MAX;
     best->axis = -1;
@@ -787,6 +793,9 @@ static void find_spatial_split(build_t *bd, uint32_t base, uint32_t n, const box
     } else {
         sp_bin_range(bd->g, bd->refs, base, base + n, &fr, bd->sbins);
     }
+    split_t any; /* the best plane at any number of duplicates */
+    any.cost = FLT_MAX;
+    any.axis = -1;
     for (int k = 0; k < 3; k++) {
         if (!fr.ok[k])
             continue;
@@ -796,9 +805,14 @@ static void find_spatial_split(build_t *bd, uint32_t base, uint32_t n, const box
             l += bins[i].enter, r -= bins[i].exit;
             nl[i] = l, nr[i] = r;
         }
+        sah_sweep(&bins[0].b, nbins, nl, nr, k, &any);
+        for (int i = 0; i < nbins; i++)
+            if ((uint64_t)nl[i] + nr[i] > (uint64_t)n + max_dup)
+                nl[i] = 0; /* sah_sweep skips a plane with an empty side */
         if (sah_sweep(&bins[0].b, nbins, nl, nr, k, best))
             best->pos = fr.planes[k][best->bin + 1];
     }
+    return any.cost;
 }
 
 
@@ -988,10 +1002,14 @@ static bool split_node(build_t *bd, uint32_t idx, uint32_t n, const box_t *b, ui
              * 1,036 splits, the same Mrays/s in make bench). */
             const bool thick = ov.lo[0] < ov.hi[0] && ov.lo[1] < ov.hi[1] && ov.lo[2] < ov.hi[2];
             const bool want = os.axis < 0 || (thick && box_area(&ov) > bd->min_overlap);
-            if (want && budget > 0)
-                find_spatial_split(bd, base, n, b, &ss);
-            else if (want)
+            if (want && budget > 0) {
+                /* a stop: the split the budget left out would have been taken */
+                const float unbounded = find_spatial_split(bd, base, n, b, budget, &ss);
+                if (unbounded < ss.cost && unbounded < os.cost)
+                    bd->budget_stops++;
+            } else if (want) {
                 bd->budget_stops++;
+            }
         }
     } else {
         os.axis = -1;
