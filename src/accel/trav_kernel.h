@@ -195,11 +195,12 @@ HZ_INLINE void order_children(const hz_bvh_node_t *n, unsigned m, vf tmin, uint3
  * operations (g = 1 - f in scalar, then g * a + f * b lane by lane: bit-identical to the scalar kernel), lerped
  * straight into the tests: a lerped copy in memory put a store and a reload on every visit's dependency chain. A
  * key box set has the layout of a node's first six arrays, so the ray's plane offsets address it as well. */
-typedef char trav_mbox_matches_node[offsetof(hz_bvh_node_t, lo_x) == 0 &&
-                                            offsetof(hz_bvh_node_t, hi_z) == offsetof(hz_bvh_mbox_t, hi_z) &&
-                                            offsetof(hz_bvh_node_t, lo_y) == offsetof(hz_bvh_mbox_t, lo_y)
+#define TRAV_SAME_PLANE(p) (offsetof(hz_bvh_node_t, p) == offsetof(hz_bvh_mbox_t, p))
+typedef char trav_mbox_matches_node[TRAV_SAME_PLANE(lo_x) && TRAV_SAME_PLANE(hi_x) && TRAV_SAME_PLANE(lo_y) &&
+                                            TRAV_SAME_PLANE(hi_y) && TRAV_SAME_PLANE(lo_z) && TRAV_SAME_PLANE(hi_z)
                                         ? 1
                                         : -1];
+#undef TRAV_SAME_PLANE
 
 HZ_INLINE vf lerp_planes(const char *a, const char *b, size_t off, vf g, vf f)
 {
@@ -221,7 +222,8 @@ HZ_INLINE unsigned node_hit_at(const hz_bvh_t *bvh, uint32_t i, const hz_bvh_ray
                     s, cull, tmin_out);
 }
 
-/* Vertex v's axis ax of block blk at the ray's time, relative to the ray origin's o. */
+/* Axis ax of vertex v of the blocks at a ray's two keys (a, b), at its time (weights g, f), minus o (the ray
+ * origin on that axis). */
 HZ_INLINE vf vertex_at(const hz_bvh_block_t *a, const hz_bvh_block_t *b, int v, int ax, vf g, vf f, vf o)
 {
     return vf_sub(vf_add(vf_mul(g, vf_load(a->v[v][ax])), vf_mul(f, vf_load(b->v[v][ax]))), o);
