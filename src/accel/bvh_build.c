@@ -793,7 +793,7 @@ static float find_spatial_split(build_t *bd, uint32_t base, uint32_t n, const bo
     } else {
         sp_bin_range(bd->g, bd->refs, base, base + n, &fr, bd->sbins);
     }
-    split_t any; /* the best plane at any number of duplicates */
+    split_t any; /* the best plane at any number of duplicates, on the axes where some plane is dear */
     any.cost = FLT_MAX;
     any.axis = -1;
     for (int k = 0; k < 3; k++) {
@@ -805,14 +805,19 @@ static float find_spatial_split(build_t *bd, uint32_t base, uint32_t n, const bo
             l += bins[i].enter, r -= bins[i].exit;
             nl[i] = l, nr[i] = r;
         }
-        sah_sweep(&bins[0].b, nbins, nl, nr, k, &any);
+        bool dear = false; /* a plane on this axis needs more duplicates than max_dup */
         for (int i = 0; i < nbins; i++)
-            if ((uint64_t)nl[i] + nr[i] > (uint64_t)n + max_dup)
-                nl[i] = 0; /* sah_sweep skips a plane with an empty side */
+            dear = dear || (uint64_t)nl[i] + nr[i] > (uint64_t)n + max_dup;
+        if (dear) {
+            sah_sweep(&bins[0].b, nbins, nl, nr, k, &any);
+            for (int i = 0; i < nbins; i++)
+                if ((uint64_t)nl[i] + nr[i] > (uint64_t)n + max_dup)
+                    nl[i] = 0; /* sah_sweep skips a plane with an empty side */
+        }
         if (sah_sweep(&bins[0].b, nbins, nl, nr, k, best))
             best->pos = fr.planes[k][best->bin + 1];
     }
-    return any.cost;
+    return any.cost < best->cost ? any.cost : best->cost; /* axes with no dear plane: best is their best */
 }
 
 

@@ -229,11 +229,10 @@ HZ_INLINE vf vertex_at(const hz_bvh_block_t *a, const hz_bvh_block_t *b, int v, 
     return vf_sub(vf_add(vf_mul(g, vf_load(a->v[v][ax])), vf_mul(f, vf_load(b->v[v][ax]))), o);
 }
 
-/* leaf_hit on block blk at the ray's time. */
-HZ_INLINE unsigned leaf_hit_at(const hz_bvh_t *bvh, uint32_t blk, const hz_bvh_ray_t *r, unsigned lm, const sray_t *s,
-                               float tfar, vf *t_out, vf *v_out, vf *w_out, vf *det_out)
+/* leaf_hit on a block at the ray's time: a and b are the block at the ray's two keys (kblocks[seg], [seg + 1]). */
+HZ_INLINE unsigned leaf_hit_at(const hz_bvh_block_t *a, const hz_bvh_block_t *b, const hz_bvh_ray_t *r, unsigned lm,
+                               const sray_t *s, float tfar, vf *t_out, vf *v_out, vf *w_out, vf *det_out)
 {
-    const hz_bvh_block_t *a = &bvh->kblocks[r->seg][blk], *b = &bvh->kblocks[r->seg + 1u][blk];
     const vf f = vf_set1(r->f), g = vf_set1(1.0f - r->f);
     return woop(vertex_at(a, b, 0, s->kx, g, f, s->okx), vertex_at(a, b, 0, s->ky, g, f, s->oky),
                 vertex_at(a, b, 0, s->kz, g, f, s->okz), vertex_at(a, b, 1, s->kx, g, f, s->okx),
@@ -275,10 +274,11 @@ HZ_INLINE void closest_core(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, hz_bvh_ray
             }
         } else {
             const uint32_t slot = hz_bvh_leaf_slot(cur), cnt = hz_bvh_leaf_count(cur);
-            const hz_bvh_block_t *b = motion ? &bvh->kblocks[r->seg][slot / W] : &blocks[slot / W]; /* prims */
+            const hz_bvh_block_t *b = motion ? &bvh->kblocks[r->seg][slot / W] : &blocks[slot / W];
             vf t, V, Wv, det;
             HZ_BVH_COUNT(k, tris, cnt);
-            unsigned m = motion ? leaf_hit_at(bvh, slot / W, r, slot_mask(slot, cnt), s, tfar, &t, &V, &Wv, &det)
+            unsigned m = motion ? leaf_hit_at(b, &bvh->kblocks[r->seg + 1u][slot / W], r, slot_mask(slot, cnt), s,
+                                              tfar, &t, &V, &Wv, &det)
                                 : leaf_hit(b, slot_mask(slot, cnt), s, tfar, &t, &V, &Wv, &det);
             if (m) {
                 float tv[W] HZ_ALIGNED(32), vv[W] HZ_ALIGNED(32), wv[W] HZ_ALIGNED(32), dv[W] HZ_ALIGNED(32);
@@ -372,10 +372,11 @@ HZ_INLINE bool any_core(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const hz_bvh_r
             }
         } else {
             const uint32_t slot = hz_bvh_leaf_slot(cur), cnt = hz_bvh_leaf_count(cur);
-            const hz_bvh_block_t *b = motion ? &bvh->kblocks[r->seg][slot / W] : &blocks[slot / W]; /* prims */
+            const hz_bvh_block_t *b = motion ? &bvh->kblocks[r->seg][slot / W] : &blocks[slot / W];
             vf t, V, Wv, det;
             HZ_BVH_COUNT(k, tris, cnt);
-            unsigned m = motion ? leaf_hit_at(bvh, slot / W, r, slot_mask(slot, cnt), s, tfar, &t, &V, &Wv, &det)
+            unsigned m = motion ? leaf_hit_at(b, &bvh->kblocks[r->seg + 1u][slot / W], r, slot_mask(slot, cnt), s,
+                                              tfar, &t, &V, &Wv, &det)
                                 : leaf_hit(b, slot_mask(slot, cnt), s, tfar, &t, &V, &Wv, &det);
             if (m) {
                 if (!anyhit) {
