@@ -473,8 +473,28 @@ static void simd_query(const packets_t *q, const hz_accel_t *a, hz_accel_ctx_t *
 {
     const hz_bvh_t *bvh = a->impl;
     hz_accel_kernel_t k = packet_kernel(ctx, kernel_of(ctx));
-    /* Motion: lanes may sit at different times (and key pairs), which the packet kernels' shared box tests do
-     * not model; each lane goes through the single-ray kernel at its own time. */
+    /* Motion: lanes may sit at different times (and key pairs). Asked for by name (not by AUTO), packets of the
+     * kernels' width go through the motion packet kernels where their lanes form a frustum packet, other lanes
+     * through the single-ray kernel at each lane's own time. AUTO keeps single rays: on thin moving geometry
+     * (the hairball, the swaying furball) the lanes of a primary packet part within a few nodes and the packet
+     * kernels were slower there than single rays (doc/accel.md). */
+    if (bvh->time_keys && kernel_of(ctx) == HZ_ACCEL_KERNEL_SIMD_PACKET && q->w == HZ_BVH_W &&
+        q->stride == (q->hit ? sizeof(hz_bvh_rayhitw_t) : sizeof(hz_bvh_rayw_t))) {
+        for (uint32_t p = 0; p < q->n; p++) {
+            const int32_t *v = q->valid + (size_t)p * HZ_BVH_W;
+            char *ray = q->ray + (size_t)p * q->stride;
+            const bool done = q->hit ? hz_bvh_simd_intersect_motion(v, bvh, ctx, (hz_bvh_rayhitw_t *)(void *)ray)
+                                     : hz_bvh_simd_occluded_motion(v, bvh, ctx, (hz_bvh_rayw_t *)(void *)ray);
+            if (done)
+                count_rays(ctx, (uint32_t)count_valid(v, HZ_BVH_W));
+            else if (q->hit)
+                loop_intersect(v, a, ctx, (float *)(void *)ray, (float *)(void *)(q->hit + (size_t)p * q->stride),
+                               q->w, HZ_ACCEL_KERNEL_SIMD_SINGLE);
+            else
+                loop_occluded(v, a, ctx, (float *)(void *)ray, q->w, HZ_ACCEL_KERNEL_SIMD_SINGLE);
+        }
+        return;
+    }
     if (bvh->time_keys && k != HZ_ACCEL_KERNEL_SCALAR)
         k = HZ_ACCEL_KERNEL_SIMD_SINGLE;
     if (k == HZ_ACCEL_KERNEL_SIMD_SINGLE || k == HZ_ACCEL_KERNEL_SCALAR) {

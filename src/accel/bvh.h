@@ -330,6 +330,13 @@ void hz_bvh_simd_closest(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, hz_bvh_ray_t 
 bool hz_bvh_simd_any(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const hz_bvh_ray_t *r, uint32_t ray_id, int lane);
 /* Packets of HZ_BVH_W rays: `kernel` HZ_ACCEL_KERNEL_SIMD_PACKET traces them as a tile (one packet), anything
  * else lane by lane as single rays. */
+/* One packet of a motion tree (key boxes) through the motion packet kernel (trav_kernel.h); false, with nothing
+ * written, where its lanes do not form a frustum packet (the caller then traces them one by one). The hits are
+ * the single-ray motion kernel's, bit for bit. */
+bool hz_bvh_simd_intersect_motion(const int32_t *valid, const hz_bvh_t *bvh, hz_accel_ctx_t *ctx,
+                                  hz_bvh_rayhitw_t *rh);
+/* The same for occlusion (blocked lanes get tfar = -inf). */
+bool hz_bvh_simd_occluded_motion(const int32_t *valid, const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, hz_bvh_rayw_t *ray);
 void hz_bvh_simd_intersectw(const int32_t *valid, const hz_bvh_t *bvh, hz_accel_ctx_t *ctx,
                             hz_bvh_rayhitw_t *rh, hz_accel_kernel_t kernel);
 void hz_bvh_simd_occludedw(const int32_t *valid, const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, hz_bvh_rayw_t *r,

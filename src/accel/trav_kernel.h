@@ -411,9 +411,9 @@ static bool any_from(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const hz_bvh_ray_
 }
 
 static bool any_motion(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const hz_bvh_ray_t *r, const sray_t *s,
-                       uint32_t ray_id, int lane, hz_bvh_counters_t *k)
+                       uint32_t start, uint32_t ray_id, int lane, hz_bvh_counters_t *k)
 {
-    return any_core(bvh, ctx, r, s, 0, ray_id, lane, k, true);
+    return any_core(bvh, ctx, r, s, start, ray_id, lane, k, true);
 }
 
 bool hz_bvh_simd_any(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const hz_bvh_ray_t *r, uint32_t ray_id, int lane)
@@ -421,7 +421,7 @@ bool hz_bvh_simd_any(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const hz_bvh_ray_
     sray_t s;
     hz_bvh_counters_t k = { 0, 0 };
     sray_init(&s, r);
-    const bool hit = bvh->time_keys ? any_motion(bvh, ctx, r, &s, ray_id, lane, &k)
+    const bool hit = bvh->time_keys ? any_motion(bvh, ctx, r, &s, 0, ray_id, lane, &k)
                                     : any_from(bvh, ctx, r, &s, 0, ray_id, lane, &k);
     hz_bvh_counters_flush(ctx, &k);
     return hit;
@@ -566,12 +566,14 @@ static bool frustum_init(frustum_t *f, const int32_t *valid, const hz_bvh_rayw_t
     return true;
 }
 
-HZ_INLINE unsigned fr_node_hit(const hz_bvh_node_t *n, const frustum_t *f, vf tfar_max, vf *tmin_out)
+/* The packet's interval test of boxes given by their near planes (qnx, qny, qnz) and far planes (qfx, ...). */
+HZ_INLINE unsigned fr_planes_hit(vf qnx, vf qny, vf qnz, vf qfx, vf qfy, vf qfz, const frustum_t *f, vf tfar_max,
+                                 vf *tmin_out)
 {
-    const vf pnx = vf_sub(ldn(n, f->nx), f->on[0]), pny = vf_sub(ldn(n, f->ny), f->on[1]);
-    const vf pnz = vf_sub(ldn(n, f->nz), f->on[2]);
-    const vf pfx = vf_sub(ldn(n, f->fx), f->of[0]), pfy = vf_sub(ldn(n, f->fy), f->of[1]);
-    const vf pfz = vf_sub(ldn(n, f->fz), f->of[2]);
+    const vf pnx = vf_sub(qnx, f->on[0]), pny = vf_sub(qny, f->on[1]);
+    const vf pnz = vf_sub(qnz, f->on[2]);
+    const vf pfx = vf_sub(qfx, f->of[0]), pfy = vf_sub(qfy, f->of[1]);
+    const vf pfz = vf_sub(qfz, f->of[2]);
     const vf nx = vf_minn(vf_mul(pnx, f->rmin[0]), vf_mul(pnx, f->rmax[0]));
     const vf ny = vf_minn(vf_mul(pny, f->rmin[1]), vf_mul(pny, f->rmax[1]));
     const vf nz = vf_minn(vf_mul(pnz, f->rmin[2]), vf_mul(pnz, f->rmax[2]));
@@ -582,6 +584,12 @@ HZ_INLINE unsigned fr_node_hit(const hz_bvh_node_t *n, const frustum_t *f, vf tf
     const vf tmax = vf_minn(vf_mul(vf_minn(vf_minn(fx, fy), fz), vf_set1(HZ_BVH_ROBUST)), tfar_max);
     *tmin_out = tmin;
     return vm_bits(vf_le(tmin, tmax));
+}
+
+HZ_INLINE unsigned fr_node_hit(const hz_bvh_node_t *n, const frustum_t *f, vf tfar_max, vf *tmin_out)
+{
+    return fr_planes_hit(ldn(n, f->nx), ldn(n, f->ny), ldn(n, f->nz), ldn(n, f->fx), ldn(n, f->fy), ldn(n, f->fz), f,
+                         tfar_max, tmin_out);
 }
 
 /* Lanes whose own ray meets child j of node n within [tnear, cull[lane]] (the lane's slab test). */
@@ -767,6 +775,355 @@ done:;
     vi_store(rh->hit.inst_id[0], vi_sel(hitm, vi_set1(-1), vi_load(rh->hit.inst_id[0])));
 }
 
+/* =========================================================================================================
+ * motion packets: a frustum packet (frustum_init: shared direction signs and watertight axes) whose lanes each
+ * sit at their own time. A node's interval test takes the union of its boxes over the segments the lanes sit
+ * in, each lerped at its lanes' smallest and largest weight there (a lane's lerp at a weight between those lies
+ * between the two up to a few ulps: 12 units in the last place of 2^-24 of the larger key plane's magnitude at
+ * most, so the union is widened by 2^-19 of it), so it only preselects; leaf children get each lane's
+ * own slab test on the boxes lerped at its time, and their triangles each lane's own lerped vertices: the
+ * single-ray motion kernel's operations lane by lane (node_hit_at, leaf_hit_at, hz_bvh_best_finish_at), so the
+ * hits are bit for bit the single rays'. Inner nodes cost one test per packet instead of one per lane. */
+#define MFR_SINGLE_LANES 2 /* a subtree that this many lanes or fewer reach goes on as single rays */
+
+typedef struct mtimes {
+    vf f[4], g[4];         /* per level m: the lanes' weights there (hz_bvh_ray_levels) and 1 - weight */
+    unsigned lanes[4][8];  /* per level m and segment v there: the active lanes that sit in it */
+    unsigned present[4];   /* per level: bit v where lanes[m][v] is not empty */
+    float wlo[4][8], whi[4][8]; /* per level and segment: its lanes' smallest and largest weight */
+    uint32_t level;        /* the finest level: 2^level segments between the keys (bvh->key_level) */
+} mtimes_t;
+
+static void mtimes_init(mtimes_t *mt, const hz_bvh_t *bvh, const hz_bvh_rayw_t *ray, unsigned act)
+{
+    const uint32_t L = bvh->key_level;
+    float fm[4][W] HZ_ALIGNED(32);
+    hz_memset(mt->lanes, 0, sizeof mt->lanes);
+    hz_memset(mt->present, 0, sizeof mt->present);
+    mt->level = L;
+    for (unsigned l = 0; l < W; l++) {
+        hz_bvh_ray_t r; /* as the single-ray path times its rays (accel.c ray_time) */
+        hz_accel_time_segment(ray->time[l], bvh->time_keys, &r.seg, &r.f);
+        hz_bvh_ray_levels(&r, ray->time[l], L);
+        for (uint32_t m = 0; m <= L; m++) {
+            fm[m][l] = r.fm[m];
+            if (act >> l & 1u) {
+                const uint32_t v = r.seg >> (L - m);
+                mt->lanes[m][v] |= 1u << l;
+                mt->present[m] |= 1u << v;
+            }
+        }
+    }
+    for (uint32_t m = 0; m <= L; m++)
+        for (unsigned pv = mt->present[m]; pv; pv &= pv - 1) {
+            const unsigned v = (unsigned)__builtin_ctz(pv);
+            float lo = 2.0f, hi = -1.0f;
+            for (unsigned x = mt->lanes[m][v]; x; x &= x - 1) {
+                const float w = fm[m][__builtin_ctz(x)];
+                lo = w < lo ? w : lo, hi = w > hi ? w : hi;
+            }
+            mt->wlo[m][v] = lo, mt->whi[m][v] = hi;
+        }
+    for (uint32_t m = 0; m <= L; m++) {
+        mt->f[m] = vf_load(fm[m]);
+        mt->g[m] = vf_sub(vf_set1(1.0f), mt->f[m]); /* 1 - f, as the single ray's scalar */
+    }
+}
+
+/* Node i's first box set (the sets of its segments follow) and the level m of its segments. */
+HZ_INLINE const hz_bvh_mbox_t *mt_sets(const hz_bvh_t *bvh, uint32_t i, const mtimes_t *mt, uint32_t *m)
+{
+    if (bvh->mref) {
+        const uint32_t w = bvh->mref[i];
+        *m = w & 3u;
+        return &bvh->mbox[w >> 2];
+    }
+    *m = mt->level;
+    return &bvh->mbox[(size_t)i * bvh->time_keys];
+}
+
+HZ_INLINE vf mt_margin(vf a, vf b)
+{
+    return vf_mul(vf_minn(vf_maxn(vf_abs(a), vf_abs(b)), vf_set1(3.40282347e38f)), vf_set1(1.9073486328125e-6f));
+}
+
+/* The packet's interval test of node i's children over the lanes' segments (see above). */
+HZ_INLINE unsigned mfr_node_hit(const hz_bvh_t *bvh, uint32_t i, const frustum_t *f, const mtimes_t *mt,
+                                vf tfar_max, vf *tmin_out)
+{
+    uint32_t m;
+    const hz_bvh_mbox_t *sets = mt_sets(bvh, i, mt, &m);
+    vf lo[3], hi[3];
+    for (unsigned pv = mt->present[m], first = 1; pv; pv &= pv - 1, first = 0) {
+        const unsigned v = (unsigned)__builtin_ctz(pv);
+        const hz_bvh_mbox_t *a = &sets[v], *b = a + 1;
+        const float *const al[3] = { a->lo_x, a->lo_y, a->lo_z }, *const bl[3] = { b->lo_x, b->lo_y, b->lo_z };
+        const float *const ah[3] = { a->hi_x, a->hi_y, a->hi_z }, *const bh[3] = { b->hi_x, b->hi_y, b->hi_z };
+        const vf f0 = vf_set1(mt->wlo[m][v]), g0 = vf_set1(1.0f - mt->wlo[m][v]);
+        const vf f1 = vf_set1(mt->whi[m][v]), g1 = vf_set1(1.0f - mt->whi[m][v]);
+        for (int k = 0; k < 3; k++) {
+            const vf la = vf_load(al[k]), lb = vf_load(bl[k]), ha = vf_load(ah[k]), hb = vf_load(bh[k]);
+            const vf l0 = vf_add(vf_mul(g0, la), vf_mul(f0, lb)), l1 = vf_add(vf_mul(g1, la), vf_mul(f1, lb));
+            const vf h0 = vf_add(vf_mul(g0, ha), vf_mul(f0, hb)), h1 = vf_add(vf_mul(g1, ha), vf_mul(f1, hb));
+            const vf l = vf_sub(vf_minn(l0, l1), mt_margin(la, lb)), h = vf_add(vf_maxn(h0, h1), mt_margin(ha, hb));
+            lo[k] = first ? l : vf_minn(lo[k], l);
+            hi[k] = first ? h : vf_maxn(hi[k], h);
+        }
+    }
+    const unsigned ng = f->negs;
+    return fr_planes_hit(ng & 1u ? hi[0] : lo[0], ng & 2u ? hi[1] : lo[1], ng & 4u ? hi[2] : lo[2],
+                         ng & 1u ? lo[0] : hi[0], ng & 2u ? lo[1] : hi[1], ng & 4u ? lo[2] : hi[2], f, tfar_max,
+                         tmin_out);
+}
+
+/* Lanes whose own ray meets child j of node i at its time within [tnear, cull[lane]] (node_hit_at's boxes). */
+HZ_INLINE unsigned mfr_lanes_hit(const hz_bvh_t *bvh, uint32_t i, unsigned j, const frustum_t *f,
+                                 const mtimes_t *mt, vf cull)
+{
+    uint32_t m;
+    const hz_bvh_mbox_t *sets = mt_sets(bvh, i, mt, &m);
+    const size_t off[6] = { f->nx, f->ny, f->nz, f->fx, f->fy, f->fz };
+    vf pl[6];
+    const unsigned p0 = mt->present[m];
+    if (!(p0 & (p0 - 1))) { /* the lanes in one segment (most nodes): no selects, the planes stay in registers */
+        const unsigned v = (unsigned)__builtin_ctz(p0);
+        const char *a = (const char *)(const void *)&sets[v] + 4u * j;
+        const char *b = (const char *)(const void *)&sets[v + 1] + 4u * j;
+        HZ_UNROLL
+        for (int q = 0; q < 6; q++)
+            pl[q] = vf_add(vf_mul(mt->g[m], vf_set1(*(const float *)(const void *)(a + off[q]))),
+                           vf_mul(mt->f[m], vf_set1(*(const float *)(const void *)(b + off[q]))));
+    } else
+    for (unsigned pv = p0, first = 1; pv; pv &= pv - 1, first = 0) {
+        const unsigned v = (unsigned)__builtin_ctz(pv);
+        const char *a = (const char *)(const void *)&sets[v] + 4u * j;
+        const char *b = (const char *)(const void *)&sets[v + 1] + 4u * j;
+        const vm in = vm_of(mt->lanes[m][v]);
+        for (int q = 0; q < 6; q++) {
+            const vf x = vf_add(vf_mul(mt->g[m], vf_set1(*(const float *)(const void *)(a + off[q]))),
+                                vf_mul(mt->f[m], vf_set1(*(const float *)(const void *)(b + off[q]))));
+            pl[q] = first ? x : vf_sel(in, x, pl[q]);
+        }
+    }
+    const vf tnx = vf_mul(vf_sub(pl[0], f->o[0]), f->r[0]);
+    const vf tny = vf_mul(vf_sub(pl[1], f->o[1]), f->r[1]);
+    const vf tnz = vf_mul(vf_sub(pl[2], f->o[2]), f->r[2]);
+    const vf tfx = vf_mul(vf_sub(pl[3], f->o[0]), f->r[0]);
+    const vf tfy = vf_mul(vf_sub(pl[4], f->o[1]), f->r[1]);
+    const vf tfz = vf_mul(vf_sub(pl[5], f->o[2]), f->r[2]);
+    const vf tmin = vf_maxn(vf_maxn(tnx, tny), vf_maxn(tnz, f->ltnear));
+    const vf tmax = vf_minn(vf_mul(vf_minn(vf_minn(tfx, tfy), tfz), vf_set1(HZ_BVH_ROBUST)), cull);
+    return vm_bits(vf_le(tmin, tmax));
+}
+
+/* Slot s of block blk at each lane's time (hz_bvh_block_at's lerp, lane by lane): P[vertex][axis]. */
+HZ_INLINE void mt_vertices(const hz_bvh_t *bvh, uint32_t blk, unsigned s, const mtimes_t *mt, vf P[3][3])
+{
+    const uint32_t L = mt->level;
+    const unsigned p0 = mt->present[L];
+    if (!(p0 & (p0 - 1))) { /* the lanes in one segment: no selects */
+        const unsigned v = (unsigned)__builtin_ctz(p0);
+        const hz_bvh_block_t *a = &bvh->kblocks[v][blk], *b = &bvh->kblocks[v + 1][blk];
+        HZ_UNROLL
+        for (int q = 0; q < 3; q++)
+            HZ_UNROLL
+            for (int ax = 0; ax < 3; ax++)
+                P[q][ax] = vf_add(vf_mul(mt->g[L], vf_set1(a->v[q][ax][s])), vf_mul(mt->f[L], vf_set1(b->v[q][ax][s])));
+        return;
+    }
+    for (unsigned pv = p0, first = 1; pv; pv &= pv - 1, first = 0) {
+        const unsigned v = (unsigned)__builtin_ctz(pv);
+        const hz_bvh_block_t *a = &bvh->kblocks[v][blk], *b = &bvh->kblocks[v + 1][blk];
+        const vm in = vm_of(mt->lanes[L][v]);
+        for (int q = 0; q < 3; q++)
+            for (int ax = 0; ax < 3; ax++) {
+                const vf x = vf_add(vf_mul(mt->g[L], vf_set1(a->v[q][ax][s])),
+                                    vf_mul(mt->f[L], vf_set1(b->v[q][ax][s])));
+                P[q][ax] = first ? x : vf_sel(in, x, P[q][ax]);
+            }
+    }
+}
+
+/* Closest hits of a motion packet: frustum_closest's traversal, except that every child the interval test passes
+ * also gets the lanes' own tests and goes on with the lanes that meet it (the interval test over a segment's
+ * weights is loose where the motion is large against a node: without the lane tests, a packet of scattered
+ * times visited more nodes than its rays one by one). */
+static void mfr_closest(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const frustum_t *f, const mtimes_t *mt,
+                        hz_bvh_rayhitw_t *rh, hz_bvh_counters_t *k)
+{
+    (void)k; /* counters exist only with HZ_FEATURE_STATS */
+    uint32_t st_c[HZ_BVH_STACK + W];
+    float st_d[HZ_BVH_STACK + W];
+    unsigned st_m[HZ_BVH_STACK + W];
+    int sp = 0;
+    unsigned cm = f->active; /* the lanes that reach cur */
+    uint32_t cur = 0;
+    const hz_bvh_node_t *const nodes = bvh->nodes;
+    const bool anyhit = bvh->has_anyhit && ctx && ctx->anyhit;
+    vf tfar = f->ltfar, bv = vf_set1(0.0f), bw = vf_set1(0.0f), bdet = vf_set1(1.0f);
+    vf bn0 = vf_set1(0.0f), bn1 = vf_set1(0.0f), bn2 = vf_set1(0.0f);
+    vi bprim = vi_set1(0x7FFFFFFF), bslot = vi_set1(-1);
+    float tfar_max = vf_hmax(tfar) * HZ_BVH_CULL; /* for culling nodes (see bvh.h) */
+    vf vtfar_max = vf_set1(tfar_max);
+    for (;;) {
+        if (__builtin_popcount(cm) <= MFR_SINGLE_LANES) {
+            /* few lanes reach this subtree: they go on as single rays at their times, from their best hits */
+            float tv[W] HZ_ALIGNED(32), vv[W] HZ_ALIGNED(32), wv[W] HZ_ALIGNED(32), dv[W] HZ_ALIGNED(32);
+            float n0[W] HZ_ALIGNED(32), n1[W] HZ_ALIGNED(32), n2[W] HZ_ALIGNED(32);
+            int32_t pv[W] HZ_ALIGNED(32), sv[W] HZ_ALIGNED(32);
+            vf_store(tv, tfar), vf_store(vv, bv), vf_store(wv, bw), vf_store(dv, bdet);
+            vf_store(n0, bn0), vf_store(n1, bn1), vf_store(n2, bn2), vi_store(pv, bprim), vi_store(sv, bslot);
+            for (unsigned x = cm; x; x &= x - 1) {
+                const unsigned l = (unsigned)__builtin_ctz(x);
+                hz_bvh_ray_t r;
+                if (!hz_bvh_ray_prep(&r, rh->ray.org_x[l], rh->ray.org_y[l], rh->ray.org_z[l], rh->ray.dir_x[l],
+                                     rh->ray.dir_y[l], rh->ray.dir_z[l], rh->ray.tnear[l], tv[l]))
+                    continue;
+                hz_accel_time_segment(rh->ray.time[l], bvh->time_keys, &r.seg, &r.f);
+                if (bvh->mref)
+                    hz_bvh_ray_levels(&r, rh->ray.time[l], bvh->key_level);
+                sray_t s1;
+                sray_init(&s1, &r);
+                hz_bvh_best_t best;
+                best.slot = sv[l] < 0 ? HZ_ACCEL_INVALID_ID : (uint32_t)sv[l];
+                best.prim = sv[l] < 0 ? HZ_ACCEL_INVALID_ID : (uint32_t)pv[l];
+                best.v = vv[l], best.w = wv[l], best.det = dv[l];
+                const uint32_t before = best.slot;
+                closest_core(bvh, ctx, &r, &s1, cur, &best, rh->ray.id[l], (int)l, k, true);
+                if (best.slot == before)
+                    continue;
+                tv[l] = r.tfar, pv[l] = (int32_t)best.prim, sv[l] = (int32_t)best.slot;
+                vv[l] = best.v, wv[l] = best.w, dv[l] = best.det;
+                hz_bvh_block_t tmp; /* the normal as hz_bvh_best_finish_at computes it */
+                const hz_bvh_block_t *b = hz_bvh_block_at(bvh, best.slot / W, &r, &tmp);
+                const unsigned q = best.slot % W;
+                float e1[3], e2[3];
+                for (int c = 0; c < 3; c++) {
+                    e1[c] = b->v[1][c][q] - b->v[0][c][q];
+                    e2[c] = b->v[2][c][q] - b->v[0][c][q];
+                }
+                n0[l] = e1[1] * e2[2] - e1[2] * e2[1];
+                n1[l] = e1[2] * e2[0] - e1[0] * e2[2];
+                n2[l] = e1[0] * e2[1] - e1[1] * e2[0];
+            }
+            tfar = vf_load(tv), bv = vf_load(vv), bw = vf_load(wv), bdet = vf_load(dv);
+            bn0 = vf_load(n0), bn1 = vf_load(n1), bn2 = vf_load(n2), bprim = vi_load(pv), bslot = vi_load(sv);
+            tfar_max = vf_hmax(tfar) * HZ_BVH_CULL;
+            vtfar_max = vf_set1(tfar_max);
+            goto pop;
+        }
+        const hz_bvh_node_t *n = &nodes[cur];
+        vf tmin;
+        HZ_BVH_COUNT(k, nodes, 1);
+        const unsigned m = mfr_node_hit(bvh, cur, f, mt, vtfar_max, &tmin);
+        const unsigned leafbits = vi_signs(vi_load(n->child)) & m;
+        if (leafbits) {
+            float d[W] HZ_ALIGNED(32);
+            vf_store(d, tmin);
+            unsigned order[W];
+            const unsigned nl = sort_by(leafbits, d, order);
+            bool changed = false;
+            for (unsigned q = 0; q < nl; q++) {
+                const unsigned j = order[q];
+                if (d[j] > tfar_max)
+                    break;
+                const unsigned lanes = mfr_lanes_hit(bvh, cur, j, f, mt, vf_mul(tfar, vf_set1(HZ_BVH_CULL))) & cm;
+                if (!lanes)
+                    continue;
+                const uint32_t cw = n->child[j], slot = hz_bvh_leaf_slot(cw), cnt = hz_bvh_leaf_count(cw);
+                const uint32_t blk = slot / W;
+                HZ_BVH_COUNT(k, tris, (uint64_t)cnt * (uint64_t)__builtin_popcount(lanes));
+                for (unsigned s = slot % W; s < slot % W + cnt; s++) {
+                    vf P[3][3], t, V, Wv, det;
+                    mt_vertices(bvh, blk, s, mt, P);
+                    const unsigned mm =
+                        woop(vf_sub(P[0][f->kx], f->okx), vf_sub(P[0][f->ky], f->oky), vf_sub(P[0][f->kz], f->okz),
+                             vf_sub(P[1][f->kx], f->okx), vf_sub(P[1][f->ky], f->oky), vf_sub(P[1][f->kz], f->okz),
+                             vf_sub(P[2][f->kx], f->okx), vf_sub(P[2][f->ky], f->oky), vf_sub(P[2][f->kz], f->okz),
+                             f->sx, f->sy, f->sz, f->ltnear, tfar, lanes, &t, &V, &Wv, &det);
+                    if (!mm)
+                        continue;
+                    const uint32_t pw = bvh->kblocks[0][blk].prim[s], prim = pw & HZ_BVH_PRIM_MASK, hs = blk * W + s;
+                    const vi vprim = vi_set1((int32_t)prim);
+                    /* t < best, or t == best and a lower triangle index (best starts at 0x7FFFFFFF) */
+                    unsigned bm = vm_bits(vm_or(vf_lt(t, tfar), vm_and(vf_eq(t, tfar), vi_gt(bprim, vprim)))) & mm;
+                    if (!bm)
+                        continue;
+                    if (anyhit && (pw & HZ_BVH_PRIM_ANYHIT) &&
+                        !(bm = packet_anyhit(bvh, ctx, &rh->ray, hs, bm, t, V, Wv, det)))
+                        continue;
+                    const vm better = vm_of(bm);
+                    tfar = vf_sel(better, t, tfar);
+                    bv = vf_sel(better, V, bv);
+                    bw = vf_sel(better, Wv, bw);
+                    bdet = vf_sel(better, det, bdet);
+                    bprim = vi_sel(better, vprim, bprim);
+                    bslot = vi_sel(better, vi_set1((int32_t)hs), bslot);
+                    /* the normal of the triangle at each lane's time, as hz_bvh_best_finish_at computes it */
+                    vf e1[3], e2[3];
+                    for (int c = 0; c < 3; c++) {
+                        e1[c] = vf_sub(P[1][c], P[0][c]);
+                        e2[c] = vf_sub(P[2][c], P[0][c]);
+                    }
+                    bn0 = vf_sel(better, vf_sub(vf_mul(e1[1], e2[2]), vf_mul(e1[2], e2[1])), bn0);
+                    bn1 = vf_sel(better, vf_sub(vf_mul(e1[2], e2[0]), vf_mul(e1[0], e2[2])), bn1);
+                    bn2 = vf_sel(better, vf_sub(vf_mul(e1[0], e2[1]), vf_mul(e1[1], e2[0])), bn2);
+                    changed = true;
+                }
+                if (changed) {
+                    tfar_max = vf_hmax(tfar) * HZ_BVH_CULL;
+                    vtfar_max = vf_set1(tfar_max);
+                }
+            }
+        }
+        unsigned inner = m & ~leafbits, im[W];
+        if (inner) {
+            const vf cull = vf_mul(tfar, vf_set1(HZ_BVH_CULL));
+            for (unsigned x = inner; x; x &= x - 1) {
+                const unsigned j = (unsigned)__builtin_ctz(x);
+                im[j] = mfr_lanes_hit(bvh, cur, j, f, mt, cull) & cm;
+                if (!im[j])
+                    inner &= ~(1u << j);
+            }
+        }
+        if (inner) {
+            float d[W] HZ_ALIGNED(32);
+            vf_store(d, tmin);
+            unsigned order[W];
+            const unsigned ni = sort_by(inner, d, order);
+            for (unsigned q = ni - 1u; q > 0; q--) /* farthest first: the nearest is popped next */
+                st_c[sp] = n->child[order[q]], st_d[sp] = d[order[q]], st_m[sp] = im[order[q]], sp++;
+            cur = n->child[order[0]], cm = im[order[0]];
+            continue;
+        }
+    pop:
+        for (;;) {
+            if (sp == 0)
+                goto done;
+            --sp;
+            if (st_d[sp] <= tfar_max) {
+                cur = st_c[sp], cm = st_m[sp];
+                break;
+            }
+        }
+    }
+done:;
+    const vm hitm = vi_gt(bslot, vi_set1(-1));
+    if (!vm_bits(hitm))
+        return;
+    /* u = v * (1 / det) as hz_bvh_best_finish; stores into the lanes that hit */
+    const vf rdet = vf_div(vf_set1(1.0f), bdet);
+    vf_store(rh->ray.tfar, vf_sel(hitm, tfar, vf_load(rh->ray.tfar)));
+    vf_store(rh->hit.u, vf_sel(hitm, vf_mul(bv, rdet), vf_load(rh->hit.u)));
+    vf_store(rh->hit.v, vf_sel(hitm, vf_mul(bw, rdet), vf_load(rh->hit.v)));
+    vf_store(rh->hit.ng_x, vf_sel(hitm, bn0, vf_load(rh->hit.ng_x)));
+    vf_store(rh->hit.ng_y, vf_sel(hitm, bn1, vf_load(rh->hit.ng_y)));
+    vf_store(rh->hit.ng_z, vf_sel(hitm, bn2, vf_load(rh->hit.ng_z)));
+    vi_store(rh->hit.prim_id, vi_sel(hitm, bprim, vi_load(rh->hit.prim_id)));
+    vi_store(rh->hit.geom_id, vi_sel(hitm, vi_set1(0), vi_load(rh->hit.geom_id)));
+    vi_store(rh->hit.inst_id[0], vi_sel(hitm, vi_set1(-1), vi_load(rh->hit.inst_id[0])));
+}
+
 /* Occlusion of a packet: lanes drop out as they find a hit; children in any order. The interval test of a
  * node's boxes only preselects: each child it passes gets the lanes' own slab tests, and goes on with the lanes
  * that meet it, so the packet visits about the union of its rays' nodes. A subtree that one lane reaches goes on
@@ -831,6 +1188,114 @@ static unsigned frustum_any(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const frus
                         continue;
                     const uint32_t hs = (slot / W) * W + s;
                     if (anyhit && (b->prim[s] & HZ_BVH_PRIM_ANYHIT))
+                        mm = packet_anyhit(bvh, ctx, ray, hs, mm, t, V, Wv, det);
+                    done |= mm;
+                    lanes &= ~mm;
+                }
+                if (done == cm)
+                    break;
+            }
+        }
+        if (done) {
+            live &= ~done;
+            if (!live)
+                break;
+            tfar = vf_sel(vm_of(done), vf_set1(-__builtin_inff()), tfar);
+            cull = vf_mul(tfar, vf_set1(HZ_BVH_CULL));
+            if (live & (live - 1)) {
+                if (f != &fl) {
+                    fl = *f0;
+                    f = &fl;
+                }
+                fl.active = live;
+                frustum_bounds(&fl, live, fl.ltnear);
+            }
+            vtfar_max = vf_set1(vf_hmax(tfar) * HZ_BVH_CULL);
+        }
+        for (;;) {
+            if (sp == 0)
+                return f0->active & ~live;
+            --sp;
+            cm = st_m[sp] & live;
+            if (cm) {
+                cur = st_c[sp];
+                break;
+            }
+        }
+    }
+    return f0->active;
+}
+
+/* Occlusion of a motion packet: frustum_any's traversal with the motion packet's tests (mfr_closest); a
+ * subtree that one lane reaches goes on as that single ray at its time. Returns the blocked lanes. */
+static unsigned mfr_any(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const frustum_t *f0, const mtimes_t *mt,
+                        const hz_bvh_rayw_t *ray, hz_bvh_counters_t *k)
+{
+    uint32_t st_c[HZ_BVH_STACK + W];
+    unsigned st_m[HZ_BVH_STACK + W];
+    int sp = 0;
+    uint32_t cur = 0;
+    const hz_bvh_node_t *const nodes = bvh->nodes;
+    const bool anyhit = bvh->has_anyhit && ctx && ctx->anyhit;
+    frustum_t fl;
+    const frustum_t *f = f0;
+    vf tfar = f->ltfar;
+    vf cull = vf_mul(tfar, vf_set1(HZ_BVH_CULL)); /* per lane, for culling (see bvh.h) */
+    vf vtfar_max = vf_set1(vf_hmax(tfar) * HZ_BVH_CULL);
+    unsigned live = f->active, cm = live; /* cm: the live lanes that reach cur */
+    int single_lane = -1;                 /* the lane prepared in r1 / s1 */
+    hz_bvh_ray_t r1;
+    sray_t s1;
+    for (;;) {
+        unsigned done = 0;
+        if (__builtin_popcount(cm) <= MFR_SINGLE_LANES) {
+            /* few lanes reach this subtree: each goes on alone, with its own box tests */
+            for (unsigned x = cm; x; x &= x - 1) {
+            const unsigned i = (unsigned)__builtin_ctz(x);
+            if ((int)i != single_lane) {
+                hz_bvh_ray_prep(&r1, ray->org_x[i], ray->org_y[i], ray->org_z[i], ray->dir_x[i], ray->dir_y[i],
+                                ray->dir_z[i], ray->tnear[i], ray->tfar[i]);
+                hz_accel_time_segment(ray->time[i], bvh->time_keys, &r1.seg, &r1.f);
+                if (bvh->mref)
+                    hz_bvh_ray_levels(&r1, ray->time[i], bvh->key_level);
+                sray_init(&s1, &r1);
+                single_lane = (int)i;
+            }
+            if (any_motion(bvh, ctx, &r1, &s1, cur, ray->id[i], (int)i, k))
+                done |= 1u << i;
+            }
+        } else {
+            const hz_bvh_node_t *n = &nodes[cur];
+            vf tmin;
+            HZ_BVH_COUNT(k, nodes, 1);
+            const unsigned m = mfr_node_hit(bvh, cur, f, mt, vtfar_max, &tmin);
+            for (unsigned cb = m; cb; cb &= cb - 1) {
+                const unsigned j = (unsigned)__builtin_ctz(cb);
+                unsigned lanes = mfr_lanes_hit(bvh, cur, j, f, mt, cull) & cm & ~done;
+                if (!lanes)
+                    continue;
+                const uint32_t cw = n->child[j];
+                if (!hz_bvh_is_leaf(cw)) {
+                    st_c[sp] = cw;
+                    st_m[sp] = lanes;
+                    sp++;
+                    continue;
+                }
+                const uint32_t slot = hz_bvh_leaf_slot(cw), cnt = hz_bvh_leaf_count(cw);
+                const uint32_t blk = slot / W;
+                HZ_BVH_COUNT(k, tris, (uint64_t)cnt * (uint64_t)__builtin_popcount(lanes));
+                for (unsigned s = slot % W; s < slot % W + cnt && lanes; s++) {
+                    vf P[3][3], t, V, Wv, det;
+                    mt_vertices(bvh, blk, s, mt, P);
+                    unsigned mm =
+                        woop(vf_sub(P[0][f->kx], f->okx), vf_sub(P[0][f->ky], f->oky), vf_sub(P[0][f->kz], f->okz),
+                             vf_sub(P[1][f->kx], f->okx), vf_sub(P[1][f->ky], f->oky), vf_sub(P[1][f->kz], f->okz),
+                             vf_sub(P[2][f->kx], f->okx), vf_sub(P[2][f->ky], f->oky), vf_sub(P[2][f->kz], f->okz),
+                             f->sx, f->sy, f->sz, f->ltnear, tfar, lanes, &t, &V, &Wv, &det);
+                    if (!mm)
+                        continue;
+                    const uint32_t hs = blk * W + s;
+                    if (anyhit && (bvh->kblocks[0][blk].prim[s] & HZ_BVH_PRIM_ANYHIT))
                         mm = packet_anyhit(bvh, ctx, ray, hs, mm, t, V, Wv, det);
                     done |= mm;
                     lanes &= ~mm;
@@ -1954,6 +2419,35 @@ void hz_bvh_simd_occluded_tile(const int32_t *valid, const hz_bvh_t *bvh, hz_acc
             lanes_any(valid + (size_t)p * W, bvh, ctx, ray + p, &k);
     }
     hz_bvh_counters_flush(ctx, &k);
+}
+
+bool hz_bvh_simd_intersect_motion(const int32_t *valid, const hz_bvh_t *bvh, hz_accel_ctx_t *ctx,
+                                  hz_bvh_rayhitw_t *rh)
+{
+    frustum_t f;
+    if (!bvh->time_keys || !bvh->key_boxes || !frustum_init(&f, valid, &rh->ray))
+        return false;
+    mtimes_t mt;
+    mtimes_init(&mt, bvh, &rh->ray, f.active);
+    hz_bvh_counters_t k = { 0, 0 };
+    mfr_closest(bvh, ctx, &f, &mt, rh, &k);
+    hz_bvh_counters_flush(ctx, &k);
+    return true;
+}
+
+bool hz_bvh_simd_occluded_motion(const int32_t *valid, const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, hz_bvh_rayw_t *ray)
+{
+    frustum_t f;
+    if (!bvh->time_keys || !bvh->key_boxes || !frustum_init(&f, valid, ray))
+        return false;
+    mtimes_t mt;
+    mtimes_init(&mt, bvh, ray, f.active);
+    hz_bvh_counters_t k = { 0, 0 };
+    const unsigned hit = mfr_any(bvh, ctx, &f, &mt, ray, &k);
+    if (hit)
+        vf_store(ray->tfar, vf_sel(vm_of(hit), vf_set1(-__builtin_inff()), vf_load(ray->tfar)));
+    hz_bvh_counters_flush(ctx, &k);
+    return true;
 }
 
 void hz_bvh_simd_intersectw(const int32_t *valid, const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, hz_bvh_rayhitw_t *rh,
