@@ -664,6 +664,25 @@ static unsigned packet_anyhit(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const hz
     return lanes_anyhit(bvh, ctx, &s, packet_lanes, slot, lm, t, V, Wv, det);
 }
 
+/* A packet's best hits into rh, in the lanes that hit (bslot >= 0): u = v * (1 / det) as hz_bvh_best_finish. */
+static void packet_put_hits(hz_bvh_rayhitw_t *rh, vf tfar, vf bv, vf bw, vf bdet, vf bn0, vf bn1, vf bn2, vi bprim,
+                            vi bslot)
+{
+    const vm hitm = vi_gt(bslot, vi_set1(-1));
+    if (!vm_bits(hitm))
+        return;
+    const vf rdet = vf_div(vf_set1(1.0f), bdet);
+    vf_store(rh->ray.tfar, vf_sel(hitm, tfar, vf_load(rh->ray.tfar)));
+    vf_store(rh->hit.u, vf_sel(hitm, vf_mul(bv, rdet), vf_load(rh->hit.u)));
+    vf_store(rh->hit.v, vf_sel(hitm, vf_mul(bw, rdet), vf_load(rh->hit.v)));
+    vf_store(rh->hit.ng_x, vf_sel(hitm, bn0, vf_load(rh->hit.ng_x)));
+    vf_store(rh->hit.ng_y, vf_sel(hitm, bn1, vf_load(rh->hit.ng_y)));
+    vf_store(rh->hit.ng_z, vf_sel(hitm, bn2, vf_load(rh->hit.ng_z)));
+    vi_store(rh->hit.prim_id, vi_sel(hitm, bprim, vi_load(rh->hit.prim_id)));
+    vi_store(rh->hit.geom_id, vi_sel(hitm, vi_set1(0), vi_load(rh->hit.geom_id)));
+    vi_store(rh->hit.inst_id[0], vi_sel(hitm, vi_set1(-1), vi_load(rh->hit.inst_id[0])));
+}
+
 /* Closest hits of a packet. The best hit of every lane lives in vectors (t, triangle, slot, weights, normal); a
  * triangle updates all lanes it beats at once; any-hit triangles go lane by lane through the callback. */
 static void frustum_closest(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const frustum_t *f, hz_bvh_rayhitw_t *rh,
@@ -758,21 +777,8 @@ static void frustum_closest(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const frus
             }
         }
     }
-done:;
-    const vm hitm = vi_gt(bslot, vi_set1(-1));
-    if (!vm_bits(hitm))
-        return;
-    /* u = v * (1 / det) as hz_bvh_best_finish; stores into the lanes that hit */
-    const vf rdet = vf_div(vf_set1(1.0f), bdet);
-    vf_store(rh->ray.tfar, vf_sel(hitm, tfar, vf_load(rh->ray.tfar)));
-    vf_store(rh->hit.u, vf_sel(hitm, vf_mul(bv, rdet), vf_load(rh->hit.u)));
-    vf_store(rh->hit.v, vf_sel(hitm, vf_mul(bw, rdet), vf_load(rh->hit.v)));
-    vf_store(rh->hit.ng_x, vf_sel(hitm, bn0, vf_load(rh->hit.ng_x)));
-    vf_store(rh->hit.ng_y, vf_sel(hitm, bn1, vf_load(rh->hit.ng_y)));
-    vf_store(rh->hit.ng_z, vf_sel(hitm, bn2, vf_load(rh->hit.ng_z)));
-    vi_store(rh->hit.prim_id, vi_sel(hitm, bprim, vi_load(rh->hit.prim_id)));
-    vi_store(rh->hit.geom_id, vi_sel(hitm, vi_set1(0), vi_load(rh->hit.geom_id)));
-    vi_store(rh->hit.inst_id[0], vi_sel(hitm, vi_set1(-1), vi_load(rh->hit.inst_id[0])));
+done:
+    packet_put_hits(rh, tfar, bv, bw, bdet, bn0, bn1, bn2, bprim, bslot);
 }
 
 /* =========================================================================================================
@@ -1107,129 +1113,18 @@ static void mfr_closest(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const frustum_
             }
         }
     }
-done:;
-    const vm hitm = vi_gt(bslot, vi_set1(-1));
-    if (!vm_bits(hitm))
-        return;
-    /* u = v * (1 / det) as hz_bvh_best_finish; stores into the lanes that hit */
-    const vf rdet = vf_div(vf_set1(1.0f), bdet);
-    vf_store(rh->ray.tfar, vf_sel(hitm, tfar, vf_load(rh->ray.tfar)));
-    vf_store(rh->hit.u, vf_sel(hitm, vf_mul(bv, rdet), vf_load(rh->hit.u)));
-    vf_store(rh->hit.v, vf_sel(hitm, vf_mul(bw, rdet), vf_load(rh->hit.v)));
-    vf_store(rh->hit.ng_x, vf_sel(hitm, bn0, vf_load(rh->hit.ng_x)));
-    vf_store(rh->hit.ng_y, vf_sel(hitm, bn1, vf_load(rh->hit.ng_y)));
-    vf_store(rh->hit.ng_z, vf_sel(hitm, bn2, vf_load(rh->hit.ng_z)));
-    vi_store(rh->hit.prim_id, vi_sel(hitm, bprim, vi_load(rh->hit.prim_id)));
-    vi_store(rh->hit.geom_id, vi_sel(hitm, vi_set1(0), vi_load(rh->hit.geom_id)));
-    vi_store(rh->hit.inst_id[0], vi_sel(hitm, vi_set1(-1), vi_load(rh->hit.inst_id[0])));
+done:
+    packet_put_hits(rh, tfar, bv, bw, bdet, bn0, bn1, bn2, bprim, bslot);
 }
 
 /* Occlusion of a packet: lanes drop out as they find a hit; children in any order. The interval test of a
  * node's boxes only preselects: each child it passes gets the lanes' own slab tests, and goes on with the lanes
  * that meet it, so the packet visits about the union of its rays' nodes. A subtree that one lane reaches goes on
  * as that single ray. The bounds are those of the live lanes: when lanes drop out they are recomputed.
- * Returns the blocked lanes. */
-static unsigned frustum_any(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const frustum_t *f0, const hz_bvh_rayw_t *ray,
-                            hz_bvh_counters_t *k)
-{
-    uint32_t st_c[HZ_BVH_STACK + W];
-    unsigned st_m[HZ_BVH_STACK + W];
-    int sp = 0;
-    uint32_t cur = 0;
-    const hz_bvh_node_t *const nodes = bvh->nodes;
-    const hz_bvh_block_t *const blocks = bvh->blocks;
-    const bool anyhit = bvh->has_anyhit && ctx && ctx->anyhit;
-    frustum_t fl;
-    const frustum_t *f = f0;
-    vf tfar = f->ltfar;
-    vf cull = vf_mul(tfar, vf_set1(HZ_BVH_CULL)); /* per lane, for culling (see bvh.h) */
-    vf vtfar_max = vf_set1(vf_hmax(tfar) * HZ_BVH_CULL);
-    unsigned live = f->active, cm = live; /* cm: the live lanes that reach cur */
-    int single_lane = -1;                 /* the lane prepared in r1 / s1 */
-    hz_bvh_ray_t r1;
-    sray_t s1;
-    for (;;) {
-        unsigned done = 0;
-        if ((cm & (cm - 1)) == 0) {
-            /* one lane reaches this subtree: it goes on alone, with its own box tests */
-            const unsigned i = (unsigned)__builtin_ctz(cm);
-            if ((int)i != single_lane) {
-                hz_bvh_ray_prep(&r1, ray->org_x[i], ray->org_y[i], ray->org_z[i], ray->dir_x[i], ray->dir_y[i],
-                                ray->dir_z[i], ray->tnear[i], ray->tfar[i]);
-                sray_init(&s1, &r1);
-                single_lane = (int)i;
-            }
-            if (any_from(bvh, ctx, &r1, &s1, cur, ray->id[i], (int)i, k))
-                done = cm;
-        } else {
-            const hz_bvh_node_t *n = &nodes[cur];
-            vf tmin;
-            HZ_BVH_COUNT(k, nodes, 1);
-            const unsigned m = fr_node_hit(n, f, vtfar_max, &tmin);
-            for (unsigned cb = m; cb; cb &= cb - 1) {
-                const unsigned j = (unsigned)__builtin_ctz(cb);
-                unsigned lanes = fr_lanes_hit(n, j, f, cull) & cm & ~done;
-                if (!lanes)
-                    continue;
-                const uint32_t cw = n->child[j];
-                if (!hz_bvh_is_leaf(cw)) {
-                    st_c[sp] = cw;
-                    st_m[sp] = lanes;
-                    sp++;
-                    continue;
-                }
-                const uint32_t slot = hz_bvh_leaf_slot(cw), cnt = hz_bvh_leaf_count(cw);
-                const hz_bvh_block_t *b = &blocks[slot / W];
-                HZ_BVH_COUNT(k, tris, (uint64_t)cnt * (uint64_t)__builtin_popcount(lanes));
-                for (unsigned s = slot % W; s < slot % W + cnt && lanes; s++) {
-                    vf t, V, Wv, det;
-                    unsigned mm = fr_tri_hit(b, s, f, tfar, lanes, &t, &V, &Wv, &det);
-                    if (!mm)
-                        continue;
-                    const uint32_t hs = (slot / W) * W + s;
-                    if (anyhit && (b->prim[s] & HZ_BVH_PRIM_ANYHIT))
-                        mm = packet_anyhit(bvh, ctx, ray, hs, mm, t, V, Wv, det);
-                    done |= mm;
-                    lanes &= ~mm;
-                }
-                if (done == cm)
-                    break;
-            }
-        }
-        if (done) {
-            live &= ~done;
-            if (!live)
-                break;
-            tfar = vf_sel(vm_of(done), vf_set1(-__builtin_inff()), tfar);
-            cull = vf_mul(tfar, vf_set1(HZ_BVH_CULL));
-            if (live & (live - 1)) {
-                if (f != &fl) {
-                    fl = *f0;
-                    f = &fl;
-                }
-                fl.active = live;
-                frustum_bounds(&fl, live, fl.ltnear);
-            }
-            vtfar_max = vf_set1(vf_hmax(tfar) * HZ_BVH_CULL);
-        }
-        for (;;) {
-            if (sp == 0)
-                return f0->active & ~live;
-            --sp;
-            cm = st_m[sp] & live;
-            if (cm) {
-                cur = st_c[sp];
-                break;
-            }
-        }
-    }
-    return f0->active;
-}
-
-/* Occlusion of a motion packet: frustum_any's traversal with the motion packet's tests (mfr_closest); a
- * subtree that one lane reaches goes on as that single ray at its time. Returns the blocked lanes. */
-static unsigned mfr_any(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const frustum_t *f0, const mtimes_t *mt,
-                        const hz_bvh_rayw_t *ray, hz_bvh_counters_t *k)
+ * Returns the blocked lanes. `motion` (a constant at every call): the motion packet's tests (mfr_closest), and a
+ * subtree that two lanes or fewer reach goes on as single rays at their times. */
+HZ_INLINE unsigned any_packet_core(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const frustum_t *f0, const mtimes_t *mt,
+                                   const hz_bvh_rayw_t *ray, hz_bvh_counters_t *k, const bool motion)
 {
     uint32_t st_c[HZ_BVH_STACK + W];
     unsigned st_m[HZ_BVH_STACK + W];
@@ -1248,30 +1143,33 @@ static unsigned mfr_any(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const frustum_
     sray_t s1;
     for (;;) {
         unsigned done = 0;
-        if (__builtin_popcount(cm) <= MFR_SINGLE_LANES) {
+        if (__builtin_popcount(cm) <= (motion ? MFR_SINGLE_LANES : 1)) {
             /* few lanes reach this subtree: each goes on alone, with its own box tests */
             for (unsigned x = cm; x; x &= x - 1) {
             const unsigned i = (unsigned)__builtin_ctz(x);
             if ((int)i != single_lane) {
                 hz_bvh_ray_prep(&r1, ray->org_x[i], ray->org_y[i], ray->org_z[i], ray->dir_x[i], ray->dir_y[i],
                                 ray->dir_z[i], ray->tnear[i], ray->tfar[i]);
-                hz_accel_time_segment(ray->time[i], bvh->time_keys, &r1.seg, &r1.f);
-                if (bvh->mref)
-                    hz_bvh_ray_levels(&r1, ray->time[i], bvh->key_level);
+                if (motion) {
+                    hz_accel_time_segment(ray->time[i], bvh->time_keys, &r1.seg, &r1.f);
+                    if (bvh->mref)
+                        hz_bvh_ray_levels(&r1, ray->time[i], bvh->key_level);
+                }
                 sray_init(&s1, &r1);
                 single_lane = (int)i;
             }
-            if (any_motion(bvh, ctx, &r1, &s1, cur, ray->id[i], (int)i, k))
+            if (motion ? any_motion(bvh, ctx, &r1, &s1, cur, ray->id[i], (int)i, k)
+                       : any_from(bvh, ctx, &r1, &s1, cur, ray->id[i], (int)i, k))
                 done |= 1u << i;
             }
         } else {
             const hz_bvh_node_t *n = &nodes[cur];
             vf tmin;
             HZ_BVH_COUNT(k, nodes, 1);
-            const unsigned m = mfr_node_hit(bvh, cur, f, mt, vtfar_max, &tmin);
+            const unsigned m = motion ? mfr_node_hit(bvh, cur, f, mt, vtfar_max, &tmin) : fr_node_hit(n, f, vtfar_max, &tmin);
             for (unsigned cb = m; cb; cb &= cb - 1) {
                 const unsigned j = (unsigned)__builtin_ctz(cb);
-                unsigned lanes = mfr_lanes_hit(bvh, cur, j, f, mt, cull) & cm & ~done;
+                unsigned lanes = (motion ? mfr_lanes_hit(bvh, cur, j, f, mt, cull) : fr_lanes_hit(n, j, f, cull)) & cm & ~done;
                 if (!lanes)
                     continue;
                 const uint32_t cw = n->child[j];
@@ -1285,17 +1183,22 @@ static unsigned mfr_any(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const frustum_
                 const uint32_t blk = slot / W;
                 HZ_BVH_COUNT(k, tris, (uint64_t)cnt * (uint64_t)__builtin_popcount(lanes));
                 for (unsigned s = slot % W; s < slot % W + cnt && lanes; s++) {
-                    vf P[3][3], t, V, Wv, det;
-                    mt_vertices(bvh, blk, s, mt, P);
-                    unsigned mm =
-                        woop(vf_sub(P[0][f->kx], f->okx), vf_sub(P[0][f->ky], f->oky), vf_sub(P[0][f->kz], f->okz),
-                             vf_sub(P[1][f->kx], f->okx), vf_sub(P[1][f->ky], f->oky), vf_sub(P[1][f->kz], f->okz),
-                             vf_sub(P[2][f->kx], f->okx), vf_sub(P[2][f->ky], f->oky), vf_sub(P[2][f->kz], f->okz),
-                             f->sx, f->sy, f->sz, f->ltnear, tfar, lanes, &t, &V, &Wv, &det);
+                    vf t, V, Wv, det;
+                    unsigned mm;
+                    if (motion) {
+                        vf P[3][3];
+                        mt_vertices(bvh, blk, s, mt, P);
+                        mm = woop(vf_sub(P[0][f->kx], f->okx), vf_sub(P[0][f->ky], f->oky), vf_sub(P[0][f->kz], f->okz),
+                                  vf_sub(P[1][f->kx], f->okx), vf_sub(P[1][f->ky], f->oky), vf_sub(P[1][f->kz], f->okz),
+                                  vf_sub(P[2][f->kx], f->okx), vf_sub(P[2][f->ky], f->oky), vf_sub(P[2][f->kz], f->okz),
+                                  f->sx, f->sy, f->sz, f->ltnear, tfar, lanes, &t, &V, &Wv, &det);
+                    } else {
+                        mm = fr_tri_hit(&bvh->blocks[blk], s, f, tfar, lanes, &t, &V, &Wv, &det);
+                    }
                     if (!mm)
                         continue;
                     const uint32_t hs = blk * W + s;
-                    if (anyhit && (bvh->kblocks[0][blk].prim[s] & HZ_BVH_PRIM_ANYHIT))
+                    if (anyhit && ((motion ? bvh->kblocks[0] : bvh->blocks)[blk].prim[s] & HZ_BVH_PRIM_ANYHIT))
                         mm = packet_anyhit(bvh, ctx, ray, hs, mm, t, V, Wv, det);
                     done |= mm;
                     lanes &= ~mm;
@@ -1332,6 +1235,18 @@ static unsigned mfr_any(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const frustum_
         }
     }
     return f0->active;
+}
+
+static unsigned frustum_any(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const frustum_t *f0, const hz_bvh_rayw_t *ray,
+                            hz_bvh_counters_t *k)
+{
+    return any_packet_core(bvh, ctx, f0, NULL, ray, k, false);
+}
+
+static unsigned mfr_any(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const frustum_t *f0, const mtimes_t *mt,
+                        const hz_bvh_rayw_t *ray, hz_bvh_counters_t *k)
+{
+    return any_packet_core(bvh, ctx, f0, mt, ray, k, true);
 }
 
 /* =========================================================================================================
