@@ -664,21 +664,50 @@ static unsigned packet_anyhit(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const hz
     return lanes_anyhit(bvh, ctx, &s, packet_lanes, slot, lm, t, V, Wv, det);
 }
 
-/* A packet's best hits into rh, in the lanes that hit (bslot >= 0): u = v * (1 / det) as hz_bvh_best_finish. */
-static void packet_put_hits(hz_bvh_rayhitw_t *rh, vf tfar, vf bv, vf bw, vf bdet, vf bn0, vf bn1, vf bn2, vi bprim,
-                            vi bslot)
+/* A packet's best hits so far, lane by lane (the closest-hit packet kernels; the distances live apart). */
+typedef struct pbest {
+    vf v, w, det, n[3]; /* edge weights, determinant and geometric normal (hz_bvh_best_finish's) */
+    vi prim, slot;      /* triangle (0x7FFFFFFF: none) and block slot (-1: none) */
+} pbest_t;
+
+HZ_INLINE void pbest_init(pbest_t *b)
 {
-    const vm hitm = vi_gt(bslot, vi_set1(-1));
+    b->v = b->w = vf_set1(0.0f);
+    b->det = vf_set1(1.0f);
+    b->n[0] = b->n[1] = b->n[2] = vf_set1(0.0f);
+    b->prim = vi_set1(0x7FFFFFFF);
+    b->slot = vi_set1(-1);
+}
+
+/* The lanes `better` take the hit (t, V, W, det) on triangle prim at block slot hs, with normal (n0, n1, n2). */
+HZ_INLINE void pbest_take(pbest_t *b, vf *tfar, vm better, vf t, vf V, vf Wv, vf det, vi prim, uint32_t hs, vf n0,
+                          vf n1, vf n2)
+{
+    *tfar = vf_sel(better, t, *tfar);
+    b->v = vf_sel(better, V, b->v);
+    b->w = vf_sel(better, Wv, b->w);
+    b->det = vf_sel(better, det, b->det);
+    b->prim = vi_sel(better, prim, b->prim);
+    b->slot = vi_sel(better, vi_set1((int32_t)hs), b->slot);
+    b->n[0] = vf_sel(better, n0, b->n[0]);
+    b->n[1] = vf_sel(better, n1, b->n[1]);
+    b->n[2] = vf_sel(better, n2, b->n[2]);
+}
+
+/* The best hits into rh, in the lanes that hit: u = v * (1 / det) as hz_bvh_best_finish. */
+static void packet_put_hits(hz_bvh_rayhitw_t *rh, vf tfar, const pbest_t *b)
+{
+    const vm hitm = vi_gt(b->slot, vi_set1(-1));
     if (!vm_bits(hitm))
         return;
-    const vf rdet = vf_div(vf_set1(1.0f), bdet);
+    const vf rdet = vf_div(vf_set1(1.0f), b->det);
     vf_store(rh->ray.tfar, vf_sel(hitm, tfar, vf_load(rh->ray.tfar)));
-    vf_store(rh->hit.u, vf_sel(hitm, vf_mul(bv, rdet), vf_load(rh->hit.u)));
-    vf_store(rh->hit.v, vf_sel(hitm, vf_mul(bw, rdet), vf_load(rh->hit.v)));
-    vf_store(rh->hit.ng_x, vf_sel(hitm, bn0, vf_load(rh->hit.ng_x)));
-    vf_store(rh->hit.ng_y, vf_sel(hitm, bn1, vf_load(rh->hit.ng_y)));
-    vf_store(rh->hit.ng_z, vf_sel(hitm, bn2, vf_load(rh->hit.ng_z)));
-    vi_store(rh->hit.prim_id, vi_sel(hitm, bprim, vi_load(rh->hit.prim_id)));
+    vf_store(rh->hit.u, vf_sel(hitm, vf_mul(b->v, rdet), vf_load(rh->hit.u)));
+    vf_store(rh->hit.v, vf_sel(hitm, vf_mul(b->w, rdet), vf_load(rh->hit.v)));
+    vf_store(rh->hit.ng_x, vf_sel(hitm, b->n[0], vf_load(rh->hit.ng_x)));
+    vf_store(rh->hit.ng_y, vf_sel(hitm, b->n[1], vf_load(rh->hit.ng_y)));
+    vf_store(rh->hit.ng_z, vf_sel(hitm, b->n[2], vf_load(rh->hit.ng_z)));
+    vi_store(rh->hit.prim_id, vi_sel(hitm, b->prim, vi_load(rh->hit.prim_id)));
     vi_store(rh->hit.geom_id, vi_sel(hitm, vi_set1(0), vi_load(rh->hit.geom_id)));
     vi_store(rh->hit.inst_id[0], vi_sel(hitm, vi_set1(-1), vi_load(rh->hit.inst_id[0])));
 }
@@ -696,9 +725,9 @@ static void frustum_closest(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const frus
     const hz_bvh_node_t *const nodes = bvh->nodes;
     const hz_bvh_block_t *const blocks = bvh->blocks;
     const bool anyhit = bvh->has_anyhit && ctx && ctx->anyhit;
-    vf tfar = f->ltfar, bv = vf_set1(0.0f), bw = vf_set1(0.0f), bdet = vf_set1(1.0f);
-    vf bn0 = vf_set1(0.0f), bn1 = vf_set1(0.0f), bn2 = vf_set1(0.0f);
-    vi bprim = vi_set1(0x7FFFFFFF), bslot = vi_set1(-1);
+    vf tfar = f->ltfar;
+    pbest_t pb;
+    pbest_init(&pb);
     float tfar_max = vf_hmax(tfar) * HZ_BVH_CULL; /* for culling nodes (see bvh.h) */
     vf vtfar_max = vf_set1(tfar_max);
     for (;;) {
@@ -733,27 +762,20 @@ static void frustum_closest(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const frus
                     const uint32_t pw = b->prim[s], prim = pw & HZ_BVH_PRIM_MASK, hs = (slot / W) * W + s;
                     const vi vprim = vi_set1((int32_t)prim);
                     /* t < best, or t == best and a lower triangle index (best starts at 0x7FFFFFFF) */
-                    unsigned bm = vm_bits(vm_or(vf_lt(t, tfar), vm_and(vf_eq(t, tfar), vi_gt(bprim, vprim)))) & mm;
+                    unsigned bm = vm_bits(vm_or(vf_lt(t, tfar), vm_and(vf_eq(t, tfar), vi_gt(pb.prim, vprim)))) & mm;
                     if (!bm)
                         continue;
                     if (anyhit && (pw & HZ_BVH_PRIM_ANYHIT) &&
                         !(bm = packet_anyhit(bvh, ctx, &rh->ray, hs, bm, t, V, Wv, det)))
                         continue;
-                    const vm better = vm_of(bm);
-                    tfar = vf_sel(better, t, tfar);
-                    bv = vf_sel(better, V, bv);
-                    bw = vf_sel(better, Wv, bw);
-                    bdet = vf_sel(better, det, bdet);
-                    bprim = vi_sel(better, vprim, bprim);
-                    bslot = vi_sel(better, vi_set1((int32_t)hs), bslot);
                     float e1[3], e2[3]; /* the normal as hz_bvh_best_finish computes it */
                     for (int c = 0; c < 3; c++) {
                         e1[c] = b->v[1][c][s] - b->v[0][c][s];
                         e2[c] = b->v[2][c][s] - b->v[0][c][s];
                     }
-                    bn0 = vf_sel(better, vf_set1(e1[1] * e2[2] - e1[2] * e2[1]), bn0);
-                    bn1 = vf_sel(better, vf_set1(e1[2] * e2[0] - e1[0] * e2[2]), bn1);
-                    bn2 = vf_sel(better, vf_set1(e1[0] * e2[1] - e1[1] * e2[0]), bn2);
+                    pbest_take(&pb, &tfar, vm_of(bm), t, V, Wv, det, vprim, hs,
+                               vf_set1(e1[1] * e2[2] - e1[2] * e2[1]), vf_set1(e1[2] * e2[0] - e1[0] * e2[2]),
+                               vf_set1(e1[0] * e2[1] - e1[1] * e2[0]));
                     changed = true;
                 }
                 if (changed) {
@@ -778,7 +800,7 @@ static void frustum_closest(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const frus
         }
     }
 done:
-    packet_put_hits(rh, tfar, bv, bw, bdet, bn0, bn1, bn2, bprim, bslot);
+    packet_put_hits(rh, tfar, &pb);
 }
 
 /* =========================================================================================================
@@ -853,12 +875,11 @@ HZ_INLINE vf mt_margin(vf a, vf b)
     return vf_mul(vf_minn(vf_maxn(vf_abs(a), vf_abs(b)), vf_set1(3.40282347e38f)), vf_set1(1.9073486328125e-6f));
 }
 
-/* The packet's interval test of node i's children over the lanes' segments (see above). */
-HZ_INLINE unsigned mfr_node_hit(const hz_bvh_t *bvh, uint32_t i, const frustum_t *f, const mtimes_t *mt,
+/* The packet's interval test of a node's children over the lanes' segments (see above): sets and m from
+ * mt_sets. */
+HZ_INLINE unsigned mfr_node_hit(const hz_bvh_mbox_t *sets, uint32_t m, const frustum_t *f, const mtimes_t *mt,
                                 vf tfar_max, vf *tmin_out)
 {
-    uint32_t m;
-    const hz_bvh_mbox_t *sets = mt_sets(bvh, i, mt, &m);
     vf lo[3], hi[3];
     for (unsigned pv = mt->present[m], first = 1; pv; pv &= pv - 1, first = 0) {
         const unsigned v = (unsigned)__builtin_ctz(pv);
@@ -882,25 +903,14 @@ HZ_INLINE unsigned mfr_node_hit(const hz_bvh_t *bvh, uint32_t i, const frustum_t
                          tmin_out);
 }
 
-/* Lanes whose own ray meets child j of node i at its time within [tnear, cull[lane]] (node_hit_at's boxes). */
-HZ_INLINE unsigned mfr_lanes_hit(const hz_bvh_t *bvh, uint32_t i, unsigned j, const frustum_t *f,
+/* Lanes whose own ray meets child j of a node (sets, m from mt_sets) at its time within [tnear, cull[lane]]
+ * (node_hit_at's boxes). */
+HZ_INLINE unsigned mfr_lanes_hit(const hz_bvh_mbox_t *sets, uint32_t m, unsigned j, const frustum_t *f,
                                  const mtimes_t *mt, vf cull)
 {
-    uint32_t m;
-    const hz_bvh_mbox_t *sets = mt_sets(bvh, i, mt, &m);
     const size_t off[6] = { f->nx, f->ny, f->nz, f->fx, f->fy, f->fz };
     vf pl[6];
-    const unsigned p0 = mt->present[m];
-    if (!(p0 & (p0 - 1))) { /* the lanes in one segment (most nodes): no selects, the planes stay in registers */
-        const unsigned v = (unsigned)__builtin_ctz(p0);
-        const char *a = (const char *)(const void *)&sets[v] + 4u * j;
-        const char *b = (const char *)(const void *)&sets[v + 1] + 4u * j;
-        HZ_UNROLL
-        for (int q = 0; q < 6; q++)
-            pl[q] = vf_add(vf_mul(mt->g[m], vf_set1(*(const float *)(const void *)(a + off[q]))),
-                           vf_mul(mt->f[m], vf_set1(*(const float *)(const void *)(b + off[q]))));
-    } else
-    for (unsigned pv = p0, first = 1; pv; pv &= pv - 1, first = 0) {
+    for (unsigned pv = mt->present[m], first = 1; pv; pv &= pv - 1, first = 0) {
         const unsigned v = (unsigned)__builtin_ctz(pv);
         const char *a = (const char *)(const void *)&sets[v] + 4u * j;
         const char *b = (const char *)(const void *)&sets[v + 1] + 4u * j;
@@ -926,18 +936,7 @@ HZ_INLINE unsigned mfr_lanes_hit(const hz_bvh_t *bvh, uint32_t i, unsigned j, co
 HZ_INLINE void mt_vertices(const hz_bvh_t *bvh, uint32_t blk, unsigned s, const mtimes_t *mt, vf P[3][3])
 {
     const uint32_t L = mt->level;
-    const unsigned p0 = mt->present[L];
-    if (!(p0 & (p0 - 1))) { /* the lanes in one segment: no selects */
-        const unsigned v = (unsigned)__builtin_ctz(p0);
-        const hz_bvh_block_t *a = &bvh->kblocks[v][blk], *b = &bvh->kblocks[v + 1][blk];
-        HZ_UNROLL
-        for (int q = 0; q < 3; q++)
-            HZ_UNROLL
-            for (int ax = 0; ax < 3; ax++)
-                P[q][ax] = vf_add(vf_mul(mt->g[L], vf_set1(a->v[q][ax][s])), vf_mul(mt->f[L], vf_set1(b->v[q][ax][s])));
-        return;
-    }
-    for (unsigned pv = p0, first = 1; pv; pv &= pv - 1, first = 0) {
+    for (unsigned pv = mt->present[L], first = 1; pv; pv &= pv - 1, first = 0) {
         const unsigned v = (unsigned)__builtin_ctz(pv);
         const hz_bvh_block_t *a = &bvh->kblocks[v][blk], *b = &bvh->kblocks[v + 1][blk];
         const vm in = vm_of(mt->lanes[L][v]);
@@ -966,9 +965,9 @@ static void mfr_closest(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const frustum_
     uint32_t cur = 0;
     const hz_bvh_node_t *const nodes = bvh->nodes;
     const bool anyhit = bvh->has_anyhit && ctx && ctx->anyhit;
-    vf tfar = f->ltfar, bv = vf_set1(0.0f), bw = vf_set1(0.0f), bdet = vf_set1(1.0f);
-    vf bn0 = vf_set1(0.0f), bn1 = vf_set1(0.0f), bn2 = vf_set1(0.0f);
-    vi bprim = vi_set1(0x7FFFFFFF), bslot = vi_set1(-1);
+    vf tfar = f->ltfar;
+    pbest_t pb;
+    pbest_init(&pb);
     float tfar_max = vf_hmax(tfar) * HZ_BVH_CULL; /* for culling nodes (see bvh.h) */
     vf vtfar_max = vf_set1(tfar_max);
     for (;;) {
@@ -977,8 +976,9 @@ static void mfr_closest(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const frustum_
             float tv[W] HZ_ALIGNED(32), vv[W] HZ_ALIGNED(32), wv[W] HZ_ALIGNED(32), dv[W] HZ_ALIGNED(32);
             float n0[W] HZ_ALIGNED(32), n1[W] HZ_ALIGNED(32), n2[W] HZ_ALIGNED(32);
             int32_t pv[W] HZ_ALIGNED(32), sv[W] HZ_ALIGNED(32);
-            vf_store(tv, tfar), vf_store(vv, bv), vf_store(wv, bw), vf_store(dv, bdet);
-            vf_store(n0, bn0), vf_store(n1, bn1), vf_store(n2, bn2), vi_store(pv, bprim), vi_store(sv, bslot);
+            vf_store(tv, tfar), vf_store(vv, pb.v), vf_store(wv, pb.w), vf_store(dv, pb.det);
+            vf_store(n0, pb.n[0]), vf_store(n1, pb.n[1]), vf_store(n2, pb.n[2]);
+            vi_store(pv, pb.prim), vi_store(sv, pb.slot);
             for (unsigned x = cm; x; x &= x - 1) {
                 const unsigned l = (unsigned)__builtin_ctz(x);
                 hz_bvh_ray_t r;
@@ -1000,20 +1000,13 @@ static void mfr_closest(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const frustum_
                     continue;
                 tv[l] = r.tfar, pv[l] = (int32_t)best.prim, sv[l] = (int32_t)best.slot;
                 vv[l] = best.v, wv[l] = best.w, dv[l] = best.det;
-                hz_bvh_block_t tmp; /* the normal as hz_bvh_best_finish_at computes it */
-                const hz_bvh_block_t *b = hz_bvh_block_at(bvh, best.slot / W, &r, &tmp);
-                const unsigned q = best.slot % W;
-                float e1[3], e2[3];
-                for (int c = 0; c < 3; c++) {
-                    e1[c] = b->v[1][c][q] - b->v[0][c][q];
-                    e2[c] = b->v[2][c][q] - b->v[0][c][q];
-                }
-                n0[l] = e1[1] * e2[2] - e1[2] * e2[1];
-                n1[l] = e1[2] * e2[0] - e1[0] * e2[2];
-                n2[l] = e1[0] * e2[1] - e1[1] * e2[0];
+                float ng[3], u, v; /* u and v come again from the lane's weights at the end */
+                hz_bvh_best_finish_at(bvh, &best, &r, ng, &u, &v);
+                n0[l] = ng[0], n1[l] = ng[1], n2[l] = ng[2];
             }
-            tfar = vf_load(tv), bv = vf_load(vv), bw = vf_load(wv), bdet = vf_load(dv);
-            bn0 = vf_load(n0), bn1 = vf_load(n1), bn2 = vf_load(n2), bprim = vi_load(pv), bslot = vi_load(sv);
+            tfar = vf_load(tv), pb.v = vf_load(vv), pb.w = vf_load(wv), pb.det = vf_load(dv);
+            pb.n[0] = vf_load(n0), pb.n[1] = vf_load(n1), pb.n[2] = vf_load(n2);
+            pb.prim = vi_load(pv), pb.slot = vi_load(sv);
             tfar_max = vf_hmax(tfar) * HZ_BVH_CULL;
             vtfar_max = vf_set1(tfar_max);
             goto pop;
@@ -1021,7 +1014,9 @@ static void mfr_closest(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const frustum_
         const hz_bvh_node_t *n = &nodes[cur];
         vf tmin;
         HZ_BVH_COUNT(k, nodes, 1);
-        const unsigned m = mfr_node_hit(bvh, cur, f, mt, vtfar_max, &tmin);
+        uint32_t lvl;
+        const hz_bvh_mbox_t *sets = mt_sets(bvh, cur, mt, &lvl);
+        const unsigned m = mfr_node_hit(sets, lvl, f, mt, vtfar_max, &tmin);
         const unsigned leafbits = vi_signs(vi_load(n->child)) & m;
         if (leafbits) {
             float d[W] HZ_ALIGNED(32);
@@ -1033,7 +1028,7 @@ static void mfr_closest(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const frustum_
                 const unsigned j = order[q];
                 if (d[j] > tfar_max)
                     break;
-                const unsigned lanes = mfr_lanes_hit(bvh, cur, j, f, mt, vf_mul(tfar, vf_set1(HZ_BVH_CULL))) & cm;
+                const unsigned lanes = mfr_lanes_hit(sets, lvl, j, f, mt, vf_mul(tfar, vf_set1(HZ_BVH_CULL))) & cm;
                 if (!lanes)
                     continue;
                 const uint32_t cw = n->child[j], slot = hz_bvh_leaf_slot(cw), cnt = hz_bvh_leaf_count(cw);
@@ -1052,28 +1047,22 @@ static void mfr_closest(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const frustum_
                     const uint32_t pw = bvh->kblocks[0][blk].prim[s], prim = pw & HZ_BVH_PRIM_MASK, hs = blk * W + s;
                     const vi vprim = vi_set1((int32_t)prim);
                     /* t < best, or t == best and a lower triangle index (best starts at 0x7FFFFFFF) */
-                    unsigned bm = vm_bits(vm_or(vf_lt(t, tfar), vm_and(vf_eq(t, tfar), vi_gt(bprim, vprim)))) & mm;
+                    unsigned bm = vm_bits(vm_or(vf_lt(t, tfar), vm_and(vf_eq(t, tfar), vi_gt(pb.prim, vprim)))) & mm;
                     if (!bm)
                         continue;
                     if (anyhit && (pw & HZ_BVH_PRIM_ANYHIT) &&
                         !(bm = packet_anyhit(bvh, ctx, &rh->ray, hs, bm, t, V, Wv, det)))
                         continue;
-                    const vm better = vm_of(bm);
-                    tfar = vf_sel(better, t, tfar);
-                    bv = vf_sel(better, V, bv);
-                    bw = vf_sel(better, Wv, bw);
-                    bdet = vf_sel(better, det, bdet);
-                    bprim = vi_sel(better, vprim, bprim);
-                    bslot = vi_sel(better, vi_set1((int32_t)hs), bslot);
                     /* the normal of the triangle at each lane's time, as hz_bvh_best_finish_at computes it */
                     vf e1[3], e2[3];
                     for (int c = 0; c < 3; c++) {
                         e1[c] = vf_sub(P[1][c], P[0][c]);
                         e2[c] = vf_sub(P[2][c], P[0][c]);
                     }
-                    bn0 = vf_sel(better, vf_sub(vf_mul(e1[1], e2[2]), vf_mul(e1[2], e2[1])), bn0);
-                    bn1 = vf_sel(better, vf_sub(vf_mul(e1[2], e2[0]), vf_mul(e1[0], e2[2])), bn1);
-                    bn2 = vf_sel(better, vf_sub(vf_mul(e1[0], e2[1]), vf_mul(e1[1], e2[0])), bn2);
+                    pbest_take(&pb, &tfar, vm_of(bm), t, V, Wv, det, vprim, hs,
+                               vf_sub(vf_mul(e1[1], e2[2]), vf_mul(e1[2], e2[1])),
+                               vf_sub(vf_mul(e1[2], e2[0]), vf_mul(e1[0], e2[2])),
+                               vf_sub(vf_mul(e1[0], e2[1]), vf_mul(e1[1], e2[0])));
                     changed = true;
                 }
                 if (changed) {
@@ -1087,7 +1076,7 @@ static void mfr_closest(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const frustum_
             const vf cull = vf_mul(tfar, vf_set1(HZ_BVH_CULL));
             for (unsigned x = inner; x; x &= x - 1) {
                 const unsigned j = (unsigned)__builtin_ctz(x);
-                im[j] = mfr_lanes_hit(bvh, cur, j, f, mt, cull) & cm;
+                im[j] = mfr_lanes_hit(sets, lvl, j, f, mt, cull) & cm;
                 if (!im[j])
                     inner &= ~(1u << j);
             }
@@ -1114,7 +1103,7 @@ static void mfr_closest(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const frustum_
         }
     }
 done:
-    packet_put_hits(rh, tfar, bv, bw, bdet, bn0, bn1, bn2, bprim, bslot);
+    packet_put_hits(rh, tfar, &pb);
 }
 
 /* Occlusion of a packet: lanes drop out as they find a hit; children in any order. The interval test of a
@@ -1166,10 +1155,14 @@ HZ_INLINE unsigned any_packet_core(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, con
             const hz_bvh_node_t *n = &nodes[cur];
             vf tmin;
             HZ_BVH_COUNT(k, nodes, 1);
-            const unsigned m = motion ? mfr_node_hit(bvh, cur, f, mt, vtfar_max, &tmin) : fr_node_hit(n, f, vtfar_max, &tmin);
+            uint32_t lvl = 0;
+            const hz_bvh_mbox_t *sets = motion ? mt_sets(bvh, cur, mt, &lvl) : NULL;
+            const unsigned m =
+                motion ? mfr_node_hit(sets, lvl, f, mt, vtfar_max, &tmin) : fr_node_hit(n, f, vtfar_max, &tmin);
             for (unsigned cb = m; cb; cb &= cb - 1) {
                 const unsigned j = (unsigned)__builtin_ctz(cb);
-                unsigned lanes = (motion ? mfr_lanes_hit(bvh, cur, j, f, mt, cull) : fr_lanes_hit(n, j, f, cull)) & cm & ~done;
+                unsigned lanes =
+                    (motion ? mfr_lanes_hit(sets, lvl, j, f, mt, cull) : fr_lanes_hit(n, j, f, cull)) & cm & ~done;
                 if (!lanes)
                     continue;
                 const uint32_t cw = n->child[j];
