@@ -48,7 +48,6 @@ typedef struct shadow_job {
     uint16_t slot;
     uint8_t gslot;             /* counts into shadow / shadow2 of the slot's pixel when blocked */
     uint8_t light;             /* the light's index (mod 256): packets are gathered per light */
-    uint8_t camera;            /* 1: from a camera ray's hit (packets of these are coherent) */
     uint8_t dither;            /* 1: from a stochastic fragment with rr_shadows: blended occluders by roulette */
 } shadow_job_t;
 

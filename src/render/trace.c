@@ -66,14 +66,17 @@ static void read_hits(const packet_t *p, uint32_t n, hitrec_t *out)
     }
 }
 
-/* Closest hits of up to HZ_RENDER_LANES jobs; tmax may be NULL (unbounded rays). */
-static void intersect_jobs(hz_worker_t *w, const ray_job_t *jobs, uint32_t n, hitrec_t *out, bool coherent,
-                           const float *tmax)
+/* Closest hits of up to HZ_RENDER_LANES jobs; tmax may be NULL (unbounded rays). The packets come off the
+ * queue of one camera packet's descendants (drain): continuation rays keep their camera rays' directions and
+ * lie along their lines, a flat mirror turns a packet into the packet of a mirrored camera. They go as coherent
+ * packets: the tile traversal takes lanes that part from the others on alone (a curved mirror's), and measured
+ * faster than single rays on the built-in scene's mirrors and on exact transparency's continuation rays. */
+static void intersect_jobs(hz_worker_t *w, const ray_job_t *jobs, uint32_t n, hitrec_t *out, const float *tmax)
 {
     packet_t p;
     int32_t valid[HZ_RENDER_LANES] HZ_ALIGNED(32);
     fill_packet(&p, valid, jobs, n, tmax);
-    w->ctx.flags = coherent ? HZ_ACCEL_COHERENT : 0u;
+    w->ctx.flags = HZ_ACCEL_COHERENT;
     INTERSECT(valid, w->r->accel, &w->ctx, &p);
     read_hits(&p, n, out);
 }
@@ -261,11 +264,11 @@ static void count_blocked(hz_worker_t *w, uint32_t slot, uint8_t gslot)
 }
 
 /* Takes a packet of jobs off the shadow queue: the newest job and the newest others towards the same light among
- * the SHADOW_GATHER newest (the rest keep their order), oldest first. A packet towards one light from the hits
- * of one camera packet is coherent: its rays share direction signs and converge, so the traverser can take it as
- * a frustum; jobs pushed hit by hit alternate between the lights. Returns how many; *coherent tells whether they
- * all start at camera rays' hits (any sample, not only the one that writes the G-buffer). */
-static uint32_t take_shadows(hz_worker_t *w, shadow_job_t *jobs, bool *coherent)
+ * the SHADOW_GATHER newest (the rest keep their order), oldest first; jobs pushed hit by hit alternate between
+ * the lights. Returns how many. A packet towards one light is coherent wherever its rays start (camera hits,
+ * mirror hits, the layers behind blended surfaces): they end at one point of a point light, or run parallel
+ * towards a directional one, so the traverser bounds them from that end. */
+static uint32_t take_shadows(hz_worker_t *w, shadow_job_t *jobs)
 {
     const uint32_t top = w->shadow_n, lo = top > SHADOW_GATHER ? top - SHADOW_GATHER : 0;
     const uint8_t light = w->shadows[top - 1].light;
@@ -274,18 +277,14 @@ static uint32_t take_shadows(hz_worker_t *w, shadow_job_t *jobs, bool *coherent)
         if (w->shadows[i].light == light)
             found++, start = i;
     uint32_t n = 0, d = start;
-    bool primary = true;
     for (uint32_t i = start; i < top; i++) {
         if (w->shadows[i].light == light) {
-            jobs[n] = w->shadows[i];
-            primary = primary && jobs[n].camera;
-            n++;
+            jobs[n++] = w->shadows[i];
         } else {
             w->shadows[d++] = w->shadows[i];
         }
     }
     w->shadow_n = d;
-    *coherent = primary;
     return n;
 }
 
@@ -295,10 +294,9 @@ static void process_shadows(hz_worker_t *w)
     if (w->shadow_n == 0)
         return;
     shadow_job_t jobs[HZ_RENDER_LANES];
-    bool coherent;
-    uint32_t n = take_shadows(w, jobs, &coherent);
+    uint32_t n = take_shadows(w, jobs);
     w->b.stats.shadow_rays += n;
-    w->ctx.flags = coherent ? HZ_ACCEL_COHERENT : 0u;
+    w->ctx.flags = HZ_ACCEL_COHERENT;
     /* One occlusion pass with early exit; blended surfaces composite into the lane's transmittance in the
      * any-hit callback, in whatever order the traversal meets them (the product does not care), each triangle
      * once, up to the layer cap. */
@@ -549,7 +547,6 @@ static void shade_hit(hz_worker_t *w, const ray_job_t *j, const hitrec_t *h, con
         sj.slot = j->slot;
         sj.gslot = j->gslot;
         sj.light = (uint8_t)l;
-        sj.camera = j->bounces == 0 && j->layers == 0;
         sj.dither = (uint8_t)(j->dither && r->f.opts.rr_shadows);
         push_shadow(w, &sj);
     }
@@ -651,7 +648,7 @@ static void drain(hz_worker_t *w)
         for (uint32_t i = 0; i < n; i++)
             jobs[i] = w->stack[w->stack_n + i];
         w->b.stats.secondary_rays += n;
-        intersect_jobs(w, jobs, n, hits, false, NULL);
+        intersect_jobs(w, jobs, n, hits, NULL);
         shade_packet(w, jobs, hits, n);
     }
 }

@@ -242,7 +242,7 @@ static void w_o1(const hz_accel_t *a, hz_accel_ctx_t *c, hz_ray_t *r)
 static void w_i4(const int32_t *v, const hz_accel_t *a, hz_accel_ctx_t *c, hz_rayhit4_t *rh)
 {
     (void)a;
-    rec(v, rh->ray.time, 4, c && (c->flags & HZ_ACCEL_COHERENT));
+    rec(v, rh->ray.time, 4, false);
     real->ops->intersect4(v, real, c, rh);
 }
 static void w_o4(const int32_t *v, const hz_accel_t *a, hz_accel_ctx_t *c, hz_ray4_t *r)
@@ -255,8 +255,23 @@ static void w_o4(const int32_t *v, const hz_accel_t *a, hz_accel_ctx_t *c, hz_ra
 static void w_i8(const int32_t *v, const hz_accel_t *a, hz_accel_ctx_t *c, hz_rayhit8_t *rh)
 {
     (void)a;
-    rec(v, rh->ray.time, 8, c && (c->flags & HZ_ACCEL_COHERENT));
+    rec(v, rh->ray.time, 8, false);
     real->ops->intersect8(v, real, c, rh);
+}
+/* Camera rays come as a batch of packets (one tile), everything they spawn a packet at a time. */
+static void w_i8n(const int32_t *v, const hz_accel_t *a, hz_accel_ctx_t *c, hz_rayhit8_t *rh, uint32_t n)
+{
+    (void)a;
+    for (uint32_t p = 0; p < n; p++)
+        rec(v + 8 * p, rh[p].ray.time, 8, true);
+    hz_accel_intersect8n(v, real, c, rh, n);
+}
+static void w_i4n(const int32_t *v, const hz_accel_t *a, hz_accel_ctx_t *c, hz_rayhit4_t *rh, uint32_t n)
+{
+    (void)a;
+    for (uint32_t p = 0; p < n; p++)
+        rec(v + 4 * p, rh[p].ray.time, 4, true);
+    hz_accel_intersect4n(v, real, c, rh, n);
 }
 static void w_o8(const int32_t *v, const hz_accel_t *a, hz_accel_ctx_t *c, hz_ray8_t *r)
 {
@@ -270,7 +285,7 @@ static hz_status_t w_refit(hz_accel_t *a, hz_error_t *err)
     (void)a;
     return real->ops->refit((hz_accel_t *)real, err);
 }
-static const hz_accel_ops_t wrap_ops = { w_i1, w_o1, w_i4, w_o4, w_i8, w_o8, w_refit, NULL, NULL, NULL, NULL, NULL };
+static const hz_accel_ops_t wrap_ops = { w_i1, w_o1, w_i4, w_o4, w_i8, w_o8, w_refit, NULL, w_i8n, NULL, w_i4n, NULL };
 
 static int cmp_float(const void *a, const void *b)
 {
