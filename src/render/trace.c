@@ -69,8 +69,8 @@ static void read_hits(const packet_t *p, uint32_t n, hitrec_t *out)
 /* Closest hits of up to HZ_RENDER_LANES jobs; tmax may be NULL (unbounded rays). The packets come off the
  * queue of one camera packet's descendants (drain): continuation rays keep their camera rays' directions and
  * lie along their lines, a flat mirror turns a packet into the packet of a mirrored camera. They go as coherent
- * packets: the tile traversal takes lanes that part from the others on alone (a curved mirror's), and measured
- * faster than single rays on the built-in scene's mirrors and on exact transparency's continuation rays. */
+ * packets: the tile traversal takes lanes that part from the others on alone (a curved mirror's). Against single
+ * rays: runs with exact or hybrid transparency 15-25% faster, mirror scenes even (doc/accel.md). */
 static void intersect_jobs(hz_worker_t *w, const ray_job_t *jobs, uint32_t n, hitrec_t *out, const float *tmax)
 {
     packet_t p;
@@ -298,8 +298,8 @@ static void process_shadows(hz_worker_t *w)
     w->b.stats.shadow_rays += n;
     w->ctx.flags = HZ_ACCEL_COHERENT;
     /* One occlusion pass with early exit; blended surfaces composite into the lane's transmittance in the
-     * any-hit callback, in whatever order the traversal meets them (the product does not care), each triangle
-     * once, up to the layer cap. */
+     * any-hit callback, in whatever order the traversal meets them (the order moves only the product's last
+     * bits), each triangle once, up to the layer cap. */
     shadow_packet_t p;
     int32_t valid[HZ_RENDER_LANES] HZ_ALIGNED(32);
     for (uint32_t i = 0; i < HZ_RENDER_LANES; i++) {
