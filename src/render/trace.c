@@ -37,8 +37,8 @@ typedef hz_ray4_t shadow_packet_t;
 #define OCCLUDED hz_accel_occluded4
 #endif
 
-/* A packet of up to HZ_RENDER_LANES jobs (lanes past n off); tmax may be NULL (unbounded rays). */
-static void fill_packet(packet_t *p, int32_t *valid, const ray_job_t *jobs, uint32_t n, const float *tmax)
+/* A packet of up to HZ_RENDER_LANES jobs (lanes past n off), unbounded rays. */
+static void fill_packet(packet_t *p, int32_t *valid, const ray_job_t *jobs, uint32_t n)
 {
     for (uint32_t i = 0; i < HZ_RENDER_LANES; i++) {
         const ray_job_t *j = &jobs[i < n ? i : 0];
@@ -46,7 +46,7 @@ static void fill_packet(packet_t *p, int32_t *valid, const ray_job_t *jobs, uint
         p->ray.org_x[i] = j->o[0], p->ray.org_y[i] = j->o[1], p->ray.org_z[i] = j->o[2];
         p->ray.dir_x[i] = j->d[0], p->ray.dir_y[i] = j->d[1], p->ray.dir_z[i] = j->d[2];
         p->ray.tnear[i] = 0.0f;
-        p->ray.tfar[i] = tmax && i < n ? tmax[i] : __builtin_inff();
+        p->ray.tfar[i] = __builtin_inff();
         p->ray.time[i] = j->time;
         p->ray.mask[i] = 0xffffffffu;
         p->ray.id[i] = j->slot | (j->gslot == GSLOT_PRIMARY ? ID_PRIMARY : 0u) | (j->dither ? ID_DITHER : 0u);
@@ -66,16 +66,16 @@ static void read_hits(const packet_t *p, uint32_t n, hitrec_t *out)
     }
 }
 
-/* Closest hits of up to HZ_RENDER_LANES jobs; tmax may be NULL (unbounded rays). The packets come off the
+/* Closest hits of up to HZ_RENDER_LANES jobs (unbounded rays). The packets come off the
  * queue of one camera packet's descendants (drain): continuation rays keep their camera rays' directions and
  * lie along their lines, a flat mirror turns a packet into the packet of a mirrored camera. They go as coherent
  * packets: the tile traversal takes lanes that part from the others on alone (a curved mirror's). Against single
  * rays: runs with exact or hybrid transparency 15-25% faster, mirror scenes even (doc/accel.md). */
-static void intersect_jobs(hz_worker_t *w, const ray_job_t *jobs, uint32_t n, hitrec_t *out, const float *tmax)
+static void intersect_jobs(hz_worker_t *w, const ray_job_t *jobs, uint32_t n, hitrec_t *out)
 {
     packet_t p;
     int32_t valid[HZ_RENDER_LANES] HZ_ALIGNED(32);
-    fill_packet(&p, valid, jobs, n, tmax);
+    fill_packet(&p, valid, jobs, n);
     w->ctx.flags = HZ_ACCEL_COHERENT;
     INTERSECT(valid, w->r->accel, &w->ctx, &p);
     read_hits(&p, n, out);
@@ -90,7 +90,7 @@ static void intersect_batch(hz_worker_t *w, const ray_job_t *jobs, const uint32_
     packet_t p[BATCH_PACKETS];
     int32_t valid[HZ_TILE_PIXELS] HZ_ALIGNED(32);
     for (uint32_t q = 0; q < BATCH_PACKETS; q++)
-        fill_packet(&p[q], valid + q * HZ_RENDER_LANES, jobs + q * HZ_RENDER_LANES, n[q], NULL);
+        fill_packet(&p[q], valid + q * HZ_RENDER_LANES, jobs + q * HZ_RENDER_LANES, n[q]);
     w->ctx.flags = HZ_ACCEL_COHERENT;
     INTERSECT_N(valid, w->r->accel, &w->ctx, p, BATCH_PACKETS);
     for (uint32_t q = 0; q < BATCH_PACKETS; q++)
@@ -648,7 +648,7 @@ static void drain(hz_worker_t *w)
         for (uint32_t i = 0; i < n; i++)
             jobs[i] = w->stack[w->stack_n + i];
         w->b.stats.secondary_rays += n;
-        intersect_jobs(w, jobs, n, hits, NULL);
+        intersect_jobs(w, jobs, n, hits);
         shade_packet(w, jobs, hits, n);
     }
 }
