@@ -103,7 +103,9 @@ typedef struct hz_render_opts {
     /* The tdense and TAA resolves run with the board's SIMD (8 pixels at a time on AVX2, 4 on NEON); true runs
      * their scalar twins instead, which give bit-identical frames (for tests and side-by-side timing). */
     bool scalar_recon;
-    /* Packet shading through the kernels' scalar twin (src/render/shade.h), same images: benchmarks compare the two. */
+    /* Shading through its twin, same images: the kernels' scalar twin (src/render/shade.h), every hit shaded on
+     * its own and every shadow ray through the queue, where the packet paths shade camera hits a packet at once
+     * and trace their shadow rays straight from the kernel's lanes. Tests and benchmarks compare the two. */
     bool scalar_shading;
     /* tdense and TAA frames overlap their trace and resolve passes (hz_render_overlap_units); true keeps a
      * barrier between them instead (same images: for tests and side-by-side timing). */

@@ -43,10 +43,11 @@ bool hz_view_project(const hz_view_t *v, hz_vec3_t p, float *px, float *py)
     return hz_isfinitef(*px) && hz_isfinitef(*py);
 }
 
-void hz_view_point_motion(const hz_view_t *cur, const hz_view_t *prev, hz_vec3_t p, hz_vec3_t pp, float out[2])
+void hz_view_point_motion(const hz_view_t *cur, const hz_view_t *prev, const hz_vec3_t *p, const hz_vec3_t *pp,
+                          float out[2])
 {
     float cx, cy, px, py;
-    if (hz_view_project(cur, p, &cx, &cy) && hz_view_project(prev, pp, &px, &py)) {
+    if (hz_view_project(cur, *p, &cx, &cy) && hz_view_project(prev, *pp, &px, &py)) {
         out[0] = px - cx;
         out[1] = py - cy;
     } else {
@@ -55,13 +56,21 @@ void hz_view_point_motion(const hz_view_t *cur, const hz_view_t *prev, hz_vec3_t
 }
 
 #if !defined(HZ_BOARD_SIMD_AVX2) && !defined(HZ_BOARD_SIMD_NEON) /* else camera_lanes.c */
+void hz_view_ray_dirs(const hz_view_t *v, const float *x, const float *y, float *dx, float *dy, float *dz)
+{
+    for (uint32_t i = 0; i < HZ_SHADE_LANES; i++) {
+        const hz_vec3_t d = hz_view_ray_dir(v, x[i], y[i]);
+        dx[i] = d.x, dy[i] = d.y, dz[i] = d.z;
+    }
+}
+
 void hz_view_still_motion_lanes(const hz_view_t *cur, const hz_view_t *prev, const float *px, const float *py,
                                 const float *pz, float *mx, float *my)
 {
     for (uint32_t i = 0; i < HZ_SHADE_LANES; i++) {
         float m[2];
         hz_vec3_t p = hz_v3(px[i], py[i], pz[i]);
-        hz_view_point_motion(cur, prev, p, p, m);
+        hz_view_point_motion(cur, prev, &p, &p, m);
         mx[i] = m[0], my[i] = m[1];
     }
 }

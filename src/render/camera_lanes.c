@@ -1,7 +1,8 @@
-/* hz_view_still_motion_lanes (render_internal.h) in SIMD lanes (src/core/lanes.h): the motion vectors of a
- * packet's primary hits on geometry that does not move, which shade_packet needs for every hit of a tdense or
- * TAA frame. Each lane does hz_view_project's operations in its order (no FMA, correctly rounded division), so
- * the results are hz_view_point_motion's bits; test_shade compares the two. */
+/* The camera's per-ray work in SIMD lanes (src/core/lanes.h), for every camera packet of a frame:
+ * hz_view_ray_dirs, the rays' directions, and hz_view_still_motion_lanes, the motion vectors of a packet's primary
+ * hits on geometry that does not move (render_internal.h). Each lane does the scalar code's operations in its
+ * order (no FMA, correctly rounded division and square root), so the results are hz_view_ray_dir's and
+ * hz_view_point_motion's bits; test_shade compares them. */
 #include "../core/lanes.h"
 #include "shade.h"
 #include "render_internal.h"
@@ -42,4 +43,30 @@ void hz_view_still_motion_lanes(const hz_view_t *cur, const hz_view_t *prev, con
     const hz_lf_t far = hz_lf_set(HZ_VIEW_MV_FAR);
     hz_lf_store(mx, hz_lf_sel(ok, hz_lf_sub(p.x, c.x), far));
     hz_lf_store(my, hz_lf_sel(ok, hz_lf_sub(p.y, c.y), far));
+}
+
+void hz_view_ray_dirs(const hz_view_t *v, const float *x, const float *y, float *dx, float *dy, float *dz)
+{
+    const hz_lf_t one = hz_lf_set(1.0f), two = hz_lf_set(2.0f);
+    const hz_lf_t sx = hz_lf_sub(hz_lf_div(hz_lf_mul(two, hz_lf_load(x)), hz_lf_set((float)v->width)), one);
+    const hz_lf_t sy = hz_lf_sub(one, hz_lf_div(hz_lf_mul(two, hz_lf_load(y)), hz_lf_set((float)v->height)));
+    hz_lf_t d[3];
+    const float fwd[3] = { v->fwd.x, v->fwd.y, v->fwd.z }, right[3] = { v->right.x, v->right.y, v->right.z };
+    const float up[3] = { v->up.x, v->up.y, v->up.z };
+    for (int k = 0; k < 3; k++)
+        d[k] = hz_lf_add(hz_lf_set(fwd[k]),
+                         hz_lf_add(hz_lf_mul(hz_lf_set(right[k]), sx), hz_lf_mul(hz_lf_set(up[k]), sy)));
+    const hz_lf_t l2 = hz_lf_add(hz_lf_add(hz_lf_mul(d[0], d[0]), hz_lf_mul(d[1], d[1])), hz_lf_mul(d[2], d[2]));
+    const hz_lf_t inv = hz_lf_div(one, hz_lf_sqrt(l2));
+    hz_lf_store(dx, hz_lf_mul(d[0], inv));
+    hz_lf_store(dy, hz_lf_mul(d[1], inv));
+    hz_lf_store(dz, hz_lf_mul(d[2], inv));
+    /* hz_v3_normalize's other paths: a direction not finite, or a squared length not > 0 or not finite */
+    const hz_li_t ok = hz_li_and(hz_li_and(hz_li_and(hz_lf_finite(d[0]), hz_lf_finite(d[1])), hz_lf_finite(d[2])),
+                                 hz_li_and(hz_lf_gt(l2, hz_lf_set(0.0f)), hz_lf_finite(l2)));
+    for (unsigned m = ~hz_li_bits(ok) & ((1u << HZ_LANES) - 1u); m; m &= m - 1u) {
+        const unsigned i = (unsigned)__builtin_ctz(m);
+        const hz_vec3_t r = hz_view_ray_dir(v, x[i], y[i]);
+        dx[i] = r.x, dy[i] = r.y, dz[i] = r.z;
+    }
 }

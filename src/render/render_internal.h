@@ -133,6 +133,9 @@ HZ_INLINE hz_vec3_t hz_view_ray_dir(const hz_view_t *v, float px, float py)
     hz_vec3_t d = hz_v3_add(v->fwd, hz_v3_add(hz_v3_scale(v->right, sx), hz_v3_scale(v->up, sy)));
     return hz_v3_normalize(d);
 }
+/* hz_view_ray_dir of HZ_SHADE_LANES pixels (x[i], y[i]) at once, into dx, dy, dz: the same bits (lanes where the
+ * direction is not finite or its squared length is not a normal float take hz_view_ray_dir itself). */
+void hz_view_ray_dirs(const hz_view_t *v, const float *x, const float *y, float *dx, float *dy, float *dz);
 /* The pixel steps of hz_view_ray_dir's unnormalised direction and fwd / |fwd|^2 (textures over the pixel). */
 void hz_view_footprint(const hz_view_t *v, hz_shade_footprint_t *fp);
 /* Pixel coordinates (continuous, pixel centres at +0.5) of a world point; false if behind the camera. */
@@ -140,7 +143,10 @@ bool hz_view_project(const hz_view_t *v, hz_vec3_t p, float *px, float *py);
 /* Screen motion in pixels of a world point that is at p now and was at pp one frame ago: its projection by prev
  * minus its projection by cur, or HZ_VIEW_MV_FAR on both axes where either camera does not see it. */
 #define HZ_VIEW_MV_FAR 65536.0f
-void hz_view_point_motion(const hz_view_t *cur, const hz_view_t *prev, hz_vec3_t p, hz_vec3_t pp, float out[2]);
+/* (The points by address: passed by value to a call, a point went through the stack in pieces and the callee's
+ * wide load of them stalled on store forwarding, in the per-hit loops.) */
+void hz_view_point_motion(const hz_view_t *cur, const hz_view_t *prev, const hz_vec3_t *p, const hz_vec3_t *pp,
+                          float out[2]);
 /* hz_view_point_motion of HZ_SHADE_LANES points that did not move (pp = p; 32-byte aligned arrays), with the
  * same bits in every lane: camera_lanes.c on SIMD boards, a loop over the scalar function elsewhere. */
 void hz_view_still_motion_lanes(const hz_view_t *cur, const hz_view_t *prev, const float *px, const float *py,
@@ -153,9 +159,17 @@ void hz_texture_sample(const hz_scene_t *s, int32_t tex, float u, float v, float
 float hz_texture_alpha(const hz_scene_t *s, int32_t tex, float u, float v);
 float hz_log2_approx(float x);
 /* What hz_texture_sample does before filtering (the packet kernels share it): whether texture tex can be read at
- * (u, v) (else the sample is 1, 1, 1, 1), the level lod selects, and a level's first texel and size. */
-bool hz_texture_usable(const hz_scene_t *s, int32_t tex, float u, float v);
-uint32_t hz_texture_level_of(const hz_texture_t *t, float lod);
+ * (u, v) (else the sample is 1, 1, 1, 1), the level lod selects, and a level's first texel and size. The first
+ * two are inline: the packet kernels ask them lane by lane. */
+HZ_INLINE bool hz_texture_usable(const hz_scene_t *s, int32_t tex, float u, float v)
+{
+    return !(tex < 0 || (uint32_t)tex >= s->texture_count || !hz_isfinitef(u) || !hz_isfinitef(v));
+}
+HZ_INLINE uint32_t hz_texture_level_of(const hz_texture_t *t, float lod)
+{
+    float l = hz_isfinitef(lod) ? lod + 0.5f : 0.0f;
+    return l <= 0.0f ? 0u : (uint32_t)hz_minf(l, (float)(t->levels - 1));
+}
 size_t hz_texture_level_first(const hz_texture_t *t, uint32_t level, uint32_t *w, uint32_t *h);
 
 /* trace.c (hz_render_trace in mode.h is its entry) */

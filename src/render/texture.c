@@ -78,17 +78,6 @@ size_t hz_texture_level_first(const hz_texture_t *t, uint32_t level, uint32_t *w
     return first;
 }
 
-uint32_t hz_texture_level_of(const hz_texture_t *t, float lod)
-{
-    float l = hz_isfinitef(lod) ? lod + 0.5f : 0.0f;
-    return l <= 0.0f ? 0u : (uint32_t)hz_minf(l, (float)(t->levels - 1));
-}
-
-bool hz_texture_usable(const hz_scene_t *s, int32_t tex, float u, float v)
-{
-    return !(tex < 0 || (uint32_t)tex >= s->texture_count || !hz_isfinitef(u) || !hz_isfinitef(v));
-}
-
 static void bilinear(const hz_scene_t *s, const hz_texture_t *t, uint32_t level, float u, float v, float rgba[4])
 {
     uint32_t w, h;

@@ -288,31 +288,20 @@ static uint32_t take_shadows(hz_worker_t *w, shadow_job_t *jobs)
     return n;
 }
 
-static void process_shadows(hz_worker_t *w)
+/* One shadow packet of n rays (lanes past n off), set up in p but for the per-lane state set here: occlusion with
+ * early exit; blended surfaces composite into the lane's transmittance in the any-hit callback, in whatever
+ * order the traversal meets them (the order moves only the product's last bits), each triangle once, up to the
+ * layer cap. Lane i's transmittance times wt[i] goes to its slot, or a blocked ray counts into its pixel. */
+static void trace_shadow_packet(hz_worker_t *w, shadow_packet_t *p, int32_t *valid, uint32_t n, const uint16_t *slot,
+                                const uint8_t *gslot, const float (*wt)[3])
 {
-    struct hz_renderer *r = w->r;
-    if (w->shadow_n == 0)
-        return;
-    shadow_job_t jobs[HZ_RENDER_LANES];
-    uint32_t n = take_shadows(w, jobs);
     w->b.stats.shadow_rays += n;
     w->ctx.flags = HZ_ACCEL_COHERENT;
-    /* One occlusion pass with early exit; blended surfaces composite into the lane's transmittance in the
-     * any-hit callback, in whatever order the traversal meets them (the order moves only the product's last
-     * bits), each triangle once, up to the layer cap. */
-    shadow_packet_t p;
-    int32_t valid[HZ_RENDER_LANES] HZ_ALIGNED(32);
     for (uint32_t i = 0; i < HZ_RENDER_LANES; i++) {
-        const shadow_job_t *j = &jobs[i < n ? i : 0];
         valid[i] = i < n ? -1 : 0;
-        p.org_x[i] = j->o[0], p.org_y[i] = j->o[1], p.org_z[i] = j->o[2];
-        p.dir_x[i] = j->d[0], p.dir_y[i] = j->d[1], p.dir_z[i] = j->d[2];
-        p.tnear[i] = 0.0f;
-        p.tfar[i] = j->tmax;
-        p.time[i] = j->time;
-        p.mask[i] = 0xffffffffu;
-        p.id[i] = i | ID_SHADOW | (j->dither ? ID_SHADOW_DITHER : 0u);
-        p.flags[i] = 0;
+        p->tnear[i] = 0.0f;
+        p->mask[i] = 0xffffffffu;
+        p->flags[i] = 0;
         w->shadow_vis[i] = 1.0f;
         if (w->shadow_nprims[i]) { /* the filter is clear while the list is empty (the worker starts zeroed) */
             hz_memset(w->shadow_seen[i], 0, sizeof w->shadow_seen[i]);
@@ -320,15 +309,133 @@ static void process_shadows(hz_worker_t *w)
         }
         w->shadow_overflow[i] = 0;
     }
-    OCCLUDED(valid, r->accel, &w->ctx, &p);
+    OCCLUDED(valid, w->r->accel, &w->ctx, p);
     for (uint32_t i = 0; i < n; i++) {
-        if (p.tfar[i] < 0.0f) { /* -inf: blocked, nothing left after the layers, or past the layer cap */
+        if (p->tfar[i] < 0.0f) { /* -inf: blocked, nothing left after the layers, or past the layer cap */
             w->b.stats.layer_cap += w->shadow_overflow[i];
-            count_blocked(w, jobs[i].slot, jobs[i].gslot);
+            count_blocked(w, slot[i], gslot[i]);
         } else {
             const float v = w->shadow_vis[i];
-            add_radiance(w, jobs[i].slot, jobs[i].w, (const float[3]){ v, v, v });
+            add_radiance(w, slot[i], wt[i], (const float[3]){ v, v, v });
         }
+    }
+}
+
+static void process_shadows(hz_worker_t *w)
+{
+    if (w->shadow_n == 0)
+        return;
+    shadow_job_t jobs[HZ_RENDER_LANES];
+    uint32_t n = take_shadows(w, jobs);
+    shadow_packet_t p;
+    int32_t valid[HZ_RENDER_LANES] HZ_ALIGNED(32);
+    uint16_t slot[HZ_RENDER_LANES];
+    uint8_t gslot[HZ_RENDER_LANES];
+    float wt[HZ_RENDER_LANES][3];
+    for (uint32_t i = 0; i < HZ_RENDER_LANES; i++) {
+        const shadow_job_t *j = &jobs[i < n ? i : 0];
+        p.org_x[i] = j->o[0], p.org_y[i] = j->o[1], p.org_z[i] = j->o[2];
+        p.dir_x[i] = j->d[0], p.dir_y[i] = j->d[1], p.dir_z[i] = j->d[2];
+        p.tfar[i] = j->tmax;
+        p.time[i] = j->time;
+        p.id[i] = i | ID_SHADOW | (j->dither ? ID_SHADOW_DITHER : 0u);
+        slot[i] = j->slot, gslot[i] = j->gslot;
+        wt[i][0] = j->w[0], wt[i][1] = j->w[1], wt[i][2] = j->w[2];
+    }
+    trace_shadow_packet(w, &p, valid, n, slot, gslot, (const float(*)[3])wt);
+}
+
+/* The shadow rays of one packet's hits towards its first HZ_SHADE_LIGHTS lights, kept in the shading kernel's
+ * lanes (hz_shade_out_t.light) instead of the queue: bit i of mask[l], lane i's ray towards light l, weighted
+ * wt[l][0..2][i]. */
+typedef struct casts {
+    uint32_t mask[HZ_SHADE_LIGHTS], dither[HZ_SHADE_LIGHTS];
+    float wt[HZ_SHADE_LIGHTS][3][HZ_RENDER_LANES];
+} casts_t;
+
+/* A packet's casts after its hits are shaded. Where the queues are empty they are traced straight from the
+ * kernel's lanes, in the order the queue would have taken them, so that each slot sums the same terms in the same
+ * order: with at most HZ_SHADE_LIGHTS rays per hit, all of them lie within SHADOW_GATHER of the top, so
+ * take_shadows takes, light after light, every ray towards the light of the newest ray left (the rays were
+ * pushed hit by hit, lights in order). Otherwise they join the queue in that push order. */
+static void cast_shadows(hz_worker_t *w, const casts_t *cs, const hz_shade_out_t *so, const ray_job_t *jobs,
+                         uint32_t light_count)
+{
+    typedef char fits_the_window[HZ_SHADE_LIGHTS * HZ_RENDER_LANES <= SHADOW_GATHER ? 1 : -1];
+    (void)sizeof(fits_the_window);
+    if (w->shadow_n || w->stack_n) {
+        for (uint32_t i = 0; i < HZ_RENDER_LANES; i++)
+            for (uint32_t l = 0; l < light_count; l++) {
+                if (!(cs->mask[l] >> i & 1u))
+                    continue;
+                const hz_shade_light_t *sl = &so->light[l];
+                const ray_job_t *j = &jobs[i];
+                shadow_job_t sj;
+                sj.o[0] = sl->ox[i], sj.o[1] = sl->oy[i], sj.o[2] = sl->oz[i];
+                sj.d[0] = sl->dx[i], sj.d[1] = sl->dy[i], sj.d[2] = sl->dz[i];
+                sj.tmax = sl->tmax[i];
+                sj.w[0] = cs->wt[l][0][i], sj.w[1] = cs->wt[l][1][i], sj.w[2] = cs->wt[l][2][i];
+                sj.time = j->time;
+                sj.slot = j->slot;
+                sj.gslot = j->gslot;
+                sj.light = (uint8_t)l;
+                sj.dither = (uint8_t)(cs->dither[l] >> i & 1u);
+                push_shadow(w, &sj);
+            }
+        return;
+    }
+    uint32_t left = 0;
+    for (uint32_t l = 0; l < light_count; l++)
+        left |= (cs->mask[l] != 0) << l;
+    while (left) {
+        /* the light of the newest ray left: the highest lane, then the highest light */
+        uint32_t pick = 0, key = 0;
+        for (uint32_t l = 0; l < light_count; l++) {
+            if (!(left >> l & 1u))
+                continue;
+            const uint32_t k = (31u - (uint32_t)__builtin_clz(cs->mask[l])) * HZ_SHADE_LIGHTS + l + 1u;
+            if (k > key)
+                key = k, pick = l;
+        }
+        left &= ~(1u << pick);
+        const hz_shade_light_t *sl = &so->light[pick];
+        shadow_packet_t p;
+        int32_t valid[HZ_RENDER_LANES] HZ_ALIGNED(32);
+        uint16_t slot[HZ_RENDER_LANES];
+        uint8_t gslot[HZ_RENDER_LANES];
+        float wt[HZ_RENDER_LANES][3];
+        uint32_t n = 0, lane[HZ_RENDER_LANES];
+        for (uint32_t m = cs->mask[pick]; m; m &= m - 1u)
+            lane[n++] = (uint32_t)__builtin_ctz(m);
+        if (n == HZ_RENDER_LANES) { /* every lane: straight copies */
+            for (uint32_t i = 0; i < HZ_RENDER_LANES; i++) {
+                p.org_x[i] = sl->ox[i], p.org_y[i] = sl->oy[i], p.org_z[i] = sl->oz[i];
+                p.dir_x[i] = sl->dx[i], p.dir_y[i] = sl->dy[i], p.dir_z[i] = sl->dz[i];
+                p.tfar[i] = sl->tmax[i];
+            }
+        } else {
+            for (uint32_t q = 0; q < n; q++) {
+                const uint32_t i = lane[q];
+                p.org_x[q] = sl->ox[i], p.org_y[q] = sl->oy[i], p.org_z[q] = sl->oz[i];
+                p.dir_x[q] = sl->dx[i], p.dir_y[q] = sl->dy[i], p.dir_z[q] = sl->dz[i];
+                p.tfar[q] = sl->tmax[i];
+            }
+        }
+        for (uint32_t q = 0; q < n; q++) {
+            const uint32_t i = lane[q];
+            p.time[q] = jobs[i].time;
+            p.id[q] = q | ID_SHADOW | ((cs->dither[pick] >> i & 1u) ? ID_SHADOW_DITHER : 0u);
+            slot[q] = jobs[i].slot, gslot[q] = jobs[i].gslot;
+            wt[q][0] = cs->wt[pick][0][i], wt[q][1] = cs->wt[pick][1][i], wt[q][2] = cs->wt[pick][2][i];
+        }
+        for (uint32_t i = n; i < HZ_RENDER_LANES; i++) { /* off lanes repeat the first ray, as the queue's do */
+            p.org_x[i] = p.org_x[0], p.org_y[i] = p.org_y[0], p.org_z[i] = p.org_z[0];
+            p.dir_x[i] = p.dir_x[0], p.dir_y[i] = p.dir_y[0], p.dir_z[i] = p.dir_z[0];
+            p.tfar[i] = p.tfar[0];
+            p.time[i] = p.time[0];
+            p.id[i] = i | ID_SHADOW | (p.id[0] & ID_SHADOW_DITHER);
+        }
+        trace_shadow_packet(w, &p, valid, n, slot, gslot, (const float(*)[3])wt);
     }
 }
 
@@ -341,9 +448,9 @@ static void write_mv(float *mv, size_t px, float dx, float dy)
 }
 
 /* Motion of a world point that is at p now and was at pp one frame ago. */
-static void point_motion(const struct hz_renderer *r, hz_vec3_t p, hz_vec3_t pp, float out[2])
+HZ_INLINE void point_motion(const struct hz_renderer *r, hz_vec3_t p, hz_vec3_t pp, float out[2])
 {
-    hz_view_point_motion(&r->view, &r->prev_view, p, pp, out);
+    hz_view_point_motion(&r->view, &r->prev_view, &p, &pp, out);
 }
 
 /* Motion of what lies infinitely far along direction d (the background). */
@@ -353,7 +460,7 @@ static void direction_motion(const struct hz_renderer *r, hz_vec3_t d, float out
     /* Translation does not move the background: the two points differ only by the eye offset. */
 }
 
-static hz_vec3_t prev_point(const struct hz_renderer *r, uint32_t prim, float u, float v, hz_vec3_t now)
+HZ_INLINE hz_vec3_t prev_point(const struct hz_renderer *r, uint32_t prim, float u, float v, hz_vec3_t now)
 {
     const hz_scene_t *s = r->scene;
     if (!s->prev_pos)
@@ -363,7 +470,7 @@ static hz_vec3_t prev_point(const struct hz_renderer *r, uint32_t prim, float u,
 }
 
 /* The hit point (u, v) of prim at the frame's time. */
-static hz_vec3_t frame_point(const struct hz_renderer *r, uint32_t prim, float u, float v)
+HZ_INLINE hz_vec3_t frame_point(const struct hz_renderer *r, uint32_t prim, float u, float v)
 {
     const hz_scene_t *s = r->scene;
     const uint32_t *t = s->tri + (size_t)prim * 3;
@@ -382,6 +489,17 @@ static hz_vec3_t prev_normal(const struct hz_renderer *r, uint32_t prim)
 static hz_vec3_t mirror_point(hz_vec3_t x, hz_vec3_t m, hz_vec3_t n)
 {
     return hz_v3_sub(x, hz_v3_scale(n, 2.0f * hz_v3_dot(hz_v3_sub(x, m), n)));
+}
+
+/* The pixel's camera ray has no reflected hit: the secondary record says so. */
+static void no_reflection(hz_gbuffer_t *gb, uint32_t px)
+{
+    gb->object2[px] = HZ_GB_NO_OBJECT;
+    if (gb->normal2) {
+        gb->normal2[px * 3] = gb->normal2[px * 3 + 1] = gb->normal2[px * 3 + 2] = 0.0f;
+        gb->shadow2[px] = 0;
+    }
+    gb->flags2[px] = 0;
 }
 
 static void shade_miss(hz_worker_t *w, const ray_job_t *j)
@@ -409,12 +527,7 @@ static void shade_miss(hz_worker_t *w, const ray_job_t *j)
                 write_mv(gb->mv_reflect, px, mv[0], mv[1]);
         }
     } else if (j->gslot == GSLOT_SECONDARY) {
-        gb->object2[px] = HZ_GB_NO_OBJECT;
-        if (gb->normal2) {
-            gb->normal2[px * 3] = gb->normal2[px * 3 + 1] = gb->normal2[px * 3 + 2] = 0.0f;
-            gb->shadow2[px] = 0;
-        }
-        gb->flags2[px] = 0;
+        no_reflection(gb, px);
         /* The virtual image of a ray leaving the scene lies along the primary ray's line: the mirror's
          * reflected background moves like the background. */
         if (gb->mv_reflect) {
@@ -424,9 +537,56 @@ static void shade_miss(hz_worker_t *w, const ray_job_t *j)
     }
 }
 
+/* The G-buffer record of a camera ray's hit (gslot PRIMARY) at pixel px: depth and normal where the mode keeps
+ * them, object, flags, motion vectors (still_mv: NULL, or the packet's motion vectors of still geometry,
+ * hz_view_still_motion_lanes, x then y), and for a mirror the data of its reflected hit's motion vector. */
+HZ_INLINE void primary_record(hz_worker_t *w, const ray_job_t *j, const hitrec_t *h, uint32_t px, hz_vec3_t p,
+                             hz_vec3_t ns, uint16_t object, uint8_t flags, float mirror,
+                             const float (*still_mv)[HZ_SHADE_LANES], uint32_t lane)
+{
+    struct hz_renderer *r = w->r;
+    const hz_scene_t *s = r->scene;
+    hz_gbuffer_t *gb = &r->f.gb;
+    if (gb->normal) { /* full and adaptive modes (hz_render_mode_keeps_surface) */
+        gb->depth[px] = j->travelled + h->t;
+        gb->normal[px * 3] = ns.x, gb->normal[px * 3 + 1] = ns.y, gb->normal[px * 3 + 2] = ns.z;
+        gb->shadow[px] = 0;
+    }
+    gb->object[px] = object;
+    gb->flags[px] = flags;
+    if (!gb->mv)
+        return;
+    float mv[2];
+    /* Motion vectors belong to the frame's time: with blur the hit is at the ray's time instead. Still geometry's
+     * come with the packet: pf and pp are p, needed only for mirrors. */
+    hz_vec3_t pf = p, pp = p;
+    if (still_mv) {
+        mv[0] = still_mv[0][lane], mv[1] = still_mv[1][lane];
+    } else {
+        pf = HZ_RENDER_KEYS(r) ? frame_point(r, h->prim, h->u, h->v) : p;
+        pp = prev_point(r, h->prim, h->u, h->v, pf);
+        point_motion(r, pf, pp, mv);
+    }
+    write_mv(gb->mv, px, mv[0], mv[1]);
+    if (gb->mv_reflect)
+        write_mv(gb->mv_reflect, px, mv[0], mv[1]); /* replaced by the reflected hit's, if any */
+    if (mirror > 0.0f) {
+        mirror_rec_t *mr = &w->mirror[j->slot];
+        hz_vec3_t n = hz_v3_normalize(hz_v3_cross(hz_v3_sub(vtx(s->pos, s->tri[h->prim * 3 + 1]),
+                                                            vtx(s->pos, s->tri[h->prim * 3])),
+                                                  hz_v3_sub(vtx(s->pos, s->tri[h->prim * 3 + 2]),
+                                                            vtx(s->pos, s->tri[h->prim * 3]))));
+        hz_vec3_t np = prev_normal(r, h->prim);
+        mr->p[0] = pf.x, mr->p[1] = pf.y, mr->p[2] = pf.z;
+        mr->n[0] = n.x, mr->n[1] = n.y, mr->n[2] = n.z;
+        mr->pp[0] = pp.x, mr->pp[1] = pp.y, mr->pp[2] = pp.z;
+        mr->np[0] = np.x, mr->np[1] = np.y, mr->np[2] = np.z;
+    }
+}
+
 /* still_mv: NULL, or the packet's motion vectors of still geometry (hz_view_still_motion_lanes), x then y. */
 static void shade_hit(hz_worker_t *w, const ray_job_t *j, const hitrec_t *h, const hz_shade_ctx_t *c,
-                      const hz_shade_out_t *so, uint32_t lane, const float (*still_mv)[HZ_SHADE_LANES])
+                      const hz_shade_out_t *so, uint32_t lane, const float (*still_mv)[HZ_SHADE_LANES], casts_t *cs)
 {
     struct hz_renderer *r = w->r;
     const hz_scene_t *s = r->scene;
@@ -438,42 +598,10 @@ static void shade_hit(hz_worker_t *w, const ray_job_t *j, const hitrec_t *h, con
     float mirror = HZ_FEATURE_MIRRORS && r->f.has_mirrors ? m->mirror : 0.0f;
 
     if (j->gslot == GSLOT_PRIMARY) {
-        if (gb->normal) { /* full and adaptive modes (hz_render_mode_keeps_surface) */
-            gb->depth[px] = j->travelled + h->t;
-            gb->normal[px * 3] = sf.ns.x, gb->normal[px * 3 + 1] = sf.ns.y, gb->normal[px * 3 + 2] = sf.ns.z;
-            gb->shadow[px] = 0;
-        }
-        gb->object[px] = sf.object;
-        gb->flags[px] = (uint8_t)(HZ_GB_HIT | (sf.textured ? HZ_GB_TEXTURED : 0) | (mirror > 0.0f ? HZ_GB_MIRROR : 0) |
-                                  (w->alpha_touched[j->slot] || m->alpha_mode != HZ_ALPHA_OPAQUE ? HZ_GB_ALPHA : 0));
-        if (gb->mv) {
-            float mv[2];
-            /* Motion vectors belong to the frame's time: with blur the hit is at the ray's time instead. Still
-             * geometry's come with the packet: pf and pp are sf.p, needed only for mirrors. */
-            hz_vec3_t pf = sf.p, pp = sf.p;
-            if (still_mv) {
-                mv[0] = still_mv[0][lane], mv[1] = still_mv[1][lane];
-            } else {
-                pf = HZ_RENDER_KEYS(r) ? frame_point(r, h->prim, h->u, h->v) : sf.p;
-                pp = prev_point(r, h->prim, h->u, h->v, pf);
-                point_motion(r, pf, pp, mv);
-            }
-            write_mv(gb->mv, px, mv[0], mv[1]);
-            if (gb->mv_reflect)
-                write_mv(gb->mv_reflect, px, mv[0], mv[1]); /* replaced by the reflected hit's, if any */
-            if (mirror > 0.0f) {
-                mirror_rec_t *mr = &w->mirror[j->slot];
-                hz_vec3_t n = hz_v3_normalize(hz_v3_cross(hz_v3_sub(vtx(s->pos, s->tri[h->prim * 3 + 1]),
-                                                                    vtx(s->pos, s->tri[h->prim * 3])),
-                                                          hz_v3_sub(vtx(s->pos, s->tri[h->prim * 3 + 2]),
-                                                                    vtx(s->pos, s->tri[h->prim * 3]))));
-                hz_vec3_t np = prev_normal(r, h->prim);
-                mr->p[0] = pf.x, mr->p[1] = pf.y, mr->p[2] = pf.z;
-                mr->n[0] = n.x, mr->n[1] = n.y, mr->n[2] = n.z;
-                mr->pp[0] = pp.x, mr->pp[1] = pp.y, mr->pp[2] = pp.z;
-                mr->np[0] = np.x, mr->np[1] = np.y, mr->np[2] = np.z;
-            }
-        }
+        const uint8_t flags = (uint8_t)(HZ_GB_HIT | (sf.textured ? HZ_GB_TEXTURED : 0) |
+                                        (mirror > 0.0f ? HZ_GB_MIRROR : 0) |
+                                        (w->alpha_touched[j->slot] || m->alpha_mode != HZ_ALPHA_OPAQUE ? HZ_GB_ALPHA : 0));
+        primary_record(w, j, h, px, sf.p, sf.ns, sf.object, flags, mirror, still_mv, lane);
     } else if (j->gslot == GSLOT_SECONDARY) {
         gb->object2[px] = sf.object;
         if (gb->normal2) {
@@ -538,6 +666,13 @@ static void shade_hit(hz_worker_t *w, const ray_job_t *j, const hitrec_t *h, con
             continue;
         }
         float k = sl->k[lane];
+        if (cs) {
+            cs->mask[l] |= 1u << lane;
+            cs->dither[l] |= (uint32_t)(j->dither && r->f.opts.rr_shadows) << lane;
+            for (int ch = 0; ch < 3; ch++)
+                cs->wt[l][ch][lane] = kd[ch] * lt->color[ch] * k;
+            continue;
+        }
         shadow_job_t sj;
         sj.o[0] = sl->ox[lane], sj.o[1] = sl->oy[lane], sj.o[2] = sl->oz[lane];
         sj.d[0] = sl->dx[lane], sj.d[1] = sl->dy[lane], sj.d[2] = sl->dz[lane];
@@ -574,13 +709,68 @@ static void shade_hit(hz_worker_t *w, const ray_job_t *j, const hitrec_t *h, con
         c.dither = 0; /* reflections composite exactly */
         push_ray(w, &c);
     } else if (j->gslot == GSLOT_PRIMARY && r->f.gb.object2) {
-        /* No reflected hit: the secondary record says so. */
-        gb->object2[px] = HZ_GB_NO_OBJECT;
-        if (gb->normal2) {
-            gb->normal2[px * 3] = gb->normal2[px * 3 + 1] = gb->normal2[px * 3 + 2] = 0.0f;
-            gb->shadow2[px] = 0;
+        no_reflection(gb, px);
+    }
+}
+
+/* Camera rays' hits (bits of `lanes`: no mirror, opaque where the ray takes no stochastic decision; up to
+ * HZ_SHADE_LIGHTS lights) as shade_hit shades them, the packet at once: its G-buffer records, the lights' casts
+ * and the ambient term, the weights in lanes. The same operations in the same order for every value, and camera
+ * rays have slots of their own, so the results are shade_hit's bits (scalar_shading takes shade_hit). */
+static void shade_camera_hits(hz_worker_t *w, const ray_job_t *jobs, const hitrec_t *hits, const hz_shade_out_t *so,
+                              uint32_t lanes, const float (*still_mv)[HZ_SHADE_LANES], casts_t *cs)
+{
+    const struct hz_renderer *r = w->r;
+    const hz_scene_t *s = r->scene;
+    float wc[3][HZ_RENDER_LANES], kd[3][HZ_RENDER_LANES];
+    uint32_t lit = 0, rr = 0; /* lanes that light and cast; lanes whose casts take the roulette */
+    for (uint32_t m = lanes; m; m &= m - 1u) {
+        const uint32_t i = (uint32_t)__builtin_ctz(m);
+        const ray_job_t *j = &jobs[i];
+        const uint32_t info = s->tri_info[hits[i].prim];
+        const hz_material_t *mat = &s->materials[info & 0xffffu];
+        const float mirror = HZ_FEATURE_MIRRORS && r->f.has_mirrors ? mat->mirror : 0.0f;
+        if (j->gslot == GSLOT_PRIMARY) {
+            const uint8_t flags = (uint8_t)(HZ_GB_HIT | (so->textured[i] ? HZ_GB_TEXTURED : 0) |
+                                            (w->alpha_touched[j->slot] || mat->alpha_mode != HZ_ALPHA_OPAQUE ? HZ_GB_ALPHA : 0));
+            primary_record(w, j, &hits[i], w->b.pixel[j->slot], hz_v3(so->px[i], so->py[i], so->pz[i]),
+                           hz_v3(so->nsx[i], so->nsy[i], so->nsz[i]), (uint16_t)(info >> 16), flags, mirror,
+                           still_mv, i);
+            if (r->f.gb.object2)
+                no_reflection((hz_gbuffer_t *)&r->f.gb, w->b.pixel[j->slot]);
         }
-        gb->flags2[px] = 0;
+        const float a = !HZ_FEATURE_TRANSPARENCY || j->dither ? 1.0f : so->alpha[i];
+        const float diffuse = 1.0f - mirror;
+        for (int ch = 0; ch < 3; ch++) {
+            wc[ch][i] = j->w[ch] * j->vis * a;
+            kd[ch][i] = wc[ch][i] * diffuse * so->albedo[ch][i];
+        }
+        if (wc[0][i] > 0.0f || wc[1][i] > 0.0f || wc[2][i] > 0.0f || j->gslot != GSLOT_NONE)
+            lit |= 1u << i;
+        rr |= (uint32_t)(j->dither && r->f.opts.rr_shadows) << i;
+    }
+    const float *amb = s->header->ambient;
+    for (uint32_t m = lit; m; m &= m - 1u) {
+        const uint32_t i = (uint32_t)__builtin_ctz(m);
+        const float ka[3] = { kd[0][i] * amb[0], kd[1][i] * amb[1], kd[2][i] * amb[2] };
+        add_radiance(w, jobs[i].slot, (const float[3]){ 1.0f, 1.0f, 1.0f }, ka);
+    }
+    for (uint32_t l = 0; l < r->light_count; l++) {
+        const float *col = r->lights[l].color, *k = so->light[l].k;
+        const uint32_t cast = so->lit[l] & lit;
+        for (uint32_t m = r->f.gb.shadow ? lit & ~cast : 0u; m; m &= m - 1u) { /* camera rays count in shadow */
+            const uint32_t i = (uint32_t)__builtin_ctz(m);
+            if (jobs[i].gslot != GSLOT_NONE)
+                count_blocked(w, jobs[i].slot, jobs[i].gslot);
+        }
+        cs->mask[l] |= cast;
+        cs->dither[l] |= cast & rr;
+        /* lane by lane: kd was stored lane by lane, and a vector load of it waited for those stores to retire */
+        for (uint32_t m = cast; m; m &= m - 1u) {
+            const uint32_t i = (uint32_t)__builtin_ctz(m);
+            for (int ch = 0; ch < 3; ch++)
+                cs->wt[l][ch][i] = kd[ch][i] * col[ch] * k[i];
+        }
     }
 }
 
@@ -622,15 +812,39 @@ static void shade_packet(hz_worker_t *w, const ray_job_t *jobs, const hitrec_t *
                        !r->f.opts.scalar_shading;
     if (still)
         hz_view_still_motion_lanes(&r->view, &r->prev_view, out.px, out.py, out.pz, still_mv[0], still_mv[1]);
+    /* the shadow rays of up to HZ_SHADE_LIGHTS lights wait in the kernel's lanes (cast_shadows) */
+    casts_t cs;
+    const bool cast = r->light_count <= HZ_SHADE_LIGHTS && !r->f.opts.scalar_shading; /* the twin: the queue */
+    uint32_t camera = 0; /* hits shade_camera_hits takes */
+    if (cast) {
+        for (uint32_t l = 0; l < HZ_SHADE_LIGHTS; l++)
+            cs.mask[l] = cs.dither[l] = 0;
+        const bool has_mirrors = HZ_FEATURE_MIRRORS && r->f.has_mirrors;
+        for (uint32_t m = mask; m; m &= m - 1u) {
+            const uint32_t i = (uint32_t)__builtin_ctz(m);
+            const ray_job_t *j = &jobs[i];
+            const hz_material_t *mat = &r->scene->materials[r->scene->tri_info[hits[i].prim] & 0xffffu];
+            const float a = !HZ_FEATURE_TRANSPARENCY || j->dither ? 1.0f : out.alpha[i];
+            if (j->bounces == 0 && j->layers == 0 && !(has_mirrors && mat->mirror > 0.0f) && !(a < 1.0f))
+                camera |= 1u << i;
+        }
+        if (camera)
+            shade_camera_hits(w, jobs, hits, &out, camera,
+                              still ? (const float(*)[HZ_SHADE_LANES])still_mv : NULL, &cs);
+    }
     for (uint32_t i = 0; i < n; i++) {
         const ray_job_t *j = &jobs[i];
         if (hits[i].prim == HZ_ACCEL_INVALID_ID)
             shade_miss(w, j);
-        else
-            shade_hit(w, j, &hits[i], &c, &out, i, still && j->gslot == GSLOT_PRIMARY ? (const float(*)[HZ_SHADE_LANES])still_mv : NULL);
+        else if (!(camera >> i & 1u))
+            shade_hit(w, j, &hits[i], &c, &out, i,
+                      still && j->gslot == GSLOT_PRIMARY ? (const float(*)[HZ_SHADE_LANES])still_mv : NULL,
+                      cast ? &cs : NULL);
         if (j->dither && w->write_gbuffer && w->dither_touched[j->slot])
             w->r->f.gb.flags[w->b.pixel[j->slot]] |= HZ_GB_DITHER; /* the opacity mask TAA reads */
     }
+    if (cast && mask)
+        cast_shadows(w, &cs, &out, jobs, r->light_count);
 }
 
 /* Everything queued: rays depth first in packets, shadow rays whenever a packet's worth is waiting. */
@@ -691,37 +905,52 @@ void hz_render_trace(hz_render_frame_t *f, hz_batch_t *b, const float (*jitter)[
                       (r->f.opts.transparency != HZ_TRANSP_HYBRID || !(1.0f > r->f.opts.hybrid_x));
     /* every camera ray of the batch first, traced as one tile; then packet by packet, shading and all it spawns
      * (the hits do not depend on the order, and the any-hit calls of camera rays touch their own slots only) */
+    ray_job_t proto; /* what every camera ray shares */
+    proto.o[0] = v->eye.x, proto.o[1] = v->eye.y, proto.o[2] = v->eye.z;
+    proto.w[0] = proto.w[1] = proto.w[2] = 1.0f;
+    proto.cone_w = 0.0f;
+    proto.cone_s = v->spread;
+    proto.travelled = 0.0f;
+    proto.vis = 1.0f;
+    proto.time = r->time;
+    proto.gslot = write_gbuffer ? GSLOT_PRIMARY : GSLOT_NONE;
+    proto.bounces = 0;
+    proto.layers = 0;
+    proto.dither = dither;
+    const bool cam_blur = HZ_FEATURE_MOTION && times && r->cam_blur; /* each ray its own camera */
+    const uint32_t width = v->width;
     for (uint32_t base = 0; base < HZ_TILE_PIXELS; base += HZ_RENDER_LANES) {
         uint32_t n = 0;
+        float x[HZ_RENDER_LANES] HZ_ALIGNED(32), y[HZ_RENDER_LANES] HZ_ALIGNED(32);
+        float dx[HZ_RENDER_LANES] HZ_ALIGNED(32), dy[HZ_RENDER_LANES] HZ_ALIGNED(32), dz[HZ_RENDER_LANES] HZ_ALIGNED(32);
+        uint16_t slots[HZ_RENDER_LANES];
         for (uint32_t i = 0; i < HZ_RENDER_LANES; i++) {
-            uint32_t slot = base + i, px = w->b.pixel[slot];
+            const uint32_t slot = base + i, px = w->b.pixel[slot];
+            x[i] = y[i] = 0.5f; /* unused lanes */
             if (px == UINT32_MAX)
                 continue;
-            ray_job_t *j = &jobs[base + n++];
-            j->time = r->time;
-            if (times) {
-                j->time = r->tmap_a + times[slot] * r->tmap_b;
-                if (HZ_FEATURE_MOTION && r->cam_blur) {
-                    view_at(r, times[slot], &vt);
-                    v = &vt;
-                }
-            }
-            float x = (float)(px % v->width) + 0.5f + jitter[slot][0];
-            float y = (float)(px / v->width) + 0.5f + jitter[slot][1];
-            hz_vec3_t d = hz_view_ray_dir(v, x, y);
-            j->o[0] = v->eye.x, j->o[1] = v->eye.y, j->o[2] = v->eye.z;
-            j->d[0] = d.x, j->d[1] = d.y, j->d[2] = d.z;
-            j->w[0] = j->w[1] = j->w[2] = 1.0f;
-            j->cone_w = 0.0f;
-            j->cone_s = v->spread;
-            j->travelled = 0.0f;
-            j->vis = 1.0f;
+            x[n] = (float)(px % width) + 0.5f + jitter[slot][0];
+            y[n] = (float)(px / width) + 0.5f + jitter[slot][1];
+            slots[n++] = (uint16_t)slot;
+        }
+        if (n && !cam_blur)
+            hz_view_ray_dirs(v, x, y, dx, dy, dz);
+        for (uint32_t q = 0; q < n; q++) {
+            ray_job_t *j = &jobs[base + q];
+            const uint32_t slot = slots[q];
+            *j = proto;
             j->slot = (uint16_t)slot;
-            j->gslot = write_gbuffer ? GSLOT_PRIMARY : GSLOT_NONE;
-            j->bounces = 0;
-            j->layers = 0;
-            j->dither = dither;
-            v = &r->view;
+            if (times)
+                j->time = r->tmap_a + times[slot] * r->tmap_b;
+            if (cam_blur) {
+                view_at(r, times[slot], &vt);
+                const hz_vec3_t d = hz_view_ray_dir(&vt, x[q], y[q]);
+                j->o[0] = vt.eye.x, j->o[1] = vt.eye.y, j->o[2] = vt.eye.z;
+                j->d[0] = d.x, j->d[1] = d.y, j->d[2] = d.z;
+                j->cone_s = vt.spread;
+            } else {
+                j->d[0] = dx[q], j->d[1] = dy[q], j->d[2] = dz[q];
+            }
         }
         count[base / HZ_RENDER_LANES] = n;
     }

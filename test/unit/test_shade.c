@@ -506,7 +506,7 @@ static void test_still_motion_lanes(void **state)
         for (int i = 0; i < HZ_SHADE_LANES; i++) {
             float m[2];
             hz_vec3_t p = hz_v3(px[i], py[i], pz[i]);
-            hz_view_point_motion(&cur, &prev, p, p, m);
+            hz_view_point_motion(&cur, &prev, &p, &p, m);
             if (memcmp(&m[0], &mx[i], sizeof(float)) || memcmp(&m[1], &my[i], sizeof(float)))
                 fail_msg("round %d lane %d: point (%g, %g, %g): lanes (%.9g, %.9g), scalar (%.9g, %.9g)", round, i,
                          (double)px[i], (double)py[i], (double)pz[i], (double)mx[i], (double)my[i], (double)m[0],
@@ -521,6 +521,51 @@ static void test_still_motion_lanes(void **state)
                   far, special);
     assert_true(seen > 4000 * HZ_SHADE_LANES / 4);
     assert_true(far > 4000 * HZ_SHADE_LANES / 8);
+}
+
+/* Camera ray directions in lanes (hz_view_ray_dirs) against hz_view_ray_dir: random cameras and image sizes,
+ * pixels inside and far outside the image, and the coordinates that take hz_v3_normalize's other paths (a
+ * squared length that overflows, non-finite coordinates): the same bits in every lane. */
+static void test_ray_dirs_lanes(void **state)
+{
+    (void)state;
+    uint32_t st = 11, special = 0;
+    for (int round = 0; round < 4000; round++) {
+        hz_camera_t a;
+        a.eye = hz_v3(rnd(&st, -50, 50), rnd(&st, -50, 50), rnd(&st, -50, 50));
+        a.target = hz_v3_add(a.eye, hz_v3(rnd(&st, -1, 1), rnd(&st, -1, 1), rnd(&st, -1, 1) + 0.01f));
+        a.up = hz_v3(rnd(&st, -0.3f, 0.3f), 1, rnd(&st, -0.3f, 0.3f));
+        a.fov_y = rnd(&st, 0.01f, 3.0f);
+        hz_view_t v;
+        uint32_t w = 1 + (uint32_t)rnd(&st, 0, 4000), h = 1 + (uint32_t)rnd(&st, 0, 2200);
+        hz_view_setup(&v, &a, w, h);
+        float x[HZ_SHADE_LANES] HZ_ALIGNED(32), y[HZ_SHADE_LANES] HZ_ALIGNED(32);
+        for (int i = 0; i < HZ_SHADE_LANES; i++) {
+            x[i] = rnd(&st, -0.5f, (float)w + 0.5f), y[i] = rnd(&st, -0.5f, (float)h + 0.5f);
+            switch ((round + i) % 12) {
+            case 0: x[i] = 3e37f; break;                          /* the squared length overflows */
+            case 1: y[i] = -1e30f; break;
+            case 2: x[i] = (float)(1.0 / 0.0); break;             /* not finite */
+            case 3: y[i] = x[i] - x[i] + (float)(0.0 / 0.0); break; /* NaN */
+            case 4: x[i] = rnd(&st, -1e6f, 1e6f); break;          /* far outside the image */
+            default: break;
+            }
+            special += (round + i) % 12 < 5;
+        }
+        float dx[HZ_SHADE_LANES] HZ_ALIGNED(32), dy[HZ_SHADE_LANES] HZ_ALIGNED(32), dz[HZ_SHADE_LANES] HZ_ALIGNED(32);
+        hz_view_ray_dirs(&v, x, y, dx, dy, dz);
+        for (int i = 0; i < HZ_SHADE_LANES; i++) {
+            const hz_vec3_t d = hz_view_ray_dir(&v, x[i], y[i]);
+            if (memcmp(&d.x, &dx[i], sizeof(float)) || memcmp(&d.y, &dy[i], sizeof(float)) ||
+                memcmp(&d.z, &dz[i], sizeof(float)))
+                fail_msg("round %d lane %d: pixel (%g, %g) of %ux%u: lanes (%.9g, %.9g, %.9g), scalar (%.9g, %.9g, %.9g)",
+                         round, i, (double)x[i], (double)y[i], w, h, (double)dx[i], (double)dy[i], (double)dz[i],
+                         (double)d.x, (double)d.y, (double)d.z);
+        }
+    }
+    print_message("ray directions (%s): %d lanes, %u special pixels\n", hz_shade_path(), 4000 * HZ_SHADE_LANES,
+                  special);
+    assert_true(special > 1000);
 }
 
 /* The path the board runs is its SIMD kernel where it has one (else the twin itself). */
@@ -541,7 +586,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_path),     cmocka_unit_test(test_builtin),    cmocka_unit_test(test_sponza),
         cmocka_unit_test(test_blended),  cmocka_unit_test(test_mirror_box), cmocka_unit_test(test_pose_keys),
-        cmocka_unit_test(test_still_motion_lanes), cmocka_unit_test(test_texture_alpha),
+        cmocka_unit_test(test_still_motion_lanes), cmocka_unit_test(test_ray_dirs_lanes), cmocka_unit_test(test_texture_alpha),
         cmocka_unit_test(test_footprint_gradients),
     };
     return HZ_RUN(tests);
