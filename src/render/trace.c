@@ -720,7 +720,7 @@ static void shade_hit(hz_worker_t *w, const ray_job_t *j, const hitrec_t *h, con
 static void shade_camera_hits(hz_worker_t *w, const ray_job_t *jobs, const hitrec_t *hits, const hz_shade_out_t *so,
                               uint32_t lanes, const float (*still_mv)[HZ_SHADE_LANES], casts_t *cs)
 {
-    const struct hz_renderer *r = w->r;
+    struct hz_renderer *r = w->r;
     const hz_scene_t *s = r->scene;
     float wc[3][HZ_RENDER_LANES], kd[3][HZ_RENDER_LANES];
     uint32_t lit = 0, rr = 0; /* lanes that light and cast; lanes whose casts take the roulette */
@@ -737,7 +737,7 @@ static void shade_camera_hits(hz_worker_t *w, const ray_job_t *jobs, const hitre
                            hz_v3(so->nsx[i], so->nsy[i], so->nsz[i]), (uint16_t)(info >> 16), flags, mirror,
                            still_mv, i);
             if (r->f.gb.object2)
-                no_reflection((hz_gbuffer_t *)&r->f.gb, w->b.pixel[j->slot]);
+                no_reflection(&r->f.gb, w->b.pixel[j->slot]);
         }
         const float a = !HZ_FEATURE_TRANSPARENCY || j->dither ? 1.0f : so->alpha[i];
         const float diffuse = 1.0f - mirror;
@@ -758,7 +758,8 @@ static void shade_camera_hits(hz_worker_t *w, const ray_job_t *jobs, const hitre
     for (uint32_t l = 0; l < r->light_count; l++) {
         const float *col = r->lights[l].color, *k = so->light[l].k;
         const uint32_t cast = so->lit[l] & lit;
-        for (uint32_t m = r->f.gb.shadow ? lit & ~cast : 0u; m; m &= m - 1u) { /* camera rays count in shadow */
+        /* unlit: a camera ray counts into its pixel's shadow count (modes that keep one) */
+        for (uint32_t m = r->f.gb.shadow ? lit & ~cast : 0u; m; m &= m - 1u) {
             const uint32_t i = (uint32_t)__builtin_ctz(m);
             if (jobs[i].gslot != GSLOT_NONE)
                 count_blocked(w, jobs[i].slot, jobs[i].gslot);
