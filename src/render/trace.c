@@ -345,6 +345,24 @@ static void process_shadows(hz_worker_t *w)
     trace_shadow_packet(w, &p, valid, n, slot, gslot, (const float(*)[3])wt);
 }
 
+/* Queues the shadow ray of job j's hit (kernel lane `lane` of sl) towards light l, adding wt times its
+ * transmittance to the job's slot; dither: the ray takes the roulette through blended occluders. */
+static void push_cast(hz_worker_t *w, const ray_job_t *j, const hz_shade_light_t *sl, uint32_t lane, uint32_t l,
+                      const float wt[3], bool dither)
+{
+    shadow_job_t sj;
+    sj.o[0] = sl->ox[lane], sj.o[1] = sl->oy[lane], sj.o[2] = sl->oz[lane];
+    sj.d[0] = sl->dx[lane], sj.d[1] = sl->dy[lane], sj.d[2] = sl->dz[lane];
+    sj.tmax = sl->tmax[lane];
+    sj.w[0] = wt[0], sj.w[1] = wt[1], sj.w[2] = wt[2];
+    sj.time = j->time;
+    sj.slot = j->slot;
+    sj.gslot = j->gslot;
+    sj.light = (uint8_t)l;
+    sj.dither = dither;
+    push_shadow(w, &sj);
+}
+
 /* The shadow rays of one packet's hits towards its first HZ_SHADE_LIGHTS lights, kept in the shading kernel's
  * lanes (hz_shade_out_t.light) instead of the queue: bit i of mask[l], lane i's ray towards light l, weighted
  * wt[l][0..2][i]. */
@@ -365,23 +383,11 @@ static void cast_shadows(hz_worker_t *w, const casts_t *cs, const hz_shade_out_t
     (void)sizeof(fits_the_window);
     if (w->shadow_n || w->stack_n) {
         for (uint32_t i = 0; i < HZ_RENDER_LANES; i++)
-            for (uint32_t l = 0; l < light_count; l++) {
-                if (!(cs->mask[l] >> i & 1u))
-                    continue;
-                const hz_shade_light_t *sl = &so->light[l];
-                const ray_job_t *j = &jobs[i];
-                shadow_job_t sj;
-                sj.o[0] = sl->ox[i], sj.o[1] = sl->oy[i], sj.o[2] = sl->oz[i];
-                sj.d[0] = sl->dx[i], sj.d[1] = sl->dy[i], sj.d[2] = sl->dz[i];
-                sj.tmax = sl->tmax[i];
-                sj.w[0] = cs->wt[l][0][i], sj.w[1] = cs->wt[l][1][i], sj.w[2] = cs->wt[l][2][i];
-                sj.time = j->time;
-                sj.slot = j->slot;
-                sj.gslot = j->gslot;
-                sj.light = (uint8_t)l;
-                sj.dither = (uint8_t)(cs->dither[l] >> i & 1u);
-                push_shadow(w, &sj);
-            }
+            for (uint32_t l = 0; l < light_count; l++)
+                if (cs->mask[l] >> i & 1u)
+                    push_cast(w, &jobs[i], &so->light[l], i, l,
+                              (const float[3]){ cs->wt[l][0][i], cs->wt[l][1][i], cs->wt[l][2][i] },
+                              (cs->dither[l] >> i & 1u) != 0);
         return;
     }
     uint32_t left = 0;
@@ -407,22 +413,11 @@ static void cast_shadows(hz_worker_t *w, const casts_t *cs, const hz_shade_out_t
         uint32_t n = 0, lane[HZ_RENDER_LANES];
         for (uint32_t m = cs->mask[pick]; m; m &= m - 1u)
             lane[n++] = (uint32_t)__builtin_ctz(m);
-        if (n == HZ_RENDER_LANES) { /* every lane: straight copies */
-            for (uint32_t i = 0; i < HZ_RENDER_LANES; i++) {
-                p.org_x[i] = sl->ox[i], p.org_y[i] = sl->oy[i], p.org_z[i] = sl->oz[i];
-                p.dir_x[i] = sl->dx[i], p.dir_y[i] = sl->dy[i], p.dir_z[i] = sl->dz[i];
-                p.tfar[i] = sl->tmax[i];
-            }
-        } else {
-            for (uint32_t q = 0; q < n; q++) {
-                const uint32_t i = lane[q];
-                p.org_x[q] = sl->ox[i], p.org_y[q] = sl->oy[i], p.org_z[q] = sl->oz[i];
-                p.dir_x[q] = sl->dx[i], p.dir_y[q] = sl->dy[i], p.dir_z[q] = sl->dz[i];
-                p.tfar[q] = sl->tmax[i];
-            }
-        }
         for (uint32_t q = 0; q < n; q++) {
             const uint32_t i = lane[q];
+            p.org_x[q] = sl->ox[i], p.org_y[q] = sl->oy[i], p.org_z[q] = sl->oz[i];
+            p.dir_x[q] = sl->dx[i], p.dir_y[q] = sl->dy[i], p.dir_z[q] = sl->dz[i];
+            p.tfar[q] = sl->tmax[i];
             p.time[q] = jobs[i].time;
             p.id[q] = q | ID_SHADOW | ((cs->dither[pick] >> i & 1u) ? ID_SHADOW_DITHER : 0u);
             slot[q] = jobs[i].slot, gslot[q] = jobs[i].gslot;
@@ -666,24 +661,16 @@ static void shade_hit(hz_worker_t *w, const ray_job_t *j, const hitrec_t *h, con
             continue;
         }
         float k = sl->k[lane];
+        const float wt[3] = { kd[0] * lt->color[0] * k, kd[1] * lt->color[1] * k, kd[2] * lt->color[2] * k };
+        const bool rr = j->dither && r->f.opts.rr_shadows;
         if (cs) {
             cs->mask[l] |= 1u << lane;
-            cs->dither[l] |= (uint32_t)(j->dither && r->f.opts.rr_shadows) << lane;
+            cs->dither[l] |= (uint32_t)rr << lane;
             for (int ch = 0; ch < 3; ch++)
-                cs->wt[l][ch][lane] = kd[ch] * lt->color[ch] * k;
-            continue;
+                cs->wt[l][ch][lane] = wt[ch];
+        } else {
+            push_cast(w, j, sl, lane, l, wt, rr);
         }
-        shadow_job_t sj;
-        sj.o[0] = sl->ox[lane], sj.o[1] = sl->oy[lane], sj.o[2] = sl->oz[lane];
-        sj.d[0] = sl->dx[lane], sj.d[1] = sl->dy[lane], sj.d[2] = sl->dz[lane];
-        sj.tmax = sl->tmax[lane];
-        sj.w[0] = kd[0] * lt->color[0] * k, sj.w[1] = kd[1] * lt->color[1] * k, sj.w[2] = kd[2] * lt->color[2] * k;
-        sj.time = j->time;
-        sj.slot = j->slot;
-        sj.gslot = j->gslot;
-        sj.light = (uint8_t)l;
-        sj.dither = (uint8_t)(j->dither && r->f.opts.rr_shadows);
-        push_shadow(w, &sj);
     }
     const float *amb = s->header->ambient;
     float ka[3] = { kd[0] * amb[0], kd[1] * amb[1], kd[2] * amb[2] };
@@ -713,23 +700,29 @@ static void shade_hit(hz_worker_t *w, const ray_job_t *j, const hitrec_t *h, con
     }
 }
 
-/* Camera rays' hits (bits of `lanes`: no mirror, opaque where the ray takes no stochastic decision; up to
- * HZ_SHADE_LIGHTS lights) as shade_hit shades them, the packet at once: its G-buffer records, the lights' casts
- * and the ambient term, the weights in lanes. The same operations in the same order for every value, and camera
- * rays have slots of their own, so the results are shade_hit's bits (scalar_shading takes shade_hit). */
-static void shade_camera_hits(hz_worker_t *w, const ray_job_t *jobs, const hitrec_t *hits, const hz_shade_out_t *so,
-                              uint32_t lanes, const float (*still_mv)[HZ_SHADE_LANES], casts_t *cs)
+/* Of a packet's hits (bits of `hits_mask`), the camera rays' on surfaces that neither reflect nor let light
+ * through where the ray takes no stochastic decision, as shade_hit shades them, the packet at once: their
+ * G-buffer records, the lights' casts and the ambient term (up to HZ_SHADE_LIGHTS lights). The same operations in
+ * the same order for every value, and camera rays have slots of their own, so the results are shade_hit's bits
+ * (scalar_shading takes shade_hit). Returns the lanes it shaded. */
+static uint32_t shade_camera_hits(hz_worker_t *w, const ray_job_t *jobs, const hitrec_t *hits,
+                                  const hz_shade_out_t *so, uint32_t hits_mask,
+                                  const float (*still_mv)[HZ_SHADE_LANES], casts_t *cs)
 {
     struct hz_renderer *r = w->r;
     const hz_scene_t *s = r->scene;
-    float wc[3][HZ_RENDER_LANES], kd[3][HZ_RENDER_LANES];
-    uint32_t lit = 0, rr = 0; /* lanes that light and cast; lanes whose casts take the roulette */
-    for (uint32_t m = lanes; m; m &= m - 1u) {
+    float kd[3][HZ_RENDER_LANES];
+    uint32_t taken = 0, lit = 0, rr = 0; /* lanes shaded here; that light and cast; whose casts take the roulette */
+    for (uint32_t m = hits_mask; m; m &= m - 1u) {
         const uint32_t i = (uint32_t)__builtin_ctz(m);
         const ray_job_t *j = &jobs[i];
         const uint32_t info = s->tri_info[hits[i].prim];
         const hz_material_t *mat = &s->materials[info & 0xffffu];
         const float mirror = HZ_FEATURE_MIRRORS && r->f.has_mirrors ? mat->mirror : 0.0f;
+        const float a = !HZ_FEATURE_TRANSPARENCY || j->dither ? 1.0f : so->alpha[i];
+        if (j->bounces || j->layers || mirror > 0.0f || a < 1.0f)
+            continue; /* a reflection, a continuation ray, a mirror or a blended layer: shade_hit's */
+        taken |= 1u << i;
         if (j->gslot == GSLOT_PRIMARY) {
             const uint8_t flags = (uint8_t)(HZ_GB_HIT | (so->textured[i] ? HZ_GB_TEXTURED : 0) |
                                             (w->alpha_touched[j->slot] || mat->alpha_mode != HZ_ALPHA_OPAQUE ? HZ_GB_ALPHA : 0));
@@ -739,13 +732,13 @@ static void shade_camera_hits(hz_worker_t *w, const ray_job_t *jobs, const hitre
             if (r->f.gb.object2)
                 no_reflection(&r->f.gb, w->b.pixel[j->slot]);
         }
-        const float a = !HZ_FEATURE_TRANSPARENCY || j->dither ? 1.0f : so->alpha[i];
         const float diffuse = 1.0f - mirror;
+        float wc[3];
         for (int ch = 0; ch < 3; ch++) {
-            wc[ch][i] = j->w[ch] * j->vis * a;
-            kd[ch][i] = wc[ch][i] * diffuse * so->albedo[ch][i];
+            wc[ch] = j->w[ch] * j->vis * a;
+            kd[ch][i] = wc[ch] * diffuse * so->albedo[ch][i];
         }
-        if (wc[0][i] > 0.0f || wc[1][i] > 0.0f || wc[2][i] > 0.0f || j->gslot != GSLOT_NONE)
+        if (wc[0] > 0.0f || wc[1] > 0.0f || wc[2] > 0.0f || j->gslot != GSLOT_NONE)
             lit |= 1u << i;
         rr |= (uint32_t)(j->dither && r->f.opts.rr_shadows) << i;
     }
@@ -773,6 +766,7 @@ static void shade_camera_hits(hz_worker_t *w, const ray_job_t *jobs, const hitre
                 cs->wt[l][ch][i] = kd[ch][i] * col[ch] * k[i];
         }
     }
+    return taken;
 }
 
 /* Shades a packet's n jobs in order: their surfaces first, all lanes at once (src/render/shade.h), then job by job
@@ -816,22 +810,12 @@ static void shade_packet(hz_worker_t *w, const ray_job_t *jobs, const hitrec_t *
     /* the shadow rays of up to HZ_SHADE_LIGHTS lights wait in the kernel's lanes (cast_shadows) */
     casts_t cs;
     const bool cast = r->light_count <= HZ_SHADE_LIGHTS && !r->f.opts.scalar_shading; /* the twin: the queue */
-    uint32_t camera = 0; /* hits shade_camera_hits takes */
+    uint32_t camera = 0; /* hits shade_camera_hits shaded */
     if (cast) {
         for (uint32_t l = 0; l < HZ_SHADE_LIGHTS; l++)
             cs.mask[l] = cs.dither[l] = 0;
-        const bool has_mirrors = HZ_FEATURE_MIRRORS && r->f.has_mirrors;
-        for (uint32_t m = mask; m; m &= m - 1u) {
-            const uint32_t i = (uint32_t)__builtin_ctz(m);
-            const ray_job_t *j = &jobs[i];
-            const hz_material_t *mat = &r->scene->materials[r->scene->tri_info[hits[i].prim] & 0xffffu];
-            const float a = !HZ_FEATURE_TRANSPARENCY || j->dither ? 1.0f : out.alpha[i];
-            if (j->bounces == 0 && j->layers == 0 && !(has_mirrors && mat->mirror > 0.0f) && !(a < 1.0f))
-                camera |= 1u << i;
-        }
-        if (camera)
-            shade_camera_hits(w, jobs, hits, &out, camera,
-                              still ? (const float(*)[HZ_SHADE_LANES])still_mv : NULL, &cs);
+        camera = shade_camera_hits(w, jobs, hits, &out, mask,
+                                   still ? (const float(*)[HZ_SHADE_LANES])still_mv : NULL, &cs);
     }
     for (uint32_t i = 0; i < n; i++) {
         const ray_job_t *j = &jobs[i];
