@@ -36,6 +36,12 @@ HZ_INLINE hz_li_t hz_li_set(int32_t v) { return _mm256_set1_epi32(v); }
 HZ_INLINE hz_li_t hz_li_iota(void) { return _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7); }
 HZ_INLINE hz_lf_t hz_lf_load(const float *p) { return _mm256_loadu_ps(p); }
 HZ_INLINE void hz_lf_store(float *p, hz_lf_t v) { _mm256_storeu_ps(p, v); }
+/* Lanes 0 .. HZ_LANES / 2 - 1 to lo, the others to hi. */
+HZ_INLINE void hz_lf_store_halves(float *lo, float *hi, hz_lf_t v)
+{
+    _mm_storeu_ps(lo, _mm256_castps256_ps128(v));
+    _mm_storeu_ps(hi, _mm256_extractf128_ps(v, 1));
+}
 HZ_INLINE hz_li_t hz_li_load(const void *p) { return _mm256_loadu_si256((const __m256i *)p); }
 HZ_INLINE void hz_li_store(void *p, hz_li_t v) { _mm256_storeu_si256((__m256i *)p, v); }
 /* HZ_LANES bytes, zero-extended. */
@@ -223,6 +229,11 @@ HZ_INLINE hz_li_t hz_li_iota(void)
 }
 HZ_INLINE hz_lf_t hz_lf_load(const float *p) { return vld1q_f32(p); }
 HZ_INLINE void hz_lf_store(float *p, hz_lf_t v) { vst1q_f32(p, v); }
+HZ_INLINE void hz_lf_store_halves(float *lo, float *hi, hz_lf_t v)
+{
+    vst1_f32(lo, vget_low_f32(v));
+    vst1_f32(hi, vget_high_f32(v));
+}
 HZ_INLINE hz_li_t hz_li_load(const void *p) { return vld1q_s32((const int32_t *)p); }
 HZ_INLINE void hz_li_store(void *p, hz_li_t v) { vst1q_s32((int32_t *)p, v); }
 HZ_INLINE hz_li_t hz_li_load_u8(const uint8_t *p)

@@ -35,11 +35,15 @@ static void to_rgb(const float *y, float *o)
     o[2] = y[0] - y[1] - y[2];
 }
 
-static const float *pix(const hz_image_t *img, int32_t x, int32_t y)
+/* This frame's sample at pixel (x, y), clamped to the image's edge, as YCoCg. */
+static void sample_at(const hz_taa_t *t, int32_t x, int32_t y, float q[3])
 {
-    x = x < 0 ? 0 : x >= (int32_t)img->width ? (int32_t)img->width - 1 : x;
-    y = y < 0 ? 0 : y >= (int32_t)img->height ? (int32_t)img->height - 1 : y;
-    return img->rgb + 3 * ((size_t)y * img->width + (size_t)x);
+    const int32_t w = (int32_t)t->out.width, h = (int32_t)t->out.height;
+    x = x < 0 ? 0 : x >= w ? w - 1 : x;
+    y = y < 0 ? 0 : y >= h ? h - 1 : y;
+    const size_t p = (size_t)y * (size_t)w + (size_t)x;
+    for (int k = 0; k < 3; k++)
+        q[k] = t->cur[k][p];
 }
 
 /* The history (half-float RGB, w x h) is an image of the output's size. */
@@ -134,7 +138,6 @@ static bool seen_before(const hz_render_frame_t *f, const hz_taa_t *t, float hx,
 /* One pixel (the reference the SIMD tile resolve in taa_lanes.c reproduces bit for bit). */
 void hz_taa_resolve_pixel(hz_taa_t *t, const hz_render_frame_t *f, uint32_t x, uint32_t y)
 {
-    const hz_image_t *cur = &t->cur;
     const history_t prev_h = { t->hist[t->hist_index], (int32_t)f->opts.width, (int32_t)f->opts.height };
     const history_t *prev = &prev_h;
     uint16_t *next = t->hist[t->hist_index ^ 1u];
@@ -148,7 +151,7 @@ void hz_taa_resolve_pixel(hz_taa_t *t, const hz_render_frame_t *f, uint32_t x, u
     if (dither)
         gamma *= HZ_TAA_DITHER_GAMMA;
     const float count = dither ? (float)((2 * HZ_TAA_DITHER_RADIUS + 1) * (2 * HZ_TAA_DITHER_RADIUS + 1)) : 9.0f;
-    hz_taa_to_ycocg(cur->rgb + px * 3, c);
+    sample_at(t, (int32_t)x, (int32_t)y, c);
     const int cell = dither ? hz_taa_cell_radius(f) : 0;
     /* A still view keeps the pixel's own sample: it walks the full threshold cycle in place and stays sharp. */
     const bool moving = f->camera_moved || (gb->mv && (gb->mv[px * 2] != 0.0f || gb->mv[px * 2 + 1] != 0.0f));
@@ -163,7 +166,7 @@ void hz_taa_resolve_pixel(hz_taa_t *t, const hz_render_frame_t *f, uint32_t x, u
                 if (!(gb->flags[(size_t)qy * w + (size_t)qx] & HZ_GB_DITHER))
                     continue;
                 float q[3];
-                hz_taa_to_ycocg(pix(cur, qx, qy), q);
+                sample_at(t, qx, qy, q);
                 for (int k = 0; k < 3; k++)
                     cs[k] += q[k];
                 n++;
@@ -175,7 +178,7 @@ void hz_taa_resolve_pixel(hz_taa_t *t, const hz_render_frame_t *f, uint32_t x, u
     for (int dy = -rad; dy <= rad; dy++)
         for (int dx = -rad; dx <= rad; dx++) {
             float q[3];
-            hz_taa_to_ycocg(pix(cur, (int32_t)x + dx, (int32_t)y + dy), q);
+            sample_at(t, (int32_t)x + dx, (int32_t)y + dy, q);
             for (int k = 0; k < 3; k++)
                 sum[k] += q[k], sum2[k] += q[k] * q[k];
         }
@@ -234,6 +237,20 @@ void hz_taa_resolve_tile_scalar(hz_taa_t *t, const hz_render_frame_t *f, uint32_
             hz_taa_resolve_pixel(t, f, x, y);
 }
 
+void hz_taa_store_samples_scalar(hz_taa_t *t, hz_batch_t *b)
+{
+    for (uint32_t slot = 0; slot < HZ_TILE_PIXELS; slot++) {
+        const uint32_t px = b->pixel[slot];
+        if (px == UINT32_MAX)
+            continue;
+        float c[3], q[3];
+        hz_render_store(b, c, &b->radiance[slot * 3], 1.0f);
+        hz_taa_to_ycocg(c, q);
+        for (int k = 0; k < 3; k++)
+            t->cur[k][px] = q[k];
+    }
+}
+
 static void resolve_tiles_scalar(hz_taa_t *t, const hz_render_frame_t *f, uint32_t first, uint32_t count)
 {
     for (uint32_t i = 0; i < count; i++)
@@ -245,6 +262,11 @@ void hz_taa_resolve_tiles(hz_taa_t *t, const hz_render_frame_t *f, uint32_t firs
 {
     resolve_tiles_scalar(t, f, first, count);
 }
+
+void hz_taa_store_samples(hz_taa_t *t, hz_batch_t *b)
+{
+    hz_taa_store_samples_scalar(t, b);
+}
 #endif
 
 /* ---- the mode (mode.h) ---- */
@@ -253,12 +275,13 @@ static void taa_layout(void *state, const hz_render_frame_t *f, hz_memplan_t *p)
 {
     hz_taa_t *t = state;
     const size_t px = (size_t)f->opts.width * f->opts.height;
-    t->out.width = t->cur.width = f->opts.width;
-    t->out.height = t->cur.height = f->opts.height;
+    t->out.width = f->opts.width;
+    t->out.height = f->opts.height;
     hz_memplan_part(p, HZ_PART_DISPLAY);
     t->out.rgb = hz_memplan_array(p, px, 12);
     hz_memplan_part(p, HZ_PART_STATE);
-    t->cur.rgb = hz_memplan_array(p, px, 12);
+    for (int k = 0; k < 3; k++)
+        t->cur[k] = hz_memplan_array(p, px, sizeof(float));
     t->hist[0] = hz_memplan_array(p, px, 6);
     t->hist[1] = hz_memplan_array(p, px, 6);
     t->prev_object = hz_memplan_array(p, px, 2);
@@ -320,7 +343,8 @@ static void taa_run(void *state, hz_render_frame_t *f, uint32_t pass, uint32_t i
     if (pass == 0) {
         /* One jittered sample per pixel; with motion blur its time walks 16 frames. */
         hz_tile_sampling_t smp = { 1, t->jitter, false, (uint32_t)(f->frame % 16u), 16, false };
-        hz_render_trace_tile(f, b, item, &smp, &t->cur);
+        hz_render_sample_tile(f, b, item, &smp);
+        (f->opts.scalar_recon ? hz_taa_store_samples_scalar : hz_taa_store_samples)(t, b);
     } else {
         taa_resolve(t, f, item);
     }

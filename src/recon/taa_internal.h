@@ -9,7 +9,7 @@
 
 typedef struct hz_taa {
     hz_image_t out;            /* the displayed frame */
-    hz_image_t cur;            /* this frame's raw samples */
+    float *cur[3];             /* this frame's samples in YCoCg (the box's space), a plane of w x h per channel */
     uint16_t *hist[2];         /* resolved history, ping-pong, half-float RGB (hz/pack.h) */
     uint32_t hist_index;       /* hist[hist_index] is the previous frame's */
     bool hist_valid;
@@ -25,6 +25,13 @@ void hz_taa_resolve_tiles(hz_taa_t *t, const hz_render_frame_t *f, uint32_t firs
 void hz_taa_resolve_tile_scalar(hz_taa_t *t, const hz_render_frame_t *f, uint32_t tile);
 void hz_taa_resolve_pixel(hz_taa_t *t, const hz_render_frame_t *f, uint32_t x, uint32_t y);
 
+/* The traced tile in b (hz_render_sample_tile, one sample per pixel) into t->cur: each pixel's radiance stored
+ * as hz_render_store does (non-finite values counted in b->stats and, like negative ones, made 0) and converted
+ * to YCoCg. hz_taa_store_samples uses the board's SIMD where it has one (packets of HZ_RENDER_LANES slots that
+ * are 2 rows of pixels, hz_tile_slots' layout); hz_taa_store_samples_scalar is its twin, the same values. */
+void hz_taa_store_samples(hz_taa_t *t, hz_batch_t *b);
+void hz_taa_store_samples_scalar(hz_taa_t *t, hz_batch_t *b);
+
 /* A dithered pixel's variance box is (2 HZ_TAA_DITHER_RADIUS + 1)^2 pixels, widened by HZ_TAA_DITHER_GAMMA, and
  * its sample the mean over the dither's cell of half-side hz_taa_cell_radius (taa.c says why). */
 #define HZ_TAA_DITHER_RADIUS 3
@@ -36,8 +43,8 @@ HZ_INLINE int hz_taa_cell_radius(const hz_render_frame_t *f)
     return (int)(hz_transp_mv_align(f->opts.transparency) / 2u);
 }
 
-/* RGB -> YCoCg, the TAA box's colour space; one definition for the resolve and its SIMD twin (whose 10x10 block
- * must hold exactly the values the twin computes). */
+/* RGB -> YCoCg, the TAA box's colour space: each sample is converted once, as the trace stores it, so the
+ * resolve and its SIMD twin read the same values. */
 HZ_INLINE void hz_taa_to_ycocg(const float *rgb, float *o)
 {
     o[0] = 0.25f * rgb[0] + 0.5f * rgb[1] + 0.25f * rgb[2];

@@ -1,9 +1,12 @@
 /* The TAA resolve of one 8x8 tile in SIMD lanes (src/core/lanes.h: a tile row at a time on AVX2, half a row on
  * NEON), bit-identical to hz_taa_resolve_pixel (taa.c), its scalar twin.
  *
- * The neighbourhood box reads each pixel's YCoCg from a 10x10 block converted once per tile, in lanes (the
- * scalar twin converts all nine neighbours of every pixel: the same values, summed in the same order); the
- * motion vectors come in with deinterleaving loads, not gathers. Motion, the
+ * The trace stores each sample already in YCoCg, one plane per channel (hz_taa_store_samples, at the end of this
+ * file), so the neighbourhood box of a tile inside the image reads the planes directly, HZ_LANES neighbours at a
+ * time (a tile at the image's edge reads a 10x10 block copied with the twin's edge clamp); the sums run in the
+ * twin's order. Converting the samples once per tile here, from interleaved RGB, had been a sixth of this
+ * resolve's instructions and its main wait for memory. The motion vectors come in with deinterleaving loads,
+ * not gathers. Motion, the
  * off-screen and disocclusion tests, the bilinear history fetch, the clamp, the blend and the half-float codes
  * run lane by lane with the twin's operations. Pixels whose path dithered take the twin's 7x7 box, read from a
  * 14x14 block of the tile's YCoCg and dither flags built only for tiles that have such pixels, and the mean over
@@ -34,11 +37,9 @@ static void wide_fill(wide_t *wb, const hz_taa_t *t, const hz_render_frame_t *f,
             int32_t x = (int32_t)x0 + bx - DR;
             x = x < 0 ? 0 : x >= w ? w - 1 : x;
             const size_t px = (size_t)y * (size_t)w + (size_t)x;
-            float q[3];
-            hz_taa_to_ycocg(t->cur.rgb + 3 * px, q);
             HZ_UNROLL
             for (int k = 0; k < 3; k++)
-                wb->yc[k][by][bx] = q[k];
+                wb->yc[k][by][bx] = t->cur[k][px];
             wb->dith[by][bx] = (f->gb.flags[px] & HZ_GB_DITHER) ? 0xFFu : 0u;
         }
     }
@@ -142,9 +143,17 @@ HZ_INLINE hz_lrgb_t hist_at(const uint16_t *hist, hz_li_t x, hz_li_t y, int32_t 
     return o;
 }
 
-/* Lanes x .. x + HZ_LANES - 1 of row y; yc: the tile's YCoCg block, (bx, by) the lanes' first pixel in it; wb:
- * the wide block where the tile has dithered pixels, else NULL. */
-static void resolve_lanes(hz_taa_t *t, const hz_render_frame_t *f, uint32_t x, uint32_t y, float (*yc)[B][B],
+/* Where the box reads the samples: yc[k] is the lanes' first pixel in channel k's plane or block, whose rows lie
+ * stride floats apart. */
+typedef struct samples {
+    const float *yc[3];
+    uint32_t stride;
+} samples_t;
+
+/* Lanes x .. x + HZ_LANES - 1 of row y; s: their samples (each with its ring of one pixel around it), (bx, by)
+ * the lanes' first pixel in the tile's block plus one (the wide block's frame); wb: the wide block where the
+ * tile has dithered pixels, else NULL. */
+static void resolve_lanes(hz_taa_t *t, const hz_render_frame_t *f, uint32_t x, uint32_t y, const samples_t *s,
                           uint32_t bx, uint32_t by, const wide_t *wb)
 {
     const int32_t w = (int32_t)f->opts.width, h = (int32_t)f->opts.height;
@@ -155,8 +164,8 @@ static void resolve_lanes(hz_taa_t *t, const hz_render_frame_t *f, uint32_t x, u
     hz_lrgb_t c, mean, ext;
     HZ_UNROLL
     for (int k = 0; k < 3; k++) {
-        c.c[k] = hz_lf_load(&yc[k][by][bx]);
-        box_stats(&yc[k][by - 1][bx - 1], B, 3, hz_lf_set(f->opts.taa_gamma), &mean.c[k], &ext.c[k]);
+        c.c[k] = hz_lf_load(s->yc[k]);
+        box_stats(s->yc[k] - s->stride - 1, s->stride, 3, hz_lf_set(f->opts.taa_gamma), &mean.c[k], &ext.c[k]);
     }
 
     const hz_li_t xi = hz_li_add(hz_li_set((int32_t)x), hz_li_iota());
@@ -284,40 +293,32 @@ static void resolve_tile(hz_taa_t *t, const hz_render_frame_t *f, uint32_t tile,
         hz_taa_resolve_tile_scalar(t, f, tile);
         return;
     }
-    const hz_image_t *cur = &t->cur;
-    /* YCoCg of the tile and its ring (edge-clamped), one plane per channel */
+    /* Inside the image with its ring, the tile's box reads the sample planes; at the image's edge, a block of
+     * the tile and its ring, edge-clamped as the twin reads them. */
+    const bool inside = x0 > 0 && y0 > 0 && x0 + T < w && y0 + T < h;
     float yc[3][B][B];
-    /* Block columns lo .. hi are image columns x0 - 1 + bx, read HZ_LANES at a time (the last group ends at hi,
-     * overlapping the one before: the same values again); a column off the image is its neighbour, copied. */
-    const uint32_t lo = x0 ? 0u : 1u, hi = x0 + T < w ? B - 1u : B - 2u;
-    const bool prefetch = prefetch_next && x0 + 2 * T <= w;
-    for (uint32_t by = 0; by < B; by++) {
-        int32_t y = (int32_t)(y0 + by) - 1;
-        y = y < 0 ? 0 : y >= (int32_t)h ? (int32_t)h - 1 : y;
-        const size_t row = (size_t)y * w + x0; /* block column bx is image column x0 + bx - 1 */
-        /* The next tile's block row (the columns this one does not read) is fetched while this one resolves:
-         * the trace wrote the samples and they have mostly left the cache (waiting for this load took a third of
-         * the lane resolve's time). */
-        if (prefetch) {
-            hz_lanes_prefetch(cur->rgb + 3 * (row + T + 1u));
-            hz_lanes_prefetch(cur->rgb + 3 * (row + 2u * T) - 1);
+    if (!inside) {
+        for (uint32_t by = 0; by < B; by++) {
+            int32_t y = (int32_t)(y0 + by) - 1;
+            y = y < 0 ? 0 : y >= (int32_t)h ? (int32_t)h - 1 : y;
+            for (uint32_t bx = 0; bx < B; bx++) {
+                int32_t x = (int32_t)(x0 + bx) - 1;
+                x = x < 0 ? 0 : x >= (int32_t)w ? (int32_t)w - 1 : x;
+                HZ_UNROLL
+                for (int k = 0; k < 3; k++)
+                    yc[k][by][bx] = t->cur[k][(size_t)y * w + (size_t)x];
+            }
         }
-        for (uint32_t bx = lo;; bx += HZ_LANES) {
-            if (bx + HZ_LANES > hi + 1u)
-                bx = hi + 1u - HZ_LANES;
-            hz_lrgb_t c, q;
-            hz_lf_load3(cur->rgb + 3 * (row + bx - 1u), &c.c[0], &c.c[1], &c.c[2]);
-            to_ycocg_lanes(&c, &q);
+    } else if (prefetch_next && x0 + 2 * T < w) {
+        /* The next tile's samples and ring, fetched while this one resolves: the trace wrote them a while
+         * ago and they have mostly left the cache. */
+        for (uint32_t by = 0; by < B; by++) {
+            const size_t row = (size_t)(y0 + by - 1u) * w + x0 + T - 1u;
             HZ_UNROLL
-            for (int k = 0; k < 3; k++)
-                hz_lf_store(&yc[k][by][bx], q.c[k]);
-            if (bx + HZ_LANES == hi + 1u)
-                break;
-        }
-        HZ_UNROLL
-        for (int k = 0; k < 3; k++) {
-            yc[k][by][0] = yc[k][by][lo];
-            yc[k][by][B - 1] = yc[k][by][hi];
+            for (int k = 0; k < 3; k++) {
+                hz_lanes_prefetch(t->cur[k] + row);
+                hz_lanes_prefetch(t->cur[k] + row + B - 1u);
+            }
         }
     }
     /* the wide block, where the tile has a dithered pixel */
@@ -328,12 +329,67 @@ static void resolve_tile(hz_taa_t *t, const hz_render_frame_t *f, uint32_t tile,
         wb = &wbuf;
     }
     for (uint32_t y = y0; y < y0 + T; y++)
-        for (uint32_t x = x0; x < x0 + T; x += HZ_LANES)
-            resolve_lanes(t, f, x, y, yc, x - x0 + 1, y - y0 + 1, wb);
+        for (uint32_t x = x0; x < x0 + T; x += HZ_LANES) {
+            const uint32_t bx = x - x0 + 1u, by = y - y0 + 1u;
+            samples_t s;
+            if (inside) {
+                s.stride = w;
+                HZ_UNROLL
+                for (int k = 0; k < 3; k++)
+                    s.yc[k] = t->cur[k] + (size_t)y * w + x;
+            } else {
+                s.stride = B;
+                HZ_UNROLL
+                for (int k = 0; k < 3; k++)
+                    s.yc[k] = &yc[k][by][bx];
+            }
+            resolve_lanes(t, f, x, y, &s, bx, by, wb);
+        }
 }
 
 void hz_taa_resolve_tiles(hz_taa_t *t, const hz_render_frame_t *f, uint32_t first, uint32_t count)
 {
     for (uint32_t i = 0; i < count; i++)
         resolve_tile(t, f, first + i, i + 1u < count);
+}
+
+/* A packet is 2 rows of HZ_LANES / 2 pixels (hz_tile_slots), each row consecutive in the planes. */
+typedef char packet_is_lanes[HZ_RENDER_LANES == HZ_LANES ? 1 : -1];
+
+void hz_taa_store_samples(hz_taa_t *t, hz_batch_t *b)
+{
+    const uint32_t half = HZ_LANES / 2;
+    for (uint32_t slot = 0; slot < HZ_TILE_PIXELS; slot += HZ_LANES) {
+        const uint32_t lo = b->pixel[slot], hi = b->pixel[slot + half];
+        hz_lrgb_t c, q;
+        hz_lf_load3(&b->radiance[slot * 3], &c.c[0], &c.c[1], &c.c[2]);
+        hz_li_t bad = hz_li_set(0);
+        HZ_UNROLL
+        for (int k = 0; k < 3; k++)
+            bad = hz_li_or(bad, hz_li_not(hz_lf_finite(c.c[k])));
+        /* a packet cut by the image's edge, or with a value to count: the twin's way, pixel by pixel */
+        bool whole = true;
+        for (uint32_t i = 0; i < HZ_LANES; i++)
+            whole = whole && b->pixel[slot + i] == (i < half ? lo + i : hi + i - half);
+        if (!whole || hz_li_any(bad)) {
+            for (uint32_t i = slot; i < slot + HZ_LANES; i++) {
+                const uint32_t px = b->pixel[i];
+                if (px == UINT32_MAX)
+                    continue;
+                float v[3], y[3];
+                hz_render_store(b, v, &b->radiance[i * 3], 1.0f);
+                hz_taa_to_ycocg(v, y);
+                for (int k = 0; k < 3; k++)
+                    t->cur[k][px] = y[k];
+            }
+            continue;
+        }
+        HZ_UNROLL
+        for (int k = 0; k < 3; k++) /* v * 1 is v; v > 0 ? v : +0 */
+            c.c[k] = hz_lf_keep(hz_lf_gt(c.c[k], hz_lf_set(0.0f)), c.c[k]);
+        to_ycocg_lanes(&c, &q);
+        HZ_UNROLL
+        for (int k = 0; k < 3; k++)
+            hz_lf_store_halves(t->cur[k] + lo, t->cur[k] + hi, q.c[k]);
+    }
 }

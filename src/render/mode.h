@@ -14,8 +14,8 @@
  *    the allocation cannot disagree (src/core/memplan.h). layout() must not read or write the state's arrays:
  *    when counting they are NULL. init() runs after a take: it sets the arrays' first contents.
  *  - A mode reads the renderer through hz_render_frame_t (options, tiles, frame index, G-buffer, what the scene
- *    needs) and traces through hz_render_trace / hz_render_trace_tile with its thread's hz_batch_t; it writes
- *    only its own state and its batch.
+ *    needs) and traces through hz_render_trace, hz_render_trace_tile or hz_render_sample_tile with its thread's
+ *    hz_batch_t; it writes only its own state and its batch.
  *  - Passes: for p < passes(), items pass_items(p) run once each via pass_run on any threads (thread-unique
  *    batches); items of one pass write disjoint pixels. overlap_units/needs/run as hz_render_overlap_* (hz/render.h);
  *    a mode without overlap leaves them NULL.
@@ -87,6 +87,10 @@ void hz_render_trace(hz_render_frame_t *f, hz_batch_t *b, const float (*jitter)[
  * first sample fills the G-buffer. */
 void hz_render_trace_tile(hz_render_frame_t *f, hz_batch_t *b, uint32_t tile, const hz_tile_sampling_t *s,
                           hz_image_t *dst);
+/* The same without the store: b->pixel names the tile's pixels (UINT32_MAX: none) and b->radiance holds the sum
+ * of each one's samples, for a mode that keeps its samples in a layout of its own (hz_render_store them with
+ * scale 1 / s->spp). */
+void hz_render_sample_tile(hz_render_frame_t *f, hz_batch_t *b, uint32_t tile, const hz_tile_sampling_t *s);
 /* rgb * scale -> dst, non-finite or negative values replaced by 0 (non-finite ones counted in b->stats). */
 void hz_render_store(hz_batch_t *b, float *dst, const float *rgb, float scale);
 /* Motion blur: shutter time in [0, 1) of sample `index` of `count` of pixel px (src/pattern/timeseq.h). */

@@ -496,8 +496,7 @@ float hz_render_sample_time(const hz_render_frame_t *f, uint32_t px, uint32_t in
     return hz_u32_to_unit(hz_timeseq_u32(px, index, count, f->opts.seed));
 }
 
-void hz_render_trace_tile(hz_render_frame_t *f, hz_batch_t *b, uint32_t tile, const hz_tile_sampling_t *s,
-                          hz_image_t *dst)
+void hz_render_sample_tile(hz_render_frame_t *f, hz_batch_t *b, uint32_t tile, const hz_tile_sampling_t *s)
 {
     const struct hz_renderer *r = (const struct hz_renderer *)(const void *)f; /* f is the renderer's first member */
     float jitter[HZ_TILE_PIXELS][2], times[HZ_TILE_PIXELS];
@@ -529,7 +528,13 @@ void hz_render_trace_tile(hz_render_frame_t *f, hz_batch_t *b, uint32_t tile, co
         hz_render_trace(f, b, (const float(*)[2])jitter, HZ_FEATURE_MOTION && f->blur ? times : NULL, k == 0);
     }
     b->footprint = false;
-    float scale = 1.0f / (float)spp;
+}
+
+void hz_render_trace_tile(hz_render_frame_t *f, hz_batch_t *b, uint32_t tile, const hz_tile_sampling_t *s,
+                          hz_image_t *dst)
+{
+    hz_render_sample_tile(f, b, tile, s);
+    const float scale = 1.0f / (float)s->spp;
     for (uint32_t slot = 0; slot < HZ_TILE_PIXELS; slot++) {
         uint32_t px = b->pixel[slot];
         if (px != UINT32_MAX)

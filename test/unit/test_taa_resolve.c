@@ -4,6 +4,8 @@
  * infinite, huge or leave the image; object ids that change; dithered pixels under every transparency method,
  * still and moving cameras, a fresh history, extreme gamma and alpha. Every output float and history code must
  * have the same bits. Frames of several sizes, so that runs of tiles end short and edge tiles go to the twin.
+ * The store of a traced tile into the YCoCg sample planes in lanes (hz_taa_store_samples) against its twin on
+ * the same kind of radiance, with tiles cut by the image's edge.
  */
 #include <string.h>
 
@@ -16,7 +18,7 @@
 #define HMAX 48
 #define PX (WMAX * HMAX)
 
-static float cur[PX * 3], out_lanes[PX * 3], out_scalar[PX * 3], mv[PX * 2];
+static float cur[3][PX], out_lanes[PX * 3], out_scalar[PX * 3], mv[PX * 2];
 static uint16_t hist_prev[PX * 3], hist_lanes[PX * 3], hist_scalar[PX * 3];
 static uint16_t object[PX], prev_object[PX];
 static uint8_t flags[PX];
@@ -86,7 +88,7 @@ static void run_case(uint32_t w, uint32_t h, int seed)
 {
     const size_t n = (size_t)w * h;
     for (size_t i = 0; i < n * 3; i++) {
-        cur[i] = sample();
+        cur[i % 3][i / 3] = sample(); /* as YCoCg: any value, as if the trace had stored anything */
         hist_prev[i] = half_code();
     }
     const bool uniform_mv = seed % 3 == 0; /* camera-like: the contiguous history path */
@@ -118,8 +120,9 @@ static void run_case(uint32_t w, uint32_t h, int seed)
 
     hz_taa_t t;
     memset(&t, 0, sizeof t);
-    t.cur.width = t.out.width = w, t.cur.height = t.out.height = h;
-    t.cur.rgb = cur;
+    t.out.width = w, t.out.height = h;
+    for (int k = 0; k < 3; k++)
+        t.cur[k] = cur[k];
     t.prev_object = prev_object;
     t.hist_valid = seed % 9 != 4;
     t.hist_index = 0;
@@ -156,10 +159,54 @@ static void test_lanes_match_scalar_on_extreme_inputs(void **state)
         run_case(sizes[seed % 5][0], sizes[seed % 5][1], seed);
 }
 
+/* A tile's slots as hz_tile_slots lays them out (packets of 2 rows of HZ_RENDER_LANES / 2 pixels) for tile
+ * (tx, ty) of a w x h frame. */
+static void tile_slots(uint32_t w, uint32_t h, uint32_t tx, uint32_t ty, uint32_t pixel[HZ_TILE_PIXELS])
+{
+    const uint32_t pw = HZ_RENDER_LANES / 2, per_row = HZ_RENDER_TILE / pw;
+    for (uint32_t slot = 0; slot < HZ_TILE_PIXELS; slot++) {
+        uint32_t packet = slot / HZ_RENDER_LANES, lane = slot % HZ_RENDER_LANES;
+        uint32_t x = tx * HZ_RENDER_TILE + (packet % per_row) * pw + lane % pw;
+        uint32_t y = ty * HZ_RENDER_TILE + (packet / per_row) * 2 + lane / pw;
+        pixel[slot] = x < w && y < h ? y * w + x : UINT32_MAX;
+    }
+}
+
+static void test_sample_store_matches_scalar(void **state)
+{
+    (void)state;
+    static float planes[2][3][PX];
+    static hz_batch_t b;
+    for (int round = 0; round < 40; round++) {
+        const uint32_t w = round % 2 ? 77 : 80, h = round % 3 ? 45 : 48;
+        const uint32_t tx = next() % ((w + 7) / 8), ty = next() % ((h + 7) / 8);
+        memset(planes, 0xa5, sizeof planes);
+        tile_slots(w, h, tx, ty, b.pixel);
+        const bool tame = round % 4 == 0; /* whole packets of ordinary values: the lanes' own path */
+        for (uint32_t i = 0; i < HZ_TILE_PIXELS * 3; i++)
+            b.radiance[i] = tame ? unit() * 4.0f : sample();
+        uint64_t nonfinite[2];
+        for (int v = 0; v < 2; v++) {
+            hz_taa_t t;
+            memset(&t, 0, sizeof t);
+            t.out.width = w, t.out.height = h;
+            for (int k = 0; k < 3; k++)
+                t.cur[k] = planes[v][k];
+            b.stats.nonfinite = 0;
+            (v ? hz_taa_store_samples : hz_taa_store_samples_scalar)(&t, &b);
+            nonfinite[v] = b.stats.nonfinite;
+        }
+        assert_int_equal(nonfinite[0], nonfinite[1]);
+        if (memcmp(planes[0], planes[1], sizeof planes[0]) != 0)
+            fail_msg("round %d (%ux%u tile %u, %u): the planes differ", round, w, h, tx, ty);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_lanes_match_scalar_on_extreme_inputs),
+        cmocka_unit_test(test_sample_store_matches_scalar),
     };
     return HZ_RUN(tests);
 }
