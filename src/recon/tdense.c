@@ -143,38 +143,10 @@ void hz_tdense_begin_frame(hz_tdense_t *td, bool camera_moved)
     td->in_frame = true;
 }
 
-/* Pixel of tile (tx, ty) traced this frame, as image coordinates; false when outside the image. */
-static bool tile_pixel(const hz_tdense_t *td, uint32_t tx, uint32_t ty, uint32_t *px, uint32_t *py)
-{
-    unsigned p = hz_tileorder_pixel(hz_tdense_tile_order(td, tx, ty), hz_tdense_subframe(td->frame));
-    *px = 2 * tx + (p & 1u);
-    *py = 2 * ty + (p >> 1);
-    return *px < td->cfg.width && *py < td->cfg.height;
-}
-
-/* MSAA index a pixel is traced at: the cycle's position when static, -1 (centre) when dynamic or when the
- * camera moved (every pixel is dynamic then). */
-static int trace_msaa(const hz_tdense_t *td, size_t pixel)
-{
-    if (td->camera_moved || (td->flags[pixel] & HZ_TDENSE_DYNAMIC))
-        return -1;
-    return (int)hz_tdense_jitter_index(td->frame);
-}
-
 bool hz_tdense_tile_sample(const hz_tdense_t *td, uint32_t tx, uint32_t ty, uint32_t *px, uint32_t *py,
                            float jitter[2], int *msaa)
 {
-    jitter[0] = jitter[1] = 0.0f;
-    *msaa = -1;
-    if (!tile_pixel(td, tx, ty, px, py))
-        return false;
-    int j = trace_msaa(td, (size_t)*py * td->cfg.width + *px);
-    if (j >= 0) {
-        jitter[0] = (float)hz_msaa4_jitter16[j][0] * (1.0f / 16.0f);
-        jitter[1] = (float)hz_msaa4_jitter16[j][1] * (1.0f / 16.0f);
-    }
-    *msaa = j;
-    return true;
+    return hz_tdense_sample_at(td, tx, ty, px, py, jitter, msaa);
 }
 
 static float sanitise_motion(float v)
@@ -188,13 +160,19 @@ void hz_tdense_put(hz_tdense_t *td, uint32_t tx, uint32_t ty, const float rgb[3]
                    const float *mv_reflect)
 {
     uint32_t px, py;
-    if (!tile_pixel(td, tx, ty, &px, &py))
+    if (!hz_tdense_tile_pixel(td, tx, ty, &px, &py))
         return;
-    size_t t = (size_t)ty * td->tiles_x + tx, p = (size_t)py * td->cfg.width + px;
+    const size_t p = (size_t)py * td->cfg.width + px;
+    hz_tdense_put_sample(td, (size_t)ty * td->tiles_x + tx, p, hz_tdense_trace_msaa(td, p), rgb, mv, mv_reflect);
+}
+
+void hz_tdense_put_sample(hz_tdense_t *td, size_t t, size_t p, int msaa, const float rgb[3], const float mv[2],
+                          const float *mv_reflect)
+{
     td->sub_rgb[0][t] = rgb[0];
     td->sub_rgb[1][t] = rgb[1];
     td->sub_rgb[2][t] = rgb[2];
-    td->sub_jitter[t] = (int8_t)trace_msaa(td, p);
+    td->sub_jitter[t] = (int8_t)msaa;
     const float *m = (mv_reflect && td->cfg.reflect_mv) ? mv_reflect : mv;
     if (td->mv) {
         td->mv[2 * p + 0] = hz_half_pack_signed(sanitise_motion(m[0]));

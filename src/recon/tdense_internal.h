@@ -42,6 +42,47 @@ void hz_tdense_resolve_pixel(hz_tdense_t *td, uint32_t x, uint32_t y, unsigned s
 int hz_tdense_ghat_certain(hz_q16_t mx, hz_q16_t my, hz_ghat_rule_t rule);
 hz_tilecycle_t hz_tdense_ghat(hz_q16_t mx, hz_q16_t my, uint32_t tx, uint32_t ty, uint32_t key, hz_ghat_rule_t rule);
 
+/* Pixel of tile (tx, ty) traced this frame, as image coordinates; false when outside the image. */
+HZ_INLINE bool hz_tdense_tile_pixel(const hz_tdense_t *td, uint32_t tx, uint32_t ty, uint32_t *px, uint32_t *py)
+{
+    unsigned p = hz_tileorder_pixel(hz_tdense_tile_order(td, tx, ty), hz_tdense_subframe(td->frame));
+    *px = 2 * tx + (p & 1u);
+    *py = 2 * ty + (p >> 1);
+    return *px < td->cfg.width && *py < td->cfg.height;
+}
+
+/* MSAA index a pixel is traced at: the cycle's position when static, -1 (centre) when dynamic or when the
+ * camera moved (every pixel is dynamic then). */
+HZ_INLINE int hz_tdense_trace_msaa(const hz_tdense_t *td, size_t pixel)
+{
+    if (td->camera_moved || (td->flags[pixel] & HZ_TDENSE_DYNAMIC))
+        return -1;
+    return (int)hz_tdense_jitter_index(td->frame);
+}
+
+/* hz_tdense_tile_sample, inline for the mode's trace loop (it runs for every tile of every frame). */
+HZ_INLINE bool hz_tdense_sample_at(const hz_tdense_t *td, uint32_t tx, uint32_t ty, uint32_t *px, uint32_t *py,
+                                   float jitter[2], int *msaa)
+{
+    jitter[0] = jitter[1] = 0.0f;
+    *msaa = -1;
+    if (!hz_tdense_tile_pixel(td, tx, ty, px, py))
+        return false;
+    int j = hz_tdense_trace_msaa(td, (size_t)*py * td->cfg.width + *px);
+    if (j >= 0) {
+        jitter[0] = (float)hz_msaa4_jitter16[j][0] * (1.0f / 16.0f);
+        jitter[1] = (float)hz_msaa4_jitter16[j][1] * (1.0f / 16.0f);
+    }
+    *msaa = j;
+    return true;
+}
+
+/* hz_tdense_put for a sample placed by hz_tdense_tile_sample in this frame: tile index t (ty * tiles_x + tx), its
+ * pixel p (py * width + px) and msaa as the sampling returned them, so nothing is looked up twice. The same
+ * state as hz_tdense_put's. */
+void hz_tdense_put_sample(hz_tdense_t *td, size_t t, size_t p, int msaa, const float rgb[3], const float mv[2],
+                          const float *mv_reflect);
+
 /* Lanes per group on AVX2 and NEON boards (lanes.h's HZ_LANES; here so that tdense.c needs no SIMD header). */
 #if defined(HZ_BOARD_SIMD_AVX2)
 #define HZ_TDENSE_LANES 8

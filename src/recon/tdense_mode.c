@@ -85,7 +85,8 @@ static void trace_tile(hz_tdense_t *td, hz_render_frame_t *f, uint32_t item, hz_
 {
     enum { PW = HZ_RENDER_LANES == 8 ? 4 : 2, PH = HZ_RENDER_LANES / PW };
     float jitter[HZ_TILE_PIXELS][2], times[HZ_TILE_PIXELS];
-    uint16_t where[HZ_TILE_PIXELS][2];
+    uint32_t where[HZ_TILE_PIXELS]; /* the slot's tdense tile (index) */
+    int8_t msaa_of[HZ_TILE_PIXELS];
     const uint32_t ax = areas_x(td);
     uint32_t tx0 = (item % ax) * SPAN, ty0 = (item / ax) * SPAN, n = 0;
     for (uint32_t slot = 0; slot < HZ_TILE_PIXELS; slot++)
@@ -95,10 +96,11 @@ static void trace_tile(hz_tdense_t *td, hz_render_frame_t *f, uint32_t item, hz_
         uint32_t tx = tx0 + (packet % (SPAN / PW)) * PW + lane % PW;
         uint32_t ty = ty0 + (packet / (SPAN / PW)) * PH + lane / PW, px, py;
         int msaa;
-        if (tx >= td->tiles_x || ty >= td->tiles_y || !hz_tdense_tile_sample(td, tx, ty, &px, &py, jitter[n], &msaa))
+        if (tx >= td->tiles_x || ty >= td->tiles_y || !hz_tdense_sample_at(td, tx, ty, &px, &py, jitter[n], &msaa))
             continue;
         b->pixel[n] = py * f->opts.width + px;
-        where[n][0] = (uint16_t)tx, where[n][1] = (uint16_t)ty;
+        where[n] = ty * td->tiles_x + tx;
+        msaa_of[n] = (int8_t)msaa;
         /* A pixel is traced once per cycle: its times are stratified over 4 cycles (the static window). */
         if (HZ_FEATURE_MOTION && f->blur)
             times[n] = hz_render_sample_time(f, b->pixel[n], (td->frame / 4u) % 4u, 4u);
@@ -115,7 +117,8 @@ static void trace_tile(hz_tdense_t *td, hz_render_frame_t *f, uint32_t item, hz_
         hz_render_store(b, c, &b->radiance[slot * 3], 1.0f);
         const float *mv = gb->mv ? gb->mv + (size_t)px * 2 : still;
         const float *mvr = gb->mv_reflect && (gb->flags[px] & HZ_GB_MIRROR) ? gb->mv_reflect + (size_t)px * 2 : NULL;
-        hz_tdense_put(td, where[slot][0], where[slot][1], c, mv, mvr);
+        /* the placement the sampling found (no resolve touches these tiles' flags before their unit) */
+        hz_tdense_put_sample(td, where[slot], px, msaa_of[slot], c, mv, mvr);
     }
 }
 

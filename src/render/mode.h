@@ -29,6 +29,7 @@
 #include "../core/memplan.h"
 #include "hz/config.h"
 #include "hz/render.h"
+#include "hz/vmath.h"
 
 #if HZ_SIMD_LANES >= 8
 #define HZ_RENDER_LANES 8
@@ -91,8 +92,19 @@ void hz_render_trace_tile(hz_render_frame_t *f, hz_batch_t *b, uint32_t tile, co
  * of each one's samples, for a mode that keeps its samples in a layout of its own (hz_render_store them with
  * scale 1 / s->spp). */
 void hz_render_sample_tile(hz_render_frame_t *f, hz_batch_t *b, uint32_t tile, const hz_tile_sampling_t *s);
-/* rgb * scale -> dst, non-finite or negative values replaced by 0 (non-finite ones counted in b->stats). */
-void hz_render_store(hz_batch_t *b, float *dst, const float *rgb, float scale);
+/* rgb * scale -> dst, non-finite or negative values replaced by 0 (non-finite ones counted in b->stats). Inline:
+ * every mode calls it per pixel. */
+HZ_INLINE void hz_render_store(hz_batch_t *b, float *dst, const float *rgb, float scale)
+{
+    for (int c = 0; c < 3; c++) {
+        float v = rgb[c] * scale;
+        if (!hz_isfinitef(v)) {
+            b->stats.nonfinite++;
+            v = 0.0f;
+        }
+        dst[c] = v > 0.0f ? v : 0.0f;
+    }
+}
 /* Motion blur: shutter time in [0, 1) of sample `index` of `count` of pixel px (src/pattern/timeseq.h). */
 float hz_render_sample_time(const hz_render_frame_t *f, uint32_t px, uint32_t index, uint32_t count);
 /* Side (pixels) of the method's dither cell, the box TAA averages a dithered pixel's sample over: 3 (STD),

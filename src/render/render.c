@@ -479,18 +479,6 @@ uint32_t hz_render_pass_items(const hz_renderer_t *r, uint32_t pass)
     return pass < r->mode->passes ? r->mode->pass_items(r->mode_state, &r->f, pass) : 0u;
 }
 
-void hz_render_store(hz_batch_t *b, float *dst, const float *src, float scale)
-{
-    for (int c = 0; c < 3; c++) {
-        float v = src[c] * scale;
-        if (!hz_isfinitef(v)) {
-            b->stats.nonfinite++;
-            v = 0.0f;
-        }
-        dst[c] = v > 0.0f ? v : 0.0f;
-    }
-}
-
 float hz_render_sample_time(const hz_render_frame_t *f, uint32_t px, uint32_t index, uint32_t count)
 {
     return hz_u32_to_unit(hz_timeseq_u32(px, index, count, f->opts.seed));
