@@ -244,4 +244,37 @@ HZ_INLINE void hz_lanes_half_store(uint16_t *p, hz_lf_t v)
 #endif
 }
 
+/* HZ_LANES RGB pixels stored as hz_half_pack's codes, interleaved: p[3 i + k] = the code of lane i of c[k]. On
+ * AVX2 the three rows of codes are interleaved with byte shuffles, without widening them to words first. */
+HZ_INLINE void hz_lanes_half3_store(uint16_t *p, const hz_lrgb_t *c)
+{
+#if defined(HZ_BOARD_SIMD_AVX2) && defined(__F16C__)
+    const int rnd = _MM_FROUND_TO_NEAREST_INT | _MM_FROUND_NO_EXC;
+    const __m128i r = _mm256_cvtps_ph(hz_lanes_pack_clamp(c->c[0], HZ_HALF_MAX), rnd);
+    const __m128i g = _mm256_cvtps_ph(hz_lanes_pack_clamp(c->c[1], HZ_HALF_MAX), rnd);
+    const __m128i b = _mm256_cvtps_ph(hz_lanes_pack_clamp(c->c[2], HZ_HALF_MAX), rnd);
+    /* output code j of 16-byte vector v is element 8 v + j: pixel (8 v + j) / 3, channel (8 v + j) % 3 */
+#define Z -128
+    const __m128i r0 = _mm_setr_epi8(0, 1, Z, Z, Z, Z, 2, 3, Z, Z, Z, Z, 4, 5, Z, Z);
+    const __m128i g0 = _mm_setr_epi8(Z, Z, 0, 1, Z, Z, Z, Z, 2, 3, Z, Z, Z, Z, 4, 5);
+    const __m128i b0 = _mm_setr_epi8(Z, Z, Z, Z, 0, 1, Z, Z, Z, Z, 2, 3, Z, Z, Z, Z);
+    const __m128i r1 = _mm_setr_epi8(Z, Z, 6, 7, Z, Z, Z, Z, 8, 9, Z, Z, Z, Z, 10, 11);
+    const __m128i g1 = _mm_setr_epi8(Z, Z, Z, Z, 6, 7, Z, Z, Z, Z, 8, 9, Z, Z, Z, Z);
+    const __m128i b1 = _mm_setr_epi8(4, 5, Z, Z, Z, Z, 6, 7, Z, Z, Z, Z, 8, 9, Z, Z);
+    const __m128i r2 = _mm_setr_epi8(Z, Z, Z, Z, 12, 13, Z, Z, Z, Z, 14, 15, Z, Z, Z, Z);
+    const __m128i g2 = _mm_setr_epi8(10, 11, Z, Z, Z, Z, 12, 13, Z, Z, Z, Z, 14, 15, Z, Z);
+    const __m128i b2 = _mm_setr_epi8(Z, Z, 10, 11, Z, Z, Z, Z, 12, 13, Z, Z, Z, Z, 14, 15);
+#undef Z
+    __m128i *d = (__m128i *)(void *)p;
+    _mm_storeu_si128(d, _mm_or_si128(_mm_or_si128(_mm_shuffle_epi8(r, r0), _mm_shuffle_epi8(g, g0)),
+                                     _mm_shuffle_epi8(b, b0)));
+    _mm_storeu_si128(d + 1, _mm_or_si128(_mm_or_si128(_mm_shuffle_epi8(r, r1), _mm_shuffle_epi8(g, g1)),
+                                         _mm_shuffle_epi8(b, b1)));
+    _mm_storeu_si128(d + 2, _mm_or_si128(_mm_or_si128(_mm_shuffle_epi8(r, r2), _mm_shuffle_epi8(g, g2)),
+                                         _mm_shuffle_epi8(b, b2)));
+#else
+    hz_li_store3_u16(p, hz_lanes_half_pack(c->c[0]), hz_lanes_half_pack(c->c[1]), hz_lanes_half_pack(c->c[2]));
+#endif
+}
+
 #endif /* HZ_PACK_LANES_H */

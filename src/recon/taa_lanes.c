@@ -271,18 +271,16 @@ static void resolve_lanes(hz_taa_t *t, const hz_render_frame_t *f, uint32_t x, u
     rgb[0] = hz_lf_sub(hz_lf_add(res.c[0], res.c[1]), res.c[2]);
     rgb[1] = hz_lf_add(res.c[0], res.c[2]);
     rgb[2] = hz_lf_sub(hz_lf_sub(res.c[0], res.c[1]), res.c[2]);
-    hz_lf_t v[3];
-    hz_li_t codes[3];
+    hz_lrgb_t v;
     const hz_lf_t inf = hz_lf_from_bits(hz_li_set(0x7f800000));
     HZ_UNROLL
     for (int k = 0; k < 3; k++) {
         /* finite and > 0: above 0 and below infinity (NaN is neither) */
         hz_li_t ok = hz_li_and(hz_lf_gt(rgb[k], hz_lf_set(0.0f)), hz_lf_lt(rgb[k], inf));
-        v[k] = hz_lf_keep(ok, rgb[k]);
-        codes[k] = hz_lanes_half_pack(v[k]);
+        v.c[k] = hz_lf_keep(ok, rgb[k]);
     }
-    hz_lf_store3(t->out.rgb + p0 * 3, v[0], v[1], v[2]);
-    hz_li_store3_u16(t->hist[t->hist_index ^ 1u] + p0 * 3, codes[0], codes[1], codes[2]);
+    hz_lf_store3(t->out.rgb + p0 * 3, v.c[0], v.c[1], v.c[2]);
+    hz_lanes_half3_store(t->hist[t->hist_index ^ 1u] + p0 * 3, &v);
 }
 
 static void resolve_tile(hz_taa_t *t, const hz_render_frame_t *f, uint32_t tile, bool prefetch_next)

@@ -356,6 +356,37 @@ static void test_lanes_half_planes(void **state)
     }
 }
 
+/* The interleaved half store (the TAA history) writes hz_half_pack's code of every lane and channel in place,
+ * random bit patterns (NaN, infinities, negatives, beyond the range) and values around the subnormal range. */
+static void test_lanes_half3_store(void **state)
+{
+    (void)state;
+    hz_rng_t r;
+    hz_rng_seed(&r, 11, 3);
+    uint16_t out[3 * HZ_LANES + 1];
+    float v[3][HZ_LANES];
+    for (int round = 0; round < 100000; round++) {
+        for (int k = 0; k < 3; k++)
+            for (int i = 0; i < HZ_LANES; i++) {
+                uint32_t bits = hz_rng_u32(&r);
+                memcpy(&v[k][i], &bits, 4);
+                if (round % 3 == 1)
+                    v[k][i] = ldexpf((float)(hz_rng_u32(&r) >> 8) / 16777216.0f, (int)hz_rng_below(&r, 44) - 28);
+            }
+        out[3 * HZ_LANES] = 0xbeef; /* the store stays within its 3 HZ_LANES codes */
+        hz_lrgb_t c;
+        for (int k = 0; k < 3; k++)
+            c.c[k] = hz_lf_load(v[k]);
+        hz_lanes_half3_store(out, &c);
+        assert_int_equal(out[3 * HZ_LANES], 0xbeef);
+        for (int i = 0; i < HZ_LANES; i++)
+            for (int k = 0; k < 3; k++)
+                if (out[3 * i + k] != hz_half_pack(v[k][i]))
+                    fail_msg("lane %d channel %d %a: stored %04x, hz_half_pack %04x", i, k, (double)v[k][i],
+                             out[3 * i + k], hz_half_pack(v[k][i]));
+    }
+}
+
 /* The deinterleaving loads are hz_lf_store3's inverse and read pairs in order. */
 static void test_lanes_deinterleaving_loads(void **state)
 {
@@ -389,6 +420,7 @@ int main(void)
         cmocka_unit_test(test_lanes_half_pack_at_every_boundary),
         cmocka_unit_test(test_lanes_deinterleaving_loads),
         cmocka_unit_test(test_lanes_half_planes),
+        cmocka_unit_test(test_lanes_half3_store),
 #ifdef HZ_LANES_HW_HALF
         cmocka_unit_test(test_lanes_half3_load),
 #endif
