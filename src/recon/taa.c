@@ -239,16 +239,9 @@ void hz_taa_resolve_tile_scalar(hz_taa_t *t, const hz_render_frame_t *f, uint32_
 
 void hz_taa_store_samples_scalar(hz_taa_t *t, hz_batch_t *b)
 {
-    for (uint32_t slot = 0; slot < HZ_TILE_PIXELS; slot++) {
-        const uint32_t px = b->pixel[slot];
-        if (px == UINT32_MAX)
-            continue;
-        float c[3], q[3];
-        hz_render_store(b, c, &b->radiance[slot * 3], 1.0f);
-        hz_taa_to_ycocg(c, q);
-        for (int k = 0; k < 3; k++)
-            t->cur[k][px] = q[k];
-    }
+    for (uint32_t slot = 0; slot < HZ_TILE_PIXELS; slot++)
+        if (b->pixel[slot] != UINT32_MAX)
+            hz_taa_store_slot(t, b, slot);
 }
 
 static void resolve_tiles_scalar(hz_taa_t *t, const hz_render_frame_t *f, uint32_t first, uint32_t count)

@@ -52,4 +52,15 @@ HZ_INLINE void hz_taa_to_ycocg(const float *rgb, float *o)
     o[2] = -0.25f * rgb[0] + 0.5f * rgb[1] - 0.25f * rgb[2];
 }
 
+/* Slot `slot` of b, a pixel hz_render_sample_tile traced (its pixel index is not UINT32_MAX), into t->cur: the
+ * value hz_render_store makes of it, in YCoCg. */
+HZ_INLINE void hz_taa_store_slot(hz_taa_t *t, hz_batch_t *b, uint32_t slot)
+{
+    float c[3], q[3];
+    hz_render_store(b, c, &b->radiance[slot * 3], 1.0f);
+    hz_taa_to_ycocg(c, q);
+    for (int k = 0; k < 3; k++)
+        t->cur[k][b->pixel[slot]] = q[k];
+}
+
 #endif

@@ -370,16 +370,9 @@ void hz_taa_store_samples(hz_taa_t *t, hz_batch_t *b)
         for (uint32_t i = 0; i < HZ_LANES; i++)
             whole = whole && b->pixel[slot + i] == (i < half ? lo + i : hi + i - half);
         if (!whole || hz_li_any(bad)) {
-            for (uint32_t i = slot; i < slot + HZ_LANES; i++) {
-                const uint32_t px = b->pixel[i];
-                if (px == UINT32_MAX)
-                    continue;
-                float v[3], y[3];
-                hz_render_store(b, v, &b->radiance[i * 3], 1.0f);
-                hz_taa_to_ycocg(v, y);
-                for (int k = 0; k < 3; k++)
-                    t->cur[k][px] = y[k];
-            }
+            for (uint32_t i = slot; i < slot + HZ_LANES; i++)
+                if (b->pixel[i] != UINT32_MAX)
+                    hz_taa_store_slot(t, b, i);
             continue;
         }
         HZ_UNROLL
