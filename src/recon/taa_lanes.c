@@ -150,9 +150,9 @@ typedef struct samples {
     uint32_t stride;
 } samples_t;
 
-/* Lanes x .. x + HZ_LANES - 1 of row y; s: their samples (each with its ring of one pixel around it), (bx, by)
- * the lanes' first pixel in the tile's block plus one (the wide block's frame); wb: the wide block where the
- * tile has dithered pixels, else NULL. */
+/* Lanes x .. x + HZ_LANES - 1 of row y; s: their samples (each with its ring of one pixel around it); (bx, by):
+ * the lanes' first pixel in the frame of a block of the tile and its ring (the tile's first pixel at (1, 1)), by
+ * which the wide block is read; wb: the wide block where the tile has dithered pixels, else NULL. */
 static void resolve_lanes(hz_taa_t *t, const hz_render_frame_t *f, uint32_t x, uint32_t y, const samples_t *s,
                           uint32_t bx, uint32_t by, const wide_t *wb)
 {
