@@ -365,10 +365,11 @@ void hz_taa_store_samples(hz_taa_t *t, hz_batch_t *b)
         HZ_UNROLL
         for (int k = 0; k < 3; k++)
             bad = hz_li_or(bad, hz_li_not(hz_lf_finite(c.c[k])));
-        /* a packet cut by the image's edge, or with a value to count: the twin's way, pixel by pixel */
-        bool whole = true;
-        for (uint32_t i = 0; i < HZ_LANES; i++)
-            whole = whole && b->pixel[slot + i] == (i < half ? lo + i : hi + i - half);
+        /* A row of a packet runs left to right and the image's edge cuts it only at its right end (or whole), so
+         * its last slot says whether it is whole. A packet cut by the edge, or with a value to count: the twin's
+         * way, pixel by pixel. */
+        const bool whole = b->pixel[slot + half - 1u] == lo + half - 1u && lo != UINT32_MAX &&
+                           b->pixel[slot + HZ_LANES - 1u] == hi + half - 1u && hi != UINT32_MAX;
         if (!whole || hz_li_any(bad)) {
             for (uint32_t i = slot; i < slot + HZ_LANES; i++)
                 if (b->pixel[i] != UINT32_MAX)
