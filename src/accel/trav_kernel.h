@@ -340,7 +340,7 @@ void hz_bvh_simd_closest(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, hz_bvh_ray_t 
     if (bvh->time_keys)
         closest_motion(bvh, ctx, r, &s, best, ray_id, lane, &k);
     else
-        closest_from(bvh, ctx, r, &s, 0, best, ray_id, lane, &k);
+        closest_core(bvh, ctx, r, &s, 0, best, ray_id, lane, &k, false);
     hz_bvh_counters_flush(ctx, &k);
 }
 
@@ -422,7 +422,7 @@ bool hz_bvh_simd_any(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const hz_bvh_ray_
     hz_bvh_counters_t k = { 0, 0 };
     sray_init(&s, r);
     const bool hit = bvh->time_keys ? any_motion(bvh, ctx, r, &s, 0, ray_id, lane, &k)
-                                    : any_from(bvh, ctx, r, &s, 0, ray_id, lane, &k);
+                                    : any_core(bvh, ctx, r, &s, 0, ray_id, lane, &k, false);
     hz_bvh_counters_flush(ctx, &k);
     return hit;
 }
