@@ -306,7 +306,7 @@ static hz_status_t write_curve(const char *csv, const char *scene, const hz_benc
 /* The command line (opttab.h): the help is printed from this table. */
 enum { B_ONLY, B_CSV, B_MD, B_SCENES, B_ROUNDS, B_THREADS, B_RT_CSV, B_RT_SIZE, B_RT_FRAMES, B_RT_TWIN, B_RT_SCALING,
        B_TD_SIZE, B_FRAMES, B_TP_CSV, B_TP_SIZE, B_TP_FRAMES, B_AD_CSV, B_AD_SIZE, B_SHUTTER, B_BLUR_SIZE, B_ACCEL_CSV, B_SCENE,
-       B_SIZE, B_EMBREE, B_MO_CSV, B_MO_SCENE, B_MO_SIZE, B_MO_INTERVAL, B_MO_BUDGET, B_MO_SWEEP, B_CHECK_FIT };
+       B_SIZE, B_EMBREE, B_MO_CSV, B_MO_SCENE, B_MO_SIZE, B_MO_INTERVAL, B_MO_BUDGET, B_MO_SWEEP, B_MO_LEAF, B_CHECK_FIT };
 
 static const char *const group_words[] = { "kernels", "accel", "tdense", "transparency", "adaptive", "blur", "motion",
                                            "realtime", NULL };
@@ -379,6 +379,9 @@ static const hz_opt_t options[] = {
       .noun = "a fraction of the triangles", .id = B_MO_BUDGET,
       .help = "an MSBVH split budget to measure; repeat for more (at most " STR(HZ_BENCH_MOTION_MAX_BUDGETS) "; "
               "default 0.25 0.5 1 4, the largest standing for unbounded where it stops no split)" },
+    { .name = "--motion-leaf", .arg = "N", .kind = HZ_OPT_INT, .lo = 1, .hi = HZ_BVH_WIDTH, .id = B_MO_LEAF,
+      .help = "triangles per leaf of every native motion BVH (default " STR(HZ_BVH_WIDTH) ", the SIMD width; seed "
+              "002's trees held about 3 to 4)" },
     { .name = "--motion-sweep", .arg = "NAME", .kind = HZ_OPT_TEXT, .id = B_MO_SWEEP,
       .help = "the scene of the motion-size sweep: its shutter interval scaled 1/8x to 8x, intersections of the "
               "msbvh (largest budget) and the swept BVH against the interpolated one over motion per triangle size "
@@ -489,6 +492,7 @@ static int take(void *ctx, const hz_opt_t *o, const hz_opt_val_t *v)
     case B_MO_SIZE: a->mo.width = (uint32_t)v->w, a->mo.height = (uint32_t)v->h; break;
     case B_MO_INTERVAL: a->mo.interval = (float)v->x; break;
     case B_MO_SWEEP: a->mo.sweep_scene = v->s; break;
+    case B_MO_LEAF: a->mo.leaf_max = (uint32_t)v->n; break;
     case B_MO_BUDGET:
         if (a->mo.budget_count == HZ_BENCH_MOTION_MAX_BUDGETS) {
             hz_cli_error("--motion-budget: at most %d budgets", HZ_BENCH_MOTION_MAX_BUDGETS);

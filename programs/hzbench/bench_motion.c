@@ -255,9 +255,11 @@ static bool is_msbvh(const row_t *rw)
     return !rw->embree && !rw->instances && rw->blur == HZ_ACCEL_BLUR_MSBVH;
 }
 
-static void row_config(const row_t *rw, hz_accel_config_t *cfg)
+static void row_config(const row_t *rw, uint32_t leaf_max, hz_accel_config_t *cfg)
 {
     hz_accel_config_default(cfg);
+    if (leaf_max)
+        cfg->leaf_max = leaf_max;
     cfg->blur = rw->blur;
     cfg->rigid = rw->instances ? HZ_ACCEL_RIGID_INSTANCE : HZ_ACCEL_RIGID_REFIT;
     cfg->segments = rw->every_key ? HZ_ACCEL_SEGMENTS_EVERY_KEY : HZ_ACCEL_SEGMENTS_PER_NODE;
@@ -429,7 +431,7 @@ static int bench_scene(const hz_bench_motion_opts_t *o, const char *name, FILE *
             hz_arena_reset(&P->accel, m0);
             hz_accel_t *a = NULL;
             hz_accel_config_t cfg;
-            row_config(rw, &cfg);
+            row_config(rw, o->leaf_max, &cfg);
             int64_t t0 = hz_clock_ns();
             hz_status_t s;
             if (rw->embree) {
@@ -635,6 +637,8 @@ static int motion_sweep(const hz_bench_motion_opts_t *o, const char *name, FILE 
             hz_arena_reset(&P->accel, a0);
             hz_accel_config_t cfg;
             hz_accel_config_default(&cfg);
+            if (o->leaf_max)
+                cfg.leaf_max = o->leaf_max;
             cfg.blur = kinds[b];
             cfg.rigid = HZ_ACCEL_RIGID_REFIT;
             if (kinds[b] == HZ_ACCEL_BLUR_MSBVH)
@@ -728,6 +732,8 @@ int hz_bench_motion(const hz_bench_motion_opts_t *opts, bool *swept)
     }
     printf("\nmotion blur (seed 002): native motion BVHs vs Embree motion blur (one thread, 8-ray packets; "
            "%% of the interpolated BVH as in the paper's Table 1)\n");
+    if (o.leaf_max)
+        printf("native leaves of at most %u triangles\n", o.leaf_max);
     enum { MAIN, SAH, SWEEP, NOUT };
     static const char *const suffix[NOUT] = { NULL, "sah", "sweep" };
     static const char *const header[NOUT] = {
@@ -804,7 +810,7 @@ static void fit_scene(hz_bench_fit_scene_t *fs, const void *ctx)
             continue;
         hz_accel_config_t cfg;
         char label[32], what[48];
-        row_config(&rows[b], &cfg);
+        row_config(&rows[b], o->leaf_max, &cfg);
         row_label(&rows[b], label, sizeof label);
         snprintf(what, sizeof what, "native %s", label);
         hz_bench_fit_accel(fs, &cfg, K, what);

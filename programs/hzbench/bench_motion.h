@@ -6,7 +6,8 @@
  * the swaying furball and a deforming skinned character, baked .hzb with their own animation, posed at K keys over `interval` seconds around t = 1 s; a scene that does not move gets
  * procedural keys, said in the output) it builds every BVH (the MSBVH once per split budget, the largest,
  * HZ_ACCEL_SPLIT_BUDGET_MAX, standing for "unbounded" when its budget_stops is 0; build_ms: median over rounds,
- * one thread; a BVH whose memory bound does not fit the accel arena is skipped and said so), refits it
+ * one thread; a BVH whose memory bound does not fit the accel arena is skipped and said so; every native BVH
+ * with leaves of at most leaf_max triangles when it is set, as the table's first line then says), refits it
  * (refit_ms, the same keys re-read), and renders two frames of width x height pixels, the paper's Table 1 way:
  * one primary ray per pixel from the scene's camera at the pixel's time (a hash of the pixel) and one secondary
  * ray from its hit at the same time: a shadow ray to the scene's first light, or an ambient-occlusion ray
@@ -47,6 +48,7 @@ typedef struct hz_bench_motion_opts {
     float interval;         /* shutter interval, seconds (default 1/24: a film frame, shutter fully open) */
     float budgets[HZ_BENCH_MOTION_MAX_BUDGETS]; /* the MSBVH's split budgets, one row each */
     int budget_count;       /* 0: 0.25, 0.5, 1 and HZ_ACCEL_SPLIT_BUDGET_MAX */
+    uint32_t leaf_max;      /* triangles per leaf of every native BVH, 1..HZ_BVH_WIDTH; 0: the accel's default */
     const char *csv_path;   /* NULL: no CSV */
     const char *sweep_scene; /* the motion-size sweep's scene; NULL: hairball when it is measured; "none": no sweep */
 } hz_bench_motion_opts_t;

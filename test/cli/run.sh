@@ -446,6 +446,8 @@ if [ -n "$hzbench" ]; then
         "$hzbench" --only motion --motion-budget 5
     expect bench-budget-count 2 "^hzbench: --motion-budget: at most 6 budgets" "$hzbench" --only motion \
         $(for k in 1 2 3 4 5 6 7; do printf -- '--motion-budget 0.%s ' $k; done)
+    expect bench-leaf-range 2 "^hzbench: --motion-leaf: 0 is outside \[1, [48]\]" "$hzbench" --only motion \
+        --motion-leaf 0
     expect bench-scene-count 2 "^hzbench: --scene: at most 16 scenes" "$hzbench" --only accel \
         $(for k in 1 2 3 4 5 6 7 8 9 10 11 12 13 14 15 16 17; do printf -- '--scene s%s ' $k; done)
     expect bench-help-limits 0 "--realtime-frames N .*\[1..512\]" "$hzbench" --help
@@ -482,6 +484,13 @@ if [ -n "$hzbench" ]; then
             $2 != last { if (last != "" && !($4 > med)) ok = 0; if (last != "" && k < 3 && ($4 < 1.8 * med || $4 > 2.2 * med)) ok = 0
                          if (last != "") k++; last = $2; med = $4 }
             END { exit !(ok && n == 42) }' "$tmp/mo-sweep.csv"
+        # --motion-leaf: every native BVH with leaves of at most N triangles, said on the table's first line; on
+        # the tentacles two per leaf test fewer triangles per ray than the default SIMD-width leaves.
+        expect bench-leaf 0 "^native leaves of at most 2 triangles" "$hzbench" --only motion --scenes "$HZ_SCENES_DIR" \
+            --motion-scene tentacles --motion-sweep none --rounds 1 --motion-size 48x48 --motion-budget 1 \
+            --motion-leaf 2 --motion-csv "$tmp/mo2.csv"
+        ok bench-leaf-isect awk -F, 'FNR == 1 { next } $2 == "interp" && $16 == "shadow" { v[FILENAME] = $8 }
+            END { exit !(v[ARGV[1]] > 0 && v[ARGV[2]] > 0 && v[ARGV[2]] < v[ARGV[1]]) }' "$tmp/mo.csv" "$tmp/mo2.csv"
         # The adaptive group, small: per scene fixed 9 spp (9 camera rays a pixel), adaptive at three tau and at tau 1
         # focused on the objects at the centre of the view, which takes no more rays than tau 1 unfocused (the focus
         # only takes attribute disagreements away, so every threshold can only grow) and names its objects.
