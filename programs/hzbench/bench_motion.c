@@ -636,13 +636,8 @@ static int motion_sweep(const hz_bench_motion_opts_t *o, const char *name, FILE 
         for (int b = 0; b < 3 && !status && !stopped; b++) {
             hz_arena_reset(&P->accel, a0);
             hz_accel_config_t cfg;
-            hz_accel_config_default(&cfg);
-            if (o->leaf_max)
-                cfg.leaf_max = o->leaf_max;
-            cfg.blur = kinds[b];
-            cfg.rigid = HZ_ACCEL_RIGID_REFIT;
-            if (kinds[b] == HZ_ACCEL_BLUR_MSBVH)
-                cfg.split_budget = budget;
+            const row_t rw = { .name = kname[b], .blur = kinds[b], .budget = budget };
+            row_config(&rw, o->leaf_max, &cfg);
             hz_accel_t *a = NULL;
             if (hz_accel_bytes_bound_geom(&g, &cfg).peak > hz_arena_available(&P->accel, 64)) {
                 printf("%10.4f %5u %s does not fit the accel arena: sweep stopped\n", (double)fo.interval, K, kname[b]);
