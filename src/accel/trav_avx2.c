@@ -18,6 +18,7 @@ HZ_INLINE void vf_store(float *p, vf v) { _mm256_store_ps(p, v); }
 HZ_INLINE vf vf_add(vf a, vf b) { return _mm256_add_ps(a, b); }
 HZ_INLINE vf vf_sub(vf a, vf b) { return _mm256_sub_ps(a, b); }
 HZ_INLINE vf vf_mul(vf a, vf b) { return _mm256_mul_ps(a, b); }
+HZ_INLINE vf vf_fmadd(vf a, vf b, vf c) { return _mm256_fmadd_ps(a, b, c); }
 HZ_INLINE vf vf_div(vf a, vf b) { return _mm256_div_ps(a, b); }
 HZ_INLINE vf vf_abs(vf a) { return _mm256_andnot_ps(_mm256_set1_ps(-0.0f), a); }
 /* max/min return their second operand when either is NaN: with only `a` NaN-prone, a NaN a drops out */

@@ -3,6 +3,7 @@
  * lanes) and trav_neon.c (4 lanes) after they define these operations on their registers:
  *   KW (lanes, = HZ_BVH_WIDTH), vf (floats), vm (lane masks), vi (int32)
  *   vf_set1 vf_load vf_store (aligned) vf_add vf_sub vf_mul vf_div vf_abs vf_hmin vf_hmax vf_lane0
+ *   vf_fmadd(a, b, c) = a * b + c rounded once (the single ray's slab test only: boxes need no bits of the twin)
  *   vf_hmins(v, out): out[i] = the smallest lane of v[i], for i < KW (no NaN lanes)
  *   vf_maxn(a, b) vf_minn(a, b): max / min where only `a` may be NaN, and then the result is b (x86 max/min
  *     return their second operand on NaN, NEON's maxNum/minNum the number: the same for these calls)
@@ -91,6 +92,11 @@ HZ_INLINE unsigned woop(vf akx, vf aky, vf akz, vf bkx, vf bky, vf bkz, vf ckx, 
  * single ray */
 typedef struct sray {
     vf ox, oy, oz, rdx, rdy, rdz;
+    /* The fused slab test (node_hit_fused): -(o * rd) per axis and the slack its rounding needs; `fused` says
+     * it applies (finite reciprocals and products), else the ray takes slab_hit. */
+    vf nox, noy, noz;
+    float slack;
+    int fused;
     size_t nx, ny, nz, fx, fy, fz; /* byte offsets of the near and far planes in a node */
     /* watertight test */
     vf okx, oky, okz, sx, sy, sz, tnear, inf;
@@ -113,6 +119,15 @@ static void sray_init(sray_t *s, const hz_bvh_ray_t *r)
     s->sx = vf_set1(r->sx), s->sy = vf_set1(r->sy), s->sz = vf_set1(r->sz);
     s->tnear = vf_set1(r->tnear);
     s->inf = vf_set1(__builtin_inff());
+    const float od0 = r->org[0] * r->rdir[0], od1 = r->org[1] * r->rdir[1], od2 = r->org[2] * r->rdir[2];
+    s->nox = vf_set1(-od0), s->noy = vf_set1(-od1), s->noz = vf_set1(-od2);
+    /* each o * rd is off by at most 2^-24 of itself (2^-150 below the normal range), node_hit_fused's near and
+     * far distances by as much each way, so the far bound needs twice the largest: the sum times 2^-22 is at
+     * least twice that again, room for this sum's own rounding */
+    s->slack = (hz_absf(od0) + hz_absf(od1) + hz_absf(od2)) * 0x1p-22f + 0x1p-126f;
+    /* an infinite reciprocal makes a product infinite or NaN, and so the slack; one that overflows only sends
+     * the ray to slab_hit */
+    s->fused = hz_isfinitef(s->slack);
 }
 
 /* Children whose boxes, near planes (nx, ny, nz) and far planes (fx, fy, fz) as the ray's signs pick them, the
@@ -137,6 +152,54 @@ HZ_INLINE unsigned node_hit(const hz_bvh_node_t *n, const sray_t *s, vf cull, vf
 {
     return slab_hit(ldn(n, s->nx), ldn(n, s->ny), ldn(n, s->nz), ldn(n, s->fx), ldn(n, s->fy), ldn(n, s->fz), s, cull,
                     tmin_out);
+}
+
+/* The single ray's constants of node_hit_fused, kept in locals for the whole search (through the ray's struct
+ * every node reloaded them: with the planes, four loads a plane). */
+typedef struct fray {
+    vf rdx, rdy, rdz, nox, noy, noz, tnear, slack, robust;
+    size_t nx, ny, nz; /* the far plane's offset is the near one's with bit `HZ_BVH_W * 4` flipped */
+} fray_t;
+
+typedef char trav_far_plane_by_xor[offsetof(hz_bvh_node_t, lo_x) % (8 * HZ_BVH_W) == 0 &&
+                                           offsetof(hz_bvh_node_t, lo_y) % (8 * HZ_BVH_W) == 0 &&
+                                           offsetof(hz_bvh_node_t, lo_z) % (8 * HZ_BVH_W) == 0 &&
+                                           offsetof(hz_bvh_node_t, hi_x) - offsetof(hz_bvh_node_t, lo_x) ==
+                                               4 * HZ_BVH_W
+                                       ? 1
+                                       : -1];
+
+HZ_INLINE fray_t fray_of(const sray_t *s)
+{
+    fray_t f;
+    f.rdx = s->rdx, f.rdy = s->rdy, f.rdz = s->rdz, f.nox = s->nox, f.noy = s->noy, f.noz = s->noz;
+    f.tnear = s->tnear, f.slack = vf_set1(s->slack), f.robust = vf_set1(HZ_BVH_ROBUST);
+    f.nx = s->nx, f.ny = s->ny, f.nz = s->nz;
+    return f;
+}
+
+/* node_hit with one fused multiply-add per plane, p * rd + (-(o * rd)) instead of (p - o) * rd: half the
+ * operations and half the latency. Conservative as slab_hit: -(o * rd) is off the exact product by at most
+ * 2^-24 of it, so each distance is the correctly rounded (p - o) * rd moved by at most that much, and the far
+ * bound adds twice the largest of them (f->slack, also in `cull`) to HZ_BVH_ROBUST's factor, which covers the
+ * reciprocal's rounding and the last one as it does for slab_hit's three. Only for rays with s->fused: a zero
+ * direction component's infinite reciprocal would make every plane's distance NaN (inf - inf) and lose the
+ * side of the plane the ray lies on. The distances differ from slab_hit's in their last bits; hits do not
+ * (bvh.h: the closest hit does not depend on the order of the visits), and entry distances only order and
+ * cull, both with margins. */
+HZ_INLINE unsigned node_hit_fused(const hz_bvh_node_t *n, const fray_t *f, vf cull, vf *tmin_out)
+{
+    const size_t a = 4 * HZ_BVH_W;
+    const vf tnx = vf_fmadd(ldn(n, f->nx), f->rdx, f->nox);
+    const vf tny = vf_fmadd(ldn(n, f->ny), f->rdy, f->noy);
+    const vf tnz = vf_fmadd(ldn(n, f->nz), f->rdz, f->noz);
+    const vf tfx = vf_fmadd(ldn(n, f->nx ^ a), f->rdx, f->nox);
+    const vf tfy = vf_fmadd(ldn(n, f->ny ^ a), f->rdy, f->noy);
+    const vf tfz = vf_fmadd(ldn(n, f->nz ^ a), f->rdz, f->noz);
+    const vf tmin = vf_maxn(vf_maxn(tnx, tny), vf_maxn(tnz, f->tnear));
+    const vf tmax = vf_minn(vf_fmadd(vf_minn(vf_minn(tfx, tfy), tfz), f->robust, f->slack), cull);
+    *tmin_out = tmin;
+    return vm_bits(vf_le(tmin, tmax));
 }
 
 /* One ray against the slots `lm` of block b (see woop). */
@@ -248,7 +311,7 @@ HZ_INLINE unsigned leaf_hit_at(const hz_bvh_block_t *a, const hz_bvh_block_t *b,
  * loads). */
 HZ_INLINE void closest_core(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, hz_bvh_ray_t *r, const sray_t *s,
                             uint32_t start, hz_bvh_best_t *best_io, uint32_t ray_id, int lane,
-                            hz_bvh_counters_t *k_io, const bool motion)
+                            hz_bvh_counters_t *k_io, const bool motion, const bool fused)
 {
     hz_bvh_counters_t kl = *k_io, *k = &kl; /* in registers: through the pointer every count was a store */
     (void)k; /* counters exist only with HZ_FEATURE_STATS */
@@ -260,14 +323,18 @@ HZ_INLINE void closest_core(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, hz_bvh_ray
     const hz_bvh_block_t *const blocks = bvh->blocks;
     const bool anyhit = bvh->has_anyhit && ctx && ctx->anyhit;
     hz_bvh_best_t best = *best_io;
-    float tfar = r->tfar, cull_s = tfar * HZ_BVH_CULL; /* for culling nodes (see bvh.h) */
+    const fray_t fr = fray_of(s);
+    const float slack = fused ? s->slack : 0.0f; /* node_hit_fused's entry distances may be that much late */
+    float tfar = r->tfar, cull_s = tfar * HZ_BVH_CULL + slack; /* for culling nodes (see bvh.h) */
     vf cull = vf_set1(cull_s);
     for (;;) {
         if (!hz_bvh_is_leaf(cur)) {
             const hz_bvh_node_t *n = &nodes[cur]; /* motion trees keep their children there too */
             vf tmin;
             HZ_BVH_COUNT(k, nodes, 1);
-            unsigned m = motion ? node_hit_at(bvh, cur, r, s, cull, &tmin) : node_hit(n, s, cull, &tmin);
+            unsigned m = motion  ? node_hit_at(bvh, cur, r, s, cull, &tmin)
+                         : fused ? node_hit_fused(n, &fr, cull, &tmin)
+                                 : node_hit(n, s, cull, &tmin);
             if (m) {
                 order_children(n, m, tmin, &cur, st_c, st_d, &sp);
                 continue;
@@ -299,7 +366,7 @@ HZ_INLINE void closest_core(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, hz_bvh_ray
                     best.prim = prim, best.slot = hs;
                     best.v = vv[i], best.w = wv[i], best.det = dv[i];
                 } while (m);
-                cull_s = tfar * HZ_BVH_CULL;
+                cull_s = tfar * HZ_BVH_CULL + slack;
                 cull = vf_set1(cull_s);
             }
         }
@@ -322,13 +389,16 @@ HZ_INLINE void closest_core(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, hz_bvh_ray
 static void closest_from(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, hz_bvh_ray_t *r, const sray_t *s,
                          uint32_t start, hz_bvh_best_t *best, uint32_t ray_id, int lane, hz_bvh_counters_t *k)
 {
-    closest_core(bvh, ctx, r, s, start, best, ray_id, lane, k, false);
+    if (s->fused)
+        closest_core(bvh, ctx, r, s, start, best, ray_id, lane, k, false, true);
+    else
+        closest_core(bvh, ctx, r, s, start, best, ray_id, lane, k, false, false);
 }
 
 static void closest_motion(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, hz_bvh_ray_t *r, const sray_t *s,
                            hz_bvh_best_t *best, uint32_t ray_id, int lane, hz_bvh_counters_t *k)
 {
-    closest_core(bvh, ctx, r, s, 0, best, ray_id, lane, k, true);
+    closest_core(bvh, ctx, r, s, 0, best, ray_id, lane, k, true, false);
 }
 
 void hz_bvh_simd_closest(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, hz_bvh_ray_t *r, hz_bvh_best_t *best,
@@ -341,13 +411,16 @@ void hz_bvh_simd_closest(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, hz_bvh_ray_t 
      * were about a twelfth of an incoherent ray's instructions (any is the same) */
     if (bvh->time_keys)
         closest_motion(bvh, ctx, r, &s, best, ray_id, lane, &k);
+    else if (s.fused)
+        closest_core(bvh, ctx, r, &s, 0, best, ray_id, lane, &k, false, true);
     else
-        closest_core(bvh, ctx, r, &s, 0, best, ray_id, lane, &k, false);
+        closest_core(bvh, ctx, r, &s, 0, best, ray_id, lane, &k, false, false);
     hz_bvh_counters_flush(ctx, &k);
 }
 
 HZ_INLINE bool any_core(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const hz_bvh_ray_t *r, const sray_t *s,
-                        uint32_t start, uint32_t ray_id, int lane, hz_bvh_counters_t *k_io, const bool motion)
+                        uint32_t start, uint32_t ray_id, int lane, hz_bvh_counters_t *k_io, const bool motion,
+                        const bool fused)
 {
     hz_bvh_counters_t kl = *k_io, *k = &kl; /* in registers: through the pointer every count was a store */
     bool hit = false;
@@ -359,13 +432,16 @@ HZ_INLINE bool any_core(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const hz_bvh_r
     const hz_bvh_block_t *const blocks = bvh->blocks;
     const bool anyhit = bvh->has_anyhit && ctx && ctx->anyhit;
     const float tfar = r->tfar;
-    const vf cull = vf_set1(tfar * HZ_BVH_CULL); /* for culling nodes (see bvh.h) */
+    const fray_t fr = fray_of(s);
+    const vf cull = vf_set1(tfar * HZ_BVH_CULL + (fused ? s->slack : 0.0f)); /* for culling nodes (see bvh.h) */
     for (;;) {
         if (!hz_bvh_is_leaf(cur)) {
             const hz_bvh_node_t *n = &nodes[cur]; /* motion trees keep their children there too */
             vf tmin;
             HZ_BVH_COUNT(k, nodes, 1);
-            unsigned m = motion ? node_hit_at(bvh, cur, r, s, cull, &tmin) : node_hit(n, s, cull, &tmin);
+            unsigned m = motion  ? node_hit_at(bvh, cur, r, s, cull, &tmin)
+                         : fused ? node_hit_fused(n, &fr, cull, &tmin)
+                                 : node_hit(n, s, cull, &tmin);
             if (m) {
                 cur = n->child[__builtin_ctz(m)];
                 for (m &= m - 1; m; m &= m - 1)
@@ -409,13 +485,14 @@ HZ_INLINE bool any_core(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const hz_bvh_r
 static bool any_from(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const hz_bvh_ray_t *r, const sray_t *s,
                      uint32_t start, uint32_t ray_id, int lane, hz_bvh_counters_t *k)
 {
-    return any_core(bvh, ctx, r, s, start, ray_id, lane, k, false);
+    return s->fused ? any_core(bvh, ctx, r, s, start, ray_id, lane, k, false, true)
+                    : any_core(bvh, ctx, r, s, start, ray_id, lane, k, false, false);
 }
 
 static bool any_motion(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const hz_bvh_ray_t *r, const sray_t *s,
                        uint32_t start, uint32_t ray_id, int lane, hz_bvh_counters_t *k)
 {
-    return any_core(bvh, ctx, r, s, start, ray_id, lane, k, true);
+    return any_core(bvh, ctx, r, s, start, ray_id, lane, k, true, false);
 }
 
 bool hz_bvh_simd_any(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const hz_bvh_ray_t *r, uint32_t ray_id, int lane)
@@ -424,7 +501,8 @@ bool hz_bvh_simd_any(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const hz_bvh_ray_
     hz_bvh_counters_t k = { 0, 0 };
     sray_init(&s, r);
     const bool hit = bvh->time_keys ? any_motion(bvh, ctx, r, &s, 0, ray_id, lane, &k)
-                                    : any_core(bvh, ctx, r, &s, 0, ray_id, lane, &k, false);
+                     : s.fused      ? any_core(bvh, ctx, r, &s, 0, ray_id, lane, &k, false, true)
+                                    : any_core(bvh, ctx, r, &s, 0, ray_id, lane, &k, false, false);
     hz_bvh_counters_flush(ctx, &k);
     return hit;
 }
@@ -997,7 +1075,7 @@ static void mfr_closest(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const frustum_
                 best.prim = sv[l] < 0 ? HZ_ACCEL_INVALID_ID : (uint32_t)pv[l];
                 best.v = vv[l], best.w = wv[l], best.det = dv[l];
                 const uint32_t before = best.slot;
-                closest_core(bvh, ctx, &r, &s1, cur, &best, rh->ray.id[l], (int)l, k, true);
+                closest_core(bvh, ctx, &r, &s1, cur, &best, rh->ray.id[l], (int)l, k, true, false);
                 if (best.slot == before)
                     continue;
                 tv[l] = r.tfar, pv[l] = (int32_t)best.prim, sv[l] = (int32_t)best.slot;

@@ -18,6 +18,7 @@ HZ_INLINE void vf_store(float *p, vf v) { vst1q_f32(p, v); }
 HZ_INLINE vf vf_add(vf a, vf b) { return vaddq_f32(a, b); }
 HZ_INLINE vf vf_sub(vf a, vf b) { return vsubq_f32(a, b); }
 HZ_INLINE vf vf_mul(vf a, vf b) { return vmulq_f32(a, b); }
+HZ_INLINE vf vf_fmadd(vf a, vf b, vf c) { return vfmaq_f32(c, a, b); }
 HZ_INLINE vf vf_div(vf a, vf b) { return vdivq_f32(a, b); }
 HZ_INLINE vf vf_abs(vf a) { return vabsq_f32(a); }
 HZ_INLINE vf vf_maxn(vf a, vf b) { return vmaxnmq_f32(a, b); }

@@ -2,7 +2,7 @@
  * Native traversal: every kernel (scalar reference, SIMD single ray, frustum packet, masked packet; packets of
  * 4 and 8 with holes in the valid mask) against the brute-force reference and against each other, bit for bit,
  * on procedural meshes: a tessellated sphere, a closed cube-sphere, a random soup with degenerate triangles, and
- * the sphere scaled by 1e-6 and 1e6. Also occlusion, shadow rays from surfaces to point lights (packets whose
+ * the sphere scaled by 1e-6 and 1e6 and moved 3e4 of its radii away from the origin. Also occlusion, shadow rays from surfaces to point lights (packets whose
  * origins spread and whose lanes are blocked at different places), any-hit callbacks, zero direction components, bad rays,
  * statistics, secondary rays from surfaces, and a golden digest that holds x86-64 and AArch64 to the same bits.
  * hz-test: no-vm (heavy under system emulation, runs under qemu-user)
@@ -35,9 +35,9 @@ static hz_arena_t arena;
 static hz_rayhit_t rays_in[N_RAYS], rays_ref[N_RAYS], rays_out[N_RAYS];
 static uint8_t occ_ref[N_RAYS], occ_out[N_RAYS];
 
-typedef enum { M_SPHERE, M_CUBE, M_SOUP, M_TINY, M_HUGE, M_COUNT } mesh_kind_t;
+typedef enum { M_SPHERE, M_CUBE, M_SOUP, M_TINY, M_HUGE, M_FAR, M_COUNT } mesh_kind_t;
 static const char *mesh_name[M_COUNT] = { "sphere", "cube-sphere", "soup+degenerate", "sphere*1e-6",
-                                          "sphere*1e6" };
+                                          "sphere*1e6", "sphere+3e4" };
 
 static void make_mesh(mesh_kind_t k, hz_mesh_t *m)
 {
@@ -58,6 +58,10 @@ static void make_mesh(mesh_kind_t k, hz_mesh_t *m)
     case M_HUGE:
         s = hz_meshgen_sphere(m, &arena, 48, 96, 1.0f, &err);
         hz_meshgen_transform(m, 1e6f, hz_v3(3e6f, -2e6f, 1e6f));
+        break;
+    case M_FAR: /* far from the world's origin: slab distances cancel (p * rd - o * rd) */
+        s = hz_meshgen_sphere(m, &arena, 48, 96, 1.0f, &err);
+        hz_meshgen_transform(m, 1.0f, hz_v3(3e4f, -2e4f, 1e4f));
         break;
     default: break;
     }
@@ -614,6 +618,7 @@ static void test_cube_sphere(void **state) { (void)state; check_mesh(M_CUBE); }
 static void test_soup_degenerate(void **state) { (void)state; check_mesh(M_SOUP); }
 static void test_scaled_tiny(void **state) { (void)state; check_mesh(M_TINY); }
 static void test_scaled_huge(void **state) { (void)state; check_mesh(M_HUGE); }
+static void test_far_offset(void **state) { (void)state; check_mesh(M_FAR); }
 
 int main(void)
 {
@@ -623,6 +628,7 @@ int main(void)
         cmocka_unit_test(test_soup_degenerate),
         cmocka_unit_test(test_scaled_tiny),
         cmocka_unit_test(test_scaled_huge),
+        cmocka_unit_test(test_far_offset),
         cmocka_unit_test(test_anyhit),
         cmocka_unit_test(test_shadow_rays),
         cmocka_unit_test(test_bad_rays),
