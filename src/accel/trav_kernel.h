@@ -12,8 +12,10 @@
  *   vi_set1 vi_load vi_store (aligned) vi_storeu vi_iota vi_and vi_or vi_andn vi_add vi_sub vi_shl(x, n) vi_lane0
  *   vi_sel(m, a, b) vi_gt vi_eq (signed) vm_as_vi vi_signs (bit i: lane i's bit 31) vi_perm(v, idx) (lane i = lane idx[i] & (KW - 1) of v) vi_sort
  *   (ascending as unsigned) vf_as_vi vi_as_vf
- * Every float operation is the IEEE one, rounded once, in the order of the scalar reference (trav_scalar.c,
- * bvh.h's hz_bvh_ray_prep / hz_bvh_tri_test): the kernels return its bits on every ISA.
+ * Every float operation of the ray preparation and the triangle test is the IEEE one, rounded once, in the order
+ * of the scalar reference (trav_scalar.c, bvh.h's hz_bvh_ray_prep / hz_bvh_tri_test): the kernels return its
+ * bits on every ISA. Box tests only need to be conservative (bvh.h): the single ray's fused one
+ * (node_hit_fused) computes its distances differently and visits nodes in a slightly different order.
  *
  * Kernels
  *  - single ray: one ray against a node's KW child boxes at once (nearest child first, the rest on a stack
