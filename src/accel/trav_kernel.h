@@ -160,23 +160,15 @@ HZ_INLINE unsigned node_hit(const hz_bvh_node_t *n, const sray_t *s, vf cull, vf
  * every node reloaded them: with the planes, four loads a plane). */
 typedef struct fray {
     vf rdx, rdy, rdz, nox, noy, noz, tnear, slack, robust;
-    size_t nx, ny, nz; /* the far plane's offset is the near one's with bit `HZ_BVH_W * 4` flipped */
+    size_t nx, ny, nz, fx, fy, fz;
 } fray_t;
-
-typedef char trav_far_plane_by_xor[offsetof(hz_bvh_node_t, lo_x) % (8 * HZ_BVH_W) == 0 &&
-                                           offsetof(hz_bvh_node_t, lo_y) % (8 * HZ_BVH_W) == 0 &&
-                                           offsetof(hz_bvh_node_t, lo_z) % (8 * HZ_BVH_W) == 0 &&
-                                           offsetof(hz_bvh_node_t, hi_x) - offsetof(hz_bvh_node_t, lo_x) ==
-                                               4 * HZ_BVH_W
-                                       ? 1
-                                       : -1];
 
 HZ_INLINE fray_t fray_of(const sray_t *s)
 {
     fray_t f;
     f.rdx = s->rdx, f.rdy = s->rdy, f.rdz = s->rdz, f.nox = s->nox, f.noy = s->noy, f.noz = s->noz;
     f.tnear = s->tnear, f.slack = vf_set1(s->slack), f.robust = vf_set1(HZ_BVH_ROBUST);
-    f.nx = s->nx, f.ny = s->ny, f.nz = s->nz;
+    f.nx = s->nx, f.ny = s->ny, f.nz = s->nz, f.fx = s->fx, f.fy = s->fy, f.fz = s->fz;
     return f;
 }
 
@@ -191,13 +183,12 @@ HZ_INLINE fray_t fray_of(const sray_t *s)
  * cull, both with margins. */
 HZ_INLINE unsigned node_hit_fused(const hz_bvh_node_t *n, const fray_t *f, vf cull, vf *tmin_out)
 {
-    const size_t a = 4 * HZ_BVH_W;
     const vf tnx = vf_fmadd(ldn(n, f->nx), f->rdx, f->nox);
     const vf tny = vf_fmadd(ldn(n, f->ny), f->rdy, f->noy);
     const vf tnz = vf_fmadd(ldn(n, f->nz), f->rdz, f->noz);
-    const vf tfx = vf_fmadd(ldn(n, f->nx ^ a), f->rdx, f->nox);
-    const vf tfy = vf_fmadd(ldn(n, f->ny ^ a), f->rdy, f->noy);
-    const vf tfz = vf_fmadd(ldn(n, f->nz ^ a), f->rdz, f->noz);
+    const vf tfx = vf_fmadd(ldn(n, f->fx), f->rdx, f->nox);
+    const vf tfy = vf_fmadd(ldn(n, f->fy), f->rdy, f->noy);
+    const vf tfz = vf_fmadd(ldn(n, f->fz), f->rdz, f->noz);
     const vf tmin = vf_maxn(vf_maxn(tnx, tny), vf_maxn(tnz, f->tnear));
     const vf tmax = vf_minn(vf_fmadd(vf_minn(vf_minn(tfx, tfy), tfz), f->robust, f->slack), cull);
     *tmin_out = tmin;
