@@ -33,14 +33,24 @@ HZ_INLINE float hz_clampf(float x, float lo, float hi) { return x < lo ? lo : (x
 HZ_INLINE int hz_isfinitef(float x) { return __builtin_isfinite(x); }
 HZ_INLINE int hz_isnanf(float x) { return x != x; }
 
-/* floor; |x| >= 2^23 is already integral, NaN and infinities come back unchanged. Inline: texture lookups call it
- * four times a sample. */
-HZ_INLINE float hz_floorf(float x)
+/* IEEE floor without the ISA's instruction: |x| >= 2^23 is integral, a zero keeps its sign, NaN and infinities
+ * come back unchanged, else truncate and step down. */
+HZ_INLINE float hz_floorf_soft(float x)
 {
-    if (!(hz_absf(x) < 8388608.0f))
+    if (!(hz_absf(x) < 8388608.0f) || x == 0.0f)
         return x;
     float t = (float)(int32_t)x; /* truncation toward zero */
     return t - (float)(t > x);   /* no branch: its sign is the data's, a coin toss for texture lookups */
+}
+/* IEEE floor, one instruction where the ISA has one (SSE4.1, AArch64): texture lookups and any-hit alpha tests
+ * call it four times a sample. The lanes' floors (lanes.h, the shading kernel) give the same bits. */
+HZ_INLINE float hz_floorf(float x)
+{
+#if defined(__SSE4_1__) || defined(__aarch64__)
+    return __builtin_floorf(x);
+#else
+    return hz_floorf_soft(x);
+#endif
 }
 float hz_sinf(float x);
 float hz_cosf(float x);

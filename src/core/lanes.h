@@ -63,6 +63,8 @@ HZ_INLINE hz_li_t hz_lf_lt(hz_lf_t a, hz_lf_t b) { return _mm256_castps_si256(_m
 HZ_INLINE hz_li_t hz_lf_eq(hz_lf_t a, hz_lf_t b) { return _mm256_castps_si256(_mm256_cmp_ps(a, b, _CMP_EQ_OQ)); }
 HZ_INLINE hz_lf_t hz_lf_sel(hz_li_t m, hz_lf_t a, hz_lf_t b) { return _mm256_blendv_ps(b, a, _mm256_castsi256_ps(m)); }
 HZ_INLINE hz_lf_t hz_lf_from_li(hz_li_t a) { return _mm256_cvtepi32_ps(a); }
+/* hz_floorf (vmath.h): IEEE floor, the same bits */
+HZ_INLINE hz_lf_t hz_lf_floor(hz_lf_t x) { return _mm256_floor_ps(x); }
 HZ_INLINE hz_li_t hz_li_from_lf(hz_lf_t a) { return _mm256_cvttps_epi32(a); } /* truncates */
 HZ_INLINE hz_li_t hz_lf_bits(hz_lf_t a) { return _mm256_castps_si256(a); }
 HZ_INLINE hz_lf_t hz_lf_from_bits(hz_li_t a) { return _mm256_castsi256_ps(a); }
@@ -260,6 +262,8 @@ HZ_INLINE hz_li_t hz_lf_lt(hz_lf_t a, hz_lf_t b) { return vreinterpretq_s32_u32(
 HZ_INLINE hz_li_t hz_lf_eq(hz_lf_t a, hz_lf_t b) { return vreinterpretq_s32_u32(vceqq_f32(a, b)); }
 HZ_INLINE hz_lf_t hz_lf_sel(hz_li_t m, hz_lf_t a, hz_lf_t b) { return vbslq_f32(vreinterpretq_u32_s32(m), a, b); }
 HZ_INLINE hz_lf_t hz_lf_from_li(hz_li_t a) { return vcvtq_f32_s32(a); }
+/* hz_floorf (vmath.h): IEEE floor, the same bits */
+HZ_INLINE hz_lf_t hz_lf_floor(hz_lf_t x) { return vrndmq_f32(x); }
 HZ_INLINE hz_li_t hz_li_from_lf(hz_lf_t a) { return vcvtq_s32_f32(a); } /* truncates */
 HZ_INLINE hz_li_t hz_lf_bits(hz_lf_t a) { return vreinterpretq_s32_f32(a); }
 HZ_INLINE hz_lf_t hz_lf_from_bits(hz_li_t a) { return vreinterpretq_f32_s32(a); }
@@ -414,13 +418,6 @@ HZ_INLINE hz_li_t hz_lf_finite(hz_lf_t a)
 }
 /* |x| */
 HZ_INLINE hz_lf_t hz_lf_abs(hz_lf_t x) { return hz_lf_from_bits(hz_li_and(hz_lf_bits(x), hz_li_set(0x7fffffff))); }
-/* hz_floorf (vmath.c), the same steps: |x| >= 2^23, NaN and infinities unchanged, else truncate and step down. */
-HZ_INLINE hz_lf_t hz_lf_floor(hz_lf_t x)
-{
-    hz_lf_t t = hz_lf_from_li(hz_li_from_lf(x));
-    hz_lf_t f = hz_lf_sel(hz_lf_gt(t, x), hz_lf_sub(t, hz_lf_set(1.0f)), t);
-    return hz_lf_sel(hz_lf_lt(hz_lf_abs(x), hz_lf_set(8388608.0f)), f, x);
-}
 /* hz_clampf: x < lo ? lo : (x > hi ? hi : x) (NaN stays NaN). */
 HZ_INLINE hz_lf_t hz_lf_clamp(hz_lf_t x, hz_lf_t lo, hz_lf_t hi)
 {

@@ -4,7 +4,7 @@
  *   vf (floats), vi (int32), vm (lane masks);
  *   vf_load vf_store vf_set1 vf_add vf_sub vf_mul vf_div vf_sqrt vf_abs vf_gt vf_lt vf_sel(m, a, b)
  *   vm_and vm_bits (bit i: lane i set)
- *   vi_load vi_set1 vi_add vi_sub vi_mul vi_and vi_or vi_srl(x, n) vi_lt vi_sel vf_from_vi vi_trunc
+ *   vi_load vi_set1 vi_add vi_sub vi_mul vi_and vi_or vi_srl(x, n) vi_lt vi_sel vf_from_vi vi_trunc vf_floor
  *   vf_as_vi vi_as_vf vf_gather(base, index) vi_gather(base, index)
  * Every float operation is the IEEE one, rounded once, in the order of the scalar twin (shade_packet.c): the
  * kernel is that code, lane-parallel, so the results are the same bits. Steps that branch per lane on data
@@ -94,13 +94,8 @@ static inline kv3_t k_normalize(kv3_t a, vf l2, uint32_t live)
     return r;
 }
 
-/* hz_floorf, lane-parallel. */
-static inline vf k_floor(vf x)
-{
-    vf t = vf_from_vi(vi_trunc(x));
-    vf f = vf_sel(vf_gt(t, x), vf_sub(t, vf_set1(1.0f)), t);
-    return vf_sel(vf_lt(vf_abs(x), vf_set1(8388608.0f)), f, x);
-}
+/* hz_floorf, lane-parallel: the ISA's floor (vf_floor), the same bits. */
+static inline vf k_floor(vf x) { return vf_floor(x); }
 
 /* hz_log2_approx, lane-parallel. */
 static inline vf k_log2(vf x)

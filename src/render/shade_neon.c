@@ -39,6 +39,7 @@ static inline vm vi_lt(vi a, vi b) { return vcltq_s32(a, b); }
 static inline vi vi_sel(vm m, vi a, vi b) { return vbslq_s32(m, a, b); }
 static inline vf vf_from_vi(vi a) { return vcvtq_f32_s32(a); }
 static inline vi vi_trunc(vf a) { return vcvtq_s32_f32(a); }
+static inline vf vf_floor(vf a) { return vrndmq_f32(a); }
 static inline vi vf_as_vi(vf a) { return vreinterpretq_s32_f32(a); }
 static inline vf vi_as_vf(vi a) { return vreinterpretq_f32_s32(a); }
 static inline vf vf_gather(const float *base, vi idx)

@@ -407,6 +407,39 @@ static void test_lanes_deinterleaving_loads(void **state)
     for (int i = 0; i < HZ_LANES; i++)
         assert_true(r[i] == src[1 + 2 * i] && g[i] == src[2 + 2 * i]);
 }
+
+/* The lanes' floor against libm's, as bits (a zero's sign and NaN included): the edges, then random words. */
+static void test_lanes_floor(void **state)
+{
+    (void)state;
+    float in[64];
+    const float edges[] = { 0.0f, -0.0f, 0.5f, -0.5f, 1.0f, -1.0f, -1e-30f, 1e-45f, -1e-45f, 2.999999f, -2.999999f,
+                            8388607.5f, -8388607.5f, 8388608.0f, -8388609.0f, 1e30f, -1e30f, INFINITY, -INFINITY,
+                            NAN };
+    hz_rng_t r;
+    hz_rng_seed(&r, 31, 0);
+    for (int round = 0; round < 2000; round++) {
+        for (int i = 0; i < 64; i++) {
+            const uint32_t bits = hz_rng_u32(&r);
+            memcpy(&in[i], &bits, 4);
+        }
+        if (round == 0)
+            memcpy(in, edges, sizeof edges);
+        for (int i = 0; i < 64; i += HZ_LANES) {
+            float got[HZ_LANES];
+            hz_lf_store(got, hz_lf_floor(hz_lf_load(in + i)));
+            for (int l = 0; l < HZ_LANES; l++) {
+                const float want = floorf(in[i + l]), one = hz_floorf(in[i + l]);
+                if (isnan(want)) {
+                    assert_true(isnan(got[l]) && isnan(one));
+                } else {
+                    assert_memory_equal(&got[l], &want, 4);
+                    assert_memory_equal(&one, &want, 4);
+                }
+            }
+        }
+    }
+}
 #endif
 
 int main(void)
@@ -421,6 +454,7 @@ int main(void)
         cmocka_unit_test(test_lanes_deinterleaving_loads),
         cmocka_unit_test(test_lanes_half_planes),
         cmocka_unit_test(test_lanes_half3_store),
+        cmocka_unit_test(test_lanes_floor),
 #ifdef HZ_LANES_HW_HALF
         cmocka_unit_test(test_lanes_half3_load),
 #endif
