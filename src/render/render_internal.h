@@ -57,6 +57,9 @@ typedef struct mirror_rec {
     float pp[3], np[3];        /* the same at the previous frame */
 } mirror_rec_t;
 
+#define HZ_RENDER_SHADOW_SET 256 /* slots of a lane's set of the blended triangles a shadow ray met (hz_worker_t) */
+typedef char hz_render_shadow_set_fits[2 * HZ_RENDER_MAX_LAYERS <= HZ_RENDER_SHADOW_SET ? 1 : -1];
+
 typedef struct hz_worker {
     hz_batch_t b;              /* first member: a mode's batch pointer is its worker's (hz_render_trace) */
     ray_job_t *stack;
@@ -71,11 +74,14 @@ typedef struct hz_worker {
     /* Shadow packet in flight (scenes with blended surfaces): per lane the transmittance of the blended
      * triangles met so far and which ones (the any-hit callback may see a triangle more than once), up to the
      * layer cap of every path: a shadow ray that meets more with visibility left ends as blocked (counted in
-     * stats.layer_cap), as a camera path does. */
+     * stats.layer_cap), as a camera path does. The triangles met are a set per lane: open addressing from
+     * (prim * golden) >> 24, prim + 1 in a slot, 0 in an empty one; at most HZ_RENDER_MAX_LAYERS of its
+     * HZ_RENDER_SHADOW_SET slots are taken (at most half), so a search ends within a few probes, and the slots
+     * taken are listed to empty them for the next ray. */
     float shadow_vis[HZ_RENDER_LANES];
-    uint32_t shadow_prims[HZ_RENDER_LANES][HZ_RENDER_MAX_LAYERS];
-    uint64_t shadow_seen[HZ_RENDER_LANES][4]; /* bit (prim * golden) >> 24: some shadow_prims entry may be prim */
-    uint16_t shadow_nprims[HZ_RENDER_LANES]; /* up to HZ_RENDER_MAX_LAYERS */
+    uint32_t shadow_set[HZ_RENDER_LANES][HZ_RENDER_SHADOW_SET];
+    uint8_t shadow_taken[HZ_RENDER_LANES][HZ_RENDER_MAX_LAYERS];
+    uint16_t shadow_nprims[HZ_RENDER_LANES]; /* slots taken, up to HZ_RENDER_MAX_LAYERS */
     uint8_t shadow_overflow[HZ_RENDER_LANES];
     hz_accel_ctx_t ctx;
     struct hz_renderer *r;

@@ -181,22 +181,19 @@ bool hz_render_anyhit(void *user, uint32_t prim, float u, float v, float t, uint
         if (!(ray_id & ID_SHADOW))
             return true; /* camera and secondary rays stop at a blended surface and continue behind it */
         /* A shadow ray lets the layer's opacity through and goes on, counting each triangle once (spatial splits
-         * put a triangle in several leaves): the list of those met is read only when the triangle's bit in a
-         * 256-bit filter of them is set. */
+         * put a triangle in several leaves): the lane's set of those met (hz_worker_t) says whether it has. */
         uint32_t ln = (ray_id & 0xffu) % HZ_RENDER_LANES;
-        const uint32_t h = (prim * 0x9e3779b1u) >> 24;
-        const uint64_t bit = (uint64_t)1 << (h & 63u);
-        if (w->shadow_seen[ln][h >> 6] & bit) {
-            for (uint32_t i = 0; i < w->shadow_nprims[ln]; i++)
-                if (w->shadow_prims[ln][i] == prim)
-                    return false;
-        }
-        w->shadow_seen[ln][h >> 6] |= bit;
+        uint32_t *set = w->shadow_set[ln];
+        uint32_t h = (prim * 0x9e3779b1u) >> 24;
+        for (; set[h]; h = (h + 1u) % HZ_RENDER_SHADOW_SET)
+            if (set[h] == prim + 1u)
+                return false;
         if (w->shadow_nprims[ln] == HZ_RENDER_MAX_LAYERS) {
             w->shadow_overflow[ln] = 1; /* past the layer cap with visibility left: ends as blocked */
             return true;
         }
-        w->shadow_prims[ln][w->shadow_nprims[ln]++] = prim;
+        set[h] = prim + 1u;
+        w->shadow_taken[ln][w->shadow_nprims[ln]++] = (uint8_t)h;
         w->shadow_vis[ln] *= 1.0f - hit_alpha(s, m, prim, u, v, textures);
         return !(w->shadow_vis[ln] >= w->r->f.opts.min_visibility); /* nothing left: as good as blocked */
     }
@@ -303,10 +300,9 @@ static void trace_shadow_packet(hz_worker_t *w, shadow_packet_t *p, int32_t *val
         p->mask[i] = 0xffffffffu;
         p->flags[i] = 0;
         w->shadow_vis[i] = 1.0f;
-        if (w->shadow_nprims[i]) { /* the filter is clear while the list is empty (the worker starts zeroed) */
-            hz_memset(w->shadow_seen[i], 0, sizeof w->shadow_seen[i]);
-            w->shadow_nprims[i] = 0;
-        }
+        for (uint32_t k = 0; k < w->shadow_nprims[i]; k++) /* the set is empty otherwise (workers start zeroed) */
+            w->shadow_set[i][w->shadow_taken[i][k]] = 0;
+        w->shadow_nprims[i] = 0;
         w->shadow_overflow[i] = 0;
     }
     OCCLUDED(valid, w->r->accel, &w->ctx, p);
