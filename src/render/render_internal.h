@@ -57,8 +57,14 @@ typedef struct mirror_rec {
     float pp[3], np[3];        /* the same at the previous frame */
 } mirror_rec_t;
 
-#define HZ_RENDER_SHADOW_SET 256 /* slots of a lane's set of the blended triangles a shadow ray met (hz_worker_t) */
-typedef char hz_render_shadow_set_fits[2 * HZ_RENDER_MAX_LAYERS <= HZ_RENDER_SHADOW_SET ? 1 : -1];
+/* A lane's set of the blended triangles a shadow ray met (hz_worker_t): 2^HZ_RENDER_SHADOW_SET_BITS slots, at
+ * least twice the layer cap, their indices bytes. */
+#define HZ_RENDER_SHADOW_SET_BITS 8
+#define HZ_RENDER_SHADOW_SET (1u << HZ_RENDER_SHADOW_SET_BITS)
+typedef char hz_render_shadow_set_fits[2 * HZ_RENDER_MAX_LAYERS <= HZ_RENDER_SHADOW_SET &&
+                                               HZ_RENDER_SHADOW_SET_BITS <= 8
+                                           ? 1
+                                           : -1];
 
 typedef struct hz_worker {
     hz_batch_t b;              /* first member: a mode's batch pointer is its worker's (hz_render_trace) */
@@ -74,10 +80,10 @@ typedef struct hz_worker {
     /* Shadow packet in flight (scenes with blended surfaces): per lane the transmittance of the blended
      * triangles met so far and which ones (the any-hit callback may see a triangle more than once), up to the
      * layer cap of every path: a shadow ray that meets more with visibility left ends as blocked (counted in
-     * stats.layer_cap), as a camera path does. The triangles met are a set per lane: open addressing from
-     * (prim * golden) >> 24, prim + 1 in a slot, 0 in an empty one; at most HZ_RENDER_MAX_LAYERS of its
-     * HZ_RENDER_SHADOW_SET slots are taken (at most half), so a search ends within a few probes, and the slots
-     * taken are listed to empty them for the next ray. */
+     * stats.layer_cap), as a camera path does. The triangles met are a set per lane: open addressing from the
+     * top bits of prim * golden, prim + 1 in a slot (prims are below 2^31), 0 in an empty one; at most
+     * HZ_RENDER_MAX_LAYERS of its HZ_RENDER_SHADOW_SET slots are taken (at most half), so a search ends within
+     * a few probes, and the slots taken are listed to empty them for the next ray. */
     float shadow_vis[HZ_RENDER_LANES];
     uint32_t shadow_set[HZ_RENDER_LANES][HZ_RENDER_SHADOW_SET];
     uint8_t shadow_taken[HZ_RENDER_LANES][HZ_RENDER_MAX_LAYERS];

@@ -184,7 +184,7 @@ bool hz_render_anyhit(void *user, uint32_t prim, float u, float v, float t, uint
          * put a triangle in several leaves): the lane's set of those met (hz_worker_t) says whether it has. */
         uint32_t ln = (ray_id & 0xffu) % HZ_RENDER_LANES;
         uint32_t *set = w->shadow_set[ln];
-        uint32_t h = (prim * 0x9e3779b1u) >> 24;
+        uint32_t h = (prim * 0x9e3779b1u) >> (32 - HZ_RENDER_SHADOW_SET_BITS);
         for (; set[h]; h = (h + 1u) % HZ_RENDER_SHADOW_SET)
             if (set[h] == prim + 1u)
                 return false;
