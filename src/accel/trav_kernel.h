@@ -379,13 +379,20 @@ HZ_INLINE void closest_core(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, hz_bvh_ray
     }
 }
 
-static void closest_from(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, hz_bvh_ray_t *r, const sray_t *s,
-                         uint32_t start, hz_bvh_best_t *best, uint32_t ray_id, int lane, hz_bvh_counters_t *k)
+/* The static tree's closest-hit search with the box test the ray takes (sray_t's `fused`). */
+HZ_INLINE void closest_static(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, hz_bvh_ray_t *r, const sray_t *s,
+                              uint32_t start, hz_bvh_best_t *best, uint32_t ray_id, int lane, hz_bvh_counters_t *k)
 {
     if (s->fused)
         closest_core(bvh, ctx, r, s, start, best, ray_id, lane, k, false, true);
     else
         closest_core(bvh, ctx, r, s, start, best, ray_id, lane, k, false, false);
+}
+
+static void closest_from(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, hz_bvh_ray_t *r, const sray_t *s,
+                         uint32_t start, hz_bvh_best_t *best, uint32_t ray_id, int lane, hz_bvh_counters_t *k)
+{
+    closest_static(bvh, ctx, r, s, start, best, ray_id, lane, k);
 }
 
 static void closest_motion(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, hz_bvh_ray_t *r, const sray_t *s,
@@ -404,10 +411,8 @@ void hz_bvh_simd_closest(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, hz_bvh_ray_t 
      * were about a twelfth of an incoherent ray's instructions (any is the same) */
     if (bvh->time_keys)
         closest_motion(bvh, ctx, r, &s, best, ray_id, lane, &k);
-    else if (s.fused)
-        closest_core(bvh, ctx, r, &s, 0, best, ray_id, lane, &k, false, true);
     else
-        closest_core(bvh, ctx, r, &s, 0, best, ray_id, lane, &k, false, false);
+        closest_static(bvh, ctx, r, &s, 0, best, ray_id, lane, &k);
     hz_bvh_counters_flush(ctx, &k);
 }
 
@@ -475,11 +480,18 @@ HZ_INLINE bool any_core(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const hz_bvh_r
     return hit;
 }
 
-static bool any_from(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const hz_bvh_ray_t *r, const sray_t *s,
-                     uint32_t start, uint32_t ray_id, int lane, hz_bvh_counters_t *k)
+/* The static tree's occlusion search with the box test the ray takes (sray_t's `fused`). */
+HZ_INLINE bool any_static(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const hz_bvh_ray_t *r, const sray_t *s,
+                          uint32_t start, uint32_t ray_id, int lane, hz_bvh_counters_t *k)
 {
     return s->fused ? any_core(bvh, ctx, r, s, start, ray_id, lane, k, false, true)
                     : any_core(bvh, ctx, r, s, start, ray_id, lane, k, false, false);
+}
+
+static bool any_from(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const hz_bvh_ray_t *r, const sray_t *s,
+                     uint32_t start, uint32_t ray_id, int lane, hz_bvh_counters_t *k)
+{
+    return any_static(bvh, ctx, r, s, start, ray_id, lane, k);
 }
 
 static bool any_motion(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const hz_bvh_ray_t *r, const sray_t *s,
@@ -494,8 +506,7 @@ bool hz_bvh_simd_any(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const hz_bvh_ray_
     hz_bvh_counters_t k = { 0, 0 };
     sray_init(&s, r);
     const bool hit = bvh->time_keys ? any_motion(bvh, ctx, r, &s, 0, ray_id, lane, &k)
-                     : s.fused      ? any_core(bvh, ctx, r, &s, 0, ray_id, lane, &k, false, true)
-                                    : any_core(bvh, ctx, r, &s, 0, ray_id, lane, &k, false, false);
+                                    : any_static(bvh, ctx, r, &s, 0, ray_id, lane, &k);
     hz_bvh_counters_flush(ctx, &k);
     return hit;
 }
