@@ -1,10 +1,11 @@
 /*
  * Native traversal: every kernel (scalar reference, SIMD single ray, frustum packet, masked packet; packets of
  * 4 and 8 with holes in the valid mask) against the brute-force reference and against each other, bit for bit,
- * on procedural meshes: a tessellated sphere, a closed cube-sphere, a random soup with degenerate triangles, and
- * the sphere scaled by 1e-6 and 1e6 and moved 3e4 of its radii away from the origin. Also occlusion, shadow rays from surfaces to point lights (packets whose
- * origins spread and whose lanes are blocked at different places), any-hit callbacks, zero direction components, bad rays,
- * statistics, secondary rays from surfaces, and a golden digest that holds x86-64 and AArch64 to the same bits.
+ * on procedural meshes: a tessellated sphere, a closed cube-sphere, a random soup with degenerate triangles, the
+ * sphere scaled by 1e-6 and 1e6, and the sphere moved 3e4 of its radii away from the origin. Also occlusion,
+ * shadow rays from surfaces to point lights (packets whose origins spread and whose lanes are blocked at
+ * different places), any-hit callbacks, zero direction components, bad rays, statistics, secondary rays from
+ * surfaces, and a golden digest that holds x86-64 and AArch64 to the same bits.
  * hz-test: no-vm (heavy under system emulation, runs under qemu-user)
  */
 #include "hz_test.h"
