@@ -1,7 +1,7 @@
 /*
  * shade_internal.h — what the packet-surface kernels (shade_avx2.c, shade_neon.c, both over shade_kernel.h)
  * share with their scalar twin in shade_packet.c: the per-lane steps that stay scalar (pose-key interpolation,
- * material look-up, mip-level choice), written once so both paths take them from the same code.
+ * material look-up, the mip chain's levels), written once so both paths take them from the same code.
  */
 #ifndef HZ_SHADE_INTERNAL_H
 #define HZ_SHADE_INTERNAL_H
@@ -30,20 +30,20 @@ void hz_shade_lane_material(const hz_shade_ctx_t *c, const hz_shade_in_t *in, ui
  * term: HZ_SHADE_TEX_GATHER with its first texel and size; HZ_SHADE_TEX_ONE when the sample is the constant 1
  * (no such texture, non-finite uv); HZ_SHADE_TEX_FAR when its texels lie beyond a 32-bit gather index (the
  * lane then samples with hz_texture_sample). */
-enum { HZ_SHADE_TEX_ONE = 0, HZ_SHADE_TEX_GATHER = 1, HZ_SHADE_TEX_FAR = 2 };
-/* The last texture and level a packet's lanes asked for (most lanes of a packet read the same texture at the
- * same level): its size term and level answer, so the next lane skips the logarithm and the walk down the mip
- * chain. Start one with hz_shade_level_memo_init; it holds values, never pointers into a frame. */
-typedef struct hz_shade_level_memo {
-    int32_t tex;      /* -1: none yet */
-    float size_term;  /* 0.5 log2(width height) of tex */
-    uint32_t level;   /* UINT32_MAX: none yet */
-    int kind;         /* HZ_SHADE_TEX_GATHER or _FAR for that level */
-    int32_t first, w, h;
-} hz_shade_level_memo_t;
-void hz_shade_level_memo_init(hz_shade_level_memo_t *m);
-int hz_shade_lane_level(const hz_shade_ctx_t *c, hz_shade_level_memo_t *memo, int32_t tex, float tu, float tv,
-                        float lod_base, int32_t *first, int32_t *w, int32_t *h);
+/* Every mip level of texture tex as the packet kernels read it (hz_shade_levels_of): the level hz_texture_sample
+ * filters at level of detail lod_base + size_term is hz_texture_level_of's, lod_base lane by lane; level l's
+ * texels start at first[l] and are w[l] x h[l]; bit l of `far` says they lie beyond a 32-bit gather index (such a
+ * lane samples with hz_shade_sample_lane). One walk down the mip chain per texture and packet, so that the lanes
+ * of one texture take their levels lane-parallel. It holds values, never pointers into a frame. */
+#define HZ_SHADE_MAX_LEVELS 32 /* a texture's levels: 1 + log2 of a 32-bit side at most */
+typedef struct hz_shade_levels {
+    float size_term; /* 0.5 log2(width height), the product hz_shade_sample_lane computes */
+    int32_t top;     /* levels - 1 */
+    uint32_t far;
+    int32_t first[HZ_SHADE_MAX_LEVELS], w[HZ_SHADE_MAX_LEVELS], h[HZ_SHADE_MAX_LEVELS];
+} hz_shade_levels_t;
+/* tex must name a texture of s (0 <= tex < texture_count). */
+void hz_shade_levels_of(const hz_scene_t *s, int32_t tex, hz_shade_levels_t *lv);
 
 /* Texture filtering over the pixel (hz_shade_ctx_t.footprint). hz_shade_footprint_lane: lane i's change of
  * texture coordinates per pixel step, g = { du/dx, du/dy, dv/dx, dv/dy }, for the triangle p[] (at the ray's

@@ -4,7 +4,7 @@
  *   vf (floats), vi (int32), vm (lane masks);
  *   vf_load vf_store vf_set1 vf_add vf_sub vf_mul vf_div vf_sqrt vf_abs vf_gt vf_lt vf_sel(m, a, b)
  *   vm_and vm_bits (bit i: lane i set)
- *   vi_load vi_set1 vi_add vi_sub vi_mul vi_and vi_or vi_srl(x, n) vi_lt vi_sel vf_from_vi vi_trunc vf_floor
+ *   vi_load vi_store vi_set1 vi_add vi_sub vi_mul vi_and vi_or vi_srl(x, n) vi_lt vi_sel vf_from_vi vi_trunc vf_floor
  *   vf_as_vi vi_as_vf vf_gather(base, index) vi_gather(base, index)
  * Every float operation is the IEEE one, rounded once, in the order of the scalar twin (shade_packet.c): the
  * kernel is that code, lane-parallel, so the results are the same bits. Steps that branch per lane on data
@@ -165,24 +165,47 @@ static void k_sample(const hz_shade_ctx_t *c, const int32_t *tex, uint32_t lanes
     const hz_scene_t *s = c->scene;
     float su[KL] HZ_ALIGNED(32), sv[KL] HZ_ALIGNED(32);
     int32_t first[KL] HZ_ALIGNED(32), w[KL] HZ_ALIGNED(32), h[KL] HZ_ALIGNED(32), on[KL] HZ_ALIGNED(32);
+    int32_t level[KL] HZ_ALIGNED(32);
     vf_store(su, tu), vf_store(sv, tv);
-    uint32_t gather = 0;
-    hz_shade_level_memo_t memo;
-    hz_shade_level_memo_init(&memo);
     for (uint32_t i = 0; i < KL; i++) {
         first[i] = 0, w[i] = h[i] = 1, on[i] = 0;
         rgba[0][i] = rgba[1][i] = rgba[2][i] = rgba[3][i] = 1.0f;
-        if (!(lanes >> i & 1u))
+    }
+    /* Lanes with a texture and finite coordinates (hz_texture_usable; the others read the constant 1), a
+     * texture at a time: its levels once, each lane's level lane-parallel (hz_texture_level_of: lod + 0.5 where
+     * finite, else 0; 0 at or below 0, else truncated after the min with the top level). */
+    const uint32_t finite_uv = vm_bits(vm_and(k_finite(tu), k_finite(tv)));
+    const vf lod_lanes = vf_load(lod_base);
+    uint32_t gather = 0, todo = HZ_FEATURE_TEXTURES ? lanes : 0u;
+    while (todo) {
+        const int32_t t = tex[__builtin_ctz(todo)];
+        uint32_t same = 0;
+        for (uint32_t i = 0; i < KL; i++)
+            same |= (uint32_t)(tex[i] == t) << i;
+        same &= todo;
+        todo &= ~same;
+        if (t < 0 || (uint32_t)t >= s->texture_count || !(same &= finite_uv))
             continue;
-        int k = hz_shade_lane_level(c, &memo, tex[i], su[i], sv[i], lod_base[i], &first[i], &w[i], &h[i]);
-        if (k == HZ_SHADE_TEX_GATHER) {
-            on[i] = -1, gather |= 1u << i;
-        } else if (k == HZ_SHADE_TEX_FAR) {
+        hz_shade_levels_t lv;
+        hz_shade_levels_of(s, t, &lv);
+        const vf lod = vf_add(lod_lanes, vf_set1(lv.size_term));
+        const vf l = vf_sel(k_finite(lod), vf_add(lod, vf_set1(0.5f)), vf_set1(0.0f));
+        const vf top = vf_set1((float)lv.top);
+        const vi lvl = vi_trunc(vf_sel(vf_lt(l, top), l, top));
+        vi_store(level, vi_sel(vf_gt(l, vf_set1(0.0f)), lvl, vi_set1(0)));
+        for (uint32_t m = same; m; m &= m - 1u) {
+            const uint32_t i = (uint32_t)__builtin_ctz(m);
+            const int32_t k = level[i];
+            if (!(lv.far >> k & 1u)) {
+                first[i] = lv.first[k], w[i] = lv.w[k], h[i] = lv.h[k];
+                on[i] = -1, gather |= 1u << i;
+                continue;
+            }
             float px[4], gi[4];
             const float *gl = NULL; /* g is read only in the footprint's lanes */
             if (foot >> i & 1u)
                 gi[0] = g[0][i], gi[1] = g[1][i], gi[2] = g[2][i], gi[3] = g[3][i], gl = gi;
-            hz_shade_sample_lane(s, tex[i], su[i], sv[i], lod_base[i], gl, px);
+            hz_shade_sample_lane(s, t, su[i], sv[i], lod_base[i], gl, px);
             rgba[0][i] = px[0], rgba[1][i] = px[1], rgba[2][i] = px[2], rgba[3][i] = px[3];
         }
     }

@@ -137,41 +137,24 @@ void hz_shade_sample_lane(const hz_scene_t *s, int32_t tex, float tu, float tv, 
         hz_texture_sample(s, tex, tu, tv, lod, rgba);
 }
 
-void hz_shade_level_memo_init(hz_shade_level_memo_t *m)
+void hz_shade_levels_of(const hz_scene_t *s, int32_t tex, hz_shade_levels_t *lv)
 {
-    m->tex = -1;
-    m->size_term = 0.0f;
-    m->level = UINT32_MAX;
-    m->kind = HZ_SHADE_TEX_ONE;
-    m->first = 0, m->w = m->h = 1;
-}
-
-int hz_shade_lane_level(const hz_shade_ctx_t *c, hz_shade_level_memo_t *memo, int32_t tex, float tu, float tv,
-                        float lod_base, int32_t *first, int32_t *w, int32_t *h)
-{
-    const hz_scene_t *s = c->scene;
-    if (!HZ_FEATURE_TEXTURES || !hz_texture_usable(s, tex, tu, tv)) /* never asked without textures */
-        return HZ_SHADE_TEX_ONE;
     const hz_texture_t *tx = &s->textures[tex];
-    if (memo->tex != tex) {
-        memo->tex = tex;
-        memo->size_term = 0.5f * hz_log2_approx((float)tx->width * (float)tx->height);
-        memo->level = UINT32_MAX;
+    lv->size_term = 0.5f * hz_log2_approx((float)tx->width * (float)tx->height);
+    lv->top = (int32_t)tx->levels - 1; /* 1..32 levels (the loader checks them against the size) */
+    lv->far = 0;
+    size_t f = tx->first_texel;
+    uint32_t lw = tx->width, lh = tx->height;
+    for (uint32_t l = 0; l < tx->levels && l < HZ_SHADE_MAX_LEVELS; l++) {
+        /* hz_texture_level_first's walk, every level kept */
+        const bool far = f + (size_t)lw * lh > 0x7fffffffu;
+        lv->far |= (uint32_t)far << l;
+        lv->first[l] = far ? 0 : (int32_t)f;
+        lv->w[l] = (int32_t)lw, lv->h[l] = (int32_t)lh;
+        f += (size_t)lw * lh;
+        lw = lw > 1 ? lw / 2 : 1;
+        lh = lh > 1 ? lh / 2 : 1;
     }
-    /* the same sum as hz_texture_sample's lod_base + 0.5 log2(area), its product computed once */
-    uint32_t level = hz_texture_level_of(tx, lod_base + memo->size_term);
-    if (level != memo->level) {
-        uint32_t lw, lh;
-        size_t f = hz_texture_level_first(tx, level, &lw, &lh);
-        memo->level = level;
-        memo->kind = f + (size_t)lw * lh > 0x7fffffffu ? HZ_SHADE_TEX_FAR : HZ_SHADE_TEX_GATHER;
-        memo->first = memo->kind == HZ_SHADE_TEX_GATHER ? (int32_t)f : 0;
-        memo->w = (int32_t)lw, memo->h = (int32_t)lh;
-    }
-    if (memo->kind == HZ_SHADE_TEX_FAR)
-        return HZ_SHADE_TEX_FAR;
-    *first = memo->first, *w = memo->w, *h = memo->h;
-    return HZ_SHADE_TEX_GATHER;
 }
 
 /* One lane, exactly as the renderer shaded a hit before packets (the oracle of the SIMD kernels). */
