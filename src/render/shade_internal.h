@@ -30,10 +30,11 @@ void hz_shade_lane_material(const hz_shade_ctx_t *c, const hz_shade_in_t *in, ui
  * term: HZ_SHADE_TEX_GATHER with its first texel and size; HZ_SHADE_TEX_ONE when the sample is the constant 1
  * (no such texture, non-finite uv); HZ_SHADE_TEX_FAR when its texels lie beyond a 32-bit gather index (the
  * lane then samples with hz_texture_sample). */
-/* Every mip level of texture tex as the packet kernels read it (hz_shade_levels_of): the level hz_texture_sample
- * filters at level of detail lod_base + size_term is hz_texture_level_of's, lod_base lane by lane; level l's
- * texels start at first[l] and are w[l] x h[l]; bit l of `far` says they lie beyond a 32-bit gather index (such a
- * lane samples with hz_shade_sample_lane). One walk down the mip chain per texture and packet, so that the lanes
+/* The mip levels of texture tex as the packet kernels read them: the level hz_texture_sample filters at level of
+ * detail lod_base + size_term is hz_texture_level_of's, lod_base lane by lane (hz_shade_levels_head gives
+ * size_term and top); hz_shade_levels_walk then walks the mip chain down to the deepest level the lanes need:
+ * level l's texels start at first[l] and are w[l] x h[l], and bit l of `far` says they lie beyond a 32-bit
+ * gather index (such a lane samples with hz_shade_sample_lane). Once per texture and packet, so that the lanes
  * of one texture take their levels lane-parallel. It holds values, never pointers into a frame. */
 #define HZ_SHADE_MAX_LEVELS 32 /* a texture's levels: 1 + log2 of a 32-bit side at most */
 typedef struct hz_shade_levels {
@@ -42,8 +43,9 @@ typedef struct hz_shade_levels {
     uint32_t far;
     int32_t first[HZ_SHADE_MAX_LEVELS], w[HZ_SHADE_MAX_LEVELS], h[HZ_SHADE_MAX_LEVELS];
 } hz_shade_levels_t;
-/* tex must name a texture of s (0 <= tex < texture_count). */
-void hz_shade_levels_of(const hz_scene_t *s, int32_t tex, hz_shade_levels_t *lv);
+/* tex must name a texture of s (0 <= tex < texture_count); upto <= top. */
+void hz_shade_levels_head(const hz_scene_t *s, int32_t tex, hz_shade_levels_t *lv);
+void hz_shade_levels_walk(const hz_scene_t *s, int32_t tex, int32_t upto, hz_shade_levels_t *lv);
 
 /* Texture filtering over the pixel (hz_shade_ctx_t.footprint). hz_shade_footprint_lane: lane i's change of
  * texture coordinates per pixel step, g = { du/dx, du/dy, dv/dx, dv/dy }, for the triangle p[] (at the ray's

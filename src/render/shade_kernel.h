@@ -187,12 +187,16 @@ static void k_sample(const hz_shade_ctx_t *c, const int32_t *tex, uint32_t lanes
         if (t < 0 || (uint32_t)t >= s->texture_count || !(same &= finite_uv))
             continue;
         hz_shade_levels_t lv;
-        hz_shade_levels_of(s, t, &lv);
+        hz_shade_levels_head(s, t, &lv);
         const vf lod = vf_add(lod_lanes, vf_set1(lv.size_term));
         const vf l = vf_sel(k_finite(lod), vf_add(lod, vf_set1(0.5f)), vf_set1(0.0f));
         const vf top = vf_set1((float)lv.top);
         const vi lvl = vi_trunc(vf_sel(vf_lt(l, top), l, top));
         vi_store(level, vi_sel(vf_gt(l, vf_set1(0.0f)), lvl, vi_set1(0)));
+        int32_t deepest = 0;
+        for (uint32_t m = same; m; m &= m - 1u)
+            deepest = level[__builtin_ctz(m)] > deepest ? level[__builtin_ctz(m)] : deepest;
+        hz_shade_levels_walk(s, t, deepest, &lv);
         for (uint32_t m = same; m; m &= m - 1u) {
             const uint32_t i = (uint32_t)__builtin_ctz(m);
             const int32_t k = level[i];

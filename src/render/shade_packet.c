@@ -137,16 +137,21 @@ void hz_shade_sample_lane(const hz_scene_t *s, int32_t tex, float tu, float tv, 
         hz_texture_sample(s, tex, tu, tv, lod, rgba);
 }
 
-void hz_shade_levels_of(const hz_scene_t *s, int32_t tex, hz_shade_levels_t *lv)
+void hz_shade_levels_head(const hz_scene_t *s, int32_t tex, hz_shade_levels_t *lv)
 {
     const hz_texture_t *tx = &s->textures[tex];
     lv->size_term = 0.5f * hz_log2_approx((float)tx->width * (float)tx->height);
     lv->top = (int32_t)tx->levels - 1; /* 1..32 levels (the loader checks them against the size) */
+}
+
+void hz_shade_levels_walk(const hz_scene_t *s, int32_t tex, int32_t upto, hz_shade_levels_t *lv)
+{
+    const hz_texture_t *tx = &s->textures[tex];
     lv->far = 0;
     size_t f = tx->first_texel;
     uint32_t lw = tx->width, lh = tx->height;
-    for (uint32_t l = 0; l < tx->levels && l < HZ_SHADE_MAX_LEVELS; l++) {
-        /* hz_texture_level_first's walk, every level kept */
+    for (int32_t l = 0; l <= upto && l < HZ_SHADE_MAX_LEVELS; l++) {
+        /* hz_texture_level_first's walk, every level on the way kept */
         const bool far = f + (size_t)lw * lh > 0x7fffffffu;
         lv->far |= (uint32_t)far << l;
         lv->first[l] = far ? 0 : (int32_t)f;
