@@ -17,7 +17,7 @@ float hz_log2_approx(float x)
 }
 
 /* i wrapped into [0, n). Bilinear's corners lie in [-1, n], where it needs no division. */
-static uint32_t wrap(int32_t i, uint32_t n)
+HZ_INLINE uint32_t wrap(int32_t i, uint32_t n)
 {
     if ((uint32_t)i < n)
         return (uint32_t)i;
@@ -36,7 +36,7 @@ typedef struct corners {
     float ax, ay;
 } corners_t;
 
-static void corners_of(uint32_t w, uint32_t h, float u, float v, corners_t *c)
+HZ_INLINE void corners_of(uint32_t w, uint32_t h, float u, float v, corners_t *c)
 {
     /* Texel centres at half-integers; keep coordinates small so float keeps its precision. */
     float fu = (u - hz_floorf(u)) * (float)w - 0.5f;
@@ -113,10 +113,10 @@ float hz_texture_alpha(const hz_scene_t *s, int32_t tex, float u, float v)
     if (!hz_texture_usable(s, tex, u, v))
         return 1.0f;
     const hz_texture_t *t = &s->textures[tex];
-    uint32_t w, h;
-    const uint8_t *base = level_data(s, t, 0, &w, &h);
+    /* level 0 starts at the texture's first texel: no walk down the mip chain */
+    const uint8_t *base = s->texels + (size_t)t->first_texel * 4;
     corners_t c;
-    corners_of(w, h, u, v, &c);
+    corners_of(t->width, t->height, u, v, &c);
     const float k = 1.0f / 255.0f;
     float a = (float)base[c.at[0] + 3] * k, b = (float)base[c.at[1] + 3] * k;
     float cc = (float)base[c.at[2] + 3] * k, d = (float)base[c.at[3] + 3] * k;
