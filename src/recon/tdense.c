@@ -175,9 +175,19 @@ void hz_tdense_put_sample(hz_tdense_t *td, size_t t, size_t p, int msaa, const f
     td->sub_jitter[t] = (int8_t)msaa;
     const float *m = (mv_reflect && td->cfg.reflect_mv) ? mv_reflect : mv;
     if (td->mv) {
-        td->mv[2 * p + 0] = hz_half_pack_signed(sanitise_motion(m[0]));
-        td->mv[2 * p + 1] = hz_half_pack_signed(sanitise_motion(m[1]));
+#ifdef HZ_TDENSE_LANES
+        const uint32_t code = hz_tdense_motion_code_lanes(m[0], m[1]);
+#else
+        const uint32_t code = hz_tdense_motion_code(m[0], m[1]);
+#endif
+        td->mv[2 * p + 0] = (uint16_t)(code & 0xffffu);
+        td->mv[2 * p + 1] = (uint16_t)(code >> 16);
     }
+}
+
+uint32_t hz_tdense_motion_code(float x, float y)
+{
+    return (uint32_t)hz_half_pack_signed(sanitise_motion(x)) | (uint32_t)hz_half_pack_signed(sanitise_motion(y)) << 16;
 }
 
 /* Whether pixel (x, y) is the one its tile traced this frame (then *tile is its tile index). */

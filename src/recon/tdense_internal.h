@@ -95,6 +95,13 @@ void hz_tdense_put_sample(hz_tdense_t *td, size_t t, size_t p, int msaa, const f
  * components into mx and my. Needs motion vectors (td->mv). */
 void hz_tdense_block_motion_lanes(const hz_tdense_t *td, uint32_t ty, uint32_t tx0, float *mx, float *my);
 
+/* A motion vector (x, y) as the compositor keeps it: each component NaN as 0, clamped to
+ * +-HZ_TDENSE_MAX_MOTION, then hz_half_pack_signed; x's code in the low 16 bits, y's in the high.
+ * hz_tdense_motion_code_lanes (tdense_lanes.c, AVX2 and NEON boards): the same bits by the ISA's conversion,
+ * for the put of every traced sample. */
+uint32_t hz_tdense_motion_code(float x, float y);
+uint32_t hz_tdense_motion_code_lanes(float x, float y);
+
 /* Pixel row y with lanes (defined in tdense_lanes.c on AVX2 and NEON boards). */
 void hz_tdense_resolve_row_lanes(hz_tdense_t *td, uint32_t y, unsigned subframe, const uint16_t *prev,
                                  uint16_t *cur);

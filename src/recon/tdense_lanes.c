@@ -422,6 +422,24 @@ void hz_tdense_resolve_row_lanes(hz_tdense_t *td, uint32_t y, unsigned subframe,
     }
 }
 
+/* Both components in lanes 0 and 1: sanitise_motion (NaN as 0: an unordered lane fails the equality; the clamp
+ * as hz_clampf on ordered values), then hz_half_pack_signed: the magnitude's code (hz_lanes_half_pack, the
+ * conversion instruction where the board has one) with the sign bit where the value is negative and its code
+ * is not 0 (no -0 code). */
+uint32_t hz_tdense_motion_code_lanes(float x, float y)
+{
+    float in[HZ_LANES] HZ_ALIGNED(32) = { 0.0f };
+    int32_t code[HZ_LANES] HZ_ALIGNED(32);
+    in[0] = x, in[1] = y;
+    hz_lf_t v = hz_lf_load(in);
+    v = hz_lf_sel(hz_lf_eq(v, v), v, hz_lf_set(0.0f));
+    v = hz_lf_clamp(v, hz_lf_set(-HZ_TDENSE_MAX_MOTION), hz_lf_set(HZ_TDENSE_MAX_MOTION));
+    const hz_li_t mag = hz_lanes_half_pack(hz_lf_abs(v));
+    const hz_li_t neg = hz_li_andnot(hz_lf_lt(v, hz_lf_set(0.0f)), hz_li_eq(mag, hz_li_set(0)));
+    hz_li_store(code, hz_li_or(mag, hz_li_and(neg, hz_li_set(0x8000))));
+    return (uint32_t)code[0] | (uint32_t)code[1] << 16;
+}
+
 /* Rows and columns outside the image are clamped onto its edge: the clamped rectangle of longest_in visited
  * with its edge row or column repeated, and a repeat right after the original changes nothing (longer keeps
  * the first of equals). */

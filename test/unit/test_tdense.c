@@ -11,6 +11,7 @@
 #include <string.h>
 
 #include "hz/hash.h"
+#include "hz/pack.h"
 #include "hz/tdense.h"
 #include "hz/vmath.h"
 #include "../../src/recon/tdense_internal.h" /* hz_tdense_ghat */
@@ -669,6 +670,47 @@ static void test_lanes_match_scalar(void **state)
     }
 }
 
+/* The put's motion codes by the board's conversion (hz_tdense_motion_code_lanes) against the scalar codec
+ * (hz_tdense_motion_code: sanitise, then hz/pack.h's hz_half_pack_signed) on every class of float: NaNs of both
+ * signs, infinities, +-0, the clamp at +-HZ_TDENSE_MAX_MOTION and just inside it, subnormal halves and the
+ * ties of their rounding, the underflow edge at 2^-25, random bit patterns and random motions. Where the board
+ * has no lanes the scalar codec is all there is; the test then checks it against hz_half_pack_signed. */
+static void test_motion_code_lanes_matches_scalar(void **state)
+{
+    (void)state;
+    static const float special[] = { 0.0f, -0.0f, INFINITY, -INFINITY, NAN, -NAN, 16384.0f, -16384.0f,
+                                     16385.0f, -70000.0f, 16383.99f, 65504.0f, 0x1p-24f, -0x1p-24f, 0x1p-25f,
+                                     -0x1p-25f, 0x1.8p-25f, 0x1p-26f, 0x1.8p-24f, -0x1.8p-24f, 0x1.4p-23f,
+                                     0x1p-14f, 0x1.ffcp-15f, 1.0f + 0x1p-11f, 1.0f + 0x1.8p-10f, -1.0f - 0x1p-11f };
+    const uint32_t n = HZ_EMULATED_LESS(2000000u, 200000u), ns = (uint32_t)HZ_ARRAY_LEN(special);
+    hz_rng_t rng;
+    hz_rng_seed(&rng, 12, 7);
+    uint32_t checked = 0;
+    for (uint32_t i = 0; i < n + ns * ns; i++) {
+        float x, y;
+        if (i < ns * ns) {
+            x = special[i % ns], y = special[i / ns];
+        } else if (i & 1u) {
+            uint32_t a = hz_rng_u32(&rng), b = hz_rng_u32(&rng);
+            memcpy(&x, &a, 4), memcpy(&y, &b, 4);
+        } else {
+            x = ((float)hz_rng_below(&rng, 1u << 20) - 524288.0f) * (1.0f / 1024.0f);
+            y = ((float)hz_rng_below(&rng, 1u << 20) - 524288.0f) * (1.0f / 65536.0f);
+        }
+        const uint32_t want = hz_tdense_motion_code(x, y);
+        const float cx = isnan(x) ? 0.0f : x < -HZ_TDENSE_MAX_MOTION ? -HZ_TDENSE_MAX_MOTION
+                                           : x > HZ_TDENSE_MAX_MOTION ? HZ_TDENSE_MAX_MOTION : x;
+        assert_int_equal(want & 0xffffu, hz_half_pack_signed(cx));
+#ifdef HZ_TDENSE_LANES
+        const uint32_t got = hz_tdense_motion_code_lanes(x, y);
+        if (got != want)
+            fail_msg("motion (%a, %a): lanes %08x, scalar %08x", (double)x, (double)y, got, want);
+#endif
+        checked++;
+    }
+    printf("# motion codes: %u pairs checked\n", checked);
+}
+
 /* The resolve's ĝ (hz_tdense_ghat: double precision where certain, tdense_ghat.c) against the exact integer ĝ
  * (hz_tileorder_ghat, itself held to an independent oracle by test_tileorder) on every rule: random motions of a
  * few pixels and of every scale, motions built to land within a few units of the band edges (the angle at
@@ -758,6 +800,7 @@ int main(void)
         cmocka_unit_test(test_bad_motion_and_first_frame),
         cmocka_unit_test(test_init_errors),
         cmocka_unit_test(test_lanes_match_scalar),
+        cmocka_unit_test(test_motion_code_lanes_matches_scalar),
         cmocka_unit_test(test_ghat_fast_matches_exact),
     };
     return HZ_RUN(tests);
