@@ -705,10 +705,18 @@ static uint32_t shade_camera_hits(hz_worker_t *w, const ray_job_t *jobs, const h
                                   const hz_shade_out_t *so, uint32_t hits_mask,
                                   const float (*still_mv)[HZ_SHADE_LANES], casts_t *cs)
 {
+    enum { L = HZ_RENDER_LANES };
     struct hz_renderer *r = w->r;
     const hz_scene_t *s = r->scene;
-    float kd[3][HZ_RENDER_LANES];
-    uint32_t taken = 0, lit = 0, rr = 0; /* lanes shaded here; that light and cast; whose casts take the roulette */
+    /* The job fields and the factors the weights need, lane by lane; then the weights in whole-packet loops
+     * without branches (the compiler makes them vector operations: the same IEEE operations in the same order
+     * as the per-hit code, lanes the packet does not shade computed and left unread). */
+    float jw[3][L] HZ_ALIGNED(32), jvis[L] HZ_ALIGNED(32), ja[L] HZ_ALIGNED(32), dif[L] HZ_ALIGNED(32);
+    float kd[3][L] HZ_ALIGNED(32);
+    uint32_t taken = 0, named = 0, rr = 0; /* lanes shaded here; those a G-buffer slot names; roulette casts */
+    for (uint32_t i = 0; i < L; i++) {
+        jw[0][i] = jw[1][i] = jw[2][i] = jvis[i] = ja[i] = dif[i] = 0.0f;
+    }
     for (uint32_t m = hits_mask; m; m &= m - 1u) {
         const uint32_t i = (uint32_t)__builtin_ctz(m);
         const ray_job_t *j = &jobs[i];
@@ -719,6 +727,8 @@ static uint32_t shade_camera_hits(hz_worker_t *w, const ray_job_t *jobs, const h
         if (j->bounces || j->layers || mirror > 0.0f || a < 1.0f)
             continue; /* a reflection, a continuation ray, a mirror or a blended layer: shade_hit's */
         taken |= 1u << i;
+        named |= (uint32_t)(j->gslot != GSLOT_NONE) << i;
+        rr |= (uint32_t)(j->dither && r->f.opts.rr_shadows) << i;
         if (j->gslot == GSLOT_PRIMARY) {
             const uint8_t flags = (uint8_t)(HZ_GB_HIT | (so->textured[i] ? HZ_GB_TEXTURED : 0) |
                                             (w->alpha_touched[j->slot] || mat->alpha_mode != HZ_ALPHA_OPAQUE ? HZ_GB_ALPHA : 0));
@@ -728,15 +738,21 @@ static uint32_t shade_camera_hits(hz_worker_t *w, const ray_job_t *jobs, const h
             if (r->f.gb.object2)
                 no_reflection(&r->f.gb, w->b.pixel[j->slot]);
         }
-        const float diffuse = 1.0f - mirror;
-        float wc[3];
-        for (int ch = 0; ch < 3; ch++) {
-            wc[ch] = j->w[ch] * j->vis * a;
-            kd[ch][i] = wc[ch] * diffuse * so->albedo[ch][i];
+        jw[0][i] = j->w[0], jw[1][i] = j->w[1], jw[2][i] = j->w[2];
+        jvis[i] = j->vis, ja[i] = a, dif[i] = 1.0f - mirror;
+    }
+    if (!taken)
+        return 0;
+    /* wc = w vis a, kd = wc (1 - mirror) albedo; lit where some wc > 0 or the ray names a G-buffer slot */
+    uint32_t lit = named & taken;
+    for (int ch = 0; ch < 3; ch++) {
+        float wc[L] HZ_ALIGNED(32);
+        for (uint32_t i = 0; i < L; i++) {
+            wc[i] = jw[ch][i] * jvis[i] * ja[i];
+            kd[ch][i] = wc[i] * dif[i] * so->albedo[ch][i];
         }
-        if (wc[0] > 0.0f || wc[1] > 0.0f || wc[2] > 0.0f || j->gslot != GSLOT_NONE)
-            lit |= 1u << i;
-        rr |= (uint32_t)(j->dither && r->f.opts.rr_shadows) << i;
+        for (uint32_t i = 0; i < L; i++)
+            lit |= (uint32_t)(wc[i] > 0.0f) << i & taken;
     }
     const float *amb = s->header->ambient;
     for (uint32_t m = lit; m; m &= m - 1u) {
@@ -753,14 +769,14 @@ static uint32_t shade_camera_hits(hz_worker_t *w, const ray_job_t *jobs, const h
             if (jobs[i].gslot != GSLOT_NONE)
                 count_blocked(w, jobs[i].slot, jobs[i].gslot);
         }
+        if (!cast)
+            continue;
         cs->mask[l] |= cast;
         cs->dither[l] |= cast & rr;
-        /* lane by lane: kd was stored lane by lane, and a vector load of it waited for those stores to retire */
-        for (uint32_t m = cast; m; m &= m - 1u) {
-            const uint32_t i = (uint32_t)__builtin_ctz(m);
-            for (int ch = 0; ch < 3; ch++)
+        /* every lane: the lanes of `cast` are read; shade_hit, which runs after, writes its own */
+        for (int ch = 0; ch < 3; ch++)
+            for (uint32_t i = 0; i < L; i++)
                 cs->wt[l][ch][i] = kd[ch][i] * col[ch] * k[i];
-        }
     }
     return taken;
 }
