@@ -428,16 +428,14 @@ void hz_tdense_resolve_row_lanes(hz_tdense_t *td, uint32_t y, unsigned subframe,
  * is not 0 (no -0 code). */
 uint32_t hz_tdense_motion_code_lanes(float x, float y)
 {
-    float in[HZ_LANES] HZ_ALIGNED(32) = { 0.0f };
-    int32_t code[HZ_LANES] HZ_ALIGNED(32);
-    in[0] = x, in[1] = y;
-    hz_lf_t v = hz_lf_load(in);
+    /* x in lane 0, y in the others: built in registers (scalar stores read back as one vector would stall) */
+    hz_lf_t v = hz_lf_sel(hz_li_eq(hz_li_iota(), hz_li_set(0)), hz_lf_set(x), hz_lf_set(y));
     v = hz_lf_sel(hz_lf_eq(v, v), v, hz_lf_set(0.0f));
     v = hz_lf_clamp(v, hz_lf_set(-HZ_TDENSE_MAX_MOTION), hz_lf_set(HZ_TDENSE_MAX_MOTION));
     const hz_li_t mag = hz_lanes_half_pack(hz_lf_abs(v));
     const hz_li_t neg = hz_li_andnot(hz_lf_lt(v, hz_lf_set(0.0f)), hz_li_eq(mag, hz_li_set(0)));
-    hz_li_store(code, hz_li_or(mag, hz_li_and(neg, hz_li_set(0x8000))));
-    return (uint32_t)code[0] | (uint32_t)code[1] << 16;
+    const hz_li_t code = hz_li_or(mag, hz_li_and(neg, hz_li_set(0x8000)));
+    return (uint32_t)hz_li_first(code) | (uint32_t)hz_li_first(hz_li_perm(code, hz_li_set(1))) << 16;
 }
 
 /* Rows and columns outside the image are clamped onto its edge: the clamped rectangle of longest_in visited
