@@ -26,10 +26,6 @@ void hz_shade_fetch_scalar(const hz_shade_ctx_t *c, const hz_shade_in_t *in, uin
 /* Lane i's untextured albedo and opacity (tu = tv = 0, not textured) and which textures it reads. */
 void hz_shade_lane_material(const hz_shade_ctx_t *c, const hz_shade_in_t *in, uint32_t i, hz_shade_out_t *o,
                             hz_shade_lane_tex_t *lt);
-/* The level hz_texture_sample would filter for texture tex at (tu, tv), lod_base plus the texture's own size
- * term: HZ_SHADE_TEX_GATHER with its first texel and size; HZ_SHADE_TEX_ONE when the sample is the constant 1
- * (no such texture, non-finite uv); HZ_SHADE_TEX_FAR when its texels lie beyond a 32-bit gather index (the
- * lane then samples with hz_texture_sample). */
 /* The mip levels of texture tex as the packet kernels read them: the level hz_texture_sample filters at level of
  * detail lod_base + size_term is hz_texture_level_of's, lod_base lane by lane (hz_shade_levels_head gives
  * size_term and top); hz_shade_levels_walk then walks the mip chain down to the deepest level the lanes need:

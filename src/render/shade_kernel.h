@@ -4,11 +4,12 @@
  *   vf (floats), vi (int32), vm (lane masks);
  *   vf_load vf_store vf_set1 vf_add vf_sub vf_mul vf_div vf_sqrt vf_abs vf_gt vf_lt vf_sel(m, a, b)
  *   vm_and vm_bits (bit i: lane i set)
- *   vi_load vi_store vi_set1 vi_add vi_sub vi_mul vi_and vi_or vi_srl(x, n) vi_lt vi_sel vf_from_vi vi_trunc vf_floor
- *   vf_as_vi vi_as_vf vf_gather(base, index) vi_gather(base, index)
+ *   vi_load vi_store vi_set1 vi_add vi_sub vi_mul vi_and vi_or vi_srl(x, n) vi_lt vi_sel vf_from_vi vi_trunc
+ *   vf_floor vf_as_vi vi_as_vf vf_gather(base, index) vi_gather(base, index)
  * Every float operation is the IEEE one, rounded once, in the order of the scalar twin (shade_packet.c): the
  * kernel is that code, lane-parallel, so the results are the same bits. Steps that branch per lane on data
- * (pose keys, the material, the mip level) run per lane through the shared helpers of shade_internal.h.
+ * (pose keys, the material) run per lane through the shared helpers of shade_internal.h; a texture's mip
+ * levels are walked once per packet there, and each lane's level is chosen lane-parallel.
  */
 #ifndef HZ_SHADE_KERNEL_H
 #define HZ_SHADE_KERNEL_H
