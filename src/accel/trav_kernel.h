@@ -389,6 +389,8 @@ HZ_INLINE void closest_static(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, hz_bvh_r
         closest_core(bvh, ctx, r, s, start, best, ray_id, lane, k, false, false);
 }
 
+/* closest_static out of line: the packet and tile kernels call it for lanes that go on alone (a copy inlined at
+ * each of their call sites would only grow them). */
 static void closest_from(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, hz_bvh_ray_t *r, const sray_t *s,
                          uint32_t start, hz_bvh_best_t *best, uint32_t ray_id, int lane, hz_bvh_counters_t *k)
 {
@@ -488,6 +490,7 @@ HZ_INLINE bool any_static(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const hz_bvh
                     : any_core(bvh, ctx, r, s, start, ray_id, lane, k, false, false);
 }
 
+/* any_static out of line, for the same callers. */
 static bool any_from(const hz_bvh_t *bvh, hz_accel_ctx_t *ctx, const hz_bvh_ray_t *r, const sray_t *s,
                      uint32_t start, uint32_t ray_id, int lane, hz_bvh_counters_t *k)
 {

@@ -183,6 +183,14 @@ HZ_INLINE uint32_t hz_texture_level_of(const hz_texture_t *t, float lod)
     return l <= 0.0f ? 0u : (uint32_t)hz_minf(l, (float)(t->levels - 1));
 }
 size_t hz_texture_level_first(const hz_texture_t *t, uint32_t level, uint32_t *w, uint32_t *h);
+/* One step down a texture's mip chain: the next level starts after this one's texels and halves each side (down
+ * to 1). hz_texture_level_first and the packet kernels' level walk both take their levels from it. */
+HZ_INLINE void hz_texture_level_next(size_t *first, uint32_t *w, uint32_t *h)
+{
+    *first += (size_t)*w * *h;
+    *w = *w > 1 ? *w / 2 : 1;
+    *h = *h > 1 ? *h / 2 : 1;
+}
 
 /* trace.c (hz_render_trace in mode.h is its entry) */
 /* Slot -> pixel of tile `tile`, ordered so that consecutive HZ_RENDER_LANES slots form compact packets. */

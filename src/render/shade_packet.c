@@ -156,9 +156,7 @@ void hz_shade_levels_walk(const hz_scene_t *s, int32_t tex, int32_t upto, hz_sha
         lv->far |= (uint32_t)far << l;
         lv->first[l] = far ? 0 : (int32_t)f;
         lv->w[l] = (int32_t)lw, lv->h[l] = (int32_t)lh;
-        f += (size_t)lw * lh;
-        lw = lw > 1 ? lw / 2 : 1;
-        lh = lh > 1 ? lh / 2 : 1;
+        hz_texture_level_next(&f, &lw, &lh);
     }
 }
 

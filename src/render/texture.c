@@ -68,11 +68,8 @@ size_t hz_texture_level_first(const hz_texture_t *t, uint32_t level, uint32_t *w
 {
     size_t first = t->first_texel;
     uint32_t lw = t->width, lh = t->height;
-    for (uint32_t l = 0; l < level; l++) {
-        first += (size_t)lw * lh;
-        lw = lw > 1 ? lw / 2 : 1;
-        lh = lh > 1 ? lh / 2 : 1;
-    }
+    for (uint32_t l = 0; l < level; l++)
+        hz_texture_level_next(&first, &lw, &lh);
     *w = lw;
     *h = lh;
     return first;
