@@ -64,13 +64,13 @@ void hz_view_ray_dirs(const hz_view_t *v, const float *x, const float *y, float 
     }
 }
 
-void hz_view_still_motion_lanes(const hz_view_t *cur, const hz_view_t *prev, const float *px, const float *py,
-                                const float *pz, float *mx, float *my)
+void hz_view_motion_lanes(const hz_view_t *cur, const hz_view_t *prev, const float *const p[3],
+                          const float *const pp[3], float *mx, float *my)
 {
     for (uint32_t i = 0; i < HZ_SHADE_LANES; i++) {
         float m[2];
-        hz_vec3_t p = hz_v3(px[i], py[i], pz[i]);
-        hz_view_point_motion(cur, prev, &p, &p, m);
+        hz_vec3_t a = hz_v3(p[0][i], p[1][i], p[2][i]), b = hz_v3(pp[0][i], pp[1][i], pp[2][i]);
+        hz_view_point_motion(cur, prev, &a, &b, m);
         mx[i] = m[0], my[i] = m[1];
     }
 }

@@ -1,6 +1,6 @@
 /* The camera's per-ray work in SIMD lanes (src/core/lanes.h), for every camera packet of a frame:
- * hz_view_ray_dirs, the rays' directions, and hz_view_still_motion_lanes, the motion vectors of a packet's primary
- * hits on geometry that does not move (render_internal.h). Each lane does the scalar code's operations in its
+ * hz_view_ray_dirs, the rays' directions, and hz_view_motion_lanes, the motion vectors of a packet's primary
+ * hits (render_internal.h). Each lane does the scalar code's operations in its
  * order (no FMA, correctly rounded division and square root), so the results are hz_view_ray_dir's and
  * hz_view_point_motion's bits; test_shade compares them. */
 #include "../core/lanes.h"
@@ -34,15 +34,15 @@ static proj_t project(const hz_view_t *v, hz_lf_t px, hz_lf_t py, hz_lf_t pz)
     return r;
 }
 
-void hz_view_still_motion_lanes(const hz_view_t *cur, const hz_view_t *prev, const float *px, const float *py,
-                                const float *pz, float *mx, float *my)
+void hz_view_motion_lanes(const hz_view_t *cur, const hz_view_t *prev, const float *const p[3],
+                          const float *const pp[3], float *mx, float *my)
 {
-    hz_lf_t x = hz_lf_load(px), y = hz_lf_load(py), z = hz_lf_load(pz);
-    proj_t c = project(cur, x, y, z), p = project(prev, x, y, z);
-    hz_li_t ok = hz_li_and(c.ok, p.ok);
+    proj_t c = project(cur, hz_lf_load(p[0]), hz_lf_load(p[1]), hz_lf_load(p[2]));
+    proj_t q = project(prev, hz_lf_load(pp[0]), hz_lf_load(pp[1]), hz_lf_load(pp[2]));
+    hz_li_t ok = hz_li_and(c.ok, q.ok);
     const hz_lf_t far = hz_lf_set(HZ_VIEW_MV_FAR);
-    hz_lf_store(mx, hz_lf_sel(ok, hz_lf_sub(p.x, c.x), far));
-    hz_lf_store(my, hz_lf_sel(ok, hz_lf_sub(p.y, c.y), far));
+    hz_lf_store(mx, hz_lf_sel(ok, hz_lf_sub(q.x, c.x), far));
+    hz_lf_store(my, hz_lf_sel(ok, hz_lf_sub(q.y, c.y), far));
 }
 
 void hz_view_ray_dirs(const hz_view_t *v, const float *x, const float *y, float *dx, float *dy, float *dz)

@@ -159,10 +159,11 @@ bool hz_view_project(const hz_view_t *v, hz_vec3_t p, float *px, float *py);
  * wide load of them stalled on store forwarding, in the per-hit loops.) */
 void hz_view_point_motion(const hz_view_t *cur, const hz_view_t *prev, const hz_vec3_t *p, const hz_vec3_t *pp,
                           float out[2]);
-/* hz_view_point_motion of HZ_SHADE_LANES points that did not move (pp = p; 32-byte aligned arrays), with the
- * same bits in every lane: camera_lanes.c on SIMD boards, a loop over the scalar function elsewhere. */
-void hz_view_still_motion_lanes(const hz_view_t *cur, const hz_view_t *prev, const float *px, const float *py,
-                                const float *pz, float *mx, float *my);
+/* hz_view_point_motion of HZ_SHADE_LANES points, now at p and one frame ago at pp (x, y, z arrays, 32-byte
+ * aligned; pp may be p for geometry that does not move), with the same bits in every lane: camera_lanes.c on
+ * SIMD boards, a loop over the scalar function elsewhere. */
+void hz_view_motion_lanes(const hz_view_t *cur, const hz_view_t *prev, const float *const p[3],
+                          const float *const pp[3], float *mx, float *my);
 
 /* texture.c */
 /* Base colour (linear RGB) and alpha of texture t at uv, mip level from the ray-cone footprint lod. */

@@ -529,11 +529,11 @@ static void shade_miss(hz_worker_t *w, const ray_job_t *j)
 }
 
 /* The G-buffer record of a camera ray's hit (gslot PRIMARY) at pixel px: depth and normal where the mode keeps
- * them, object, flags, motion vectors (still_mv: NULL, or the packet's motion vectors of still geometry,
- * hz_view_still_motion_lanes, x then y), and for a mirror the data of its reflected hit's motion vector. */
+ * them, object, flags, motion vectors (hit_mv: NULL, or the packet's motion vectors,
+ * hz_view_motion_lanes, x then y), and for a mirror the data of its reflected hit's motion vector. */
 HZ_INLINE void primary_record(hz_worker_t *w, const ray_job_t *j, const hitrec_t *h, uint32_t px, hz_vec3_t p,
                              hz_vec3_t ns, uint16_t object, uint8_t flags, float mirror,
-                             const float (*still_mv)[HZ_SHADE_LANES], uint32_t lane)
+                             const float (*hit_mv)[HZ_SHADE_LANES], uint32_t lane)
 {
     struct hz_renderer *r = w->r;
     const hz_scene_t *s = r->scene;
@@ -548,11 +548,13 @@ HZ_INLINE void primary_record(hz_worker_t *w, const ray_job_t *j, const hitrec_t
     if (!gb->mv)
         return;
     float mv[2];
-    /* Motion vectors belong to the frame's time: with blur the hit is at the ray's time instead. Still geometry's
-     * come with the packet: pf and pp are p, needed only for mirrors. */
+    /* Motion vectors belong to the frame's time: with blur the hit is at the ray's time instead. hit_mv's come
+     * with the packet (no vertex keys: pf is p); pp is needed then only for a mirror. */
     hz_vec3_t pf = p, pp = p;
-    if (still_mv) {
-        mv[0] = still_mv[0][lane], mv[1] = still_mv[1][lane];
+    if (hit_mv) {
+        mv[0] = hit_mv[0][lane], mv[1] = hit_mv[1][lane];
+        if (mirror > 0.0f)
+            pp = prev_point(r, h->prim, h->u, h->v, p);
     } else {
         pf = HZ_RENDER_KEYS(r) ? frame_point(r, h->prim, h->u, h->v) : p;
         pp = prev_point(r, h->prim, h->u, h->v, pf);
@@ -575,9 +577,9 @@ HZ_INLINE void primary_record(hz_worker_t *w, const ray_job_t *j, const hitrec_t
     }
 }
 
-/* still_mv: NULL, or the packet's motion vectors of still geometry (hz_view_still_motion_lanes), x then y. */
+/* hit_mv: NULL, or the packet's motion vectors of its hits (hz_view_motion_lanes), x then y. */
 static void shade_hit(hz_worker_t *w, const ray_job_t *j, const hitrec_t *h, const hz_shade_ctx_t *c,
-                      const hz_shade_out_t *so, uint32_t lane, const float (*still_mv)[HZ_SHADE_LANES], casts_t *cs)
+                      const hz_shade_out_t *so, uint32_t lane, const float (*hit_mv)[HZ_SHADE_LANES], casts_t *cs)
 {
     struct hz_renderer *r = w->r;
     const hz_scene_t *s = r->scene;
@@ -592,7 +594,7 @@ static void shade_hit(hz_worker_t *w, const ray_job_t *j, const hitrec_t *h, con
         const uint8_t flags = (uint8_t)(HZ_GB_HIT | (sf.textured ? HZ_GB_TEXTURED : 0) |
                                         (mirror > 0.0f ? HZ_GB_MIRROR : 0) |
                                         (w->alpha_touched[j->slot] || m->alpha_mode != HZ_ALPHA_OPAQUE ? HZ_GB_ALPHA : 0));
-        primary_record(w, j, h, px, sf.p, sf.ns, sf.object, flags, mirror, still_mv, lane);
+        primary_record(w, j, h, px, sf.p, sf.ns, sf.object, flags, mirror, hit_mv, lane);
     } else if (j->gslot == GSLOT_SECONDARY) {
         gb->object2[px] = sf.object;
         if (gb->normal2) {
@@ -703,7 +705,7 @@ static void shade_hit(hz_worker_t *w, const ray_job_t *j, const hitrec_t *h, con
  * (scalar_shading takes shade_hit). Returns the lanes it shaded. */
 static uint32_t shade_camera_hits(hz_worker_t *w, const ray_job_t *jobs, const hitrec_t *hits,
                                   const hz_shade_out_t *so, uint32_t hits_mask,
-                                  const float (*still_mv)[HZ_SHADE_LANES], casts_t *cs)
+                                  const float (*hit_mv)[HZ_SHADE_LANES], casts_t *cs)
 {
     enum { L = HZ_RENDER_LANES };
     struct hz_renderer *r = w->r;
@@ -734,7 +736,7 @@ static uint32_t shade_camera_hits(hz_worker_t *w, const ray_job_t *jobs, const h
                                             (w->alpha_touched[j->slot] || mat->alpha_mode != HZ_ALPHA_OPAQUE ? HZ_GB_ALPHA : 0));
             primary_record(w, j, &hits[i], w->b.pixel[j->slot], hz_v3(so->px[i], so->py[i], so->pz[i]),
                            hz_v3(so->nsx[i], so->nsy[i], so->nsz[i]), (uint16_t)(info >> 16), flags, mirror,
-                           still_mv, i);
+                           hit_mv, i);
             if (r->f.gb.object2)
                 no_reflection(&r->f.gb, w->b.pixel[j->slot]);
         }
@@ -812,13 +814,25 @@ static void shade_packet(hz_worker_t *w, const ray_job_t *jobs, const hitrec_t *
         }
         (r->f.opts.scalar_shading ? hz_shade_surfaces_scalar : hz_shade_surfaces)(&c, &in, mask, &out);
     }
-    /* Primary hits on still geometry (hit point = frame point = previous point) get their motion vectors for
-     * the whole packet at once; the scalar twin (scalar_shading) keeps them per hit. */
-    float still_mv[2][HZ_SHADE_LANES] HZ_ALIGNED(32);
-    const bool still = mask && w->write_gbuffer && r->f.gb.mv && !HZ_RENDER_KEYS(r) && !r->scene->prev_pos &&
-                       !r->f.opts.scalar_shading;
-    if (still)
-        hz_view_still_motion_lanes(&r->view, &r->prev_view, out.px, out.py, out.pz, still_mv[0], still_mv[1]);
+    /* Primary hits get their motion vectors for the whole packet at once, from the hit point and, where the scene
+     * moves, the same (u, v) on the previous pose (prev_point's point, gathered lane by lane); with vertex keys a
+     * hit's frame point differs from its point, and the scalar twin (scalar_shading) keeps them per hit. */
+    float hit_mv[2][HZ_SHADE_LANES] HZ_ALIGNED(32);
+    const bool lanes_mv = mask && w->write_gbuffer && r->f.gb.mv && !HZ_RENDER_KEYS(r) && !r->f.opts.scalar_shading;
+    if (lanes_mv) {
+        const float *const p[3] = { out.px, out.py, out.pz };
+        float prev[3][HZ_SHADE_LANES] HZ_ALIGNED(32);
+        const float *const pp[3] = { prev[0], prev[1], prev[2] };
+        if (r->scene->prev_pos) {
+            for (uint32_t i = 0; i < HZ_SHADE_LANES; i++) {
+                hz_vec3_t q = hz_v3(out.px[i], out.py[i], out.pz[i]);
+                if (mask >> i & 1u && jobs[i].gslot == GSLOT_PRIMARY)
+                    q = prev_point(r, hits[i].prim, hits[i].u, hits[i].v, q);
+                prev[0][i] = q.x, prev[1][i] = q.y, prev[2][i] = q.z;
+            }
+        }
+        hz_view_motion_lanes(&r->view, &r->prev_view, p, r->scene->prev_pos ? pp : p, hit_mv[0], hit_mv[1]);
+    }
     /* the shadow rays of up to HZ_SHADE_LIGHTS lights wait in the kernel's lanes (cast_shadows) */
     casts_t cs;
     const bool cast = r->light_count <= HZ_SHADE_LIGHTS && !r->f.opts.scalar_shading; /* the twin: the queue */
@@ -827,7 +841,7 @@ static void shade_packet(hz_worker_t *w, const ray_job_t *jobs, const hitrec_t *
         for (uint32_t l = 0; l < HZ_SHADE_LIGHTS; l++)
             cs.mask[l] = cs.dither[l] = 0;
         camera = shade_camera_hits(w, jobs, hits, &out, mask,
-                                   still ? (const float(*)[HZ_SHADE_LANES])still_mv : NULL, &cs);
+                                   lanes_mv ? (const float(*)[HZ_SHADE_LANES])hit_mv : NULL, &cs);
     }
     for (uint32_t i = 0; i < n; i++) {
         const ray_job_t *j = &jobs[i];
@@ -835,7 +849,7 @@ static void shade_packet(hz_worker_t *w, const ray_job_t *jobs, const hitrec_t *
             shade_miss(w, j);
         else if (!(camera >> i & 1u))
             shade_hit(w, j, &hits[i], &c, &out, i,
-                      still && j->gslot == GSLOT_PRIMARY ? (const float(*)[HZ_SHADE_LANES])still_mv : NULL,
+                      lanes_mv && j->gslot == GSLOT_PRIMARY ? (const float(*)[HZ_SHADE_LANES])hit_mv : NULL,
                       cast ? &cs : NULL);
         if (j->dither && w->write_gbuffer && w->dither_touched[j->slot])
             w->r->f.gb.flags[w->b.pixel[j->slot]] |= HZ_GB_DITHER; /* the opacity mask TAA reads */

@@ -1,8 +1,8 @@
 /* Packet surfaces (src/render/shade.h): the board's SIMD kernel against its scalar twin, bit for bit, on real hits —
  * random rays from inside the bounds of baked scenes (textured Sponza, blended, cutout and
  * alpha-textured materials, a mirror box, the built-in scene, pose keys at random ray times), packets with some
- * lanes empty, and lanes with extreme ray cones and non-finite barycentrics. Also the motion vectors of still
- * geometry in lanes (hz_view_still_motion_lanes) against hz_view_point_motion, and the any-hit tests' texture alpha
+ * lanes empty, and lanes with extreme ray cones and non-finite barycentrics. Also the motion vectors of hits
+ * in lanes (hz_view_motion_lanes), on still and moving points, against hz_view_point_motion, and the any-hit tests' texture alpha
  * against an oracle.
  * hz-test: no-vm (heavy under system emulation, runs under qemu-user)
  */
@@ -457,18 +457,19 @@ static void test_pose_keys(void **state)
 }
 
 /* Random camera pairs (near each other, as consecutive frames are, and far apart) and points in front of, beside,
- * behind and on the eye plane of either camera, with huge, tiny and non-finite coordinates: every lane's motion
- * vector has the bits of the scalar function's, and every kind of point occurs. */
+ * behind and on the eye plane of either camera, with huge, tiny and non-finite coordinates, still or moved (a
+ * little, a lot, to a special point): every lane's motion vector has the bits of the scalar function's, and every
+ * kind of point occurs. */
 static float rnd(uint32_t *st, float lo, float hi)
 {
     *st = hz_hash32(*st + 0x9e3779b9u);
     return lo + (hi - lo) * (float)(*st >> 8) * (1.0f / 16777216.0f);
 }
 
-static void test_still_motion_lanes(void **state)
+static void test_motion_lanes(void **state)
 {
     (void)state;
-    uint32_t st = 7, seen = 0, far = 0, special = 0;
+    uint32_t st = 7, seen = 0, far = 0, special = 0, moved = 0;
     for (int round = 0; round < 4000; round++) {
         hz_camera_t a, b;
         a.eye = hz_v3(rnd(&st, -50, 50), rnd(&st, -50, 50), rnd(&st, -50, 50));
@@ -486,6 +487,7 @@ static void test_still_motion_lanes(void **state)
         hz_view_setup(&cur, &a, w, h);
         hz_view_setup(&prev, &b, w, h);
         float px[HZ_SHADE_LANES] HZ_ALIGNED(32), py[HZ_SHADE_LANES] HZ_ALIGNED(32), pz[HZ_SHADE_LANES] HZ_ALIGNED(32);
+        float qx[HZ_SHADE_LANES] HZ_ALIGNED(32), qy[HZ_SHADE_LANES] HZ_ALIGNED(32), qz[HZ_SHADE_LANES] HZ_ALIGNED(32);
         for (int i = 0; i < HZ_SHADE_LANES; i++) {
             hz_vec3_t d = hz_v3(rnd(&st, -1, 1), rnd(&st, -1, 1), rnd(&st, -1, 1));
             hz_vec3_t p = hz_v3_add(a.eye, hz_v3_scale(d, rnd(&st, 0, round % 3 ? 100.0f : 1e-3f)));
@@ -500,25 +502,41 @@ static void test_still_motion_lanes(void **state)
             }
             special += (round + i) % 16 < 6;
             px[i] = p.x, py[i] = p.y, pz[i] = p.z;
+            /* where the point moved: by a little or a lot, or to one of the special points of another lane */
+            hz_vec3_t q = p;
+            if (round % 2) {
+                float move = round % 6 == 1 ? 20.0f : 0.1f;
+                q = hz_v3_add(p, hz_v3(rnd(&st, -move, move), rnd(&st, -move, move), rnd(&st, -move, move)));
+                switch ((round / 2 + 3 * i) % 32) {
+                case 0: q = b.eye; break;
+                case 1: q.y = 1e30f; break;
+                case 2: q.z = (float)(-1.0 / 0.0); break;
+                case 3: q.x = q.x - q.x + (float)(0.0 / 0.0); break;
+                default: break;
+                }
+            }
+            qx[i] = q.x, qy[i] = q.y, qz[i] = q.z;
         }
         float mx[HZ_SHADE_LANES] HZ_ALIGNED(32), my[HZ_SHADE_LANES] HZ_ALIGNED(32);
-        hz_view_still_motion_lanes(&cur, &prev, px, py, pz, mx, my);
+        const float *const pl[3] = { px, py, pz }, *const ql[3] = { qx, qy, qz };
+        hz_view_motion_lanes(&cur, &prev, pl, round % 4 == 2 ? pl : ql, mx, my); /* pp aliasing p, as still hits */
         for (int i = 0; i < HZ_SHADE_LANES; i++) {
             float m[2];
-            hz_vec3_t p = hz_v3(px[i], py[i], pz[i]);
-            hz_view_point_motion(&cur, &prev, &p, &p, m);
+            hz_vec3_t p = hz_v3(px[i], py[i], pz[i]), q = hz_v3(qx[i], qy[i], qz[i]);
+            hz_view_point_motion(&cur, &prev, &p, &q, m);
             if (memcmp(&m[0], &mx[i], sizeof(float)) || memcmp(&m[1], &my[i], sizeof(float)))
-                fail_msg("round %d lane %d: point (%g, %g, %g): lanes (%.9g, %.9g), scalar (%.9g, %.9g)", round, i,
-                         (double)px[i], (double)py[i], (double)pz[i], (double)mx[i], (double)my[i], (double)m[0],
-                         (double)m[1]);
+                fail_msg("round %d lane %d: point (%g, %g, %g) from (%g, %g, %g): lanes (%.9g, %.9g), scalar (%.9g, "
+                         "%.9g)", round, i, (double)px[i], (double)py[i], (double)pz[i], (double)qx[i], (double)qy[i],
+                         (double)qz[i], (double)mx[i], (double)my[i], (double)m[0], (double)m[1]);
             if (m[0] == HZ_VIEW_MV_FAR)
                 far++;
             else
-                seen++;
+                seen++, moved += round % 4 != 2 && memcmp(&p, &q, sizeof p) != 0;
         }
     }
-    print_message("still motion (%s): %u seen by both cameras, %u far, %u special points\n", hz_shade_path(), seen,
-                  far, special);
+    print_message("hit motion (%s): %u seen by both cameras (%u of them moved), %u far, %u special points\n",
+                  hz_shade_path(), seen, moved, far, special);
+    assert_true(moved > 4000 * HZ_SHADE_LANES / 16);
     assert_true(seen > 4000 * HZ_SHADE_LANES / 4);
     assert_true(far > 4000 * HZ_SHADE_LANES / 8);
 }
@@ -586,7 +604,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_path),     cmocka_unit_test(test_builtin),    cmocka_unit_test(test_sponza),
         cmocka_unit_test(test_blended),  cmocka_unit_test(test_mirror_box), cmocka_unit_test(test_pose_keys),
-        cmocka_unit_test(test_still_motion_lanes), cmocka_unit_test(test_ray_dirs_lanes), cmocka_unit_test(test_texture_alpha),
+        cmocka_unit_test(test_motion_lanes), cmocka_unit_test(test_ray_dirs_lanes), cmocka_unit_test(test_texture_alpha),
         cmocka_unit_test(test_footprint_gradients),
     };
     return HZ_RUN(tests);
