@@ -683,6 +683,179 @@ static int motion_sweep(const hz_bench_motion_opts_t *o, const char *name, FILE 
     return status;
 }
 
+/* ---- leaf sizes ---- */
+/* Seed 002's trees were binary with about 3.8 triangles per leaf (its hairball BVH: 182,450 nodes for 348,000
+ * triangles), ours are 8 wide with up to 8 per leaf; intersections per ray count the triangles of every leaf
+ * entered, so they depend on the leaf size as much as on the boxes. Per leaf size, the MSBVH at budget 1 and at
+ * the largest budget (one row where that is 1 or less) and the interpolated BVH, alive together, rendered
+ * interleaved. */
+#define LEAF_SIZES 3
+#define LEAF_BVHS 3
+
+/* The rows of one leaf size (interp last); returns their number: 2, or 3 where the largest budget exceeds 1. */
+static int leaf_rows(const hz_bench_motion_opts_t *o, row_t *rows)
+{
+    float budget = o->budgets[0];
+    for (int i = 1; i < o->budget_count; i++)
+        budget = fmaxf(budget, o->budgets[i]);
+    int n = 0;
+    if (budget > 1.0f)
+        rows[n++] = (row_t){ .name = "msbvh", .blur = HZ_ACCEL_BLUR_MSBVH, .budget = 1.0f };
+    rows[n++] = (row_t){ .name = "msbvh", .blur = HZ_ACCEL_BLUR_MSBVH, .budget = budget };
+    rows[n++] = (row_t){ .name = "interp", .blur = HZ_ACCEL_BLUR_INTERP };
+    return n;
+}
+
+static void leaf_sizes_of(uint32_t *sizes)
+{
+    hz_accel_config_t d;
+    hz_accel_config_default(&d);
+    sizes[0] = 2u, sizes[1] = 4u, sizes[2] = d.leaf_max;
+}
+
+static int leaf_pass(const hz_bench_motion_opts_t *o, const char *name, FILE *csv)
+{
+    hz_pools_t *P = hz_pools_get();
+    hz_error_t err;
+    hz_scene_t sc;
+    hz_accel_geom_t g;
+    int rc = hz_bench_open_named(o->scenes_dir, name, P, &sc, &g);
+    if (rc)
+        return rc;
+    if (!HZ_FEATURE_STATS) {
+        printf("\nleaf sizes: not measured (board %s counts no intersections)\n", HZ_BOARD_NAME);
+        return 0;
+    }
+    hz_posekeys_t keys;
+    char motion[160];
+    uint32_t K = 0;
+    if (scene_keys(o, name, &sc, &g, &keys, &K, motion, sizeof motion, &P->scene, &err) != HZ_OK)
+        return hz_cli_report(&err);
+    frame_t fr;
+    if (!make_frame(&fr, &sc, o->width, o->height)) {
+        hz_cli_error("bench: out of memory for the frame's rays");
+        return hz_status_exit_code(HZ_E_NO_MEMORY);
+    }
+    uint32_t sizes[LEAF_SIZES];
+    leaf_sizes_of(sizes);
+    printf("\nleaf sizes on %s (%s; %ux%u pixels, one primary + one secondary ray each; the seed's hairball tree held "
+           "about 3.8 triangles per leaf, ours up to %u; %% and x of the interpolated BVH with the same leaves, "
+           "rendered interleaved with it; render ms: thread CPU, median of %d rounds)\n", name, motion, o->width,
+           o->height, sizes[LEAF_SIZES - 1], o->rounds);
+    printf("%5s %-12s %9s %8s %9s %17s %17s %15s %19s %12s\n", "leaf", "bvh, budget", "refs", "nodes", "bytes/tri",
+           "isect shadow/ao", "(% interp)", "trav shadow/ao", "render ms shadow/ao", "(x interp)");
+    const hz_arena_mark_t m0 = hz_arena_mark(&P->accel);
+    int status = 0, bad = 0;
+    bool have_ref = false; /* the first BVH's hits, which every other must return */
+    double ip_default[S_COUNT] = { 0.0, 0.0 };
+    for (int li = 0; li < LEAF_SIZES && !status; li++) {
+        row_t rows[LEAF_BVHS];
+        const int nb = leaf_rows(o, rows);
+        hz_accel_t *acc[LEAF_BVHS] = { NULL, NULL, NULL };
+        hz_arena_reset(&P->accel, m0);
+        for (int b = 0; b < nb && !status; b++) {
+            hz_accel_config_t cfg;
+            row_config(&rows[b], sizes[li], &cfg);
+            if (hz_accel_bytes_bound_geom(&g, &cfg).peak > hz_arena_available(&P->accel, 64)) {
+                rows[b].skipped = true;
+                continue;
+            }
+            if (hz_accel_build_native(&acc[b], &g, &cfg, &P->accel, &err) != HZ_OK ||
+                hz_accel_refit(acc[b], &err) != HZ_OK) {
+                hz_error_prefix(&err, rows[b].name);
+                status = hz_cli_report(&err);
+                break;
+            }
+            rows[b].info = acc[b]->info;
+            rows[b].bytes_per_tri = g.tri_count ? (double)acc[b]->info.bytes / g.tri_count : 0.0;
+            for (int kind = 0; kind < S_COUNT; kind++) {
+                hz_accel_stats_t st;
+                memset(&st, 0, sizeof st);
+                render(acc[b], &fr, kind, &st, true, have_ref ? 1 : 0);
+                rows[b].st[kind] = st;
+                if (!have_ref)
+                    continue;
+                uint64_t diff = 0;
+                const size_t j = (size_t)kind * 2u * fr.pixels;
+                for (uint32_t i = 0; i < fr.pixels; i++)
+                    diff += fr.hit_prim[j + i] != fr.hit_prim[j + fr.pixels + i] ||
+                            fr.shadowed[j + i] != fr.shadowed[j + fr.pixels + i];
+                if (diff) {
+                    hz_cli_error("bench: %s: %s %g with leaves of %u (%s rays) differs from the first msbvh on %llu "
+                                 "pixels", name, rows[b].name, (double)rows[b].budget, sizes[li],
+                                 secondary_name[kind], (unsigned long long)diff);
+                    bad++;
+                }
+            }
+            have_ref = true;
+            rows[b].have_stats = true;
+        }
+        for (int r = 0; r < o->rounds && !status; r++)
+            for (int b = 0; b < nb; b++)
+                for (int kind = 0; acc[b] && kind < S_COUNT; kind++) {
+                    double c0 = thread_cpu_s();
+                    rows[b].rays[kind] = render(acc[b], &fr, kind, NULL, false, 0);
+                    rows[b].render_ms[kind][r] = (thread_cpu_s() - c0) * 1e3;
+                    rows[b].n = r + 1;
+                    rows[b].ran = true;
+                }
+        for (int b = nb; b-- > 0;)
+            if (acc[b])
+                hz_accel_release(acc[b]);
+        if (status)
+            break;
+        const row_t *ip = &rows[nb - 1];
+        double ip_isect[S_COUNT], ip_ms[S_COUNT];
+        for (int kind = 0; kind < S_COUNT; kind++) {
+            ip_isect[kind] = ip->ran && ip->st[kind].rays ? (double)ip->st[kind].tris / ip->st[kind].rays : 0.0;
+            ip_ms[kind] = ip->ran ? median(ip->render_ms[kind], ip->n) : 0.0;
+            if (li == LEAF_SIZES - 1)
+                ip_default[kind] = ip_ms[kind];
+        }
+        for (int b = 0; b < nb; b++) {
+            const row_t *rw = &rows[b];
+            char label[32];
+            row_label(rw, label, sizeof label);
+            if (rw->skipped) {
+                printf("%5u %-12s does not fit the accel arena: not built\n", sizes[li], label);
+                continue;
+            }
+            if (!rw->ran)
+                continue;
+            double ia[S_COUNT], ta[S_COUNT], ms[S_COUNT], pct[S_COUNT], x[S_COUNT];
+            for (int kind = 0; kind < S_COUNT; kind++) {
+                const hz_accel_stats_t *st = &rw->st[kind];
+                ia[kind] = st->rays ? (double)st->tris / st->rays : 0.0;
+                ta[kind] = st->rays ? (double)st->nodes / st->rays : 0.0;
+                ms[kind] = median(rw->render_ms[kind], rw->n);
+                pct[kind] = ip_isect[kind] > 0.0 ? 100.0 * ia[kind] / ip_isect[kind] : 0.0;
+                x[kind] = ip_ms[kind] > 0.0 ? ms[kind] / ip_ms[kind] : 0.0;
+            }
+            printf("%5u %-12s %9u %8u %9.1f %8.2f / %6.2f %7.0f%% / %5.0f%% %6.2f / %6.2f %9.1f / %7.1f %5.2fx / "
+                   "%4.2fx\n", sizes[li], label, rw->info.ref_count, rw->info.node_count, rw->bytes_per_tri,
+                   ia[S_SHADOW], ia[S_AO], pct[S_SHADOW], pct[S_AO], ta[S_SHADOW], ta[S_AO], ms[S_SHADOW], ms[S_AO],
+                   x[S_SHADOW], x[S_AO]);
+            for (int kind = 0; csv && kind < S_COUNT; kind++) {
+                char c_budget[16] = "";
+                if (is_msbvh(rw))
+                    snprintf(c_budget, sizeof c_budget, "%g", (double)rw->budget);
+                fprintf(csv, "%s,%u,%s,%s,%s,%u,%u,%.1f,%.3f,%u,%.1f,%.3f,%.3f,%.3f\n", name, sizes[li], rw->name,
+                        c_budget, secondary_name[kind], rw->info.ref_count, rw->info.node_count, rw->bytes_per_tri,
+                        ia[kind], rw->st[kind].ray_tris_max, pct[kind], ta[kind], ms[kind], x[kind]);
+            }
+        }
+    }
+    if (!status && ip_default[S_SHADOW] > 0.0)
+        printf("(the interpolated BVH with leaves of %u renders in %.1f / %.1f ms: the render-time goal's baseline)\n",
+               sizes[LEAF_SIZES - 1], ip_default[S_SHADOW], ip_default[S_AO]);
+    hz_arena_reset(&P->accel, m0);
+    free_frame(&fr);
+    fflush(stdout);
+    if (status)
+        return status;
+    return bad ? hz_status_exit_code(HZ_E_INTERNAL) : 0;
+}
+
 static void with_defaults(hz_bench_motion_opts_t *o)
 {
     static const char *const defaults[] = { "hairball", "sponza-rotated", "furball-sway", "tentacles" };
@@ -729,17 +902,19 @@ int hz_bench_motion(const hz_bench_motion_opts_t *opts, bool *swept)
            "%% of the interpolated BVH as in the paper's Table 1)\n");
     if (o.leaf_max)
         printf("native leaves of at most %u triangles\n", o.leaf_max);
-    enum { MAIN, SAH, SWEEP, NOUT };
-    static const char *const suffix[NOUT] = { NULL, "sah", "sweep" };
+    enum { MAIN, SAH, SWEEP, LEAF, NOUT };
+    static const char *const suffix[NOUT] = { NULL, "sah", "sweep", "leaf" };
     static const char *const header[NOUT] = {
         "scene,bvh,refs,nodes,spatial_splits,sah,isect_max,isect_avg,trav_max,trav_avg,render_ms,build_ms,refit_ms,"
         "bytes_per_tri,mrays_per_s,secondary,split_budget,budget_stops\n",
         "scene,frame,time_s,sah_refit,sah_rebuilt\n",
         "scene,interval_s,keys,motion_over_size_median,motion_over_size_mean,bvh,secondary,isect_avg,isect_max,"
-        "isect_avg_pct_interp,sah,refs\n"
+        "isect_avg_pct_interp,sah,refs\n",
+        "scene,leaf_max,bvh,split_budget,secondary,refs,nodes,bytes_per_tri,isect_avg,isect_max,isect_avg_pct_interp,"
+        "trav_avg,render_ms,render_vs_interp\n"
     };
     hz_out_t out[NOUT];
-    FILE *f[NOUT] = { NULL, NULL, NULL };
+    FILE *f[NOUT] = { NULL, NULL, NULL, NULL };
     char path[NOUT][4096];
     hz_error_t err;
     const int nout = o.sweep_scene ? NOUT : SWEEP;
@@ -764,6 +939,8 @@ int hz_bench_motion(const hz_bench_motion_opts_t *opts, bool *swept)
            "2.50x references, 32%% / 43%% intersections max/avg, 85%% render time; Rotated Sponza 1.85x, 41%% / 47%%, "
            "72%%. A budget's stops column: splits the budget stopped, 0 = as without a budget)\n");
     if (status == 0 && o.sweep_scene)
+        status = leaf_pass(&o, o.sweep_scene, f[LEAF]);
+    if (status == 0 && o.sweep_scene)
         status = motion_sweep(&o, o.sweep_scene, f[SWEEP]);
     if (o.csv_path) {
         for (int i = 0; i < nout; i++) {
@@ -773,9 +950,10 @@ int hz_bench_motion(const hz_bench_motion_opts_t *opts, bool *swept)
                 status = hz_cli_report(&err);
             }
         }
-        if (status == 0)
-            printf("wrote %s, %s%s%s\n", path[MAIN], path[SAH], nout > SWEEP ? " and " : "",
-                   nout > SWEEP ? path[SWEEP] : "");
+        if (status == 0 && nout > SWEEP)
+            printf("wrote %s, %s, %s and %s\n", path[MAIN], path[SAH], path[LEAF], path[SWEEP]);
+        else if (status == 0)
+            printf("wrote %s and %s\n", path[MAIN], path[SAH]);
         *swept = status == 0 && nout > SWEEP;
     }
     return status;
@@ -812,11 +990,45 @@ static void fit_scene(hz_bench_fit_scene_t *fs, const void *ctx)
     }
 }
 
+/* The leaf pass keeps the BVHs of a leaf size alive together: their bounds summed, per leaf size. */
+static void fit_leaf(hz_bench_fit_scene_t *fs, const void *ctx)
+{
+    const hz_bench_motion_opts_t *o = ctx;
+    hz_arena_t *scene_arena = &fs->bs.pools->scene;
+    hz_accel_geom_t g;
+    hz_posekeys_t keys;
+    hz_error_t err;
+    uint32_t K = 0;
+    char motion[160];
+    if (hz_accel_geom_from_scene(&g, &fs->bs.scene, scene_arena, &err) != HZ_OK ||
+        scene_keys(o, fs->label, &fs->bs.scene, &g, &keys, &K, motion, sizeof motion, scene_arena, &err) != HZ_OK) {
+        hz_bench_fit_fail(fs, "pose keys DO NOT FIT", err.msg);
+        return;
+    }
+    uint32_t sizes[LEAF_SIZES];
+    leaf_sizes_of(sizes);
+    for (int li = 0; li < LEAF_SIZES; li++) {
+        row_t rows[LEAF_BVHS];
+        const int nb = leaf_rows(o, rows);
+        size_t need = 0;
+        for (int b = 0; b < nb; b++) {
+            hz_accel_config_t cfg;
+            row_config(&rows[b], sizes[li], &cfg);
+            need += hz_accel_bytes_bound_geom(&g, &cfg).peak;
+        }
+        char what[64];
+        snprintf(what, sizeof what, "native msbvh x%d + interp, leaves of %u, %u keys", nb - 1, sizes[li], K);
+        hz_bench_fit_line(fs, what, "accel", need, hz_arena_available(&fs->bs.pools->accel, 64));
+    }
+}
+
 void hz_bench_motion_fit(const hz_bench_motion_opts_t *opts, hz_bench_fit_t *fit)
 {
     hz_bench_motion_opts_t o = *opts;
     with_defaults(&o);
     hz_bench_fit_named(fit, "motion", o.scenes, o.scene_count, fit_scene, &o);
+    if (o.sweep_scene)
+        hz_bench_fit_named(fit, "motion-leaf", &o.sweep_scene, 1, fit_leaf, &o);
     if (o.sweep_scene) { /* the sweep's longest interval: the most keys */
         o.interval = fminf(10.0f, o.interval * sweep_factor[SWEEP_STEPS - 1]);
         hz_bench_fit_named(fit, "motion-sweep", &o.sweep_scene, 1, fit_scene, &o);

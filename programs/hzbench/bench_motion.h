@@ -21,7 +21,14 @@
  * Then, for a scene with its own animation and at most a million triangles, the seed's Fig. 5: the MSBVH's SAH
  * cost over 12 frames at 24 Hz, refitted every frame against built anew, printed and written beside csv_path
  * (X.csv -> X-sah.csv: scene, frame, time_s, sah_refit, sah_rebuilt).
- * Last, the motion-size sweep on sweep_scene (default the hairball when it is one of the scenes): its shutter
+ * Then, on sweep_scene (default the hairball when it is one of the scenes), leaf sizes: with leaves of at most 2,
+ * 4 and the default number of triangles (seed 002's trees held about 3.8), the MSBVH at budget 1 and at the
+ * largest budget (one row where that is 1 or less) and the interpolated BVH, built together per leaf size and
+ * rendered interleaved (hits checked against the first BVH's, bit for bit), printed and written beside csv_path
+ * (X.csv -> X-leaf.csv: scene, leaf_max, bvh, split_budget, secondary, refs, nodes, bytes_per_tri, isect_avg,
+ * isect_max, isect_avg_pct_interp, trav_avg, render_ms, render_vs_interp; the last two against the interpolated
+ * BVH with the same leaves).
+ * Last, the motion-size sweep on sweep_scene: its shutter
  * interval scaled by 1/8 .. 8 (capped at 10 s; K follows the interval), per interval the motion over triangle size
  * (per triangle its vertices' longest path over the keys over its mean edge length at the middle key; median and
  * mean) and, for the MSBVH at the largest budget, the interpolated and the swept BVH (built, refitted, one untimed
@@ -53,7 +60,7 @@ typedef struct hz_bench_motion_opts {
     const char *sweep_scene; /* the motion-size sweep's scene; NULL: hairball when it is measured; "none": no sweep */
 } hz_bench_motion_opts_t;
 
-/* *swept: the sweep's CSV was written (csv_path set, a sweep scene, the run succeeded). */
+/* *swept: the leaf-size and sweep CSVs were written (csv_path set, a sweep scene, the run succeeded). */
 int hz_bench_motion(const hz_bench_motion_opts_t *opts, bool *swept);
 
 /* --check-fit: each scene's pose keys and its three native motion BVHs against the board's arenas (bench_fit.h). */

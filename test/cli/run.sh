@@ -484,6 +484,15 @@ if [ -n "$hzbench" ]; then
             $2 != last { if (last != "" && !($4 > med)) ok = 0; if (last != "" && k < 3 && ($4 < 1.8 * med || $4 > 2.2 * med)) ok = 0
                          if (last != "") k++; last = $2; med = $4 }
             END { exit !(ok && n == 42) }' "$tmp/mo-sweep.csv"
+        # Leaf sizes on the sweep scene: 3 leaf sizes x (msbvh at the one budget, interp) x 2 secondary rays, each
+        # interpolated BVH its own 100% and 1.00x, and two triangles per leaf intersect fewer per ray than the
+        # default leaves (hits equal to the first BVH's, or the run fails).
+        ok bench-leaf-sizes awk -F, 'NR == 1 { ok = $2 == "leaf_max" && $14 == "render_vs_interp"; next }
+            { n++; seen[$2]++ }
+            $3 == "interp" && ($11 != "100.0" || $14 != "1.000") { ok = 0 }
+            $3 == "interp" && $5 == "shadow" { isect[$2] = $9 }
+            END { exit !(ok && n == 12 && seen[2] == 4 && seen[4] == 4 && isect[2] > 0 && isect[2] < isect[8]) }' \
+            "$tmp/mo-leaf.csv"
         # --motion-leaf: every native BVH with leaves of at most N triangles, said on the table's first line; on
         # the tentacles two per leaf test fewer triangles per ray than the default SIMD-width leaves.
         expect bench-leaf 0 "^native leaves of at most 2 triangles" "$hzbench" --only motion --scenes "$HZ_SCENES_DIR" \
