@@ -190,9 +190,12 @@ HZ_INLINE unsigned node_hit_fused(const hz_bvh_node_t *n, const fray_t *f, vf cu
     const vf tfy = vf_fmadd(ldn(n, f->fy), f->rdy, f->noy);
     const vf tfz = vf_fmadd(ldn(n, f->fz), f->rdz, f->noz);
     const vf tmin = vf_maxn(vf_maxn(tnx, tny), vf_maxn(tnz, f->tnear));
-    const vf tmax = vf_minn(vf_fmadd(vf_minn(vf_minn(tfx, tfy), tfz), f->robust, f->slack), cull);
+    const vf tmax = vf_fmadd(vf_minn(vf_minn(tfx, tfy), tfz), f->robust, f->slack);
     *tmin_out = tmin;
-    return vm_bits(vf_le(tmin, tmax));
+    /* tmin <= min(tmax, cull) as two compares: the next node's address waits on this mask, and the cull's
+     * compare runs beside the far distance's chain instead of adding a min to it (no NaN here: finite
+     * reciprocals and products give finite or infinite distances, never inf - inf) */
+    return vm_bits(vm_and(vf_le(tmin, tmax), vf_le(tmin, cull)));
 }
 
 /* One ray against the slots `lm` of block b (see woop). */
