@@ -61,7 +61,20 @@ void hz_sincosf(float x, float *s, float *c);
 /* Top 24 bits of u as a float in [0, 1): exact, never 1.0. */
 HZ_INLINE float hz_u32_to_unit(uint32_t u) { return (float)(u >> 8) * (1.0f / 16777216.0f); }
 
-hz_q16_t hz_q16_from_float(float f);
+/* Inline: the tdense resolve converts two per tile in the last frame of every cycle. */
+HZ_INLINE hz_q16_t hz_q16_from_float(float f)
+{
+    if (hz_isnanf(f))
+        return 0;
+    double v = (double)f * 65536.0;
+    if (v >= 2147483647.0)
+        return HZ_Q16_MAX;
+    if (v <= -2147483648.0)
+        return HZ_Q16_MIN;
+    /* Round half away from zero, matching hz_q16_mul. */
+    double r = v >= 0 ? v + 0.5 : v - 0.5;
+    return (hz_q16_t)(int64_t)r; /* conversion truncates toward zero */
+}
 HZ_INLINE float hz_q16_to_float(hz_q16_t q) { return (float)q * (1.0f / 65536.0f); }
 
 /* ---- vec3 ---- */

@@ -86,19 +86,6 @@ float hz_tanf(float x)
     return s / c;
 }
 
-hz_q16_t hz_q16_from_float(float f)
-{
-    if (hz_isnanf(f))
-        return 0;
-    double v = (double)f * 65536.0;
-    if (v >= 2147483647.0)
-        return HZ_Q16_MAX;
-    if (v <= -2147483648.0)
-        return HZ_Q16_MIN;
-    /* Round half away from zero, matching hz_q16_mul. */
-    double r = v >= 0 ? v + 0.5 : v - 0.5;
-    return (hz_q16_t)(int64_t)r; /* conversion truncates toward zero */
-}
 
 hz_vec3_t hz_v3_normalize_rescaled(hz_vec3_t a)
 {

@@ -711,6 +711,66 @@ static void test_motion_code_lanes_matches_scalar(void **state)
     printf("# motion codes: %u pairs checked\n", checked);
 }
 
+/* The end of cycle's block motion in lanes (hz_tdense_block_motion_lanes) against a brute-force scan: per tile,
+ * the first vector of the largest x^2 + y^2 over the 4x4 pixel block around it, clamped to the image, scanned
+ * row by row. Motions drawn from a few vectors of equal length in different directions, so that most blocks tie;
+ * widths whose groups lie inside the image and at both edges, heights of one tile row and more. */
+static void test_block_motion_lanes_matches_scan(void **state)
+{
+    (void)state;
+#ifdef HZ_TDENSE_LANES
+    static const float vec[][2] = { { 3, 4 }, { 4, 3 }, { -3, 4 }, { 0, 5 }, { -5, 0 }, { 4, -3 }, { 0, 0 },
+                                    { 1, 1 }, { -1, -1 }, { 0.5f, -0.25f }, { 6, 0 }, { 0, -6 }, { -0.0f, 0 } };
+    static const uint32_t dims[][2] = { { 2 * HZ_TDENSE_LANES, 2 }, { 6 * HZ_TDENSE_LANES + 1, 7 },
+                                        { 8 * HZ_TDENSE_LANES + 3, 12 }, { 4 * HZ_TDENSE_LANES + 2, 3 } };
+    static uint32_t mv[(8 * HZ_TDENSE_LANES + 3) * 12];
+    hz_rng_t rng;
+    hz_rng_seed(&rng, 31, 5);
+    uint32_t tiles = 0, ties = 0;
+    for (int round = 0; round < 40; round++) {
+        const uint32_t w = dims[round % 4][0], h = dims[round % 4][1];
+        for (uint32_t i = 0; i < w * h; i++) {
+            const float *v = vec[hz_rng_below(&rng, (uint32_t)HZ_ARRAY_LEN(vec))];
+            mv[i] = (uint32_t)hz_half_pack_signed(v[0]) | (uint32_t)hz_half_pack_signed(v[1]) << 16;
+        }
+        hz_tdense_t td;
+        memset(&td, 0, sizeof td);
+        td.cfg.width = w, td.cfg.height = h;
+        td.mv = (uint16_t *)mv;
+        const uint32_t tiles_x = (w + 1) / 2, tiles_y = (h + 1) / 2;
+        for (uint32_t ty = 0; ty < tiles_y; ty++)
+            for (uint32_t tx0 = 0; tx0 + HZ_TDENSE_LANES <= tiles_x; tx0 += HZ_TDENSE_LANES) {
+                float mx[HZ_TDENSE_LANES], my[HZ_TDENSE_LANES];
+                hz_tdense_block_motion_lanes(&td, ty, tx0, mx, my);
+                for (uint32_t k = 0; k < HZ_TDENSE_LANES; k++) {
+                    const int tx = (int)(tx0 + k);
+                    float bx = 0.0f, by = 0.0f, bl = 0.0f;
+                    int equal = 0;
+                    for (int y = 2 * (int)ty - 1; y <= 2 * (int)ty + 2; y++)
+                        for (int x = 2 * tx - 1; x <= 2 * tx + 2; x++) {
+                            if (x < 0 || y < 0 || x >= (int)w || y >= (int)h)
+                                continue;
+                            const uint32_t c = mv[(uint32_t)y * w + (uint32_t)x];
+                            const float vx = hz_half_unpack((uint16_t)c), vy = hz_half_unpack((uint16_t)(c >> 16));
+                            const float l2 = vx * vx + vy * vy;
+                            equal += l2 == bl && l2 > 0.0f && (vx != bx || vy != by);
+                            if (l2 > bl)
+                                bx = vx, by = vy, bl = l2, equal = 0;
+                        }
+                    if (memcmp(&bx, &mx[k], sizeof bx) || memcmp(&by, &my[k], sizeof by))
+                        fail_msg("%ux%u tile (%d, %u): lanes (%g, %g), scan (%g, %g)", w, h, tx, ty, (double)mx[k],
+                                 (double)my[k], (double)bx, (double)by);
+                    tiles++, ties += equal > 0;
+                }
+            }
+    }
+    printf("# block motion: %u tiles (%u with a tie the scan order decides)\n", tiles, ties);
+    assert_true(ties > tiles / 4);
+#else
+    skip();
+#endif
+}
+
 /* The resolve's ĝ (hz_tdense_ghat: double precision where certain, tdense_ghat.c) against the exact integer ĝ
  * (hz_tileorder_ghat, itself held to an independent oracle by test_tileorder) on every rule: random motions of a
  * few pixels and of every scale, motions built to land within a few units of the band edges (the angle at
@@ -801,6 +861,7 @@ int main(void)
         cmocka_unit_test(test_init_errors),
         cmocka_unit_test(test_lanes_match_scalar),
         cmocka_unit_test(test_motion_code_lanes_matches_scalar),
+        cmocka_unit_test(test_block_motion_lanes_matches_scan),
         cmocka_unit_test(test_ghat_fast_matches_exact),
     };
     return HZ_RUN(tests);
