@@ -129,6 +129,43 @@ static bool make_frame(frame_t *fr, const hz_scene_t *sc, uint32_t w, uint32_t h
     return true;
 }
 
+/* A native BVH of cfg over g built and refitted in the accel arena (*out); *fits false, and nothing built, where
+ * its memory bound does not fit there. 0, or the exit status of an error (said, named `what`). */
+static int build_refitted(const hz_accel_geom_t *g, const hz_accel_config_t *cfg, hz_pools_t *P, const char *what,
+                          hz_accel_t **out, bool *fits)
+{
+    hz_error_t err;
+    *out = NULL;
+    *fits = hz_accel_bytes_bound_geom(g, cfg).peak <= hz_arena_available(&P->accel, 64);
+    if (!*fits)
+        return 0;
+    if (hz_accel_build_native(out, g, cfg, &P->accel, &err) == HZ_OK && hz_accel_refit(*out, &err) == HZ_OK)
+        return 0;
+    if (*out)
+        hz_accel_release(*out);
+    *out = NULL;
+    hz_error_prefix(&err, what);
+    return hz_cli_report(&err);
+}
+
+/* The largest of the group's split budgets (the MSBVH the leaf sizes and the sweep build). */
+static float largest_budget(const hz_bench_motion_opts_t *o)
+{
+    float budget = o->budgets[0];
+    for (int i = 1; i < o->budget_count; i++)
+        budget = fmaxf(budget, o->budgets[i]);
+    return budget;
+}
+
+/* make_frame at the group's size; 0, or the exit status of a frame that does not fit in memory (said). */
+static int frame_of(frame_t *fr, const hz_scene_t *sc, const hz_bench_motion_opts_t *o)
+{
+    if (make_frame(fr, sc, o->width, o->height))
+        return 0;
+    hz_cli_error("bench: out of memory for the frame's rays");
+    return hz_status_exit_code(HZ_E_NO_MEMORY);
+}
+
 static void free_frame(frame_t *fr)
 {
     free(fr->prim);
@@ -411,10 +448,8 @@ static int bench_scene(const hz_bench_motion_opts_t *o, const char *name, FILE *
            motion, o->width, o->height);
     fflush(stdout);
     frame_t fr;
-    if (!make_frame(&fr, &sc, o->width, o->height)) {
-        hz_cli_error("bench: out of memory for the frame's rays");
-        return hz_status_exit_code(HZ_E_NO_MEMORY);
-    }
+    if ((rc = frame_of(&fr, &sc, o)) != 0)
+        return rc;
     const int rounds = g.tri_count > 1000000u ? 1 : o->rounds;
     const hz_arena_mark_t m0 = hz_arena_mark(&P->accel);
     int bad = 0;
@@ -588,19 +623,15 @@ static int motion_sweep(const hz_bench_motion_opts_t *o, const char *name, FILE 
         printf("\nmotion-size sweep: not measured (board %s counts no intersections)\n", HZ_BOARD_NAME);
         return 0;
     }
-    float budget = o->budgets[0];
-    for (int i = 1; i < o->budget_count; i++)
-        budget = fmaxf(budget, o->budgets[i]);
+    const float budget = largest_budget(o);
     printf("\nmotion-size sweep on %s: the shutter interval scaled (%ux%u pixels, one primary + one secondary ray "
            "each; intersections per ray averaged, %% of the interpolated BVH; msbvh at budget %g)\n", name, o->width,
            o->height, (double)budget);
     printf("%10s %5s %18s %18s %18s %18s %9s %9s %9s\n", "interval s", "keys", "motion/size median", "mean",
            "msbvh ao / shadow", "swept ao / shadow", "sah msbvh", "interp", "refs x");
     frame_t fr;
-    if (!make_frame(&fr, &sc, o->width, o->height)) {
-        hz_cli_error("bench: out of memory for the frame's rays");
-        return hz_status_exit_code(HZ_E_NO_MEMORY);
-    }
+    if ((rc = frame_of(&fr, &sc, o)) != 0)
+        return rc;
     const hz_arena_mark_t s0 = hz_arena_mark(&P->scene), a0 = hz_arena_mark(&P->accel);
     static const hz_accel_blur_t kinds[3] = { HZ_ACCEL_BLUR_MSBVH, HZ_ACCEL_BLUR_INTERP, HZ_ACCEL_BLUR_SWEPT };
     static const char *const kname[3] = { "msbvh", "interp", "swept" };
@@ -639,16 +670,12 @@ static int motion_sweep(const hz_bench_motion_opts_t *o, const char *name, FILE 
             const row_t rw = { .name = kname[b], .blur = kinds[b], .budget = budget };
             row_config(&rw, o->leaf_max, &cfg);
             hz_accel_t *a = NULL;
-            if (hz_accel_bytes_bound_geom(&g, &cfg).peak > hz_arena_available(&P->accel, 64)) {
+            bool fits;
+            if ((status = build_refitted(&g, &cfg, P, kname[b], &a, &fits)) != 0)
+                break;
+            if (!fits) {
                 printf("%10.4f %5u %s does not fit the accel arena: sweep stopped\n", (double)fo.interval, K, kname[b]);
                 stopped = true;
-                break;
-            }
-            if (hz_accel_build_native(&a, &g, &cfg, &P->accel, &err) != HZ_OK || hz_accel_refit(a, &err) != HZ_OK) {
-                if (a)
-                    hz_accel_release(a);
-                hz_error_prefix(&err, kname[b]);
-                status = hz_cli_report(&err);
                 break;
             }
             info[b] = a->info;
@@ -695,9 +722,7 @@ static int motion_sweep(const hz_bench_motion_opts_t *o, const char *name, FILE 
 /* The rows of one leaf size (interp last); returns their number: 2, or 3 where the largest budget exceeds 1. */
 static int leaf_rows(const hz_bench_motion_opts_t *o, row_t *rows)
 {
-    float budget = o->budgets[0];
-    for (int i = 1; i < o->budget_count; i++)
-        budget = fmaxf(budget, o->budgets[i]);
+    const float budget = largest_budget(o);
     int n = 0;
     if (budget > 1.0f)
         rows[n++] = (row_t){ .name = "msbvh", .blur = HZ_ACCEL_BLUR_MSBVH, .budget = 1.0f };
@@ -732,10 +757,8 @@ static int leaf_pass(const hz_bench_motion_opts_t *o, const char *name, FILE *cs
     if (scene_keys(o, name, &sc, &g, &keys, &K, motion, sizeof motion, &P->scene, &err) != HZ_OK)
         return hz_cli_report(&err);
     frame_t fr;
-    if (!make_frame(&fr, &sc, o->width, o->height)) {
-        hz_cli_error("bench: out of memory for the frame's rays");
-        return hz_status_exit_code(HZ_E_NO_MEMORY);
-    }
+    if ((rc = frame_of(&fr, &sc, o)) != 0)
+        return rc;
     uint32_t sizes[LEAF_SIZES];
     leaf_sizes_of(sizes);
     printf("\nleaf sizes on %s (%s; %ux%u pixels, one primary + one secondary ray each; the seed's hairball tree held "
@@ -756,15 +779,12 @@ static int leaf_pass(const hz_bench_motion_opts_t *o, const char *name, FILE *cs
         for (int b = 0; b < nb && !status; b++) {
             hz_accel_config_t cfg;
             row_config(&rows[b], sizes[li], &cfg);
-            if (hz_accel_bytes_bound_geom(&g, &cfg).peak > hz_arena_available(&P->accel, 64)) {
+            bool fits;
+            if ((status = build_refitted(&g, &cfg, P, rows[b].name, &acc[b], &fits)) != 0)
+                break;
+            if (!fits) {
                 rows[b].skipped = true;
                 continue;
-            }
-            if (hz_accel_build_native(&acc[b], &g, &cfg, &P->accel, &err) != HZ_OK ||
-                hz_accel_refit(acc[b], &err) != HZ_OK) {
-                hz_error_prefix(&err, rows[b].name);
-                status = hz_cli_report(&err);
-                break;
             }
             rows[b].info = acc[b]->info;
             rows[b].bytes_per_tri = g.tri_count ? (double)acc[b]->info.bytes / g.tri_count : 0.0;
