@@ -440,20 +440,11 @@ uint32_t hz_tdense_motion_code_lanes(float x, float y)
 
 /* Rows and columns outside the image are clamped onto its edge: the clamped rectangle of longest_in visited
  * with its edge row or column repeated, and a repeat right after the original changes nothing (longer keeps
- * the first of equals). */
-HZ_INLINE lmotion_t block_motion_of(hz_li_t v)
-{
-    lmotion_t m;
-    m.x = hz_lanes_half_unpack(hz_li_and(v, hz_li_set(0xffff)));
-    m.y = hz_lanes_half_unpack(hz_li_shr(v, 16));
-    m.l2 = hz_lf_add(hz_lf_mul(m.x, m.x), hz_lf_mul(m.y, m.y));
-    return m;
-}
-
-/* Where the group's 4x4 blocks lie inside the image's columns (pixel columns 2 tx0 - 1 .. 2 tx0 + 2 HZ_LANES),
- * each row's four columns per tile are two deinterleaving loads of consecutive words (lane i: words 2i, 2i + 1
- * and 2i + 2, 2i + 3 from the block's first column), visited in the order the gathers visit them; the groups at
- * the image's left and right edges gather their clamped columns. */
+ * the first of equals). Where the group's 4x4 blocks lie inside the image's columns (pixel columns 2 tx0 - 1 ..
+ * 2 tx0 + 2 HZ_LANES), each row's four columns per tile are two deinterleaving loads of consecutive words (lane
+ * i: words 2i, 2i + 1 and 2i + 2, 2i + 3 from the block's first column), visited in the order the gathers visit
+ * them, and one exponent-31 test for the row lets all of them take the conversion instruction (motion_lanes);
+ * the groups at the image's left and right edges gather their clamped columns. */
 void hz_tdense_block_motion_lanes(const hz_tdense_t *td, uint32_t ty, uint32_t tx0, float *mx, float *my)
 {
     const int32_t w = (int32_t)td->cfg.width, h = (int32_t)td->cfg.height;
@@ -469,10 +460,11 @@ void hz_tdense_block_motion_lanes(const hz_tdense_t *td, uint32_t ty, uint32_t t
             hz_lf_t a0, b0, a1, b1;
             hz_lf_load2(row, &a0, &b0);
             hz_lf_load2(row + 2, &a1, &b1);
-            best = longer(best, block_motion_of(hz_lf_bits(a0)));
-            best = longer(best, block_motion_of(hz_lf_bits(b0)));
-            best = longer(best, block_motion_of(hz_lf_bits(a1)));
-            best = longer(best, block_motion_of(hz_lf_bits(b1)));
+            const hz_li_t v[4] = { hz_lf_bits(a0), hz_lf_bits(b0), hz_lf_bits(a1), hz_lf_bits(b1) };
+            const int checked = !hz_li_any(hz_li_or(hz_li_or(half_pair_e31(v[0]), half_pair_e31(v[1])),
+                                                    hz_li_or(half_pair_e31(v[2]), half_pair_e31(v[3]))));
+            for (int k = 0; k < 4; k++)
+                best = longer(best, motion_lanes(v[k], checked));
         }
     } else {
         const hz_li_t bx = hz_li_add(hz_li_set(c0), hz_li_shl(hz_li_iota(), 1));
@@ -481,7 +473,8 @@ void hz_tdense_block_motion_lanes(const hz_tdense_t *td, uint32_t ty, uint32_t t
             y = y < 0 ? 0 : y >= h ? h - 1 : y;
             for (int32_t dx = 0; dx < 4; dx++) {
                 hz_li_t x = hz_li_min(hz_li_max(hz_li_add(bx, hz_li_set(dx)), hz_li_set(0)), hz_li_set(w - 1));
-                best = longer(best, block_motion_of(hz_li_gather(mv, hz_li_add(x, hz_li_set(y * w)))));
+                const hz_li_t v = hz_li_gather(mv, hz_li_add(x, hz_li_set(y * w)));
+                best = longer(best, motion_lanes(v, !hz_li_any(half_pair_e31(v))));
             }
         }
     }

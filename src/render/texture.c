@@ -110,10 +110,10 @@ float hz_texture_alpha(const hz_scene_t *s, int32_t tex, float u, float v)
     if (!hz_texture_usable(s, tex, u, v))
         return 1.0f;
     const hz_texture_t *t = &s->textures[tex];
-    /* level 0 starts at the texture's first texel: no walk down the mip chain */
-    const uint8_t *base = s->texels + (size_t)t->first_texel * 4;
+    uint32_t w, h;
+    const uint8_t *base = level_data(s, t, 0, &w, &h);
     corners_t c;
-    corners_of(t->width, t->height, u, v, &c);
+    corners_of(w, h, u, v, &c);
     const float k = 1.0f / 255.0f;
     float a = (float)base[c.at[0] + 3] * k, b = (float)base[c.at[1] + 3] * k;
     float cc = (float)base[c.at[2] + 3] * k, d = (float)base[c.at[3] + 3] * k;

@@ -818,7 +818,11 @@ static void shade_packet(hz_worker_t *w, const ray_job_t *jobs, const hitrec_t *
      * moves, the same (u, v) on the previous pose (prev_point's point, gathered lane by lane); with vertex keys a
      * hit's frame point differs from its point, and the scalar twin (scalar_shading) keeps them per hit. */
     float hit_mv[2][HZ_SHADE_LANES] HZ_ALIGNED(32);
-    const bool lanes_mv = mask && w->write_gbuffer && r->f.gb.mv && !HZ_RENDER_KEYS(r) && !r->f.opts.scalar_shading;
+    uint32_t primary = 0; /* hit lanes of camera rays: the only ones that read hit_mv */
+    for (uint32_t m = mask; m; m &= m - 1u)
+        primary |= (uint32_t)(jobs[__builtin_ctz(m)].gslot == GSLOT_PRIMARY) << __builtin_ctz(m);
+    const bool lanes_mv = primary && w->write_gbuffer && r->f.gb.mv && !HZ_RENDER_KEYS(r) &&
+                          !r->f.opts.scalar_shading;
     if (lanes_mv) {
         const float *const p[3] = { out.px, out.py, out.pz };
         float prev[3][HZ_SHADE_LANES] HZ_ALIGNED(32);
@@ -826,7 +830,7 @@ static void shade_packet(hz_worker_t *w, const ray_job_t *jobs, const hitrec_t *
         if (r->scene->prev_pos) {
             for (uint32_t i = 0; i < HZ_SHADE_LANES; i++) {
                 hz_vec3_t q = hz_v3(out.px[i], out.py[i], out.pz[i]);
-                if (mask >> i & 1u && jobs[i].gslot == GSLOT_PRIMARY)
+                if (primary >> i & 1u)
                     q = prev_point(r, hits[i].prim, hits[i].u, hits[i].v, q);
                 prev[0][i] = q.x, prev[1][i] = q.y, prev[2][i] = q.z;
             }
